@@ -1,0 +1,50 @@
+/* One scan from raw traces to the winding's edges: conditioning, migration,
+ * envelope, finding the winding's face, edges with uncertainties. */
+#ifndef UWB_ANALYSIS_H
+#define UWB_ANALYSIS_H
+
+#include <stddef.h>
+
+#include "uwb/condition.h"
+#include "uwb/image.h"
+#include "uwb/migrate.h"
+#include "uwb/scan.h"
+#include "uwb/verdict.h"
+
+struct uwb_analysis_options {
+    enum uwb_migration_kind migration;
+    double time_zero_offset_s;     /* calibration added to the header's t0 */
+    int has_target_z;              /* overrides the header's target_z_m */
+    double target_z_m[2];
+    double search_z_min_m;         /* face search without a target range */
+    double search_z_max_m;
+    double edge_fraction;          /* edge where the face profile crosses this fraction of its peak */
+    double min_snr_db;             /* below this the winding is "not established" */
+    double systematic_edge_m;      /* 1-sigma floor of an edge's position */
+    struct uwb_condition_options condition;
+};
+
+void uwb_analysis_defaults(struct uwb_analysis_options *opt);
+
+struct uwb_face_profile {
+    int n;
+    double y0_m, dy_m;
+    float *value;                  /* envelope along y at the face range */
+};
+
+struct uwb_analysis {
+    struct uwb_edges edges;
+    struct uwb_image intensity;    /* display image: envelope around the face (or the search area) */
+    struct uwb_face_profile profile;
+    double dominant_hz;
+    double noise_sigma;            /* per-sample noise of the conditioned traces */
+    double aperture_lo_m, aperture_hi_m;  /* antenna travel */
+};
+
+/* Returns 0 when the analysis ran (edges.found tells whether the winding
+ * was established, with edges.reason otherwise), -1 on a hard error. */
+int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_options *opt,
+                     struct uwb_analysis *out, char *err, size_t errlen);
+void uwb_analysis_free(struct uwb_analysis *a);
+
+#endif

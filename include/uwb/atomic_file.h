@@ -1,0 +1,26 @@
+/* Files that appear whole or not at all: write to a temporary sibling,
+ * fsync it, rename it over the target, fsync the directory. */
+#ifndef UWB_ATOMIC_FILE_H
+#define UWB_ATOMIC_FILE_H
+
+#include <stdio.h>
+#include <stddef.h>
+
+struct atomic_file {
+    FILE *fp;
+    char final_path[4096];
+    char temp_path[4096];
+};
+
+/* Open a temporary file beside `path`. Returns 0, or -1 with err filled. */
+int atomic_file_open(struct atomic_file *af, const char *path, char *err, size_t errlen);
+/* Flush, fsync, rename over the final path, fsync the directory. On any
+ * failure the temporary is removed and the old target is untouched. */
+int atomic_file_commit(struct atomic_file *af, char *err, size_t errlen);
+/* Discard the temporary; the target is untouched. */
+void atomic_file_abort(struct atomic_file *af);
+
+/* One-shot convenience. */
+int atomic_write_file(const char *path, const void *data, size_t len, char *err, size_t errlen);
+
+#endif

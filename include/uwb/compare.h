@@ -1,0 +1,27 @@
+/* A scan's edges against the baseline's: displacement, its uncertainty, and
+ * whether it matters. */
+#ifndef UWB_COMPARE_H
+#define UWB_COMPARE_H
+
+#include <stddef.h>
+
+#include "uwb/scan.h"
+#include "uwb/verdict.h"
+
+struct uwb_compare_options {
+    struct uwb_thresholds thresholds;
+    double systematic_displacement_m; /* 1-sigma floor of a displacement between two scans */
+    double max_uncertainty_m;         /* above this 1-sigma the verdict is inconclusive */
+};
+
+void uwb_compare_defaults(struct uwb_compare_options *opt);
+
+/* Nonzero when two scans can be compared, else 0 with the difference named. */
+int uwb_scans_comparable(const struct uwb_scan *current, const struct uwb_scan *baseline,
+                         char *why, size_t whylen);
+
+/* Fill v's status, reason and figures from the edges (baseline may be NULL). */
+void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *current,
+                       const struct uwb_edges *baseline, const struct uwb_compare_options *opt);
+
+#endif

@@ -1,0 +1,54 @@
+/* What a scan says about the winding: its edges, and against a baseline,
+ * how far it moved and whether that matters. */
+#ifndef UWB_VERDICT_H
+#define UWB_VERDICT_H
+
+#include <stddef.h>
+
+enum uwb_status {
+    UWB_STATUS_EDGES,        /* no baseline given: edges only */
+    UWB_STATUS_OK,
+    UWB_STATUS_WATCH,
+    UWB_STATUS_ALARM,
+    UWB_STATUS_INCONCLUSIVE  /* the data cannot support a figure; see reason */
+};
+
+const char *uwb_status_name(enum uwb_status status);
+
+struct uwb_edges {
+    int found;                   /* 0: winding or an edge not established, see reason */
+    double lower_m, upper_m;     /* Y1, Y2 in the scan's own y */
+    double center_m, height_m;   /* (Y1+Y2)/2, Y2-Y1 */
+    double face_z_m;             /* range of the winding's face */
+    double sigma_lower_m;        /* 1-sigma uncertainties */
+    double sigma_upper_m;
+    double sigma_center_m;
+    double sigma_center_noise_m; /* the part of sigma_center from noise alone: what a comparison of two scans inherits */
+    double snr_db;               /* face peak over image noise floor */
+    char reason[256];
+};
+
+struct uwb_thresholds {
+    double watch_m;              /* |displacement| from which status is watch (default 2 mm) */
+    double alarm_m;              /* from which it is alarm (default 5 mm) */
+};
+
+#define UWB_MAX_IMAGES 4
+
+struct uwb_verdict {
+    enum uwb_status status;
+    char reason[256];            /* why inconclusive, or empty */
+    char scan_id[128];
+    char created[64];
+    struct uwb_edges current;
+    int has_baseline;
+    struct uwb_edges baseline;
+    char baseline_scan_id[128];
+    double axial_displacement_m; /* Yc - Yc(baseline), positive = up */
+    double uncertainty_m;        /* 1-sigma of the displacement */
+    double height_change_m;
+    int n_images;
+    char images[UWB_MAX_IMAGES][4096];
+};
+
+#endif

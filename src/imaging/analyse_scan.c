@@ -1,0 +1,301 @@
+/* One scan, raw traces to edges. */
+#include "uwb/analysis.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "imaging_internal.h"
+
+#define COARSE_DY_M 0.005
+#define COARSE_DZ_M 0.002
+#define FINE_DY_M 0.0005
+#define FINE_DZ_M 0.001
+#define DISPLAY_DY_M 0.001
+#define DISPLAY_DZ_M 0.001
+#define DISPLAY_HALF_RANGE_M 0.25
+#define TAPER_ITERATIONS 3
+#define TAPER_FLAT 0.2          /* flat fraction of the aperture taper */
+
+void uwb_analysis_defaults(struct uwb_analysis_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->migration = UWB_MIGRATE_FIXED;
+    opt->search_z_min_m = 0.15;
+    opt->search_z_max_m = 1.6;
+    opt->edge_fraction = 0.5;
+    opt->min_snr_db = 12.0;
+    opt->systematic_edge_m = 0.0005;
+    uwb_condition_defaults(&opt->condition);
+}
+
+/* The largest pixel size not above `target` that divides the antenna step,
+ * so rows fall on antenna heights (one shared delay table). */
+static double aligned_dy(const struct uwb_scan *scan, double target)
+{
+    if (scan->positions < 2)
+        return target;
+    double step = fabs(scan->antenna_y_m[1] - scan->antenna_y_m[0]);
+    if (!(step > 0.0))
+        return target;
+    double n = ceil(step / target - 1e-9);
+    return step / n;
+}
+
+static void aperture(const struct uwb_scan *scan, double *lo, double *hi)
+{
+    *lo = *hi = scan->antenna_y_m[0];
+    for (int k = 1; k < scan->positions; k++) {
+        if (scan->antenna_y_m[k] < *lo)
+            *lo = scan->antenna_y_m[k];
+        if (scan->antenna_y_m[k] > *hi)
+            *hi = scan->antenna_y_m[k];
+    }
+}
+
+/* Measure a scan's face: fine image around z_face, profile, edges. */
+static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                        const struct uwb_analysis_options *opt, double z_centre, double dominant_hz,
+                        double *z_face, struct uwb_face_profile *profile, struct profile_edges *edges,
+                        char *err, size_t errlen)
+{
+    double wavelength = g->velocity_m_s / dominant_hz;
+    double half = wavelength > 0.1 ? wavelength : 0.1;
+    double z_lo = z_centre - half > 0.01 ? z_centre - half : 0.01;
+    struct uwb_image fine = {0};
+    if (imaging_grid(&fine, conditioned, 0.15, aligned_dy(conditioned, FINE_DY_M), z_lo,
+                     z_centre + half, FINE_DZ_M, err, errlen) != 0)
+        return -1;
+    if (imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen) != 0) {
+        uwb_image_free(&fine);
+        return -1;
+    }
+    /* The face column: the brightest within a range cell of the coarse pick. */
+    int lo = (int)floor((z_centre - wavelength / 4 - fine.z0_m) / fine.dz_m);
+    int hi = (int)ceil((z_centre + wavelength / 4 - fine.z0_m) / fine.dz_m);
+    if (lo < 0)
+        lo = 0;
+    if (hi > fine.nz - 1)
+        hi = fine.nz - 1;
+    int best = lo;
+    float best_v = -1.0f;
+    for (int iz = lo; iz <= hi; iz++)
+        for (int iy = 0; iy < fine.ny; iy++)
+            if (fine.pix[(size_t)iy * fine.nz + iz] > best_v) {
+                best_v = fine.pix[(size_t)iy * fine.nz + iz];
+                best = iz;
+            }
+    *z_face = fine.z0_m + best * fine.dz_m;
+    int rc = face_profile(&fine, *z_face, wavelength / 16, profile, err, errlen);
+    uwb_image_free(&fine);
+    if (rc != 0)
+        return -1;
+    profile_edges(profile, opt->edge_fraction, edges);
+    return 0;
+}
+
+/* Weights that make the aperture symmetric about the winding: with more
+ * positions on one side, the image of the face leans toward the middle of
+ * the travel and a displacement reads short by a few per cent. A Tukey
+ * window (flat centre, cosine shoulders) reaching to the nearer end of the
+ * travel removes that lean and moves smoothly as the winding moves. */
+static int taper_about(const struct uwb_scan *in, double y_centre, double lo, double hi,
+                       struct uwb_scan *out, char *err, size_t errlen)
+{
+    if (uwb_scan_copy(out, in, err, errlen) != 0)
+        return -1;
+    double half = fmin(y_centre - lo, hi - y_centre);
+    double step = in->positions > 1 ? fabs(in->antenna_y_m[1] - in->antenna_y_m[0]) : 0.0;
+    if (half < step)
+        half = step;
+    for (int k = 0; k < in->positions; k++) {
+        double x = fabs(in->antenna_y_m[k] - y_centre) / half, w;
+        if (x <= TAPER_FLAT)
+            w = 1.0;
+        else if (x < 1.0) {
+            double c = cos(0.5 * M_PI * (x - TAPER_FLAT) / (1.0 - TAPER_FLAT));
+            w = c * c;
+        } else
+            w = 0.0;
+        float *tr = out->data + (size_t)k * in->samples;
+        for (int s = 0; s < in->samples; s++)
+            tr[s] *= (float)w;
+    }
+    return 0;
+}
+
+static int display_image(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                         const struct uwb_analysis_options *opt, double z_lo, double z_hi,
+                         struct uwb_image *img, char *err, size_t errlen)
+{
+    if (imaging_grid(img, conditioned, 0.1, aligned_dy(conditioned, DISPLAY_DY_M), z_lo, z_hi,
+                     DISPLAY_DZ_M, err, errlen) != 0)
+        return -1;
+    return imaging_intensity(opt->migration, conditioned, g, img, err, errlen);
+}
+
+/* Where the search says the winding is: its range and rough ends, widened
+ * by a wavelength, so conditioning can keep its echoes out of the static
+ * reference. */
+static void rough_window(const struct uwb_image *coarse, double z_face, double wavelength,
+                         double ap_lo, double ap_hi, struct uwb_target_window *w)
+{
+    struct uwb_face_profile p = {0};
+    struct profile_edges e = {0};
+    char err[128];
+    w->y_lo_m = ap_lo;
+    w->y_hi_m = ap_hi;
+    if (face_profile(coarse, z_face, 0.0, &p, err, sizeof err) == 0) {
+        profile_edges(&p, 0.5, &e);
+        if (e.ok) {
+            w->y_lo_m = e.lower_m - wavelength;
+            w->y_hi_m = e.upper_m + wavelength;
+        }
+    }
+    free(p.value);
+    w->z_near_m = z_face - wavelength;
+    w->z_far_m = z_face + wavelength;
+}
+
+static void finish_free(struct uwb_scan *a, struct uwb_scan *b, struct uwb_image *c)
+{
+    if (a)
+        uwb_scan_free(a);
+    if (b)
+        uwb_scan_free(b);
+    if (c)
+        uwb_image_free(c);
+}
+
+int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_options *opt,
+                     struct uwb_analysis *out, char *err, size_t errlen)
+{
+    memset(out, 0, sizeof *out);
+    struct uwb_edges *edges = &out->edges;
+    struct uwb_geometry g;
+    uwb_geometry_from_scan(&g, scan, opt->time_zero_offset_s);
+    aperture(scan, &out->aperture_lo_m, &out->aperture_hi_m);
+    double ap_lo = out->aperture_lo_m, ap_hi = out->aperture_hi_m;
+
+    out->dominant_hz = uwb_dominant_frequency(scan);
+    double wavelength = g.velocity_m_s / out->dominant_hz;
+
+    double z_lo = opt->search_z_min_m, z_hi = opt->search_z_max_m;
+    if (opt->has_target_z) {
+        z_lo = opt->target_z_m[0];
+        z_hi = opt->target_z_m[1];
+    } else if (scan->has_target_z) {
+        z_lo = scan->target_z_m[0];
+        z_hi = scan->target_z_m[1];
+    }
+    double t_end = g.t0_s + (scan->samples - 1) * g.dt_s;
+    double z_record = 0.5 * g.velocity_m_s * t_end;
+    if (z_hi > z_record)
+        z_hi = z_record;
+    if (z_hi - z_lo < 0.02) {
+        snprintf(edges->reason, sizeof edges->reason,
+                 "record too short: it ends at %.3f m range, the search starts at %.3f m", z_record, z_lo);
+        return 0;
+    }
+
+    /* Stage 1: find the winding, static clutter estimated at the travel's ends. */
+    struct uwb_scan searched = {0};
+    if (uwb_condition(scan, &g, &opt->condition, out->dominant_hz, NULL, &searched, err, errlen) != 0)
+        return -1;
+    struct uwb_image coarse = {0};
+    if (imaging_grid(&coarse, &searched, 0.1, aligned_dy(scan, COARSE_DY_M), z_lo, z_hi,
+                     COARSE_DZ_M, err, errlen) != 0 ||
+        imaging_intensity(opt->migration, &searched, &g, &coarse, err, errlen) != 0) {
+        finish_free(&searched, NULL, &coarse);
+        return -1;
+    }
+    out->noise_sigma = uwb_noise_sigma(&searched);
+    uwb_scan_free(&searched);
+    struct face_candidate face;
+    if (face_search(&coarse, ap_lo, ap_hi, &face, edges->reason, sizeof edges->reason) != 0) {
+        out->intensity = coarse;   /* show what was searched */
+        return 0;
+    }
+
+    /* Stage 2: clutter estimated where the winding cannot be heard. */
+    struct uwb_target_window window;
+    rough_window(&coarse, face.z_m, wavelength, ap_lo, ap_hi, &window);
+    uwb_image_free(&coarse);
+    struct uwb_scan conditioned = {0};
+    if (uwb_condition(scan, &g, &opt->condition, out->dominant_hz, &window, &conditioned, err,
+                      errlen) != 0)
+        return -1;
+
+    /* Stage 3: measure the face with the aperture made symmetric about it. */
+    struct profile_edges pe;
+    double z_face = face.z_m;
+    struct uwb_face_profile profile = {0};
+    if (measure_face(&conditioned, &g, opt, face.z_m, out->dominant_hz, &z_face, &profile, &pe,
+                     err, errlen) != 0) {
+        finish_free(&conditioned, NULL, NULL);
+        return -1;
+    }
+    for (int it = 0; it < TAPER_ITERATIONS && pe.ok; it++) {
+        struct uwb_scan tapered = {0};
+        double centre = 0.5 * (pe.lower_m + pe.upper_m);
+        if (centre <= ap_lo || centre >= ap_hi)
+            break;
+        free(profile.value);
+        profile.value = NULL;
+        if (taper_about(&conditioned, centre, ap_lo, ap_hi, &tapered, err, errlen) != 0 ||
+            measure_face(&tapered, &g, opt, z_face, out->dominant_hz, &z_face, &profile, &pe, err,
+                         errlen) != 0) {
+            finish_free(&conditioned, &tapered, NULL);
+            free(profile.value);
+            return -1;
+        }
+        uwb_scan_free(&tapered);
+    }
+    out->profile = profile;
+    edges->face_z_m = z_face;
+    double dlo = z_face - DISPLAY_HALF_RANGE_M > 0.01 ? z_face - DISPLAY_HALF_RANGE_M : 0.01;
+    int rc = display_image(&conditioned, &g, opt, dlo, z_face + DISPLAY_HALF_RANGE_M,
+                           &out->intensity, err, errlen);
+    uwb_scan_free(&conditioned);
+    if (rc != 0)
+        return -1;
+
+    double image_noise = out->noise_sigma * sqrt((double)scan->positions);
+    edges->snr_db = image_noise > 0.0 ? 20.0 * log10(pe.peak / image_noise) : 200.0;
+    if (!pe.ok || pe.lower_m < ap_lo || pe.upper_m > ap_hi) {
+        snprintf(edges->reason, sizeof edges->reason,
+                 "edge outside the seen aperture: the face at %.3f m does not fall off inside the "
+                 "antenna travel %.3f..%.3f m", z_face, ap_lo, ap_hi);
+        return 0;
+    }
+    if (edges->snr_db < opt->min_snr_db) {
+        snprintf(edges->reason, sizeof edges->reason,
+                 "too little SNR: face echo %.1f dB over the noise, at least %.1f dB needed",
+                 edges->snr_db, opt->min_snr_db);
+        return 0;
+    }
+
+    /* Noise moves a crossing by noise / slope. An absolute edge also carries
+     * a floor for how the imaging blurs it; between two scans of the same
+     * installation that blur is common and cancels (see compare.c). */
+    double sn_lo = image_noise / fmax(fabs(pe.slope_lower), 1e-30);   /* slopes are > 0 at a crossing */
+    double sn_hi = image_noise / fmax(fabs(pe.slope_upper), 1e-30);
+    edges->found = 1;
+    edges->lower_m = pe.lower_m;
+    edges->upper_m = pe.upper_m;
+    edges->center_m = 0.5 * (pe.lower_m + pe.upper_m);
+    edges->height_m = pe.upper_m - pe.lower_m;
+    edges->sigma_lower_m = hypot(sn_lo, opt->systematic_edge_m);
+    edges->sigma_upper_m = hypot(sn_hi, opt->systematic_edge_m);
+    edges->sigma_center_m = 0.5 * hypot(edges->sigma_lower_m, edges->sigma_upper_m);
+    edges->sigma_center_noise_m = 0.5 * hypot(sn_lo, sn_hi);
+    return 0;
+}
+
+void uwb_analysis_free(struct uwb_analysis *a)
+{
+    uwb_image_free(&a->intensity);
+    free(a->profile.value);
+    memset(a, 0, sizeof *a);
+}

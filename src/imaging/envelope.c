@@ -1,0 +1,51 @@
+#include "uwb/envelope.h"
+
+#include <fftw3.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
+{
+    /* Pad to twice the row so the circular transform does not fold the far
+     * end of the range window onto the near end. */
+    int n = 2 * img->nz;
+    int nh = n / 2 + 1;
+    float *row = fftwf_alloc_real((size_t)n);
+    fftwf_complex *half = fftwf_alloc_complex((size_t)nh);
+    fftwf_complex *full = fftwf_alloc_complex((size_t)n);
+    if (!row || !half || !full) {
+        fftwf_free(row);
+        fftwf_free(half);
+        fftwf_free(full);
+        snprintf(err, errlen, "envelope: out of memory for rows of %d", img->nz);
+        return -1;
+    }
+    fftwf_plan fwd = fftwf_plan_dft_r2c_1d(n, row, half, FFTW_ESTIMATE);
+    fftwf_plan inv = fftwf_plan_dft_1d(n, full, full, FFTW_BACKWARD, FFTW_ESTIMATE);
+    for (int iy = 0; iy < img->ny; iy++) {
+        float *pix = img->pix + (size_t)iy * img->nz;
+        memcpy(row, pix, (size_t)img->nz * sizeof *row);
+        memset(row + img->nz, 0, (size_t)(n - img->nz) * sizeof *row);
+        fftwf_execute(fwd);
+        /* Analytic signal: keep DC and Nyquist, double positive, drop negative. */
+        memset(full, 0, (size_t)n * sizeof *full);
+        full[0][0] = half[0][0];
+        full[0][1] = half[0][1];
+        for (int i = 1; i < nh - 1; i++) {
+            full[i][0] = 2.0f * half[i][0];
+            full[i][1] = 2.0f * half[i][1];
+        }
+        full[nh - 1][0] = half[nh - 1][0];
+        full[nh - 1][1] = half[nh - 1][1];
+        fftwf_execute(inv);
+        for (int iz = 0; iz < img->nz; iz++)
+            pix[iz] = hypotf(full[iz][0], full[iz][1]) / (float)n;
+    }
+    fftwf_destroy_plan(fwd);
+    fftwf_destroy_plan(inv);
+    fftwf_free(row);
+    fftwf_free(half);
+    fftwf_free(full);
+    return 0;
+}

@@ -1,0 +1,99 @@
+/* Which reflector is the winding: the strongest one whose two ends are both
+ * seen. Core legs, barriers and the far wall run past the aperture; the
+ * winding's face starts and stops inside it. */
+#include "imaging_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#define MAX_CANDIDATES 8
+#define CANDIDATE_SEPARATION_M 0.03
+#define WEAKEST_CANDIDATE 0.01     /* -40 dB below the strongest reflector */
+#define END_FRACTION 0.5           /* the profile must drop below this inside the travel */
+
+static double column_peak(const struct uwb_image *img, int iz, int *row)
+{
+    double best = -1.0;
+    for (int iy = 0; iy < img->ny; iy++) {
+        double v = img->pix[(size_t)iy * img->nz + iz];
+        if (v > best) {
+            best = v;
+            *row = iy;
+        }
+    }
+    return best;
+}
+
+static int ends_seen(const struct uwb_image *img, int iz, int peak_row, double peak,
+                     double lo_m, double hi_m)
+{
+    int iy = peak_row;
+    while (iy > 0 && img->pix[(size_t)iy * img->nz + iz] >= END_FRACTION * peak)
+        iy--;
+    int lower_ok = img->pix[(size_t)iy * img->nz + iz] < END_FRACTION * peak &&
+                   img->y0_m + iy * img->dy_m >= lo_m;
+    iy = peak_row;
+    while (iy < img->ny - 1 && img->pix[(size_t)iy * img->nz + iz] >= END_FRACTION * peak)
+        iy++;
+    int upper_ok = img->pix[(size_t)iy * img->nz + iz] < END_FRACTION * peak &&
+                   img->y0_m + iy * img->dy_m <= hi_m;
+    return lower_ok && upper_ok;
+}
+
+int face_search(const struct uwb_image *img, double aperture_lo_m, double aperture_hi_m,
+                struct face_candidate *face, char *reason, size_t reasonlen)
+{
+    double *peak = malloc((size_t)img->nz * sizeof *peak);
+    int *row = malloc((size_t)img->nz * sizeof *row);
+    char *used = calloc((size_t)img->nz, 1);
+    if (!peak || !row || !used) {
+        free(peak);
+        free(row);
+        free(used);
+        snprintf(reason, reasonlen, "out of memory in the face search");
+        return 1;
+    }
+    double strongest = 0.0;
+    for (int iz = 0; iz < img->nz; iz++) {
+        peak[iz] = column_peak(img, iz, &row[iz]);
+        if (peak[iz] > strongest)
+            strongest = peak[iz];
+    }
+    int sep = (int)ceil(CANDIDATE_SEPARATION_M / img->dz_m);
+    int found = 0;
+    double strongest_rejected_z = -1.0;
+    for (int c = 0; c < MAX_CANDIDATES && !found; c++) {
+        int best = -1;
+        for (int iz = 0; iz < img->nz; iz++)
+            if (!used[iz] && (best < 0 || peak[iz] > peak[best]))
+                best = iz;
+        if (best < 0 || peak[best] <= WEAKEST_CANDIDATE * strongest || peak[best] <= 0.0)
+            break;
+        for (int iz = best - sep; iz <= best + sep; iz++)
+            if (iz >= 0 && iz < img->nz)
+                used[iz] = 1;
+        if (ends_seen(img, best, row[best], peak[best], aperture_lo_m, aperture_hi_m)) {
+            face->z_m = img->z0_m + best * img->dz_m;
+            face->peak = peak[best];
+            face->both_ends_seen = 1;
+            found = 1;
+        } else if (strongest_rejected_z < 0.0) {
+            strongest_rejected_z = img->z0_m + best * img->dz_m;
+        }
+    }
+    if (!found) {
+        if (strongest_rejected_z >= 0.0)
+            snprintf(reason, reasonlen,
+                     "winding not found: no reflector between %.3f and %.3f m range has both ends inside "
+                     "the antenna travel (strongest, at %.3f m, runs past it)",
+                     img->z0_m, img->z0_m + (img->nz - 1) * img->dz_m, strongest_rejected_z);
+        else
+            snprintf(reason, reasonlen, "winding not found: no reflector between %.3f and %.3f m range",
+                     img->z0_m, img->z0_m + (img->nz - 1) * img->dz_m);
+    }
+    free(peak);
+    free(row);
+    free(used);
+    return found ? 0 : 1;
+}

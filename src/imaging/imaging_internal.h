@@ -1,0 +1,48 @@
+/* Steps of the single-scan analysis (private to src/imaging). */
+#ifndef UWB_IMAGING_INTERNAL_H
+#define UWB_IMAGING_INTERNAL_H
+
+#include <stddef.h>
+
+#include "uwb/analysis.h"
+#include "uwb/geometry.h"
+
+/* A grid over y whose rows fall on the antenna heights when the antenna
+ * step is a multiple of dy (so migration can share one delay table). */
+int imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m,
+                 double dy_m, double z_lo_m, double z_hi_m, double dz_m,
+                 char *err, size_t errlen);
+
+/* Migrate onto img and take the envelope along range. */
+int imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *conditioned,
+                      const struct uwb_geometry *g, struct uwb_image *img,
+                      char *err, size_t errlen);
+
+struct face_candidate {
+    double z_m;
+    double peak;
+    int both_ends_seen;
+};
+
+/* The winding's face range: the strongest reflector in [z_lo, z_hi] whose
+ * profile along y falls off before both ends of the antenna travel.
+ * Returns 0 and fills *face, or 1 with reason filled when none qualifies. */
+int face_search(const struct uwb_image *intensity, double aperture_lo_m, double aperture_hi_m,
+                struct face_candidate *face, char *reason, size_t reasonlen);
+
+/* Profile along y at the face: the largest envelope within +-half_width_m of z_face. */
+int face_profile(const struct uwb_image *intensity, double z_face_m, double half_width_m,
+                 struct uwb_face_profile *p, char *err, size_t errlen);
+
+struct profile_edges {
+    int ok;
+    double lower_m, upper_m;
+    double slope_lower, slope_upper;   /* |dP/dy| at the crossings */
+    double peak, peak_y_m;
+};
+
+/* Lower and upper crossings of fraction*peak, walking out from the peak,
+ * interpolated between samples. ok = 0 when a side never drops below it. */
+void profile_edges(const struct uwb_face_profile *p, double fraction, struct profile_edges *e);
+
+#endif

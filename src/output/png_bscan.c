@@ -1,0 +1,236 @@
+/* The raw B-scan: every trace as a band at its antenna height, time across.
+ * Signed amplitude on a signed dB scale (red positive, blue negative, white
+ * below the floor) because the direct coupling is several times stronger
+ * than the winding's echo: on a linear scale the echo, the thing to look
+ * at, would be a faint smudge. The face's expected arrival and the edges
+ * are overlaid like in the migrated image. */
+#include "uwb/render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#define SPEED_OF_LIGHT 299792458.0
+#define FACE_REGION_FRACTION 0.12
+
+static const struct uwb_rgb page = { 255, 255, 255 };
+static const struct uwb_rgb ink = { 25, 25, 25 };
+
+static int check_scan(const struct uwb_scan *scan, const char *path, char *err, size_t errlen)
+{
+    if (!scan || !scan->data || !scan->antenna_y_m) {
+        snprintf(err, errlen, "%s: no scan data", path);
+        return -1;
+    }
+    if (scan->positions < 1 || scan->samples < 2) {
+        snprintf(err, errlen, "%s: scan of %d positions x %d samples is too small to draw", path,
+                 scan->positions, scan->samples);
+        return -1;
+    }
+    if (!(scan->sample_interval_s > 0) || !isfinite(scan->sample_interval_s) || !isfinite(scan->t0_s)) {
+        snprintf(err, errlen, "%s: sample interval must be finite and positive (%g s)", path,
+                 scan->sample_interval_s);
+        return -1;
+    }
+    for (int k = 0; k < scan->positions; k++)
+        if (!isfinite(scan->antenna_y_m[k])) {
+            snprintf(err, errlen, "%s: antenna position %d is not a number", path, k);
+            return -1;
+        }
+    return 0;
+}
+
+static double sample_value(const struct uwb_scan *scan, int k, int s)
+{
+    double v = scan->data[(size_t)k * (size_t)scan->samples + (size_t)s];
+    return isfinite(v) ? v : 0.0;
+}
+
+/* Colour-map position of a signed amplitude: 0.5 is zero (or below the
+ * floor), 1 the positive peak, 0 the negative peak. */
+double uwb_signed_db_to_t(double value, double peak, double floor_db)
+{
+    if (!(peak > 0) || value == 0.0 || !isfinite(value))
+        return 0.5;
+    double m = fabs(value) / peak;
+    double u = (20.0 * log10(m) - floor_db) / (0.0 - floor_db);
+    u = u < 0 ? 0 : u > 1 ? 1 : u;
+    return value > 0 ? 0.5 + 0.5 * u : 0.5 - 0.5 * u;
+}
+
+/* Two-way time of the specular echo from a plane face at range face_z:
+ * mirror the receiver in the plane (image method), so it holds for the
+ * bistatic pair at any height. */
+double uwb_face_echo_time(const struct uwb_scan *scan, double face_z_m)
+{
+    double eps = scan->eps_r > 0 ? scan->eps_r : 1.0;
+    double v = SPEED_OF_LIGHT / sqrt(eps);
+    double dz = 2.0 * face_z_m - scan->tx_m[1] - scan->rx_m[1];
+    double dy = scan->rx_m[0] - scan->tx_m[0];
+    return sqrt(dz * dz + dy * dy) / v;
+}
+
+/* The trace whose antenna height is nearest y. */
+static int nearest_trace(const struct uwb_scan *scan, double y)
+{
+    int best = 0;
+    for (int k = 1; k < scan->positions; k++)
+        if (fabs(scan->antenna_y_m[k] - y) < fabs(scan->antenna_y_m[best] - y))
+            best = k;
+    return best;
+}
+
+static void paint_traces(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_scan *scan,
+                         double peak, double floor_db)
+{
+    double dt = scan->sample_interval_s;
+    for (int row = 0; row < p->h; row++) {
+        double y = p->y_max - (p->y_max - p->y_min) * row / (p->h > 1 ? p->h - 1 : 1);
+        int k = nearest_trace(scan, y);
+        for (int col = 0; col < p->w; col++) {
+            /* The column spans [ta, tb); with many samples per column take
+             * the strongest, so a short echo cannot fall between pixels. */
+            double ta = p->x_min + (p->x_max - p->x_min) * (col - 0.5) / (p->w - 1);
+            double tb = p->x_min + (p->x_max - p->x_min) * (col + 0.5) / (p->w - 1);
+            double fa = (ta - scan->t0_s) / dt, fb = (tb - scan->t0_s) / dt;
+            int sa = (int)ceil(fa), sb = (int)floor(fb);
+            double value;
+            if (sb - sa >= 1) {
+                sa = sa < 0 ? 0 : sa;
+                sb = sb > scan->samples - 1 ? scan->samples - 1 : sb;
+                value = 0;
+                for (int s = sa; s <= sb; s++) {
+                    double v = sample_value(scan, k, s);
+                    if (fabs(v) > fabs(value))
+                        value = v;
+                }
+            } else {
+                double f = 0.5 * (fa + fb);
+                f = f < 0 ? 0 : f > scan->samples - 1 ? scan->samples - 1 : f;
+                int s = (int)f;
+                if (s > scan->samples - 2)
+                    s = scan->samples - 2;
+                double a = f - s;
+                value = (1 - a) * sample_value(scan, k, s) + a * sample_value(scan, k, s + 1);
+            }
+            uwb_canvas_put(c, p->x + col, p->y + row,
+                           uwb_colormap_diverging(uwb_signed_db_to_t(value, peak, floor_db)));
+        }
+    }
+}
+
+static void draw_signed_colorbar(struct uwb_canvas *c, int x, int y, int w, int h, double floor_db, int s)
+{
+    double ticks[32], step, pos[64];
+    char text[64][16];
+    const char *labels[64];
+    int n = uwb_nice_ticks(floor_db, 0.0, 4, ticks, 32, &step), m = 0;
+    /* The same dB figures on both halves; the floor, where they meet, once. */
+    for (int i = 0; i < n; i++) {
+        double u = (ticks[i] - floor_db) / (0.0 - floor_db);
+        uwb_format_tick(text[m], sizeof text[m], ticks[i], step);
+        labels[m] = text[m];
+        pos[m++] = 0.5 + 0.5 * u;
+        if (u > 1e-9) {
+            uwb_format_tick(text[m], sizeof text[m], ticks[i], step);
+            labels[m] = text[m];
+            pos[m++] = 0.5 - 0.5 * u;
+        }
+    }
+    uwb_draw_colorbar(c, x, y, w, h, uwb_colormap_diverging, pos, labels, m, "+ dB", s);
+    int tw = uwb_text_width("- dB", s);
+    uwb_draw_text(c, x + w / 2 - tw / 2, y + h + 8, "- dB", s, ink);
+}
+
+void render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
+                         const struct uwb_render_options *opt, struct uwb_plot *plot,
+                         int *colorbar_x, int *colorbar_w)
+{
+    struct uwb_render_options o;
+    uwb_render_options_sane(opt, &o);
+    uwb_layout_single_plot(o.width, o.height, o.font_scale, uwb_caption_height(v, o.width, o.font_scale),
+                           plot, colorbar_x, colorbar_w);
+    plot->x_min = scan->t0_s;
+    plot->x_max = scan->t0_s + (scan->samples - 1) * scan->sample_interval_s;
+    /* Each trace owns the band half-way to its neighbours, so the outer
+     * traces get a half (mean) step beyond their heights too. */
+    double lo = scan->antenna_y_m[0], hi = lo;
+    for (int k = 1; k < scan->positions; k++) {
+        lo = fmin(lo, scan->antenna_y_m[k]);
+        hi = fmax(hi, scan->antenna_y_m[k]);
+    }
+    double margin = scan->positions > 1 ? 0.5 * (hi - lo) / (scan->positions - 1) : 0.015;
+    if (!(margin > 0))
+        margin = 0.015;
+    plot->y_min = lo - margin;
+    plot->y_max = hi + margin;
+}
+
+int render_bscan_png(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
+                     char *err, size_t errlen)
+{
+    return render_bscan_png_opt(path, scan, v, NULL, err, errlen);
+}
+
+int render_bscan_png_opt(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
+                         const struct uwb_render_options *opt, char *err, size_t errlen)
+{
+    if (!path || !*path) {
+        snprintf(err, errlen, "B-scan image: no output path");
+        return -1;
+    }
+    if (check_scan(scan, path, err, errlen) != 0)
+        return -1;
+    struct uwb_render_options o;
+    uwb_render_options_sane(opt, &o);
+    int s = o.font_scale;
+
+    struct uwb_canvas c;
+    if (uwb_canvas_init(&c, o.width, o.height, page, err, errlen) != 0)
+        return -1;
+    struct uwb_plot plot;
+    int bar_x, bar_w;
+    render_bscan_layout(scan, v, &o, &plot, &bar_x, &bar_w);
+
+    uwb_draw_caption(&c, "uwbd raw B-scan - signed amplitude, dB re |peak|", v, s);
+
+    double peak = 0;
+    for (int k = 0; k < scan->positions; k++)
+        for (int i = 0; i < scan->samples; i++)
+            peak = fmax(peak, fabs(sample_value(scan, k, i)));
+    paint_traces(&c, &plot, scan, peak, o.bscan_floor_db);
+    if (!(peak > 0))
+        uwb_draw_text(&c, plot.x + 10, plot.y + 10, "scan is empty (all zero)", s, ink);
+
+    if (v) {
+        const struct uwb_edges *b = v->has_baseline ? &v->baseline : NULL, *e = &v->current;
+        if (b && b->found) {
+            double t = uwb_face_echo_time(scan, b->face_z_m), half = FACE_REGION_FRACTION * (plot.x_max - plot.x_min);
+            uwb_draw_edges(&c, &plot, b, UWB_EDGE_BASELINE, t - half, t + half, t, -1, s);
+        }
+        if (e->found) {
+            double t = uwb_face_echo_time(scan, e->face_z_m), half = FACE_REGION_FRACTION * (plot.x_max - plot.x_min);
+            uwb_draw_edges(&c, &plot, e, UWB_EDGE_CURRENT, t - half, t + half, t, 1, s);
+        }
+    }
+
+    struct uwb_axis_style axes = { .x_label_scale = 1e9, .y_label_scale = 1000.0, .font_scale = s, .x_ticks = 8, .y_ticks = 10,
+                                   .x_labels = 1, .y_labels_left = 1,
+                                   .x_title = "time after the pulse leaves Tx (ns)",
+                                   .y_title = "antenna height y (mm)" };
+    uwb_draw_axes(&c, &plot, &axes);
+    draw_signed_colorbar(&c, bar_x, plot.y, bar_w, plot.h, o.bscan_floor_db, s);
+    uwb_draw_edge_legend(&c, plot.x, uwb_layout_legend_y(&plot, s), v && v->current.found,
+                         v && v->has_baseline && v->baseline.found, s);
+
+    char summary[2048];
+    uwb_verdict_summary(v, summary, sizeof summary);
+    struct uwb_png_text texts[] = {
+        { "Title", "uwbd raw B-scan" },
+        { "Description", summary },
+        { "Software", "uwbd" },
+    };
+    int rc = uwb_canvas_write_png(&c, path, texts, 3, err, errlen);
+    uwb_canvas_free(&c);
+    return rc;
+}

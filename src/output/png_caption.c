@@ -1,0 +1,246 @@
+/* The caption every PNG carries, so the picture alone says which scan,
+ * when, and what uwbd concluded: title, scan id and time, baseline id,
+ * the verdict with displacement +/- uncertainty, and the edges in mm. */
+#include "uwb/render.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static const struct uwb_rgb ink = { 25, 25, 25 };
+static const struct uwb_rgb muted = { 90, 90, 90 };
+static const struct uwb_rgb rule = { 170, 170, 170 };
+static const struct uwb_rgb white = { 255, 255, 255 };
+static const struct uwb_rgb baseline_ink = { 150, 20, 110 };   /* a darker UWB_RGB_BASELINE_EDGE, readable on white */
+
+#define MM(m) ((m) * 1000.0)
+
+#define CAPTION_TOP 10
+#define TITLE_GAP 6
+
+static int line_step(int scale)
+{
+    return UWB_FONT_LINE_HEIGHT * scale + 3;
+}
+
+
+struct uwb_rgb uwb_status_colour(enum uwb_status status)
+{
+    switch (status) {
+    case UWB_STATUS_OK: { struct uwb_rgb c = { 30, 125, 60 }; return c; }
+    case UWB_STATUS_WATCH: { struct uwb_rgb c = { 205, 125, 0 }; return c; }
+    case UWB_STATUS_ALARM: { struct uwb_rgb c = { 195, 30, 30 }; return c; }
+    case UWB_STATUS_EDGES: { struct uwb_rgb c = { 60, 85, 130 }; return c; }
+    case UWB_STATUS_INCONCLUSIVE:
+    default: { struct uwb_rgb c = { 105, 105, 105 }; return c; }
+    }
+}
+
+static const char *or_unknown(const char *s)
+{
+    return s && *s ? s : "(unknown)";
+}
+
+static void upper_case(char *dst, size_t len, const char *src)
+{
+    size_t i = 0;
+    for (; src && src[i] && i + 1 < len; i++)
+        dst[i] = (src[i] >= 'a' && src[i] <= 'z') ? (char)(src[i] - 'a' + 'A') : src[i];
+    if (len)
+        dst[i] = '\0';
+}
+
+static int displacement_known(const struct uwb_verdict *v)
+{
+    return v->has_baseline && v->status != UWB_STATUS_INCONCLUSIVE && v->status != UWB_STATUS_EDGES
+        && v->current.found && v->baseline.found;
+}
+
+void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t len)
+{
+    if (!v) {
+        snprintf(buf, len, "no verdict");
+    } else if (displacement_known(v)) {
+        double d = MM(v->axial_displacement_m);
+        snprintf(buf, len, "displacement %+.2f \u00b1 %.2f mm (%s)   height change %+.2f mm", d,
+                 MM(v->uncertainty_m), d > 0 ? "up" : d < 0 ? "down" : "none",
+                 MM(v->height_change_m));
+    } else if (v->status == UWB_STATUS_INCONCLUSIVE) {
+        snprintf(buf, len, "no displacement: %s", v->reason[0] ? v->reason : "inconclusive");
+    } else if (!v->has_baseline) {
+        snprintf(buf, len, "no baseline given: edges only");
+    } else {
+        snprintf(buf, len, "no displacement: %s",
+                 !v->current.found ? "edges of this scan not found" : "baseline edges not found");
+    }
+}
+
+void uwb_describe_edges(const struct uwb_edges *e, char *buf, size_t len)
+{
+    if (!e->found) {
+        snprintf(buf, len, "not found%s%s", e->reason[0] ? ": " : "", e->reason);
+        return;
+    }
+    /* The centre is what the displacement is made of, so it alone gets its
+     * uncertainty here; the JSON has the others. */
+    snprintf(buf, len, "lower %.1f  upper %.1f  centre %.1f \u00b1 %.1f mm  face z %.1f mm", MM(e->lower_m),
+             MM(e->upper_m), MM(e->center_m), MM(e->sigma_center_m), MM(e->face_z_m));
+}
+
+void uwb_verdict_summary(const struct uwb_verdict *v, char *buf, size_t len)
+{
+    if (!v) {
+        snprintf(buf, len, "no verdict");
+        return;
+    }
+    char disp[320], now[320], base[320];
+    uwb_describe_displacement(v, disp, sizeof disp);
+    uwb_describe_edges(&v->current, now, sizeof now);
+    if (v->has_baseline)
+        uwb_describe_edges(&v->baseline, base, sizeof base);
+    snprintf(buf, len, "scan %s created %s; status %s; %s; edges %s%s%s%s%s", or_unknown(v->scan_id),
+             or_unknown(v->created), uwb_status_name(v->status), disp, now,
+             v->has_baseline ? "; baseline " : "", v->has_baseline ? or_unknown(v->baseline_scan_id) : "",
+             v->has_baseline ? " edges " : "", v->has_baseline ? base : "");
+}
+
+/* Bytes of the first n of `text` that fit in max_w pixels, cut at a code
+ * point. The font is monospaced: k glyphs take (k * advance - 1) * scale. */
+static size_t fitting_prefix(const char *text, size_t n, int max_w, int scale)
+{
+    long glyphs = ((long)max_w / scale + 1) / UWB_FONT_ADVANCE;
+    size_t i = 0;
+    while (i < n && glyphs > 0) {
+        i++;
+        while (i < n && ((unsigned char)text[i] & 0xC0) == 0x80)
+            i++;    /* rest of a UTF-8 sequence */
+        glyphs--;
+    }
+    return i;
+}
+
+/* Shorten `text` in place, ending in "...", until it fits max_w pixels. */
+static void fit_text(char *text, int max_w, int scale)
+{
+    size_t n = strlen(text);
+    if (uwb_text_width(text, scale) <= max_w)
+        return;
+    size_t keep = fitting_prefix(text, n, max_w - uwb_text_width("...", scale) - UWB_FONT_ADVANCE * scale, scale);
+    if (keep + 3 <= n)
+        memcpy(text + keep, "...", 4);
+    else
+        text[fitting_prefix(text, n, max_w, scale)] = '\0';
+}
+
+/* Where caption lines go; with canvas NULL nothing is drawn and only the
+ * height is found, so layout and drawing can never disagree. */
+struct pen {
+    struct uwb_canvas *c;
+    int width, scale, x, y;
+};
+
+static void pen_text(struct pen *p, int x, int y, const char *text, int scale, struct uwb_rgb colour)
+{
+    if (p->c)
+        uwb_draw_text(p->c, x, y, text, scale, colour);
+}
+
+/* A label, then `text` word-wrapped over at most max_lines lines in the
+ * column after the label (the last line cut with "..."). */
+static void labelled_text(struct pen *p, const char *label, const char *text, struct uwb_rgb colour,
+                          int max_lines)
+{
+    int tx = p->x + uwb_text_width(label, p->scale) + UWB_FONT_ADVANCE * p->scale;
+    int max_w = p->width - tx - 8;
+    pen_text(p, p->x, p->y, label, p->scale, muted);
+    const char *rest = text;
+    for (int line = 0; line < max_lines; line++) {
+        while (*rest == ' ')
+            rest++;
+        char buf[1024];
+        size_t n = strlen(rest);
+        size_t fit = fitting_prefix(rest, n, max_w, p->scale);
+        if (fit < n && line + 1 < max_lines) {
+            /* break at the last space that fits, if there is one */
+            size_t cut = fit;
+            while (cut > 0 && rest[cut] != ' ')
+                cut--;
+            if (cut > 0)
+                fit = cut;
+            snprintf(buf, sizeof buf, "%.*s", (int)fit, rest);
+        } else {
+            snprintf(buf, sizeof buf, "%s", rest);
+            fit_text(buf, max_w, p->scale);
+            fit = n;
+        }
+        pen_text(p, tx, p->y, buf, p->scale, colour);
+        p->y += line_step(p->scale);
+        rest += fit;
+        if (!*rest)
+            break;
+    }
+}
+
+#define REASON_LINES 3      /* a reason longer than this is in the JSON verdict */
+
+static int caption(struct uwb_canvas *c, int width, const char *title, const struct uwb_verdict *v, int scale)
+{
+    struct pen p = { c, width, scale, 12, CAPTION_TOP };
+    int title_scale = scale + 1;
+    char a[1024];
+    snprintf(a, sizeof a, "%s", title ? title : "");
+    fit_text(a, width - 2 * p.x, title_scale);
+    pen_text(&p, p.x, p.y, a, title_scale, ink);
+    p.y += UWB_FONT_LINE_HEIGHT * title_scale + TITLE_GAP;
+
+    if (!v) {
+        labelled_text(&p, "verdict ", "none available: image only", ink, 1);
+    } else {
+        /* Labels are padded to one width so the figures of this scan and
+         * of the baseline line up under each other. */
+        snprintf(a, sizeof a, "%s   created %s", or_unknown(v->scan_id), or_unknown(v->created));
+        labelled_text(&p, "scan    ", a, ink, 1);
+
+        /* Verdict: a status badge in its colour, then the figure or why
+         * there is none. */
+        char status[64];
+        upper_case(status, sizeof status, uwb_status_name(v->status));
+        int bx = p.x + uwb_text_width("verdict ", scale) + UWB_FONT_ADVANCE * scale;
+        int bw = uwb_text_width(status, scale) + 8 * scale, pad = 2 * scale;
+        if (c) {
+            uwb_draw_text(c, p.x, p.y, "verdict ", scale, muted);
+            uwb_canvas_fill_rect(c, bx, p.y - pad, bw, UWB_FONT_CAP_HEIGHT * scale + 2 * pad,
+                                 uwb_status_colour(v->status));
+            uwb_draw_text(c, bx + 4 * scale, p.y, status, scale, white);
+        }
+        struct pen after_badge = p;
+        after_badge.x = bx + bw + 8 * scale - UWB_FONT_ADVANCE * scale;   /* text column after the badge */
+        uwb_describe_displacement(v, a, sizeof a);
+        labelled_text(&after_badge, "", a, ink, REASON_LINES);
+        p.y = after_badge.y;
+
+        uwb_describe_edges(&v->current, a, sizeof a);
+        labelled_text(&p, "edges   ", a, ink, 2);
+        if (v->has_baseline) {
+            /* The colour ties these lines to the dashed baseline overlay. */
+            labelled_text(&p, "baseline", or_unknown(v->baseline_scan_id), baseline_ink, 1);
+            uwb_describe_edges(&v->baseline, a, sizeof a);
+            labelled_text(&p, "        ", a, baseline_ink, 2);
+        } else {
+            labelled_text(&p, "baseline", "none given", ink, 1);
+        }
+    }
+    int height = p.y + 8;
+    if (c)
+        uwb_canvas_fill_rect(c, 0, height - 4, width, 1, rule);
+    return height;
+}
+
+int uwb_caption_height(const struct uwb_verdict *v, int width, int font_scale)
+{
+    return caption(NULL, width, "", v, font_scale);
+}
+
+int uwb_draw_caption(struct uwb_canvas *c, const char *title, const struct uwb_verdict *v, int font_scale)
+{
+    return caption(c, c->width, title, v, font_scale);
+}

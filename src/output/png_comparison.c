@@ -1,0 +1,262 @@
+/* Baseline against this scan, side by side so the shift shows at a glance:
+ *   [baseline image] [this scan's image] [face profiles]
+ * The two image panels are cropped to the face, share the height axis and
+ * the dB scale (each re its own peak: the scans may differ in gain); this
+ * scan's panel also carries the baseline's edges dashed, so the gap between
+ * solid and dashed lines IS the displacement. The profile panel overlays
+ * the normalised face intensity along y of both scans, with the half-peak
+ * line the edges are read at, and an arrow from the baseline centre to this
+ * scan's centre labelled with the displacement.
+ * Without a baseline the left panel says so and only this scan is drawn:
+ * the archive keeps the same set of files for every scan. */
+#include "uwb/render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#define CROP_HALF_WIDTH_M 0.060     /* face region shown: +/- 60 mm of range */
+#define PANEL_GAP 20
+
+static const struct uwb_rgb page = { 255, 255, 255 };
+static const struct uwb_rgb ink = { 25, 25, 25 };
+static const struct uwb_rgb no_data = { 128, 128, 128 };
+static const struct uwb_rgb profile_background = { 40, 40, 48 };
+static const struct uwb_rgb profile_grid = { 95, 95, 105 };
+static const struct uwb_rgb baseline_ink = { 150, 20, 110 };
+
+struct comparison_layout {
+    struct uwb_plot base, cur, prof;
+    int bar_x, bar_w;
+};
+
+static void image_y_range(const struct uwb_image *img, double *lo, double *hi)
+{
+    double a = img->y0_m, b = img->y0_m + (img->ny - 1) * img->dy_m;
+    *lo = fmin(*lo, a);
+    *hi = fmax(*hi, b);
+}
+
+static void layout(int width, int height, int s, int caption_height, struct comparison_layout *L)
+{
+    int top = caption_height + 16 + UWB_FONT_LINE_HEIGHT * s;       /* room for panel titles */
+    int left = 12 + 9 * s + 10 + (5 * UWB_FONT_ADVANCE - 1) * s + 12;
+    int right_labels = 12 + (5 * UWB_FONT_ADVANCE - 1) * s;                  /* profile's y labels */
+    L->bar_w = 10 + 6 * s;
+    int right = 22 + L->bar_w + 12 + (3 * UWB_FONT_ADVANCE - 1) * s + 10;
+    int bottom = 12 + UWB_FONT_CAP_HEIGHT * s + 10 + 9 * s + 14 + UWB_FONT_LINE_HEIGHT * s + 10;
+    int avail = width - left - right - right_labels - 2 * PANEL_GAP;
+    int panel = avail * 34 / 100;
+    if (panel < 16)
+        panel = 16;
+    struct uwb_plot p = { 0 };
+    p.y = top;
+    p.h = height - top - bottom;
+    if (p.h < 16)
+        p.h = 16;
+    L->base = p;
+    L->base.x = left;
+    L->base.w = panel;
+    L->cur = p;
+    L->cur.x = left + panel + PANEL_GAP;
+    L->cur.w = panel;
+    L->prof = p;
+    L->prof.x = L->cur.x + panel + PANEL_GAP;
+    L->prof.w = avail - 2 * panel > 16 ? avail - 2 * panel : 16;
+    L->bar_x = L->prof.x + L->prof.w + right_labels + 22;
+}
+
+static void panel_title(struct uwb_canvas *c, const struct uwb_plot *p, const char *title, int s,
+                        struct uwb_rgb colour)
+{
+    int w = uwb_text_width(title, s);
+    uwb_draw_text(c, p->x + (p->w - w) / 2, p->y - 10 - UWB_FONT_CAP_HEIGHT * s, title, s, colour);
+}
+
+/* The face profile of one image as a curve in the profile panel. */
+static void draw_profile(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *img,
+                         double face_z, enum uwb_edge_kind kind)
+{
+    double half = fmax(0.005, 1.5 * img->dz_m);
+    double *profile = malloc(sizeof *profile * (size_t)img->ny);
+    int *xs = malloc(sizeof *xs * (size_t)img->ny), *ys = malloc(sizeof *ys * (size_t)img->ny);
+    if (profile && xs && ys && uwb_face_profile(img, face_z, half, profile) == 0) {
+        int n = 0;
+        for (int iy = 0; iy < img->ny; iy++) {
+            double y = img->y0_m + iy * img->dy_m;
+            if (y < p->y_min || y > p->y_max)
+                continue;
+            xs[n] = uwb_plot_col(p, profile[iy]);
+            ys[n] = uwb_plot_row(p, y);
+            n++;
+        }
+        if (kind == UWB_EDGE_BASELINE)
+            uwb_canvas_polyline(c, xs, ys, n, UWB_RGB_BASELINE_EDGE, 2, 7, 5);
+        else
+            uwb_canvas_polyline(c, xs, ys, n, UWB_RGB_CURRENT_EDGE, 2, 0, 0);
+    }
+    free(profile);
+    free(xs);
+    free(ys);
+}
+
+/* Arrow from the baseline centre to this scan's centre, with the figure. */
+static void draw_shift_arrow(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_verdict *v, int s)
+{
+    int col = p->x + p->w * 82 / 100;
+    int r0 = uwb_plot_row(p, v->baseline.center_m), r1 = uwb_plot_row(p, v->current.center_m);
+    if (r0 < p->y || r0 >= p->y + p->h || r1 < p->y || r1 >= p->y + p->h)
+        return;
+    struct uwb_rgb arrow = UWB_RGB_CURRENT_EDGE;
+    if (abs(r1 - r0) >= 8) {
+        uwb_canvas_line(c, col, r0, col, r1, arrow, 2, 0, 0);
+        int dir = r1 < r0 ? 1 : -1;    /* head points toward r1 */
+        for (int i = 0; i < 6; i++)
+            uwb_canvas_fill_rect(c, col - i, r1 + dir * i, 2 * i + 1, 1, arrow);
+    }
+    char text[64];
+    snprintf(text, sizeof text, "\u0394 %+.1f mm", v->axial_displacement_m * 1000.0);
+    int w = uwb_text_width(text, s), h = UWB_FONT_CAP_HEIGHT * s;
+    int tx = col - w - 8, ty = (r0 + r1) / 2 - h / 2;
+    if (tx < p->x + 2)
+        tx = p->x + 2;
+    uwb_canvas_fill_rect(c, tx - 2, ty - 2, w + 4, h + 4, UWB_RGB_HALO);
+    uwb_draw_text(c, tx, ty, text, s, UWB_RGB_CURRENT_EDGE);
+}
+
+void render_comparison_layout(const struct uwb_image *current, const struct uwb_image *baseline,
+                              const struct uwb_verdict *v, const struct uwb_render_options *opt,
+                              struct uwb_plot *base_panel, struct uwb_plot *current_panel,
+                              struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w)
+{
+    struct uwb_render_options o;
+    uwb_render_options_sane(opt, &o);
+    struct comparison_layout L;
+    layout(o.width, o.height, o.font_scale, uwb_caption_height(v, o.width, o.font_scale), &L);
+    const struct uwb_edges *ec = v && v->current.found ? &v->current : NULL;
+    const struct uwb_edges *eb = v && v->has_baseline && v->baseline.found ? &v->baseline : NULL;
+    /* Crop centre: the faces found, else the brightest range. */
+    double zc;
+    if (ec && eb)
+        zc = 0.5 * (ec->face_z_m + eb->face_z_m);
+    else if (ec)
+        zc = ec->face_z_m;
+    else if (eb)
+        zc = eb->face_z_m;
+    else
+        zc = uwb_image_peak_z(current);
+    double ylo = INFINITY, yhi = -INFINITY;
+    image_y_range(current, &ylo, &yhi);
+    if (baseline)
+        image_y_range(baseline, &ylo, &yhi);
+    struct uwb_plot *panels[2] = { &L.base, &L.cur };
+    for (int i = 0; i < 2; i++) {
+        panels[i]->x_min = zc - CROP_HALF_WIDTH_M;
+        panels[i]->x_max = zc + CROP_HALF_WIDTH_M;
+        panels[i]->y_min = ylo;
+        panels[i]->y_max = yhi;
+    }
+    L.prof.x_min = 0.0;
+    L.prof.x_max = 1.05;    /* a little room right of the peak */
+    L.prof.y_min = ylo;
+    L.prof.y_max = yhi;
+    *base_panel = L.base;
+    *current_panel = L.cur;
+    *profile_panel = L.prof;
+    *colorbar_x = L.bar_x;
+    *colorbar_w = L.bar_w;
+}
+
+int render_comparison_png(const char *path, const struct uwb_image *current, const struct uwb_image *baseline,
+                          const struct uwb_verdict *v, char *err, size_t errlen)
+{
+    return render_comparison_png_opt(path, current, baseline, v, NULL, err, errlen);
+}
+
+int render_comparison_png_opt(const char *path, const struct uwb_image *current,
+                              const struct uwb_image *baseline, const struct uwb_verdict *v,
+                              const struct uwb_render_options *opt, char *err, size_t errlen)
+{
+    if (!path || !*path) {
+        snprintf(err, errlen, "comparison image: no output path");
+        return -1;
+    }
+    if (uwb_image_check(current, path, err, errlen) != 0)
+        return -1;
+    if (baseline && uwb_image_check(baseline, path, err, errlen) != 0)
+        return -1;
+    struct uwb_render_options o;
+    uwb_render_options_sane(opt, &o);
+    int s = o.font_scale;
+
+    struct uwb_canvas c;
+    if (uwb_canvas_init(&c, o.width, o.height, page, err, errlen) != 0)
+        return -1;
+    struct comparison_layout L;
+    render_comparison_layout(current, baseline, v, &o, &L.base, &L.cur, &L.prof, &L.bar_x, &L.bar_w);
+    const struct uwb_edges *ec = v && v->current.found ? &v->current : NULL;
+    const struct uwb_edges *eb = v && v->has_baseline && v->baseline.found ? &v->baseline : NULL;
+    double zc = 0.5 * (L.cur.x_min + L.cur.x_max);
+
+    uwb_draw_caption(&c, "uwbd comparison - baseline vs this scan", v, s);
+
+    /* Baseline panel. */
+    if (baseline) {
+        uwb_paint_image_db(&c, &L.base, baseline, uwb_image_peak(baseline), o.floor_db);
+        if (eb)
+            uwb_draw_edges(&c, &L.base, eb, UWB_EDGE_BASELINE, L.base.x_min, L.base.x_max, eb->face_z_m, 0, s);
+    } else {
+        uwb_canvas_fill_rect(&c, L.base.x, L.base.y, L.base.w, L.base.h, no_data);
+        int w = uwb_text_width("no baseline", s);
+        uwb_draw_text(&c, L.base.x + (L.base.w - w) / 2, L.base.y + L.base.h / 2, "no baseline", s, page);
+    }
+    panel_title(&c, &L.base, "baseline", s, baseline_ink);
+
+    /* This scan's panel: its edges solid, the baseline's dashed under them. */
+    uwb_paint_image_db(&c, &L.cur, current, uwb_image_peak(current), o.floor_db);
+    if (eb)
+        uwb_draw_edges(&c, &L.cur, eb, UWB_EDGE_BASELINE, L.cur.x_min, L.cur.x_max, eb->face_z_m, 0, s);
+    if (ec)
+        uwb_draw_edges(&c, &L.cur, ec, UWB_EDGE_CURRENT, L.cur.x_min, L.cur.x_max, ec->face_z_m, 0, s);
+    panel_title(&c, &L.cur, "this scan", s, ink);
+
+    /* Profiles. */
+    uwb_canvas_fill_rect(&c, L.prof.x, L.prof.y, L.prof.w, L.prof.h, profile_background);
+    int half_col = uwb_plot_col(&L.prof, 0.5);
+    uwb_canvas_line(&c, half_col, L.prof.y, half_col, L.prof.y + L.prof.h - 1, profile_grid, 1, 2, 3);
+    if (baseline)
+        draw_profile(&c, &L.prof, baseline, eb ? eb->face_z_m : zc, UWB_EDGE_BASELINE);
+    draw_profile(&c, &L.prof, current, ec ? ec->face_z_m : zc, UWB_EDGE_CURRENT);
+    if (eb)
+        uwb_draw_edges(&c, &L.prof, eb, UWB_EDGE_BASELINE, 0.0, L.prof.x_max, NAN, 0, s);
+    if (ec)
+        uwb_draw_edges(&c, &L.prof, ec, UWB_EDGE_CURRENT, 0.0, L.prof.x_max, NAN, 0, s);
+    if (ec && eb && v->status != UWB_STATUS_INCONCLUSIVE)
+        draw_shift_arrow(&c, &L.prof, v, s);
+    panel_title(&c, &L.prof, "face profile", s, ink);
+
+    struct uwb_axis_style img_axes = { .x_label_scale = 1000.0, .y_label_scale = 1000.0, .font_scale = s,
+                                       .x_ticks = 3, .y_ticks = 10, .x_labels = 1, .y_labels_left = 1,
+                                       .x_title = "range z (mm)", .y_title = "height y (mm)",
+                                       .panel_gap = PANEL_GAP };
+    uwb_draw_axes(&c, &L.base, &img_axes);
+    img_axes.y_labels_left = 0;
+    uwb_draw_axes(&c, &L.cur, &img_axes);
+    struct uwb_axis_style prof_axes = { .x_label_scale = 1.0, .y_label_scale = 1000.0, .font_scale = s,
+                                        .x_ticks = 2, .y_ticks = 10, .x_labels = 1, .y_labels_right = 1,
+                                        .x_title = "intensity re peak", .panel_gap = PANEL_GAP };
+    uwb_draw_axes(&c, &L.prof, &prof_axes);
+    uwb_draw_db_colorbar(&c, L.bar_x, L.cur.y, L.bar_w, L.cur.h, o.floor_db, s);
+    uwb_draw_edge_legend(&c, L.base.x, uwb_layout_legend_y(&L.cur, s), ec != NULL, eb != NULL, s);
+
+    char summary[2048];
+    uwb_verdict_summary(v, summary, sizeof summary);
+    struct uwb_png_text texts[] = {
+        { "Title", "uwbd comparison" },
+        { "Description", summary },
+        { "Software", "uwbd" },
+    };
+    int rc = uwb_canvas_write_png(&c, path, texts, 3, err, errlen);
+    uwb_canvas_free(&c);
+    return rc;
+}

@@ -1,0 +1,90 @@
+/* The migrated image as an engineer reads it: envelope in dB re its peak
+ * (perceptual map, colour bar), height y up the page as in the tank, range
+ * z across, both in mm; this scan's edges solid, the baseline's dashed. */
+#include "uwb/render.h"
+
+#include <stdio.h>
+
+static const struct uwb_rgb page = { 255, 255, 255 };
+
+/* Edge lines span this fraction of the plot width either side of the face:
+ * long enough to catch the eye, short enough not to hide the face region. */
+#define FACE_REGION_FRACTION 0.12
+
+void render_migrated_layout(const struct uwb_image *intensity, const struct uwb_verdict *v,
+                            const struct uwb_render_options *opt, struct uwb_plot *plot,
+                            int *colorbar_x, int *colorbar_w)
+{
+    struct uwb_render_options o;
+    uwb_render_options_sane(opt, &o);
+    uwb_layout_single_plot(o.width, o.height, o.font_scale, uwb_caption_height(v, o.width, o.font_scale),
+                           plot, colorbar_x, colorbar_w);
+    plot->x_min = intensity->z0_m;
+    plot->x_max = intensity->z0_m + (intensity->nz - 1) * intensity->dz_m;
+    plot->y_min = intensity->y0_m;
+    plot->y_max = intensity->y0_m + (intensity->ny - 1) * intensity->dy_m;
+}
+
+int render_migrated_png(const char *path, const struct uwb_image *intensity, const struct uwb_verdict *v,
+                        char *err, size_t errlen)
+{
+    return render_migrated_png_opt(path, intensity, v, NULL, err, errlen);
+}
+
+int render_migrated_png_opt(const char *path, const struct uwb_image *intensity, const struct uwb_verdict *v,
+                            const struct uwb_render_options *opt, char *err, size_t errlen)
+{
+    if (!path || !*path) {
+        snprintf(err, errlen, "migrated image: no output path");
+        return -1;
+    }
+    if (uwb_image_check(intensity, path, err, errlen) != 0)
+        return -1;
+    struct uwb_render_options o;
+    uwb_render_options_sane(opt, &o);
+    int s = o.font_scale;
+
+    struct uwb_canvas c;
+    if (uwb_canvas_init(&c, o.width, o.height, page, err, errlen) != 0)
+        return -1;
+    struct uwb_plot plot;
+    int bar_x, bar_w;
+    render_migrated_layout(intensity, v, &o, &plot, &bar_x, &bar_w);
+
+    char title[160];
+    snprintf(title, sizeof title, "uwbd migrated image - envelope, dB re its peak");
+    uwb_draw_caption(&c, title, v, s);
+
+    double peak = uwb_image_peak(intensity);
+    uwb_paint_image_db(&c, &plot, intensity, peak, o.floor_db);
+    if (!(peak > 0))
+        uwb_draw_text(&c, plot.x + 10, plot.y + 10, "image is empty (all zero)", s,
+                      UWB_RGB_CURRENT_EDGE);
+
+    double half = FACE_REGION_FRACTION * (plot.x_max - plot.x_min);
+    if (v && v->has_baseline && v->baseline.found)
+        uwb_draw_edges(&c, &plot, &v->baseline, UWB_EDGE_BASELINE, v->baseline.face_z_m - half,
+                       v->baseline.face_z_m + half, v->baseline.face_z_m, -1, s);
+    if (v && v->current.found)
+        uwb_draw_edges(&c, &plot, &v->current, UWB_EDGE_CURRENT, v->current.face_z_m - half,
+                       v->current.face_z_m + half, v->current.face_z_m, 1, s);
+
+    struct uwb_axis_style axes = { .x_label_scale = 1000.0, .y_label_scale = 1000.0, .font_scale = s, .x_ticks = 7, .y_ticks = 10,
+                                   .x_labels = 1, .y_labels_left = 1,
+                                   .x_title = "range z (mm)", .y_title = "height y (mm)" };
+    uwb_draw_axes(&c, &plot, &axes);
+    uwb_draw_db_colorbar(&c, bar_x, plot.y, bar_w, plot.h, o.floor_db, s);
+    uwb_draw_edge_legend(&c, plot.x, uwb_layout_legend_y(&plot, s), v && v->current.found,
+                         v && v->has_baseline && v->baseline.found, s);
+
+    char summary[2048];
+    uwb_verdict_summary(v, summary, sizeof summary);
+    struct uwb_png_text texts[] = {
+        { "Title", "uwbd migrated image" },
+        { "Description", summary },
+        { "Software", "uwbd" },
+    };
+    int rc = uwb_canvas_write_png(&c, path, texts, 3, err, errlen);
+    uwb_canvas_free(&c);
+    return rc;
+}

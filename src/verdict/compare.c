@@ -1,0 +1,88 @@
+#include "uwb/compare.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+void uwb_compare_defaults(struct uwb_compare_options *opt)
+{
+    opt->thresholds.watch_m = 0.002;
+    opt->thresholds.alarm_m = 0.005;
+    opt->systematic_displacement_m = 0.0002;
+    opt->max_uncertainty_m = 0.001;
+}
+
+int uwb_scans_comparable(const struct uwb_scan *cur, const struct uwb_scan *base,
+                         char *why, size_t whylen)
+{
+    if (cur->positions != base->positions) {
+        snprintf(why, whylen, "baseline has %d antenna positions, this scan %d", base->positions,
+                 cur->positions);
+        return 0;
+    }
+    for (int k = 0; k < cur->positions; k++)
+        if (fabs(cur->antenna_y_m[k] - base->antenna_y_m[k]) > 1e-4) {
+            snprintf(why, whylen, "antenna position %d is at %.4f m, in the baseline at %.4f m", k,
+                     cur->antenna_y_m[k], base->antenna_y_m[k]);
+            return 0;
+        }
+    for (int i = 0; i < 2; i++)
+        if (fabs(cur->tx_m[i] - base->tx_m[i]) > 1e-4 || fabs(cur->rx_m[i] - base->rx_m[i]) > 1e-4) {
+            snprintf(why, whylen, "antenna phase centres differ from the baseline's (antennas changed?)");
+            return 0;
+        }
+    if (fabs(cur->eps_r - base->eps_r) > 1e-3) {
+        snprintf(why, whylen, "eps_r %.3f differs from the baseline's %.3f", cur->eps_r, base->eps_r);
+        return 0;
+    }
+    return 1;
+}
+
+static void copy_reason(struct uwb_verdict *v, const char *prefix, const char *reason)
+{
+    snprintf(v->reason, sizeof v->reason, "%.20s%.230s", prefix, reason);
+}
+
+void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur,
+                       const struct uwb_edges *base, const struct uwb_compare_options *opt)
+{
+    v->current = *cur;
+    v->has_baseline = base != NULL;
+    if (base)
+        v->baseline = *base;
+    v->reason[0] = '\0';
+    if (!cur->found) {
+        v->status = UWB_STATUS_INCONCLUSIVE;
+        copy_reason(v, "", cur->reason);
+        return;
+    }
+    if (!base) {
+        v->status = UWB_STATUS_EDGES;
+        return;
+    }
+    if (!base->found) {
+        v->status = UWB_STATUS_INCONCLUSIVE;
+        copy_reason(v, "baseline: ", base->reason);
+        return;
+    }
+    v->axial_displacement_m = cur->center_m - base->center_m;
+    v->height_change_m = cur->height_m - base->height_m;
+    /* Both scans blur their edges alike, so only their noise and a floor for
+     * what the two scans do not share (sampling, drift) enter. */
+    v->uncertainty_m = sqrt(cur->sigma_center_noise_m * cur->sigma_center_noise_m +
+                            base->sigma_center_noise_m * base->sigma_center_noise_m +
+                            opt->systematic_displacement_m * opt->systematic_displacement_m);
+    double d = fabs(v->axial_displacement_m);
+    if (v->uncertainty_m > opt->max_uncertainty_m) {
+        v->status = UWB_STATUS_INCONCLUSIVE;
+        snprintf(v->reason, sizeof v->reason,
+                 "uncertainty %.2f mm exceeds %.2f mm: too little signal for a figure",
+                 v->uncertainty_m * 1e3, opt->max_uncertainty_m * 1e3);
+    } else if (d >= opt->thresholds.alarm_m) {
+        v->status = UWB_STATUS_ALARM;
+    } else if (d >= opt->thresholds.watch_m) {
+        v->status = UWB_STATUS_WATCH;
+    } else {
+        v->status = UWB_STATUS_OK;
+    }
+}

@@ -1,0 +1,75 @@
+#include "uwb/verdict_json.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+
+const char *uwb_status_name(enum uwb_status status)
+{
+    switch (status) {
+    case UWB_STATUS_EDGES: return "edges";
+    case UWB_STATUS_OK: return "ok";
+    case UWB_STATUS_WATCH: return "watch";
+    case UWB_STATUS_ALARM: return "alarm";
+    case UWB_STATUS_INCONCLUSIVE: return "inconclusive";
+    }
+    return "unknown";
+}
+
+/* Millimetres to 0.01 mm: finer digits would claim precision nobody has. */
+static void add_mm(cJSON *obj, const char *key, double metres)
+{
+    cJSON_AddNumberToObject(obj, key, round(metres * 1e5) / 100.0);
+}
+
+static void add_edges(cJSON *obj, const struct uwb_edges *e)
+{
+    add_mm(obj, "lower_edge_mm", e->lower_m);
+    add_mm(obj, "upper_edge_mm", e->upper_m);
+    add_mm(obj, "center_mm", e->center_m);
+    add_mm(obj, "height_mm", e->height_m);
+}
+
+char *uwb_verdict_to_json(const struct uwb_verdict *v)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (!o)
+        return NULL;
+    cJSON_AddStringToObject(o, "class", "VERDICT");
+    cJSON_AddStringToObject(o, "status", uwb_status_name(v->status));
+    if (v->reason[0])
+        cJSON_AddStringToObject(o, "reason", v->reason);
+    if (v->scan_id[0])
+        cJSON_AddStringToObject(o, "scan_id", v->scan_id);
+    if (v->created[0])
+        cJSON_AddStringToObject(o, "created", v->created);
+    int compared = v->has_baseline && v->current.found && v->baseline.found &&
+                   v->status != UWB_STATUS_INCONCLUSIVE;
+    if (compared) {
+        add_mm(o, "axial_displacement_mm", v->axial_displacement_m);
+        add_mm(o, "uncertainty_mm", v->uncertainty_m);
+    }
+    if (v->current.found) {
+        add_edges(o, &v->current);
+        if (compared)
+            add_mm(o, "height_change_mm", v->height_change_m);
+        add_mm(o, "face_range_mm", v->current.face_z_m);
+        cJSON_AddNumberToObject(o, "snr_db", round(v->current.snr_db * 10.0) / 10.0);
+        add_mm(o, "edge_uncertainty_mm", fmax(v->current.sigma_lower_m, v->current.sigma_upper_m));
+    }
+    if (v->has_baseline && v->baseline.found) {
+        cJSON *b = cJSON_AddObjectToObject(o, "baseline");
+        if (b) {
+            add_mm(b, "lower_edge_mm", v->baseline.lower_m);
+            add_mm(b, "upper_edge_mm", v->baseline.upper_m);
+            add_mm(b, "center_mm", v->baseline.center_m);
+            if (v->baseline_scan_id[0])
+                cJSON_AddStringToObject(b, "scan_id", v->baseline_scan_id);
+        }
+    }
+    cJSON *images = cJSON_AddArrayToObject(o, "images");
+    for (int i = 0; images && i < v->n_images; i++)
+        cJSON_AddItemToArray(images, cJSON_CreateString(v->images[i]));
+    char *text = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    return text;
+}

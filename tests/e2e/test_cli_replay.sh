@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# uwbd --replay on the FDTD fixtures, as an engineer would run it: one JSON
+# line on stdout, the PNGs in --out, clear errors and distinct exit codes.
+set -euo pipefail
+uwbd() { ${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" "$@"; }
+fail() { echo "FAIL: $*" >&2; exit 1; }
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+
+uwbd --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan \
+     --baseline tests/fixtures/fdtd2d-paper-intact.uwbscan --out "$out/img" > "$out/stdout"
+[[ $(wc -l < "$out/stdout") -eq 1 ]] || fail "stdout is not exactly one line"
+python3 - "$out/stdout" <<'PY' || fail "verdict JSON"
+import json, os, sys
+v = json.load(open(sys.argv[1]))
+assert v["class"] == "VERDICT" and v["status"] == "alarm", v
+assert abs(v["axial_displacement_mm"] - 20.0) <= 0.5, v
+for k in ("uncertainty_mm", "lower_edge_mm", "upper_edge_mm", "center_mm", "height_mm", "height_change_mm"):
+    assert isinstance(v[k], (int, float)), k
+assert set(v["baseline"]) >= {"lower_edge_mm", "upper_edge_mm", "center_mm"}
+assert len(v["images"]) == 3
+for p in v["images"]:
+    assert open(p, "rb").read(8) == b"\x89PNG\r\n\x1a\n", p
+PY
+ls -A "$out/img" | grep -q '^\.' && fail "temporary files left in the output directory"
+
+# Without a baseline: edges only.
+uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan | grep -q '"status":"edges"' || fail "edges-only status"
+
+# Bad inputs: message names the file, distinct exit codes, nothing on stdout.
+set +e
+uwbd --replay "$out/missing.uwbscan" > "$out/o1" 2> "$out/e1"; rc_missing=$?
+head -c 300 tests/fixtures/fdtd2d-paper-intact.uwbscan > "$out/short.uwbscan"
+uwbd --replay "$out/short.uwbscan" > "$out/o2" 2> "$out/e2"; rc_bad=$?
+uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan --alarm-mm banana > /dev/null 2> "$out/e3"; rc_usage=$?
+set -e
+[[ $rc_missing -eq 66 ]] || fail "missing file exit $rc_missing, want 66"
+[[ $rc_bad -eq 65 ]] || fail "malformed file exit $rc_bad, want 65"
+[[ $rc_usage -eq 64 ]] || fail "bad option exit $rc_usage, want 64"
+grep -q "missing.uwbscan" "$out/e1" || fail "error does not name the missing file"
+grep -q "short.uwbscan" "$out/e2" || fail "error does not name the malformed file"
+[[ ! -s "$out/o1" && ! -s "$out/o2" ]] || fail "stdout written on error"
+
+# --help documents every option the parser accepts.
+help=$(uwbd --help)
+for opt in --replay --baseline --out --migration --target-z --time-zero-offset-ps --watch-mm \
+           --alarm-mm --max-uncertainty-mm --edge-fraction --help --version; do
+    grep -q -- "$opt" <<< "$help" || fail "--help does not mention $opt"
+done
+echo "cli replay ok"

@@ -1,0 +1,194 @@
+#!/usr/bin/env bash
+# Runs every unit-test binary BUILD_DIR/tests/test_* and every end-to-end
+# script tests/e2e/test_*.sh, then sums the results into one closing line:
+#     N passed, N failed[, N skipped]
+# N counts test cases: Unity's summary ("N Tests M Failures K Ignored") of
+# each binary, and one per e2e script.  A binary that crashes, times out,
+# exits non-zero or prints no summary counts at least one failure.
+#
+# Usage: tests/run-tests.sh BUILD_DIR [RUNNER]
+#   RUNNER   optional command prefix for each test binary, e.g.
+#            "qemu-aarch64 -L /" for cross-built tests
+#
+# Environment given to every test binary and e2e script (run from the repo
+# root, stdin from /dev/null):
+#   UWB_BUILD_DIR    BUILD_DIR as an absolute path (uwbd, uwbsim, ... are
+#                    there; the C tests also get it as a relative macro)
+#   UWB_EXEC_PREFIX  RUNNER (empty for native runs): put it before any
+#                    program from UWB_BUILD_DIR that a test starts, since
+#                    qemu-user does not follow exec into a foreign binary
+# Knobs: UWB_TEST_TIMEOUT (seconds per binary or script, default 300),
+#        UWB_TEST_VERBOSE=1 (print every test's full output).
+# An e2e script that exits 77 counts as skipped (automake convention).
+set -euo pipefail
+
+if [[ $# -lt 1 || $# -gt 2 ]]; then
+    echo "usage: $0 BUILD_DIR [RUNNER]" >&2
+    exit 2
+fi
+[[ -d "$1" ]] || { echo "run-tests: $1: no such build directory" >&2; exit 2; }
+BUILD_DIR="$(cd "$1" && pwd)"
+readonly BUILD_DIR
+readonly RUNNER="${2:-}"
+readonly TIMEOUT_SECONDS="${UWB_TEST_TIMEOUT:-300}"
+readonly VERBOSE="${UWB_TEST_VERBOSE:-0}"
+readonly TAIL_LINES=40
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+export UWB_BUILD_DIR="$BUILD_DIR"
+export UWB_EXEC_PREFIX="$RUNNER"
+# Stack traces for UBSan reports; ASan already prints them.
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
+read -r -a runner_words <<<"$RUNNER"
+
+total_passed=0
+total_failed=0
+total_skipped=0
+programs_run=0
+log="$(mktemp)"
+trap 'rm -f "$log"' EXIT
+
+indent() {
+    sed 's/^/    /'
+}
+
+show_output_tail() {
+    if [[ -s "$log" ]]; then
+        echo "    --- last $TAIL_LINES lines of output:"
+        tail -n "$TAIL_LINES" "$log" | indent
+    else
+        echo "    --- no output"
+    fi
+}
+
+count_lines() {
+    grep -c -E "$1" "$log" || true
+}
+
+# Describes how a program ended from its exit status.
+describe_exit() {
+    local status="$1"
+    if [[ "$status" == 124 ]]; then
+        echo "timed out after ${TIMEOUT_SECONDS} s"
+    elif [[ "$status" == 137 ]]; then
+        echo "killed by SIGKILL (ignored the timeout's SIGTERM, or out of memory)"
+    elif ((status > 128)); then
+        echo "killed by signal $((status - 128)) ($(kill -l "$((status - 128))" 2>/dev/null || echo '?'))"
+    else
+        echo "exited with status $status"
+    fi
+}
+
+elapsed_since() {
+    local start="$1" now="$EPOCHREALTIME"
+    awk -v a="$start" -v b="$now" 'BEGIN { printf "%.2f s", b - a }'
+}
+
+run_unit_binary() {
+    local binary="$1" name
+    name="$(basename "$binary")"
+    local start="$EPOCHREALTIME" status=0
+    # The braces take bash's own "Segmentation fault" report; describe_exit
+    # says the same in the FAIL line.
+    { timeout -k 10 "$TIMEOUT_SECONDS" "${runner_words[@]}" "$binary" \
+        </dev/null >"$log" 2>&1; } 2>/dev/null || status=$?
+    local took
+    took="$(elapsed_since "$start")"
+    programs_run=$((programs_run + 1))
+
+    local summary tests=0 failures=0 ignored=0 passed failed problem=""
+    summary="$(grep -E '^[0-9]+ Tests [0-9]+ Failures [0-9]+ Ignored' "$log" | tail -n 1 || true)"
+    if [[ -n "$summary" ]]; then
+        read -r tests _ failures _ ignored _ <<<"$summary"
+        passed=$((tests - failures - ignored))
+        failed=$failures
+        if [[ "$status" != 0 && "$failures" == 0 ]]; then
+            # e.g. LeakSanitizer reports at exit: the run as a whole failed.
+            problem="$(describe_exit "$status") after its summary"
+            failed=1
+            passed=$((passed > 0 ? passed - 1 : 0))
+        fi
+    else
+        # No summary: count the tests that finished before the end, plus
+        # one failure for the test that was running.
+        passed="$(count_lines ':PASS$')"
+        failed=$(($(count_lines ':FAIL') + 1))
+        ignored="$(count_lines ':IGNORE')"
+        problem="$(describe_exit "$status") without a Unity summary"
+    fi
+
+    total_passed=$((total_passed + passed))
+    total_failed=$((total_failed + failed))
+    total_skipped=$((total_skipped + ignored))
+
+    local ignored_note=""
+    [[ "$ignored" != 0 ]] && ignored_note=", $ignored ignored"
+    if [[ "$failed" == 0 ]]; then
+        echo "PASS  $name  ($passed ok$ignored_note, $took)"
+        if [[ "$VERBOSE" == 1 ]]; then indent <"$log"; fi
+        return 0
+    fi
+    echo "FAIL  $name  ($passed ok, $failed failing$ignored_note, $took)${problem:+: $problem}"
+    if [[ "$VERBOSE" == 1 ]]; then
+        indent <"$log"
+        return 0
+    fi
+    grep -E ':FAIL' "$log" | indent || true
+    if [[ -n "$problem" ]]; then
+        show_output_tail
+    fi
+}
+
+run_e2e_script() {
+    local script="$1" name
+    name="e2e/$(basename "$script")"
+    local start="$EPOCHREALTIME" status=0
+    { timeout -k 10 "$TIMEOUT_SECONDS" bash "$script" </dev/null >"$log" 2>&1; } 2>/dev/null ||
+        status=$?
+    local took
+    took="$(elapsed_since "$start")"
+    programs_run=$((programs_run + 1))
+
+    if [[ "$status" == 0 ]]; then
+        total_passed=$((total_passed + 1))
+        echo "PASS  $name  ($took)"
+        if [[ "$VERBOSE" == 1 ]]; then indent <"$log"; fi
+    elif [[ "$status" == 77 ]]; then
+        total_skipped=$((total_skipped + 1))
+        echo "SKIP  $name  ($took)"
+        tail -n 3 "$log" | indent
+    else
+        total_failed=$((total_failed + 1))
+        echo "FAIL  $name  ($took): $(describe_exit "$status")"
+        if [[ "$VERBOSE" == 1 ]]; then
+            indent <"$log"
+        else
+            show_output_tail
+        fi
+    fi
+}
+
+shopt -s nullglob
+for binary in "$BUILD_DIR"/tests/test_*; do
+    [[ -f "$binary" && -x "$binary" ]] || continue
+    name="$(basename "$binary")"
+    # A binary whose source was renamed or removed would test stale code.
+    if [[ ! -f "tests/unit/$name.c" ]]; then
+        echo "note  $name: no tests/unit/$name.c any more; not run" >&2
+        continue
+    fi
+    run_unit_binary "$binary"
+done
+for script in tests/e2e/test_*.sh; do
+    run_e2e_script "$script"
+done
+
+if [[ "$programs_run" == 0 ]]; then
+    echo "run-tests: no test binaries in $BUILD_DIR/tests and no tests/e2e/test_*.sh" >&2
+    total_failed=$((total_failed + 1))
+fi
+closing="$total_passed passed, $total_failed failed"
+[[ "$total_skipped" != 0 ]] && closing+=", $total_skipped skipped"
+echo "$closing"
+[[ "$total_failed" == 0 ]]

@@ -1,0 +1,824 @@
+/* The PNGs an engineer reads: render synthetic images, read the files back
+ * with libpng and check what a person relies on — where the edge lines sit,
+ * how they differ, the colour bar, the axis labels, the caption. */
+#include "unity.h"
+#include "uwb/render.h"
+
+#include <dirent.h>
+#include <math.h>
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static char dir[256];
+
+/* ---------- fixtures ---------- */
+
+/* A face at range FACE_Z between FACE_LO and FACE_HI, flat-topped at 1.0
+ * over a -40 dB background. The face sits low in the image on purpose: an
+ * image drawn upside down puts it high and fails the tests. */
+#define FACE_Z 0.45
+#define FACE_LO 0.10
+#define FACE_HI 0.25
+#define BACKGROUND 0.01
+
+static struct uwb_image make_image(double lo, double hi)
+{
+    struct uwb_image img = { 0 };
+    img.ny = 301;
+    img.nz = 161;
+    img.y0_m = 0.0;
+    img.dy_m = 0.002;      /* 0 .. 600 mm */
+    img.z0_m = 0.35;
+    img.dz_m = 0.0025;     /* 350 .. 750 mm */
+    img.pix = calloc((size_t)img.ny * (size_t)img.nz, sizeof *img.pix);
+    TEST_ASSERT_NOT_NULL(img.pix);
+    for (int iy = 0; iy < img.ny; iy++)
+        for (int iz = 0; iz < img.nz; iz++) {
+            double y = img.y0_m + iy * img.dy_m, z = img.z0_m + iz * img.dz_m;
+            int on_face = y >= lo - 1e-9 && y <= hi + 1e-9 && fabs(z - FACE_Z) <= 0.010 + 1e-9;
+            img.pix[iy * img.nz + iz] = on_face ? 1.0f : (float)BACKGROUND;
+        }
+    return img;
+}
+
+static void set_edges(struct uwb_edges *e, double lo, double hi)
+{
+    memset(e, 0, sizeof *e);
+    e->found = 1;
+    e->lower_m = lo;
+    e->upper_m = hi;
+    e->center_m = 0.5 * (lo + hi);
+    e->height_m = hi - lo;
+    e->face_z_m = FACE_Z;
+    e->sigma_center_m = 0.0003;
+}
+
+#define BASE_LO 0.08
+#define BASE_HI 0.23
+
+static struct uwb_verdict make_verdict(void)
+{
+    struct uwb_verdict v;
+    memset(&v, 0, sizeof v);
+    v.status = UWB_STATUS_WATCH;
+    snprintf(v.scan_id, sizeof v.scan_id, "T1-20240611-0042");
+    snprintf(v.created, sizeof v.created, "2024-06-11T10:15:00Z");
+    set_edges(&v.current, FACE_LO, FACE_HI);
+    v.has_baseline = 1;
+    set_edges(&v.baseline, BASE_LO, BASE_HI);
+    snprintf(v.baseline_scan_id, sizeof v.baseline_scan_id, "T1-20230302-0001");
+    v.axial_displacement_m = v.current.center_m - v.baseline.center_m;
+    v.uncertainty_m = 0.0004;
+    return v;
+}
+
+struct png_rgb {
+    int w, h;
+    unsigned char *px;
+};
+
+static struct png_rgb read_png(const char *path)
+{
+    struct png_rgb out = { 0, 0, NULL };
+    png_image image;
+    memset(&image, 0, sizeof image);
+    image.version = PNG_IMAGE_VERSION;
+    TEST_ASSERT_TRUE_MESSAGE(png_image_begin_read_from_file(&image, path), path);
+    image.format = PNG_FORMAT_RGB;
+    out.w = (int)image.width;
+    out.h = (int)image.height;
+    out.px = malloc(PNG_IMAGE_SIZE(image));
+    TEST_ASSERT_NOT_NULL(out.px);
+    TEST_ASSERT_TRUE(png_image_finish_read(&image, NULL, out.px, 0, NULL));
+    return out;
+}
+
+static struct uwb_rgb at(const struct png_rgb *p, int x, int y)
+{
+    TEST_ASSERT_TRUE(x >= 0 && y >= 0 && x < p->w && y < p->h);
+    const unsigned char *q = p->px + ((size_t)y * (size_t)p->w + (size_t)x) * 3;
+    struct uwb_rgb c = { q[0], q[1], q[2] };
+    return c;
+}
+
+static int same(struct uwb_rgb a, struct uwb_rgb b)
+{
+    return a.r == b.r && a.g == b.g && a.b == b.b;
+}
+
+/* The row/column of a data value, computed here from the documented
+ * mapping (top row = y_max, left column = x_min), not by the code under
+ * test. */
+static int row_of(const struct uwb_plot *p, double y)
+{
+    return p->y + (int)lround((p->y_max - y) / (p->y_max - p->y_min) * (p->h - 1));
+}
+
+static int col_of(const struct uwb_plot *p, double x)
+{
+    return p->x + (int)lround((x - p->x_min) / (p->x_max - p->x_min) * (p->w - 1));
+}
+
+static double y_of_row(const struct uwb_plot *p, int row)
+{
+    return p->y_max - (double)(row - p->y) / (p->h - 1) * (p->y_max - p->y_min);
+}
+
+static void path_in_dir(char *buf, size_t len, const char *name)
+{
+    snprintf(buf, len, "%s/%s", dir, name);
+}
+
+static int count_dir_entries(const char *d)
+{
+    DIR *dp = opendir(d);
+    TEST_ASSERT_NOT_NULL(dp);
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(dp)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, ".."))
+            n++;
+    closedir(dp);
+    return n;
+}
+
+static struct png_rgb render_migrated(const char *name, const struct uwb_image *img,
+                                      const struct uwb_verdict *v, const struct uwb_render_options *opt)
+{
+    char path[512], err[512] = "";
+    path_in_dir(path, sizeof path, name);
+    int rc = render_migrated_png_opt(path, img, v, opt, err, sizeof err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, rc, err);
+    return read_png(path);
+}
+
+void setUp(void)
+{
+    snprintf(dir, sizeof dir, "/tmp/test_render.XXXXXX");
+    TEST_ASSERT_NOT_NULL(mkdtemp(dir));
+}
+
+void tearDown(void)
+{
+    DIR *dp = opendir(dir);
+    if (dp) {
+        struct dirent *e;
+        char p[600];
+        while ((e = readdir(dp)))
+            if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
+                snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+                unlink(p);
+            }
+        closedir(dp);
+    }
+    rmdir(dir);
+}
+
+/* ---------- building blocks ---------- */
+
+static void test_font_table_is_complete_and_glyphs_are_distinct(void)
+{
+    TEST_ASSERT_TRUE(uwb_font_table_consistent());
+    for (unsigned cp = 32; cp <= 126; cp++)
+        TEST_ASSERT_TRUE(uwb_font_has_glyph(cp));
+    TEST_ASSERT_TRUE(uwb_font_has_glyph(0x00B1));   /* ± in captions */
+    TEST_ASSERT_FALSE(uwb_font_has_glyph(0x4E00));
+
+    /* Every printable glyph leaves ink and no two look the same (a
+     * duplicated row set would make "8" and "B" indistinguishable). */
+    enum { W = 8, H = 12 };
+    static unsigned char seen[95][W * H];
+    char err[128];
+    for (int i = 0; i < 95; i++) {
+        struct uwb_canvas c;
+        struct uwb_rgb white = { 255, 255, 255 }, black = { 0, 0, 0 };
+        TEST_ASSERT_EQUAL_INT(0, uwb_canvas_init(&c, W, H, white, err, sizeof err));
+        char s[2] = { (char)(32 + i), 0 };
+        uwb_draw_text(&c, 0, 0, s, 1, black);
+        int ink = 0;
+        for (int p = 0; p < W * H; p++) {
+            seen[i][p] = c.rgb[p * 3] == 0;
+            ink += seen[i][p];
+        }
+        uwb_canvas_free(&c);
+        if (i == 0)
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, ink, "space draws nothing");
+        else
+            TEST_ASSERT_TRUE_MESSAGE(ink > 0, s);
+        for (int j = 1; j < i; j++)
+            TEST_ASSERT_FALSE_MESSAGE(memcmp(seen[i], seen[j], sizeof seen[i]) == 0, s);
+    }
+}
+
+static void test_text_width_matches_drawn_extent_and_scales(void)
+{
+    char err[128];
+    struct uwb_canvas c;
+    struct uwb_rgb white = { 255, 255, 255 }, black = { 0, 0, 0 };
+    TEST_ASSERT_EQUAL_INT(0, uwb_canvas_init(&c, 200, 40, white, err, sizeof err));
+    const char *text = "H\xc2\xb1M";      /* UTF-8 ± counts as one glyph */
+    int advance = uwb_draw_text(&c, 10, 5, text, 2, black);
+    TEST_ASSERT_EQUAL_INT(uwb_text_width(text, 2), advance);
+    TEST_ASSERT_EQUAL_INT(2 * uwb_text_width(text, 1), uwb_text_width(text, 2));
+    TEST_ASSERT_EQUAL_INT((3 * UWB_FONT_ADVANCE - 1) * 2, advance);
+    int min_x = 1000, max_x = -1, min_y = 1000, max_y = -1;
+    for (int y = 0; y < c.height; y++)
+        for (int x = 0; x < c.width; x++)
+            if (uwb_canvas_get(&c, x, y).r == 0) {
+                min_x = x < min_x ? x : min_x;
+                max_x = x > max_x ? x : max_x;
+                min_y = y < min_y ? y : min_y;
+                max_y = y > max_y ? y : max_y;
+            }
+    uwb_canvas_free(&c);
+    /* 'H' and 'M' touch the first and last columns and the full cap height. */
+    TEST_ASSERT_EQUAL_INT(10, min_x);
+    TEST_ASSERT_EQUAL_INT(10 + advance - 1, max_x);
+    TEST_ASSERT_EQUAL_INT(5, min_y);
+    TEST_ASSERT_EQUAL_INT(5 + UWB_FONT_CAP_HEIGHT * 2 - 1, max_y);
+}
+
+static void test_perceptual_map_lightness_rises_monotonically(void)
+{
+    double prev = uwb_rgb_lightness(uwb_colormap_perceptual(0.0));
+    TEST_ASSERT_TRUE(prev < 20.0);           /* floor reads dark */
+    for (int i = 1; i <= 1000; i++) {
+        double l = uwb_rgb_lightness(uwb_colormap_perceptual(i / 1000.0));
+        /* Rounding a falling channel to 8 bits can cost ~0.1 L* for a
+         * moment; a real reversal of the map is far larger. */
+        TEST_ASSERT_TRUE_MESSAGE(l >= prev - 0.25, "lightness must not fall");
+        if (l > prev)
+            prev = l;
+    }
+    TEST_ASSERT_TRUE(prev > 85.0);           /* peak reads bright */
+    /* Over steps of 1/50 (under 1 dB on a 30 dB scale) it strictly rises. */
+    for (int i = 0; i < 50; i++)
+        TEST_ASSERT_TRUE(uwb_rgb_lightness(uwb_colormap_perceptual((i + 1) / 50.0))
+                         > uwb_rgb_lightness(uwb_colormap_perceptual(i / 50.0)) + 0.5);
+    /* Nearly uniform: each eighth of the map adds a similar lightness. */
+    for (int i = 0; i < 8; i++) {
+        double d = uwb_rgb_lightness(uwb_colormap_perceptual((i + 1) / 8.0))
+                 - uwb_rgb_lightness(uwb_colormap_perceptual(i / 8.0));
+        TEST_ASSERT_TRUE(d > 6.0 && d < 13.0);
+    }
+    TEST_ASSERT_TRUE(same(uwb_colormap_perceptual(-1.0), uwb_colormap_perceptual(0.0)));
+    TEST_ASSERT_TRUE(same(uwb_colormap_perceptual(NAN), uwb_colormap_perceptual(0.0)));
+    TEST_ASSERT_TRUE(same(uwb_colormap_perceptual(7.0), uwb_colormap_perceptual(1.0)));
+}
+
+static void test_diverging_map_is_symmetric_in_lightness(void)
+{
+    for (int i = 0; i <= 100; i++) {
+        double t = i / 200.0;
+        double a = uwb_rgb_lightness(uwb_colormap_diverging(t));
+        double b = uwb_rgb_lightness(uwb_colormap_diverging(1.0 - t));
+        TEST_ASSERT_DOUBLE_WITHIN(3.0, a, b);
+    }
+    struct uwb_rgb neg = uwb_colormap_diverging(0.0), pos = uwb_colormap_diverging(1.0);
+    TEST_ASSERT_TRUE(neg.b > neg.r && pos.r > pos.b);
+    TEST_ASSERT_TRUE(uwb_rgb_lightness(uwb_colormap_diverging(0.5)) > 90.0);
+}
+
+static void test_nice_ticks_and_labels(void)
+{
+    double t[64], step;
+    int n = uwb_nice_ticks(0.0, 600.0, 10, t, 64, &step);
+    TEST_ASSERT_EQUAL_DOUBLE(50.0, step);
+    TEST_ASSERT_EQUAL_INT(13, n);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, t[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(600.0, t[12]);
+    n = uwb_nice_ticks(-30.0, 0.0, 6, t, 64, &step);
+    TEST_ASSERT_EQUAL_DOUBLE(5.0, step);
+    TEST_ASSERT_EQUAL_DOUBLE(-30.0, t[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, t[n - 1]);
+    n = uwb_nice_ticks(-0.71, 7.3, 8, t, 64, &step);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, step);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, t[0]);
+    TEST_ASSERT_EQUAL_INT(0, uwb_nice_ticks(1.0, 1.0, 5, t, 64, &step));
+    TEST_ASSERT_EQUAL_INT(0, uwb_nice_ticks(0.0, INFINITY, 5, t, 64, &step));
+
+    char b[32];
+    uwb_format_tick(b, sizeof b, -1e-13, 0.5);
+    TEST_ASSERT_EQUAL_STRING("0", b);
+    uwb_format_tick(b, sizeof b, 0.5, 0.5);
+    TEST_ASSERT_EQUAL_STRING("0.5", b);
+    uwb_format_tick(b, sizeof b, 250.0, 50.0);
+    TEST_ASSERT_EQUAL_STRING("250", b);
+    uwb_format_tick(b, sizeof b, -2.5, 2.5);
+    TEST_ASSERT_EQUAL_STRING("-2.5", b);
+}
+
+static void test_dashed_line_has_gaps_and_solid_line_has_none(void)
+{
+    char err[128];
+    struct uwb_canvas c;
+    struct uwb_rgb white = { 255, 255, 255 }, red = { 255, 0, 0 };
+    TEST_ASSERT_EQUAL_INT(0, uwb_canvas_init(&c, 100, 10, white, err, sizeof err));
+    uwb_canvas_line(&c, 0, 2, 99, 2, red, 1, 0, 0);
+    uwb_canvas_line(&c, 0, 6, 99, 6, red, 1, 8, 5);
+    /* off the canvas: clipped, not a crash */
+    uwb_canvas_line(&c, -100000, 8, 100000, 8, red, 3, 0, 0);
+    int solid = 0, dashed = 0;
+    for (int x = 0; x < 100; x++) {
+        solid += same(uwb_canvas_get(&c, x, 2), red);
+        dashed += same(uwb_canvas_get(&c, x, 6), red);
+    }
+    TEST_ASSERT_EQUAL_INT(100, solid);
+    /* 8 on, 5 off over 100 px: seven full periods and one more dash */
+    TEST_ASSERT_EQUAL_INT(7 * 8 + 8, dashed);
+    TEST_ASSERT_TRUE(same(uwb_canvas_get(&c, 7, 6), red));
+    TEST_ASSERT_FALSE(same(uwb_canvas_get(&c, 8, 6), red));
+    TEST_ASSERT_FALSE(same(uwb_canvas_get(&c, 12, 6), red));
+    TEST_ASSERT_TRUE(same(uwb_canvas_get(&c, 13, 6), red));
+    TEST_ASSERT_TRUE(same(uwb_canvas_get(&c, 50, 8), red));
+    uwb_canvas_free(&c);
+}
+
+/* ---------- migrated image ---------- */
+
+static void test_migrated_png_edges_sit_on_their_heights(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    struct png_rgb png = render_migrated("m.png", &img, &v, NULL);
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    TEST_ASSERT_EQUAL_INT(o.width, png.w);
+    TEST_ASSERT_EQUAL_INT(o.height, png.h);
+
+    struct uwb_plot p;
+    int bar_x, bar_w;
+    render_migrated_layout(&img, &v, &o, &p, &bar_x, &bar_w);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.0, p.y_min);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.6, p.y_max);
+
+    /* Solid white core exactly on the row of each current edge, black halo
+     * right above and below, across the face. */
+    int face_col = col_of(&p, FACE_Z);
+    double heights[2] = { FACE_LO, FACE_HI };
+    for (int i = 0; i < 2; i++) {
+        int row = row_of(&p, heights[i]);
+        for (int dx = -30; dx <= 30; dx++)
+            TEST_ASSERT_TRUE_MESSAGE(same(at(&png, face_col + dx, row), UWB_RGB_CURRENT_EDGE), "current edge core");
+        TEST_ASSERT_TRUE(same(at(&png, face_col + 20, row - 1), UWB_RGB_HALO));
+        TEST_ASSERT_TRUE(same(at(&png, face_col + 20, row + 1), UWB_RGB_HALO));
+    }
+    /* Baseline edges: on their rows, in their own colour, dashed. */
+    double base_heights[2] = { BASE_LO, BASE_HI };
+    for (int i = 0; i < 2; i++) {
+        int row = row_of(&p, base_heights[i]);
+        int pink = 0, other = 0;
+        for (int dx = -30; dx <= 30; dx++) {
+            if (same(at(&png, face_col + dx, row), UWB_RGB_BASELINE_EDGE))
+                pink++;
+            else
+                other++;
+        }
+        TEST_ASSERT_TRUE_MESSAGE(pink >= 25, "baseline edge drawn on its row");
+        TEST_ASSERT_TRUE_MESSAGE(other >= 10, "baseline edge has gaps (dashed)");
+        TEST_ASSERT_FALSE(same(UWB_RGB_BASELINE_EDGE, UWB_RGB_CURRENT_EDGE));
+        /* and the current edges are not on those rows */
+        TEST_ASSERT_FALSE(same(at(&png, face_col, row), UWB_RGB_CURRENT_EDGE));
+    }
+    /* Centre marker (filled white diamond) at the centre height. */
+    TEST_ASSERT_TRUE(same(at(&png, face_col, row_of(&p, v.current.center_m)), UWB_RGB_CURRENT_EDGE));
+    free(png.px);
+    uwb_image_free(&img);
+}
+
+static void test_migrated_png_puts_the_face_where_the_axis_says(void)
+{
+    /* No verdict: nothing drawn over the image. */
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct png_rgb png = render_migrated("face.png", &img, NULL, NULL);
+    struct uwb_plot p;
+    int bar_x, bar_w;
+    render_migrated_layout(&img, NULL, NULL, &p, &bar_x, &bar_w);
+    int face_col = col_of(&p, FACE_Z);
+    struct uwb_rgb peak = uwb_colormap_perceptual(1.0), floor_colour = uwb_colormap_perceptual(0.0);
+    int top = -1, bottom = -1;
+    for (int row = p.y; row < p.y + p.h; row++)
+        if (same(at(&png, face_col, row), peak)) {
+            if (top < 0)
+                top = row;
+            bottom = row;
+        }
+    TEST_ASSERT_TRUE_MESSAGE(top >= 0, "face drawn at the peak colour");
+    /* Up the page is larger y: the top of the bright run is the face's
+     * upper end (within a grid step). */
+    TEST_ASSERT_DOUBLE_WITHIN(0.004, FACE_HI, y_of_row(&p, top));
+    TEST_ASSERT_DOUBLE_WITHIN(0.004, FACE_LO, y_of_row(&p, bottom));
+    /* The -40 dB background is below the -30 dB floor: floor colour. */
+    TEST_ASSERT_TRUE(same(at(&png, face_col, row_of(&p, 0.45)), floor_colour));
+    TEST_ASSERT_TRUE(same(at(&png, col_of(&p, 0.65), row_of(&p, 0.18)), floor_colour));
+    /* Without a verdict there are no edge lines. */
+    TEST_ASSERT_FALSE(same(at(&png, face_col + 20, row_of(&p, FACE_LO)), UWB_RGB_CURRENT_EDGE));
+    free(png.px);
+    uwb_image_free(&img);
+}
+
+static void test_migrated_colorbar_runs_from_peak_colour_to_floor_colour(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    struct png_rgb png = render_migrated("bar.png", &img, &v, NULL);
+    struct uwb_plot p;
+    int bar_x, bar_w;
+    render_migrated_layout(&img, &v, NULL, &p, &bar_x, &bar_w);
+    TEST_ASSERT_TRUE(bar_x > p.x + p.w);
+    struct uwb_rgb top = at(&png, bar_x + bar_w / 2, p.y), bottom = at(&png, bar_x + bar_w / 2, p.y + p.h - 1);
+    TEST_ASSERT_TRUE(same(top, uwb_colormap_perceptual(1.0)));
+    TEST_ASSERT_TRUE(same(bottom, uwb_colormap_perceptual(0.0)));
+    /* and lightness falls steadily down the bar */
+    double prev = 200;
+    for (int row = p.y; row < p.y + p.h; row += 10) {
+        double l = uwb_rgb_lightness(at(&png, bar_x + bar_w / 2, row));
+        TEST_ASSERT_TRUE(l <= prev + 0.05);
+        prev = l;
+    }
+    /* dB tick labels beside the bar: ink right of it at the 0 dB row */
+    int ink = 0;
+    for (int x = bar_x + bar_w + 8; x < bar_x + bar_w + 60 && x < png.w; x++)
+        for (int y = p.y - 6; y <= p.y + 6; y++)
+            ink += at(&png, x, y).r < 100;
+    TEST_ASSERT_TRUE_MESSAGE(ink > 10, "0 dB label");
+    free(png.px);
+    uwb_image_free(&img);
+}
+
+static int ink_in(const struct png_rgb *png, int x0, int x1, int y0, int y1)
+{
+    int n = 0;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            struct uwb_rgb c = at(png, x, y);
+            n += c.r < 128 && c.g < 128 && c.b < 128;
+        }
+    return n;
+}
+
+static void test_migrated_axes_have_tick_labels_on_both_axes(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct png_rgb png = render_migrated("axes.png", &img, NULL, NULL);
+    struct uwb_plot p;
+    int bar_x, bar_w;
+    render_migrated_layout(&img, NULL, NULL, &p, &bar_x, &bar_w);
+    int half_cap = UWB_FONT_CAP_HEIGHT;   /* font scale 2 by default */
+    /* y labels every 50 mm over 0..600: ink left of the axis at the 200 mm
+     * tick, none half-way between two labels. */
+    int r200 = row_of(&p, 0.200), r225 = row_of(&p, 0.225);
+    TEST_ASSERT_TRUE_MESSAGE(ink_in(&png, p.x - 50, p.x - 12, r200 - half_cap, r200 + half_cap) > 15, "y label 200");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, ink_in(&png, p.x - 50, p.x - 12, r225 - 3, r225 + 3), "no label between ticks");
+    /* x labels under the axis at 450 mm */
+    int c450 = col_of(&p, 0.450);
+    TEST_ASSERT_TRUE_MESSAGE(ink_in(&png, c450 - 20, c450 + 20, p.y + p.h + 6, p.y + p.h + 30) > 15, "x label 450");
+    free(png.px);
+    uwb_image_free(&img);
+}
+
+static void test_caption_text_names_the_scan(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    struct png_rgb a = render_migrated("a.png", &img, &v, NULL);
+    snprintf(v.scan_id, sizeof v.scan_id, "T1-20240611-0043");
+    struct png_rgb b = render_migrated("b.png", &img, &v, NULL);
+    int caption_h = uwb_caption_height(&v, a.w, 2);
+    int ink = ink_in(&a, 0, a.w - 1, 0, caption_h - 6), differ_caption = 0, differ_rest = 0;
+    for (int y = 0; y < a.h; y++)
+        for (int x = 0; x < a.w; x++) {
+            int d = !same(at(&a, x, y), at(&b, x, y));
+            if (y < caption_h)
+                differ_caption += d;
+            else
+                differ_rest += d;
+        }
+    TEST_ASSERT_TRUE_MESSAGE(ink > 2000, "caption has text");
+    TEST_ASSERT_TRUE_MESSAGE(differ_caption > 0, "a different scan id changes the caption");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, differ_rest, "and nothing else");
+    free(a.px);
+    free(b.px);
+    uwb_image_free(&img);
+}
+
+static void test_long_reason_wraps_and_pushes_the_plot_down(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    int short_h = uwb_caption_height(&v, 960, 2);
+    v.status = UWB_STATUS_INCONCLUSIVE;
+    snprintf(v.reason, sizeof v.reason,
+             "the baseline's upper edge lies beyond the last antenna position, so its centre "
+             "and with it the displacement cannot be established from these scans");
+    int long_h = uwb_caption_height(&v, 960, 2);
+    int line = UWB_FONT_LINE_HEIGHT * 2 + 3;
+    TEST_ASSERT_EQUAL_INT(short_h + 2 * line, long_h);     /* the reason takes three lines */
+    /* a reason of any length stops at three lines */
+    memset(v.reason, 'x', sizeof v.reason - 1);
+    for (size_t i = 10; i < sizeof v.reason - 1; i += 11)
+        v.reason[i] = ' ';
+    v.reason[sizeof v.reason - 1] = '\0';
+    TEST_ASSERT_EQUAL_INT(short_h + 2 * line, uwb_caption_height(&v, 960, 2));
+    struct uwb_plot p_short, p_long;
+    int bx, bw;
+    struct uwb_verdict plain = make_verdict();
+    render_migrated_layout(&img, &plain, NULL, &p_short, &bx, &bw);
+    render_migrated_layout(&img, &v, NULL, &p_long, &bx, &bw);
+    TEST_ASSERT_EQUAL_INT(p_short.y + 2 * line, p_long.y);
+    struct png_rgb png = render_migrated("long.png", &img, &v, NULL);
+    /* The plot really starts lower: its frame is right above p_long.y. */
+    TEST_ASSERT_FALSE(same(at(&png, p_long.x + 5, p_long.y - 1), (struct uwb_rgb){ 255, 255, 255 }));
+    TEST_ASSERT_TRUE(same(at(&png, p_long.x + 5, p_long.y - 5), (struct uwb_rgb){ 255, 255, 255 }));
+    free(png.px);
+    uwb_image_free(&img);
+}
+
+static void test_png_description_carries_the_verdict(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "text.png");
+    TEST_ASSERT_EQUAL_INT(0, render_migrated_png(path, &img, &v, err, sizeof err));
+    FILE *fp = fopen(path, "rb");
+    TEST_ASSERT_NOT_NULL(fp);
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    TEST_ASSERT_EQUAL_INT(0, setjmp(png_jmpbuf(png)));
+    png_init_io(png, fp);
+    png_read_info(png, info);
+    png_textp texts;
+    int n = 0;
+    png_get_text(png, info, &texts, &n);
+    const char *description = NULL;
+    for (int i = 0; i < n; i++)
+        if (!strcmp(texts[i].key, "Description"))
+            description = texts[i].text;
+    TEST_ASSERT_NOT_NULL(description);
+    TEST_ASSERT_NOT_NULL(strstr(description, "T1-20240611-0042"));
+    TEST_ASSERT_NOT_NULL(strstr(description, "watch"));
+    TEST_ASSERT_NOT_NULL(strstr(description, "+20.00"));   /* displacement in mm */
+    TEST_ASSERT_NOT_NULL(strstr(description, "T1-20230302-0001"));
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    uwb_image_free(&img);
+}
+
+static void test_floor_option_changes_the_scale(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.floor_db = -60.0;
+    struct png_rgb png = render_migrated("floor.png", &img, NULL, &o);
+    struct uwb_plot p;
+    int bar_x, bar_w;
+    render_migrated_layout(&img, NULL, &o, &p, &bar_x, &bar_w);
+    /* -40 dB background on a 0..-60 dB scale sits a third of the way up. */
+    struct uwb_rgb bg = at(&png, col_of(&p, 0.65), row_of(&p, 0.45));
+    struct uwb_rgb want = uwb_colormap_perceptual(1.0 / 3.0);
+    TEST_ASSERT_INT_WITHIN(2, want.r, bg.r);
+    TEST_ASSERT_INT_WITHIN(2, want.g, bg.g);
+    TEST_ASSERT_INT_WITHIN(2, want.b, bg.b);
+    free(png.px);
+    uwb_image_free(&img);
+}
+
+static void test_same_input_gives_identical_bytes(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    char p1[512], p2[512], err[256];
+    path_in_dir(p1, sizeof p1, "1.png");
+    path_in_dir(p2, sizeof p2, "2.png");
+    TEST_ASSERT_EQUAL_INT(0, render_migrated_png(p1, &img, &v, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, render_migrated_png(p2, &img, &v, err, sizeof err));
+    FILE *a = fopen(p1, "rb"), *b = fopen(p2, "rb");
+    TEST_ASSERT_NOT_NULL(a);
+    TEST_ASSERT_NOT_NULL(b);
+    int ca, cb;
+    long n = 0;
+    do {
+        ca = fgetc(a);
+        cb = fgetc(b);
+        TEST_ASSERT_EQUAL_INT(ca, cb);
+        n++;
+    } while (ca != EOF);
+    TEST_ASSERT_TRUE(n > 1000);
+    fclose(a);
+    fclose(b);
+    uwb_image_free(&img);
+}
+
+/* ---------- B-scan ---------- */
+
+static void test_bscan_traces_are_at_their_antenna_heights(void)
+{
+    struct uwb_scan scan;
+    char err[256];
+    TEST_ASSERT_EQUAL_INT(0, uwb_scan_alloc(&scan, 21, 400, err, sizeof err));
+    scan.sample_interval_s = 20e-12;
+    scan.t0_s = -0.5e-9;
+    scan.tx_m[0] = -0.02;
+    scan.rx_m[0] = 0.02;
+    for (int k = 0; k < 21; k++) {
+        scan.antenna_y_m[k] = 0.03 * k;
+        /* a positive arrival on every trace, a negative one on traces 5..10
+         * only (heights 150..300 mm: low in the plot, so a flip shows) */
+        for (int s = 95; s <= 105; s++)
+            scan.data[k * 400 + s] = 100.0f;
+        if (k >= 5 && k <= 10)
+            for (int s = 245; s <= 255; s++)
+                scan.data[k * 400 + s] = -50.0f;
+    }
+    struct uwb_verdict v = make_verdict();
+    char path[512];
+    path_in_dir(path, sizeof path, "bscan.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, render_bscan_png(path, &scan, &v, err, sizeof err), err);
+    struct png_rgb png = read_png(path);
+    struct uwb_plot p;
+    int bar_x, bar_w;
+    render_bscan_layout(&scan, &v, NULL, &p, &bar_x, &bar_w);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, -0.015, p.y_min);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.615, p.y_max);
+    double t_pos = scan.t0_s + 100 * scan.sample_interval_s, t_neg = scan.t0_s + 250 * scan.sample_interval_s;
+    struct uwb_rgb c;
+    c = at(&png, col_of(&p, t_pos), row_of(&p, 0.51));
+    TEST_ASSERT_TRUE_MESSAGE(c.r > c.b + 60, "positive arrival is red");
+    c = at(&png, col_of(&p, t_neg), row_of(&p, 0.21));
+    TEST_ASSERT_TRUE_MESSAGE(c.b > c.r + 60, "negative arrival is blue, at its trace's height");
+    c = at(&png, col_of(&p, t_neg), row_of(&p, 0.45));
+    TEST_ASSERT_TRUE_MESSAGE(same(c, uwb_colormap_diverging(0.5)), "no arrival there: zero colour");
+    /* -50 is 6 dB under the peak 100: on a 40 dB scale, 85 % toward blue. */
+    c = at(&png, col_of(&p, t_neg), row_of(&p, 0.15));
+    struct uwb_rgb want = uwb_colormap_diverging(uwb_signed_db_to_t(-50.0, 100.0, -40.0));
+    TEST_ASSERT_INT_WITHIN(2, want.b, c.b);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.5 - 0.5 * (40 - 20 * log10(2.0)) / 40, uwb_signed_db_to_t(-50.0, 100.0, -40.0));
+    /* The current lower edge crosses the face's echo time on its row. */
+    double t_face = uwb_face_echo_time(&scan, FACE_Z);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-13, sqrt(0.9 * 0.9 + 0.04 * 0.04) / 299792458.0, t_face);
+    TEST_ASSERT_TRUE(same(at(&png, col_of(&p, t_face) + 10, row_of(&p, FACE_LO)), UWB_RGB_CURRENT_EDGE));
+    free(png.px);
+    uwb_scan_free(&scan);
+}
+
+/* ---------- comparison ---------- */
+
+static void test_comparison_shows_both_scans_and_the_shift(void)
+{
+    struct uwb_image cur = make_image(FACE_LO, FACE_HI), base = make_image(BASE_LO, BASE_HI);
+    struct uwb_verdict v = make_verdict();
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "cmp.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, render_comparison_png(path, &cur, &base, &v, err, sizeof err), err);
+    struct png_rgb png = read_png(path);
+    struct uwb_plot pb, pc, pp;
+    int bar_x, bar_w;
+    render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    TEST_ASSERT_TRUE(pb.x + pb.w < pc.x && pc.x + pc.w < pp.x);   /* baseline left, current right */
+    struct uwb_rgb peak = uwb_colormap_perceptual(1.0);
+    int fc_b = col_of(&pb, FACE_Z), fc_c = col_of(&pc, FACE_Z);
+    /* Each panel shows its own image: the face bright at the heights only
+     * one of them has (80..100 mm baseline only, 230..250 current only). */
+    TEST_ASSERT_TRUE(same(at(&png, fc_b, row_of(&pb, 0.090)), peak));
+    TEST_ASSERT_FALSE(same(at(&png, fc_c, row_of(&pc, 0.090)), peak));
+    TEST_ASSERT_TRUE(same(at(&png, fc_c, row_of(&pc, 0.240)), peak));
+    TEST_ASSERT_FALSE(same(at(&png, fc_b, row_of(&pb, 0.240)), peak));
+    /* This scan's panel: its edges solid, the baseline's dashed beside them. */
+    int row_cur = row_of(&pc, FACE_LO), row_base = row_of(&pc, BASE_LO);
+    TEST_ASSERT_TRUE(row_base > row_cur + 5);   /* moved up = drawn higher */
+    int solid = 0, pink = 0;
+    for (int x = pc.x + 2; x < pc.x + pc.w - 2; x++) {
+        solid += same(at(&png, x, row_cur), UWB_RGB_CURRENT_EDGE);
+        pink += same(at(&png, x, row_base), UWB_RGB_BASELINE_EDGE);
+    }
+    TEST_ASSERT_TRUE_MESSAGE(solid >= pc.w - 6, "current edge solid across the panel");
+    TEST_ASSERT_TRUE_MESSAGE(pink > pc.w / 3 && pink < pc.w - 20, "baseline edge dashed across the panel");
+    /* Profile panel: both curves present; at mid-face of this scan (175 mm)
+     * the white curve reaches the right part of the panel. */
+    int white_right = 0, pink_curve = 0;
+    int r175 = row_of(&pp, 0.175), r120 = row_of(&pp, 0.090);
+    for (int x = col_of(&pp, 0.9); x < pp.x + pp.w; x++) {
+        white_right += same(at(&png, x, r175), UWB_RGB_CURRENT_EDGE);
+        pink_curve += same(at(&png, x, r120), UWB_RGB_BASELINE_EDGE);
+    }
+    TEST_ASSERT_TRUE_MESSAGE(white_right > 0, "current profile at full intensity mid-face");
+    TEST_ASSERT_TRUE_MESSAGE(pink_curve > 0, "baseline profile at full intensity where only it is bright");
+    free(png.px);
+    uwb_image_free(&cur);
+    uwb_image_free(&base);
+}
+
+static void test_comparison_without_baseline_draws_this_scan_only(void)
+{
+    struct uwb_image cur = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    v.has_baseline = 0;
+    v.status = UWB_STATUS_EDGES;
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "cmp1.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, render_comparison_png(path, &cur, NULL, &v, err, sizeof err), err);
+    struct png_rgb png = read_png(path);
+    struct uwb_plot pb, pc, pp;
+    int bar_x, bar_w;
+    render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    int pink = 0;
+    for (int y = pb.y; y < pb.y + pb.h; y++)
+        for (int x = pb.x; x < pp.x + pp.w; x++)
+            pink += same(at(&png, x, y), UWB_RGB_BASELINE_EDGE);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, pink, "nothing drawn as baseline");
+    TEST_ASSERT_TRUE(same(at(&png, col_of(&pc, FACE_Z) + 15, row_of(&pc, FACE_LO)), UWB_RGB_CURRENT_EDGE));
+    /* The baseline panel carries no image (no colour-map colours). */
+    struct uwb_rgb c = at(&png, pb.x + 5, pb.y + 5);
+    TEST_ASSERT_TRUE(c.r == c.g && c.g == c.b);
+    free(png.px);
+    uwb_image_free(&cur);
+}
+
+/* ---------- failures ---------- */
+
+static void test_unwritable_path_fails_naming_it_and_leaves_nothing(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    char path[512], err[512] = "";
+    snprintf(path, sizeof path, "%s/no-such-dir/m.png", dir);
+    TEST_ASSERT_EQUAL_INT(-1, render_migrated_png(path, &img, &v, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, path), err);
+    TEST_ASSERT_EQUAL_INT(0, count_dir_entries(dir));
+    uwb_image_free(&img);
+}
+
+static void test_libpng_failure_keeps_the_old_file_and_no_temporary(void)
+{
+    char path[512], err[512] = "";
+    path_in_dir(path, sizeof path, "old.png");
+    FILE *fp = fopen(path, "wb");
+    TEST_ASSERT_NOT_NULL(fp);
+    fputs("old", fp);
+    fclose(fp);
+    /* A width libpng refuses (over its 1,000,000 px limit) makes it fail
+     * inside png_set_IHDR, through the longjmp path. */
+    unsigned char row[3] = { 0, 0, 0 };
+    struct uwb_canvas c = { 2000000, 1, row };
+    TEST_ASSERT_EQUAL_INT(-1, uwb_canvas_write_png(&c, path, NULL, 0, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, path), err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "PNG"), err);
+    TEST_ASSERT_EQUAL_INT(1, count_dir_entries(dir));
+    char buf[16] = "";
+    fp = fopen(path, "rb");
+    TEST_ASSERT_NOT_NULL(fp);
+    TEST_ASSERT_NOT_NULL(fgets(buf, sizeof buf, fp));
+    fclose(fp);
+    TEST_ASSERT_EQUAL_STRING("old", buf);
+}
+
+static void test_bad_inputs_are_refused_with_the_path(void)
+{
+    char path[512], err[512] = "";
+    path_in_dir(path, sizeof path, "bad.png");
+    struct uwb_image empty = { 0 };
+    TEST_ASSERT_EQUAL_INT(-1, render_migrated_png(path, &empty, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL(strstr(err, path));
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    img.dy_m = 0.0;
+    TEST_ASSERT_EQUAL_INT(-1, render_comparison_png(path, &img, NULL, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL(strstr(err, "spacing"));
+    struct uwb_scan scan;
+    memset(&scan, 0, sizeof scan);
+    TEST_ASSERT_EQUAL_INT(-1, render_bscan_png(path, &scan, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL(strstr(err, path));
+    TEST_ASSERT_EQUAL_INT(0, count_dir_entries(dir));
+    uwb_image_free(&img);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_font_table_is_complete_and_glyphs_are_distinct);
+    RUN_TEST(test_text_width_matches_drawn_extent_and_scales);
+    RUN_TEST(test_perceptual_map_lightness_rises_monotonically);
+    RUN_TEST(test_diverging_map_is_symmetric_in_lightness);
+    RUN_TEST(test_nice_ticks_and_labels);
+    RUN_TEST(test_dashed_line_has_gaps_and_solid_line_has_none);
+    RUN_TEST(test_migrated_png_edges_sit_on_their_heights);
+    RUN_TEST(test_migrated_png_puts_the_face_where_the_axis_says);
+    RUN_TEST(test_migrated_colorbar_runs_from_peak_colour_to_floor_colour);
+    RUN_TEST(test_migrated_axes_have_tick_labels_on_both_axes);
+    RUN_TEST(test_caption_text_names_the_scan);
+    RUN_TEST(test_long_reason_wraps_and_pushes_the_plot_down);
+    RUN_TEST(test_png_description_carries_the_verdict);
+    RUN_TEST(test_floor_option_changes_the_scale);
+    RUN_TEST(test_same_input_gives_identical_bytes);
+    RUN_TEST(test_bscan_traces_are_at_their_antenna_heights);
+    RUN_TEST(test_comparison_shows_both_scans_and_the_shift);
+    RUN_TEST(test_comparison_without_baseline_draws_this_scan_only);
+    RUN_TEST(test_unwritable_path_fails_naming_it_and_leaves_nothing);
+    RUN_TEST(test_libpng_failure_keeps_the_old_file_and_no_temporary);
+    RUN_TEST(test_bad_inputs_are_refused_with_the_path);
+    return UNITY_END();
+}

@@ -1,0 +1,198 @@
+/* From edges to a verdict: clutter that must not fool the core, the cases
+ * where no figure may be given, thresholds, and the JSON an engineer reads. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fixture_support.h"
+#include "unity.h"
+#include "uwb/evaluate.h"
+#include "uwb/geometry.h"
+#include "uwb/verdict_json.h"
+
+static struct uwb_scan intact, up20;
+
+void setUp(void)
+{
+    fixture_load_scan(FIXTURE_INTACT, &intact);
+    fixture_load_scan(FIXTURE_UP20, &up20);
+}
+
+void tearDown(void)
+{
+    uwb_scan_free(&intact);
+    uwb_scan_free(&up20);
+}
+
+static int evaluate(const struct uwb_scan *cur, const struct uwb_scan *base, struct uwb_verdict *v)
+{
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    struct uwb_analysis a, b;
+    char err[512];
+    int rc = uwb_evaluate(cur, base, &opt, v, &a, &b, err, sizeof err);
+    uwb_analysis_free(&a);
+    uwb_analysis_free(&b);
+    return rc;
+}
+
+/* A flat reflector parallel to the antenna line (a barrier, a core leg)
+ * returns the same echo at every position. */
+static void add_plane(struct uwb_scan *s, double z, double amplitude)
+{
+    struct uwb_geometry g;
+    uwb_geometry_from_scan(&g, s, 0.0);
+    double tau = uwb_two_way_delay(&g, 0.0, z), f = 2e9;
+    for (int k = 0; k < s->positions; k++)
+        for (int i = 0; i < s->samples; i++) {
+            double t = s->t0_s + i * s->sample_interval_s - tau;
+            double a = M_PI * M_PI * f * f * t * t;
+            s->data[(size_t)k * s->samples + i] += (float)(amplitude * (1.0 - 2.0 * a) * exp(-a));
+        }
+}
+
+static void test_barrier_and_stronger_core_leg_do_not_fool_it(void)
+{
+    /* The face echo peaks near 400 here: a barrier 50 mm in front at half
+     * that, a core leg behind it three times stronger than the winding. */
+    add_plane(&intact, 0.40, 200.0);
+    add_plane(&up20, 0.40, 200.0);
+    add_plane(&intact, 0.75, 1200.0);
+    add_plane(&up20, 0.75, 1200.0);
+    struct uwb_verdict v;
+    TEST_ASSERT_EQUAL_INT(0, evaluate(&up20, &intact, &v));
+    TEST_ASSERT_TRUE_MESSAGE(v.current.found, v.current.reason);
+    TEST_ASSERT_DOUBLE_WITHIN(0.01, 0.45, v.current.face_z_m);
+    TEST_ASSERT_DOUBLE_WITHIN(0.002, 0.25, v.current.lower_m);
+    TEST_ASSERT_DOUBLE_WITHIN(0.002, 0.402, v.current.upper_m);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0005, 0.020, v.axial_displacement_m);
+}
+
+static void test_target_range_excluding_the_winding_finds_nothing_there(void)
+{
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    opt.analysis.has_target_z = 1;
+    opt.analysis.target_z_m[0] = 0.6;
+    opt.analysis.target_z_m[1] = 0.9;
+    struct uwb_verdict v;
+    struct uwb_analysis a, b;
+    char err[512];
+    TEST_ASSERT_EQUAL_INT(0, uwb_evaluate(&up20, &intact, &opt, &v, &a, &b, err, sizeof err));
+    uwb_analysis_free(&a);
+    uwb_analysis_free(&b);
+    /* Only the winding's far-off sidelobes are there: not a confident figure. */
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, v.status);
+}
+
+static void test_pure_noise_is_inconclusive(void)
+{
+    srand(7);
+    for (size_t i = 0; i < (size_t)up20.positions * up20.samples; i++)
+        up20.data[i] = (float)(rand() / (double)RAND_MAX - 0.5);
+    struct uwb_verdict v;
+    TEST_ASSERT_EQUAL_INT(0, evaluate(&up20, &intact, &v));
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, v.status);
+    TEST_ASSERT_TRUE(strlen(v.reason) > 10);
+    char *json = uwb_verdict_to_json(&v);
+    TEST_ASSERT_NULL(strstr(json, "axial_displacement_mm"));
+    TEST_ASSERT_NOT_NULL(strstr(json, "\"reason\""));
+    free(json);
+}
+
+static void test_winding_beyond_the_travel_is_inconclusive(void)
+{
+    /* Pretend the antennas only travelled over the winding's lower half. */
+    struct uwb_scan cut;
+    char err[256];
+    TEST_ASSERT_EQUAL_INT(0, uwb_scan_alloc(&cut, 10, up20.samples, err, sizeof err));
+    uwb_scan_free(&cut);
+    TEST_ASSERT_EQUAL_INT(0, uwb_scan_copy(&cut, &up20, err, sizeof err));
+    cut.positions = 11;   /* positions 0..10: y 0..0.30 m, the face runs to 0.402 */
+    struct uwb_verdict v;
+    TEST_ASSERT_EQUAL_INT(0, evaluate(&cut, NULL, &v));
+    cut.positions = up20.positions;
+    uwb_scan_free(&cut);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, v.status);
+}
+
+static void test_different_antenna_positions_are_not_compared(void)
+{
+    intact.antenna_y_m[3] += 0.01;
+    struct uwb_verdict v;
+    TEST_ASSERT_EQUAL_INT(0, evaluate(&up20, &intact, &v));
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, v.status);
+    TEST_ASSERT_NOT_NULL(strstr(v.reason, "antenna position 3"));
+}
+
+static void status_for(double displacement_m, double sigma_m, enum uwb_status expected)
+{
+    struct uwb_edges base = {.found = 1, .lower_m = 0.2, .upper_m = 0.4, .center_m = 0.3, .height_m = 0.2,
+                             .sigma_center_noise_m = 0.0};
+    struct uwb_edges cur = base;
+    cur.lower_m += displacement_m;
+    cur.upper_m += displacement_m;
+    cur.center_m += displacement_m;
+    cur.sigma_center_noise_m = sigma_m;
+    struct uwb_compare_options opt;
+    uwb_compare_defaults(&opt);
+    struct uwb_verdict v;
+    memset(&v, 0, sizeof v);
+    uwb_compare_edges(&v, &cur, &base, &opt);
+    TEST_ASSERT_EQUAL_INT(expected, v.status);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, displacement_m, v.axial_displacement_m);
+}
+
+static void test_thresholds_ok_watch_alarm(void)
+{
+    status_for(0.0019, 0.0, UWB_STATUS_OK);
+    status_for(0.0021, 0.0, UWB_STATUS_WATCH);
+    status_for(-0.0021, 0.0, UWB_STATUS_WATCH);
+    status_for(0.0049, 0.0, UWB_STATUS_WATCH);
+    status_for(0.0051, 0.0, UWB_STATUS_ALARM);
+    status_for(-0.04, 0.0, UWB_STATUS_ALARM);
+    /* A figure too uncertain to act on is not given. */
+    status_for(0.003, 0.002, UWB_STATUS_INCONCLUSIVE);
+}
+
+static void test_json_has_every_field_an_engineer_reads(void)
+{
+    struct uwb_verdict v;
+    TEST_ASSERT_EQUAL_INT(0, evaluate(&up20, &intact, &v));
+    snprintf(v.images[0], sizeof v.images[0], "/tmp/x-migrated.png");
+    v.n_images = 1;
+    char *json = uwb_verdict_to_json(&v);
+    TEST_ASSERT_NOT_NULL(json);
+    TEST_ASSERT_NULL(strchr(json, '\n'));
+    cJSON *o = cJSON_Parse(json);
+    TEST_ASSERT_NOT_NULL(o);
+    TEST_ASSERT_EQUAL_STRING("VERDICT", cJSON_GetObjectItem(o, "class")->valuestring);
+    TEST_ASSERT_EQUAL_STRING("alarm", cJSON_GetObjectItem(o, "status")->valuestring);
+    const char *numbers[] = {"axial_displacement_mm", "uncertainty_mm", "lower_edge_mm", "upper_edge_mm",
+                             "center_mm", "height_mm", "height_change_mm"};
+    for (size_t i = 0; i < sizeof numbers / sizeof *numbers; i++)
+        TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNumber(cJSON_GetObjectItem(o, numbers[i])), numbers[i]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.5, 20.0, cJSON_GetObjectItem(o, "axial_displacement_mm")->valuedouble);
+    cJSON *b = cJSON_GetObjectItem(o, "baseline");
+    TEST_ASSERT_TRUE(cJSON_IsNumber(cJSON_GetObjectItem(b, "lower_edge_mm")));
+    TEST_ASSERT_TRUE(cJSON_IsNumber(cJSON_GetObjectItem(b, "upper_edge_mm")));
+    TEST_ASSERT_DOUBLE_WITHIN(2.0, 306.0, cJSON_GetObjectItem(b, "center_mm")->valuedouble);
+    cJSON *images = cJSON_GetObjectItem(o, "images");
+    TEST_ASSERT_EQUAL_INT(1, cJSON_GetArraySize(images));
+    cJSON_Delete(o);
+    free(json);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_barrier_and_stronger_core_leg_do_not_fool_it);
+    RUN_TEST(test_target_range_excluding_the_winding_finds_nothing_there);
+    RUN_TEST(test_pure_noise_is_inconclusive);
+    RUN_TEST(test_winding_beyond_the_travel_is_inconclusive);
+    RUN_TEST(test_different_antenna_positions_are_not_compared);
+    RUN_TEST(test_thresholds_ok_watch_alarm);
+    RUN_TEST(test_json_has_every_field_an_engineer_reads);
+    return UNITY_END();
+}
