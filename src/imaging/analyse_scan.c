@@ -10,7 +10,7 @@
 
 #define COARSE_DY_M 0.005
 #define COARSE_DZ_M 0.002
-#define FINE_DY_M 0.0005
+#define FINE_DY_M 0.001
 #define FINE_DZ_M 0.001
 #define DISPLAY_DY_M 0.001
 #define DISPLAY_DZ_M 0.001
@@ -61,7 +61,7 @@ static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geo
                         char *err, size_t errlen)
 {
     double wavelength = g->velocity_m_s / dominant_hz;
-    double half = wavelength > 0.1 ? wavelength : 0.1;
+    double half = 0.6 * wavelength > 0.06 ? 0.6 * wavelength : 0.06;   /* two range cycles for the envelope */
     double z_lo = z_centre - half > 0.01 ? z_centre - half : 0.01;
     struct uwb_image fine = {0};
     if (imaging_grid(&fine, conditioned, 0.15, aligned_dy(conditioned, FINE_DY_M), z_lo,
