@@ -196,6 +196,10 @@ void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t le
 void uwb_describe_edges(const struct uwb_edges *e, char *buf, size_t len);
 /* The caption in one line (stored as the PNG's Description text). */
 void uwb_verdict_summary(const struct uwb_verdict *v, char *buf, size_t len);
+/* Write the canvas as `path` with Title (title), Description (the verdict
+ * summary) and Software text chunks, then free it. */
+int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const char *title,
+                                 const struct uwb_verdict *v, char *err, size_t errlen);
 
 /* -1 with "NAME: problem" if the image cannot be drawn (no data, < 2x2,
  * non-positive spacing). */

@@ -223,14 +223,5 @@ int render_bscan_png_opt(const char *path, const struct uwb_scan *scan, const st
     uwb_draw_edge_legend(&c, plot.x, uwb_layout_legend_y(&plot, s), v && v->current.found,
                          v && v->has_baseline && v->baseline.found, s);
 
-    char summary[2048];
-    uwb_verdict_summary(v, summary, sizeof summary);
-    struct uwb_png_text texts[] = {
-        { "Title", "uwbd raw B-scan" },
-        { "Description", summary },
-        { "Software", "uwbd" },
-    };
-    int rc = uwb_canvas_write_png(&c, path, texts, 3, err, errlen);
-    uwb_canvas_free(&c);
-    return rc;
+    return uwb_canvas_save_with_verdict(&c, path, "uwbd raw B-scan", v, err, errlen);
 }

@@ -244,3 +244,18 @@ int uwb_draw_caption(struct uwb_canvas *c, const char *title, const struct uwb_v
 {
     return caption(c, c->width, title, v, font_scale);
 }
+
+int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const char *title,
+                                 const struct uwb_verdict *v, char *err, size_t errlen)
+{
+    char summary[2048];
+    uwb_verdict_summary(v, summary, sizeof summary);
+    struct uwb_png_text texts[] = {
+        { "Title", title },
+        { "Description", summary },
+        { "Software", "uwbd" },
+    };
+    int rc = uwb_canvas_write_png(c, path, texts, 3, err, errlen);
+    uwb_canvas_free(c);
+    return rc;
+}

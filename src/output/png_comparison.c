@@ -249,14 +249,5 @@ int render_comparison_png_opt(const char *path, const struct uwb_image *current,
     uwb_draw_db_colorbar(&c, L.bar_x, L.cur.y, L.bar_w, L.cur.h, o.floor_db, s);
     uwb_draw_edge_legend(&c, L.base.x, uwb_layout_legend_y(&L.cur, s), ec != NULL, eb != NULL, s);
 
-    char summary[2048];
-    uwb_verdict_summary(v, summary, sizeof summary);
-    struct uwb_png_text texts[] = {
-        { "Title", "uwbd comparison" },
-        { "Description", summary },
-        { "Software", "uwbd" },
-    };
-    int rc = uwb_canvas_write_png(&c, path, texts, 3, err, errlen);
-    uwb_canvas_free(&c);
-    return rc;
+    return uwb_canvas_save_with_verdict(&c, path, "uwbd comparison", v, err, errlen);
 }

@@ -77,14 +77,5 @@ int render_migrated_png_opt(const char *path, const struct uwb_image *intensity,
     uwb_draw_edge_legend(&c, plot.x, uwb_layout_legend_y(&plot, s), v && v->current.found,
                          v && v->has_baseline && v->baseline.found, s);
 
-    char summary[2048];
-    uwb_verdict_summary(v, summary, sizeof summary);
-    struct uwb_png_text texts[] = {
-        { "Title", "uwbd migrated image" },
-        { "Description", summary },
-        { "Software", "uwbd" },
-    };
-    int rc = uwb_canvas_write_png(&c, path, texts, 3, err, errlen);
-    uwb_canvas_free(&c);
-    return rc;
+    return uwb_canvas_save_with_verdict(&c, path, "uwbd migrated image", v, err, errlen);
 }
