@@ -213,7 +213,8 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
     out->noise_sigma = uwb_noise_sigma(&searched);
     uwb_scan_free(&searched);
     struct face_candidate face;
-    if (face_search(&coarse, ap_lo, ap_hi, &face, edges->reason, sizeof edges->reason) != 0) {
+    double step = (ap_hi - ap_lo) / (scan->positions > 1 ? scan->positions - 1 : 1);
+    if (face_search(&coarse, ap_lo, ap_hi, step, &face, edges->reason, sizeof edges->reason) != 0) {
         out->intensity = coarse;   /* show what was searched */
         return 0;
     }

@@ -11,6 +11,11 @@
 #define CANDIDATE_SEPARATION_M 0.03
 #define WEAKEST_CANDIDATE 0.01     /* -40 dB below the strongest reflector */
 #define END_FRACTION 0.5           /* the profile must drop below this inside the travel */
+/* ...and that far inside it: residues of clutter the winding shadows (the
+ * core leg behind it) end at the travel's ends; a seen edge has positions
+ * beyond it. */
+#define END_MARGIN_STEPS 2.0
+#define SHADOW_MARGIN 0.316      /* -10 dB */
 
 static double column_peak(const struct uwb_image *img, int iz, int *row)
 {
@@ -42,8 +47,10 @@ static int ends_seen(const struct uwb_image *img, int iz, int peak_row, double p
 }
 
 int face_search(const struct uwb_image *img, double aperture_lo_m, double aperture_hi_m,
-                struct face_candidate *face, char *reason, size_t reasonlen)
+                double step_m, struct face_candidate *face, char *reason, size_t reasonlen)
 {
+    double inner_lo = aperture_lo_m + END_MARGIN_STEPS * step_m;
+    double inner_hi = aperture_hi_m - END_MARGIN_STEPS * step_m;
     double *peak = malloc((size_t)img->nz * sizeof *peak);
     int *row = malloc((size_t)img->nz * sizeof *row);
     char *used = calloc((size_t)img->nz, 1);
@@ -63,7 +70,10 @@ int face_search(const struct uwb_image *img, double aperture_lo_m, double apertu
     int sep = (int)ceil(CANDIDATE_SEPARATION_M / img->dz_m);
     int found = 0;
     double strongest_rejected_z = -1.0;
-    for (int c = 0; c < MAX_CANDIDATES && !found; c++) {
+    struct face_candidate seen[MAX_CANDIDATES];
+    int n_seen = 0;
+    double strongest_seen = 0.0;
+    for (int c = 0; c < MAX_CANDIDATES; c++) {
         int best = -1;
         for (int iz = 0; iz < img->nz; iz++)
             if (!used[iz] && (best < 0 || peak[iz] > peak[best]))
@@ -73,15 +83,27 @@ int face_search(const struct uwb_image *img, double aperture_lo_m, double apertu
         for (int iz = best - sep; iz <= best + sep; iz++)
             if (iz >= 0 && iz < img->nz)
                 used[iz] = 1;
-        if (ends_seen(img, best, row[best], peak[best], aperture_lo_m, aperture_hi_m)) {
-            face->z_m = img->z0_m + best * img->dz_m;
-            face->peak = peak[best];
-            face->both_ends_seen = 1;
-            found = 1;
+        if (ends_seen(img, best, row[best], peak[best], inner_lo, inner_hi)) {
+            seen[n_seen].z_m = img->z0_m + best * img->dz_m;
+            seen[n_seen].peak = peak[best];
+            seen[n_seen].both_ends_seen = 1;
+            if (peak[best] > strongest_seen)
+                strongest_seen = peak[best];
+            n_seen++;
         } else if (strongest_rejected_z < 0.0) {
             strongest_rejected_z = img->z0_m + best * img->dz_m;
         }
     }
+    /* The winding shadows what stands behind it (the core leg), and once the
+     * static clutter is removed that shadow images as a compact reflector of
+     * its own, sometimes brighter than the winding, but always farther. So
+     * among the reflectors with both ends seen and within SHADOW_MARGIN of
+     * the strongest of them, the nearest is the winding. */
+    for (int i = 0; i < n_seen; i++)
+        if (seen[i].peak >= SHADOW_MARGIN * strongest_seen && (!found || seen[i].z_m < face->z_m)) {
+            *face = seen[i];
+            found = 1;
+        }
     if (!found) {
         if (strongest_rejected_z >= 0.0)
             snprintf(reason, reasonlen,

@@ -31,7 +31,7 @@ show "full-wave FDTD scan of the paper's experiment, winding moved up 20 mm" "$l
 
 if [[ -x "$BUILD/uwbsim" ]]; then
     "$BUILD/uwbsim" --seed 1 -o "$OUT/sim-baseline.uwbscan" --truth "$OUT/sim-baseline.truth.json"
-    "$BUILD/uwbsim" --seed 2 --displacement-mm 12 -o "$OUT/sim-up12mm.uwbscan" --truth "$OUT/sim-up12mm.truth.json"
+    "$BUILD/uwbsim" --seed 2 --displacement-m 0.012 -o "$OUT/sim-up12mm.uwbscan" --truth "$OUT/sim-up12mm.truth.json"
     line=$("$BUILD/uwbd" --replay "$OUT/sim-baseline.uwbscan" --baseline "$OUT/sim-baseline.uwbscan" --out "$OUT/sim")
     line=$("$BUILD/uwbd" --replay "$OUT/sim-up12mm.uwbscan" --baseline "$OUT/sim-baseline.uwbscan" --out "$OUT/sim")
     echo "$line"
