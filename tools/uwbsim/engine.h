@@ -1,23 +1,28 @@
 /* The physics of one antenna position: the surface integral (physical
- * optics / Kirchhoff) over every lit element, folded with the pulse through
- * the propagation operator, plus the static returns (direct coupling,
- * window echoes, far wall). An engine is built once per scene (geometry,
- * FFTW plans, kernels) and then answers any number of positions.
+ * optics / Kirchhoff) over every lit element, the fringe term of the
+ * physical theory of diffraction along the stack's edges, folded with the
+ * pulse through the propagation operator, plus the static returns (direct
+ * coupling, window echoes, far wall). An engine is built once per scene
+ * (geometry, FFTW plans, kernels) and then answers any number of positions.
  *
  * Model, per element of area dA at P, with Tx at distance R1 and Rx at R2
  * (unit directions k1 = (P-Tx)/R1, k2 = (P-Rx)/R2, outward normal n):
  *   lit and seen iff n.k1 < 0 and n.k2 < 0;
- *   obliquity  q = -(n.k1 + n.k2) / 2;
- *   3-D:  u(t) += G q g1 g2 dA / (2 pi v R1 R2)       * d/dt f(t - tau)
- *   2-D:  u(t) += G q g1 g2 dl / (sqrt(2 pi v R1 R2)) * D^1/2 f(t - tau)
+ *   obliquity  q = -(n.k1 + n.k2) / 2, near-field q' = -(n.k1/R1 + n.k2/R2) / 2;
+ *   3-D:  u(t) += G g1 g2 dA / (2 pi v R1 R2) * (q d/dt + v q') f(t - tau)
+ *   2-D:  u(t) += G g1 g2 dl / sqrt(2 pi v R1 R2) * q D^1/2 f(t - tau)
  * with G the surface's reflection coefficient (-1 for metal), g the antenna
  * patterns, tau = (R1 + R2)/v plus the window's and barrier's extra delay,
  * and f the incident field 1 m from Tx (3-D: f(t-R/v)/R; 2-D:
- * f(t-R/v)/sqrt(R)). The constants make a large flat plate return exactly
- * its image: G f(t - 2R/v)/(2R) in 3-D, G f(t - 2R/v)/sqrt(2R) in 2-D.
- * Elements are deposited into a fine time grid with linear weights; one FFT
- * per position applies the operator, the pulse, the grid's own smoothing
- * (undone) and the trigger jitter (a phase ramp). */
+ * f(t-R/v)/sqrt(R)). These constants make a large flat plate return its
+ * image: G f(t - L/v)/L in 3-D (exactly, with q'), G f(t - L/v)/sqrt(L) in
+ * 2-D (to O(1/8kR)). Each edge piece dl adds (D_wedge - D_PO) f(t - tau) dl
+ * / (2 pi R1 R2) in 3-D, (D_wedge - D_PO) sqrt(v / 2 pi) D^-1/2 f(t - tau)
+ * / sqrt(R1 R2) in 2-D: Keller's exact wedge coefficient minus the one
+ * physical optics already gives, so corners diffract as strongly as they do
+ * in a full-wave solution. Elements are deposited into a fine time grid with
+ * linear weights; one FFT per position applies the operators, the pulse, the
+ * grid's own smoothing (undone) and the trigger jitter (a phase ramp). */
 #ifndef UWBSIM_ENGINE_H
 #define UWBSIM_ENGINE_H
 
@@ -36,8 +41,10 @@ void sim_engine_free(struct sim_engine *engine);
 
 const struct sim_scene *sim_engine_scene(const struct sim_engine *engine);
 size_t sim_engine_element_count(const struct sim_engine *engine);
-/* Peak |winding echo| over the scene's positions, noiseless: the SNR's reference (V). */
-double sim_engine_peak_echo(const struct sim_engine *engine);
+/* Peak |winding echo| over the scene's positions, noiseless: the SNR's
+ * reference (V). Computed on first use (one pass over the positions), then
+ * kept; -1 if out of memory. */
+double sim_engine_peak_echo(struct sim_engine *engine);
 
 /* The noiseless received voltage at one position, `parts` (enum sim_part
  * mask) only, the whole trace delayed by shift_s (jitter). out: samples values.

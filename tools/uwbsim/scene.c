@@ -35,7 +35,8 @@ static const struct sim_param params[] = {
         "wavelength in the medium / 8 in 3-D, / 16 in 2-D, taken at 3x the centre frequency)"),
     BOOL(edge_diffraction, "true", "general",
          "add the physical theory of diffraction's fringe term (exact wedge minus physical optics) along "
-         "the stack's top and bottom outer edges, so edges diffract as strongly as a full-wave solver says"),
+         "the stack's top and bottom edges (outer edges and inner rims), so corners diffract as a "
+         "full-wave solver says"),
 
     NUM(eps_r, "", "2.2", "medium", 1, 100, "relative permittivity of the oil (written to the header)"),
     NUM(window_thickness_m, "m", "0.02", "medium", 0, 0.5,
@@ -49,7 +50,8 @@ static const struct sim_param params[] = {
     NUM(disk_height_m, "m", "0.022", "winding", 1e-4, 1, "axial height of one disk"),
     NUM(gap_m, "m", "0.004", "winding", 0, 1, "axial gap between neighbouring disks"),
     NUM(gap_eps_r, "", "0", "winding", 0, 100,
-        "relative permittivity of what fills the gaps; 0 = the oil itself (spacers elsewhere)"),
+        "relative permittivity of what fills the gaps (perpendicular polarisation only: with parallel "
+        "polarisation the gaps are closed); 0 = the oil itself (spacers elsewhere)"),
     NUM(outer_radius_m, "m", "0.15", "winding", 0.005, 5, "outer radius of the disks"),
     NUM(radial_build_m, "m", "0.06", "winding", 0.001, 5,
         "radial build (outer minus inner radius); in 2d mode, the depth of the disk rectangles"),
@@ -122,6 +124,10 @@ static const struct sim_param params[] = {
     NUM(snr_db, "dB", "30", "digitiser", -40, 200,
         "per-pulse SNR: 20 log10(peak |winding echo| / noise rms), the peak taken over all positions of "
         "the noiseless winding-only scan; stacking improves it by sqrt(stack)"),
+    NUM(noise_bandwidth_hz, "Hz", "0", "digitiser", 0, 1e13,
+        "receiver noise bandwidth: the noise is flat up to it and absent above (same rms per sample); "
+        "0 = white up to Nyquist. A real front end's is a few GHz, which leaves more noise in the "
+        "pulse's band at the same snr_db"),
     NUM(jitter_s, "s", "2e-12", "digitiser", 0, 1e-9, "rms trigger jitter, one random shift per trace"),
     NUM(drift_db, "dB", "0.02", "digitiser", 0, 10,
         "rms step of the slow gain drift, a random walk from one position to the next"),
@@ -376,7 +382,7 @@ int sim_scene_validate(const struct sim_scene *s, char *err, size_t errlen)
         return -1;
     }
     double nyquist = 0.5 / s->sample_interval_s;
-    if (s->pulse != SIM_PULSE_FILE && 2.5 * s->centre_frequency_hz > nyquist) {
+    if (s->pulse != SIM_PULSE_FILE && 3.0 * s->centre_frequency_hz > nyquist) {
         snprintf(err, errlen, "sample_interval_s: %g s is too coarse for a %g Hz pulse (Nyquist %g Hz)",
                  s->sample_interval_s, s->centre_frequency_hz, nyquist);
         return -1;

@@ -87,6 +87,7 @@ struct sim_scene {
     int stack;
     int noise;
     double snr_db;
+    double noise_bandwidth_hz;     /* 0: white up to Nyquist */
     double jitter_s;
     double drift_db;
 

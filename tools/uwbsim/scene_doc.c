@@ -35,8 +35,9 @@ static void choices_text(const struct sim_param *p, char *buf, size_t buflen)
     }
 }
 
-/* Wrap help text at about 76 columns under an indent. */
-static void print_wrapped(FILE *out, const char *text, int indent)
+/* Wrap help text at about 78 columns under an indent; `tail` (the unit and
+ * default) is kept whole on one line so it can be found and read. */
+static void print_wrapped(FILE *out, const char *text, const char *tail, int indent)
 {
     int col = indent;
     fprintf(out, "%*s", indent, "");
@@ -57,7 +58,11 @@ static void print_wrapped(FILE *out, const char *text, int indent)
         while (*w == ' ')
             w++;
     }
-    fputc('\n', out);
+    int tlen = (int)strlen(tail);
+    if (col > indent && col + 1 + tlen > 78)
+        fprintf(out, "\n%*s%s\n", indent, "", tail);
+    else
+        fprintf(out, "%s%s\n", col > indent ? " " : "", tail);
 }
 
 void sim_scene_print_help(FILE *out)
@@ -76,11 +81,10 @@ void sim_scene_print_help(FILE *out)
         choices_text(p, choices, sizeof choices);
         snprintf(line, sizeof line, "  --%s %s", cli, p->type == SIM_PARAM_ENUM ? choices : value_word(p));
         fprintf(out, "%s\n", line);
-        char help[1024];
-        snprintf(help, sizeof help, "%s [%s%sdefault %s]", p->help,
-                 p->unit[0] ? p->unit : "", p->unit[0] ? "; " : "",
+        char tail[256];
+        snprintf(tail, sizeof tail, "[%s%sdefault %s]", p->unit[0] ? p->unit : "", p->unit[0] ? "; " : "",
                  p->def[0] ? p->def : "empty");
-        print_wrapped(out, help, 6);
+        print_wrapped(out, p->help, tail, 6);
     }
 }
 
