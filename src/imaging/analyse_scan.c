@@ -32,11 +32,15 @@ void uwb_analysis_defaults(struct uwb_analysis_options *opt)
 
 /* The largest pixel size not above `target` that divides the antenna step,
  * so rows fall on antenna heights (one shared delay table). */
+/* Spacing of the antenna positions (the first two; 0 for a single one). */
+static double antenna_step(const struct uwb_scan *scan)
+{
+    return scan->positions < 2 ? 0.0 : fabs(scan->antenna_y_m[1] - scan->antenna_y_m[0]);
+}
+
 static double aligned_dy(const struct uwb_scan *scan, double target)
 {
-    if (scan->positions < 2)
-        return target;
-    double step = fabs(scan->antenna_y_m[1] - scan->antenna_y_m[0]);
+    double step = antenna_step(scan);
     if (!(step > 0.0))
         return target;
     double n = ceil(step / target - 1e-9);
@@ -213,8 +217,8 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
     out->noise_sigma = uwb_noise_sigma(&searched);
     uwb_scan_free(&searched);
     struct face_candidate face;
-    double step = (ap_hi - ap_lo) / (scan->positions > 1 ? scan->positions - 1 : 1);
-    if (face_search(&coarse, ap_lo, ap_hi, step, &face, edges->reason, sizeof edges->reason) != 0) {
+    if (face_search(&coarse, ap_lo, ap_hi, antenna_step(scan), &face, edges->reason,
+                    sizeof edges->reason) != 0) {
         out->intensity = coarse;   /* show what was searched */
         return 0;
     }

@@ -86,7 +86,6 @@ int face_search(const struct uwb_image *img, double aperture_lo_m, double apertu
         if (ends_seen(img, best, row[best], peak[best], inner_lo, inner_hi)) {
             seen[n_seen].z_m = img->z0_m + best * img->dz_m;
             seen[n_seen].peak = peak[best];
-            seen[n_seen].both_ends_seen = 1;
             if (peak[best] > strongest_seen)
                 strongest_seen = peak[best];
             n_seen++;

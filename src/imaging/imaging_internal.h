@@ -21,7 +21,6 @@ int imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *condi
 struct face_candidate {
     double z_m;
     double peak;
-    int both_ends_seen;
 };
 
 /* The winding's face range: the strongest reflector in [z_lo, z_hi] whose

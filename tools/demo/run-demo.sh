@@ -32,7 +32,6 @@ show "full-wave FDTD scan of the paper's experiment, winding moved up 20 mm" "$l
 if [[ -x "$BUILD/uwbsim" ]]; then
     "$BUILD/uwbsim" --seed 1 -o "$OUT/sim-baseline.uwbscan" --truth "$OUT/sim-baseline.truth.json"
     "$BUILD/uwbsim" --seed 2 --displacement-m 0.012 -o "$OUT/sim-up12mm.uwbscan" --truth "$OUT/sim-up12mm.truth.json"
-    line=$("$BUILD/uwbd" --replay "$OUT/sim-baseline.uwbscan" --baseline "$OUT/sim-baseline.uwbscan" --out "$OUT/sim")
     line=$("$BUILD/uwbd" --replay "$OUT/sim-up12mm.uwbscan" --baseline "$OUT/sim-baseline.uwbscan" --out "$OUT/sim")
     echo "$line"
     show "simulated 3-D tank (oil, clutter, noise), winding moved up 12 mm" "$line"
