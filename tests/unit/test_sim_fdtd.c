@@ -1,10 +1,10 @@
 /* The simulator's 2-D mode against full-wave 2-D FDTD (gprMax) scans of the
  * paper's geometry: a solver that shares nothing with ours. */
-#include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "fixture_support.h"
 #include "unity.h"
 #include "uwbsim/uwbsim.h"
 
@@ -13,37 +13,21 @@
 void setUp(void) {}
 void tearDown(void) {}
 
-static double truth_number(const char *path, const char *key)
-{
-    FILE *f = fopen(path, "rb");
-    TEST_ASSERT_NOT_NULL_MESSAGE(f, path);
-    char text[4096];
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    fclose(f);
-    text[n] = '\0';
-    cJSON *o = cJSON_Parse(text);
-    TEST_ASSERT_NOT_NULL_MESSAGE(o, path);
-    cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
-    TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNumber(v), key);
-    double d = v->valuedouble;
-    cJSON_Delete(o);
-    return d;
-}
-
 /* Simulate the fixture's scene (its displacement from its truth file) and
  * compare position by position. */
 static void compare_with_fixture(const char *stem)
 {
-    char path[256], truth[256], err[512];
+    char path[256], err[512];
     snprintf(path, sizeof path, "tests/fixtures/%s.uwbscan", stem);
-    snprintf(truth, sizeof truth, "tests/fixtures/%s.truth.json", stem);
     struct uwb_scan fd, sim;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbscan_read_file(path, &fd, err, sizeof err), err);
 
     struct sim_scene sc;
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_scene_load_json(SCENE, &sc, err, sizeof err), err);
-    sc.displacement_m = truth_number(truth, "displacement_mm") / 1000.0;
+    struct fixture_truth truth;
+    fixture_load_truth(path, &truth);
+    sc.displacement_m = truth.displacement_mm / 1000.0;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&sc, 1, &sim, err, sizeof err), err);
 
     /* the scene file reproduces the fixture's acquisition exactly */

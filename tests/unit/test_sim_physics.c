@@ -41,6 +41,20 @@ static void to_float(const double *d, float *f, int n)
         f[i] = (float)d[i];
 }
 
+/* The noise-free trace of some parts of the scene at antenna height y, in
+ * float for the measuring helpers. Caller frees. */
+static float *clean_float_trace(struct sim_engine *e, double y, unsigned parts, int n)
+{
+    double *tr = malloc((size_t)n * sizeof *tr);
+    float *f = malloc((size_t)n * sizeof *f);
+    TEST_ASSERT_NOT_NULL(tr);
+    TEST_ASSERT_NOT_NULL(f);
+    sim_engine_clean_trace(e, y, parts, 0.0, tr);
+    to_float(tr, f, n);
+    free(tr);
+    return f;
+}
+
 /* A 2 m x 2 m metal plate at z = 0.5 m (the "core" of a scene whose
  * winding is moved far above the record), seen by isotropic antennas. */
 static void plate_scene(struct sim_scene *sc, int mode2d)
@@ -114,11 +128,7 @@ static void test_boresight_face_delay(void)
     sc.positions = 1;
     struct sim_engine *e = engine_for(&sc);
     int S = sc.samples;
-    double *tr = malloc((size_t)S * sizeof *tr);
-    float *f = malloc((size_t)S * sizeof *f);
-    double y = sim_scene_nominal_center_y_m(&sc);
-    sim_engine_clean_trace(e, y, SIM_PART_WINDING, 0.0, tr);
-    to_float(tr, f, S);
+    float *f = clean_float_trace(e, sim_scene_nominal_center_y_m(&sc), SIM_PART_WINDING, S);
     double v = C0 / sqrt(sc.eps_r);
     double expect = (hypot(sc.face_z_m, sc.tx_dy_m) + hypot(sc.face_z_m, sc.rx_dy_m)) / v;
     int ie = (int)((expect - sc.t0_s) / sc.sample_interval_s);
@@ -126,7 +136,6 @@ static void test_boresight_face_delay(void)
     printf("boresight: expected %.2f ps, envelope peak %.2f ps (sample %.0f ps)\n", expect * 1e12, got * 1e12,
            sc.sample_interval_s * 1e12);
     TEST_ASSERT_DOUBLE_WITHIN(sc.sample_interval_s, expect, got);
-    free(tr);
     free(f);
     sim_engine_free(e);
 }
@@ -144,12 +153,8 @@ static void test_displacement_moves_corner_diffraction(void)
     b.displacement_m = d;
     struct sim_engine *ea = engine_for(&a), *eb = engine_for(&b);
     int S = a.samples;
-    double *ta = malloc((size_t)S * sizeof *ta), *tb = malloc((size_t)S * sizeof *tb);
-    float *fa = malloc((size_t)S * sizeof *fa), *fb = malloc((size_t)S * sizeof *fb);
-    sim_engine_clean_trace(ea, 0.0, SIM_PART_WINDING, 0.0, ta);
-    sim_engine_clean_trace(eb, 0.0, SIM_PART_WINDING, 0.0, tb);
-    to_float(ta, fa, S);
-    to_float(tb, fb, S);
+    float *fa = clean_float_trace(ea, 0.0, SIM_PART_WINDING, S);
+    float *fb = clean_float_trace(eb, 0.0, SIM_PART_WINDING, S);
     double v = C0 / sqrt(a.eps_r);
     double y1 = a.bottom_y_m, z = a.face_z_m;
     double path0 = hypot(y1 - a.tx_dy_m, z) + hypot(y1 - a.rx_dy_m, z);
@@ -161,8 +166,6 @@ static void test_displacement_moves_corner_diffraction(void)
     printf("corner: predicted delay %.2f ps, measured %.2f ps\n", predicted * 1e12, lag * 1e12);
     TEST_ASSERT_TRUE(predicted > 30e-12);     /* a real, measurable shift */
     TEST_ASSERT_DOUBLE_WITHIN(0.05 * predicted, predicted, lag);
-    free(ta);
-    free(tb);
     free(fa);
     free(fb);
     sim_engine_free(ea);
@@ -182,20 +185,16 @@ static void test_window_delay_and_transmission(void)
     b.window_eps_r = nw * nw;
     struct sim_engine *ea = engine_for(&a), *eb = engine_for(&b);
     int S = a.samples;
-    double *ta = malloc((size_t)S * sizeof *ta), *tb = malloc((size_t)S * sizeof *tb);
-    float *fa = malloc((size_t)S * sizeof *fa), *fb = malloc((size_t)S * sizeof *fb);
-    sim_engine_clean_trace(ea, 0.0, SIM_PART_CLUTTER, 0.0, ta);
-    sim_engine_clean_trace(eb, 0.0, SIM_PART_CLUTTER, 0.0, tb);
-    to_float(ta, fa, S);
-    to_float(tb, fb, S);
+    float *fa = clean_float_trace(ea, 0.0, SIM_PART_CLUTTER, S);
+    float *fb = clean_float_trace(eb, 0.0, SIM_PART_CLUTTER, S);
     double predicted = 2 * t * (nw - no) / C0;
     double v = C0 / no, L = 2 * 0.5;
     int ie = (int)((L / v - a.t0_s) / a.sample_interval_s);
     double lag = sim_xcorr_lag(fa, fb, S, ie - 80, ie + 80, 30) * a.sample_interval_s;
-    double pa = 0, pb = 0;
+    float pa = 0, pb = 0;
     for (int i = ie - 80; i < ie + 120; i++) {
-        pa = fmax(pa, fabs(ta[i]));
-        pb = fmax(pb, fabs(tb[i]));
+        pa = fmaxf(pa, fabsf(fa[i]));
+        pb = fmaxf(pb, fabsf(fb[i]));
     }
     double r = (nw - no) / (nw + no);
     double expect = (1 - r * r) * L / (L - 2 * t * (1 - no / nw));
@@ -203,8 +202,6 @@ static void test_window_delay_and_transmission(void)
            predicted * 1e12, lag * 1e12, pb / pa, expect);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, predicted, lag);
     TEST_ASSERT_DOUBLE_WITHIN(0.003, expect, pb / pa);
-    free(ta);
-    free(tb);
     free(fa);
     free(fb);
     sim_engine_free(ea);
