@@ -91,12 +91,24 @@ static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geo
                 best = iz;
             }
     *z_face = fine.z0_m + best * fine.dz_m;
-    int rc = face_profile(&fine, *z_face, wavelength / 16, profile, err, errlen);
+    /* The ridge within a quarter wavelength: the face's range cell, wide
+     * enough that which 1 mm row the peak fell on does not matter. */
+    int rc = face_profile(&fine, *z_face, wavelength / 4, profile, err, errlen);
     uwb_image_free(&fine);
     if (rc != 0)
         return -1;
     profile_edges(profile, opt->edge_fraction, edges);
     return 0;
+}
+
+#define SYMMETRY_SPAN 1.5         /* mirror comparison out to this times the half height */
+#define SYMMETRY_SEARCH_M 0.02
+
+static double symmetric_centre(const struct uwb_face_profile *p, const struct profile_edges *e)
+{
+    double mid = 0.5 * (e->lower_m + e->upper_m);
+    return profile_symmetry_centre(p, mid, SYMMETRY_SPAN * 0.5 * (e->upper_m - e->lower_m),
+                                   SYMMETRY_SEARCH_M);
 }
 
 /* Weights that make the aperture symmetric about the winding: with more
@@ -214,7 +226,8 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
         finish_free(&searched, NULL, &coarse);
         return -1;
     }
-    out->noise_sigma = uwb_noise_sigma(&searched);
+    out->noise_sigma = uwb_noise_sigma(
+        &searched, uwb_condition_first_open_sample(&searched, &g, &opt->condition, out->dominant_hz));
     uwb_scan_free(&searched);
     struct face_candidate face;
     if (face_search(&coarse, ap_lo, ap_hi, antenna_step(scan), &face, edges->reason,
@@ -243,7 +256,7 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
     }
     for (int it = 0; it < TAPER_ITERATIONS && pe.ok; it++) {
         struct uwb_scan tapered = {0};
-        double centre = 0.5 * (pe.lower_m + pe.upper_m);
+        double centre = symmetric_centre(&profile, &pe);
         if (centre <= ap_lo || centre >= ap_hi)
             break;
         free(profile.value);
@@ -289,7 +302,9 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
     edges->found = 1;
     edges->lower_m = pe.lower_m;
     edges->upper_m = pe.upper_m;
-    edges->center_m = 0.5 * (pe.lower_m + pe.upper_m);
+    edges->center_m = symmetric_centre(&profile, &pe);
+    edges->lower_m = edges->center_m - 0.5 * (pe.upper_m - pe.lower_m);
+    edges->upper_m = edges->center_m + 0.5 * (pe.upper_m - pe.lower_m);
     edges->height_m = pe.upper_m - pe.lower_m;
     edges->sigma_lower_m = hypot(sn_lo, opt->systematic_edge_m);
     edges->sigma_upper_m = hypot(sn_hi, opt->systematic_edge_m);

@@ -13,7 +13,9 @@ void uwb_condition_defaults(struct uwb_condition_options *opt)
     opt->remove_static = 1;
     opt->static_end_fraction = 0.25;
     opt->highpass_ratio = 0.15;
+    opt->lowpass_ratio = 2.0;
     opt->gate_range_m = 0.1;
+    opt->align_coupling = 1;
 }
 
 double uwb_dominant_frequency(const struct uwb_scan *scan)
@@ -50,8 +52,27 @@ double uwb_dominant_frequency(const struct uwb_scan *scan)
     return f_best;
 }
 
-/* Remove DC and wander below the cut-off with a raised-cosine high-pass. */
-static int highpass(struct uwb_scan *s, double cutoff_hz, char *err, size_t errlen)
+/* Keep the pulse's band only: a raised-cosine high-pass removes DC and
+ * wander below low_hz, a raised-cosine low-pass from high_hz to 1.5 high_hz
+ * removes the receiver noise above the band. A digitiser samples far above
+ * the pulse's band, and the out-of-band noise would otherwise pass straight
+ * through migration into the image. */
+static double band_gain(double f, double low_hz, double high_hz)
+{
+    double g = 1.0;
+    if (f <= low_hz)
+        return 0.0;
+    if (f < 2.0 * low_hz)
+        g = 0.5 - 0.5 * cos(M_PI * (f - low_hz) / low_hz);
+    if (high_hz > 0.0 && f >= high_hz) {
+        if (f >= 1.5 * high_hz)
+            return 0.0;
+        g *= 0.5 + 0.5 * cos(M_PI * (f - high_hz) / (0.5 * high_hz));
+    }
+    return g;
+}
+
+static int bandpass(struct uwb_scan *s, double low_hz, double high_hz, char *err, size_t errlen)
 {
     int S = s->samples, nh = S / 2 + 1;
     float *buf = fftwf_alloc_real((size_t)S);
@@ -70,13 +91,7 @@ static int highpass(struct uwb_scan *s, double cutoff_hz, char *err, size_t errl
         memcpy(buf, tr, (size_t)S * sizeof *buf);
         fftwf_execute(fwd);
         for (int i = 0; i < nh; i++) {
-            double f = i * df, gain;
-            if (f <= cutoff_hz)
-                gain = 0.0;
-            else if (f >= 2.0 * cutoff_hz)
-                gain = 1.0;
-            else
-                gain = 0.5 - 0.5 * cos(M_PI * (f - cutoff_hz) / cutoff_hz);
+            double gain = band_gain(i * df, low_hz, high_hz);
             spec[i][0] *= (float)(gain / S);
             spec[i][1] *= (float)(gain / S);
         }
@@ -192,7 +207,15 @@ int uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g,
         uwb_scan_free(out);
         return -1;
     }
-    if (highpass(out, opt->highpass_ratio * dominant_hz, err, errlen) != 0 ||
+    struct uwb_alignment alignment;
+    double period = 1.0 / dominant_hz;
+    /* Nothing in the tank replies before the gate range: up to there the
+     * traces hold the coupling and the window alone. */
+    double coupling_end = uwb_two_way_delay(g, 0.0, opt->gate_range_m);
+    if (bandpass(out, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz, err,
+                 errlen) != 0 ||
+        (opt->align_coupling &&
+         uwb_align_to_coupling(out, coupling_end, g->t0_s, period, &alignment, err, errlen) != 0) ||
         (opt->remove_static && remove_static(out, g, winding, opt->static_end_fraction,
                                              1.0 / dominant_hz, err, errlen) != 0)) {
         uwb_scan_free(out);
@@ -202,9 +225,14 @@ int uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g,
     return 0;
 }
 
-double uwb_noise_sigma(const struct uwb_scan *scan)
+double uwb_noise_sigma(const struct uwb_scan *scan, int first_sample)
 {
-    size_t n = (size_t)scan->positions * (scan->samples - 1);
+    if (first_sample < 0)
+        first_sample = 0;
+    if (first_sample >= scan->samples)
+        return 0.0;
+    size_t per = (size_t)(scan->samples - first_sample);
+    size_t n = (size_t)scan->positions * per;
     if (n == 0)
         return 0.0;
     float *d = malloc(n * sizeof *d);
@@ -213,10 +241,21 @@ double uwb_noise_sigma(const struct uwb_scan *scan)
     size_t m = 0;
     for (int k = 0; k < scan->positions; k++) {
         const float *tr = scan->data + (size_t)k * scan->samples;
-        for (int s = 0; s + 1 < scan->samples; s++)
-            d[m++] = fabsf(tr[s + 1] - tr[s]);
+        for (int s = first_sample; s < scan->samples; s++)
+            d[m++] = fabsf(tr[s]);
     }
     double mad = uwb_median_float(d, m);
     free(d);
-    return mad / (0.6745 * sqrt(2.0));
+    return mad / 0.6745;
+}
+
+int uwb_condition_first_open_sample(const struct uwb_scan *scan, const struct uwb_geometry *g,
+                                    const struct uwb_condition_options *opt, double dominant_hz)
+{
+    double t_open = uwb_two_way_delay(g, 0.0, opt->gate_range_m);
+    (void)dominant_hz;
+    int s = (int)ceil((t_open - g->t0_s) / g->dt_s);
+    if (s < 0)
+        s = 0;
+    return s < scan->samples ? s : scan->samples;
 }

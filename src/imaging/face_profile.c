@@ -67,3 +67,56 @@ void profile_edges(const struct uwb_face_profile *p, double fraction, struct pro
     e->slope_upper = (above - below) / p->dy_m;
     e->ok = 1;
 }
+
+/* Catmull-Rom interpolation of the profile at y (clamped at the ends). */
+static double profile_at(const struct uwb_face_profile *p, double y)
+{
+    double x = (y - p->y0_m) / p->dy_m;
+    int i = (int)floor(x);
+    double t = x - i;
+    double v[4];
+    for (int j = 0; j < 4; j++) {
+        int k = i - 1 + j;
+        k = k < 0 ? 0 : k > p->n - 1 ? p->n - 1 : k;
+        v[j] = p->value[k];
+    }
+    return v[1] + 0.5 * t * (v[2] - v[0] +
+                             t * (2.0 * v[0] - 5.0 * v[1] + 4.0 * v[2] - v[3] +
+                                  t * (3.0 * (v[1] - v[2]) + v[3] - v[0])));
+}
+
+static double asymmetry(const struct uwb_face_profile *p, double c, double half_span)
+{
+    double sum = 0.0;
+    for (double u = 0.5 * p->dy_m; u <= half_span; u += p->dy_m) {
+        double d = profile_at(p, c + u) - profile_at(p, c - u);
+        sum += d * d;
+    }
+    return sum;
+}
+
+double profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
+                               double search_m)
+{
+    double step = 0.25 * p->dy_m;
+    int n = (int)ceil(search_m / step);
+    double best_c = guess_m, best = INFINITY, prev = 0, next = 0;
+    for (int i = -n; i <= n; i++) {
+        double c = guess_m + i * step;
+        double s = asymmetry(p, c, half_span_m);
+        if (s < best) {
+            best = s;
+            best_c = c;
+        }
+    }
+    /* Refine with a parabola through the best and its neighbours. */
+    prev = asymmetry(p, best_c - step, half_span_m);
+    next = asymmetry(p, best_c + step, half_span_m);
+    double denom = prev - 2.0 * best + next;
+    if (denom > 0.0) {
+        double off = 0.5 * (prev - next) / denom;
+        if (fabs(off) <= 1.0)
+            best_c += off * step;
+    }
+    return best_c;
+}

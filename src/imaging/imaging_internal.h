@@ -45,4 +45,13 @@ struct profile_edges {
  * interpolated between samples. ok = 0 when a side never drops below it. */
 void profile_edges(const struct uwb_face_profile *p, double fraction, struct profile_edges *e);
 
+/* The profile's centre of mirror symmetry: the c that minimises
+ * sum over u in (0, half_span] of (P(c+u) - P(c-u))^2, searched within
+ * +-search_m of guess_m. It weighs every point of both shoulders, where a
+ * threshold crossing uses one point each, so noise moves it less; and a
+ * change of the bump's height or width that keeps it symmetric (pulse
+ * timing jitter decorrelating the sum) does not move it at all. */
+double profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
+                               double search_m);
+
 #endif
