@@ -1,18 +1,23 @@
 # uwbd — build, test, demo.  `make test` and `make demo` install what they
 # need first (tools/deps/ensure-deps.sh); nothing else to run before them.
 #
-#   make [all]            build/uwbd and build/uwbsim
+#   make [all]            build/uwbd, build/uwbsim and build/uwbemu (the emulated board)
 #   make tests            build the unit-test binaries only
 #   make test             deps, check-hw-headers, all, tests, run them all
 #   make test SAN=1       the same with ASan+UBSan, in build-san/
 #   make test-arm         cross-build for aarch64 into build-aarch64-linux-gnu/
 #                         and run the unit tests under qemu-aarch64
+#   make test-board       boot the aarch64 build on an emulated ARM board
+#                         (qemu-system-aarch64) and test it there
 #   make CROSS_COMPILE=aarch64-linux-gnu-   cross-build all
 #   make demo             deps, all, then tools/demo/run-demo.sh
 #   make bench            build tools/bench/*.c into $(BUILD)/uwbbench, run it
-#   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}
+#   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}, the systemd unit, udev
+#                         rules, sample configs (share/uwbd) and board docs (share/doc/uwbd)
 #   make deps / deps-arm  install the native / aarch64 packages and Unity
 #   make check-hw-headers only src/hw/ may include gpiod.h / libserialport.h
+#   make fuzz             build tests/fuzz/fuzz_*.c with clang + libFuzzer in
+#                         build-fuzz/ and run each for FUZZ_SECONDS (default 60)
 #
 # BUILD=dir picks the build directory (default build, build-<triplet> when
 # cross compiling); SAN=1 appends -san to it so sanitized objects never mix
@@ -22,7 +27,7 @@ CROSS_COMPILE ?=
 CC            := $(CROSS_COMPILE)gcc
 AR            := $(CROSS_COMPILE)ar
 PKG_CONFIG    ?= pkg-config
-LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport
+LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport zlib
 PREFIX        ?= /usr/local
 DESTDIR       ?=
 
@@ -64,6 +69,8 @@ LIB_SRC       := $(filter-out src/main.c,$(shell find src -name '*.c' | sort))
 LIB_OBJ       := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
 SIM_SRC       := $(filter-out tools/uwbsim/main.c,$(wildcard tools/uwbsim/*.c))
 SIM_OBJ       := $(SIM_SRC:%.c=$(BUILD)/obj/%.o)
+EMU_SRC       := $(sort $(wildcard tools/emuboard/*.c))
+EMU_OBJ       := $(EMU_SRC:%.c=$(BUILD)/obj/%.o)
 BENCH_SRC     := $(sort $(wildcard tools/bench/*.c))
 BENCH_OBJ     := $(BENCH_SRC:%.c=$(BUILD)/obj/%.o)
 TEST_SRC      := $(sort $(wildcard tests/unit/test_*.c))
@@ -71,6 +78,8 @@ TEST_BIN      := $(TEST_SRC:tests/unit/%.c=$(BUILD)/tests/%)
 TEST_OBJ      := $(TEST_SRC:%.c=$(BUILD)/obj/%.o)
 TEST_SUPPORT  := $(filter-out $(TEST_SRC),$(wildcard tests/unit/*.c))
 TEST_SUPPORT_OBJ := $(TEST_SUPPORT:%.c=$(BUILD)/obj/%.o)
+BOARD_TEST_SRC := $(sort $(wildcard tests/board/test_*.c))
+BOARD_TEST_BIN := $(BOARD_TEST_SRC:tests/board/%.c=$(BUILD)/board-tests/%)
 UNITY_DIR     := third_party/unity
 # cJSON's Unity includes "../examples/unity_config.h" from unity_internals.h.
 UNITY_SRC     := $(UNITY_DIR)/unity.c $(UNITY_DIR)/unity.h $(UNITY_DIR)/unity_internals.h \
@@ -85,7 +94,7 @@ ARM_PREFIX    := aarch64-linux-gnu-
 # flags are computed on a machine that has the libraries.
 SUBMAKE       := $(MAKE) --no-print-directory -f $(abspath $(firstword $(MAKEFILE_LIST)))
 
-ifeq ($(filter deps deps-arm test test-arm demo bench clean,$(MAKECMDGOALS)),)
+ifeq ($(filter deps deps-arm test test-arm test-board demo bench fuzz clean,$(MAKECMDGOALS)),)
 ifneq ($(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --exists $(LIBS_PKG) 2>/dev/null && echo ok),ok)
 $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIPLET)); `make $(if $(TRIPLET),deps-arm,deps)` installs them)
 endif
@@ -94,7 +103,8 @@ endif
 .PHONY: all tests test test-arm demo bench install deps deps-arm check-hw-headers clean
 # Programs whose main.c is not written yet are left out, so the library
 # and its tests build meanwhile.
-all: $(if $(wildcard src/main.c),$(BUILD)/uwbd) $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/uwbsim)
+all: $(if $(wildcard src/main.c),$(BUILD)/uwbd) $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/uwbsim) \
+     $(if $(EMU_SRC),$(BUILD)/uwbemu)
 
 tests: $(TEST_BIN)
 
@@ -126,8 +136,17 @@ $(BUILD)/uwbd: $(BUILD)/obj/src/main.o $(BUILD)/libuwb.a
 $(BUILD)/uwbsim: $(BUILD)/obj/tools/uwbsim/main.o $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
 
-$(BUILD)/uwbbench: $(BENCH_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
+# The emulated board (tools/emuboard/) runs the simulator's engine.
+$(BUILD)/uwbemu: $(EMU_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
+
+# The bench times these library entry points from outside the library
+# (tools/bench/bench_stage_timers.c) by wrapping them at link time.
+BENCH_WRAPS   := uwb_condition uwb_dominant_frequency uwb_migrate uwb_envelope_along_z \
+                 uwb_canvas_write_png
+
+$(BUILD)/uwbbench: $(BENCH_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
+	$(CC) $(LDFLAGS) $(SAN_FLAGS) $(BENCH_WRAPS:%=-Wl,--wrap=%) -o $@ $^ $(UWB_LDLIBS)
 
 # Unity is fetched, never committed; fetch it when a build needs it.
 $(UNITY_SRC) &:
@@ -143,6 +162,54 @@ $(TEST_OBJ) $(TEST_SUPPORT_OBJ): | $(UNITY_SRC)
 $(BUILD)/tests/%: $(BUILD)/obj/tests/unit/%.o $(TEST_SUPPORT_OBJ) $(UNITY_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
+
+# Test programs for the emulated board (make test-board): they need its
+# PL061 GPIO chip and PCI UART, so `make tests` leaves them out.
+.PHONY: board-tests
+board-tests: $(BOARD_TEST_BIN)
+
+$(BOARD_TEST_SRC:%.c=$(BUILD)/obj/%.o): | $(UNITY_SRC)
+
+$(BUILD)/board-tests/%: $(BUILD)/obj/tests/board/%.o $(UNITY_OBJ) $(BUILD)/libuwb.a
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
+
+# ---- fuzzing ---------------------------------------------------------------
+# tests/fuzz/fuzz_<name>.c: one harness per parser of outside data, seeded
+# from tests/fuzz/corpus/<name>/. `make fuzz` builds each as a libFuzzer
+# target with clang (the library too, with the same sanitizers) in
+# build-fuzz/ and runs it (tests/fuzz/run-fuzz.sh); `make test` feeds the
+# corpora through the same harnesses (tests/unit/test_fuzz_corpus.c).
+FUZZ_SECONDS  ?= 60
+FUZZ_BUILD    := build-fuzz
+FUZZ_SRC      := $(sort $(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_NAMES    := $(FUZZ_SRC:tests/fuzz/fuzz_%.c=%)
+FUZZ_SUPPORT_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(filter-out $(FUZZ_SRC),$(wildcard tests/fuzz/*.c)))
+# The emulated board's protocol code, without its main().
+EMU_LIB_OBJ   := $(filter-out %/main.o,$(EMU_OBJ))
+# The harnesses play a board's side of a link (tests/fuzz/scripted_link.c).
+FUZZ_LINK_WRAP := -Wl,--wrap=uwb_link_open
+FUZZ_SANITIZE := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+
+$(BUILD)/tests/test_fuzz_corpus: $(BUILD)/obj/tests/unit/test_fuzz_corpus.o $(TEST_SUPPORT_OBJ) \
+        $(FUZZ_SRC:%.c=$(BUILD)/obj/%.o) $(FUZZ_SUPPORT_OBJ) $(EMU_LIB_OBJ) $(UNITY_OBJ) \
+        $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $(SAN_FLAGS) $(FUZZ_LINK_WRAP) -o $@ $^ $(UWB_LDLIBS)
+
+.PHONY: fuzz fuzz-targets
+fuzz:
+	@bash $(DEPS_SCRIPT) --fuzz
+	+@$(SUBMAKE) BUILD=$(FUZZ_BUILD) CC=clang SAN= CFLAGS='-O1 -g -DUWB_LIBFUZZER' \
+	    SAN_FLAGS='-fsanitize=fuzzer-no-link $(FUZZ_SANITIZE)' fuzz-targets
+	@bash tests/fuzz/run-fuzz.sh '$(FUZZ_BUILD)' '$(FUZZ_SECONDS)'
+
+fuzz-targets: $(FUZZ_NAMES:%=$(BUILD)/fuzz/fuzz_%)
+
+$(BUILD)/fuzz/fuzz_%: $(BUILD)/obj/tests/fuzz/fuzz_%.o $(FUZZ_SUPPORT_OBJ) $(EMU_LIB_OBJ) \
+        $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) -fsanitize=fuzzer $(SAN_FLAGS) $(FUZZ_LINK_WRAP) -o $@ $^ $(UWB_LDLIBS)
 
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
 
@@ -172,6 +239,19 @@ test-arm: deps-arm
 	+@$(SUBMAKE) CROSS_COMPILE=$(ARM_PREFIX) SAN= \
 	    $(if $(USER_BUILD),BUILD=$(USER_BUILD)-$(ARM_PREFIX:%-=%)) test
 
+# The emulated board (tools/board-in-loop/): the aarch64 build, in
+# test-arm's directory, booted under qemu-system-aarch64 with the host
+# programs from $(BUILD). Heavy and separate from `make test`. A machine
+# where the emulator cannot be installed fails here, it does not skip.
+BOARD_ARM_BUILD := $(if $(USER_BUILD),$(USER_BUILD)-$(ARM_PREFIX:%-=%),build-$(ARM_PREFIX:%-=%))
+.PHONY: test-board
+test-board:
+	@bash $(DEPS_SCRIPT) --board || { echo "make test-board: cannot install what the emulated board needs (see above)" >&2; \
+	    echo "0 passed, 1 failed"; exit 1; }
+	+@$(SUBMAKE) CROSS_COMPILE=$(ARM_PREFIX) SAN= BUILD=$(BOARD_ARM_BUILD) all board-tests
+	+@$(SUBMAKE) all
+	@bash tools/board-in-loop/test-board.sh '$(BUILD)' '$(BOARD_ARM_BUILD)'
+
 demo: deps
 	+@$(SUBMAKE) all
 	@if [ ! -f tools/demo/run-demo.sh ]; then \
@@ -180,13 +260,23 @@ demo: deps
 
 bench: deps
 	@if [ -z "$(BENCH_SRC)" ]; then echo "make bench: no tools/bench/*.c yet" >&2; exit 1; fi
-	+@$(SUBMAKE) $(BUILD)/uwbbench
-	$(TEST_RUNNER) $(BUILD)/uwbbench $(BENCH_ARGS)
+	+@$(SUBMAKE) all $(BUILD)/uwbbench
+	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench $(BENCH_ARGS)
 
+# The unit names the installed binary and docs, so @bindir@/@docdir@ are filled in here.
 install: all
 	install -d '$(DESTDIR)$(PREFIX)/bin'
 	install -m 0755 $(BUILD)/uwbd '$(DESTDIR)$(PREFIX)/bin/uwbd'
 	$(if $(wildcard tools/uwbsim/main.c),install -m 0755 $(BUILD)/uwbsim '$(DESTDIR)$(PREFIX)/bin/uwbsim')
+	install -d '$(DESTDIR)$(PREFIX)/lib/systemd/system' '$(DESTDIR)$(PREFIX)/lib/udev/rules.d' \
+	    '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4' '$(DESTDIR)$(PREFIX)/share/uwbd/emulated' \
+	    '$(DESTDIR)$(PREFIX)/share/doc/uwbd'
+	sed -e 's|@bindir@|$(PREFIX)/bin|g' -e 's|@docdir@|$(PREFIX)/share/doc/uwbd|g' board/uwbd.service \
+	    > '$(DESTDIR)$(PREFIX)/lib/systemd/system/uwbd.service'
+	install -m 0644 board/99-uwbd-digitiser.rules board/99-uwbd-gpio.rules '$(DESTDIR)$(PREFIX)/lib/udev/rules.d/'
+	install -m 0644 board/raspberry-pi-4/uwbd.json '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4/'
+	install -m 0644 board/emulated/uwbd.json '$(DESTDIR)$(PREFIX)/share/uwbd/emulated/'
+	install -m 0644 board/install-guide.md board/config.md board/state-dir.md '$(DESTDIR)$(PREFIX)/share/doc/uwbd/'
 
 clean:
 	rm -rf build build-*

@@ -16,7 +16,11 @@
 
 enum uwb_migration_kind {
     UWB_MIGRATE_FIXED = 0,   /* default on the appliance */
-    UWB_MIGRATE_FLOAT = 1
+    UWB_MIGRATE_FLOAT = 1,
+    /* The fixed-point path with its portable C inner loop instead of the
+     * SIMD one (SSE2 / NEON, when compiled in): the same image bit for bit,
+     * kept so tests and the bench can run both. */
+    UWB_MIGRATE_FIXED_PORTABLE = 2
 };
 
 /* Migrate `scan` (already conditioned) onto the grid described by `img`
@@ -25,7 +29,13 @@ int uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
                 const struct uwb_geometry *geom, struct uwb_image *img,
                 char *err, size_t errlen);
 
+/* "fixed", "float", "fixed-portable"; parse accepts the first two (the
+ * command line's choices). */
 const char *uwb_migration_kind_name(enum uwb_migration_kind kind);
 int uwb_migration_kind_parse(const char *name, enum uwb_migration_kind *kind);
+
+/* The SIMD instruction set of UWB_MIGRATE_FIXED's inner loop in this build:
+ * "SSE2", "NEON", or "none" (then it is the portable loop). */
+const char *uwb_migration_simd(void);
 
 #endif

@@ -10,7 +10,8 @@ enum uwb_status {
     UWB_STATUS_OK,
     UWB_STATUS_WATCH,
     UWB_STATUS_ALARM,
-    UWB_STATUS_INCONCLUSIVE  /* the data cannot support a figure; see reason */
+    UWB_STATUS_INCONCLUSIVE, /* the data cannot support a figure; see reason */
+    UWB_STATUS_ERROR         /* the appliance lost the scan (hardware, archive); see reason */
 };
 
 const char *uwb_status_name(enum uwb_status status);

@@ -8,10 +8,15 @@
 #include <string.h>
 
 #include "delay_table.h"
+#include "migrate_kernel.h"
 
 const char *uwb_migration_kind_name(enum uwb_migration_kind kind)
 {
-    return kind == UWB_MIGRATE_FLOAT ? "float" : "fixed";
+    switch (kind) {
+    case UWB_MIGRATE_FLOAT: return "float";
+    case UWB_MIGRATE_FIXED_PORTABLE: return "fixed-portable";
+    default: return "fixed";
+    }
 }
 
 int uwb_migration_kind_parse(const char *name, enum uwb_migration_kind *kind)
@@ -25,18 +30,17 @@ int uwb_migration_kind_parse(const char *name, enum uwb_migration_kind *kind)
     return 0;
 }
 
-static void sum_trace_float(const struct delay_table *t, const float *trace,
-                            const struct uwb_image *img, int k)
+const char *uwb_migration_simd(void)
 {
-    for (int iy = 0; iy < img->ny; iy++) {
-        size_t row = (size_t)(iy + t->row_of_trace[k]) * t->nz;
-        const int32_t *idx = t->index + row;
-        const float *frac = t->frac + row;
-        float *out = img->pix + (size_t)iy * img->nz;
-        for (int iz = 0; iz < img->nz; iz++) {
-            float a = trace[idx[iz]], b = trace[idx[iz] + 1];
-            out[iz] += a + (b - a) * frac[iz];
-        }
+    return migrate_simd_name();
+}
+
+static void sum_row_float(const int32_t *restrict idx, const float *restrict frac,
+                          const float *restrict trace, float *restrict out, int nz)
+{
+    for (int iz = 0; iz < nz; iz++) {
+        float a = trace[idx[iz]], b = trace[idx[iz] + 1];
+        out[iz] += a + (b - a) * frac[iz];
     }
 }
 
@@ -44,7 +48,7 @@ static int migrate_float(const struct uwb_scan *scan, const struct uwb_geometry 
                          struct uwb_image *img, char *err, size_t errlen)
 {
     struct delay_table t;
-    if (delay_table_plan(&t, scan, g, img, 1, 0, err, errlen) != 0)
+    if (delay_table_plan(&t, DELAY_FLOAT, scan, g, img, err, errlen) != 0)
         return -1;
     int S = scan->samples;
     float *trace = malloc(((size_t)S + 2) * sizeof *trace);
@@ -58,33 +62,22 @@ static int migrate_float(const struct uwb_scan *scan, const struct uwb_geometry 
         memcpy(trace, scan->data + (size_t)k * S, (size_t)S * sizeof *trace);
         trace[S] = trace[S + 1] = 0.0f;   /* out-of-range delays read zeros */
         delay_table_fill_trace(&t, scan, g, img, k);
-        sum_trace_float(&t, trace, img, k);
+        for (int iy = 0; iy < img->ny; iy++) {
+            size_t row = delay_table_row(&t, k, iy);
+            sum_row_float(t.index + row, t.frac + row, trace, img->pix + (size_t)iy * img->nz,
+                          img->nz);
+        }
     }
     free(trace);
     delay_table_free(&t);
     return 0;
 }
 
-/* One trace, fixed point: Q15 interpolation (|a|(1-w) + |b|w <= 2^30, no
- * overflow) back to int16 range, then int32 accumulation (4096 traces x 2^15
- * stays inside int32). The right shift of a
- * negative value is arithmetic on every compiler we target (gcc, clang). */
-static void sum_trace_fixed(const struct delay_table *t, const int16_t *trace,
-                            int32_t *acc, int ny, int nz, int k)
-{
-    for (int iy = 0; iy < ny; iy++) {
-        size_t row = (size_t)(iy + t->row_of_trace[k]) * t->nz;
-        const int32_t *idx = t->index + row;
-        const int16_t *w = t->weight_q15 + row;
-        int32_t *out = acc + (size_t)iy * nz;
-        for (int iz = 0; iz < nz; iz++) {
-            int32_t a = trace[idx[iz]], b = trace[idx[iz] + 1];
-            out[iz] += (a * (32768 - w[iz]) + b * w[iz] + 16384) >> 15;
-        }
-    }
-}
-
-static int migrate_fixed(const struct uwb_scan *scan, const struct uwb_geometry *g,
+/* Fixed point: int16 samples on one scale for the whole scan (keeping the
+ * traces' relative amplitudes), Q15 interpolation rounded back to sample
+ * units, int32 accumulation: each term is at most 32767 in magnitude, so
+ * 4096 traces stay far inside int32. */
+static int migrate_fixed(int simd, const struct uwb_scan *scan, const struct uwb_geometry *g,
                          struct uwb_image *img, char *err, size_t errlen)
 {
     int S = scan->samples, K = scan->positions;
@@ -98,32 +91,35 @@ static int migrate_fixed(const struct uwb_scan *scan, const struct uwb_geometry 
     memset(img->pix, 0, npix * sizeof *img->pix);
     if (peak == 0.0f)
         return 0;
-    /* One scale for the whole scan keeps the traces' relative amplitudes. */
     float scale = 32767.0f / peak;
 
     struct delay_table t;
-    if (delay_table_plan(&t, scan, g, img, 0, 1, err, errlen) != 0)
+    if (delay_table_plan(&t, DELAY_FIXED, scan, g, img, err, errlen) != 0)
         return -1;
-    int16_t *trace = malloc(((size_t)S + 2) * sizeof *trace);
+    int16_t *pairs = malloc(((size_t)S + 1) * 2 * sizeof *pairs);
     int32_t *acc = calloc(npix, sizeof *acc);
-    if (!trace || !acc) {
-        free(trace);
+    if (!pairs || !acc) {
+        free(pairs);
         free(acc);
         delay_table_free(&t);
         snprintf(err, errlen, "migration: out of memory for a %d x %d image", img->ny, img->nz);
         return -1;
     }
+    void (*sum_row)(const int32_t *restrict, const int16_t *restrict, const int16_t *restrict,
+                    int32_t *restrict, int) =
+        simd ? migrate_row_fixed_simd : migrate_row_fixed_portable;
     for (int k = 0; k < K; k++) {
-        const float *src = scan->data + (size_t)k * S;
-        for (int s = 0; s < S; s++)
-            trace[s] = (int16_t)lrintf(src[s] * scale);
-        trace[S] = trace[S + 1] = 0;
+        migrate_fill_pairs(scan->data + (size_t)k * S, S, scale, pairs);
         delay_table_fill_trace(&t, scan, g, img, k);
-        sum_trace_fixed(&t, trace, acc, img->ny, img->nz, k);
+        for (int iy = 0; iy < img->ny; iy++) {
+            size_t row = delay_table_row(&t, k, iy);
+            sum_row(t.index + row, t.weight_q15 + row, pairs, acc + (size_t)iy * img->nz,
+                    img->nz);
+        }
     }
     for (size_t i = 0; i < npix; i++)
         img->pix[i] = (float)acc[i] / scale;
-    free(trace);
+    free(pairs);
     free(acc);
     delay_table_free(&t);
     return 0;
@@ -137,7 +133,9 @@ int uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
         snprintf(err, errlen, "migration: image grid not allocated");
         return -1;
     }
-    if (kind == UWB_MIGRATE_FLOAT)
-        return migrate_float(scan, geom, img, err, errlen);
-    return migrate_fixed(scan, geom, img, err, errlen);
+    switch (kind) {
+    case UWB_MIGRATE_FLOAT: return migrate_float(scan, geom, img, err, errlen);
+    case UWB_MIGRATE_FIXED_PORTABLE: return migrate_fixed(0, scan, geom, img, err, errlen);
+    default: return migrate_fixed(1, scan, geom, img, err, errlen);
+    }
 }

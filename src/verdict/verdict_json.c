@@ -11,6 +11,7 @@ const char *uwb_status_name(enum uwb_status status)
     case UWB_STATUS_WATCH: return "watch";
     case UWB_STATUS_ALARM: return "alarm";
     case UWB_STATUS_INCONCLUSIVE: return "inconclusive";
+    case UWB_STATUS_ERROR: return "error";
     }
     return "unknown";
 }

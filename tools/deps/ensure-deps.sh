@@ -4,10 +4,16 @@
 # nothing run before them.  It runs on every `make test`, so the common case
 # (everything present) only asks pkg-config and returns.
 #
-# Usage: tools/deps/ensure-deps.sh [--cross ARCH] [--unity-only]
+# Usage: tools/deps/ensure-deps.sh [--cross ARCH] [--board] [--fuzz] [--unity-only]
 #   (no option)    native toolchain + -dev packages, then Unity
 #   --cross ARCH   cross toolchain, qemu-user and the ARCH multiarch -dev
 #                  packages (ARCH: aarch64), then Unity
+#   --board        make test-board: native and aarch64 as above, plus
+#                  qemu-system-aarch64, cpio and python3 (the guest's kernel
+#                  and busybox: tools/board-in-loop/fetch-guest.sh)
+#   --fuzz         make fuzz: native as above, plus clang and its libFuzzer
+#                  runtime (Debian 12: clang-14, libclang-rt-14-dev, which
+#                  clang only recommends)
 #   --unity-only   only fetch Unity if it is absent
 #
 # Unity 2.4.3 comes from Debian's cjson source package (its tests/unity):
@@ -25,9 +31,9 @@ set -euo pipefail
 
 REPO_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 readonly REPO_ROOT
-readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport)
+readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib)
 readonly NATIVE_PACKAGES=(gcc make libc6-dev pkg-config
-    libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev)
+    libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev)
 readonly UNITY_FILES=(unity.c unity.h unity_internals.h)
 readonly UNITY_EXPECTED_VERSION="2.4.3"
 # Unity comes from the cJSON source package of one fixed Debian release so
@@ -158,7 +164,7 @@ ensure_cross() {
     local cross_packages=("gcc-$triplet" "libc6-dev-$debian_arch-cross" qemu-user make pkg-config
         "libc6:$debian_arch")
     local package
-    for package in libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev; do
+    for package in libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev; do
         cross_packages+=("$package:$debian_arch")
     done
 
@@ -178,6 +184,58 @@ ensure_cross() {
     FAKE_MISSING=" "
     mapfile -t missing < <(missing_cross "$triplet" "$qemu" "$loader")
     [[ ${#missing[@]} == 0 ]] || die "still missing after install: ${missing[*]}"
+}
+
+# The emulated board's host side, as command:package pairs.
+readonly BOARD_COMMANDS=(qemu-system-aarch64:qemu-system-arm cpio:cpio python3:python3)
+
+# Prints the packages whose commands the emulated board lacks, one a line.
+missing_board_packages() {
+    local pair
+    for pair in "${BOARD_COMMANDS[@]}"; do
+        have_command "${pair%%:*}" || echo "${pair#*:}"
+    done
+}
+
+ensure_board() {
+    local missing
+    mapfile -t missing < <(missing_board_packages)
+    [[ ${#missing[@]} == 0 ]] && return 0
+
+    note "missing for the emulated board: ${missing[*]}; installing them"
+    require_root "apt-get update && apt-get install -y ${missing[*]}"
+    apt_install "${missing[@]}"
+    [[ "$DRY_RUN" == 1 ]] && return 0
+    FAKE_MISSING=" "
+    mapfile -t missing < <(missing_board_packages)
+    [[ ${#missing[@]} == 0 ]] || die "still missing after install: ${missing[*]}"
+}
+
+readonly FUZZ_PACKAGES=(clang libclang-rt-dev)
+
+# Whether clang links a libFuzzer target with the sanitizers make fuzz uses.
+fuzzer_works() {
+    have_command clang || return 1
+    is_faked_missing libfuzzer && return 1
+    local probe
+    probe="$(mktemp -d)"
+    printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n);\n%s\n' \
+        'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n) { return d && n > 99; }' \
+        >"$probe/probe.c"
+    local status=0
+    clang -fsanitize=fuzzer,address,undefined -o "$probe/probe" "$probe/probe.c" >/dev/null 2>&1 || status=1
+    rm -rf "$probe"
+    return "$status"
+}
+
+ensure_fuzz() {
+    fuzzer_works && return 0
+    note "clang cannot build a libFuzzer target; installing ${FUZZ_PACKAGES[*]}"
+    require_root "apt-get update && apt-get install -y ${FUZZ_PACKAGES[*]}"
+    apt_install "${FUZZ_PACKAGES[@]}"
+    [[ "$DRY_RUN" == 1 ]] && return 0
+    FAKE_MISSING=" "
+    fuzzer_works || die "clang still cannot build a libFuzzer target (clang -fsanitize=fuzzer,address,undefined)"
 }
 
 # cJSON's copy of Unity has unity_internals.h include
@@ -305,6 +363,8 @@ main() {
                 mode=cross cross_arch="$2"
                 shift 2
                 ;;
+            --board) mode=board; shift ;;
+            --fuzz) mode=fuzz; shift ;;
             --unity-only) mode=unity; shift ;;
             -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; return 0 ;;
             *) die "unknown argument: $1 (see --help)" ;;
@@ -313,6 +373,8 @@ main() {
     case "$mode" in
         native) ensure_native ;;
         cross) ensure_cross "$cross_arch" ;;
+        board) ensure_native; ensure_cross aarch64; ensure_board ;;
+        fuzz) ensure_native; ensure_fuzz ;;
         unity) ;;
     esac
     ensure_unity

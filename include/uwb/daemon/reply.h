@@ -1,0 +1,40 @@
+/* Replies to line commands: one JSON object per line, each with a "class"
+ * (gpsd style): STATUS, VERDICT, HISTORY, BASELINE, HELP, ERROR. The same
+ * text goes to the control socket and to the serial console. Every
+ * function returns a malloc'd line without its newline, or NULL when out of
+ * memory. */
+#ifndef UWB_DAEMON_REPLY_H
+#define UWB_DAEMON_REPLY_H
+
+#include "uwb/daemon/baseline_store.h"
+
+#define UWBD_PROTOCOL_MAJOR 1
+#define UWBD_PROTOCOL_MINOR 0
+
+struct uwbd_status {
+    const char *version;
+    const char *state;             /* "idle", "scanning", "stopping" */
+    long uptime_s;
+    double interval_s;             /* 0: on request only */
+    int has_next_scan;
+    long next_scan_in_s;
+    int scans_this_run;
+    int scan_queued;               /* a requested scan waits for the running one */
+    int baseline_pending;
+    int has_baseline;
+    struct uwbd_baseline_info baseline;
+    const char *latest_verdict;    /* the VERDICT line, or NULL */
+    const char *state_dir;
+    const char *rig;               /* "ready" or why not */
+    const char *console;           /* endpoint, or NULL when none */
+};
+
+char *uwbd_reply_error(const char *message);
+char *uwbd_reply_help(void);
+char *uwbd_reply_status(const struct uwbd_status *status);
+/* verdict_lines: VERDICT lines from verdicts.jsonl, oldest first; each
+ * becomes a summary (scan_id, created, status, reason, displacement). */
+char *uwbd_reply_history(char *const *verdict_lines, int count, int requested, int skipped);
+char *uwbd_reply_baseline(int pending, int has_current, const struct uwbd_baseline_info *current);
+
+#endif

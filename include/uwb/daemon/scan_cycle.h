@@ -1,0 +1,53 @@
+/* One scan cycle above the hardware: acquire a scan (through a function, so
+ * tests can hand in simulated scans), archive it, check its direct
+ * coupling against the baseline's, evaluate, write the verdict and images,
+ * set the baseline when asked, apply retention. A lost scan becomes an
+ * `error` verdict with a reason; nothing is ever half-written. */
+#ifndef UWB_DAEMON_SCAN_CYCLE_H
+#define UWB_DAEMON_SCAN_CYCLE_H
+
+#include <signal.h>
+#include <stddef.h>
+#include <time.h>
+
+#include "uwb/daemon/config.h"
+#include "uwb/daemon/store.h"
+#include "uwb/scan.h"
+#include "uwb/verdict.h"
+
+enum uwbd_acquire_result {
+    UWBD_ACQUIRE_OK = 0,
+    UWBD_ACQUIRE_STOPPED = 1,  /* *stop was raised: nothing to record */
+    UWBD_ACQUIRE_FAILED = -1,  /* err says why; the hardware has been made safe */
+};
+
+/* Fill *out with a new scan; returns an enum uwbd_acquire_result. */
+typedef int (*uwbd_acquire_fn)(void *ctx, const volatile sig_atomic_t *stop, struct uwb_scan *out,
+                               char *err, size_t errlen);
+
+struct uwbd_cycle_request {
+    int make_baseline;         /* a `baseline set` is pending */
+    time_t now;                /* wall clock at the start (names the archive day) */
+};
+
+enum uwbd_cycle_outcome {
+    UWBD_CYCLE_RECORDED,       /* a verdict (maybe `error`) was produced */
+    UWBD_CYCLE_STOPPED,        /* stopped by a signal: nothing recorded */
+};
+
+struct uwbd_cycle_result {
+    enum uwbd_cycle_outcome outcome;
+    enum uwb_status status;
+    char scan_id[UWBD_SCAN_ID_MAX + 1];
+    char reason[256];
+    int baseline_set;          /* this scan became the baseline */
+    char *verdict_json;        /* malloc'd one-line VERDICT object (as archived), NULL when stopped */
+    int archive_problems;      /* files that could not be written (logged) */
+};
+
+int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store, uwbd_acquire_fn acquire,
+                   void *acquire_ctx, const volatile sig_atomic_t *stop, const struct uwbd_cycle_request *req,
+                   struct uwbd_cycle_result *res);
+void uwbd_cycle_result_free(struct uwbd_cycle_result *res);
+
+#endif

@@ -1,0 +1,31 @@
+/* verdicts.jsonl and latest.json: the record of every scan cycle.
+ * verdicts.jsonl only grows by whole lines: each line goes out in one
+ * write() and is fsync'd; a write that falls short (disk full) is cut back
+ * off, and a reader skips a torn or unparsable line instead of failing. */
+#ifndef UWB_DAEMON_VERDICT_LOG_H
+#define UWB_DAEMON_VERDICT_LOG_H
+
+#include <stddef.h>
+
+#include "uwb/daemon/store.h"
+
+/* Append one JSON object (no newline inside) as a line. */
+int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, char *err, size_t errlen);
+
+/* The last n (at most) parseable lines, oldest first, as malloc'd strings
+ * in a malloc'd array (free with uwbd_verdict_lines_free). *skipped counts
+ * lines that did not parse (may be NULL). A missing log is zero lines. */
+int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines, int *count, int *skipped,
+                          char *err, size_t errlen);
+void uwbd_verdict_lines_free(char **lines, int count);
+
+/* If the log does not end with a newline (a crash mid-line), cut the torn
+ * tail off. *dropped gets the number of bytes removed. */
+int uwbd_verdict_log_repair(const struct uwbd_store *store, long *dropped, char *err, size_t errlen);
+
+/* latest.json, written atomically / read whole (malloc'd; NULL and 0 when
+ * there is none yet). */
+int uwbd_latest_write(const struct uwbd_store *store, const char *json, char *err, size_t errlen);
+int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, size_t errlen);
+
+#endif

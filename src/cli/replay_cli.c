@@ -1,0 +1,242 @@
+/* uwbd --replay: evaluate a recorded scan against a baseline, as the
+ * appliance would, and print the verdict line. The work is done by the
+ * library (src/imaging, src/verdict, src/output, src/replay). */
+#include <errno.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sysexits.h>
+#include <unistd.h>
+
+#include "uwb/cli.h"
+#include "uwb/daemon/daemon.h"
+#include "uwb/evaluate.h"
+#include "uwb/scan.h"
+#include "uwb/verdict_json.h"
+
+void uwbd_replay_usage(FILE *f)
+{
+    fprintf(f,
+        "usage: uwbd --replay CURRENT.uwbscan [--baseline BASE.uwbscan] [--out DIR] [options]\n"
+        "\n"
+        "Images a recorded scan, finds the winding's lower and upper edges and, against a\n"
+        "baseline scan of the intact winding, reports the axial displacement. Prints one\n"
+        "JSON verdict line on stdout.\n"
+        "\n"
+        "  --replay FILE            the scan to evaluate (uwbscan/1)\n"
+        "  --baseline FILE          baseline scan (intact winding); without it only edges are reported\n"
+        "  --out DIR                write PNG images (migrated, bscan, comparison) and the verdict JSON here\n"
+        "  --migration fixed|float  migration arithmetic (default fixed: int16 samples, Q15 weights)\n"
+        "  --target-z NEAR:FAR      look for the winding's face only between these ranges, metres\n"
+        "                           (default: the scan's target_z_m, else 0.15:1.6)\n"
+        "  --time-zero-offset-ps T  calibration added to the header's t0_s, picoseconds (default 0)\n"
+        "  --watch-mm D             |displacement| from which status is watch (default 2)\n"
+        "  --alarm-mm D             |displacement| from which status is alarm (default 5)\n"
+        "  --max-uncertainty-mm U   above this 1-sigma uncertainty the verdict is inconclusive (default 1)\n"
+        "  --edge-fraction F        edge where the face profile crosses F of its peak (default 0.5)\n"
+        "  -h, --help               this text\n"
+        "  --version                print the version\n"
+        "\n"
+        "Exit status: 0 a verdict was produced (status may still be inconclusive); 64 bad usage;\n"
+        "65 an input file is malformed; 66 an input file cannot be read; 73 an output cannot be\n"
+        "written; 70 internal error. Errors go to stderr, naming the file and the problem.\n");
+}
+
+static void usage(FILE *f)
+{
+    uwbd_replay_usage(f);
+    fputs("\n", f);
+    uwbd_daemon_usage(f);
+    fputs("\n", f);
+    uwbd_ctl_usage(f);
+}
+
+static int parse_number(const char *opt, const char *text, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (errno || end == text || *end) {
+        fprintf(stderr, "uwbd: %s: '%s' is not a number\n", opt, text);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int read_scan(const char *path, struct uwb_scan *scan)
+{
+    char err[512];
+    if (uwbscan_read_file(path, scan, err, sizeof err) == 0)
+        return 0;
+    fprintf(stderr, "uwbd: %s\n", err);
+    return access(path, R_OK) != 0 ? EX_NOINPUT : EX_DATAERR;
+}
+
+/* File stem for images: the scan id if it is a safe file name, else the
+ * input's base name without its extension. */
+static void image_stem(const struct uwb_scan *scan, const char *path, char *stem, size_t n)
+{
+    const char *src = scan->scan_id;
+    if (!src || !*src) {
+        src = strrchr(path, '/');
+        src = src ? src + 1 : path;
+    }
+    size_t j = 0;
+    for (size_t i = 0; src[i] && j + 1 < n; i++) {
+        char c = src[i];
+        int safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                   c == '-' || c == '_' || c == '.';
+        stem[j++] = safe ? c : '_';
+    }
+    stem[j] = '\0';
+    char *dot = strstr(stem, ".uwbscan");
+    if (dot && dot != stem)
+        *dot = '\0';
+    if (!stem[0] || stem[0] == '.')
+        snprintf(stem, n, "scan");
+}
+
+enum { OPT_REPLAY = 256, OPT_BASELINE, OPT_OUT, OPT_MIGRATION, OPT_TARGET_Z, OPT_T0,
+       OPT_WATCH, OPT_ALARM, OPT_MAX_UNC, OPT_EDGE_FRACTION, OPT_VERSION };
+
+int uwbd_replay_main(int argc, char **argv)
+{
+    static const struct option longopts[] = {
+        {"replay", required_argument, 0, OPT_REPLAY},
+        {"baseline", required_argument, 0, OPT_BASELINE},
+        {"out", required_argument, 0, OPT_OUT},
+        {"migration", required_argument, 0, OPT_MIGRATION},
+        {"target-z", required_argument, 0, OPT_TARGET_Z},
+        {"time-zero-offset-ps", required_argument, 0, OPT_T0},
+        {"watch-mm", required_argument, 0, OPT_WATCH},
+        {"alarm-mm", required_argument, 0, OPT_ALARM},
+        {"max-uncertainty-mm", required_argument, 0, OPT_MAX_UNC},
+        {"edge-fraction", required_argument, 0, OPT_EDGE_FRACTION},
+        {"help", no_argument, 0, 'h'},
+        {"version", no_argument, 0, OPT_VERSION},
+        {0, 0, 0, 0},
+    };
+    const char *replay = NULL, *baseline_path = NULL, *out_dir = NULL;
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    double v;
+    int c;
+    while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
+        switch (c) {
+        case OPT_REPLAY: replay = optarg; break;
+        case OPT_BASELINE: baseline_path = optarg; break;
+        case OPT_OUT: out_dir = optarg; break;
+        case OPT_MIGRATION:
+            if (uwb_migration_kind_parse(optarg, &opt.analysis.migration) != 0) {
+                fprintf(stderr, "uwbd: --migration: '%s' is neither fixed nor float\n", optarg);
+                return EX_USAGE;
+            }
+            break;
+        case OPT_TARGET_Z: {
+            double near_m, far_m;
+            char tail;
+            if (sscanf(optarg, "%lf:%lf%c", &near_m, &far_m, &tail) != 2 || !(near_m >= 0.0) ||
+                !(far_m > near_m)) {
+                fprintf(stderr, "uwbd: --target-z: '%s' is not NEAR:FAR with 0 <= NEAR < FAR (metres)\n", optarg);
+                return EX_USAGE;
+            }
+            opt.analysis.has_target_z = 1;
+            opt.analysis.target_z_m[0] = near_m;
+            opt.analysis.target_z_m[1] = far_m;
+            break;
+        }
+        case OPT_T0:
+            if (parse_number("--time-zero-offset-ps", optarg, &v) != 0)
+                return EX_USAGE;
+            opt.analysis.time_zero_offset_s = v * 1e-12;
+            break;
+        case OPT_WATCH:
+        case OPT_ALARM:
+        case OPT_MAX_UNC:
+            if (parse_number(c == OPT_WATCH ? "--watch-mm" : c == OPT_ALARM ? "--alarm-mm" : "--max-uncertainty-mm",
+                             optarg, &v) != 0 || !(v > 0.0)) {
+                if (!(v > 0.0))
+                    fprintf(stderr, "uwbd: thresholds must be positive millimetres, got '%s'\n", optarg);
+                return EX_USAGE;
+            }
+            if (c == OPT_WATCH)
+                opt.compare.thresholds.watch_m = v * 1e-3;
+            else if (c == OPT_ALARM)
+                opt.compare.thresholds.alarm_m = v * 1e-3;
+            else
+                opt.compare.max_uncertainty_m = v * 1e-3;
+            break;
+        case OPT_EDGE_FRACTION:
+            if (parse_number("--edge-fraction", optarg, &v) != 0 || !(v > 0.05 && v < 0.95)) {
+                fprintf(stderr, "uwbd: --edge-fraction: '%s' must lie between 0.05 and 0.95\n", optarg);
+                return EX_USAGE;
+            }
+            opt.analysis.edge_fraction = v;
+            break;
+        case 'h': usage(stdout); return 0;
+        case OPT_VERSION: printf("uwbd %s\n", UWBD_VERSION); return 0;
+        default: usage(stderr); return EX_USAGE;
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "uwbd: unexpected argument '%s'\n", argv[optind]);
+        return EX_USAGE;
+    }
+    if (!replay) {
+        fprintf(stderr, "uwbd: nothing to do: give --replay FILE, --config FILE or ctl COMMAND (see --help)\n");
+        return EX_USAGE;
+    }
+    if (opt.compare.thresholds.alarm_m < opt.compare.thresholds.watch_m) {
+        fprintf(stderr, "uwbd: --alarm-mm must not be below --watch-mm\n");
+        return EX_USAGE;
+    }
+
+    struct uwb_scan current = {0}, baseline = {0};
+    int rc = read_scan(replay, &current);
+    if (rc)
+        return rc;
+    if (baseline_path && (rc = read_scan(baseline_path, &baseline)) != 0) {
+        uwb_scan_free(&current);
+        return rc;
+    }
+    if (out_dir && mkdir(out_dir, 0755) != 0 && errno != EEXIST) {
+        fprintf(stderr, "uwbd: %s: cannot create output directory: %s\n", out_dir, strerror(errno));
+        uwb_scan_free(&current);
+        uwb_scan_free(&baseline);
+        return EX_CANTCREAT;
+    }
+
+    struct uwb_verdict verdict;
+    struct uwb_analysis cur_a, base_a;
+    char err[512];
+    rc = 0;
+    if (uwb_evaluate(&current, baseline_path ? &baseline : NULL, &opt, &verdict, &cur_a, &base_a,
+                     err, sizeof err) != 0) {
+        fprintf(stderr, "uwbd: %s: %s\n", replay, err);
+        rc = EX_SOFTWARE;
+    } else {
+        char stem[128];
+        image_stem(&current, replay, stem, sizeof stem);
+        if (out_dir && uwb_write_images(out_dir, stem, &current, &cur_a, &base_a, &verdict, err,
+                                        sizeof err) != 0) {
+            fprintf(stderr, "uwbd: %s\n", err);
+            rc = EX_CANTCREAT;
+        }
+        char *json = uwb_verdict_to_json(&verdict);
+        if (!json) {
+            fprintf(stderr, "uwbd: out of memory for the verdict\n");
+            rc = EX_SOFTWARE;
+        } else {
+            puts(json);
+            free(json);
+        }
+        uwb_analysis_free(&cur_a);
+        uwb_analysis_free(&base_a);
+    }
+    uwb_scan_free(&current);
+    uwb_scan_free(&baseline);
+    return rc;
+}

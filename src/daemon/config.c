@@ -1,0 +1,645 @@
+/* Loading the daemon's JSON configuration: defaults from the key table,
+ * then the file, then command-line overrides, then checks that involve
+ * more than one key. Every message names the key. */
+#include "uwb/daemon/config.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "config_keys.h"
+#include "uwb/migrate.h"
+
+#define PATH_TEXT_MAX 160
+/* A config file is a few kilobytes; this bounds what a typo can make us read. */
+#define CONFIG_FILE_MAX (1024 * 1024)
+
+struct load_context {
+    const char *name;
+    char *err;
+    size_t errlen;
+    unsigned char seen[128];   /* per table key: given in the file or an override */
+};
+
+static void fail(struct load_context *ctx, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+static void fail(struct load_context *ctx, const char *key, const char *fmt, ...)
+{
+    char problem[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(problem, sizeof problem, fmt, ap);
+    va_end(ap);
+    if (key)
+        snprintf(ctx->err, ctx->errlen, "%s: key `%s`: %s", ctx->name, key, problem);
+    else
+        snprintf(ctx->err, ctx->errlen, "%s: %s", ctx->name, problem);
+}
+
+static const struct config_key *find_key(const char *path, size_t *index)
+{
+    for (size_t i = 0; i < uwbd_config_key_total; i++)
+        if (strcmp(uwbd_config_keys[i].path, path) == 0) {
+            if (index)
+                *index = i;
+            return &uwbd_config_keys[i];
+        }
+    return NULL;
+}
+
+/* A section is any proper prefix of a key's path ("gpio", "gpio.lines"). */
+static int is_section(const char *path)
+{
+    size_t n = strlen(path);
+    for (size_t i = 0; i < uwbd_config_key_total; i++) {
+        const char *p = uwbd_config_keys[i].path;
+        if (strncmp(p, path, n) == 0 && p[n] == '.')
+            return 1;
+    }
+    return 0;
+}
+
+/* Key names come from the file: quote them printable and short. */
+static void printable_name(const char *in, char *out, size_t outlen)
+{
+    size_t j = 0;
+    for (size_t i = 0; in[i] && j + 5 < outlen; i++) {
+        unsigned char c = (unsigned char)in[i];
+        if (c >= 0x20 && c < 0x7f) {
+            out[j++] = (char)c;
+        } else {
+            j += (size_t)snprintf(out + j, outlen - j, "\\x%02x", c);
+        }
+        if (i >= 60) {
+            snprintf(out + j, outlen - j, "...");
+            return;
+        }
+    }
+    out[j] = '\0';
+}
+
+static void *field(struct uwbd_config *cfg, const struct config_key *k)
+{
+    return (char *)cfg + k->offset;
+}
+
+static const char *json_type_name(const cJSON *v)
+{
+    if (cJSON_IsString(v)) return "a string";
+    if (cJSON_IsNumber(v)) return "a number";
+    if (cJSON_IsBool(v)) return "true/false";
+    if (cJSON_IsNull(v)) return "null";
+    if (cJSON_IsArray(v)) return "an array";
+    if (cJSON_IsObject(v)) return "an object";
+    return "something else";
+}
+
+static int check_text(struct load_context *ctx, const struct config_key *k, const char *s,
+                      size_t size)
+{
+    size_t n = strlen(s);
+    if (n >= size) {
+        fail(ctx, k->path, "too long (%zu bytes, at most %zu)", n, size - 1);
+        return -1;
+    }
+    for (size_t i = 0; i < n; i++)
+        if ((unsigned char)s[i] < 0x20 || s[i] == 0x7f) {
+            fail(ctx, k->path, "contains a control character");
+            return -1;
+        }
+    return 0;
+}
+
+static void describe_range(const struct config_key *k, char *buf, size_t n)
+{
+    snprintf(buf, n, "%s%.10g, %.10g]%s%s", k->min_exclusive ? "(" : "[", k->min, k->max,
+             k->unit[0] ? " " : "", k->unit);
+}
+
+static int number_in_range(struct load_context *ctx, const struct config_key *k, double v)
+{
+    int low = k->min_exclusive ? !(v > k->min) : !(v >= k->min);
+    if (low || !(v <= k->max)) {
+        char range[96];
+        describe_range(k, range, sizeof range);
+        fail(ctx, k->path, "%g is out of range %s", v, range);
+        return -1;
+    }
+    return 0;
+}
+
+static int parse_file_mode(struct load_context *ctx, const struct config_key *k, const char *text,
+                           struct uwbd_config *cfg)
+{
+    size_t n = strlen(text);
+    if (n < 3 || n > 4 || strspn(text, "01234567") != n) {
+        fail(ctx, k->path, "\"%.16s\" is not an octal mode such as \"0660\"", text);
+        return -1;
+    }
+    unsigned mode = (unsigned)strtoul(text, NULL, 8);
+    if (mode & 07007) {
+        fail(ctx, k->path, "%s gives others access or sets special bits; use e.g. 0660 or 0600", text);
+        return -1;
+    }
+    if ((mode & 0600) != 0600) {
+        fail(ctx, k->path, "%s does not let the owner (the daemon) read and write", text);
+        return -1;
+    }
+    cfg->control_mode = mode;
+    snprintf(cfg->control_mode_text, sizeof cfg->control_mode_text, "%s", text);
+    return 0;
+}
+
+static int set_gpio_line(struct load_context *ctx, const struct config_key *k, const cJSON *v,
+                         struct uwbd_config *cfg)
+{
+    size_t line = k->size;
+    if (cJSON_IsNumber(v)) {
+        double d = v->valuedouble;
+        if (d != floor(d) || d < 0 || d > 1023) {
+            fail(ctx, k->path, "%g is not a line offset (an integer 0..1023)", d);
+            return -1;
+        }
+        cfg->rig.gpio.offset[line] = (int)d;
+        cfg->rig.gpio.name[line][0] = '\0';
+        return 0;
+    }
+    if (cJSON_IsString(v)) {
+        if (!v->valuestring[0]) {
+            fail(ctx, k->path, "empty line name");
+            return -1;
+        }
+        if (check_text(ctx, k, v->valuestring, sizeof cfg->rig.gpio.name[line]) != 0)
+            return -1;
+        cfg->rig.gpio.offset[line] = -1;
+        snprintf(cfg->rig.gpio.name[line], sizeof cfg->rig.gpio.name[line], "%s", v->valuestring);
+        return 0;
+    }
+    fail(ctx, k->path, "expected a line offset (integer) or a line name (string), got %s",
+         json_type_name(v));
+    return -1;
+}
+
+static int set_value(struct load_context *ctx, const struct config_key *k, const cJSON *v,
+                     struct uwbd_config *cfg)
+{
+    char range[96];
+    switch (k->type) {
+    case KEY_STRING:
+    case KEY_CHOICE:
+    case KEY_MIGRATION:
+    case KEY_FILE_MODE:
+        if (!cJSON_IsString(v)) {
+            fail(ctx, k->path, "expected a string, got %s", json_type_name(v));
+            return -1;
+        }
+        if (k->type == KEY_FILE_MODE)
+            return parse_file_mode(ctx, k, v->valuestring, cfg);
+        if (k->type == KEY_MIGRATION) {
+            if (uwb_migration_kind_parse(v->valuestring, field(cfg, k)) != 0) {
+                fail(ctx, k->path, "\"%.32s\" is neither fixed nor float", v->valuestring);
+                return -1;
+            }
+            return 0;
+        }
+        if (check_text(ctx, k, v->valuestring, k->size) != 0)
+            return -1;
+        if (k->type == KEY_CHOICE) {
+            int ok = 0;
+            for (const char *const *c = k->choices; *c; c++)
+                ok |= strcmp(*c, v->valuestring) == 0;
+            if (!ok) {
+                char list[128] = "";
+                for (const char *const *c = k->choices; *c; c++)
+                    snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+                             c == k->choices ? "" : ", ", *c);
+                fail(ctx, k->path, "\"%.32s\" is not one of %s", v->valuestring, list);
+                return -1;
+            }
+        }
+        snprintf(field(cfg, k), k->size, "%s", v->valuestring);
+        return 0;
+    case KEY_NUMBER:
+    case KEY_INT:
+        if (!cJSON_IsNumber(v)) {
+            describe_range(k, range, sizeof range);
+            fail(ctx, k->path, "expected %s in %s, got %s", k->type == KEY_INT ? "an integer" : "a number",
+                 range, json_type_name(v));
+            return -1;
+        }
+        if (k->type == KEY_INT && v->valuedouble != floor(v->valuedouble)) {
+            fail(ctx, k->path, "%g is not an integer", v->valuedouble);
+            return -1;
+        }
+        if (number_in_range(ctx, k, v->valuedouble) != 0)
+            return -1;
+        if (k->type == KEY_INT)
+            *(int *)field(cfg, k) = (int)v->valuedouble;
+        else
+            *(double *)field(cfg, k) = v->valuedouble * k->scale;
+        return 0;
+    case KEY_BOOL:
+        if (!cJSON_IsBool(v)) {
+            fail(ctx, k->path, "expected true or false, got %s", json_type_name(v));
+            return -1;
+        }
+        *(int *)field(cfg, k) = cJSON_IsTrue(v);
+        return 0;
+    case KEY_PAIR: {
+        if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2 ||
+            !cJSON_IsNumber(cJSON_GetArrayItem(v, 0)) || !cJSON_IsNumber(cJSON_GetArrayItem(v, 1))) {
+            fail(ctx, k->path, "expected two numbers [a, b]%s%s", k->unit[0] ? " in " : "", k->unit);
+            return -1;
+        }
+        double *out = field(cfg, k);
+        for (int i = 0; i < 2; i++) {
+            double d = cJSON_GetArrayItem(v, i)->valuedouble;
+            if (number_in_range(ctx, k, d) != 0)
+                return -1;
+            out[i] = d * k->scale;
+        }
+        if (k->flag_offset)
+            *(int *)((char *)cfg + k->flag_offset) = 1;
+        return 0;
+    }
+    case KEY_GPIO_LINE:
+        return set_gpio_line(ctx, k, v, cfg);
+    }
+    fail(ctx, k->path, "internal error: unknown key type");
+    return -1;
+}
+
+static int walk_object(struct load_context *ctx, const cJSON *obj, const char *prefix,
+                       struct uwbd_config *cfg)
+{
+    for (const cJSON *item = obj->child; item; item = item->next) {
+        const char *name = item->string ? item->string : "";
+        char shown[PATH_TEXT_MAX], path[2 * PATH_TEXT_MAX];
+        printable_name(name, shown, sizeof shown);
+        snprintf(path, sizeof path, "%s%s%s", prefix, prefix[0] ? "." : "", shown);
+        for (const cJSON *other = obj->child; other != item; other = other->next)
+            if (other->string && strcmp(other->string, name) == 0) {
+                fail(ctx, path, "given twice");
+                return -1;
+            }
+        size_t index;
+        const struct config_key *k = strcmp(shown, name) == 0 ? find_key(path, &index) : NULL;
+        if (k) {
+            if (set_value(ctx, k, item, cfg) != 0)
+                return -1;
+            ctx->seen[index] = 1;
+        } else if (strcmp(shown, name) == 0 && is_section(path)) {
+            if (!cJSON_IsObject(item)) {
+                fail(ctx, path, "expected an object (a section), got %s", json_type_name(item));
+                return -1;
+            }
+            if (walk_object(ctx, item, path, cfg) != 0)
+                return -1;
+        } else {
+            fail(ctx, path, "unknown key (uwbd --config-keys lists them all)");
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static void apply_defaults(struct uwbd_config *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    /* The rig's own defaults first, for anything this table leaves alone. */
+    uwb_rig_config_defaults(&cfg->rig);
+    uwb_evaluate_defaults(&cfg->evaluate);
+    for (size_t i = 0; i < uwbd_config_key_total; i++) {
+        const struct config_key *k = &uwbd_config_keys[i];
+        if (k->required)
+            continue;
+        switch (k->type) {
+        case KEY_STRING:
+        case KEY_CHOICE:
+            snprintf(field(cfg, k), k->size, "%s", k->default_text ? k->default_text : "");
+            break;
+        case KEY_NUMBER: *(double *)field(cfg, k) = k->default_number * k->scale; break;
+        case KEY_INT:
+        case KEY_BOOL: *(int *)field(cfg, k) = (int)k->default_number; break;
+        case KEY_MIGRATION: uwb_migration_kind_parse(k->default_text, field(cfg, k)); break;
+        case KEY_FILE_MODE:
+            cfg->control_mode = (unsigned)strtoul(k->default_text, NULL, 8);
+            snprintf(cfg->control_mode_text, sizeof cfg->control_mode_text, "%s", k->default_text);
+            break;
+        case KEY_PAIR:
+            if (k->flag_offset)
+                *(int *)((char *)cfg + k->flag_offset) = 0;
+            break;
+        case KEY_GPIO_LINE: break;
+        }
+    }
+}
+
+/* Put an override into the parsed document, creating sections on the way. */
+static int apply_override(struct load_context *ctx, cJSON *root, const struct uwbd_override *o)
+{
+    char shown[PATH_TEXT_MAX];
+    printable_name(o->key, shown, sizeof shown);
+    if (strcmp(shown, o->key) != 0 || (!find_key(o->key, NULL) && !is_section(o->key))) {
+        snprintf(ctx->err, ctx->errlen, "override: key `%s`: unknown key (uwbd --config-keys lists them all)",
+                 shown);
+        return -1;
+    }
+    cJSON *value = cJSON_ParseWithOpts(o->value, NULL, 1);
+    if (!value)
+        value = cJSON_CreateString(o->value);
+    if (!value) {
+        snprintf(ctx->err, ctx->errlen, "override: key `%s`: out of memory", shown);
+        return -1;
+    }
+    char path[PATH_TEXT_MAX];
+    snprintf(path, sizeof path, "%s", o->key);
+    cJSON *obj = root;
+    char *part = path;
+    for (char *dot = strchr(part, '.'); dot; part = dot + 1, dot = strchr(part, '.')) {
+        *dot = '\0';
+        cJSON *next = cJSON_GetObjectItemCaseSensitive(obj, part);
+        if (!next) {
+            next = cJSON_AddObjectToObject(obj, part);
+        } else if (!cJSON_IsObject(next)) {
+            cJSON_Delete(value);
+            snprintf(ctx->err, ctx->errlen, "override: key `%s`: the file has a value, not a section, on the way",
+                     shown);
+            return -1;
+        }
+        if (!next) {
+            cJSON_Delete(value);
+            snprintf(ctx->err, ctx->errlen, "override: key `%s`: out of memory", shown);
+            return -1;
+        }
+        obj = next;
+    }
+    if (cJSON_GetObjectItemCaseSensitive(obj, part))
+        cJSON_ReplaceItemInObjectCaseSensitive(obj, part, value);
+    else
+        cJSON_AddItemToObject(obj, part, value);
+    return 0;
+}
+
+static int check_endpoint(struct load_context *ctx, const char *key, const char *endpoint)
+{
+    struct uwb_endpoint ep;
+    char why[512];
+    if (uwb_endpoint_parse(endpoint, &ep, why, sizeof why) != UWB_LINK_OK) {
+        fail(ctx, key, "%s", why);
+        return -1;
+    }
+    return 0;
+}
+
+/* Checks that involve more than one key, or a key that depends on another. */
+static int check_together(struct load_context *ctx, const struct uwbd_config *cfg)
+{
+    const struct uwb_rig_config *r = &cfg->rig;
+    int libgpiod = strcmp(r->gpio.backend, "libgpiod") == 0;
+    if (libgpiod && !r->gpio.chip[0]) {
+        fail(ctx, "gpio.chip", "missing: required with the libgpiod backend");
+        return -1;
+    }
+    if (libgpiod && r->gpio.endpoint[0]) {
+        fail(ctx, "gpio.endpoint", "only the emulated backend uses an endpoint (backend is libgpiod)");
+        return -1;
+    }
+    for (size_t i = 0; libgpiod && i < uwbd_config_key_total; i++)
+        if (uwbd_config_keys[i].type == KEY_GPIO_LINE && !ctx->seen[i]) {
+            fail(ctx, uwbd_config_keys[i].path, "missing: required with the libgpiod backend (%s)",
+                 uwbd_config_keys[i].doc);
+            return -1;
+        }
+    if (!libgpiod && !r->gpio.endpoint[0]) {
+        fail(ctx, "gpio.endpoint", "missing: required with the emulated backend");
+        return -1;
+    }
+    if (!libgpiod && check_endpoint(ctx, "gpio.endpoint", r->gpio.endpoint) != 0)
+        return -1;
+    if (check_endpoint(ctx, "digitiser.endpoint", r->digitiser.endpoint) != 0)
+        return -1;
+    if (cfg->console_endpoint[0] && check_endpoint(ctx, "console.endpoint", cfg->console_endpoint) != 0)
+        return -1;
+    if (!cfg->state_dir[0]) {
+        fail(ctx, "state_dir", "empty");
+        return -1;
+    }
+    if (!cfg->control_socket[0]) {
+        fail(ctx, "control.socket", "empty");
+        return -1;
+    }
+    if (cfg->evaluate.compare.thresholds.alarm_m < cfg->evaluate.compare.thresholds.watch_m) {
+        fail(ctx, "analysis.alarm_mm", "%g mm is below analysis.watch_mm (%g mm)",
+             cfg->evaluate.compare.thresholds.alarm_m * 1e3, cfg->evaluate.compare.thresholds.watch_m * 1e3);
+        return -1;
+    }
+    const struct uwb_carriage_config *c = &r->carriage;
+    double lowest = c->home_offset_mm, highest = c->home_offset_mm + c->travel_mm;
+    double first = r->first_position_mm, last = first + (r->positions - 1) * r->step_mm;
+    if (first - c->backlash_mm < lowest - 1e-9) {
+        fail(ctx, "scan.first_position_mm",
+             "%g mm minus the backlash overshoot (%g mm) lies below home (carriage.home_offset_mm = %g mm)",
+             first, c->backlash_mm, lowest);
+        return -1;
+    }
+    if (last > highest + 1e-9) {
+        fail(ctx, "scan.positions",
+             "the last position, %g mm, lies beyond the travel (home_offset_mm + travel_mm = %g mm)",
+             last, highest);
+        return -1;
+    }
+    if (c->park_mm > c->travel_mm) {
+        fail(ctx, "carriage.park_mm", "%g mm lies beyond the travel (%g mm)", c->park_mm, c->travel_mm);
+        return -1;
+    }
+    if (r->has_target_z && !(r->target_z_m[1] > r->target_z_m[0])) {
+        fail(ctx, "geometry.target_z_mm", "near (%g mm) must be below far (%g mm)", r->target_z_m[0] * 1e3,
+             r->target_z_m[1] * 1e3);
+        return -1;
+    }
+    if (r->carriage.home_rate_hz > r->carriage.max_rate_hz) {
+        fail(ctx, "carriage.home_rate_hz", "%g Hz is above carriage.max_rate_hz (%g Hz)", r->carriage.home_rate_hz,
+             r->carriage.max_rate_hz);
+        return -1;
+    }
+    if (!(cfg->direct_coupling_window_end_s > r->digitiser.t0_s)) {
+        fail(ctx, "direct_coupling.window_end_ns", "%g ns is not after the first sample (digitiser.t0_ps = %g ps)",
+             cfg->direct_coupling_window_end_s * 1e9, r->digitiser.t0_s * 1e12);
+        return -1;
+    }
+    /* The rig's own checks, for anything the table cannot express. */
+    char why[512];
+    if (uwb_rig_config_check(r, why, sizeof why) != UWB_RIG_OK) {
+        fail(ctx, NULL, "%s", why);
+        return -1;
+    }
+    return 0;
+}
+
+/* "line L column C" of a byte offset, for JSON syntax errors. */
+static void locate(const char *text, size_t offset, int *line, int *column)
+{
+    *line = 1;
+    *column = 1;
+    for (size_t i = 0; i < offset; i++) {
+        if (text[i] == '\n') {
+            ++*line;
+            *column = 1;
+        } else {
+            ++*column;
+        }
+    }
+}
+
+int uwbd_config_parse(const char *text, size_t len, const char *name,
+                      const struct uwbd_override *overrides, size_t n_overrides,
+                      struct uwbd_config *cfg, char *err, size_t errlen)
+{
+    struct load_context ctx = {.name = name ? name : "(config)", .err = err, .errlen = errlen};
+    apply_defaults(cfg);
+    if (uwbd_config_key_total > sizeof ctx.seen) {
+        fail(&ctx, NULL, "internal error: the key table outgrew the loader");
+        return -1;
+    }
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
+    if (!root) {
+        int line, column;
+        size_t at = end && end >= text && end <= text + len ? (size_t)(end - text) : 0;
+        locate(text, at, &line, &column);
+        fail(&ctx, NULL, "line %d column %d: not valid JSON", line, column);
+        return -1;
+    }
+    size_t used = (size_t)(end - text);
+    while (used < len && text[used] && strchr(" \t\r\n", text[used]))
+        used++;
+    int rc = -1;
+    if (used < len) {
+        int line, column;
+        locate(text, used, &line, &column);
+        fail(&ctx, NULL, "line %d column %d: text after the end of the JSON object", line, column);
+    } else if (!cJSON_IsObject(root)) {
+        fail(&ctx, NULL, "the configuration must be one JSON object, got %s", json_type_name(root));
+    } else {
+        rc = 0;
+        for (size_t i = 0; rc == 0 && i < n_overrides; i++)
+            rc = apply_override(&ctx, root, &overrides[i]);
+        if (rc == 0)
+            rc = walk_object(&ctx, root, "", cfg);
+    }
+    cJSON_Delete(root);
+    if (rc != 0)
+        return -1;
+    for (size_t i = 0; i < uwbd_config_key_total; i++)
+        if (uwbd_config_keys[i].required && !ctx.seen[i]) {
+            fail(&ctx, uwbd_config_keys[i].path, "missing (required: %s)", uwbd_config_keys[i].doc);
+            return -1;
+        }
+    return check_together(&ctx, cfg);
+}
+
+int uwbd_config_load(const char *path, const struct uwbd_override *overrides, size_t n_overrides,
+                     struct uwbd_config *cfg, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    char *text = malloc(CONFIG_FILE_MAX + 1);
+    size_t len = text ? fread(text, 1, CONFIG_FILE_MAX + 1, f) : 0;
+    int read_error = ferror(f);
+    fclose(f);
+    if (!text || read_error) {
+        snprintf(err, errlen, "%s: cannot read: %s", path, text ? "read error" : "out of memory");
+        free(text);
+        return -1;
+    }
+    if (len > CONFIG_FILE_MAX) {
+        snprintf(err, errlen, "%s: larger than %d bytes: not a configuration file", path, CONFIG_FILE_MAX);
+        free(text);
+        return -1;
+    }
+    int rc = uwbd_config_parse(text, len, path, overrides, n_overrides, cfg, err, errlen);
+    free(text);
+    return rc;
+}
+
+static void print_default(FILE *out, const struct config_key *k)
+{
+    if (k->required) {
+        fputs("required", out);
+        return;
+    }
+    switch (k->type) {
+    case KEY_STRING:
+    case KEY_CHOICE:
+    case KEY_MIGRATION:
+    case KEY_FILE_MODE:
+        fprintf(out, "`\"%s\"`", k->default_text ? k->default_text : "");
+        break;
+    case KEY_BOOL: fputs(k->default_number != 0 ? "`true`" : "`false`", out); break;
+    case KEY_NUMBER:
+    case KEY_INT: fprintf(out, "`%g`", k->default_number); break;
+    case KEY_PAIR: fputs("absent", out); break;
+    case KEY_GPIO_LINE: fputs("required with libgpiod", out); break;
+    }
+}
+
+static const char *type_text(const struct config_key *k)
+{
+    switch (k->type) {
+    case KEY_STRING: return "string";
+    case KEY_NUMBER: return "number";
+    case KEY_INT: return "integer";
+    case KEY_BOOL: return "boolean";
+    case KEY_PAIR: return "[number, number]";
+    case KEY_GPIO_LINE: return "integer or string";
+    case KEY_CHOICE: return "string";
+    case KEY_MIGRATION: return "string";
+    case KEY_FILE_MODE: return "octal string";
+    }
+    return "?";
+}
+
+void uwbd_config_print_keys_markdown(FILE *out)
+{
+    fputs("| key | type | unit | range | default | meaning |\n|---|---|---|---|---|---|\n", out);
+    for (size_t i = 0; i < uwbd_config_key_total; i++) {
+        const struct config_key *k = &uwbd_config_keys[i];
+        fprintf(out, "| `%s` | %s | %s | ", k->path, type_text(k), k->unit[0] ? k->unit : "");
+        if (k->type == KEY_NUMBER || k->type == KEY_INT || k->type == KEY_PAIR) {
+            char range[96];
+            describe_range(k, range, sizeof range);
+            /* The unit has its own column. */
+            char *space = strrchr(range, ']');
+            if (space)
+                space[1] = '\0';
+            fputs(range, out);
+        } else if (k->type == KEY_CHOICE) {
+            for (const char *const *c = k->choices; *c; c++)
+                fprintf(out, "%s`%s`", c == k->choices ? "" : ", ", *c);
+        } else if (k->type == KEY_MIGRATION) {
+            fputs("`fixed`, `float`", out);
+        }
+        fputs(" | ", out);
+        print_default(out, k);
+        fprintf(out, " | %s |\n", k->doc);
+    }
+}
+
+size_t uwbd_config_key_count(void)
+{
+    return uwbd_config_key_total;
+}
+
+const char *uwbd_config_key_path(size_t i)
+{
+    return i < uwbd_config_key_total ? uwbd_config_keys[i].path : NULL;
+}

@@ -1,0 +1,194 @@
+/* Every configuration key: where it lands, its unit, range and default, and
+ * what it means. The loader applies defaults and checks ranges from here and
+ * `uwbd --config-keys` prints it, so the documentation is this table. */
+#include "config_keys.h"
+
+#include <float.h>
+#include <limits.h>
+#include <stddef.h>
+
+#include "uwb/daemon/config.h"
+#include "uwb/frame.h"
+#include "uwb/scan.h"
+
+#define AT(member) offsetof(struct uwbd_config, member)
+#define SIZE(member) sizeof(((struct uwbd_config *)0)->member)
+
+#define STRING(p, m, def, text) \
+    { .path = p, .type = KEY_STRING, .offset = AT(m), .size = SIZE(m), .scale = 1, \
+      .default_text = def, .unit = "", .doc = text }
+#define REQUIRED_STRING(p, m, text) \
+    { .path = p, .type = KEY_STRING, .offset = AT(m), .size = SIZE(m), .scale = 1, .required = 1, \
+      .unit = "", .doc = text }
+/* A number in [lo, hi] (ABOVE: in (lo, hi]), written in `u`, stored times `sc`. */
+#define NUMBER(p, m, u, sc, lo, hi, def, text) \
+    { .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
+      .default_number = def, .unit = u, .doc = text }
+#define NUMBER_ABOVE(p, m, u, sc, lo, hi, def, text) \
+    { .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
+      .min_exclusive = 1, .default_number = def, .unit = u, .doc = text }
+#define REQUIRED_NUMBER(p, m, u, sc, lo, hi, text) \
+    { .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
+      .required = 1, .unit = u, .doc = text }
+#define REQUIRED_NUMBER_ABOVE(p, m, u, sc, lo, hi, text) \
+    { .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
+      .min_exclusive = 1, .required = 1, .unit = u, .doc = text }
+#define INTEGER(p, m, u, lo, hi, def, text) \
+    { .path = p, .type = KEY_INT, .offset = AT(m), .scale = 1, .min = lo, .max = hi, \
+      .default_number = def, .unit = u, .doc = text }
+#define REQUIRED_INTEGER(p, m, lo, hi, text) \
+    { .path = p, .type = KEY_INT, .offset = AT(m), .scale = 1, .min = lo, .max = hi, \
+      .required = 1, .unit = "", .doc = text }
+#define BOOLEAN(p, m, def, text) \
+    { .path = p, .type = KEY_BOOL, .offset = AT(m), .scale = 1, .max = 1, .default_number = def, \
+      .unit = "", .doc = text }
+/* Required with the libgpiod backend (config.c checks); the emulated board ignores them. */
+#define GPIO_LINE(p, line, text) \
+    { .path = p, .type = KEY_GPIO_LINE, .size = line, .scale = 1, .max = INT_MAX, .unit = "", .doc = text }
+#define REQUIRED_PAIR(p, m, u, sc, lo, hi, text) \
+    { .path = p, .type = KEY_PAIR, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
+      .required = 1, .unit = u, .doc = text }
+#define OPTIONAL_PAIR(p, m, flag, u, sc, lo, hi, text) \
+    { .path = p, .type = KEY_PAIR, .offset = AT(m), .flag_offset = AT(flag), .scale = sc, \
+      .min = lo, .max = hi, .unit = u, .doc = text }
+
+static const char *const gpio_backends[] = {"libgpiod", "emulated", NULL};
+
+const struct config_key uwbd_config_keys[] = {
+    STRING("state_dir", state_dir, "/var/lib/uwbd",
+           "directory of the archive, verdicts.jsonl, latest.json and the baseline (board/state-dir.md); "
+           "created if missing; a relative path is taken from the daemon's working directory"),
+    BOOLEAN("allow_root", allow_root, 0,
+            "let the daemon run as root; without it uwbd refuses to start as root (exit 77)"),
+
+    NUMBER("schedule.interval_s", interval_s, "s", 1, 0, 366.0 * 86400, 86400,
+           "time between scheduled scans, from the start of one to the start of the next; "
+           "0 = scan only on request"),
+
+    INTEGER("retention.max_scans", retention_max_scans, "", 0, INT_MAX, 1000,
+            "keep at most this many scans in the archive, deleting the oldest first; 0 = no limit. "
+            "Baselines are never deleted"),
+    NUMBER("retention.max_age_days", retention_max_age_days, "days", 1, 0, 36500, 0,
+           "delete archived scans older than this; 0 = no limit"),
+
+    STRING("control.socket", control_socket, UWBD_DEFAULT_CONTROL_SOCKET,
+           "path of the local control socket that `uwbd ctl` talks to (at most 107 bytes)"),
+    { .path = "control.mode", .type = KEY_FILE_MODE, .offset = AT(control_mode), .scale = 1,
+      .default_text = "0660", .unit = "", .doc = "permissions of the control socket, octal; the owner "
+      "needs read and write, others may have nothing" },
+    STRING("control.group", control_group, "",
+           "group owning the control socket (engineers in it may use `uwbd ctl`); "
+           "empty = the daemon's own group"),
+
+    STRING("console.endpoint", console_endpoint, "",
+           "serial console for line commands: serial:/dev/ttyS0?baud=115200, or tcp:HOST:PORT / "
+           "unix:PATH, which uwbd connects to; empty = no console"),
+
+    { .path = "gpio.backend", .type = KEY_CHOICE, .offset = AT(rig.gpio.backend),
+      .size = SIZE(rig.gpio.backend), .scale = 1, .required = 1, .unit = "", .choices = gpio_backends,
+      .doc = "libgpiod (a /dev/gpiochip*) or emulated (the emulated board's GPIO socket)" },
+    STRING("gpio.chip", rig.gpio.chip, "",
+           "libgpiod: the chip's label, name (gpiochip0) or path; required with that backend"),
+    STRING("gpio.endpoint", rig.gpio.endpoint, "",
+           "emulated: unix:PATH or tcp:HOST:PORT of the emulated board; required with that backend"),
+    GPIO_LINE("gpio.lines.trigger", UWB_LINE_TRIGGER,
+              "pulser trigger output: line offset (integer) or line name (string); libgpiod only, required there"),
+    GPIO_LINE("gpio.lines.step", UWB_LINE_STEP, "stepper driver STEP output: offset or name"),
+    GPIO_LINE("gpio.lines.dir", UWB_LINE_DIR, "stepper driver DIR output (high = up): offset or name"),
+    GPIO_LINE("gpio.lines.enable", UWB_LINE_ENABLE,
+              "stepper driver ENABLE output (high = energised): offset or name"),
+    GPIO_LINE("gpio.lines.home", UWB_LINE_HOME, "home switch input: offset or name"),
+    BOOLEAN("gpio.home_active_low", rig.gpio.home_active_low, 1,
+            "the home switch pulls its line low when the carriage is home"),
+    BOOLEAN("gpio.home_pull_up", rig.gpio.home_pull_up, 1,
+            "request the internal pull-up bias on the home line"),
+    BOOLEAN("gpio.enable_active_low", rig.gpio.enable_active_low, 1,
+            "the stepper driver's EN input energises the motor when low (A4988, DRV8825, TMC2209); "
+            "uwbd still keeps the motor off between scans"),
+
+    REQUIRED_STRING("digitiser.endpoint", rig.digitiser.endpoint,
+                    "the digitiser link: serial:/dev/uwb-digitiser?baud=921600, tcp:HOST:PORT or unix:PATH"),
+    REQUIRED_INTEGER("digitiser.samples", rig.digitiser.samples, 16, UWB_FRAME_MAX_SAMPLES,
+                     "record length: samples per trace"),
+    REQUIRED_NUMBER_ABOVE("digitiser.sample_interval_ps", rig.digitiser.sample_interval_s, "ps", 1e-12, 0,
+                          1e6, "time between samples"),
+    NUMBER("digitiser.t0_ps", rig.digitiser.t0_s, "ps", 1e-12, -1e6, 1e6, 0,
+           "time of sample 0 after the pulse leaves the transmitter (negative: before it), "
+           "from commissioning"),
+    INTEGER("digitiser.stack", rig.digitiser.stack, "", 1, 65536, 16,
+            "pulses fired and averaged per antenna position"),
+    INTEGER("digitiser.frame_timeout_ms", rig.digitiser.frame_timeout_ms, "ms", 1, 600000, 1000,
+            "wait this long for a frame after a trigger"),
+    INTEGER("digitiser.frame_retries", rig.digitiser.frame_retries, "", 0, 100, 3,
+            "a bad or missing frame is retried (with a fresh trigger) this many times per pulse"),
+
+    REQUIRED_NUMBER_ABOVE("carriage.steps_per_mm", rig.carriage.steps_per_mm, "steps/mm", 1, 0, 1e6,
+                          "microsteps per millimetre of carriage travel"),
+    NUMBER_ABOVE("carriage.max_rate_hz", rig.carriage.max_rate_hz, "Hz", 1, 0, 1e5, 4000, "top step rate"),
+    NUMBER_ABOVE("carriage.accel_hz_per_s", rig.carriage.accel_hz_per_s, "Hz/s", 1, 0, 1e9, 8000,
+                 "linear ramp of the step rate at the start and end of a move"),
+    REQUIRED_NUMBER_ABOVE("carriage.travel_mm", rig.carriage.travel_mm, "mm", 1, 0, 1e5,
+                          "usable travel above the home switch; every position must lie inside it"),
+    NUMBER("carriage.park_mm", rig.carriage.park_mm, "mm", 1, 0, 1e5, 5,
+           "where the carriage rests between scans, above home"),
+    NUMBER("carriage.backlash_mm", rig.carriage.backlash_mm, "mm", 1, 0, 100, 0.5,
+           "every position is approached from below, after going this much lower first"),
+    NUMBER("carriage.settle_ms", rig.carriage.settle_ms, "ms", 1, 0, 60000, 50,
+           "wait after a move before firing"),
+    NUMBER_ABOVE("carriage.home_timeout_s", rig.carriage.home_timeout_s, "s", 1, 0, 3600, 60,
+                 "give up homing (an error verdict) when the switch is not seen within this"),
+    NUMBER("carriage.home_debounce_ms", rig.carriage.home_debounce_ms, "ms", 1, 0, 1000, 5,
+           "the home switch must read the same for this long"),
+    REQUIRED_NUMBER("carriage.home_offset_mm", rig.carriage.home_offset_mm, "mm", 1, -1e5, 1e5,
+                    "height of the home switch's position in scan coordinates (y of the antenna reference "
+                    "point when the carriage is home), measured at installation"),
+    NUMBER_ABOVE("carriage.home_rate_hz", rig.carriage.home_rate_hz, "Hz", 1, 0, 1e5, 1500,
+                 "step rate while seeking the home switch (the final approach runs at a quarter of it); "
+                 "at most max_rate_hz"),
+    NUMBER_ABOVE("carriage.home_backoff_mm", rig.carriage.home_backoff_mm, "mm", 1, 0, 1e5, 5,
+                 "after homing the carriage backs off this far; a switch still closed then is stuck"),
+
+    REQUIRED_INTEGER("scan.positions", rig.positions, 2, UWBSCAN_MAX_POSITIONS,
+                     "antenna positions per scan (K)"),
+    REQUIRED_NUMBER("scan.first_position_mm", rig.first_position_mm, "mm", 1, -1e5, 1e5,
+                    "height of position 0 in scan coordinates"),
+    REQUIRED_NUMBER_ABOVE("scan.step_mm", rig.step_mm, "mm", 1, 0, 1e4, "spacing between positions"),
+    NUMBER_ABOVE("scan.trigger_pulse_us", rig.trigger_pulse_us, "us", 1, 0, 1e6, 10,
+                 "how long the trigger line is held high"),
+    NUMBER("scan.time_scale", rig.time_scale, "", 1, 0, 100, 1,
+           "multiplies every wait of a scan (step timing, settle, debounce, trigger pulse): 1 on real "
+           "hardware; below 1 runs scans of the emulated board faster, 0 = no waiting"),
+
+    REQUIRED_PAIR("geometry.tx_mm", rig.tx_m, "mm", 1e-3, -1e4, 1e4,
+                  "transmit antenna phase centre [dy, dz] from the carriage's reference point"),
+    REQUIRED_PAIR("geometry.rx_mm", rig.rx_m, "mm", 1e-3, -1e4, 1e4,
+                  "receive antenna phase centre [dy, dz] from the carriage's reference point"),
+    REQUIRED_NUMBER("geometry.eps_r", rig.eps_r, "", 1, 1, 100,
+                    "relative permittivity between antennas and winding (transformer oil about 2.2)"),
+    OPTIONAL_PAIR("geometry.target_z_mm", rig.target_z_m, rig.has_target_z, "mm", 1e-3, 0, 1e5,
+                  "[near, far] range where the drawings put the winding's face; it is searched only "
+                  "there. Absent: searched from 150 to 1600 mm"),
+
+    NUMBER_ABOVE("analysis.watch_mm", evaluate.compare.thresholds.watch_m, "mm", 1e-3, 0, 1000, 2,
+                 "a displacement (up or down) from this size on gives the status watch"),
+    NUMBER_ABOVE("analysis.alarm_mm", evaluate.compare.thresholds.alarm_m, "mm", 1e-3, 0, 1000, 5,
+                 "a displacement (up or down) from this size on gives the status alarm (not below watch_mm)"),
+    NUMBER_ABOVE("analysis.max_uncertainty_mm", evaluate.compare.max_uncertainty_m, "mm", 1e-3, 0, 1000, 1,
+                 "above this 1-sigma uncertainty of the displacement the verdict is inconclusive"),
+    { .path = "analysis.migration", .type = KEY_MIGRATION, .offset = AT(evaluate.analysis.migration),
+      .scale = 1, .default_text = "fixed", .unit = "",
+      .doc = "migration arithmetic: fixed (int16 samples, Q15 weights) or float" },
+    NUMBER("analysis.time_zero_offset_ps", evaluate.analysis.time_zero_offset_s, "ps", 1e-12, -1e6, 1e6, 0,
+           "calibration added to each scan's t0"),
+    NUMBER_ABOVE("analysis.edge_fraction", evaluate.analysis.edge_fraction, "", 1, 0.05, 0.95, 0.5,
+                 "an edge is where the face profile crosses this fraction of its peak"),
+
+    NUMBER("direct_coupling.window_end_ns", direct_coupling_window_end_s, "ns", 1e-9, -1e3, 1e3, 2,
+           "the direct Tx-to-Rx arrival is looked for from the first sample up to this time after "
+           "the pulse leaves the transmitter"),
+    NUMBER_ABOVE("direct_coupling.tolerance_ps", direct_coupling_tolerance_s, "ps", 1e-12, 0, 1e6, 20,
+                 "a scan whose direct-coupling arrival moved more than this from the baseline's is "
+                 "inconclusive (cable or antenna changed?) instead of compared"),
+};
+
+const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];

@@ -1,0 +1,417 @@
+/* The daemon's main loop and its life: start-up checks in the order an
+ * installer fixes them (config, user, state directory, control socket,
+ * hardware), then poll() until SIGTERM/SIGINT, then a safe shutdown. */
+#include "uwb/daemon/daemon.h"
+
+#include <errno.h>
+#include <poll.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/eventfd.h>
+#include <sys/signalfd.h>
+#include <sys/timerfd.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
+#include "daemon_internal.h"
+#include "uwb/daemon/exit_codes.h"
+#include "uwb/daemon/log.h"
+#include "uwb/daemon/verdict_log.h"
+
+static struct timespec monotonic_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t;
+}
+
+static struct timespec add_seconds(struct timespec t, double s)
+{
+    long whole = (long)s;
+    t.tv_sec += whole;
+    t.tv_nsec += (long)((s - (double)whole) * 1e9);
+    if (t.tv_nsec >= 1000000000L) {
+        t.tv_sec++;
+        t.tv_nsec -= 1000000000L;
+    }
+    return t;
+}
+
+static void schedule_off(struct daemon *d)
+{
+    struct itimerspec off = {0};
+    timerfd_settime(d->schedule_fd, 0, &off, NULL);
+    d->has_next_scan = 0;
+}
+
+static void arm_at(struct daemon *d, struct timespec when)
+{
+    if (when.tv_sec == 0 && when.tv_nsec == 0)
+        when.tv_nsec = 1;   /* an all-zero time would disarm the timer */
+    d->next_scan = when;
+    struct itimerspec its = {.it_value = when};
+    timerfd_settime(d->schedule_fd, TFD_TIMER_ABSTIME, &its, NULL);
+    d->has_next_scan = 1;
+}
+
+/* The next scheduled scan one interval after `from` (a past time fires at once). */
+void schedule_arm(struct daemon *d, const struct timespec *from)
+{
+    if (d->cfg.interval_s <= 0)
+        schedule_off(d);
+    else
+        arm_at(d, add_seconds(*from, d->cfg.interval_s));
+}
+
+void scan_now(struct daemon *d)
+{
+    if (d->scanning) {
+        d->scan_queued = 1;
+        return;
+    }
+    schedule_off(d);
+    d->last_cycle_start = monotonic_now();
+    if (worker_start(d) != 0) {
+        peers_send_verdict(d, d->cycles_started + 1, NULL, "cannot start a scan (see the daemon's log)");
+        schedule_arm(d, &d->last_cycle_start);
+    }
+}
+
+/* After a restart the schedule carries on from the latest verdict's time. */
+static void schedule_first(struct daemon *d)
+{
+    if (d->cfg.interval_s <= 0) {
+        schedule_off(d);
+        return;
+    }
+    double wait = d->cfg.interval_s;
+    cJSON *latest = d->latest_verdict ? cJSON_Parse(d->latest_verdict) : NULL;
+    const cJSON *created = cJSON_GetObjectItemCaseSensitive(latest, "created");
+    struct tm tm = {0};
+    if (cJSON_IsString(created) && sscanf(created->valuestring, "%d-%d-%dT%d:%d:%dZ", &tm.tm_year, &tm.tm_mon,
+                                          &tm.tm_mday, &tm.tm_hour, &tm.tm_min, &tm.tm_sec) == 6) {
+        tm.tm_year -= 1900;
+        tm.tm_mon -= 1;
+        double elapsed = difftime(time(NULL), timegm(&tm));
+        if (elapsed >= 0)   /* a clock set back says nothing about the schedule */
+            wait = elapsed >= wait ? 0 : wait - elapsed;
+    }
+    cJSON_Delete(latest);
+    arm_at(d, add_seconds(monotonic_now(), wait));
+    if (wait < d->cfg.interval_s)
+        uwbd_log(UWBD_LOG_INFO, "next scheduled scan in %.0f s (the schedule carries on from the latest verdict)",
+                 wait);
+}
+
+static void load_baseline_info(struct daemon *d)
+{
+    char err[512];
+    int repaired = 0;
+    int rc = uwbd_baseline_load(&d->store, d->cfg.direct_coupling_window_end_s, NULL, &d->baseline, &repaired, err,
+                                sizeof err);
+    d->has_baseline = rc == UWBD_BASELINE_LOADED;
+    if (rc == UWBD_BASELINE_ERROR)
+        uwbd_log(UWBD_LOG_ERR, "baseline: %s", err);
+    else if (rc == UWBD_BASELINE_NONE)
+        uwbd_log(UWBD_LOG_NOTICE, "no baseline yet: send `baseline set`, then `scan`, to commission");
+    if (repaired)
+        uwbd_log(UWBD_LOG_WARNING, "baseline/current.json did not describe current.uwbscan; rebuilt it from the scan");
+}
+
+static void set_rig_source(struct uwbd_config *cfg)
+{
+    char host[64] = "";
+    gethostname(host, sizeof host - 1);
+    snprintf(cfg->rig.source, sizeof cfg->rig.source, "uwbd %s%s%s", UWBD_VERSION, host[0] ? " on " : "", host);
+}
+
+static void reload(struct daemon *d)
+{
+    d->reload_pending = 0;
+    struct uwbd_config next;
+    char err[1024];
+    if (uwbd_config_load(d->options->config_path, d->options->overrides, d->options->n_overrides, &next, err,
+                         sizeof err) != 0) {
+        uwbd_log(UWBD_LOG_ERR, "reload refused, the running configuration stays: %s", err);
+        return;
+    }
+    set_rig_source(&next);
+    /* These are fixed at start: the sandbox and the socket's owner depend on them. */
+    if (strcmp(next.state_dir, d->cfg.state_dir) != 0 || strcmp(next.control_socket, d->cfg.control_socket) != 0 ||
+        next.control_mode != d->cfg.control_mode || strcmp(next.control_group, d->cfg.control_group) != 0 ||
+        next.allow_root != d->cfg.allow_root)
+        uwbd_log(UWBD_LOG_WARNING, "reload: state_dir, control.* and allow_root change only with a restart");
+    snprintf(next.state_dir, sizeof next.state_dir, "%s", d->cfg.state_dir);
+    snprintf(next.control_socket, sizeof next.control_socket, "%s", d->cfg.control_socket);
+    snprintf(next.control_mode_text, sizeof next.control_mode_text, "%s", d->cfg.control_mode_text);
+    snprintf(next.control_group, sizeof next.control_group, "%s", d->cfg.control_group);
+    next.control_mode = d->cfg.control_mode;
+    next.allow_root = d->cfg.allow_root;
+
+    int rig_changed = memcmp(&next.rig, &d->cfg.rig, sizeof next.rig) != 0;
+    int console_changed = strcmp(next.console_endpoint, d->cfg.console_endpoint) != 0;
+    d->cfg = next;
+    if (rig_changed) {
+        if (d->rig)
+            uwb_rig_close(d->rig);
+        d->rig = NULL;
+        int detail = 0;
+        if (rig_open_logged(d, &detail, err, sizeof err) != UWB_RIG_OK)
+            uwbd_log(UWBD_LOG_ERR, "reload: rig: %s (tried again at the next scan)", err);
+    }
+    if (console_changed) {
+        peer_close(&d->console);
+        struct itimerspec off = {0};
+        timerfd_settime(d->console_retry_fd, 0, &off, NULL);
+        console_open(d);
+    }
+    schedule_arm(d, &d->last_cycle_start);
+    uwbd_log(UWBD_LOG_NOTICE, "configuration reloaded from %s%s%s", d->options->config_path,
+             rig_changed ? " (rig reopened)" : "", console_changed ? " (console reopened)" : "");
+}
+
+static void handle_signals(struct daemon *d)
+{
+    struct signalfd_siginfo si;
+    while (read(d->signal_fd, &si, sizeof si) == sizeof si) {
+        if (si.ssi_signo == SIGHUP) {
+            d->reload_pending = 1;
+            if (!d->scanning)
+                reload(d);
+            else
+                uwbd_log(UWBD_LOG_INFO, "SIGHUP: the configuration is reloaded when the running scan ends");
+            continue;
+        }
+        if (d->stopping)
+            continue;
+        d->stopping = 1;
+        if (d->scanning) {
+            uwbd_log(UWBD_LOG_NOTICE, "%s: stopping the running scan safely, then exiting",
+                     si.ssi_signo == SIGTERM ? "SIGTERM" : "SIGINT");
+            worker_request_stop(d);
+        } else {
+            uwbd_log(UWBD_LOG_NOTICE, "%s: exiting", si.ssi_signo == SIGTERM ? "SIGTERM" : "SIGINT");
+        }
+    }
+}
+
+static void cycle_finished(struct daemon *d)
+{
+    worker_collect(d);
+    if (d->scanning)
+        return;
+    if (d->reload_pending)
+        reload(d);
+    if (d->stopping) {
+        peers_send_verdict(d, d->cycles_started + 1, NULL, "the daemon is stopping; the queued scan will not run");
+        return;
+    }
+    if (d->scan_queued) {
+        d->scan_queued = 0;
+        scan_now(d);
+    } else {
+        schedule_arm(d, &d->last_cycle_start);
+    }
+}
+
+static void drain(int fd)
+{
+    uint64_t count;
+    if (read(fd, &count, sizeof count) < 0) {
+        /* nothing to do: the timer will fire again */
+    }
+}
+
+enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
+
+static void loop(struct daemon *d)
+{
+    struct pollfd fds[SLOT_CLIENTS + MAX_CLIENTS];
+    struct peer *owner[SLOT_CLIENTS + MAX_CLIENTS];
+    while (!(d->stopping && !d->scanning)) {
+        fds[SLOT_SIGNAL] = (struct pollfd){.fd = d->signal_fd, .events = POLLIN};
+        fds[SLOT_SCHEDULE] = (struct pollfd){.fd = d->schedule_fd, .events = POLLIN};
+        fds[SLOT_DONE] = (struct pollfd){.fd = d->done_fd, .events = POLLIN};
+        fds[SLOT_CONSOLE_RETRY] = (struct pollfd){.fd = d->console_retry_fd, .events = POLLIN};
+        /* A negative fd is skipped by poll(). */
+        fds[SLOT_CONTROL] = (struct pollfd){.fd = d->stopping ? -1 : d->control.fd, .events = POLLIN};
+        fds[SLOT_CONSOLE] = (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1,
+                                            .events = POLLIN};
+        owner[SLOT_CONSOLE] = &d->console;
+        nfds_t n = SLOT_CLIENTS;
+        for (int i = 0; i < MAX_CLIENTS; i++) {
+            if (!d->clients[i].in_use)
+                continue;
+            owner[n] = &d->clients[i];
+            fds[n++] = (struct pollfd){.fd = d->clients[i].fd, .events = POLLIN};
+        }
+        if (poll(fds, n, -1) < 0) {
+            if (errno == EINTR)
+                continue;
+            uwbd_log(UWBD_LOG_ERR, "poll: %s; stopping", strerror(errno));
+            d->stopping = 1;
+            worker_request_stop(d);
+            continue;
+        }
+        if (fds[SLOT_SIGNAL].revents)
+            handle_signals(d);
+        if (fds[SLOT_DONE].revents)
+            cycle_finished(d);
+        if (fds[SLOT_SCHEDULE].revents) {
+            drain(d->schedule_fd);
+            d->has_next_scan = 0;
+            if (!d->stopping && !d->scanning) {
+                uwbd_log(UWBD_LOG_INFO, "scheduled scan");
+                scan_now(d);
+            }
+        }
+        if (fds[SLOT_CONSOLE_RETRY].revents) {
+            drain(d->console_retry_fd);
+            console_open(d);
+        }
+        if (fds[SLOT_CONTROL].revents)
+            peer_accept(d);
+        for (nfds_t i = SLOT_CONSOLE; i < n; i++)
+            if (fds[i].revents && owner[i]->in_use)
+                peer_readable(d, owner[i]);
+    }
+}
+
+static int setup_event_fds(struct daemon *d, char *err, size_t errlen)
+{
+    sigset_t mask;
+    sigemptyset(&mask);
+    sigaddset(&mask, SIGTERM);
+    sigaddset(&mask, SIGINT);
+    sigaddset(&mask, SIGHUP);
+    sigaddset(&mask, SIGUSR1);   /* only the scan thread takes it */
+    /* Blocked before any thread exists, so every thread inherits the mask. */
+    if (pthread_sigmask(SIG_BLOCK, &mask, NULL) != 0) {
+        snprintf(err, errlen, "cannot block signals");
+        return -1;
+    }
+    sigdelset(&mask, SIGUSR1);
+    worker_install_stop_handler();
+    signal(SIGPIPE, SIG_IGN);
+    d->signal_fd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
+    d->schedule_fd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
+    d->console_retry_fd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
+    d->done_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+    if (d->signal_fd < 0 || d->schedule_fd < 0 || d->console_retry_fd < 0 || d->done_fd < 0) {
+        snprintf(err, errlen, "signalfd/timerfd/eventfd: %s", strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+static void close_fd(int *fd)
+{
+    if (*fd >= 0)
+        close(*fd);
+    *fd = -1;
+}
+
+static void teardown(struct daemon *d)
+{
+    if (d->rig) {
+        uwb_rig_close(d->rig);   /* outputs low: pulser idle, motor disabled */
+        d->rig = NULL;
+    }
+    for (int i = 0; i < MAX_CLIENTS; i++)
+        if (d->clients[i].in_use)
+            peer_close(&d->clients[i]);
+    if (d->console.in_use)
+        peer_close(&d->console);
+    uwbd_control_close(&d->control);
+    close_fd(&d->signal_fd);
+    close_fd(&d->schedule_fd);
+    close_fd(&d->console_retry_fd);
+    close_fd(&d->done_fd);
+    close_fd(&d->lock_fd);
+    free(d->latest_verdict);
+    d->latest_verdict = NULL;
+}
+
+static int start(struct daemon *d)
+{
+    char err[1024];
+    if (uwbd_config_load(d->options->config_path, d->options->overrides, d->options->n_overrides, &d->cfg, err,
+                         sizeof err) != 0) {
+        uwbd_log(UWBD_LOG_ERR, "%s", err);
+        return UWBD_EXIT_CONFIG;
+    }
+    set_rig_source(&d->cfg);
+    if (geteuid() == 0 && !d->cfg.allow_root) {
+        uwbd_log(UWBD_LOG_ERR, "refusing to run as root: run as the uwbd user (see board/uwbd.service), "
+                               "or set allow_root / pass --allow-root");
+        return UWBD_EXIT_NO_PERM;
+    }
+    d->lock_fd = uwbd_store_lock(d->cfg.state_dir, err, sizeof err);
+    if (d->lock_fd < 0) {
+        uwbd_log(UWBD_LOG_ERR, "state directory: %s", err);
+        return UWBD_EXIT_CANT_CREATE;
+    }
+    int repairs = 0;
+    if (uwbd_store_open(&d->store, d->cfg.state_dir, &repairs, err, sizeof err) != 0) {
+        uwbd_log(UWBD_LOG_ERR, "state directory: %s", err);
+        return UWBD_EXIT_CANT_CREATE;
+    }
+    if (repairs)
+        uwbd_log(UWBD_LOG_WARNING, "state directory: removed %d leftover(s) of an interrupted write", repairs);
+    if (setup_event_fds(d, err, sizeof err) != 0) {
+        uwbd_log(UWBD_LOG_ERR, "%s", err);
+        return UWBD_EXIT_OS;
+    }
+    /* The socket before the hardware: a second uwbd stops here, before it touches a line. */
+    int rc = uwbd_control_listen(&d->control, d->cfg.control_socket, d->cfg.control_mode, d->cfg.control_group, err,
+                                 sizeof err);
+    if (rc != UWBD_CONTROL_OK) {
+        uwbd_log(UWBD_LOG_ERR, "%s", err);
+        return rc == UWBD_CONTROL_ERR_CONFIG ? UWBD_EXIT_CONFIG : UWBD_EXIT_CANT_CREATE;
+    }
+    int detail = 0;
+    rc = rig_open_logged(d, &detail, err, sizeof err);
+    if (rc != UWB_RIG_OK) {
+        int code = uwbd_exit_for_rig_open(rc, detail);
+        uwbd_log(UWBD_LOG_ERR, "%s (exit %d)", err, code);
+        return code;
+    }
+    load_baseline_info(d);
+    if (uwbd_latest_read(&d->store, &d->latest_verdict, err, sizeof err) != 0)
+        uwbd_log(UWBD_LOG_WARNING, "%s; it is replaced at the next scan", err);
+    console_open(d);
+    schedule_first(d);
+    if (d->cfg.interval_s > 0)
+        uwbd_log(UWBD_LOG_NOTICE, "uwbd %s running: state %s, control %s, a scan every %.0f s", UWBD_VERSION,
+                 d->store.root, d->control.path, d->cfg.interval_s);
+    else
+        uwbd_log(UWBD_LOG_NOTICE, "uwbd %s running: state %s, control %s, scans on request only", UWBD_VERSION,
+                 d->store.root, d->control.path);
+    return UWBD_EXIT_OK;
+}
+
+int uwbd_daemon_run(const struct uwbd_options *opt)
+{
+    static struct daemon d;   /* one per process; large */
+    memset(&d, 0, sizeof d);
+    d.options = opt;
+    d.started = time(NULL);
+    d.lock_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = -1;
+    d.control.fd = -1;
+    peers_init(&d);
+    d.last_cycle_start = monotonic_now();
+    uwbd_log_setup(opt->log_level, opt->use_syslog);
+    int rc = start(&d);
+    if (rc == UWBD_EXIT_OK)
+        loop(&d);
+    teardown(&d);
+    if (rc == UWBD_EXIT_OK)
+        uwbd_log(UWBD_LOG_NOTICE, "stopped; hardware left safe");
+    return rc;
+}

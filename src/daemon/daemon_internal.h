@@ -1,0 +1,99 @@
+/* The daemon's state, shared by the loop (daemon.c), the command peers
+ * (peers.c) and the scan worker (worker.c). Everything here belongs to the
+ * main thread, except what the comments give to the worker while a scan
+ * runs; pthread_create and pthread_join hand it over and back. */
+#ifndef UWB_DAEMON_INTERNAL_H
+#define UWB_DAEMON_INTERNAL_H
+
+#include <pthread.h>
+#include <signal.h>
+#include <time.h>
+
+#include "uwb/daemon/baseline_store.h"
+#include "uwb/daemon/config.h"
+#include "uwb/daemon/control_socket.h"
+#include "uwb/daemon/daemon.h"
+#include "uwb/daemon/line_buffer.h"
+#include "uwb/daemon/scan_cycle.h"
+#include "uwb/daemon/store.h"
+#include "uwb/link.h"
+#include "uwb/rig.h"
+
+#define MAX_CLIENTS 16
+/* A reply that cannot be sent within this is dropped with its client. */
+#define SEND_TIMEOUT_MS 2000
+#define CONSOLE_RETRY_S 5
+
+enum peer_kind { PEER_CONTROL, PEER_CONSOLE };
+
+struct peer {
+    enum peer_kind kind;
+    int in_use;
+    int fd;                        /* control client socket */
+    struct uwb_link *link;         /* console */
+    struct uwbd_line_buffer lines;
+    unsigned long waiting_for;     /* cycle whose verdict this peer asked for; 0 = none */
+};
+
+struct scan_job {
+    pthread_t thread;
+    unsigned long cycle;
+    unsigned long baseline_request;  /* the `baseline set` this job carries, 0 = none */
+    struct uwbd_cycle_request request;
+    struct uwbd_cycle_result result;
+};
+
+struct daemon {
+    const struct uwbd_options *options;
+    struct uwbd_config cfg;          /* read by the worker while a scan runs: not changed then */
+    struct uwbd_store store;
+    struct uwb_rig *rig;             /* the worker's while a scan runs */
+    char rig_state[512];             /* the worker's while a scan runs */
+    time_t started;
+
+    int lock_fd;                     /* the state directory's lock, held until exit */
+    int signal_fd, schedule_fd, done_fd, console_retry_fd;
+    struct uwbd_control_socket control;
+    struct peer clients[MAX_CLIENTS];
+    struct peer console;
+
+    int scanning;                    /* a worker thread exists */
+    struct scan_job job;
+    unsigned long cycles_started;
+    int scans_this_run;
+    int scan_queued;                 /* a `scan` came while one was running */
+    unsigned long baseline_requests; /* `baseline set` commands so far */
+    unsigned long baseline_done;     /* the request the baseline last satisfied */
+    int stopping;
+    int reload_pending;
+    int has_next_scan;
+    struct timespec next_scan;       /* CLOCK_MONOTONIC */
+    struct timespec last_cycle_start;/* CLOCK_MONOTONIC; the schedule counts from it */
+    int console_failing;             /* log a console outage once, not every retry */
+
+    char *latest_verdict;            /* VERDICT line or NULL */
+    int has_baseline;
+    struct uwbd_baseline_info baseline;
+};
+
+/* worker.c */
+int worker_start(struct daemon *d);            /* 0, or -1 (logged) */
+void worker_request_stop(struct daemon *d);
+void worker_collect(struct daemon *d);         /* after done_fd fired */
+void worker_install_stop_handler(void);
+int rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen);
+
+/* peers.c */
+void peers_init(struct daemon *d);
+void peer_accept(struct daemon *d);
+void peer_readable(struct daemon *d, struct peer *p);
+void peer_close(struct peer *p);
+/* The verdict line to the peers waiting for `cycle`, or ERROR with `error` when line is NULL. */
+void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error);
+void console_open(struct daemon *d);
+
+/* daemon.c */
+void schedule_arm(struct daemon *d, const struct timespec *from);
+void scan_now(struct daemon *d);               /* start a cycle, or queue one */
+
+#endif

@@ -1,0 +1,305 @@
+/* Who talks to the daemon: control-socket clients and the serial console.
+ * Both send command lines and get one JSON line per reply; a `scan` reply
+ * is sent when that scan's verdict exists. */
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/timerfd.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "daemon_internal.h"
+#include "uwb/daemon/command.h"
+#include "uwb/daemon/log.h"
+#include "uwb/daemon/reply.h"
+#include "uwb/daemon/verdict_log.h"
+
+void peers_init(struct daemon *d)
+{
+    for (int i = 0; i < MAX_CLIENTS; i++) {
+        memset(&d->clients[i], 0, sizeof d->clients[i]);
+        d->clients[i].kind = PEER_CONTROL;
+        d->clients[i].fd = -1;
+    }
+    memset(&d->console, 0, sizeof d->console);
+    d->console.kind = PEER_CONSOLE;
+    d->console.fd = -1;
+}
+
+void peer_close(struct peer *p)
+{
+    if (p->kind == PEER_CONTROL && p->fd >= 0)
+        close(p->fd);
+    if (p->kind == PEER_CONSOLE && p->link)
+        uwb_link_close(p->link);
+    p->fd = -1;
+    p->link = NULL;
+    p->in_use = 0;
+    p->waiting_for = 0;
+    memset(&p->lines, 0, sizeof p->lines);
+}
+
+/* Whole line or nothing; a client too slow to take it is dropped. */
+static int send_all(int fd, const char *buf, size_t len)
+{
+    size_t sent = 0;
+    while (sent < len) {
+        ssize_t w = send(fd, buf + sent, len - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (w > 0) {
+            sent += (size_t)w;
+            continue;
+        }
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+            struct pollfd pfd = {.fd = fd, .events = POLLOUT};
+            if (poll(&pfd, 1, SEND_TIMEOUT_MS) > 0)
+                continue;
+        }
+        return -1;
+    }
+    return 0;
+}
+
+static void console_lost(struct daemon *d, const char *why);
+
+static void send_line(struct daemon *d, struct peer *p, const char *line)
+{
+    if (!line) {
+        uwbd_log(UWBD_LOG_ERR, "out of memory building a reply");
+        return;
+    }
+    size_t n = strlen(line);
+    char *text = malloc(n + 1);
+    if (!text) {
+        uwbd_log(UWBD_LOG_ERR, "out of memory sending a reply");
+        return;
+    }
+    memcpy(text, line, n);
+    text[n] = '\n';
+    if (p->kind == PEER_CONTROL) {
+        if (send_all(p->fd, text, n + 1) != 0) {
+            uwbd_log(UWBD_LOG_INFO, "control client gone or too slow; closed");
+            peer_close(p);
+        }
+    } else {
+        /* A serial line may be slow: allow a millisecond a byte (9600 baud) on top. */
+        int timeout_ms = SEND_TIMEOUT_MS + (int)(n < 600000 ? n : 600000);
+        char err[256];
+        if (uwb_link_write_all(p->link, text, n + 1, timeout_ms, err, sizeof err) != UWB_LINK_OK)
+            console_lost(d, err);
+    }
+    free(text);
+}
+
+/* Send and free a reply built by reply.c. */
+static void reply(struct daemon *d, struct peer *p, char *line)
+{
+    send_line(d, p, line);
+    free(line);
+}
+
+static long seconds_until(const struct timespec *t)
+{
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    long s = (long)(t->tv_sec - now.tv_sec) + (t->tv_nsec >= now.tv_nsec ? 0 : -1);
+    return s < 0 ? 0 : s;
+}
+
+static char *status_reply(struct daemon *d)
+{
+    struct uwbd_status st = {
+        .version = UWBD_VERSION,
+        .state = d->stopping ? "stopping" : d->scanning ? "scanning" : "idle",
+        .uptime_s = (long)(time(NULL) - d->started),
+        .interval_s = d->cfg.interval_s,
+        .has_next_scan = d->has_next_scan && !d->scanning,
+        .next_scan_in_s = d->has_next_scan ? seconds_until(&d->next_scan) : 0,
+        .scans_this_run = d->scans_this_run,
+        .scan_queued = d->scan_queued,
+        .baseline_pending = d->baseline_requests > d->baseline_done,
+        .has_baseline = d->has_baseline,
+        .baseline = d->baseline,
+        .latest_verdict = d->latest_verdict,
+        .state_dir = d->store.root,
+        /* The rig belongs to the scan thread while it runs. */
+        .rig = d->scanning ? "scanning" : d->rig_state,
+        .console = d->cfg.console_endpoint[0] ? d->cfg.console_endpoint : NULL,
+    };
+    return uwbd_reply_status(&st);
+}
+
+static void run_command(struct daemon *d, struct peer *p, const struct uwb_command *cmd)
+{
+    switch (cmd->kind) {
+    case UWB_COMMAND_STATUS:
+        reply(d, p, status_reply(d));
+        return;
+    case UWB_COMMAND_HELP:
+        reply(d, p, uwbd_reply_help());
+        return;
+    case UWB_COMMAND_VERDICT:
+        if (d->latest_verdict)
+            send_line(d, p, d->latest_verdict);
+        else
+            reply(d, p, uwbd_reply_error("no verdict yet: no scan has been recorded"));
+        return;
+    case UWB_COMMAND_HISTORY: {
+        char **lines = NULL, err[512];
+        int count = 0, skipped = 0;
+        if (uwbd_verdict_log_tail(&d->store, cmd->count, &lines, &count, &skipped, err, sizeof err) != 0) {
+            uwbd_log(UWBD_LOG_ERR, "history: %s", err);
+            reply(d, p, uwbd_reply_error(err));
+            return;
+        }
+        reply(d, p, uwbd_reply_history(lines, count, cmd->count, skipped));
+        uwbd_verdict_lines_free(lines, count);
+        return;
+    }
+    case UWB_COMMAND_BASELINE_SET:
+        d->baseline_requests++;
+        uwbd_log(UWBD_LOG_NOTICE, "baseline set requested: the next good scan becomes the baseline");
+        reply(d, p, uwbd_reply_baseline(1, d->has_baseline, &d->baseline));
+        return;
+    case UWB_COMMAND_SCAN:
+        if (d->stopping) {
+            reply(d, p, uwbd_reply_error("the daemon is stopping; no new scan"));
+            return;
+        }
+        /* The peer waits for the cycle that starts now, or the one queued after the running one. */
+        p->waiting_for = d->cycles_started + 1;
+        scan_now(d);
+        return;
+    }
+}
+
+static void handle_line(struct daemon *d, struct peer *p, const char *line, size_t len)
+{
+    struct uwb_command cmd;
+    char err[160];
+    int rc = uwb_command_parse(line, len, &cmd, err, sizeof err);
+    if (rc == UWB_COMMAND_EMPTY)
+        return;
+    if (rc != UWB_COMMAND_OK) {
+        uwbd_log(UWBD_LOG_INFO, "%s: refused a command: %s", p->kind == PEER_CONSOLE ? "console" : "control", err);
+        reply(d, p, uwbd_reply_error(err));
+        return;
+    }
+    uwbd_log(UWBD_LOG_DEBUG, "%s: %s", p->kind == PEER_CONSOLE ? "console" : "control", uwb_command_name(cmd.kind));
+    run_command(d, p, &cmd);
+}
+
+static void feed(struct daemon *d, struct peer *p, const char *buf, size_t n)
+{
+    size_t used = 0;
+    const char *line;
+    size_t len;
+    int ev;
+    while (p->in_use && (ev = uwbd_line_buffer_feed(&p->lines, buf, n, &used, &line, &len)) != UWBD_LINE_NONE) {
+        if (ev == UWBD_LINE_TOO_LONG) {
+            char msg[96];
+            snprintf(msg, sizeof msg, "command line too long (at most %d bytes); ignored", UWB_COMMAND_MAX_LINE);
+            reply(d, p, uwbd_reply_error(msg));
+        } else {
+            handle_line(d, p, line, len);
+        }
+    }
+}
+
+void peer_accept(struct daemon *d)
+{
+    int fd = accept(d->control.fd, NULL, NULL);
+    if (fd < 0) {
+        if (errno != EAGAIN && errno != EINTR)
+            uwbd_log(UWBD_LOG_WARNING, "control socket: accept: %s", strerror(errno));
+        return;
+    }
+    /* accept4 would do this in one call, but it is a GNU extension. */
+    if (fcntl(fd, F_SETFD, FD_CLOEXEC) != 0 || fcntl(fd, F_SETFL, O_NONBLOCK) != 0) {
+        close(fd);
+        return;
+    }
+    for (int i = 0; i < MAX_CLIENTS; i++) {
+        struct peer *p = &d->clients[i];
+        if (p->in_use)
+            continue;
+        peer_close(p);
+        p->in_use = 1;
+        p->fd = fd;
+        return;
+    }
+    struct peer turned_away = {.kind = PEER_CONTROL, .in_use = 1, .fd = fd};
+    reply(d, &turned_away, uwbd_reply_error("too many control clients; try again later"));
+    peer_close(&turned_away);
+}
+
+static void console_lost(struct daemon *d, const char *why)
+{
+    uwbd_log(d->console_failing ? UWBD_LOG_DEBUG : UWBD_LOG_WARNING, "console %s: %s; retrying every %d s",
+             d->cfg.console_endpoint, why, CONSOLE_RETRY_S);
+    d->console_failing = 1;
+    peer_close(&d->console);
+    struct itimerspec its = {.it_value = {.tv_sec = CONSOLE_RETRY_S}, .it_interval = {.tv_sec = CONSOLE_RETRY_S}};
+    timerfd_settime(d->console_retry_fd, 0, &its, NULL);
+}
+
+void console_open(struct daemon *d)
+{
+    if (!d->cfg.console_endpoint[0] || d->console.in_use)
+        return;
+    char err[512];
+    struct uwb_link *link;
+    if (uwb_link_open(d->cfg.console_endpoint, &link, err, sizeof err) != UWB_LINK_OK) {
+        console_lost(d, err);
+        return;
+    }
+    struct itimerspec off = {0};
+    timerfd_settime(d->console_retry_fd, 0, &off, NULL);
+    d->console.in_use = 1;
+    d->console.link = link;
+    d->console_failing = 0;
+    uwbd_log(UWBD_LOG_INFO, "console on %s", d->cfg.console_endpoint);
+}
+
+void peer_readable(struct daemon *d, struct peer *p)
+{
+    char buf[512];
+    if (p->kind == PEER_CONTROL) {
+        ssize_t r = recv(p->fd, buf, sizeof buf, MSG_DONTWAIT);
+        if (r > 0)
+            feed(d, p, buf, (size_t)r);
+        else if (r == 0 || (errno != EAGAIN && errno != EINTR))
+            peer_close(p);
+        return;
+    }
+    char err[256];
+    ssize_t r = uwb_link_read(p->link, buf, sizeof buf, 0, err, sizeof err);
+    if (r > 0)
+        feed(d, p, buf, (size_t)r);
+    else if (r != UWB_LINK_ERR_TIMEOUT)
+        console_lost(d, err);
+}
+
+void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error)
+{
+    struct peer *all[MAX_CLIENTS + 1];
+    int n = 0;
+    for (int i = 0; i < MAX_CLIENTS; i++)
+        all[n++] = &d->clients[i];
+    all[n++] = &d->console;
+    for (int i = 0; i < n; i++) {
+        struct peer *p = all[i];
+        if (!p->in_use || p->waiting_for != cycle)
+            continue;
+        p->waiting_for = 0;
+        if (line)
+            send_line(d, p, line);
+        else
+            reply(d, p, uwbd_reply_error(error));
+    }
+}

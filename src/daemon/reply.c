@@ -1,0 +1,150 @@
+/* Building the JSON reply lines (see the header). */
+#include "uwb/daemon/reply.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "uwb/daemon/command.h"
+
+static char *finish(cJSON *o)
+{
+    if (!o)
+        return NULL;
+    char *text = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    return text;
+}
+
+static cJSON *start(const char *class_name)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (o)
+        cJSON_AddStringToObject(o, "class", class_name);
+    return o;
+}
+
+char *uwbd_reply_error(const char *message)
+{
+    cJSON *o = start("ERROR");
+    if (o)
+        cJSON_AddStringToObject(o, "message", message);
+    return finish(o);
+}
+
+char *uwbd_reply_help(void)
+{
+    cJSON *o = start("HELP");
+    if (!o)
+        return NULL;
+    cJSON_AddNumberToObject(o, "proto_major", UWBD_PROTOCOL_MAJOR);
+    cJSON_AddNumberToObject(o, "proto_minor", UWBD_PROTOCOL_MINOR);
+    cJSON *list = cJSON_AddArrayToObject(o, "commands");
+    for (size_t i = 0; list && i < uwb_command_help_count; i++) {
+        cJSON *c = cJSON_CreateObject();
+        if (!c)
+            break;
+        cJSON_AddStringToObject(c, "command", uwb_command_help[i].usage);
+        cJSON_AddStringToObject(c, "description", uwb_command_help[i].description);
+        cJSON_AddItemToArray(list, c);
+    }
+    return finish(o);
+}
+
+static void copy_member(cJSON *to, const cJSON *from, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(from, key);
+    if (v)
+        cJSON_AddItemToObject(to, key, cJSON_Duplicate(v, 1));
+}
+
+/* The fields of a verdict that tell its story in one line. */
+static cJSON *verdict_summary(const char *verdict_line)
+{
+    static const char *const keys[] = {"scan_id", "created", "status", "reason", "axial_displacement_mm",
+                                       "uncertainty_mm", "center_mm", "height_change_mm", "baseline_set"};
+    cJSON *v = cJSON_Parse(verdict_line);
+    if (!v)
+        return NULL;
+    cJSON *s = cJSON_CreateObject();
+    for (size_t i = 0; s && i < sizeof keys / sizeof keys[0]; i++)
+        copy_member(s, v, keys[i]);
+    cJSON_Delete(v);
+    return s;
+}
+
+static cJSON *baseline_object(const struct uwbd_baseline_info *b)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (!o)
+        return NULL;
+    cJSON_AddStringToObject(o, "scan_id", b->scan_id);
+    if (b->created[0])
+        cJSON_AddStringToObject(o, "created", b->created);
+    if (b->set_at[0])
+        cJSON_AddStringToObject(o, "set_at", b->set_at);
+    if (b->has_direct_coupling)
+        cJSON_AddNumberToObject(o, "direct_coupling_ps", round(b->direct_coupling_s * 1e13) / 10.0);
+    return o;
+}
+
+char *uwbd_reply_status(const struct uwbd_status *st)
+{
+    cJSON *o = start("STATUS");
+    if (!o)
+        return NULL;
+    cJSON_AddStringToObject(o, "version", st->version);
+    cJSON_AddNumberToObject(o, "proto_major", UWBD_PROTOCOL_MAJOR);
+    cJSON_AddNumberToObject(o, "proto_minor", UWBD_PROTOCOL_MINOR);
+    cJSON_AddStringToObject(o, "state", st->state);
+    cJSON_AddNumberToObject(o, "uptime_s", (double)st->uptime_s);
+    cJSON_AddNumberToObject(o, "interval_s", st->interval_s);
+    if (st->has_next_scan)
+        cJSON_AddNumberToObject(o, "next_scan_in_s", (double)st->next_scan_in_s);
+    cJSON_AddNumberToObject(o, "scans_this_run", st->scans_this_run);
+    cJSON_AddBoolToObject(o, "scan_queued", st->scan_queued);
+    cJSON_AddBoolToObject(o, "baseline_pending", st->baseline_pending);
+    if (st->has_baseline)
+        cJSON_AddItemToObject(o, "baseline", baseline_object(&st->baseline));
+    if (st->latest_verdict) {
+        cJSON *latest = verdict_summary(st->latest_verdict);
+        if (latest)
+            cJSON_AddItemToObject(o, "latest", latest);
+    }
+    cJSON_AddStringToObject(o, "state_dir", st->state_dir);
+    cJSON_AddStringToObject(o, "rig", st->rig);
+    if (st->console)
+        cJSON_AddStringToObject(o, "console", st->console);
+    return finish(o);
+}
+
+char *uwbd_reply_history(char *const *verdict_lines, int count, int requested, int skipped)
+{
+    cJSON *o = start("HISTORY");
+    if (!o)
+        return NULL;
+    cJSON_AddNumberToObject(o, "requested", requested);
+    cJSON_AddNumberToObject(o, "count", count);
+    if (skipped)
+        cJSON_AddNumberToObject(o, "unreadable_lines", skipped);
+    cJSON *list = cJSON_AddArrayToObject(o, "verdicts");
+    for (int i = 0; list && i < count; i++) {
+        cJSON *s = verdict_summary(verdict_lines[i]);
+        if (s)
+            cJSON_AddItemToArray(list, s);
+    }
+    return finish(o);
+}
+
+char *uwbd_reply_baseline(int pending, int has_current, const struct uwbd_baseline_info *current)
+{
+    cJSON *o = start("BASELINE");
+    if (!o)
+        return NULL;
+    cJSON_AddBoolToObject(o, "pending", pending);
+    cJSON_AddStringToObject(o, "message", pending ? "the next good scan becomes the baseline"
+                                                  : "no baseline change pending");
+    if (has_current)
+        cJSON_AddItemToObject(o, "current", baseline_object(current));
+    return finish(o);
+}

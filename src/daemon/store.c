@@ -1,0 +1,185 @@
+/* The state directory: creating its rooms, tidying what a crash left, and
+ * naming files inside it. */
+#include "uwb/daemon/store.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "uwb/daemon/verdict_log.h"
+
+int uwbd_path_join(char *out, size_t n, const char *dir, const char *name)
+{
+    int w = snprintf(out, n, "%s/%s", dir, name);
+    return w < 0 || (size_t)w >= n ? -1 : 0;
+}
+
+static int make_dir(const char *path, char *err, size_t errlen)
+{
+    if (mkdir(path, 0755) == 0 || errno == EEXIST) {
+        struct stat st;
+        if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+            return 0;
+        snprintf(err, errlen, "%s: exists but is not a directory", path);
+        return -1;
+    }
+    snprintf(err, errlen, "%s: cannot create directory: %s", path, strerror(errno));
+    return -1;
+}
+
+/* mkdir -p */
+static int make_dirs(const char *path, char *err, size_t errlen)
+{
+    char buf[UWBD_PATH_MAX];
+    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf) {
+        snprintf(err, errlen, "%.64s...: path too long", path);
+        return -1;
+    }
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (make_dir(buf, err, errlen) != 0)
+            return -1;
+        *p = '/';
+    }
+    return make_dir(buf, err, errlen);
+}
+
+/* atomic_file's temporaries are ".<name>.XXXXXX"; only a crash leaves one. */
+static int is_stale_temporary(const char *name)
+{
+    size_t n = strlen(name);
+    return name[0] == '.' && n > 8 && name[n - 7] == '.' && strcmp(name, "..") != 0;
+}
+
+static void remove_stale_temporaries(const char *dir, int depth, int *removed)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+            continue;
+        char path[UWBD_PATH_MAX + 256];
+        if (uwbd_path_join(path, sizeof path, dir, e->d_name) != 0)
+            continue;
+        struct stat st;
+        if (lstat(path, &st) != 0)
+            continue;
+        if (S_ISDIR(st.st_mode) && depth > 0)
+            remove_stale_temporaries(path, depth - 1, removed);
+        else if (S_ISREG(st.st_mode) && is_stale_temporary(e->d_name) && unlink(path) == 0)
+            ++*removed;
+    }
+    closedir(d);
+}
+
+int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repairs, char *err,
+                    size_t errlen)
+{
+    memset(store, 0, sizeof *store);
+    if (repairs)
+        *repairs = 0;
+    if (make_dirs(state_dir, err, errlen) != 0)
+        return -1;
+    char resolved[PATH_MAX];
+    if (!realpath(state_dir, resolved)) {
+        snprintf(err, errlen, "%s: cannot resolve: %s", state_dir, strerror(errno));
+        return -1;
+    }
+    if (snprintf(store->root, sizeof store->root, "%s", resolved) >= (int)sizeof store->root) {
+        snprintf(err, errlen, "%.64s...: state directory path too long", resolved);
+        return -1;
+    }
+    uwbd_path_join(store->archive, sizeof store->archive, store->root, "archive");
+    uwbd_path_join(store->baseline_dir, sizeof store->baseline_dir, store->root, "baseline");
+    uwbd_path_join(store->baseline_history, sizeof store->baseline_history, store->baseline_dir, "history");
+    uwbd_path_join(store->verdict_log, sizeof store->verdict_log, store->root, "verdicts.jsonl");
+    uwbd_path_join(store->latest, sizeof store->latest, store->root, "latest.json");
+    if (make_dir(store->archive, err, errlen) != 0 || make_dir(store->baseline_dir, err, errlen) != 0 ||
+        make_dir(store->baseline_history, err, errlen) != 0)
+        return -1;
+    /* The root itself must be writable: find out now rather than at the first scan. */
+    if (access(store->root, W_OK) != 0) {
+        snprintf(err, errlen, "%s: not writable: %s", store->root, strerror(errno));
+        return -1;
+    }
+    int removed = 0;
+    /* root, baseline/history (2 levels), archive/YYYY/MM/DD (4 levels) */
+    remove_stale_temporaries(store->root, 4, &removed);
+    long dropped = 0;
+    if (uwbd_verdict_log_repair(store, &dropped, err, errlen) != 0)
+        return -1;
+    if (repairs)
+        *repairs = removed + (dropped > 0);
+    return 0;
+}
+
+int uwbd_store_lock(const char *state_dir, char *err, size_t errlen)
+{
+    if (make_dirs(state_dir, err, errlen) != 0)
+        return -1;
+    char path[UWBD_PATH_MAX + 16];
+    if (uwbd_path_join(path, sizeof path, state_dir, "uwbd.lock") != 0) {
+        snprintf(err, errlen, "%.64s...: state directory path too long", state_dir);
+        return -1;
+    }
+    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        int e = errno;
+        close(fd);
+        if (e == EWOULDBLOCK)
+            snprintf(err, errlen, "%s: another uwbd is using this state directory", state_dir);
+        else
+            snprintf(err, errlen, "%s: cannot lock: %s", path, strerror(e));
+        return -1;
+    }
+    return fd;
+}
+
+int uwbd_store_day_dir(const struct uwbd_store *store, const struct tm *utc, char *dir, size_t n,
+                       char *err, size_t errlen)
+{
+    int w = snprintf(dir, n, "%s/%04d/%02d/%02d", store->archive, utc->tm_year + 1900, utc->tm_mon + 1,
+                     utc->tm_mday);
+    if (w < 0 || (size_t)w >= n) {
+        snprintf(err, errlen, "%s: archive path too long", store->archive);
+        return -1;
+    }
+    return make_dirs(dir, err, errlen);
+}
+
+void uwbd_safe_scan_id(const char *in, char *out, size_t n)
+{
+    size_t limit = n - 1 < UWBD_SCAN_ID_MAX ? n - 1 : UWBD_SCAN_ID_MAX;
+    size_t j = 0;
+    for (size_t i = 0; in && in[i] && j < limit; i++) {
+        char c = in[i];
+        int safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
+                   c == '_' || c == '.';
+        out[j++] = safe ? c : '_';
+    }
+    out[j] = '\0';
+    if (out[0] == '.')
+        out[0] = '_';
+}
+
+void uwbd_utc_text(time_t t, char *buf, size_t n)
+{
+    struct tm tm;
+    gmtime_r(&t, &tm);
+    strftime(buf, n, "%Y-%m-%dT%H:%M:%SZ", &tm);
+}

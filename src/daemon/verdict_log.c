@@ -1,0 +1,285 @@
+/* verdicts.jsonl (append-only, whole lines) and latest.json (atomic). */
+#include "uwb/daemon/verdict_log.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "uwb/atomic_file.h"
+
+#define TAIL_BLOCK 65536
+/* A verdict line is a few kilobytes; a "line" longer than this is damage. */
+#define MAX_LINE (256 * 1024)
+
+int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, char *err, size_t errlen)
+{
+    size_t n = strlen(json);
+    if (n == 0 || memchr(json, '\n', n)) {
+        snprintf(err, errlen, "%s: refusing to append an empty or multi-line record", store->verdict_log);
+        return -1;
+    }
+    char *line = malloc(n + 1);
+    if (!line) {
+        snprintf(err, errlen, "%s: out of memory", store->verdict_log);
+        return -1;
+    }
+    memcpy(line, json, n);
+    line[n] = '\n';
+    int fd = open(store->verdict_log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        snprintf(err, errlen, "%s: cannot open for appending: %s", store->verdict_log, strerror(errno));
+        free(line);
+        return -1;
+    }
+    struct stat st;
+    off_t before = fstat(fd, &st) == 0 ? st.st_size : -1;
+    ssize_t w = write(fd, line, n + 1);
+    int e = errno;
+    free(line);
+    int rc = 0;
+    if (w != (ssize_t)(n + 1)) {
+        /* A short write (disk full) would leave a torn line: take it back. */
+        if (w > 0 && before >= 0 && ftruncate(fd, before) != 0)
+            e = errno;
+        snprintf(err, errlen, "%s: cannot append a verdict: %s", store->verdict_log,
+                 w < 0 ? strerror(e) : "short write (disk full?)");
+        rc = -1;
+    } else if (fsync(fd) != 0) {
+        snprintf(err, errlen, "%s: cannot fsync: %s", store->verdict_log, strerror(errno));
+        rc = -1;
+    }
+    if (close(fd) != 0 && rc == 0) {
+        snprintf(err, errlen, "%s: cannot close: %s", store->verdict_log, strerror(errno));
+        rc = -1;
+    }
+    return rc;
+}
+
+int uwbd_verdict_log_repair(const struct uwbd_store *store, long *dropped, char *err, size_t errlen)
+{
+    *dropped = 0;
+    int fd = open(store->verdict_log, O_RDWR | O_CLOEXEC);
+    if (fd < 0) {
+        if (errno == ENOENT)
+            return 0;
+        snprintf(err, errlen, "%s: cannot open: %s", store->verdict_log, strerror(errno));
+        return -1;
+    }
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        snprintf(err, errlen, "%s: cannot stat: %s", store->verdict_log, strerror(errno));
+        close(fd);
+        return -1;
+    }
+    /* Walk back from the end to the last newline. */
+    off_t end = st.st_size, keep = 0;
+    char buf[4096];
+    while (end > 0) {
+        off_t start = end > (off_t)sizeof buf ? end - (off_t)sizeof buf : 0;
+        ssize_t r = pread(fd, buf, (size_t)(end - start), start);
+        if (r != end - start) {
+            snprintf(err, errlen, "%s: cannot read: %s", store->verdict_log, r < 0 ? strerror(errno) : "short read");
+            close(fd);
+            return -1;
+        }
+        ssize_t i = r;
+        while (i > 0 && buf[i - 1] != '\n')
+            i--;
+        if (i > 0) {
+            keep = start + i;
+            break;
+        }
+        end = start;
+    }
+    int rc = 0;
+    if (keep < st.st_size) {
+        if (ftruncate(fd, keep) != 0 || fsync(fd) != 0) {
+            snprintf(err, errlen, "%s: cannot cut off a torn last line: %s", store->verdict_log, strerror(errno));
+            rc = -1;
+        } else {
+            *dropped = (long)(st.st_size - keep);
+        }
+    }
+    close(fd);
+    return rc;
+}
+
+void uwbd_verdict_lines_free(char **lines, int count)
+{
+    for (int i = 0; lines && i < count; i++)
+        free(lines[i]);
+    free(lines);
+}
+
+/* Keep text[0..len) if it is one JSON object; returns a malloc'd copy or NULL. */
+static char *valid_line(const char *text, size_t len)
+{
+    cJSON *o = cJSON_ParseWithLength(text, len);
+    int ok = o && cJSON_IsObject(o);
+    cJSON_Delete(o);
+    if (!ok)
+        return NULL;
+    char *copy = malloc(len + 1);
+    if (copy) {
+        memcpy(copy, text, len);
+        copy[len] = '\0';
+    }
+    return copy;
+}
+
+int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines_out, int *count_out,
+                          int *skipped_out, char *err, size_t errlen)
+{
+    *lines_out = NULL;
+    *count_out = 0;
+    if (skipped_out)
+        *skipped_out = 0;
+    if (n <= 0)
+        return 0;
+    int fd = open(store->verdict_log, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        if (errno == ENOENT)
+            return 0;
+        snprintf(err, errlen, "%s: cannot open: %s", store->verdict_log, strerror(errno));
+        return -1;
+    }
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        snprintf(err, errlen, "%s: cannot stat: %s", store->verdict_log, strerror(errno));
+        close(fd);
+        return -1;
+    }
+    /* Read blocks from the end until n + 1 newlines are in hand (the
+     * extra one marks where the oldest wanted line starts), or the start. */
+    off_t start = st.st_size;
+    size_t have = 0, cap = 0;
+    char *buf = NULL;
+    int newlines = 0;
+    while (start > 0 && newlines <= n && have < (size_t)n * MAX_LINE) {
+        size_t block = start > TAIL_BLOCK ? TAIL_BLOCK : (size_t)start;
+        if (have + block > cap) {
+            cap = (have + block) * 2;
+            char *grown = malloc(cap);
+            if (!grown) {
+                free(buf);
+                close(fd);
+                snprintf(err, errlen, "%s: out of memory", store->verdict_log);
+                return -1;
+            }
+            if (have)
+                memcpy(grown + block, buf, have);
+            free(buf);
+            buf = grown;
+        } else {
+            memmove(buf + block, buf, have);
+        }
+        start -= (off_t)block;
+        ssize_t r = pread(fd, buf, block, start);
+        if (r != (ssize_t)block) {
+            free(buf);
+            close(fd);
+            snprintf(err, errlen, "%s: cannot read: %s", store->verdict_log, r < 0 ? strerror(errno) : "short read");
+            return -1;
+        }
+        have += block;
+        newlines = 0;
+        for (size_t i = 0; i < have; i++)
+            newlines += buf[i] == '\n';
+    }
+    close(fd);
+
+    char **lines = calloc((size_t)n, sizeof *lines);
+    if (!lines) {
+        free(buf);
+        snprintf(err, errlen, "%s: out of memory", store->verdict_log);
+        return -1;
+    }
+    /* Walk back over complete lines; a last line without its newline is torn. */
+    int count = 0, skipped = 0;
+    size_t end = have;
+    while (end > 0 && buf[end - 1] != '\n')
+        end--;
+    if (end < have)
+        skipped++;
+    while (end > 0 && count < n) {
+        size_t line_end = end - 1;   /* at the newline */
+        size_t line_start = line_end;
+        while (line_start > 0 && buf[line_start - 1] != '\n')
+            line_start--;
+        if (line_start == 0 && start > 0)
+            break;   /* this line began before what was read */
+        if (line_end > line_start) {
+            char *copy = valid_line(buf + line_start, line_end - line_start);
+            if (copy)
+                lines[count++] = copy;
+            else
+                skipped++;
+        }
+        end = line_start;
+    }
+    free(buf);
+    /* Collected newest first; hand them out oldest first. */
+    for (int i = 0; i < count / 2; i++) {
+        char *t = lines[i];
+        lines[i] = lines[count - 1 - i];
+        lines[count - 1 - i] = t;
+    }
+    *lines_out = lines;
+    *count_out = count;
+    if (skipped_out)
+        *skipped_out = skipped;
+    return 0;
+}
+
+int uwbd_latest_write(const struct uwbd_store *store, const char *json, char *err, size_t errlen)
+{
+    size_t n = strlen(json);
+    char *text = malloc(n + 2);
+    if (!text) {
+        snprintf(err, errlen, "%s: out of memory", store->latest);
+        return -1;
+    }
+    memcpy(text, json, n);
+    text[n] = '\n';
+    text[n + 1] = '\0';
+    int rc = atomic_write_file(store->latest, text, n + 1, err, errlen);
+    free(text);
+    return rc;
+}
+
+int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, size_t errlen)
+{
+    *json = NULL;
+    FILE *f = fopen(store->latest, "rb");
+    if (!f) {
+        if (errno == ENOENT)
+            return 0;
+        snprintf(err, errlen, "%s: cannot open: %s", store->latest, strerror(errno));
+        return -1;
+    }
+    char *text = malloc(MAX_LINE + 1);
+    size_t len = text ? fread(text, 1, MAX_LINE, f) : 0;
+    fclose(f);
+    if (!text) {
+        snprintf(err, errlen, "%s: out of memory", store->latest);
+        return -1;
+    }
+    while (len > 0 && (text[len - 1] == '\n' || text[len - 1] == '\r'))
+        len--;
+    text[len] = '\0';
+    cJSON *o = cJSON_ParseWithLength(text, len);
+    int ok = o && cJSON_IsObject(o);
+    cJSON_Delete(o);
+    if (!ok) {
+        free(text);
+        snprintf(err, errlen, "%s: not one JSON object", store->latest);
+        return -1;
+    }
+    *json = text;
+    return 0;
+}

@@ -1,0 +1,154 @@
+/* The scan worker: one thread per scan cycle, so the main loop keeps
+ * answering commands while the carriage moves. Stopping it is a signal
+ * (SIGUSR1) sent to that thread alone: its handler raises the flag the
+ * rig polls, so the flag is only ever touched by the thread that reads it. */
+#include <errno.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "daemon_internal.h"
+#include "uwb/daemon/log.h"
+
+static volatile sig_atomic_t scan_stop;
+
+static void on_stop_signal(int sig)
+{
+    (void)sig;
+    scan_stop = 1;
+}
+
+void worker_install_stop_handler(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    /* Restart file writes; poll() and sleeps in the rig still return EINTR
+     * and look at the flag. */
+    sa.sa_flags = SA_RESTART;
+    sigaction(SIGUSR1, &sa, NULL);
+}
+
+static void rig_log(void *ctx, int priority, const char *message)
+{
+    (void)ctx;
+    uwbd_log(priority, "rig: %s", message);
+}
+
+int rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen)
+{
+    int rc = uwb_rig_open(&d->cfg.rig, &d->rig, detail, err, errlen);
+    if (rc != UWB_RIG_OK) {
+        d->rig = NULL;
+        snprintf(d->rig_state, sizeof d->rig_state, "unavailable: %.400s", err);
+        return rc;
+    }
+    uwb_rig_set_log(d->rig, rig_log, d);
+    snprintf(d->rig_state, sizeof d->rig_state, "ready");
+    return rc;
+}
+
+/* uwbd_acquire_fn over the rig: reopen it when an earlier failure closed
+ * it, and close it after a failure so that a link that went away is opened
+ * afresh next time. */
+static int acquire_from_rig(void *ctx, const volatile sig_atomic_t *stop, struct uwb_scan *out, char *err,
+                            size_t errlen)
+{
+    struct daemon *d = ctx;
+    if (!d->rig) {
+        int detail = 0;
+        if (rig_open_logged(d, &detail, err, errlen) != UWB_RIG_OK)
+            return *stop ? UWBD_ACQUIRE_STOPPED : UWBD_ACQUIRE_FAILED;
+        uwbd_log(UWBD_LOG_NOTICE, "rig opened again");
+    }
+    int rc = uwb_rig_scan(d->rig, stop, out, err, errlen);
+    if (rc == UWB_RIG_OK)
+        return UWBD_ACQUIRE_OK;
+    uwb_rig_make_safe(d->rig);
+    if (rc == UWB_RIG_ERR_STOPPED || *stop)
+        return UWBD_ACQUIRE_STOPPED;
+    uwb_rig_close(d->rig);
+    d->rig = NULL;
+    snprintf(d->rig_state, sizeof d->rig_state, "closed after an error, reopened at the next scan: %.300s", err);
+    return UWBD_ACQUIRE_FAILED;
+}
+
+static void *worker_main(void *arg)
+{
+    struct daemon *d = arg;
+    sigset_t usr1;
+    sigemptyset(&usr1);
+    sigaddset(&usr1, SIGUSR1);
+    pthread_sigmask(SIG_UNBLOCK, &usr1, NULL);
+    uwbd_cycle_run(&d->cfg, &d->store, acquire_from_rig, d, &scan_stop, &d->job.request, &d->job.result);
+    /* No signal may land after this thread stops looking. */
+    pthread_sigmask(SIG_BLOCK, &usr1, NULL);
+    uint64_t one = 1;
+    if (write(d->done_fd, &one, sizeof one) != sizeof one)
+        uwbd_log(UWBD_LOG_ERR, "worker: cannot signal the end of the scan: %s", strerror(errno));
+    return NULL;
+}
+
+int worker_start(struct daemon *d)
+{
+    memset(&d->job, 0, sizeof d->job);
+    d->job.cycle = ++d->cycles_started;
+    d->job.request.now = time(NULL);
+    int pending = d->baseline_requests > d->baseline_done;
+    d->job.request.make_baseline = pending;
+    d->job.baseline_request = pending ? d->baseline_requests : 0;
+    scan_stop = 0;   /* before the thread exists: pthread_create orders it */
+    int rc = pthread_create(&d->job.thread, NULL, worker_main, d);
+    if (rc != 0) {
+        uwbd_log(UWBD_LOG_ERR, "cannot start the scan thread: %s", strerror(rc));
+        d->cycles_started--;
+        return -1;
+    }
+    d->scanning = 1;
+    uwbd_log(UWBD_LOG_INFO, "scan cycle %lu started%s", d->job.cycle,
+             pending ? " (it becomes the baseline if good)" : "");
+    return 0;
+}
+
+void worker_request_stop(struct daemon *d)
+{
+    if (d->scanning)
+        pthread_kill(d->job.thread, SIGUSR1);
+}
+
+void worker_collect(struct daemon *d)
+{
+    uint64_t count;
+    if (read(d->done_fd, &count, sizeof count) != sizeof count)
+        return;
+    if (!d->scanning)
+        return;
+    pthread_join(d->job.thread, NULL);
+    d->scanning = 0;
+    struct uwbd_cycle_result *res = &d->job.result;
+    if (res->outcome == UWBD_CYCLE_STOPPED) {
+        uwbd_log(UWBD_LOG_NOTICE, "scan cycle %lu stopped before its end; nothing recorded, hardware safe",
+                 d->job.cycle);
+        peers_send_verdict(d, d->job.cycle, NULL, "the scan was stopped (the daemon is shutting down); nothing recorded");
+        uwbd_cycle_result_free(res);
+        return;
+    }
+    d->scans_this_run++;
+    if (res->verdict_json) {
+        free(d->latest_verdict);
+        d->latest_verdict = strdup(res->verdict_json);
+    }
+    if (res->baseline_set) {
+        d->baseline_done = d->job.baseline_request;
+        char err[512];
+        d->has_baseline = uwbd_baseline_load(&d->store, d->cfg.direct_coupling_window_end_s, NULL, &d->baseline,
+                                             NULL, err, sizeof err) == UWBD_BASELINE_LOADED;
+    }
+    peers_send_verdict(d, d->job.cycle, res->verdict_json, "out of memory for the verdict");
+    uwbd_cycle_result_free(res);
+}

@@ -1,0 +1,98 @@
+#!/usr/bin/env bash
+# Runs every libFuzzer target BUILD_DIR/fuzz/fuzz_<name> (built by
+# `make fuzz`) for SECONDS each, on a fresh copy of its seed corpus
+# tests/fuzz/corpus/<name>/ plus tests/fuzz/regressions/<name>/ (the
+# committed corpus never grows in place). A crash, a hang (-timeout=5), an
+# input using more than 512 MB, a leak or any sanitizer report fails the
+# target; the input that did it is kept in BUILD_DIR/artifacts/. Prints one
+# line per target and a closing "N passed, N failed" line (.ci/run reads it).
+#
+# Usage: tests/fuzz/run-fuzz.sh BUILD_DIR SECONDS
+# Knobs: UWB_FUZZ_TARGETS="scan frame" runs only those;
+#        UWB_FUZZ_VERBOSE=1 prints each run's full log.
+set -euo pipefail
+
+if [[ $# -ne 2 || ! "$2" =~ ^[0-9]+$ || "$2" -lt 1 ]]; then
+    echo "usage: $0 BUILD_DIR SECONDS (a whole number >= 1)" >&2
+    exit 2
+fi
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+readonly BUILD_DIR="$1" SECONDS_EACH="$2"
+readonly ARTIFACTS="$BUILD_DIR/artifacts"
+readonly RUNS="$BUILD_DIR/runs"
+mkdir -p "$ARTIFACTS" "$RUNS"
+
+# halt_on_error: the first UBSan report ends the run as a crash would.
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
+export ASAN_OPTIONS="detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+
+targets=()
+if [[ -n "${UWB_FUZZ_TARGETS:-}" ]]; then
+    read -r -a targets <<<"$UWB_FUZZ_TARGETS"
+else
+    for source in tests/fuzz/fuzz_*.c; do
+        name="${source#tests/fuzz/fuzz_}"
+        targets+=("${name%.c}")
+    done
+fi
+
+# What went wrong, from a libFuzzer log.
+classify() {
+    local log="$1"
+    if grep -q 'ERROR: libFuzzer: timeout' "$log"; then echo "hang (over 5 s on one input)"
+    elif grep -q 'ERROR: libFuzzer: out-of-memory' "$log"; then echo "out of memory (over 512 MB)"
+    elif grep -q 'ERROR: LeakSanitizer' "$log"; then echo "leak"
+    elif grep -q 'ERROR: AddressSanitizer' "$log"; then
+        echo "AddressSanitizer: $(grep -m1 -o 'ERROR: AddressSanitizer: [a-z-]*' "$log" | cut -d' ' -f3)"
+    elif grep -q 'runtime error:' "$log"; then
+        echo "UBSan: $(grep -m1 'runtime error:' "$log" | sed 's/.*runtime error: //' | cut -c1-100)"
+    elif grep -q 'fuzz contract broken:' "$log"; then
+        echo "contract: $(grep -m1 'fuzz contract broken:' "$log" | sed 's/.*broken: //' | cut -c1-100)"
+    elif grep -q 'ERROR: libFuzzer: deadly signal' "$log"; then echo "crash (deadly signal)"
+    else echo "failed (see log)"
+    fi
+}
+
+passed=0
+failed=0
+for name in "${targets[@]}"; do
+    binary="$BUILD_DIR/fuzz/fuzz_$name"
+    log="$RUNS/$name.log"
+    if [[ ! -x "$binary" ]]; then
+        printf '%-12s %12s  FAILED: %s not built\n' "$name" "-" "$binary"
+        failed=$((failed + 1))
+        continue
+    fi
+    work="$RUNS/$name-corpus"
+    rm -rf "$work"
+    mkdir -p "$work"
+    cp -R "tests/fuzz/corpus/$name/." "$work/"
+    if [[ -d "tests/fuzz/regressions/$name" ]]; then
+        cp -R "tests/fuzz/regressions/$name/." "$work/"
+    fi
+    status=0
+    "$binary" -max_total_time="$SECONDS_EACH" -timeout=5 -rss_limit_mb=512 -detect_leaks=1 \
+        -print_final_stats=1 -artifact_prefix="$ARTIFACTS/$name-" "$work" >"$log" 2>&1 || status=$?
+    runs="$(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)"
+    [[ -n "$runs" ]] || runs="$(grep -o '^#[0-9]*' "$log" | tail -n 1 | tr -d '#' || true)"
+    [[ -n "$runs" ]] || runs="?"
+    # A run that exits 0 but printed a sanitizer report still fails.
+    if [[ "$status" == 0 ]] && ! grep -qE 'ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error:' "$log"; then
+        coverage="$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 || true)"
+        printf '%-12s %12s runs  ok (%s s, %s, %d seeds)\n' "$name" "$runs" "$SECONDS_EACH" "${coverage:-cov: ?}" \
+            "$(find "tests/fuzz/corpus/$name" -type f | wc -l)"
+        passed=$((passed + 1))
+    else
+        artifact="$(grep -o "Test unit written to [^ ]*" "$log" | tail -n 1 | sed 's/Test unit written to //' || true)"
+        printf '%-12s %12s runs  FAILED: %s%s (log: %s)\n' "$name" "$runs" "$(classify "$log")" \
+            "${artifact:+, input: $artifact}" "$log"
+        failed=$((failed + 1))
+        tail -n 40 "$log" | sed 's/^/    /'
+    fi
+    if [[ "${UWB_FUZZ_VERBOSE:-0}" == 1 ]]; then
+        sed 's/^/    /' "$log"
+    fi
+done
+echo "fuzz: ${#targets[@]} targets, $SECONDS_EACH s each; artifacts in $ARTIFACTS"
+echo "$passed passed, $failed failed"
+[[ "$failed" == 0 ]]

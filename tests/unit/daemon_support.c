@@ -1,0 +1,93 @@
+/* Helpers for the daemon's tests (see daemon_support.h). */
+#include "daemon_support.h"
+
+#include "unity.h"
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+void dtest_scratch_dir(char *path, size_t n, const char *tag)
+{
+    snprintf(path, n, "/tmp/uwbd-%s-XXXXXX", tag);
+    TEST_ASSERT_NOT_NULL_MESSAGE(mkdtemp(path), "mkdtemp");
+}
+
+void dtest_remove_tree(const char *path)
+{
+    DIR *d = opendir(path);
+    if (d) {
+        struct dirent *e;
+        while ((e = readdir(d)) != NULL) {
+            if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+                continue;
+            char child[2048];
+            snprintf(child, sizeof child, "%s/%s", path, e->d_name);
+            struct stat st;
+            if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode))
+                dtest_remove_tree(child);
+            else
+                unlink(child);
+        }
+        closedir(d);
+    }
+    rmdir(path);
+}
+
+char *dtest_slurp(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    size_t cap = 4096, n = 0;
+    char *buf = malloc(cap);
+    size_t r;
+    while (buf && (r = fread(buf + n, 1, cap - n - 1, f)) > 0) {
+        n += r;
+        if (n + 1 == cap) {
+            char *grown = realloc(buf, cap * 2);
+            if (!grown) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = grown;
+            cap *= 2;
+        }
+    }
+    fclose(f);
+    if (buf)
+        buf[n] = '\0';
+    if (len)
+        *len = n;
+    return buf;
+}
+
+void dtest_spit(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "wb");
+    TEST_ASSERT_NOT_NULL_MESSAGE(f, path);
+    fputs(text, f);
+    TEST_ASSERT_EQUAL_INT(0, fclose(f));
+}
+
+int dtest_file_exists(const char *path)
+{
+    return access(path, F_OK) == 0;
+}
+
+int dtest_count_lines(const char *path)
+{
+    size_t len = 0;
+    char *text = dtest_slurp(path, &len);
+    if (!text)
+        return 0;
+    int n = 0;
+    for (size_t i = 0; i < len; i++)
+        n += text[i] == '\n';
+    free(text);
+    return n;
+}

@@ -1,0 +1,186 @@
+/* Console and control commands: every command, the bounds, and garbage of
+ * every kind (including a seeded stream of random lines) is refused
+ * cleanly. Also the line cutter that feeds the parser. */
+#include "unity.h"
+
+#include <stdint.h>
+#include <string.h>
+
+#include "uwb/daemon/command.h"
+#include "uwb/daemon/line_buffer.h"
+
+static struct uwb_command cmd;
+static char err[160];
+
+void setUp(void) {}
+void tearDown(void) {}
+
+static int parse(const char *line)
+{
+    memset(&cmd, 0x5a, sizeof cmd);
+    return uwb_command_parse(line, strlen(line), &cmd, err, sizeof err);
+}
+
+static void assert_command(const char *line, enum uwb_command_kind kind)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_COMMAND_OK, parse(line), line);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(kind, cmd.kind, line);
+}
+
+static void assert_invalid(const char *line, const char *words)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_COMMAND_INVALID, parse(line), line);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, words), err);
+}
+
+static void test_every_command(void)
+{
+    assert_command("status", UWB_COMMAND_STATUS);
+    assert_command("scan", UWB_COMMAND_SCAN);
+    assert_command("verdict", UWB_COMMAND_VERDICT);
+    assert_command("help", UWB_COMMAND_HELP);
+    assert_command("baseline set", UWB_COMMAND_BASELINE_SET);
+    assert_command("history", UWB_COMMAND_HISTORY);
+    TEST_ASSERT_EQUAL_INT(UWB_HISTORY_DEFAULT, cmd.count);
+    assert_command("history 7", UWB_COMMAND_HISTORY);
+    TEST_ASSERT_EQUAL_INT(7, cmd.count);
+    assert_command("history 100", UWB_COMMAND_HISTORY);
+    TEST_ASSERT_EQUAL_INT(100, cmd.count);
+    assert_command("history 1", UWB_COMMAND_HISTORY);
+    TEST_ASSERT_EQUAL_INT(1, cmd.count);
+}
+
+static void test_line_endings_and_spacing(void)
+{
+    assert_command("status\n", UWB_COMMAND_STATUS);
+    assert_command("status\r\n", UWB_COMMAND_STATUS);
+    assert_command("  \tbaseline   set \t", UWB_COMMAND_BASELINE_SET);
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_EMPTY, parse(""));
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_EMPTY, parse(" \t \r\n"));
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_EMPTY, uwb_command_parse("x", 0, &cmd, err, sizeof err));
+}
+
+static void test_bad_arguments(void)
+{
+    assert_invalid("history 0", "1 to 100");
+    assert_invalid("history 101", "1 to 100");
+    assert_invalid("history -3", "1 to 100");
+    assert_invalid("history 5x", "1 to 100");
+    assert_invalid("history 0005", "1 to 100");
+    assert_invalid("history 5 6", "unexpected argument");
+    assert_invalid("status now", "unexpected argument");
+    assert_invalid("scan /etc/passwd", "unexpected argument");
+    assert_invalid("baseline", "baseline set");
+    assert_invalid("baseline reset", "baseline set");
+    assert_invalid("baseline set now", "baseline set");
+    assert_invalid("baseline set now please", "too many words");
+    assert_invalid("Status", "unknown command");
+    assert_invalid("rm -rf", "unknown command");
+}
+
+static void test_bounds_and_bytes(void)
+{
+    char line[200];
+    /* 64 bytes is the limit: a padded "status" of exactly 64 passes, 65 does not. */
+    memset(line, ' ', sizeof line);
+    memcpy(line, "status", 6);
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_OK, uwb_command_parse(line, UWB_COMMAND_MAX_LINE, &cmd, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_INVALID,
+                          uwb_command_parse(line, UWB_COMMAND_MAX_LINE + 1, &cmd, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "too long"), err);
+    assert_invalid("statusstatusstatusstatus", "too long");
+    assert_invalid("stat\x01us", "not printable");
+    assert_invalid("st\xc3\xa4tus", "not printable");
+    assert_invalid("status\rnow", "not printable");
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_INVALID, uwb_command_parse("scan\0junk", 9, &cmd, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_INVALID, uwb_command_parse(NULL, 3, &cmd, err, sizeof err));
+    /* A tiny error buffer is still NUL-terminated. */
+    char tiny[4];
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_INVALID, uwb_command_parse("bogus", 5, &cmd, tiny, sizeof tiny));
+    TEST_ASSERT_EQUAL_INT(3, (int)strlen(tiny));
+}
+
+/* xorshift64: the same stream every run. */
+static uint64_t next_random(uint64_t *s)
+{
+    *s ^= *s << 13;
+    *s ^= *s >> 7;
+    *s ^= *s << 17;
+    return *s;
+}
+
+static void test_random_lines_never_crash_and_are_classified(void)
+{
+    static const char alphabet[] = "statusscanverdicthistorybaselinesethelp 0123456789\t\r\n\x01\xff";
+    uint64_t seed = 0x9e3779b97f4a7c15ull;
+    int ok = 0, invalid = 0, empty = 0;
+    for (int i = 0; i < 200000; i++) {
+        char line[100];
+        size_t len = (size_t)(next_random(&seed) % sizeof line);
+        for (size_t j = 0; j < len; j++) {
+            uint64_t r = next_random(&seed);
+            line[j] = (r & 0x100) ? (char)(r & 0xff) : alphabet[r % (sizeof alphabet - 1)];
+        }
+        err[0] = 'x';
+        int rc = uwb_command_parse(line, len, &cmd, err, sizeof err);
+        TEST_ASSERT_TRUE(rc == UWB_COMMAND_OK || rc == UWB_COMMAND_EMPTY || rc == UWB_COMMAND_INVALID);
+        if (rc == UWB_COMMAND_INVALID) {
+            TEST_ASSERT_TRUE(strlen(err) > 0 && strlen(err) < sizeof err);
+            invalid++;
+        } else if (rc == UWB_COMMAND_OK) {
+            TEST_ASSERT_TRUE(cmd.kind <= UWB_COMMAND_HELP);
+            if (cmd.kind == UWB_COMMAND_HISTORY) {
+                TEST_ASSERT_TRUE(cmd.count >= 1 && cmd.count <= UWB_HISTORY_MAX);
+            }
+            ok++;
+        } else {
+            empty++;
+        }
+    }
+    TEST_ASSERT_TRUE(invalid > 0 && empty > 0);
+    (void)ok;
+}
+
+static void test_line_buffer_cuts_lines_across_reads(void)
+{
+    struct uwbd_line_buffer lb = {0};
+    const char *line;
+    size_t len, used = 0;
+    const char part1[] = "sta", part2[] = "tus\r\nscan\nhis";
+    TEST_ASSERT_EQUAL_INT(UWBD_LINE_NONE, uwbd_line_buffer_feed(&lb, part1, 3, &used, &line, &len));
+    used = 0;
+    TEST_ASSERT_EQUAL_INT(UWBD_LINE_READY, uwbd_line_buffer_feed(&lb, part2, strlen(part2), &used, &line, &len));
+    TEST_ASSERT_EQUAL_STRING("status\r", line);
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_OK, uwb_command_parse(line, len, &cmd, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWBD_LINE_READY, uwbd_line_buffer_feed(&lb, part2, strlen(part2), &used, &line, &len));
+    TEST_ASSERT_EQUAL_STRING("scan", line);
+    TEST_ASSERT_EQUAL_INT(UWBD_LINE_NONE, uwbd_line_buffer_feed(&lb, part2, strlen(part2), &used, &line, &len));
+    TEST_ASSERT_EQUAL_UINT64(strlen(part2), used);
+}
+
+static void test_line_buffer_drops_an_overlong_line_whole(void)
+{
+    struct uwbd_line_buffer lb = {0};
+    char data[400];
+    memset(data, 'a', 300);
+    /* The tail of the long line is itself a valid command: it must not run. */
+    memcpy(data + 290, "scan\nhelp\n", 10);
+    const char *line;
+    size_t len, used = 0;
+    TEST_ASSERT_EQUAL_INT(UWBD_LINE_TOO_LONG, uwbd_line_buffer_feed(&lb, data, 300, &used, &line, &len));
+    TEST_ASSERT_EQUAL_INT(UWBD_LINE_READY, uwbd_line_buffer_feed(&lb, data, 300, &used, &line, &len));
+    TEST_ASSERT_EQUAL_STRING("help", line);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_every_command);
+    RUN_TEST(test_line_endings_and_spacing);
+    RUN_TEST(test_bad_arguments);
+    RUN_TEST(test_bounds_and_bytes);
+    RUN_TEST(test_random_lines_never_crash_and_are_classified);
+    RUN_TEST(test_line_buffer_cuts_lines_across_reads);
+    RUN_TEST(test_line_buffer_drops_an_overlong_line_whole);
+    return UNITY_END();
+}

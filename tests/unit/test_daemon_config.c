@@ -1,0 +1,274 @@
+/* The daemon's configuration: the shipped samples load, defaults apply,
+ * and every kind of mistake is refused with a message naming the key. */
+#include "unity.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "daemon_support.h"
+#include "uwb/daemon/config.h"
+
+#define SAMPLE_EMULATED "board/emulated/uwbd.json"
+#define SAMPLE_RPI4 "board/raspberry-pi-4/uwbd.json"
+
+static struct uwbd_config cfg;
+static char err[1024];
+static char *sample_text;
+
+void setUp(void)
+{
+    sample_text = dtest_slurp(SAMPLE_EMULATED, NULL);
+    TEST_ASSERT_NOT_NULL_MESSAGE(sample_text, SAMPLE_EMULATED);
+    err[0] = '\0';
+}
+
+void tearDown(void)
+{
+    free(sample_text);
+}
+
+static int parse_text(const char *text)
+{
+    return uwbd_config_parse(text, strlen(text), "test.json", NULL, 0, &cfg, err, sizeof err);
+}
+
+/* The emulated sample with one change: `path` set to the JSON `value`, or
+ * removed when value is NULL. Returns what the loader says. */
+static int parse_changed(const char *path, const char *value)
+{
+    cJSON *root = cJSON_Parse(sample_text);
+    TEST_ASSERT_NOT_NULL(root);
+    char buf[128];
+    snprintf(buf, sizeof buf, "%s", path);
+    cJSON *obj = root;
+    char *part = buf, *dot;
+    while ((dot = strchr(part, '.')) != NULL) {
+        *dot = '\0';
+        cJSON *next = cJSON_GetObjectItemCaseSensitive(obj, part);
+        if (!next)
+            next = cJSON_AddObjectToObject(obj, part);
+        obj = next;
+        part = dot + 1;
+    }
+    cJSON_DeleteItemFromObjectCaseSensitive(obj, part);
+    if (value) {
+        cJSON *v = cJSON_Parse(value);
+        TEST_ASSERT_NOT_NULL_MESSAGE(v, value);
+        cJSON_AddItemToObject(obj, part, v);
+    }
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    int rc = parse_text(text);
+    free(text);
+    return rc;
+}
+
+static void assert_refused(const char *path, const char *value, const char *expected_key, const char *words)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(-1, parse_changed(path, value), path);
+    char want[160];
+    snprintf(want, sizeof want, "test.json: key `%s`: ", expected_key);
+    if (strncmp(err, want, strlen(want)) != 0 || !strstr(err, words)) {
+        char msg[1400];
+        snprintf(msg, sizeof msg, "want \"%s...%s\", got \"%s\"", want, words, err);
+        TEST_FAIL_MESSAGE(msg);
+    }
+}
+
+static void test_emulated_sample_loads_with_units_converted(void)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_load(SAMPLE_EMULATED, NULL, 0, &cfg, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_STRING("emulated", cfg.rig.gpio.backend);
+    TEST_ASSERT_EQUAL_STRING("unix:run/digitiser.sock", cfg.rig.digitiser.endpoint);
+    TEST_ASSERT_EQUAL_INT(2048, cfg.rig.digitiser.samples);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-18, 10e-12, cfg.rig.digitiser.sample_interval_s);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, -1e-9, cfg.rig.digitiser.t0_s);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, -0.020, cfg.rig.tx_m[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.020, cfg.rig.rx_m[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.005, cfg.evaluate.compare.thresholds.alarm_m);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-18, 20e-12, cfg.direct_coupling_tolerance_s);
+    TEST_ASSERT_EQUAL_UINT(0660, cfg.control_mode);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, cfg.interval_s);
+}
+
+static void test_raspberry_pi_sample_loads(void)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_load(SAMPLE_RPI4, NULL, 0, &cfg, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_STRING("libgpiod", cfg.rig.gpio.backend);
+    TEST_ASSERT_EQUAL_STRING("/var/lib/uwbd", cfg.state_dir);
+    for (int i = 0; i < UWB_LINE_COUNT; i++)
+        TEST_ASSERT_TRUE(cfg.rig.gpio.offset[i] >= 0 || cfg.rig.gpio.name[i][0]);
+    TEST_ASSERT_EQUAL_INT(0, cfg.allow_root);
+}
+
+static void test_defaults_fill_what_is_left_out(void)
+{
+    static const char minimal[] =
+        "{\"gpio\":{\"backend\":\"emulated\",\"endpoint\":\"unix:g.sock\"},"
+        "\"digitiser\":{\"endpoint\":\"unix:d.sock\",\"samples\":1024,\"sample_interval_ps\":10},"
+        "\"carriage\":{\"steps_per_mm\":100,\"travel_mm\":650,\"home_offset_mm\":-20},"
+        "\"scan\":{\"positions\":21,\"first_position_mm\":0,\"step_mm\":30},"
+        "\"geometry\":{\"tx_mm\":[-20,0],\"rx_mm\":[20,0],\"eps_r\":2.2}}";
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_text(minimal), err);
+    TEST_ASSERT_EQUAL_STRING("/var/lib/uwbd", cfg.state_dir);
+    TEST_ASSERT_EQUAL_STRING(UWBD_DEFAULT_CONTROL_SOCKET, cfg.control_socket);
+    TEST_ASSERT_EQUAL_UINT(0660, cfg.control_mode);
+    TEST_ASSERT_EQUAL_DOUBLE(86400.0, cfg.interval_s);
+    TEST_ASSERT_EQUAL_INT(1000, cfg.retention_max_scans);
+    TEST_ASSERT_EQUAL_INT(16, cfg.rig.digitiser.stack);
+    TEST_ASSERT_EQUAL_STRING("", cfg.console_endpoint);
+    TEST_ASSERT_EQUAL_INT(0, cfg.rig.has_target_z);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.002, cfg.evaluate.compare.thresholds.watch_m);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-18, 2e-9, cfg.direct_coupling_window_end_s);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, cfg.rig.time_scale);
+}
+
+static void test_unknown_keys_are_errors(void)
+{
+    assert_refused("bogus", "1", "bogus", "unknown key");
+    assert_refused("digitiser.sampels", "2048", "digitiser.sampels", "unknown key");
+    assert_refused("gpio.lines.bogus", "3", "gpio.lines.bogus", "unknown key");
+}
+
+static void test_wrong_types_are_errors(void)
+{
+    assert_refused("digitiser.samples", "\"2048\"", "digitiser.samples", "expected an integer");
+    assert_refused("digitiser.samples", "2048.5", "digitiser.samples", "not an integer");
+    assert_refused("carriage.steps_per_mm", "true", "carriage.steps_per_mm", "expected a number");
+    assert_refused("allow_root", "1", "allow_root", "expected true or false");
+    assert_refused("state_dir", "7", "state_dir", "expected a string");
+    assert_refused("geometry.tx_mm", "[1]", "geometry.tx_mm", "two numbers");
+    assert_refused("gpio", "5", "gpio", "expected an object");
+    assert_refused("gpio.lines.step", "[1]", "gpio.lines.step", "offset (integer) or a line name");
+}
+
+static void test_out_of_range_and_bad_choices_are_errors(void)
+{
+    assert_refused("analysis.edge_fraction", "2", "analysis.edge_fraction", "out of range");
+    assert_refused("digitiser.sample_interval_ps", "0", "digitiser.sample_interval_ps", "out of range");
+    assert_refused("schedule.interval_s", "-5", "schedule.interval_s", "out of range");
+    assert_refused("gpio.backend", "\"sysfs\"", "gpio.backend", "not one of libgpiod, emulated");
+    assert_refused("analysis.migration", "\"double\"", "analysis.migration", "neither fixed nor float");
+    assert_refused("control.mode", "\"0666\"", "control.mode", "gives others access");
+    assert_refused("control.mode", "\"0440\"", "control.mode", "owner");
+    assert_refused("control.mode", "\"rw\"", "control.mode", "not an octal mode");
+    assert_refused("state_dir", "\"a\\nb\"", "state_dir", "control character");
+}
+
+static void test_missing_required_keys_are_errors(void)
+{
+    assert_refused("digitiser.endpoint", NULL, "digitiser.endpoint", "missing");
+    assert_refused("scan.positions", NULL, "scan.positions", "missing");
+    assert_refused("geometry.eps_r", NULL, "geometry.eps_r", "missing");
+    assert_refused("carriage.home_offset_mm", NULL, "carriage.home_offset_mm", "missing");
+}
+
+static void test_keys_that_depend_on_others(void)
+{
+    assert_refused("analysis.alarm_mm", "1", "analysis.alarm_mm", "below analysis.watch_mm");
+    assert_refused("scan.positions", "40", "scan.positions", "beyond the travel");
+    assert_refused("scan.first_position_mm", "-25", "scan.first_position_mm", "below home");
+    assert_refused("gpio.endpoint", NULL, "gpio.endpoint", "required with the emulated backend");
+    assert_refused("digitiser.endpoint", "\"ttyUSB0\"", "digitiser.endpoint", "ttyUSB0");
+    assert_refused("console.endpoint", "\"9600\"", "console.endpoint", "9600");
+    assert_refused("geometry.target_z_mm", "[900, 300]", "geometry.target_z_mm", "below far");
+    assert_refused("carriage.home_rate_hz", "5000", "carriage.home_rate_hz", "above carriage.max_rate_hz");
+}
+
+static void test_libgpiod_needs_chip_and_lines(void)
+{
+    cJSON *root = cJSON_Parse(sample_text);
+    cJSON *gpio = cJSON_GetObjectItemCaseSensitive(root, "gpio");
+    cJSON_ReplaceItemInObjectCaseSensitive(gpio, "backend", cJSON_CreateString("libgpiod"));
+    cJSON_DeleteItemFromObjectCaseSensitive(gpio, "endpoint");
+    char *text = cJSON_Print(root);
+    TEST_ASSERT_EQUAL_INT(-1, parse_text(text));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `gpio.chip`: missing"), err);
+    free(text);
+    cJSON_AddStringToObject(gpio, "chip", "gpiochip0");
+    text = cJSON_Print(root);
+    TEST_ASSERT_EQUAL_INT(-1, parse_text(text));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `gpio.lines.trigger`: missing"), err);
+    free(text);
+    cJSON *lines = cJSON_AddObjectToObject(gpio, "lines");
+    cJSON_AddNumberToObject(lines, "trigger", 17);
+    cJSON_AddStringToObject(lines, "step", "STEP");
+    cJSON_AddNumberToObject(lines, "dir", 22);
+    cJSON_AddNumberToObject(lines, "enable", 23);
+    cJSON_AddNumberToObject(lines, "home", 24);
+    text = cJSON_Print(root);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_text(text), err);
+    TEST_ASSERT_EQUAL_INT(17, cfg.rig.gpio.offset[UWB_LINE_TRIGGER]);
+    TEST_ASSERT_EQUAL_INT(-1, cfg.rig.gpio.offset[UWB_LINE_STEP]);
+    TEST_ASSERT_EQUAL_STRING("STEP", cfg.rig.gpio.name[UWB_LINE_STEP]);
+    free(text);
+    cJSON_Delete(root);
+}
+
+static void test_syntax_errors_name_the_place(void)
+{
+    TEST_ASSERT_EQUAL_INT(-1, parse_text("{\n  \"state_dir\": \"/x\",\n  oops\n}"));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "test.json: line 3 column"), err);
+    TEST_ASSERT_EQUAL_INT(-1, parse_text("{} {}"));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "text after the end"), err);
+    TEST_ASSERT_EQUAL_INT(-1, parse_text("[1,2]"));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "one JSON object"), err);
+    TEST_ASSERT_EQUAL_INT(-1, parse_text("{\"state_dir\":\"/a\",\"state_dir\":\"/b\"}"));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `state_dir`: given twice"), err);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_config_load("/nonexistent/uwbd.json", NULL, 0, &cfg, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "/nonexistent/uwbd.json: cannot open"), err);
+}
+
+static void test_overrides_are_checked_like_the_file(void)
+{
+    struct uwbd_override ok[] = {{"schedule.interval_s", "60"}, {"state_dir", "/srv/uwbd"},
+                                 {"console.endpoint", "\"unix:/tmp/c.sock\""}};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_parse(sample_text, strlen(sample_text), "f", ok, 3, &cfg, err,
+                                                       sizeof err), err);
+    TEST_ASSERT_EQUAL_DOUBLE(60.0, cfg.interval_s);
+    TEST_ASSERT_EQUAL_STRING("/srv/uwbd", cfg.state_dir);   /* a bare word is a string */
+    TEST_ASSERT_EQUAL_STRING("unix:/tmp/c.sock", cfg.console_endpoint);
+
+    struct uwbd_override unknown[] = {{"schedule.intervall_s", "60"}};
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_config_parse(sample_text, strlen(sample_text), "f", unknown, 1, &cfg, err,
+                                                sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `schedule.intervall_s`: unknown key"), err);
+
+    struct uwbd_override bad[] = {{"digitiser.stack", "lots"}};
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_config_parse(sample_text, strlen(sample_text), "f", bad, 1, &cfg, err,
+                                                sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `digitiser.stack`: expected an integer"), err);
+}
+
+/* board/config.md documents the keys: every key of the table is in it. */
+static void test_config_md_documents_every_key(void)
+{
+    char *doc = dtest_slurp("board/config.md", NULL);
+    TEST_ASSERT_NOT_NULL_MESSAGE(doc, "board/config.md");
+    for (size_t i = 0; i < uwbd_config_key_count(); i++) {
+        char quoted[160];
+        snprintf(quoted, sizeof quoted, "`%s`", uwbd_config_key_path(i));
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(doc, quoted), quoted);
+    }
+    free(doc);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_emulated_sample_loads_with_units_converted);
+    RUN_TEST(test_raspberry_pi_sample_loads);
+    RUN_TEST(test_defaults_fill_what_is_left_out);
+    RUN_TEST(test_unknown_keys_are_errors);
+    RUN_TEST(test_wrong_types_are_errors);
+    RUN_TEST(test_out_of_range_and_bad_choices_are_errors);
+    RUN_TEST(test_missing_required_keys_are_errors);
+    RUN_TEST(test_keys_that_depend_on_others);
+    RUN_TEST(test_libgpiod_needs_chip_and_lines);
+    RUN_TEST(test_syntax_errors_name_the_place);
+    RUN_TEST(test_overrides_are_checked_like_the_file);
+    RUN_TEST(test_config_md_documents_every_key);
+    return UNITY_END();
+}

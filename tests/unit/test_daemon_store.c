@@ -1,0 +1,375 @@
+/* The state directory: verdicts.jsonl only ever holds whole lines and its
+ * reader survives a torn one; latest.json; the baseline changes only when
+ * set, keeping the one it replaces, and survives a crash between its two
+ * files; retention deletes the oldest scans and never a baseline. */
+#include "unity.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+#include "daemon_support.h"
+#include "uwb/daemon/baseline_store.h"
+#include "uwb/daemon/retention.h"
+#include "uwb/daemon/store.h"
+#include "uwb/daemon/verdict_log.h"
+
+#define WINDOW_END_S 2e-9
+
+static char dir[64];
+static char err[2048];
+static struct uwbd_store store;
+
+void setUp(void)
+{
+    dtest_scratch_dir(dir, sizeof dir, "store");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, NULL, err, sizeof err), err);
+}
+
+void tearDown(void)
+{
+    dtest_remove_tree(dir);
+}
+
+static void path_in(char *out, size_t n, const char *rel)
+{
+    snprintf(out, n, "%s/%s", store.root, rel);
+}
+
+/* A small scan whose direct coupling (a pulse) peaks at `pulse_sample`. */
+static void make_scan(struct uwb_scan *s, const char *id, int pulse_sample, float fill)
+{
+    TEST_ASSERT_EQUAL_INT(0, uwb_scan_alloc(s, 4, 256, err, sizeof err));
+    s->sample_interval_s = 10e-12;
+    s->t0_s = -1e-9;
+    s->eps_r = 2.2;
+    for (int k = 0; k < 4; k++) {
+        s->antenna_y_m[k] = 0.03 * k;
+        for (int i = 0; i < 256; i++) {
+            double x = (i - pulse_sample) / 4.0;
+            s->data[k * 256 + i] = (float)(exp(-x * x) + fill);
+        }
+    }
+    s->scan_id = strdup(id);
+    s->created = strdup("2030-01-02T03:04:05Z");
+}
+
+static void test_open_makes_the_layout(void)
+{
+    char p[2048];
+    static const char *const dirs[] = {"archive", "baseline", "baseline/history"};
+    for (size_t i = 0; i < 3; i++) {
+        path_in(p, sizeof p, dirs[i]);
+        struct stat st;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, stat(p, &st), p);
+        TEST_ASSERT_TRUE(S_ISDIR(st.st_mode));
+    }
+    TEST_ASSERT_EQUAL_INT('/', store.root[0]);
+}
+
+static void test_open_removes_leftover_temporaries_only(void)
+{
+    char p[2048];
+    path_in(p, sizeof p, ".latest.json.Ab12Cd");
+    dtest_spit(p, "{\"half");
+    path_in(p, sizeof p, "baseline/.current.uwbscan.zzzzzz");
+    dtest_spit(p, "half");
+    path_in(p, sizeof p, "keep.txt");
+    dtest_spit(p, "mine");
+    int repairs = 0;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(2, repairs);
+    path_in(p, sizeof p, ".latest.json.Ab12Cd");
+    TEST_ASSERT_FALSE(dtest_file_exists(p));
+    path_in(p, sizeof p, "baseline/.current.uwbscan.zzzzzz");
+    TEST_ASSERT_FALSE(dtest_file_exists(p));
+    path_in(p, sizeof p, "keep.txt");
+    TEST_ASSERT_TRUE(dtest_file_exists(p));
+}
+
+static void test_verdict_log_appends_whole_lines_and_reads_the_tail(void)
+{
+    char line[64];
+    for (int i = 1; i <= 5; i++) {
+        snprintf(line, sizeof line, "{\"class\":\"VERDICT\",\"n\":%d}", i);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_append(&store, line, err, sizeof err), err);
+    }
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_append(&store, "{\"a\":1}\n{\"b\":2}", err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(5, dtest_count_lines(store.verdict_log));
+    char **lines;
+    int count, skipped;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 3, &lines, &count, &skipped, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(3, count);
+    TEST_ASSERT_EQUAL_INT(0, skipped);
+    TEST_ASSERT_EQUAL_STRING("{\"class\":\"VERDICT\",\"n\":3}", lines[0]);
+    TEST_ASSERT_EQUAL_STRING("{\"class\":\"VERDICT\",\"n\":5}", lines[2]);
+    uwbd_verdict_lines_free(lines, count);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 100, &lines, &count, &skipped, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(5, count);
+    uwbd_verdict_lines_free(lines, count);
+}
+
+/* What a crash mid-write could leave: the reader skips the torn and the
+ * damaged lines and counts them; opening the store cuts the torn tail so
+ * the next append starts a clean line. */
+static void test_torn_and_damaged_lines_are_tolerated_and_repaired(void)
+{
+    dtest_spit(store.verdict_log, "{\"n\":1}\n{\"n\":2, oops\n{\"n\":3}\n{\"n\":4,\"cut\":\"in the mid");
+    char **lines;
+    int count, skipped;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 10, &lines, &count, &skipped, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(2, count);
+    TEST_ASSERT_EQUAL_INT(2, skipped);
+    TEST_ASSERT_EQUAL_STRING("{\"n\":1}", lines[0]);
+    TEST_ASSERT_EQUAL_STRING("{\"n\":3}", lines[1]);
+    uwbd_verdict_lines_free(lines, count);
+
+    int repairs = 0;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(1, repairs);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":5}", err, sizeof err));
+    char *text = dtest_slurp(store.verdict_log, NULL);
+    TEST_ASSERT_EQUAL_STRING("{\"n\":1}\n{\"n\":2, oops\n{\"n\":3}\n{\"n\":5}\n", text);
+    free(text);
+}
+
+static void test_tail_reads_far_back_through_long_files(void)
+{
+    /* Long lines so the tail needs several 64 KiB blocks. */
+    char *line = malloc(20000);
+    for (int i = 0; i < 30; i++) {
+        int n = snprintf(line, 20000, "{\"n\":%d,\"pad\":\"", i);
+        memset(line + n, 'x', 15000);
+        strcpy(line + n + 15000, "\"}");
+        TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, line, err, sizeof err));
+    }
+    free(line);
+    char **lines;
+    int count, skipped;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 12, &lines, &count, &skipped, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(12, count);
+    TEST_ASSERT_EQUAL_INT(0, skipped);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(lines[0], "{\"n\":18,", 8));
+    TEST_ASSERT_EQUAL_INT(0, strncmp(lines[11], "{\"n\":29,", 8));
+    uwbd_verdict_lines_free(lines, count);
+}
+
+static void test_latest_is_replaced_whole(void)
+{
+    char *json;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_read(&store, &json, err, sizeof err));
+    TEST_ASSERT_NULL(json);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_write(&store, "{\"class\":\"VERDICT\",\"n\":1}", err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_write(&store, "{\"class\":\"VERDICT\",\"n\":2}", err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_read(&store, &json, err, sizeof err));
+    TEST_ASSERT_EQUAL_STRING("{\"class\":\"VERDICT\",\"n\":2}", json);
+    free(json);
+    dtest_spit(store.latest, "{\"class\":");
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_latest_read(&store, &json, err, sizeof err));
+}
+
+static void set_baseline(const struct uwb_scan *scan, double dc_s)
+{
+    struct uwbd_baseline_info info = {0};
+    snprintf(info.scan_id, sizeof info.scan_id, "%s", scan->scan_id);
+    snprintf(info.set_at, sizeof info.set_at, "2030-01-02T04:00:00Z");
+    info.has_direct_coupling = 1;
+    info.direct_coupling_s = dc_s;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_baseline_set(&store, scan, &info, WINDOW_END_S, err, sizeof err), err);
+}
+
+static void test_baseline_set_keeps_the_one_it_replaces(void)
+{
+    struct uwb_scan a = {0}, b = {0}, got = {0};
+    struct uwbd_baseline_info info;
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_NONE, uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err,
+                                                                 sizeof err));
+    make_scan(&a, "scan-a", 100, 0.0f);
+    make_scan(&b, "scan-b", 100, 0.25f);
+    set_baseline(&a, 5e-11);
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err,
+                                                                   sizeof err));
+    TEST_ASSERT_EQUAL_STRING("scan-a", info.scan_id);
+    TEST_ASSERT_TRUE(info.has_direct_coupling);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, 5e-11, info.direct_coupling_s);
+    uwb_scan_free(&got);
+
+    set_baseline(&b, 6e-11);
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err,
+                                                                   sizeof err));
+    TEST_ASSERT_EQUAL_STRING("scan-b", info.scan_id);
+    TEST_ASSERT_EQUAL_FLOAT(b.data[7], got.data[7]);
+    uwb_scan_free(&got);
+
+    char p[2048];
+    path_in(p, sizeof p, "baseline/history/scan-a.uwbscan");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbscan_read_file(p, &got, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_STRING("scan-a", got.scan_id);
+    TEST_ASSERT_EQUAL_FLOAT(a.data[7], got.data[7]);
+    uwb_scan_free(&got);
+    path_in(p, sizeof p, "baseline/history/scan-a.json");
+    char *json = dtest_slurp(p, NULL);
+    TEST_ASSERT_NOT_NULL(json);
+    TEST_ASSERT_NOT_NULL(strstr(json, "\"direct_coupling_ps\":50"));
+    free(json);
+    uwb_scan_free(&a);
+    uwb_scan_free(&b);
+}
+
+/* A crash after current.uwbscan was replaced but before current.json: the
+ * scan is the truth and its description is rebuilt from it. */
+static void test_baseline_description_is_rebuilt_after_a_crash(void)
+{
+    struct uwb_scan a = {0}, b = {0};
+    make_scan(&a, "scan-a", 100, 0.0f);
+    make_scan(&b, "scan-b", 150, 0.0f);
+    set_baseline(&a, 5e-11);
+    char p[2048];
+    path_in(p, sizeof p, "baseline/current.uwbscan");
+    TEST_ASSERT_EQUAL_INT(0, uwbscan_write_file(p, &b, err, sizeof err));   /* the crash: json still says a */
+    struct uwbd_baseline_info info;
+    int repaired = 0;
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired,
+                                                                   err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(1, repaired);
+    TEST_ASSERT_EQUAL_STRING("scan-b", info.scan_id);
+    TEST_ASSERT_TRUE(info.has_direct_coupling);
+    /* b's pulse exp(-((i - 150) / 4)^2) peaks at t0 + 150 dt = 0.5 ns; less its mean over the
+     * record, it reaches half height 3.26 samples before the peak. */
+    TEST_ASSERT_DOUBLE_WITHIN(2e-12, 0.5e-9 - 32.6e-12, info.direct_coupling_s);
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired,
+                                                                   err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, repaired);
+    uwb_scan_free(&a);
+    uwb_scan_free(&b);
+}
+
+static void test_damaged_baseline_is_an_error_not_a_silent_replacement(void)
+{
+    char p[2048];
+    path_in(p, sizeof p, "baseline/current.uwbscan");
+    dtest_spit(p, "{\"format\":\"uwbscan/1\"}\n");
+    struct uwbd_baseline_info info;
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_ERROR, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, NULL, err,
+                                                                  sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "current.uwbscan"), err);
+}
+
+/* An archived scan: its files, dated `age_days` ago. */
+static void archive_scan(const char *day, const char *id, double age_days)
+{
+    static const char *const suffixes[] = {".uwbscan", ".json", "-migrated.png", "-bscan.png"};
+    char d[2048], p[2300];
+    snprintf(d, sizeof d, "%s/%s", store.archive, day);
+    char cmd[2400];
+    snprintf(cmd, sizeof cmd, "mkdir -p '%s'", d);
+    TEST_ASSERT_EQUAL_INT(0, system(cmd));
+    struct timeval tv[2];
+    gettimeofday(&tv[0], NULL);
+    tv[0].tv_sec -= (time_t)(age_days * 86400);
+    tv[1] = tv[0];
+    for (size_t i = 0; i < 4; i++) {
+        snprintf(p, sizeof p, "%s/%s%s", d, id, suffixes[i]);
+        dtest_spit(p, "x");
+        TEST_ASSERT_EQUAL_INT(0, utimes(p, tv));
+    }
+}
+
+static int archived(const char *day, const char *id, const char *suffix)
+{
+    char p[2300];
+    snprintf(p, sizeof p, "%s/%s/%s%s", store.archive, day, id, suffix);
+    return dtest_file_exists(p);
+}
+
+static void test_retention_by_count_deletes_the_oldest_and_spares_baselines(void)
+{
+    struct uwb_scan a = {0};
+    make_scan(&a, "a", 100, 0.0f);
+    set_baseline(&a, 5e-11);
+    archive_scan("2030/01/01", "a", 5);
+    archive_scan("2030/01/01", "a-2", 4);   /* its name begins like a's: not a's images */
+    archive_scan("2030/01/02", "b", 3);
+    archive_scan("2030/01/03", "c", 2);
+    archive_scan("2030/01/03", "d", 1);
+    TEST_ASSERT_EQUAL_INT(5, uwbd_archive_count(&store));
+    int removed = 0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 3, 0, time(NULL), &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(2, removed);
+    TEST_ASSERT_EQUAL_INT(3, uwbd_archive_count(&store));
+    TEST_ASSERT_FALSE(archived("2030/01/01", "a", ".uwbscan"));
+    TEST_ASSERT_FALSE(archived("2030/01/01", "a", "-migrated.png"));
+    TEST_ASSERT_FALSE(archived("2030/01/01", "a-2", ".json"));
+    TEST_ASSERT_TRUE(archived("2030/01/02", "b", ".json"));
+    TEST_ASSERT_TRUE(archived("2030/01/03", "d", "-bscan.png"));
+    /* The emptied day directory went too; the baseline stayed. */
+    char p[2048];
+    snprintf(p, sizeof p, "%s/2030/01/01", store.archive);
+    TEST_ASSERT_FALSE(dtest_file_exists(p));
+    path_in(p, sizeof p, "baseline/current.uwbscan");
+    TEST_ASSERT_TRUE(dtest_file_exists(p));
+    uwb_scan_free(&a);
+}
+
+static void test_retention_keeps_a_scan_whose_name_begins_like_a_deleted_one(void)
+{
+    archive_scan("2030/01/01", "a", 5);
+    archive_scan("2030/01/01", "a-2", 1);
+    int removed = 0;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_retention_apply(&store, 1, 0, time(NULL), &removed, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(1, removed);
+    TEST_ASSERT_FALSE(archived("2030/01/01", "a", ".json"));
+    TEST_ASSERT_TRUE(archived("2030/01/01", "a-2", ".json"));
+    TEST_ASSERT_TRUE(archived("2030/01/01", "a-2", "-migrated.png"));
+}
+
+static void test_retention_by_age(void)
+{
+    archive_scan("2030/01/01", "old", 40);
+    archive_scan("2030/01/02", "older", 50);
+    archive_scan("2030/01/03", "new", 10);
+    int removed = 0;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_retention_apply(&store, 0, 30, time(NULL), &removed, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(2, removed);
+    TEST_ASSERT_TRUE(archived("2030/01/03", "new", ".uwbscan"));
+    TEST_ASSERT_EQUAL_INT(1, uwbd_archive_count(&store));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_retention_apply(&store, 0, 0, time(NULL), &removed, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, removed);
+}
+
+static void test_scan_ids_become_safe_file_names(void)
+{
+    char id[UWBD_SCAN_ID_MAX + 1];
+    uwbd_safe_scan_id("../../etc/passwd", id, sizeof id);
+    TEST_ASSERT_EQUAL_STRING("_._.._etc_passwd", id);   /* no slash, no leading dot */
+    uwbd_safe_scan_id("uwb-20300101T000000.123Z", id, sizeof id);
+    TEST_ASSERT_EQUAL_STRING("uwb-20300101T000000.123Z", id);
+    char longer[300];
+    memset(longer, 'x', sizeof longer - 1);
+    longer[sizeof longer - 1] = '\0';
+    uwbd_safe_scan_id(longer, id, sizeof id);
+    TEST_ASSERT_EQUAL_INT(UWBD_SCAN_ID_MAX, (int)strlen(id));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_open_makes_the_layout);
+    RUN_TEST(test_open_removes_leftover_temporaries_only);
+    RUN_TEST(test_verdict_log_appends_whole_lines_and_reads_the_tail);
+    RUN_TEST(test_torn_and_damaged_lines_are_tolerated_and_repaired);
+    RUN_TEST(test_tail_reads_far_back_through_long_files);
+    RUN_TEST(test_latest_is_replaced_whole);
+    RUN_TEST(test_baseline_set_keeps_the_one_it_replaces);
+    RUN_TEST(test_baseline_description_is_rebuilt_after_a_crash);
+    RUN_TEST(test_damaged_baseline_is_an_error_not_a_silent_replacement);
+    RUN_TEST(test_retention_by_count_deletes_the_oldest_and_spares_baselines);
+    RUN_TEST(test_retention_keeps_a_scan_whose_name_begins_like_a_deleted_one);
+    RUN_TEST(test_retention_by_age);
+    RUN_TEST(test_scan_ids_become_safe_file_names);
+    return UNITY_END();
+}

@@ -1,0 +1,351 @@
+/* One scan cycle above the hardware, fed simulated scans: what lands in the
+ * state directory, when the baseline changes (only when asked, keeping the
+ * old one), the direct-coupling check, and lost scans as `error` verdicts. */
+#include "unity.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "daemon_support.h"
+#include "uwb/daemon/baseline_store.h"
+#include "uwb/daemon/config.h"
+#include "uwb/daemon/direct_coupling.h"
+#include "uwb/daemon/retention.h"
+#include "uwb/daemon/scan_cycle.h"
+#include "uwb/daemon/store.h"
+#include "uwb/daemon/verdict_log.h"
+#include "uwbsim/uwbsim.h"
+
+/* 2030-01-02T00:00:00Z: the archive day is 2030/01/02. */
+#define CYCLE_TIME ((time_t)1893542400)
+#define DAY_DIR "archive/2030/01/02"
+
+/* What the fake acquisition hands the cycle: a simulated scan of the scene,
+ * made once per winding position (simulating is slow under qemu) and
+ * copied for every cycle. */
+struct fake_rig {
+    struct sim_scene scene;
+    int displaced;          /* the winding moved up 12 mm */
+    int delay_samples;      /* the whole record arrives this much later (a longer cable) */
+    int fail;               /* report a lost scan */
+    int stopped;            /* report a stop request */
+    int blank;              /* noise only: no coupling, no winding */
+};
+
+static char dir[64];
+static char err[2048];
+static struct uwbd_store store;
+static struct uwbd_config cfg;
+static struct fake_rig rig;
+static struct uwbd_cycle_result res;
+static int scans_made;
+
+static struct uwb_scan simulated[2];   /* intact, displaced; kept for the whole run */
+
+static int fake_acquire(void *ctx, const volatile sig_atomic_t *stop, struct uwb_scan *out, char *e, size_t n)
+{
+    (void)stop;
+    struct fake_rig *r = ctx;
+    if (r->stopped)
+        return UWBD_ACQUIRE_STOPPED;
+    if (r->fail) {
+        snprintf(e, n, "digitiser: no frame within 1000 ms (timeout)");
+        return UWBD_ACQUIRE_FAILED;
+    }
+    struct uwb_scan *cached = &simulated[r->displaced];
+    if (!cached->data) {
+        struct sim_scene scene = r->scene;
+        if (r->displaced && sim_scene_set(&scene, "displacement_m", "0.012", e, n) != 0)
+            return UWBD_ACQUIRE_FAILED;
+        if (sim_make_scan(&scene, 1 + (uint64_t)r->displaced, cached, e, n) != 0)
+            return UWBD_ACQUIRE_FAILED;
+    }
+    if (uwb_scan_copy(out, cached, e, n) != 0)
+        return UWBD_ACQUIRE_FAILED;
+    int S = out->samples;
+    for (int k = 0; k < out->positions; k++) {
+        float *trace = out->data + (size_t)k * (size_t)S;
+        if (r->delay_samples > 0) {
+            memmove(trace + r->delay_samples, trace, sizeof(float) * (size_t)(S - r->delay_samples));
+            for (int i = 0; i < r->delay_samples; i++)
+                trace[i] = 0.0f;
+        }
+        if (r->blank)
+            for (int i = 0; i < S; i++)
+                trace[i] = (float)(1e-4 * ((i * 7919 + k * 104729) % 101 - 50));
+    }
+    char id[64];
+    snprintf(id, sizeof id, "sim-%d", ++scans_made);
+    free(out->scan_id);
+    out->scan_id = strdup(id);
+    return UWBD_ACQUIRE_OK;
+}
+
+static void set_scene(const char *key, const char *value)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_scene_set(&rig.scene, key, value, err, sizeof err), err);
+}
+
+void setUp(void)
+{
+    dtest_scratch_dir(dir, sizeof dir, "cycle");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, NULL, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_load("board/emulated/uwbd.json", NULL, 0, &cfg, err, sizeof err),
+                                  err);
+    memset(&rig, 0, sizeof rig);
+    TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&rig.scene));
+    /* A clean scene, so a displacement is measured to a fraction of a millimetre. */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_scene_load_json("tools/uwbsim/scenes/winding-only-3d.json", &rig.scene, err,
+                                                         sizeof err), err);
+    set_scene("coupling_gain", "0.05");
+    set_scene("noise", "true");
+    set_scene("snr_db", "50");
+    set_scene("samples", "1024");
+    scans_made = 0;
+    memset(&res, 0, sizeof res);
+}
+
+void tearDown(void)
+{
+    uwbd_cycle_result_free(&res);
+    dtest_remove_tree(dir);
+}
+
+static void run_cycle(int make_baseline)
+{
+    uwbd_cycle_result_free(&res);
+    struct uwbd_cycle_request req = {.make_baseline = make_baseline, .now = CYCLE_TIME};
+    TEST_ASSERT_EQUAL_INT(0, uwbd_cycle_run(&cfg, &store, fake_acquire, &rig, NULL, &req, &res));
+}
+
+static cJSON *verdict(void)
+{
+    TEST_ASSERT_NOT_NULL(res.verdict_json);
+    cJSON *v = cJSON_Parse(res.verdict_json);
+    TEST_ASSERT_NOT_NULL(v);
+    return v;
+}
+
+static double number(const cJSON *v, const char *key)
+{
+    const cJSON *n = cJSON_GetObjectItemCaseSensitive(v, key);
+    TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNumber(n), key);
+    return n->valuedouble;
+}
+
+static int in_state(const char *rel)
+{
+    char p[2048];
+    snprintf(p, sizeof p, "%s/%s", store.root, rel);
+    return dtest_file_exists(p);
+}
+
+static void current_baseline(struct uwbd_baseline_info *info)
+{
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, cfg.direct_coupling_window_end_s, NULL,
+                                                                   info, NULL, err, sizeof err));
+}
+
+static void test_a_scan_without_baseline_is_archived_with_edges_only(void)
+{
+    run_cycle(0);
+    TEST_ASSERT_EQUAL_INT(UWBD_CYCLE_RECORDED, res.outcome);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_EDGES, res.status);
+    TEST_ASSERT_EQUAL_STRING("sim-1", res.scan_id);
+    static const char *const files[] = {DAY_DIR "/sim-1.uwbscan", DAY_DIR "/sim-1.json",
+                                        DAY_DIR "/sim-1-migrated.png", DAY_DIR "/sim-1-bscan.png",
+                                        DAY_DIR "/sim-1-comparison.png", "verdicts.jsonl", "latest.json"};
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++)
+        TEST_ASSERT_TRUE_MESSAGE(in_state(files[i]), files[i]);
+    TEST_ASSERT_FALSE(in_state("baseline/current.uwbscan"));
+    char *latest;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_read(&store, &latest, err, sizeof err));
+    TEST_ASSERT_EQUAL_STRING(res.verdict_json, latest);
+    free(latest);
+    cJSON *v = verdict();
+    TEST_ASSERT_NOT_NULL(strstr(cJSON_GetObjectItemCaseSensitive(v, "scan_file")->valuestring, "sim-1.uwbscan"));
+    TEST_ASSERT_TRUE(number(v, "direct_coupling_ps") > -1000 && number(v, "direct_coupling_ps") < 500);
+    TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(v, "baseline_set"));
+    cJSON_Delete(v);
+    /* The archived raw scan reads back and carries the archive's name. */
+    struct uwb_scan s;
+    char p[2048];
+    snprintf(p, sizeof p, "%s/" DAY_DIR "/sim-1.uwbscan", store.root);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbscan_read_file(p, &s, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_STRING("sim-1", s.scan_id);
+    uwb_scan_free(&s);
+}
+
+static void test_the_baseline_changes_only_when_asked_and_keeps_the_old_one(void)
+{
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(1, res.baseline_set);
+    struct uwbd_baseline_info info;
+    current_baseline(&info);
+    TEST_ASSERT_EQUAL_STRING("sim-1", info.scan_id);
+    TEST_ASSERT_TRUE(info.has_direct_coupling);
+
+    rig.displaced = 1;
+    run_cycle(0);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ALARM, res.status);
+    TEST_ASSERT_EQUAL_INT(0, res.baseline_set);
+    cJSON *v = verdict();
+    TEST_ASSERT_DOUBLE_WITHIN(0.5, 12.0, number(v, "axial_displacement_mm"));
+    TEST_ASSERT_DOUBLE_WITHIN(5.0, 0.0, number(v, "direct_coupling_shift_ps"));
+    cJSON_Delete(v);
+    current_baseline(&info);
+    TEST_ASSERT_EQUAL_STRING("sim-1", info.scan_id);   /* an alarm does not move the baseline */
+
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(1, res.baseline_set);
+    current_baseline(&info);
+    TEST_ASSERT_EQUAL_STRING("sim-3", info.scan_id);
+    TEST_ASSERT_TRUE(in_state("baseline/history/sim-1.uwbscan"));
+    TEST_ASSERT_TRUE(in_state("baseline/history/sim-1.json"));
+    TEST_ASSERT_EQUAL_INT(3, dtest_count_lines(store.verdict_log));
+}
+
+/* Make the intact scan the baseline through the store, as a commissioning
+ * cycle would, without a cycle's imaging (slow under qemu). */
+static void commission_directly(void)
+{
+    struct uwb_scan scan;
+    const volatile sig_atomic_t never = 0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWBD_ACQUIRE_OK, fake_acquire(&rig, &never, &scan, err, sizeof err), err);
+    struct uwbd_baseline_info info = {0};
+    snprintf(info.scan_id, sizeof info.scan_id, "%s", scan.scan_id);
+    info.has_direct_coupling = uwb_direct_coupling_arrival(&scan, cfg.direct_coupling_window_end_s,
+                                                           &info.direct_coupling_s, err, sizeof err) == 0;
+    TEST_ASSERT_TRUE_MESSAGE(info.has_direct_coupling, err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_baseline_set(&store, &scan, &info, cfg.direct_coupling_window_end_s, err,
+                                                       sizeof err), err);
+    uwb_scan_free(&scan);
+}
+
+static void test_moved_direct_coupling_is_inconclusive_not_compared(void)
+{
+    commission_directly();
+    rig.delay_samples = 4;   /* 40 ps, twice the tolerance */
+    run_cycle(0);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, res.status);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(res.reason, "direct coupling moved +40 ps"), res.reason);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(res.reason, "cable or antenna changed?"), res.reason);
+    cJSON *v = verdict();
+    TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(v, "axial_displacement_mm"));
+    cJSON_Delete(v);
+
+    rig.delay_samples = 1;   /* 10 ps: within the tolerance, compared */
+    run_cycle(0);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_OK, res.status);
+}
+
+static void test_a_lost_scan_is_an_error_verdict_and_the_baseline_stays(void)
+{
+    commission_directly();
+    size_t before_len = 0, after_len = 0;
+    char p[2048];
+    snprintf(p, sizeof p, "%s/baseline/current.uwbscan", store.root);
+    char *before = dtest_slurp(p, &before_len);
+    rig.fail = 1;
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(UWBD_CYCLE_RECORDED, res.outcome);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, res.status);
+    TEST_ASSERT_EQUAL_INT(0, res.baseline_set);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(res.reason, "acquisition failed: digitiser: no frame"), res.reason);
+    cJSON *v = verdict();
+    TEST_ASSERT_EQUAL_STRING("error", cJSON_GetObjectItemCaseSensitive(v, "status")->valuestring);
+    cJSON_Delete(v);
+    char *after = dtest_slurp(p, &after_len);
+    TEST_ASSERT_EQUAL_UINT64(before_len, after_len);
+    TEST_ASSERT_EQUAL_MEMORY(before, after, before_len);
+    free(before);
+    free(after);
+    char *latest;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_read(&store, &latest, err, sizeof err));
+    TEST_ASSERT_NOT_NULL(strstr(latest, "\"status\":\"error\""));
+    free(latest);
+    TEST_ASSERT_EQUAL_INT(1, dtest_count_lines(store.verdict_log));
+
+    rig.fail = 0;   /* the next cycle succeeds once the fault is gone */
+    run_cycle(0);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_OK, res.status);
+}
+
+static void test_a_scan_without_winding_or_coupling_does_not_become_the_baseline(void)
+{
+    rig.blank = 1;
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(0, res.baseline_set);
+    TEST_ASSERT_FALSE(in_state("baseline/current.uwbscan"));
+    if (res.status != UWB_STATUS_ERROR) {
+        cJSON *v = verdict();
+        const cJSON *note = cJSON_GetObjectItemCaseSensitive(v, "baseline_note");
+        TEST_ASSERT_TRUE(cJSON_IsString(note));
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(note->valuestring, "not set"), note->valuestring);
+        cJSON_Delete(v);
+    }
+}
+
+static void test_a_stopped_scan_records_nothing(void)
+{
+    rig.stopped = 1;
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(UWBD_CYCLE_STOPPED, res.outcome);
+    TEST_ASSERT_NULL(res.verdict_json);
+    TEST_ASSERT_FALSE(in_state("verdicts.jsonl"));
+    TEST_ASSERT_FALSE(in_state("latest.json"));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_archive_count(&store));
+}
+
+static void test_an_unusable_archive_loses_the_scan_with_an_error_verdict(void)
+{
+    char p[2048];
+    snprintf(p, sizeof p, "%s/archive/2030", store.root);
+    dtest_spit(p, "a file where the year directory should be");
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, res.status);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(res.reason, "archive"), res.reason);
+    TEST_ASSERT_FALSE(in_state("baseline/current.uwbscan"));
+    TEST_ASSERT_EQUAL_INT(1, dtest_count_lines(store.verdict_log));
+}
+
+/* Lost scans keep the cycles cheap here: each leaves its verdict file,
+ * which is what retention counts (test_daemon_store covers whole scans). */
+static void test_retention_runs_after_each_cycle(void)
+{
+    cfg.retention_max_scans = 2;
+    rig.fail = 1;
+    char first[UWBD_SCAN_ID_MAX + 1], path[256];
+    for (int i = 0; i < 3; i++) {
+        struct uwbd_cycle_request req = {.now = CYCLE_TIME + i};
+        uwbd_cycle_result_free(&res);
+        TEST_ASSERT_EQUAL_INT(0, uwbd_cycle_run(&cfg, &store, fake_acquire, &rig, NULL, &req, &res));
+        if (i == 0)
+            snprintf(first, sizeof first, "%s", res.scan_id);
+    }
+    TEST_ASSERT_EQUAL_INT(2, uwbd_archive_count(&store));
+    snprintf(path, sizeof path, DAY_DIR "/%s.json", first);
+    TEST_ASSERT_FALSE(in_state(path));
+    snprintf(path, sizeof path, DAY_DIR "/%s.json", res.scan_id);
+    TEST_ASSERT_TRUE(in_state(path));
+    TEST_ASSERT_EQUAL_INT(3, dtest_count_lines(store.verdict_log));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_a_scan_without_baseline_is_archived_with_edges_only);
+    RUN_TEST(test_the_baseline_changes_only_when_asked_and_keeps_the_old_one);
+    RUN_TEST(test_moved_direct_coupling_is_inconclusive_not_compared);
+    RUN_TEST(test_a_lost_scan_is_an_error_verdict_and_the_baseline_stays);
+    RUN_TEST(test_a_scan_without_winding_or_coupling_does_not_become_the_baseline);
+    RUN_TEST(test_a_stopped_scan_records_nothing);
+    RUN_TEST(test_an_unusable_archive_loses_the_scan_with_an_error_verdict);
+    RUN_TEST(test_retention_runs_after_each_cycle);
+    uwb_scan_free(&simulated[0]);
+    uwb_scan_free(&simulated[1]);
+    return UNITY_END();
+}

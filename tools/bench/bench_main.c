@@ -1,0 +1,268 @@
+/* uwbbench: prints the performance figures of issue 7 next to their targets.
+ * A benchmark, not a test: nothing here fails on a slow run. One core, no
+ * threads; times from CLOCK_MONOTONIC, the median of repeated runs with the
+ * best in brackets. */
+#include "bench.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/utsname.h>
+
+#include "uwb/migrate.h"
+
+/* The two migration sizes of the issue, on a 1 mm grid over the simulated
+ * winding (face at 0.45 m): 21 positions 30 mm apart cover 0..0.6 m, 64
+ * positions 19 mm apart cover 0..1.2 m. */
+static const struct bench_case small_case = {
+    .name = "21 x 2048 -> 600 x 400", .positions = 21, .samples = 2048, .position_step_m = 0.03,
+    .ny = 600, .nz = 400, .y0_m = 0.0, .z0_m = 0.25,
+};
+static const struct bench_case large_case = {
+    .name = "64 x 4096 -> 1200 x 800", .positions = 64, .samples = 4096, .position_step_m = 0.019,
+    .ny = 1200, .nz = 800, .y0_m = 0.0, .z0_m = 0.25,
+};
+
+/* Targets (issue 7, on one core of the x86 development machine). */
+#define TARGET_SPEEDUP 5.0
+#define TARGET_NS_PER_PIXEL_TRACE 1.0
+#define TARGET_SNR_DB 50.0
+#define TARGET_REPLAY_MS 100.0
+#define TARGET_RSS_MIB 16.0
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: uwbbench [--quick] [--runs N] [--replay-runs N] [--calls] [--uwbd PATH]\n"
+        "\n"
+        "Prints migration speed (fixed point with its SIMD and its portable inner loop, float,\n"
+        "and a straightforward double-precision yardstick) at 21 x 2048 -> 600 x 400 and\n"
+        "64 x 4096 -> 1200 x 800, the fast paths' SNR against the yardstick, and a whole\n"
+        "replay's time, peak RSS and where its time goes, next to the targets. Figures only:\n"
+        "a slow run does not fail.\n"
+        "\n"
+        "  --quick          one run each, the small size only (for emulators)\n"
+        "  --runs N         repetitions of each migration (default 7; 3 at the large size)\n"
+        "  --replay-runs N  repetitions of the whole replay (default 9)\n"
+        "  --calls          list every timed library call of the replay, with its grid\n"
+        "  --uwbd PATH      the uwbd measured as a child (default: next to uwbbench)\n"
+        "\n"
+        "UWB_EXEC_PREFIX, if set, is put before uwbd (e.g. \"qemu-aarch64 -L /\").\n");
+}
+
+static int parse_count(const char *text, int *out)
+{
+    char *end;
+    long v = strtol(text, &end, 10);
+    if (*end || v < 1 || v > 64)
+        return -1;
+    *out = (int)v;
+    return 0;
+}
+
+static int parse_options(int argc, char **argv, struct bench_options *o)
+{
+    *o = (struct bench_options){.runs_small = 7, .runs_large = 3, .runs_replay = 9};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        int has_value = i + 1 < argc;
+        if (strcmp(a, "--quick") == 0) {
+            o->quick = 1;
+            o->runs_small = o->runs_large = o->runs_replay = 1;
+        } else if (strcmp(a, "--runs") == 0 && has_value) {
+            if (parse_count(argv[++i], &o->runs_small) != 0)
+                goto bad_count;
+            o->runs_large = o->runs_small;
+        } else if (strcmp(a, "--replay-runs") == 0 && has_value) {
+            if (parse_count(argv[++i], &o->runs_replay) != 0)
+                goto bad_count;
+        } else if (strcmp(a, "--calls") == 0) {
+            o->list_calls = 1;
+        } else if (strcmp(a, "--uwbd") == 0 && has_value) {
+            o->uwbd_path = argv[++i];
+        } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+            usage(stdout);
+            exit(0);
+        } else {
+            fprintf(stderr, "uwbbench: unknown or incomplete option '%s'\n", a);
+            usage(stderr);
+            return -1;
+        }
+        continue;
+    bad_count:
+        fprintf(stderr, "uwbbench: %s: '%s' is not a count from 1 to 64\n", a, argv[i]);
+        return -1;
+    }
+    return 0;
+}
+
+static void print_machine(void)
+{
+    struct utsname u;
+    char model[128] = "unknown CPU";
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    if (f) {
+        char line[256];
+        while (fgets(line, sizeof line, f)) {
+            char *colon = strchr(line, ':');
+            if (colon && strncmp(line, "model name", 10) == 0) {
+                snprintf(model, sizeof model, "%s", colon + 2);
+                model[strcspn(model, "\n")] = '\0';
+                break;
+            }
+        }
+        fclose(f);
+    }
+    if (uname(&u) == 0)
+        printf("machine: %s, %s (%s %s)\n", u.machine, model, u.sysname, u.release);
+#if defined(__aarch64__)
+    /* A real arm64 kernel has no "model name" line; an x86 host under
+     * qemu-user shows its own. */
+    if (strstr(model, "Intel") || strstr(model, "AMD"))
+        printf("note: an aarch64 build on an x86 CPU, i.e. under an emulator: times and RSS are"
+               " the emulator's, not the board's\n");
+#endif
+}
+
+static void print_migration(const struct migration_figures *f)
+{
+    const char *path[4] = {"fixed", "fixed-port", "float", "yardstick"};
+    double ms[4] = {f->fixed_ms, f->portable_ms, f->float_ms, f->yardstick_ms};
+    double best[4] = {f->fixed_best_ms, f->portable_best_ms, f->float_best_ms,
+                      f->yardstick_best_ms};
+    double snr[4] = {f->snr_fixed_db, f->snr_portable_db, f->snr_float_db, 0.0};
+    for (int i = 0; i < 4; i++) {
+        char snr_text[32] = "(reference)";
+        if (i < 3)
+            snprintf(snr_text, sizeof snr_text, "%.1f dB", snr[i]);
+        printf("%-24s %-10s %9.2f (%8.2f) %10.3f %9.1fx %14s\n", i == 0 ? f->name : "", path[i],
+               ms[i], best[i], 1e6 * ms[i] / (double)f->pixel_traces, f->yardstick_ms / ms[i],
+               snr_text);
+    }
+}
+
+static void print_replay(const struct replay_figures *r, int list_calls)
+{
+    if (r->child_measured)
+        printf("uwbd as a child (fork, exec, wait4): %.1f ms (best %.1f), peak RSS %.1f MiB"
+               " (%ld KiB)\n  verdict: %s\n  for scale: uwbd --version peaks at %.1f MiB RSS"
+               " (program and shared libraries, no work)\n",
+               r->child_ms, r->child_best_ms, r->child_maxrss_kib / 1024.0, r->child_maxrss_kib,
+               r->verdict, r->idle_maxrss_kib / 1024.0);
+    else
+        printf("uwbd as a child: not measured (no executable uwbd next to uwbbench; see --uwbd)\n");
+    printf("in process (the same library calls): read %.1f ms + evaluate %.1f ms + PNGs %.1f ms"
+           " = %.1f ms\n", r->read_ms, r->evaluate_ms, r->images_ms, r->total_ms);
+    printf("  where that time goes (one run near the median):\n");
+    double staged = 0.0;
+    for (int s = 0; s < STAGE_COUNT; s++) {
+        double ms = 1e3 * r->stages.seconds[s];
+        staged += ms;
+        printf("    %-46s %7.1f ms  %3ld calls", bench_stage_name((enum bench_stage)s), ms,
+               r->stages.calls[s]);
+        if (s == STAGE_MIGRATE && r->stages.pixel_traces > 0)
+            printf(", %.1f M pixel-traces, %.2f ns each", 1e-6 * (double)r->stages.pixel_traces,
+                   1e6 * ms / (double)r->stages.pixel_traces);
+        printf("\n");
+    }
+    printf("    %-46s %7.1f ms\n", "everything else (face search, painting, I/O...)",
+           r->total_ms - staged);
+    if (!list_calls)
+        return;
+    printf("  every timed call of that run, in order (grid: rows y x columns z; PNG: height x width):\n");
+    for (int i = 0; i < r->stages.n_calls; i++) {
+        const struct bench_stage_call *c = &r->stages.call[i];
+        printf("    %-46s", bench_stage_name(c->stage));
+        if (c->ny > 0)
+            printf(" %4d x %4d", c->ny, c->nz);
+        else
+            printf(" %11s", "");
+        printf(" %8.2f ms\n", 1e3 * c->seconds);
+    }
+}
+
+static void print_target(const char *what, const char *figure, int met)
+{
+    printf("  %-44s %-22s %s\n", what, figure, met ? "met" : "NOT met");
+}
+
+int main(int argc, char **argv)
+{
+    struct bench_options opt;
+    if (parse_options(argc, argv, &opt) != 0)
+        return 64;
+    setvbuf(stdout, NULL, _IOLBF, 0);
+    char err[512];
+    /* First, while this process is still small (see bench_launcher.c). */
+    if (bench_launcher_start(err, sizeof err) != 0) {
+        fprintf(stderr, "uwbbench: %s\n", err);
+        return 70;
+    }
+    printf("uwbbench: one core, no threads; CLOCK_MONOTONIC; median of repeated runs, best in "
+           "brackets\n");
+    print_machine();
+
+    struct migration_figures mig[2];
+    int n_sizes = opt.quick ? 1 : 2;
+    printf("\nMigration of a simulated, conditioned scan onto a 1 mm grid (%d run%s at the small "
+           "size, %d at the large)\n", opt.runs_small, opt.runs_small == 1 ? "" : "s",
+           opt.quick ? 0 : opt.runs_large);
+    printf("%-24s %-10s %20s %10s %10s %14s\n", "traces x samples -> y x z", "path",
+           "ms/image (best)", "ns/px-tr", "speed", "SNR vs double");
+    for (int i = 0; i < n_sizes; i++) {
+        if (bench_migration(i ? &large_case : &small_case, i ? opt.runs_large : opt.runs_small,
+                            &mig[i], err, sizeof err) != 0) {
+            fprintf(stderr, "uwbbench: %s\n", err);
+            return 70;
+        }
+        print_migration(&mig[i]);
+    }
+    printf("(ns/px-tr: ns per pixel and trace, pixels x traces; speed: the yardstick's time over"
+           " this path's;\n fixed: the appliance's path, inner loop %s; fixed-port: the same with"
+           " the portable C loop)\n", uwb_migration_simd());
+
+    printf("\nWhole replay: 21 x 2048 simulated scan (winding moved up 20 mm) against its baseline,"
+           "\nread, condition, migrate, envelope, edges, verdict, 3 PNGs (%d run%s)\n",
+           opt.runs_replay, opt.runs_replay == 1 ? "" : "s");
+    struct replay_figures rep;
+    if (bench_replay(&opt, &rep, err, sizeof err) != 0) {
+        fprintf(stderr, "uwbbench: %s\n", err);
+        return 70;
+    }
+    print_replay(&rep, opt.list_calls);
+
+    printf("\nTargets (issue 7; meant for one core of the x86 development machine)\n");
+    char fig[64];
+    double worst_snr = 1e9;
+    for (int i = 0; i < n_sizes; i++) {
+        char what[96];
+        double speedup = mig[i].yardstick_ms / mig[i].fixed_ms;
+        double ns = 1e6 * mig[i].fixed_ms / (double)mig[i].pixel_traces;
+        snprintf(what, sizeof what, "fixed >= %.0fx yardstick, %s", TARGET_SPEEDUP,
+                 i ? "64 x 4096" : "21 x 2048");
+        snprintf(fig, sizeof fig, "%.1fx", speedup);
+        print_target(what, fig, speedup >= TARGET_SPEEDUP);
+        snprintf(what, sizeof what, "fixed <= %.0f ns/pixel-trace, %s", TARGET_NS_PER_PIXEL_TRACE,
+                 i ? "64 x 4096" : "21 x 2048");
+        snprintf(fig, sizeof fig, "%.3f ns", ns);
+        print_target(what, fig, ns <= TARGET_NS_PER_PIXEL_TRACE);
+        if (mig[i].snr_fixed_db < worst_snr)
+            worst_snr = mig[i].snr_fixed_db;
+    }
+    snprintf(fig, sizeof fig, "%.1f dB (worst size)", worst_snr);
+    print_target("fixed-point SNR >= 50 dB against double", fig, worst_snr >= TARGET_SNR_DB);
+    double replay_ms = rep.child_measured ? rep.child_ms : rep.total_ms;
+    snprintf(fig, sizeof fig, "%.1f ms%s", replay_ms, rep.child_measured ? "" : " (in process)");
+    print_target("whole replay <= 100 ms", fig, replay_ms <= TARGET_REPLAY_MS);
+    if (rep.child_measured) {
+        double mib = rep.child_maxrss_kib / 1024.0;
+        snprintf(fig, sizeof fig, "%.1f MiB", mib);
+        print_target("uwbd peak RSS <= 16 MiB", fig, mib <= TARGET_RSS_MIB);
+    } else {
+        print_target("uwbd peak RSS <= 16 MiB", "not measured", 0);
+    }
+    if (opt.quick)
+        printf("(--quick: one run each, small size only)\n");
+    bench_launcher_stop();
+    return 0;
+}

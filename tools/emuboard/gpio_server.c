@@ -1,0 +1,78 @@
+/* The board's side of the emulated-GPIO protocol (board/emulated-gpio.md):
+ * STEP rising edges move the carriage one microstep in the DIR direction
+ * while ENABLE is high, a TRIGGER rising edge fires the pulser, HOME reads
+ * closed at or below the switch. */
+#include <stdio.h>
+#include <string.h>
+
+#include "emu.h"
+
+static int find_line(const char *name)
+{
+    for (int i = 0; i < UWB_LINE_COUNT; i++)
+        if (strcmp(name, uwb_gpio_line_name(i)) == 0)
+            return i;
+    return -1;
+}
+
+static void set_line(struct emu_board *b, int line, int value)
+{
+    int rising = value && !b->line[line];
+    b->line[line] = value;
+    if (!rising)
+        return;
+    if (line == UWB_LINE_STEP) {
+        /* An unpowered motor does not turn: steps without ENABLE are lost,
+         * as they would be on the bench. */
+        if (!b->line[UWB_LINE_ENABLE]) {
+            b->steps_while_disabled++;
+            return;
+        }
+        int up = b->line[UWB_LINE_DIR] ^ b->invert_dir;
+        b->steps += up ? 1 : -1;
+        b->steps_counted++;
+    } else if (line == UWB_LINE_TRIGGER) {
+        emu_digitiser_trigger(b);
+    }
+}
+
+void emu_gpio_line(struct emu_board *b, const char *text, char *reply, size_t replylen)
+{
+    char cmd[16], name[16], extra[2];
+    int value;
+    reply[0] = '\0';
+    int n = sscanf(text, "%15s %15s %d %1s", cmd, name, &value, extra);
+    if (n == 3 && strcmp(cmd, "set") == 0) {
+        int line = find_line(name);
+        if (line < 0 || line == UWB_LINE_HOME || (value != 0 && value != 1))
+            snprintf(reply, replylen, "err cannot set '%.60s': outputs are trigger, step, dir, enable; values 0 or 1\n",
+                     text);
+        else
+            set_line(b, line, value);
+        return;
+    }
+    if (n == 2 && strcmp(cmd, "get") == 0) {
+        int line = find_line(name);
+        if (line < 0)
+            snprintf(reply, replylen, "err no line '%.20s'\n", name);
+        else
+            snprintf(reply, replylen, "val %s %d\n", name,
+                     line == UWB_LINE_HOME ? emu_board_home_active(b) : b->line[line]);
+        return;
+    }
+    if (n == 2 && strcmp(cmd, "hello") == 0) {
+        if (strcmp(name, EMU_GPIO_PROTOCOL) == 0)
+            snprintf(reply, replylen, "ok %s uwbemu %s\n", EMU_GPIO_PROTOCOL, EMU_VERSION);
+        else
+            snprintf(reply, replylen, "err protocol '%.20s' not spoken here; this is %s\n", name, EMU_GPIO_PROTOCOL);
+        return;
+    }
+    if (text[0])
+        snprintf(reply, replylen, "err unknown command '%.60s'\n", text);
+}
+
+void emu_gpio_released(struct emu_board *b)
+{
+    for (int i = 0; i < UWB_LINE_HOME; i++)
+        b->line[i] = 0;
+}
