@@ -20,11 +20,12 @@
 
 struct emulated {
     struct uwb_link *link;
-    char buf[512];     /* received bytes not yet consumed */
+    char buf[1024];    /* received bytes not yet consumed: one line of up to 1023 bytes and its '\n' */
     size_t len;
 };
 
-/* Reads one reply line (without its '\n') into line. */
+/* Reads one reply line (without its '\n', nor a '\r' before it: the
+ * protocol allows either ending, board/emulated-gpio.md) into line. */
 static int read_line(struct uwb_gpio *gpio, char *line, size_t linelen, char *err, size_t errlen)
 {
     struct emulated *em = gpio->state;
@@ -32,7 +33,8 @@ static int read_line(struct uwb_gpio *gpio, char *line, size_t linelen, char *er
         char *nl = memchr(em->buf, '\n', em->len);
         if (nl) {
             size_t n = (size_t)(nl - em->buf);
-            snprintf(line, linelen, "%.*s", (int)n, em->buf);
+            size_t text = n > 0 && em->buf[n - 1] == '\r' ? n - 1 : n;
+            snprintf(line, linelen, "%.*s", (int)text, em->buf);
             memmove(em->buf, nl + 1, em->len - n - 1);
             em->len -= n + 1;
             return UWB_GPIO_OK;
