@@ -60,24 +60,38 @@ int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, ch
     return rc;
 }
 
-int uwbd_verdict_log_repair(const struct uwbd_store *store, long *dropped, char *err, size_t errlen)
+/* Open the log and take its size. Returns 1 when it does not exist yet
+ * (nothing logged), 0 with *fd open, or -1 with err filled. */
+static int open_log(const struct uwbd_store *store, int flags, int *fd, off_t *size, char *err,
+                    size_t errlen)
 {
-    *dropped = 0;
-    int fd = open(store->verdict_log, O_RDWR | O_CLOEXEC);
-    if (fd < 0) {
+    *fd = open(store->verdict_log, flags | O_CLOEXEC);
+    if (*fd < 0) {
         if (errno == ENOENT)
-            return 0;
+            return 1;
         snprintf(err, errlen, "%s: cannot open: %s", store->verdict_log, strerror(errno));
         return -1;
     }
     struct stat st;
-    if (fstat(fd, &st) != 0) {
+    if (fstat(*fd, &st) != 0) {
         snprintf(err, errlen, "%s: cannot stat: %s", store->verdict_log, strerror(errno));
-        close(fd);
+        close(*fd);
         return -1;
     }
+    *size = st.st_size;
+    return 0;
+}
+
+int uwbd_verdict_log_repair(const struct uwbd_store *store, long *dropped, char *err, size_t errlen)
+{
+    *dropped = 0;
+    int fd;
+    off_t size;
+    int opened = open_log(store, O_RDWR, &fd, &size, err, errlen);
+    if (opened != 0)
+        return opened > 0 ? 0 : -1;
     /* Walk back from the end to the last newline. */
-    off_t end = st.st_size, keep = 0;
+    off_t end = size, keep = 0;
     char buf[4096];
     while (end > 0) {
         off_t start = end > (off_t)sizeof buf ? end - (off_t)sizeof buf : 0;
@@ -97,12 +111,12 @@ int uwbd_verdict_log_repair(const struct uwbd_store *store, long *dropped, char 
         end = start;
     }
     int rc = 0;
-    if (keep < st.st_size) {
+    if (keep < size) {
         if (ftruncate(fd, keep) != 0 || fsync(fd) != 0) {
             snprintf(err, errlen, "%s: cannot cut off a torn last line: %s", store->verdict_log, strerror(errno));
             rc = -1;
         } else {
-            *dropped = (long)(st.st_size - keep);
+            *dropped = (long)(size - keep);
         }
     }
     close(fd);
@@ -141,22 +155,14 @@ int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines_o
         *skipped_out = 0;
     if (n <= 0)
         return 0;
-    int fd = open(store->verdict_log, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        if (errno == ENOENT)
-            return 0;
-        snprintf(err, errlen, "%s: cannot open: %s", store->verdict_log, strerror(errno));
-        return -1;
-    }
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        snprintf(err, errlen, "%s: cannot stat: %s", store->verdict_log, strerror(errno));
-        close(fd);
-        return -1;
-    }
+    int fd;
+    off_t size;
+    int opened = open_log(store, O_RDONLY, &fd, &size, err, errlen);
+    if (opened != 0)
+        return opened > 0 ? 0 : -1;
     /* Read blocks from the end until n + 1 newlines are in hand (the
      * extra one marks where the oldest wanted line starts), or the start. */
-    off_t start = st.st_size;
+    off_t start = size;
     size_t have = 0, cap = 0;
     char *buf = NULL;
     int newlines = 0;

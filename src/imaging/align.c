@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "select.h"
+#include "trace_spectrum.h"
 
 #define MIN_CORRELATION 0.9    /* a trace whose early part does not look like the rest is left alone */
 #define MAX_GAIN_DB 3.0        /* larger gain changes are not drift: left alone */
@@ -85,46 +86,33 @@ static double best_lag(const float *tr, int samples, const double *ref, int n_wi
     return lag;
 }
 
-/* Advance every trace by lag[k] samples (band-limited shift: a phase ramp)
- * and divide it by gain[k]. */
-static int shift_and_scale(struct uwb_scan *s, const double *lag, const double *gain,
-                           char *err, size_t errlen)
+struct correction {
+    const double *lag, *gain;
+};
+
+static int uncorrected(void *ctx, int k)
 {
-    int S = s->samples, nh = S / 2 + 1;
-    float *buf = fftwf_alloc_real((size_t)S);
-    fftwf_complex *spec = fftwf_alloc_complex((size_t)nh);
-    if (!buf || !spec) {
-        fftwf_free(buf);
-        fftwf_free(spec);
-        snprintf(err, errlen, "alignment: out of memory");
-        return -1;
+    const struct correction *c = ctx;
+    return c->lag[k] == 0.0 && c->gain[k] == 1.0;
+}
+
+/* Advance trace k by lag[k] samples (band-limited shift: a phase ramp) and
+ * divide it by gain[k]. */
+static void shift_and_scale(void *ctx, int k, fftwf_complex *spec, int n, double df_hz)
+{
+    const struct correction *corr = ctx;
+    (void)df_hz;
+    int nh = n / 2 + 1;
+    for (int i = 0; i < nh; i++) {
+        double phase = 2.0 * M_PI * i * corr->lag[k] / n, scale = 1.0 / (corr->gain[k] * n);
+        double c = cos(phase) * scale, sn = sin(phase) * scale;
+        double re = spec[i][0], im = spec[i][1];
+        spec[i][0] = (float)(re * c - im * sn);
+        spec[i][1] = (float)(re * sn + im * c);
     }
-    fftwf_plan fwd = fftwf_plan_dft_r2c_1d(S, buf, spec, FFTW_ESTIMATE);
-    fftwf_plan inv = fftwf_plan_dft_c2r_1d(S, spec, buf, FFTW_ESTIMATE);
-    for (int k = 0; k < s->positions; k++) {
-        if (lag[k] == 0.0 && gain[k] == 1.0)
-            continue;
-        float *tr = s->data + (size_t)k * S;
-        memcpy(buf, tr, (size_t)S * sizeof *buf);
-        fftwf_execute(fwd);
-        for (int i = 0; i < nh; i++) {
-            double phase = 2.0 * M_PI * i * lag[k] / S, scale = 1.0 / (gain[k] * S);
-            double c = cos(phase) * scale, sn = sin(phase) * scale;
-            double re = spec[i][0], im = spec[i][1];
-            spec[i][0] = (float)(re * c - im * sn);
-            spec[i][1] = (float)(re * sn + im * c);
-        }
-        /* Nyquist bin of an even-length transform must stay real. */
-        if (S % 2 == 0)
-            spec[nh - 1][1] = 0.0f;
-        fftwf_execute(inv);
-        memcpy(tr, buf, (size_t)S * sizeof *buf);
-    }
-    fftwf_destroy_plan(fwd);
-    fftwf_destroy_plan(inv);
-    fftwf_free(buf);
-    fftwf_free(spec);
-    return 0;
+    /* Nyquist bin of an even-length transform must stay real. */
+    if (n % 2 == 0)
+        spec[nh - 1][1] = 0.0f;
 }
 
 int uwb_align_to_coupling(struct uwb_scan *s, double window_end_s, double t0_s, double period_s,
@@ -181,7 +169,9 @@ int uwb_align_to_coupling(struct uwb_scan *s, double window_end_s, double t0_s, 
                 gain[k] = g;
             report->aligned++;
         }
-        rc = shift_and_scale(s, lag, gain, err, errlen);
+        struct correction corr = {lag, gain};
+        rc = filter_traces_in_spectrum(s, uncorrected, shift_and_scale, &corr, "alignment", err,
+                                       errlen);
         if (pass == 0)
             for (int k = 0; k < s->positions; k++) {
                 report->max_shift_s = fmax(report->max_shift_s, fabs(lag[k]) * dt);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "select.h"
+#include "trace_spectrum.h"
 
 void uwb_condition_defaults(struct uwb_condition_options *opt)
 {
@@ -72,37 +73,25 @@ static double band_gain(double f, double low_hz, double high_hz)
     return g;
 }
 
+struct band {
+    double low_hz, high_hz;
+};
+
+static void apply_band(void *ctx, int k, fftwf_complex *spec, int n, double df_hz)
+{
+    const struct band *b = ctx;
+    (void)k;
+    for (int i = 0; i < n / 2 + 1; i++) {
+        double gain = band_gain(i * df_hz, b->low_hz, b->high_hz);
+        spec[i][0] *= (float)(gain / n);
+        spec[i][1] *= (float)(gain / n);
+    }
+}
+
 static int bandpass(struct uwb_scan *s, double low_hz, double high_hz, char *err, size_t errlen)
 {
-    int S = s->samples, nh = S / 2 + 1;
-    float *buf = fftwf_alloc_real((size_t)S);
-    fftwf_complex *spec = fftwf_alloc_complex((size_t)nh);
-    if (!buf || !spec) {
-        fftwf_free(buf);
-        fftwf_free(spec);
-        snprintf(err, errlen, "conditioning: out of memory");
-        return -1;
-    }
-    fftwf_plan fwd = fftwf_plan_dft_r2c_1d(S, buf, spec, FFTW_ESTIMATE);
-    fftwf_plan inv = fftwf_plan_dft_c2r_1d(S, spec, buf, FFTW_ESTIMATE);
-    double df = 1.0 / (S * s->sample_interval_s);
-    for (int k = 0; k < s->positions; k++) {
-        float *tr = s->data + (size_t)k * S;
-        memcpy(buf, tr, (size_t)S * sizeof *buf);
-        fftwf_execute(fwd);
-        for (int i = 0; i < nh; i++) {
-            double gain = band_gain(i * df, low_hz, high_hz);
-            spec[i][0] *= (float)(gain / S);
-            spec[i][1] *= (float)(gain / S);
-        }
-        fftwf_execute(inv);
-        memcpy(tr, buf, (size_t)S * sizeof *buf);
-    }
-    fftwf_destroy_plan(fwd);
-    fftwf_destroy_plan(inv);
-    fftwf_free(buf);
-    fftwf_free(spec);
-    return 0;
+    struct band b = {low_hz, high_hz};
+    return filter_traces_in_spectrum(s, NULL, apply_band, &b, "conditioning", err, errlen);
 }
 
 /* Static clutter (direct coupling, tank wall, barriers and core legs that

@@ -46,3 +46,14 @@ void fixture_load_truth(const char *scan_path, struct fixture_truth *truth)
     truth->displacement_mm = number(root, "displacement_mm", path);
     cJSON_Delete(root);
 }
+
+void fixture_image_grid(struct uwb_image *img, int ny, int nz, double y0_m, double dy_m, double z0_m,
+                        double dz_m)
+{
+    char err[256];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_image_alloc(img, ny, nz, err, sizeof err), err);
+    img->y0_m = y0_m;
+    img->dy_m = dy_m;
+    img->z0_m = z0_m;
+    img->dz_m = dz_m;
+}

@@ -1,6 +1,7 @@
 /* atomic_file: the target is replaced whole or not at all, the temporary
  * lives beside it, and nothing is left behind on success or failure.
  * Failure modes are ones root cannot bypass (tests may run as root). */
+#include "scratch_support.h"
 #include "unity.h"
 
 #include <dirent.h>
@@ -15,27 +16,6 @@
 
 static char tmpdir[64];
 static char err[512];
-
-static void remove_tree(const char *path)
-{
-    DIR *d = opendir(path);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d)) != NULL) {
-            if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
-                continue;
-            char child[1024];
-            snprintf(child, sizeof child, "%s/%s", path, e->d_name);
-            struct stat st;
-            if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode))
-                remove_tree(child);
-            else
-                unlink(child);
-        }
-        closedir(d);
-    }
-    rmdir(path);
-}
 
 static int compare_names(const void *a, const void *b)
 {
@@ -98,7 +78,7 @@ void setUp(void)
 
 void tearDown(void)
 {
-    remove_tree(tmpdir);
+    scratch_remove_tree(tmpdir);
 }
 
 static void test_creates_new_file(void)

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "daemon_support.h"
+#include "scratch_support.h"
 #include "uwb/daemon/config.h"
 
 #define SAMPLE_EMULATED "board/emulated/uwbd.json"
@@ -19,7 +19,7 @@ static char *sample_text;
 
 void setUp(void)
 {
-    sample_text = dtest_slurp(SAMPLE_EMULATED, NULL);
+    sample_text = scratch_slurp(SAMPLE_EMULATED, NULL);
     TEST_ASSERT_NOT_NULL_MESSAGE(sample_text, SAMPLE_EMULATED);
     err[0] = '\0';
 }
@@ -245,7 +245,7 @@ static void test_overrides_are_checked_like_the_file(void)
 /* board/config.md documents the keys: every key of the table is in it. */
 static void test_config_md_documents_every_key(void)
 {
-    char *doc = dtest_slurp("board/config.md", NULL);
+    char *doc = scratch_slurp("board/config.md", NULL);
     TEST_ASSERT_NOT_NULL_MESSAGE(doc, "board/config.md");
     for (size_t i = 0; i < uwbd_config_key_count(); i++) {
         char quoted[160];

@@ -12,7 +12,7 @@
 #include <sys/time.h>
 #include <unistd.h>
 
-#include "daemon_support.h"
+#include "scratch_support.h"
 #include "uwb/daemon/baseline_store.h"
 #include "uwb/daemon/retention.h"
 #include "uwb/daemon/store.h"
@@ -26,13 +26,13 @@ static struct uwbd_store store;
 
 void setUp(void)
 {
-    dtest_scratch_dir(dir, sizeof dir, "store");
+    scratch_scratch_dir(dir, sizeof dir, "store");
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, NULL, err, sizeof err), err);
 }
 
 void tearDown(void)
 {
-    dtest_remove_tree(dir);
+    scratch_remove_tree(dir);
 }
 
 static void path_in(char *out, size_t n, const char *rel)
@@ -75,20 +75,20 @@ static void test_open_removes_leftover_temporaries_only(void)
 {
     char p[2048];
     path_in(p, sizeof p, ".latest.json.Ab12Cd");
-    dtest_spit(p, "{\"half");
+    scratch_spit(p, "{\"half");
     path_in(p, sizeof p, "baseline/.current.uwbscan.zzzzzz");
-    dtest_spit(p, "half");
+    scratch_spit(p, "half");
     path_in(p, sizeof p, "keep.txt");
-    dtest_spit(p, "mine");
+    scratch_spit(p, "mine");
     int repairs = 0;
     TEST_ASSERT_EQUAL_INT(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(2, repairs);
     path_in(p, sizeof p, ".latest.json.Ab12Cd");
-    TEST_ASSERT_FALSE(dtest_file_exists(p));
+    TEST_ASSERT_FALSE(scratch_file_exists(p));
     path_in(p, sizeof p, "baseline/.current.uwbscan.zzzzzz");
-    TEST_ASSERT_FALSE(dtest_file_exists(p));
+    TEST_ASSERT_FALSE(scratch_file_exists(p));
     path_in(p, sizeof p, "keep.txt");
-    TEST_ASSERT_TRUE(dtest_file_exists(p));
+    TEST_ASSERT_TRUE(scratch_file_exists(p));
 }
 
 static void test_verdict_log_appends_whole_lines_and_reads_the_tail(void)
@@ -99,7 +99,7 @@ static void test_verdict_log_appends_whole_lines_and_reads_the_tail(void)
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_append(&store, line, err, sizeof err), err);
     }
     TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_append(&store, "{\"a\":1}\n{\"b\":2}", err, sizeof err));
-    TEST_ASSERT_EQUAL_INT(5, dtest_count_lines(store.verdict_log));
+    TEST_ASSERT_EQUAL_INT(5, scratch_count_lines(store.verdict_log));
     char **lines;
     int count, skipped;
     TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 3, &lines, &count, &skipped, err, sizeof err));
@@ -118,7 +118,7 @@ static void test_verdict_log_appends_whole_lines_and_reads_the_tail(void)
  * the next append starts a clean line. */
 static void test_torn_and_damaged_lines_are_tolerated_and_repaired(void)
 {
-    dtest_spit(store.verdict_log, "{\"n\":1}\n{\"n\":2, oops\n{\"n\":3}\n{\"n\":4,\"cut\":\"in the mid");
+    scratch_spit(store.verdict_log, "{\"n\":1}\n{\"n\":2, oops\n{\"n\":3}\n{\"n\":4,\"cut\":\"in the mid");
     char **lines;
     int count, skipped;
     TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 10, &lines, &count, &skipped, err, sizeof err));
@@ -132,7 +132,7 @@ static void test_torn_and_damaged_lines_are_tolerated_and_repaired(void)
     TEST_ASSERT_EQUAL_INT(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(1, repairs);
     TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":5}", err, sizeof err));
-    char *text = dtest_slurp(store.verdict_log, NULL);
+    char *text = scratch_slurp(store.verdict_log, NULL);
     TEST_ASSERT_EQUAL_STRING("{\"n\":1}\n{\"n\":2, oops\n{\"n\":3}\n{\"n\":5}\n", text);
     free(text);
 }
@@ -168,7 +168,7 @@ static void test_latest_is_replaced_whole(void)
     TEST_ASSERT_EQUAL_INT(0, uwbd_latest_read(&store, &json, err, sizeof err));
     TEST_ASSERT_EQUAL_STRING("{\"class\":\"VERDICT\",\"n\":2}", json);
     free(json);
-    dtest_spit(store.latest, "{\"class\":");
+    scratch_spit(store.latest, "{\"class\":");
     TEST_ASSERT_EQUAL_INT(-1, uwbd_latest_read(&store, &json, err, sizeof err));
 }
 
@@ -212,7 +212,7 @@ static void test_baseline_set_keeps_the_one_it_replaces(void)
     TEST_ASSERT_EQUAL_FLOAT(a.data[7], got.data[7]);
     uwb_scan_free(&got);
     path_in(p, sizeof p, "baseline/history/scan-a.json");
-    char *json = dtest_slurp(p, NULL);
+    char *json = scratch_slurp(p, NULL);
     TEST_ASSERT_NOT_NULL(json);
     TEST_ASSERT_NOT_NULL(strstr(json, "\"direct_coupling_ps\":50"));
     free(json);
@@ -252,7 +252,7 @@ static void test_damaged_baseline_is_an_error_not_a_silent_replacement(void)
 {
     char p[2048];
     path_in(p, sizeof p, "baseline/current.uwbscan");
-    dtest_spit(p, "{\"format\":\"uwbscan/1\"}\n");
+    scratch_spit(p, "{\"format\":\"uwbscan/1\"}\n");
     struct uwbd_baseline_info info;
     TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_ERROR, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, NULL, err,
                                                                   sizeof err));
@@ -274,7 +274,7 @@ static void archive_scan(const char *day, const char *id, double age_days)
     tv[1] = tv[0];
     for (size_t i = 0; i < 4; i++) {
         snprintf(p, sizeof p, "%s/%s%s", d, id, suffixes[i]);
-        dtest_spit(p, "x");
+        scratch_spit(p, "x");
         TEST_ASSERT_EQUAL_INT(0, utimes(p, tv));
     }
 }
@@ -283,7 +283,7 @@ static int archived(const char *day, const char *id, const char *suffix)
 {
     char p[2300];
     snprintf(p, sizeof p, "%s/%s/%s%s", store.archive, day, id, suffix);
-    return dtest_file_exists(p);
+    return scratch_file_exists(p);
 }
 
 static void test_retention_by_count_deletes_the_oldest_and_spares_baselines(void)
@@ -309,9 +309,9 @@ static void test_retention_by_count_deletes_the_oldest_and_spares_baselines(void
     /* The emptied day directory went too; the baseline stayed. */
     char p[2048];
     snprintf(p, sizeof p, "%s/2030/01/01", store.archive);
-    TEST_ASSERT_FALSE(dtest_file_exists(p));
+    TEST_ASSERT_FALSE(scratch_file_exists(p));
     path_in(p, sizeof p, "baseline/current.uwbscan");
-    TEST_ASSERT_TRUE(dtest_file_exists(p));
+    TEST_ASSERT_TRUE(scratch_file_exists(p));
     uwb_scan_free(&a);
 }
 

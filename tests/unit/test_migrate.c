@@ -38,16 +38,6 @@ static void point_scan(struct uwb_scan *s, double yp, double zp, double jitter_m
     }
 }
 
-static void image_grid(struct uwb_image *img, int ny, int nz, double y0, double dy, double z0, double dz)
-{
-    char err[256];
-    TEST_ASSERT_EQUAL_INT(0, uwb_image_alloc(img, ny, nz, err, sizeof err));
-    img->y0_m = y0;
-    img->dy_m = dy;
-    img->z0_m = z0;
-    img->dz_m = dz;
-}
-
 static void peak_of(const struct uwb_image *img, double *y, double *z)
 {
     size_t best = 0;
@@ -65,7 +55,7 @@ static void focus_case(enum uwb_migration_kind kind, double jitter)
     struct uwb_geometry g;
     uwb_geometry_from_scan(&g, &s, 0.0);
     struct uwb_image img;
-    image_grid(&img, 301, 201, 0.15, 0.001, 0.45, 0.001);
+    fixture_image_grid(&img, 301, 201, 0.15, 0.001, 0.45, 0.001);
     char err[256];
     TEST_ASSERT_EQUAL_INT(0, uwb_migrate(kind, &s, &g, &img, err, sizeof err));
     double y, z;
@@ -111,8 +101,8 @@ static void test_fixed_point_matches_float_reference(void)
     char err[256];
     TEST_ASSERT_EQUAL_INT(0, uwb_condition(&raw, &g, &copt, uwb_dominant_frequency(&raw), NULL, &s, err, sizeof err));
     struct uwb_image ref, fixed;
-    image_grid(&ref, 600, 400, 0.0, 0.001, 0.25, 0.001);
-    image_grid(&fixed, 600, 400, 0.0, 0.001, 0.25, 0.001);
+    fixture_image_grid(&ref, 600, 400, 0.0, 0.001, 0.25, 0.001);
+    fixture_image_grid(&fixed, 600, 400, 0.0, 0.001, 0.25, 0.001);
     TEST_ASSERT_EQUAL_INT(0, uwb_migrate(UWB_MIGRATE_FLOAT, &s, &g, &ref, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(0, uwb_migrate(UWB_MIGRATE_FIXED, &s, &g, &fixed, err, sizeof err));
     double snr = snr_db(&ref, &fixed);

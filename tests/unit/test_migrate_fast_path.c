@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fixture_support.h"
 #include "unity.h"
 #include "uwb/geometry.h"
 #include "uwb/migrate.h"
@@ -50,16 +51,6 @@ static void noise_scan(struct uwb_scan *s, double tx_dz, double jitter_m)
         s->antenna_y_m[k] = 0.03 * k + (k % 2 ? jitter_m : 0.0);
     for (size_t i = 0; i < (size_t)POSITIONS * SAMPLES; i++)
         s->data[i] = random_unit();
-}
-
-static void grid(struct uwb_image *img, int ny, int nz, double y0, double dy, double z0, double dz)
-{
-    char err[256];
-    TEST_ASSERT_EQUAL_INT(0, uwb_image_alloc(img, ny, nz, err, sizeof err));
-    img->y0_m = y0;
-    img->dy_m = dy;
-    img->z0_m = z0;
-    img->dz_m = dz;
 }
 
 /* Delay of (dy above the antenna, z) in samples after sample 0, the long way. */
@@ -108,13 +99,13 @@ static void test_mirrored_rows_hold_their_own_delays(void)
     struct uwb_scan s;
     noise_scan(&s, 0.0, 0.0);
     struct uwb_image img;
-    grid(&img, 70, 37, -0.05, 0.01, 0.05, 0.02);
+    fixture_image_grid(&img, 70, 37, -0.05, 0.01, 0.05, 0.02);
     int rows = img.ny + (int)lround(0.6 / 0.01);
     int stored = check_table_rows(&s, &img);
     TEST_ASSERT_TRUE_MESSAGE(stored < rows * 3 / 4, "mirrored rows were not shared");
     uwb_image_free(&img);
     /* Midpoint half-way between rows: shared too. */
-    grid(&img, 70, 37, -0.055, 0.01, 0.05, 0.02);
+    fixture_image_grid(&img, 70, 37, -0.055, 0.01, 0.05, 0.02);
     stored = check_table_rows(&s, &img);
     TEST_ASSERT_TRUE(stored < rows * 3 / 4);
     uwb_image_free(&img);
@@ -127,7 +118,7 @@ static void test_no_mirror_when_ranges_differ(void)
     struct uwb_scan s;
     noise_scan(&s, 0.01, 0.0);
     struct uwb_image img;
-    grid(&img, 70, 37, -0.05, 0.01, 0.05, 0.02);
+    fixture_image_grid(&img, 70, 37, -0.05, 0.01, 0.05, 0.02);
     TEST_ASSERT_EQUAL_INT(img.ny + 60, check_table_rows(&s, &img));
     uwb_image_free(&img);
     uwb_scan_free(&s);
@@ -147,7 +138,7 @@ static void test_weight_rounding_carries_into_the_index(void)
     double leg = (100.0 * g.dt_s + g.t0_s) * g.velocity_m_s / 2.0;   /* Tx and Rx legs alike */
     double z_exact = sqrt(leg * leg - 0.02 * 0.02);
     struct uwb_image img;
-    grid(&img, 1, 401, 0.0, 0.001, z_exact - 200 * 2e-12, 2e-12);
+    fixture_image_grid(&img, 1, 401, 0.0, 0.001, z_exact - 200 * 2e-12, 2e-12);
     struct delay_table t;
     char err[256];
     TEST_ASSERT_EQUAL_INT(0, delay_table_plan(&t, DELAY_FIXED, &s, &g, &img, err, sizeof err));
@@ -241,9 +232,9 @@ static void check_images(double tx_dz, double jitter_m, double y0)
     uwb_geometry_from_scan(&g, &s, 0.0);
     struct uwb_image fx, port, fl;
     /* z from 2 cm to 1.2 m: delays run off the end of the record (the pad). */
-    grid(&fx, 45, 61, y0, 0.015, 0.02, 0.0197);
-    grid(&port, 45, 61, y0, 0.015, 0.02, 0.0197);
-    grid(&fl, 45, 61, y0, 0.015, 0.02, 0.0197);
+    fixture_image_grid(&fx, 45, 61, y0, 0.015, 0.02, 0.0197);
+    fixture_image_grid(&port, 45, 61, y0, 0.015, 0.02, 0.0197);
+    fixture_image_grid(&fl, 45, 61, y0, 0.015, 0.02, 0.0197);
     char err[256];
     TEST_ASSERT_EQUAL_INT(0, uwb_migrate(UWB_MIGRATE_FIXED, &s, &g, &fx, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(0, uwb_migrate(UWB_MIGRATE_FIXED_PORTABLE, &s, &g, &port, err, sizeof err));

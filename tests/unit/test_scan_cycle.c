@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "daemon_support.h"
+#include "scratch_support.h"
 #include "uwb/daemon/baseline_store.h"
 #include "uwb/daemon/config.h"
 #include "uwb/daemon/direct_coupling.h"
@@ -91,7 +91,7 @@ static void set_scene(const char *key, const char *value)
 
 void setUp(void)
 {
-    dtest_scratch_dir(dir, sizeof dir, "cycle");
+    scratch_scratch_dir(dir, sizeof dir, "cycle");
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, NULL, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_load("board/emulated/uwbd.json", NULL, 0, &cfg, err, sizeof err),
                                   err);
@@ -111,7 +111,7 @@ void setUp(void)
 void tearDown(void)
 {
     uwbd_cycle_result_free(&res);
-    dtest_remove_tree(dir);
+    scratch_remove_tree(dir);
 }
 
 static void run_cycle(int make_baseline)
@@ -140,7 +140,7 @@ static int in_state(const char *rel)
 {
     char p[2048];
     snprintf(p, sizeof p, "%s/%s", store.root, rel);
-    return dtest_file_exists(p);
+    return scratch_file_exists(p);
 }
 
 static void current_baseline(struct uwbd_baseline_info *info)
@@ -205,7 +205,7 @@ static void test_the_baseline_changes_only_when_asked_and_keeps_the_old_one(void
     TEST_ASSERT_EQUAL_STRING("sim-3", info.scan_id);
     TEST_ASSERT_TRUE(in_state("baseline/history/sim-1.uwbscan"));
     TEST_ASSERT_TRUE(in_state("baseline/history/sim-1.json"));
-    TEST_ASSERT_EQUAL_INT(3, dtest_count_lines(store.verdict_log));
+    TEST_ASSERT_EQUAL_INT(3, scratch_count_lines(store.verdict_log));
 }
 
 /* Make the intact scan the baseline through the store, as a commissioning
@@ -248,7 +248,7 @@ static void test_a_lost_scan_is_an_error_verdict_and_the_baseline_stays(void)
     size_t before_len = 0, after_len = 0;
     char p[2048];
     snprintf(p, sizeof p, "%s/baseline/current.uwbscan", store.root);
-    char *before = dtest_slurp(p, &before_len);
+    char *before = scratch_slurp(p, &before_len);
     rig.fail = 1;
     run_cycle(1);
     TEST_ASSERT_EQUAL_INT(UWBD_CYCLE_RECORDED, res.outcome);
@@ -258,7 +258,7 @@ static void test_a_lost_scan_is_an_error_verdict_and_the_baseline_stays(void)
     cJSON *v = verdict();
     TEST_ASSERT_EQUAL_STRING("error", cJSON_GetObjectItemCaseSensitive(v, "status")->valuestring);
     cJSON_Delete(v);
-    char *after = dtest_slurp(p, &after_len);
+    char *after = scratch_slurp(p, &after_len);
     TEST_ASSERT_EQUAL_UINT64(before_len, after_len);
     TEST_ASSERT_EQUAL_MEMORY(before, after, before_len);
     free(before);
@@ -267,7 +267,7 @@ static void test_a_lost_scan_is_an_error_verdict_and_the_baseline_stays(void)
     TEST_ASSERT_EQUAL_INT(0, uwbd_latest_read(&store, &latest, err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(latest, "\"status\":\"error\""));
     free(latest);
-    TEST_ASSERT_EQUAL_INT(1, dtest_count_lines(store.verdict_log));
+    TEST_ASSERT_EQUAL_INT(1, scratch_count_lines(store.verdict_log));
 
     rig.fail = 0;   /* the next cycle succeeds once the fault is gone */
     run_cycle(0);
@@ -304,12 +304,12 @@ static void test_an_unusable_archive_loses_the_scan_with_an_error_verdict(void)
 {
     char p[2048];
     snprintf(p, sizeof p, "%s/archive/2030", store.root);
-    dtest_spit(p, "a file where the year directory should be");
+    scratch_spit(p, "a file where the year directory should be");
     run_cycle(1);
     TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, res.status);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(res.reason, "archive"), res.reason);
     TEST_ASSERT_FALSE(in_state("baseline/current.uwbscan"));
-    TEST_ASSERT_EQUAL_INT(1, dtest_count_lines(store.verdict_log));
+    TEST_ASSERT_EQUAL_INT(1, scratch_count_lines(store.verdict_log));
 }
 
 /* Lost scans keep the cycles cheap here: each leaves its verdict file,
@@ -331,7 +331,7 @@ static void test_retention_runs_after_each_cycle(void)
     TEST_ASSERT_FALSE(in_state(path));
     snprintf(path, sizeof path, DAY_DIR "/%s.json", res.scan_id);
     TEST_ASSERT_TRUE(in_state(path));
-    TEST_ASSERT_EQUAL_INT(3, dtest_count_lines(store.verdict_log));
+    TEST_ASSERT_EQUAL_INT(3, scratch_count_lines(store.verdict_log));
 }
 
 int main(void)

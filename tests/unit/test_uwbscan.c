@@ -1,5 +1,6 @@
 /* uwbscan/1 reader and writer: every rejection the format names, round
  * trips that must be bit-exact, the FDTD fixtures, and bounds safety. */
+#include "scratch_support.h"
 #include "unity.h"
 
 #include <dirent.h>
@@ -29,27 +30,6 @@ static char tmpdir[64];
 static char err[512];
 
 /* ---- helpers -------------------------------------------------------- */
-
-static void remove_tree(const char *path)
-{
-    DIR *d = opendir(path);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d)) != NULL) {
-            if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
-                continue;
-            char child[1024];
-            snprintf(child, sizeof child, "%s/%s", path, e->d_name);
-            struct stat st;
-            if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode))
-                remove_tree(child);
-            else
-                unlink(child);
-        }
-        closedir(d);
-    }
-    rmdir(path);
-}
 
 static int count_entries(const char *dir)
 {
@@ -248,7 +228,7 @@ void setUp(void)
 
 void tearDown(void)
 {
-    remove_tree(tmpdir);
+    scratch_remove_tree(tmpdir);
 }
 
 /* ---- the good header really is good ---------------------------------- */

@@ -1,5 +1,5 @@
-/* Helpers for the daemon's tests (see daemon_support.h). */
-#include "daemon_support.h"
+/* Scratch directories and small files for tests (see scratch_support.h). */
+#include "scratch_support.h"
 
 #include "unity.h"
 
@@ -10,13 +10,13 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-void dtest_scratch_dir(char *path, size_t n, const char *tag)
+void scratch_scratch_dir(char *path, size_t n, const char *tag)
 {
     snprintf(path, n, "/tmp/uwbd-%s-XXXXXX", tag);
     TEST_ASSERT_NOT_NULL_MESSAGE(mkdtemp(path), "mkdtemp");
 }
 
-void dtest_remove_tree(const char *path)
+void scratch_remove_tree(const char *path)
 {
     DIR *d = opendir(path);
     if (d) {
@@ -28,7 +28,7 @@ void dtest_remove_tree(const char *path)
             snprintf(child, sizeof child, "%s/%s", path, e->d_name);
             struct stat st;
             if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode))
-                dtest_remove_tree(child);
+                scratch_remove_tree(child);
             else
                 unlink(child);
         }
@@ -37,7 +37,7 @@ void dtest_remove_tree(const char *path)
     rmdir(path);
 }
 
-char *dtest_slurp(const char *path, size_t *len)
+char *scratch_slurp(const char *path, size_t *len)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -66,7 +66,7 @@ char *dtest_slurp(const char *path, size_t *len)
     return buf;
 }
 
-void dtest_spit(const char *path, const char *text)
+void scratch_spit(const char *path, const char *text)
 {
     FILE *f = fopen(path, "wb");
     TEST_ASSERT_NOT_NULL_MESSAGE(f, path);
@@ -74,15 +74,15 @@ void dtest_spit(const char *path, const char *text)
     TEST_ASSERT_EQUAL_INT(0, fclose(f));
 }
 
-int dtest_file_exists(const char *path)
+int scratch_file_exists(const char *path)
 {
     return access(path, F_OK) == 0;
 }
 
-int dtest_count_lines(const char *path)
+int scratch_count_lines(const char *path)
 {
     size_t len = 0;
-    char *text = dtest_slurp(path, &len);
+    char *text = scratch_slurp(path, &len);
     if (!text)
         return 0;
     int n = 0;
