@@ -46,6 +46,7 @@ static char *status(struct emu_board *b)
     cJSON_AddNumberToObject(o, "home_y_mm", b->home_y_mm);
     cJSON_AddBoolToObject(o, "invert_dir", b->invert_dir);
     cJSON_AddNumberToObject(o, "steps_counted", (double)b->steps_counted);
+    cJSON_AddNumberToObject(o, "steps_stalled", (double)b->steps_stalled);
     cJSON_AddNumberToObject(o, "steps_while_disabled", (double)b->steps_while_disabled);
     cJSON *lines = cJSON_AddObjectToObject(o, "lines");
     for (int i = 0; i < UWB_LINE_COUNT; i++)

@@ -17,6 +17,8 @@
 
 #define EMU_VERSION "1.0"
 #define EMU_GPIO_PROTOCOL "uwb-gpio/1"
+/* The carriage's hard stop, this far below the home switch (mm). */
+#define EMU_END_STOP_BELOW_HOME_MM 3.0
 
 enum emu_fault_id {
     EMU_FAULT_CRC,          /* corrupt one payload byte after the CRC is computed */
@@ -64,6 +66,7 @@ struct emu_board {
     long steps;              /* microsteps above home (0 = switch closes) */
     int line[UWB_LINE_COUNT];
     unsigned long steps_counted, steps_while_disabled;
+    unsigned long steps_stalled;   /* counted, but against the end stop */
 
     /* the digitiser */
     struct uwb_link *digitiser;

@@ -29,8 +29,15 @@ static void set_line(struct emu_board *b, int line, int value)
             return;
         }
         int up = b->line[UWB_LINE_DIR] ^ b->invert_dir;
-        b->steps += up ? 1 : -1;
         b->steps_counted++;
+        /* The carriage's mechanical stop a little below the switch: a home
+         * search with a dead switch stalls there, as on a real rig, instead
+         * of driving on without end. */
+        if (!up && b->steps <= -(long)(EMU_END_STOP_BELOW_HOME_MM * b->steps_per_mm)) {
+            b->steps_stalled++;
+            return;
+        }
+        b->steps += up ? 1 : -1;
     } else if (line == UWB_LINE_TRIGGER) {
         emu_digitiser_trigger(b);
     }
