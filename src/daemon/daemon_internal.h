@@ -22,6 +22,8 @@
 #define MAX_CLIENTS 16
 /* A reply that cannot be sent within this is dropped with its client. */
 #define SEND_TIMEOUT_MS 2000
+/* A full table drops its longest-idle client once it has been quiet this long. */
+#define CLIENT_IDLE_EVICT_S 2.0
 #define CONSOLE_RETRY_S 5
 
 enum peer_kind { PEER_CONTROL, PEER_CONSOLE };
@@ -33,6 +35,7 @@ struct peer {
     struct uwb_link *link;         /* console */
     struct uwbd_line_buffer lines;
     unsigned long waiting_for;     /* cycle whose verdict this peer asked for; 0 = none */
+    double last_active_s;          /* CLOCK_MONOTONIC of its connection or last input */
 };
 
 struct scan_job {

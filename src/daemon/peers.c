@@ -211,6 +211,29 @@ static void feed(struct daemon *d, struct peer *p, const char *buf, size_t n)
     }
 }
 
+static double now_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + t.tv_nsec * 1e-9;
+}
+
+/* With every slot taken, the client quiet for longest (and not waiting for
+ * a scan) makes room, so clients that connect and say nothing cannot lock
+ * the operators out. */
+static struct peer *idle_client_to_drop(struct daemon *d, double now)
+{
+    struct peer *oldest = NULL;
+    for (int i = 0; i < MAX_CLIENTS; i++) {
+        struct peer *p = &d->clients[i];
+        if (!p->in_use || p->waiting_for || now - p->last_active_s < CLIENT_IDLE_EVICT_S)
+            continue;
+        if (!oldest || p->last_active_s < oldest->last_active_s)
+            oldest = p;
+    }
+    return oldest;
+}
+
 void peer_accept(struct daemon *d)
 {
     int fd = accept(d->control.fd, NULL, NULL);
@@ -224,13 +247,19 @@ void peer_accept(struct daemon *d)
         close(fd);
         return;
     }
+    double now = now_s();
+    struct peer *idle = idle_client_to_drop(d, now);
     for (int i = 0; i < MAX_CLIENTS; i++) {
         struct peer *p = &d->clients[i];
-        if (p->in_use)
+        if (p->in_use && p != idle)
             continue;
+        if (p->in_use)
+            uwbd_log(UWBD_LOG_NOTICE, "control: %d clients connected; dropping one idle for %.0f s to make room",
+                     MAX_CLIENTS, now - p->last_active_s);
         peer_close(p);
         p->in_use = 1;
         p->fd = fd;
+        p->last_active_s = now;
         return;
     }
     struct peer turned_away = {.kind = PEER_CONTROL, .in_use = 1, .fd = fd};
@@ -271,8 +300,10 @@ void peer_readable(struct daemon *d, struct peer *p)
     char buf[512];
     if (p->kind == PEER_CONTROL) {
         ssize_t r = recv(p->fd, buf, sizeof buf, MSG_DONTWAIT);
-        if (r > 0)
+        if (r > 0) {
+            p->last_active_s = now_s();
             feed(d, p, buf, (size_t)r);
+        }
         else if (r == 0 || (errno != EAGAIN && errno != EINTR))
             peer_close(p);
         return;

@@ -232,6 +232,35 @@ PY
 [[ $(sed -n 3p raw.json | json_get 'v["class"]') == STATUS ]] || fail "the connection did not recover after bad lines"
 pass "uwbd ctl: status, baseline set, scan, history, verdict, help; bad lines refused with ERROR"
 
+# At most 16 control clients; when all are taken, one quiet for 2 s or more
+# makes room, so silent connections cannot lock the operators out.
+python3 - <<'PY' || fail "control client slots"
+import json, socket, time
+def connect():
+    s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM); s.connect("run/control.sock"); s.settimeout(20)
+    return s
+def ask(s, line):
+    s.sendall(line.encode() + b"\n")
+    buf = b""
+    while not buf.endswith(b"\n"):
+        chunk = s.recv(65536)
+        assert chunk, f"closed while waiting for the reply to {line!r}"
+        buf += chunk
+    return json.loads(buf)
+idle = [connect() for _ in range(16)]
+time.sleep(0.3)
+extra = connect()
+reply = json.loads(extra.recv(65536))
+assert reply["class"] == "ERROR" and "too many control clients" in reply["message"], reply
+time.sleep(2.5)
+late = connect()
+assert ask(late, "status")["class"] == "STATUS"
+assert idle[0].recv(16) == b"", "the longest-idle client was not the one dropped"
+assert ask(idle[1], "status")["class"] == "STATUS", "another idle client lost its connection"
+PY
+grep -q "dropping one idle" uwbd.log || fail "no log line for the dropped idle client"
+pass "17th control client refused while all 16 are fresh; after 2 s idle the oldest makes room"
+
 # ---- the console ---------------------------------------------------------------
 touch run/console.go
 wait "$console_pid" || fail "console peer: $(cat console.log)"
