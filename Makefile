@@ -12,6 +12,9 @@
 #   make CROSS_COMPILE=aarch64-linux-gnu-   cross-build all
 #   make demo             deps, all, then tools/demo/run-demo.sh
 #   make bench            build tools/bench/*.c into $(BUILD)/uwbbench, run it
+#   make soak             SOAK_CYCLES (1000) scan cycles of uwbd on the emulated board:
+#                         RSS, open fds and archive size must stay flat; then
+#                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
 #   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}, the systemd unit, udev
 #                         rules, sample configs (share/uwbd) and board docs (share/doc/uwbd)
 #   make deps / deps-arm  install the native / aarch64 packages and Unity
@@ -80,6 +83,9 @@ TEST_SUPPORT  := $(filter-out $(TEST_SRC),$(wildcard tests/unit/*.c))
 TEST_SUPPORT_OBJ := $(TEST_SUPPORT:%.c=$(BUILD)/obj/%.o)
 BOARD_TEST_SRC := $(sort $(wildcard tests/board/test_*.c))
 BOARD_TEST_BIN := $(BOARD_TEST_SRC:tests/board/%.c=$(BUILD)/board-tests/%)
+# Programs the e2e scripts run (tests/e2e/helpers/NAME.c -> $(BUILD)/e2e/NAME).
+E2E_HELPER_SRC := $(sort $(wildcard tests/e2e/helpers/*.c))
+E2E_HELPER_BIN := $(E2E_HELPER_SRC:tests/e2e/helpers/%.c=$(BUILD)/e2e/%)
 UNITY_DIR     := third_party/unity
 # cJSON's Unity includes "../examples/unity_config.h" from unity_internals.h.
 UNITY_SRC     := $(UNITY_DIR)/unity.c $(UNITY_DIR)/unity.h $(UNITY_DIR)/unity_internals.h \
@@ -94,19 +100,19 @@ ARM_PREFIX    := aarch64-linux-gnu-
 # flags are computed on a machine that has the libraries.
 SUBMAKE       := $(MAKE) --no-print-directory -f $(abspath $(firstword $(MAKEFILE_LIST)))
 
-ifeq ($(filter deps deps-arm test test-arm test-board demo bench fuzz clean,$(MAKECMDGOALS)),)
+ifeq ($(filter deps deps-arm test test-arm test-board demo bench soak fuzz clean,$(MAKECMDGOALS)),)
 ifneq ($(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --exists $(LIBS_PKG) 2>/dev/null && echo ok),ok)
 $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIPLET)); `make $(if $(TRIPLET),deps-arm,deps)` installs them)
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench soak install deps deps-arm check-hw-headers clean
 # Programs whose main.c is not written yet are left out, so the library
 # and its tests build meanwhile.
 all: $(if $(wildcard src/main.c),$(BUILD)/uwbd) $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/uwbsim) \
      $(if $(EMU_SRC),$(BUILD)/uwbemu)
 
-tests: $(TEST_BIN)
+tests: $(TEST_BIN) $(E2E_HELPER_BIN)
 
 # ---- compiling and linking -------------------------------------------------
 
@@ -160,6 +166,10 @@ $(UNITY_OBJ): $(UNITY_SRC)
 $(TEST_OBJ) $(TEST_SUPPORT_OBJ): | $(UNITY_SRC)
 
 $(BUILD)/tests/%: $(BUILD)/obj/tests/unit/%.o $(TEST_SUPPORT_OBJ) $(UNITY_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
+
+$(E2E_HELPER_BIN): $(BUILD)/e2e/%: $(BUILD)/obj/tests/e2e/helpers/%.o $(BUILD)/libuwb.a
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
 
@@ -262,6 +272,22 @@ bench: deps
 	@if [ -z "$(BENCH_SRC)" ]; then echo "make bench: no tools/bench/*.c yet" >&2; exit 1; fi
 	+@$(SUBMAKE) all $(BUILD)/uwbbench
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench $(BENCH_ARGS)
+
+# Long runs (tools/soak/run-soak.sh): back-to-back scan cycles against the
+# emulated board, judging the daemon's RSS, open descriptors and state
+# directory under retention; then a shorter run of the same binary under
+# valgrind (leaks, bad reads), which is ~20x slower. SOAK_VALGRIND_CYCLES=0
+# skips that; a cross build skips it too (valgrind cannot run under qemu-user).
+SOAK_CYCLES   ?= 1000
+SOAK_VALGRIND_CYCLES ?= 30
+SOAK_VALGRIND := valgrind --leak-check=full --errors-for-leak-kinds=definite,indirect --error-exitcode=99
+soak:
+	@bash $(DEPS_SCRIPT) $(if $(TEST_RUNNER),$(DEPS_ARGS),--soak)
+	+@$(SUBMAKE) all
+	UWB_EXEC_PREFIX='$(TEST_RUNNER)' bash tools/soak/run-soak.sh --build '$(BUILD)' --cycles $(SOAK_CYCLES)
+	$(if $(TEST_RUNNER)$(filter 0,$(SOAK_VALGRIND_CYCLES)),@echo "make soak: no valgrind run", \
+	    bash tools/soak/run-soak.sh --build '$(BUILD)' --cycles $(SOAK_VALGRIND_CYCLES) --max-scans 5 \
+	    --every 5 --daemon-wrapper '$(SOAK_VALGRIND)')
 
 # The unit names the installed binary and docs, so @bindir@/@docdir@ are filled in here.
 install: all

@@ -12,6 +12,7 @@
 
 #include "uwb/atomic_file.h"
 #include "uwb/daemon/direct_coupling.h"
+#include "uwb/daemon/log.h"
 
 #define INFO_MAX 65536
 
@@ -130,13 +131,17 @@ int uwbd_baseline_load(const struct uwbd_store *store, double window_end_s, stru
     char why[2 * UWBD_PATH_MAX];
     int rc = read_info(p.info, info, why, sizeof why);
     if (rc != 0 || strcmp(info->scan_id, id) != 0) {
-        /* current.json is missing, damaged or one baseline behind: rebuild it. */
+        /* current.json is missing, damaged or one baseline behind: rebuild it.
+         * When it cannot be written now (a full disk), the scan still is
+         * the baseline: use the description taken from it and try again at
+         * the next load, rather than stop comparing scans. */
         info_from_scan(&scan, window_end_s, info);
-        if (write_info(p.info, info, err, errlen) != 0) {
-            uwb_scan_free(&scan);
-            return UWBD_BASELINE_ERROR;
-        }
-        if (repaired)
+        char write_err[2 * UWBD_PATH_MAX];
+        if (write_info(p.info, info, write_err, sizeof write_err) != 0)
+            uwbd_log(UWBD_LOG_WARNING, "baseline: current.json does not describe current.uwbscan (%s) and cannot "
+                                       "be rebuilt now: %s; using the description taken from the scan",
+                     info->scan_id, write_err);
+        else if (repaired)
             *repaired = 1;
     }
     if (scan_out)
@@ -180,5 +185,11 @@ int uwbd_baseline_set(const struct uwbd_store *store, const struct uwb_scan *sca
         return -1;
     if (uwbscan_write_file(p.scan, scan, err, errlen) != 0)
         return -1;
-    return write_info(p.info, info, err, errlen);
+    /* From here the scan is the baseline: a description that cannot be
+     * written is rebuilt from current.uwbscan at the next load. */
+    char write_err[2 * UWBD_PATH_MAX];
+    if (write_info(p.info, info, write_err, sizeof write_err) != 0)
+        uwbd_log(UWBD_LOG_WARNING, "baseline: %s is the baseline, but %s; it is rebuilt from current.uwbscan",
+                 info->scan_id, write_err);
+    return 0;
 }

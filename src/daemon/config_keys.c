@@ -66,10 +66,10 @@ const struct config_key uwbd_config_keys[] = {
            "0 = scan only on request"),
 
     INTEGER("retention.max_scans", retention_max_scans, "", 0, INT_MAX, 1000,
-            "keep at most this many scans in the archive, deleting the oldest first; 0 = no limit. "
-            "Baselines are never deleted"),
+            "keep at most this many scans in the archive, and as many lines in verdicts.jsonl, deleting "
+            "the oldest first; 0 = no limit. Baselines are never deleted"),
     NUMBER("retention.max_age_days", retention_max_age_days, "days", 1, 0, 36500, 0,
-           "delete archived scans older than this; 0 = no limit"),
+           "delete archived scans and verdicts.jsonl lines older than this; 0 = no limit"),
 
     STRING("control.socket", control_socket, UWBD_DEFAULT_CONTROL_SOCKET,
            "path of the local control socket that `uwbd ctl` talks to (at most 107 bytes)"),

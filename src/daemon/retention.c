@@ -2,6 +2,7 @@
  * files <id>.uwbscan, <id>.json and <id>-<kind>.png in one day directory;
  * an image's kind has no '-', so "a-2.json" is not taken for an image of "a". */
 #include "uwb/daemon/retention.h"
+#include "uwb/daemon/verdict_log.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -210,6 +211,8 @@ int uwbd_retention_apply(const struct uwbd_store *store, int max_scans, double m
         else if (removed)
             ++*removed;
     }
+    if (uwbd_verdict_log_trim(store, max_scans, max_age_days, now, NULL, err, errlen) != 0)
+        rc = -1;   /* verdicts.jsonl spans what the archive keeps */
     free(list.items);
     return rc;
 }

@@ -31,6 +31,8 @@ struct verdict_extras {
     int baseline_requested;
     int baseline_set;
     char baseline_note[256];
+    const char *archive_error;   /* a file of this cycle the archive did not take */
+    const char *record_error;    /* why the verdict is not in verdicts.jsonl */
 };
 
 struct cycle {
@@ -43,6 +45,7 @@ struct cycle {
     char day_dir_error[512];
     char id[UWBD_SCAN_ID_MAX + 1];
     char created[64];
+    char archive_error[512];     /* the first file of this cycle that could not be archived */
 };
 
 static int file_exists_in(const char *dir, const char *id, const char *suffix)
@@ -90,6 +93,10 @@ static char *verdict_text(const struct uwb_verdict *v, const struct verdict_extr
         if (x->baseline_note[0])
             cJSON_AddStringToObject(o, "baseline_note", x->baseline_note);
     }
+    if (x->archive_error)
+        cJSON_AddStringToObject(o, "archive_error", x->archive_error);
+    if (x->record_error)
+        cJSON_AddStringToObject(o, "record_error", x->record_error);
     char *text = cJSON_PrintUnformatted(o);
     cJSON_Delete(o);
     return text;
@@ -101,35 +108,70 @@ static void problem(struct cycle *c, const char *what, const char *err)
     c->res->archive_problems++;
 }
 
-/* The verdict file in the archive, its line in verdicts.jsonl, latest.json. */
-static void record(struct cycle *c, const struct uwb_verdict *v, const struct verdict_extras *x)
+/* A file of the scan's archive was not written (a full or read-only disk):
+ * the verdict says which, so it never silently lacks an image. */
+static void archive_problem(struct cycle *c, const char *what, const char *err)
+{
+    problem(c, what, err);
+    if (!c->archive_error[0])
+        snprintf(c->archive_error, sizeof c->archive_error, "%s", err);
+}
+
+/* Replace the result's verdict text after the extras changed. */
+static int retext(struct cycle *c, const struct uwb_verdict *v, const struct verdict_extras *x)
+{
+    char *text = verdict_text(v, x);
+    if (!text)
+        return -1;
+    free(c->res->verdict_json);
+    c->res->verdict_json = text;
+    return 0;
+}
+
+static int write_verdict_file(struct cycle *c, const char *text, char *err, size_t errlen)
+{
+    char path[UWBD_PATH_MAX + 200];
+    snprintf(path, sizeof path, "%s/%s.json", c->day_dir, c->id);
+    struct atomic_file af;
+    if (atomic_file_open(&af, path, err, errlen) != 0)
+        return -1;
+    fprintf(af.fp, "%s\n", text);
+    return atomic_file_commit(&af, err, errlen);
+}
+
+/* The verdict file in the archive, its line in verdicts.jsonl, latest.json.
+ * What could not be written is added to the verdict that goes on: the
+ * verdicts.jsonl line says its archive copy is missing, and when the line
+ * itself is refused (the state directory full or read-only) the reply and
+ * the status say so, which is then the verdict's only record besides the log. */
+static void record(struct cycle *c, const struct uwb_verdict *v, const struct verdict_extras *extras)
 {
     struct uwbd_cycle_result *res = c->res;
+    struct verdict_extras x = *extras;
     res->outcome = UWBD_CYCLE_RECORDED;
     res->status = v->status;
     snprintf(res->scan_id, sizeof res->scan_id, "%s", c->id);
     snprintf(res->reason, sizeof res->reason, "%s", v->reason);
-    res->baseline_set = x->baseline_set;
-    res->verdict_json = verdict_text(v, x);
-    if (!res->verdict_json) {
+    res->baseline_set = x.baseline_set;
+    x.archive_error = c->archive_error[0] ? c->archive_error : NULL;
+    if (retext(c, v, &x) != 0) {
         problem(c, "verdict", "out of memory");
         return;
     }
     char err[512];
-    if (c->have_day_dir) {
-        char path[UWBD_PATH_MAX + 200];
-        snprintf(path, sizeof path, "%s/%s.json", c->day_dir, c->id);
-        struct atomic_file af;
-        if (atomic_file_open(&af, path, err, sizeof err) != 0) {
-            problem(c, "archive", err);
-        } else {
-            fprintf(af.fp, "%s\n", res->verdict_json);
-            if (atomic_file_commit(&af, err, sizeof err) != 0)
-                problem(c, "archive", err);
-        }
+    if (c->have_day_dir && write_verdict_file(c, res->verdict_json, err, sizeof err) != 0) {
+        archive_problem(c, "archive", err);
+        x.archive_error = c->archive_error;
+        if (retext(c, v, &x) != 0)
+            problem(c, "verdict", "out of memory");
     }
-    if (uwbd_verdict_log_append(c->store, res->verdict_json, err, sizeof err) != 0)
-        problem(c, "verdict log", err);
+    char log_err[512];
+    if (uwbd_verdict_log_append(c->store, res->verdict_json, log_err, sizeof log_err) != 0) {
+        problem(c, "verdict log", log_err);
+        x.record_error = log_err;
+        if (retext(c, v, &x) != 0)
+            problem(c, "verdict", "out of memory");
+    }
     if (uwbd_latest_write(c->store, res->verdict_json, err, sizeof err) != 0)
         problem(c, "latest verdict", err);
 }
@@ -268,7 +310,7 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
             snprintf(v.baseline_scan_id, sizeof v.baseline_scan_id, "%s", info.scan_id);
     }
     if (uwb_write_images(c->day_dir, c->id, scan, &cur_a, compare ? &base_a : NULL, &v, err, sizeof err) != 0)
-        problem(c, "images", err);
+        archive_problem(c, "images", err);
     uwb_analysis_free(&cur_a);
     uwb_analysis_free(&base_a);
     uwb_scan_free(&base);

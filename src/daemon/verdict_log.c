@@ -1,4 +1,5 @@
-/* verdicts.jsonl (append-only, whole lines) and latest.json (atomic). */
+/* verdicts.jsonl (grows by whole lines, trimmed by retention) and
+ * latest.json (atomic). */
 #include "uwb/daemon/verdict_log.h"
 
 #include <cjson/cJSON.h>
@@ -8,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "uwb/atomic_file.h"
@@ -240,6 +242,151 @@ int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines_o
     if (skipped_out)
         *skipped_out = skipped;
     return 0;
+}
+
+/* One line of the log during a trim. */
+struct log_line {
+    size_t start, len;   /* without the newline */
+    int has_time;
+    time_t created;
+};
+
+/* The verdict's "created" time (UTC, "YYYY-MM-DDTHH:MM:SSZ"); 0 when the
+ * line is not a verdict with a readable one. */
+static int line_created(const char *text, size_t len, time_t *created)
+{
+    cJSON *o = cJSON_ParseWithLength(text, len);
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(o, "created");
+    struct tm tm = {0};
+    int ok = cJSON_IsString(c) && sscanf(c->valuestring, "%d-%d-%dT%d:%d:%d", &tm.tm_year, &tm.tm_mon,
+                                         &tm.tm_mday, &tm.tm_hour, &tm.tm_min, &tm.tm_sec) == 6;
+    cJSON_Delete(o);
+    if (!ok)
+        return 0;
+    tm.tm_year -= 1900;
+    tm.tm_mon -= 1;
+    *created = timegm(&tm);
+    return 1;
+}
+
+/* Split text into its complete lines; a torn last line is left out. */
+static struct log_line *split_lines(const char *text, size_t size, size_t *count)
+{
+    size_t n = 0;
+    for (size_t i = 0; i < size; i++)
+        n += text[i] == '\n';
+    *count = n;
+    struct log_line *lines = calloc(n ? n : 1, sizeof *lines);
+    if (!lines)
+        return NULL;
+    size_t start = 0, k = 0;
+    for (size_t i = 0; i < size && k < n; i++) {
+        if (text[i] != '\n')
+            continue;
+        lines[k].start = start;
+        lines[k].len = i - start;
+        k++;
+        start = i + 1;
+    }
+    return lines;
+}
+
+/* Give each line without a readable time its predecessor's (the log is
+ * in time order, so that is its best estimate); leading ones take the first
+ * known time. Returns 0 when no line has a time. */
+static int fill_times(struct log_line *lines, size_t count)
+{
+    size_t first = 0;
+    while (first < count && !lines[first].has_time)
+        first++;
+    if (first == count)
+        return 0;
+    for (size_t i = 0; i < count; i++) {
+        if (lines[i].has_time)
+            continue;
+        lines[i].created = i < first ? lines[first].created : lines[i - 1].created;
+        lines[i].has_time = 1;
+    }
+    return 1;
+}
+
+static int write_kept(const struct uwbd_store *store, const char *text, const struct log_line *lines,
+                      const unsigned char *keep, size_t count, char *err, size_t errlen)
+{
+    struct atomic_file af;
+    if (atomic_file_open(&af, store->verdict_log, err, errlen) != 0)
+        return -1;
+    for (size_t i = 0; i < count; i++) {
+        if (!keep[i])
+            continue;
+        if (fwrite(text + lines[i].start, 1, lines[i].len, af.fp) != lines[i].len || fputc('\n', af.fp) == EOF) {
+            snprintf(err, errlen, "%s: cannot write the trimmed log: %s", store->verdict_log, strerror(errno));
+            atomic_file_abort(&af);
+            return -1;
+        }
+    }
+    return atomic_file_commit(&af, err, errlen);
+}
+
+int uwbd_verdict_log_trim(const struct uwbd_store *store, int max_lines, double max_age_days, time_t now,
+                          int *dropped, char *err, size_t errlen)
+{
+    if (dropped)
+        *dropped = 0;
+    if (max_lines <= 0 && max_age_days <= 0)
+        return 0;
+    int fd;
+    off_t size;
+    int opened = open_log(store, O_RDONLY, &fd, &size, err, errlen);
+    if (opened != 0)
+        return opened > 0 ? 0 : -1;
+    char *text = malloc(size > 0 ? (size_t)size : 1);
+    ssize_t r = text ? pread(fd, text, (size_t)size, 0) : -1;
+    int e = errno;
+    close(fd);
+    if (r != (ssize_t)size) {
+        snprintf(err, errlen, "%s: cannot read for trimming: %s", store->verdict_log,
+                 !text ? "out of memory" : r < 0 ? strerror(e) : "short read");
+        free(text);
+        return -1;
+    }
+    size_t count;
+    struct log_line *lines = split_lines(text, (size_t)size, &count);
+    unsigned char *keep = lines ? malloc(count ? count : 1) : NULL;
+    if (!keep) {
+        snprintf(err, errlen, "%s: out of memory trimming", store->verdict_log);
+        free(lines);
+        free(text);
+        return -1;
+    }
+    /* The same rules as the archive's: the newest max_lines, nothing older
+     * than the cutoff (to the second, as retention.c counts). */
+    size_t excess = max_lines > 0 && count > (size_t)max_lines ? count - (size_t)max_lines : 0;
+    int use_age = 0;
+    time_t cutoff = 0;
+    if (max_age_days > 0) {
+        cutoff = now - (time_t)(max_age_days * 86400.0);
+        for (size_t i = excess; i < count; i++)
+            lines[i].has_time = line_created(text + lines[i].start, lines[i].len, &lines[i].created);
+        use_age = fill_times(lines + excess, count - excess);
+    }
+    size_t kept = 0;
+    for (size_t i = 0; i < count; i++) {
+        keep[i] = i >= excess && !(use_age && lines[i].created < cutoff);
+        kept += keep[i];
+    }
+    /* Rewrite only when a line goes: an unchanged log is not written at all
+     * (a flash card's wear). A torn last line is not kept by a rewrite. */
+    int rc = 0;
+    if (kept < count) {
+        rc = write_kept(store, text, lines, keep, count, err, errlen);
+        if (rc == 0 && dropped)
+            *dropped = (int)(count - kept);
+    }
+    free(keep);
+    free(lines);
+    free(text);
+    return rc;
 }
 
 int uwbd_latest_write(const struct uwbd_store *store, const char *json, char *err, size_t errlen)

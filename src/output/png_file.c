@@ -3,6 +3,7 @@
 #include "uwb/render.h"
 #include "uwb/atomic_file.h"
 
+#include <errno.h>
 #include <png.h>
 #include <setjmp.h>
 #include <stdio.h>
@@ -10,6 +11,7 @@
 
 struct png_failure {
     char message[256];
+    int write_errno;   /* errno when libpng gave up, for a failed fwrite (ENOSPC) */
 };
 
 /* libpng must not return from its error callback: record why and jump
@@ -17,8 +19,10 @@ struct png_failure {
 static void on_png_error(png_structp png, png_const_charp msg)
 {
     struct png_failure *f = png_get_error_ptr(png);
-    if (f)
+    if (f) {
+        f->write_errno = errno;   /* first, before anything can change it */
         snprintf(f->message, sizeof f->message, "%s", msg ? msg : "libpng error");
+    }
     png_longjmp(png, 1);
 }
 
@@ -106,10 +110,16 @@ int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
         name_path_in_error(path, err, errlen);
         return -1;
     }
-    struct png_failure failure = { "" };
+    struct png_failure failure = { "", 0 };
     if (write_rows(af.fp, c, texts, n_texts, &failure) != 0) {
+        /* libpng says only "Write Error" when the file refused the bytes:
+         * name the system's reason (a full or read-only disk) instead. */
+        int write_failed = ferror(af.fp) && failure.write_errno != 0;
         atomic_file_abort(&af);
-        snprintf(err, errlen, "%s: PNG encoding failed: %s", path, failure.message);
+        if (write_failed)
+            snprintf(err, errlen, "%s: cannot write temporary file: %s", path, strerror(failure.write_errno));
+        else
+            snprintf(err, errlen, "%s: PNG encoding failed: %s", path, failure.message);
         return -1;
     }
     if (atomic_file_commit(&af, err, errlen) != 0) {

@@ -248,6 +248,49 @@ static void test_baseline_description_is_rebuilt_after_a_crash(void)
     uwb_scan_free(&b);
 }
 
+/* current.json cannot be written (a directory in its place stands for a
+ * full disk) after current.uwbscan went in: the new scan is the baseline
+ * all the same, loads with the description taken from it, and the file is
+ * rebuilt once it can be written. */
+static void test_baseline_set_counts_once_its_scan_is_in_place(void)
+{
+    struct uwb_scan a = {0}, b = {0};
+    make_scan(&a, "scan-a", 100, 0.0f);
+    make_scan(&b, "scan-b", 150, 0.0f);
+    set_baseline(&a, 5e-11);
+    char info_path[2048];
+    path_in(info_path, sizeof info_path, "baseline/current.json");
+    TEST_ASSERT_EQUAL_INT(0, unlink(info_path));
+    TEST_ASSERT_EQUAL_INT(0, mkdir(info_path, 0755));
+
+    struct uwbd_baseline_info info = {0};
+    snprintf(info.scan_id, sizeof info.scan_id, "scan-b");
+    info.has_direct_coupling = 1;
+    info.direct_coupling_s = 4.7e-10;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_baseline_set(&store, &b, &info, WINDOW_END_S, err, sizeof err), err);
+    int repaired = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info,
+                                                                           &repaired, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_STRING("scan-b", info.scan_id);
+    TEST_ASSERT_TRUE(info.has_direct_coupling);
+    TEST_ASSERT_DOUBLE_WITHIN(2e-12, 0.5e-9 - 32.6e-12, info.direct_coupling_s);   /* as in the test above */
+    TEST_ASSERT_EQUAL_INT(0, repaired);   /* not written: nothing repaired yet */
+    char p[2048];
+    path_in(p, sizeof p, "baseline/history/scan-a.uwbscan");
+    TEST_ASSERT_TRUE(scratch_file_exists(p));
+
+    TEST_ASSERT_EQUAL_INT(0, rmdir(info_path));   /* the disk has room again */
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired,
+                                                                   err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(1, repaired);
+    char *json = scratch_slurp(info_path, NULL);
+    TEST_ASSERT_NOT_NULL(json);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(json, "\"scan_id\":\"scan-b\""), json);
+    free(json);
+    uwb_scan_free(&a);
+    uwb_scan_free(&b);
+}
+
 static void test_damaged_baseline_is_an_error_not_a_silent_replacement(void)
 {
     char p[2048];
@@ -366,6 +409,7 @@ int main(void)
     RUN_TEST(test_latest_is_replaced_whole);
     RUN_TEST(test_baseline_set_keeps_the_one_it_replaces);
     RUN_TEST(test_baseline_description_is_rebuilt_after_a_crash);
+    RUN_TEST(test_baseline_set_counts_once_its_scan_is_in_place);
     RUN_TEST(test_damaged_baseline_is_an_error_not_a_silent_replacement);
     RUN_TEST(test_retention_by_count_deletes_the_oldest_and_spares_baselines);
     RUN_TEST(test_retention_keeps_a_scan_whose_name_begins_like_a_deleted_one);

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "scratch_support.h"
 #include "uwb/daemon/baseline_store.h"
@@ -312,6 +313,66 @@ static void test_an_unusable_archive_loses_the_scan_with_an_error_verdict(void)
     TEST_ASSERT_EQUAL_INT(1, scratch_count_lines(store.verdict_log));
 }
 
+/* A file of the archive refused after the raw scan went in (a directory
+ * stands where the b-scan image goes, as a full disk would refuse it): the
+ * measurement stands, the verdict lists only the images written and says
+ * which one was not. */
+static void test_an_image_the_archive_refuses_is_named_and_the_verdict_kept(void)
+{
+    char p[2048];
+    time_t now = CYCLE_TIME;
+    struct tm utc;
+    gmtime_r(&now, &utc);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_day_dir(&store, &utc, p, sizeof p, err, sizeof err), err);
+    snprintf(p, sizeof p, "%s/" DAY_DIR "/sim-1-bscan.png", store.root);
+    TEST_ASSERT_EQUAL_INT(0, mkdir(p, 0755));
+    run_cycle(0);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_EDGES, res.status);
+    TEST_ASSERT_EQUAL_INT(1, res.archive_problems);
+    cJSON *v = verdict();
+    const cJSON *why = cJSON_GetObjectItemCaseSensitive(v, "archive_error");
+    TEST_ASSERT_TRUE(cJSON_IsString(why));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(why->valuestring, "sim-1-bscan.png"), why->valuestring);
+    const cJSON *images = cJSON_GetObjectItemCaseSensitive(v, "images");
+    TEST_ASSERT_EQUAL_INT(1, cJSON_GetArraySize(images));
+    TEST_ASSERT_NOT_NULL(strstr(cJSON_GetArrayItem(images, 0)->valuestring, "sim-1-migrated.png"));
+    TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(v, "record_error"));
+    cJSON_Delete(v);
+    /* The archived verdict and the verdicts.jsonl line are this verdict. */
+    snprintf(p, sizeof p, "%s/" DAY_DIR "/sim-1.json", store.root);
+    char *archived = scratch_slurp(p, NULL);
+    TEST_ASSERT_NOT_NULL(archived);
+    TEST_ASSERT_EQUAL_STRING_LEN(res.verdict_json, archived, strlen(res.verdict_json));
+    free(archived);
+    char **lines = NULL;
+    int count = 0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_tail(&store, 1, &lines, &count, NULL, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(1, count);
+    TEST_ASSERT_EQUAL_STRING(res.verdict_json, lines[0]);
+    uwbd_verdict_lines_free(lines, count);
+}
+
+/* verdicts.jsonl refuses the line (a directory in its place stands for a
+ * full or read-only state directory): the verdict the reply and the status
+ * carry says it was not recorded and why; latest.json still has it. */
+static void test_a_verdict_the_log_refuses_says_so(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, mkdir(store.verdict_log, 0755));
+    rig.fail = 1;
+    run_cycle(0);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, res.status);
+    cJSON *v = verdict();
+    const cJSON *why = cJSON_GetObjectItemCaseSensitive(v, "record_error");
+    TEST_ASSERT_TRUE(cJSON_IsString(why));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(why->valuestring, "verdicts.jsonl"), why->valuestring);
+    TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(v, "archive_error"));
+    cJSON_Delete(v);
+    char *latest;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_read(&store, &latest, err, sizeof err));
+    TEST_ASSERT_EQUAL_STRING(res.verdict_json, latest);
+    free(latest);
+}
+
 /* Lost scans keep the cycles cheap here: each leaves its verdict file,
  * which is what retention counts (test_daemon_store covers whole scans). */
 static void test_retention_runs_after_each_cycle(void)
@@ -331,7 +392,8 @@ static void test_retention_runs_after_each_cycle(void)
     TEST_ASSERT_FALSE(in_state(path));
     snprintf(path, sizeof path, DAY_DIR "/%s.json", res.scan_id);
     TEST_ASSERT_TRUE(in_state(path));
-    TEST_ASSERT_EQUAL_INT(3, scratch_count_lines(store.verdict_log));
+    /* verdicts.jsonl keeps the same span as the archive. */
+    TEST_ASSERT_EQUAL_INT(2, scratch_count_lines(store.verdict_log));
 }
 
 int main(void)
@@ -344,6 +406,8 @@ int main(void)
     RUN_TEST(test_a_scan_without_winding_or_coupling_does_not_become_the_baseline);
     RUN_TEST(test_a_stopped_scan_records_nothing);
     RUN_TEST(test_an_unusable_archive_loses_the_scan_with_an_error_verdict);
+    RUN_TEST(test_an_image_the_archive_refuses_is_named_and_the_verdict_kept);
+    RUN_TEST(test_a_verdict_the_log_refuses_says_so);
     RUN_TEST(test_retention_runs_after_each_cycle);
     uwb_scan_free(&simulated[0]);
     uwb_scan_free(&simulated[1]);

@@ -4,7 +4,7 @@
 # nothing run before them.  It runs on every `make test`, so the common case
 # (everything present) only asks pkg-config and returns.
 #
-# Usage: tools/deps/ensure-deps.sh [--cross ARCH] [--board] [--fuzz] [--unity-only]
+# Usage: tools/deps/ensure-deps.sh [--cross ARCH] [--board] [--fuzz] [--soak] [--unity-only]
 #   (no option)    native toolchain + -dev packages, then Unity
 #   --cross ARCH   cross toolchain, qemu-user and the ARCH multiarch -dev
 #                  packages (ARCH: aarch64), then Unity
@@ -14,6 +14,7 @@
 #   --fuzz         make fuzz: native as above, plus clang and its libFuzzer
 #                  runtime (Debian 12: clang-14, libclang-rt-14-dev, which
 #                  clang only recommends)
+#   --soak         make soak: native as above, plus valgrind (its leak-checked run)
 #   --unity-only   only fetch Unity if it is absent
 #
 # Unity 2.4.3 comes from Debian's cjson source package (its tests/unity):
@@ -211,6 +212,16 @@ ensure_board() {
     [[ ${#missing[@]} == 0 ]] || die "still missing after install: ${missing[*]}"
 }
 
+ensure_soak() {
+    have_command valgrind && return 0
+    note "missing for make soak: valgrind; installing it"
+    require_root "apt-get update && apt-get install -y valgrind"
+    apt_install valgrind
+    [[ "$DRY_RUN" == 1 ]] && return 0
+    FAKE_MISSING=" "
+    have_command valgrind || die "still missing after install: valgrind"
+}
+
 readonly FUZZ_PACKAGES=(clang libclang-rt-dev)
 
 # Whether clang links a libFuzzer target with the sanitizers make fuzz uses.
@@ -365,6 +376,7 @@ main() {
                 ;;
             --board) mode=board; shift ;;
             --fuzz) mode=fuzz; shift ;;
+            --soak) mode=soak; shift ;;
             --unity-only) mode=unity; shift ;;
             -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; return 0 ;;
             *) die "unknown argument: $1 (see --help)" ;;
@@ -375,6 +387,7 @@ main() {
         cross) ensure_cross "$cross_arch" ;;
         board) ensure_native; ensure_cross aarch64; ensure_board ;;
         fuzz) ensure_native; ensure_fuzz ;;
+        soak) ensure_native; ensure_soak ;;
         unity) ;;
     esac
     ensure_unity

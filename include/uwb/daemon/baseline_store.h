@@ -26,14 +26,19 @@ enum uwbd_baseline_result {
 /* Read baseline/current.uwbscan and current.json. current.uwbscan is the
  * truth: if current.json is missing or names another scan (a crash between
  * the two writes), it is rebuilt from the scan, with the direct coupling
- * measured up to window_end_s, and *repaired is set. `scan` may be NULL
- * when only the info is wanted. */
+ * measured up to window_end_s, and *repaired is set. If it cannot be
+ * written now (a full disk), the description taken from the scan is used
+ * all the same (logged) and the rebuild is tried at the next load. `scan`
+ * may be NULL when only the info is wanted. */
 int uwbd_baseline_load(const struct uwbd_store *store, double window_end_s, struct uwb_scan *scan,
                        struct uwbd_baseline_info *info, int *repaired, char *err, size_t errlen);
 
 /* Make `scan` the baseline: the current one (if any) is first copied to
  * baseline/history/<its scan_id>.uwbscan (+ .json), then current.uwbscan
- * and current.json are replaced, each atomically. */
+ * and current.json are replaced, each atomically. Returns 0 once
+ * current.uwbscan is replaced: that is the baseline, even if current.json
+ * could not be written (logged; rebuilt from the scan at the next load).
+ * -1 with err otherwise: the old baseline stays as it was. */
 int uwbd_baseline_set(const struct uwbd_store *store, const struct uwb_scan *scan,
                       const struct uwbd_baseline_info *info, double window_end_s, char *err, size_t errlen);
 

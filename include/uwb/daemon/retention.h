@@ -1,5 +1,6 @@
-/* Retention of the archive by count and by age. Only archive/ is touched:
- * baselines (baseline/) and verdicts.jsonl are never deleted. */
+/* Retention of the archive by count and by age. Baselines (baseline/) are
+ * never deleted; verdicts.jsonl is trimmed to the same limits
+ * (uwbd_verdict_log_trim), never deleted. */
 #ifndef UWB_DAEMON_RETENTION_H
 #define UWB_DAEMON_RETENTION_H
 

@@ -1,11 +1,13 @@
 /* verdicts.jsonl and latest.json: the record of every scan cycle.
  * verdicts.jsonl only grows by whole lines: each line goes out in one
  * write() and is fsync'd; a write that falls short (disk full) is cut back
- * off, and a reader skips a torn or unparsable line instead of failing. */
+ * off, and a reader skips a torn or unparsable line instead of failing.
+ * Retention trims its oldest lines by replacing the file atomically. */
 #ifndef UWB_DAEMON_VERDICT_LOG_H
 #define UWB_DAEMON_VERDICT_LOG_H
 
 #include <stddef.h>
+#include <time.h>
 
 #include "uwb/daemon/store.h"
 
@@ -22,6 +24,15 @@ void uwbd_verdict_lines_free(char **lines, int count);
 /* If the log does not end with a newline (a crash mid-line), cut the torn
  * tail off. *dropped gets the number of bytes removed. */
 int uwbd_verdict_log_repair(const struct uwbd_store *store, long *dropped, char *err, size_t errlen);
+
+/* Keep the newest lines within the archive's retention limits: at most
+ * max_lines (0: no limit), and none whose verdict was created more than
+ * max_age_days before `now` (0: no limit; a line without a readable
+ * "created" is dated like the line before it). The file is replaced
+ * atomically (temporary, fsync, rename), and only when a line goes.
+ * *dropped (may be NULL) counts the lines removed. */
+int uwbd_verdict_log_trim(const struct uwbd_store *store, int max_lines, double max_age_days, time_t now,
+                          int *dropped, char *err, size_t errlen);
 
 /* latest.json, written atomically / read whole (malloc'd; NULL and 0 when
  * there is none yet). */

@@ -1,0 +1,220 @@
+/* verdicts.jsonl under retention: the newest lines within the count and
+ * age limits stay, in order; the file is replaced whole (no temporary left,
+ * its mode kept) and only when a line goes; retention of the archive trims
+ * the log to the same span. */
+#include "unity.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "scratch_support.h"
+#include "uwb/daemon/retention.h"
+#include "uwb/daemon/store.h"
+#include "uwb/daemon/verdict_log.h"
+
+#define DAY 86400
+
+static char dir[64];
+static char err[2048];
+static struct uwbd_store store;
+static time_t now;
+
+void setUp(void)
+{
+    scratch_scratch_dir(dir, sizeof dir, "trim");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, NULL, err, sizeof err), err);
+    now = time(NULL);
+}
+
+void tearDown(void)
+{
+    scratch_remove_tree(dir);
+}
+
+/* A verdict line numbered n, created `age_s` seconds before `now`. */
+static void append_verdict(int n, long age_s)
+{
+    char created[32], line[160];
+    time_t t = now - age_s;
+    struct tm tm;
+    gmtime_r(&t, &tm);
+    strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    snprintf(line, sizeof line, "{\"class\":\"VERDICT\",\"n\":%d,\"created\":\"%s\"}", n, created);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_append(&store, line, err, sizeof err), err);
+}
+
+/* The "n" of every line, oldest first, as "1,2,3"; "?" for a line without one. */
+static void numbers_in_log(char *out, size_t size)
+{
+    char *text = scratch_slurp(store.verdict_log, NULL);
+    TEST_ASSERT_NOT_NULL(text);
+    out[0] = '\0';
+    size_t used = 0;
+    for (char *line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
+        const char *p = strstr(line, "\"n\":");
+        int n;
+        if (p && sscanf(p + 4, "%d", &n) == 1)
+            used += (size_t)snprintf(out + used, size - used, "%s%d", used ? "," : "", n);
+        else
+            used += (size_t)snprintf(out + used, size - used, "%s?", used ? "," : "");
+    }
+    free(text);
+}
+
+static ino_t log_inode(void)
+{
+    struct stat st;
+    TEST_ASSERT_EQUAL_INT(0, stat(store.verdict_log, &st));
+    return st.st_ino;
+}
+
+static int hidden_files_in_root(void)
+{
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "test -z \"$(find '%s' -maxdepth 1 -name '.*' ! -name .)\"", store.root);
+    return system(cmd) != 0;
+}
+
+static void test_count_keeps_the_newest_lines_in_order(void)
+{
+    for (int n = 1; n <= 10; n++)
+        append_verdict(n, 100 - n);
+    chmod(store.verdict_log, 0640);
+    int dropped = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 4, 0, now, &dropped, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(6, dropped);
+    char got[256];
+    numbers_in_log(got, sizeof got);
+    TEST_ASSERT_EQUAL_STRING("7,8,9,10", got);
+    struct stat st;
+    TEST_ASSERT_EQUAL_INT(0, stat(store.verdict_log, &st));
+    TEST_ASSERT_EQUAL_UINT(0640, st.st_mode & 07777);
+    TEST_ASSERT_FALSE_MESSAGE(hidden_files_in_root(), "a temporary file was left beside verdicts.jsonl");
+    /* Appending goes on at the end of the new file. */
+    append_verdict(11, 0);
+    numbers_in_log(got, sizeof got);
+    TEST_ASSERT_EQUAL_STRING("7,8,9,10,11", got);
+}
+
+static void test_a_log_within_the_limits_is_not_rewritten(void)
+{
+    for (int n = 1; n <= 3; n++)
+        append_verdict(n, 10);
+    ino_t before = log_inode();
+    int dropped = -1;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_trim(&store, 3, 30, now, &dropped, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, dropped);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_trim(&store, 0, 0, now, &dropped, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, dropped);
+    TEST_ASSERT_TRUE_MESSAGE(before == log_inode(), "the log was replaced though nothing had to go");
+    TEST_ASSERT_EQUAL_INT(3, scratch_count_lines(store.verdict_log));
+}
+
+static void test_age_drops_lines_created_before_the_cutoff(void)
+{
+    append_verdict(1, 50L * DAY);
+    append_verdict(2, 40L * DAY);
+    append_verdict(3, 31L * DAY);
+    append_verdict(4, 29L * DAY);
+    append_verdict(5, 0);
+    int dropped = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 30, now, &dropped, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(3, dropped);
+    char got[256];
+    numbers_in_log(got, sizeof got);
+    TEST_ASSERT_EQUAL_STRING("4,5", got);
+}
+
+/* A line without a readable time goes or stays with the line before it. */
+static void test_a_line_without_a_time_is_dated_by_its_neighbour(void)
+{
+    append_verdict(1, 40L * DAY);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":2,\"created\":\"garbled\"}", err, sizeof err));
+    append_verdict(3, 10L * DAY);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":4}", err, sizeof err));
+    append_verdict(5, 0);
+    int dropped = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 30, now, &dropped, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(2, dropped);
+    char got[256];
+    numbers_in_log(got, sizeof got);
+    TEST_ASSERT_EQUAL_STRING("3,4,5", got);
+}
+
+static void test_count_and_age_together_keep_the_smaller_span(void)
+{
+    for (int n = 1; n <= 6; n++)
+        append_verdict(n, (7 - n) * (long)DAY);   /* 6 days old ... 1 day old */
+    int dropped = -1;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_trim(&store, 4, 2.5, now, &dropped, err, sizeof err));
+    char got[256];
+    numbers_in_log(got, sizeof got);
+    TEST_ASSERT_EQUAL_STRING("5,6", got);
+    TEST_ASSERT_EQUAL_INT(4, dropped);
+}
+
+static void test_a_torn_last_line_does_not_survive_a_rewrite(void)
+{
+    scratch_spit(store.verdict_log, "{\"n\":1}\n{\"n\":2}\n{\"n\":3}\n{\"n\":4,\"cut");
+    int dropped = -1;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_trim(&store, 2, 0, now, &dropped, err, sizeof err));
+    char *text = scratch_slurp(store.verdict_log, NULL);
+    TEST_ASSERT_EQUAL_STRING("{\"n\":2}\n{\"n\":3}\n", text);
+    free(text);
+}
+
+static void test_no_log_yet_is_nothing_to_trim(void)
+{
+    int dropped = -1;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_trim(&store, 1, 1, now, &dropped, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, dropped);
+    TEST_ASSERT_FALSE(scratch_file_exists(store.verdict_log));
+}
+
+static void test_an_unreadable_log_is_an_error_naming_it(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, mkdir(store.verdict_log, 0755));
+    err[0] = '\0';
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_trim(&store, 1, 0, now, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "verdicts.jsonl"), err);
+}
+
+/* Retention of the archive trims the log to the same number of cycles. */
+static void test_retention_trims_the_log_with_the_archive(void)
+{
+    for (int n = 1; n <= 5; n++) {
+        char p[2300];
+        snprintf(p, sizeof p, "%s/2030/01/01", store.archive);
+        char cmd[2400];
+        snprintf(cmd, sizeof cmd, "mkdir -p '%s'", p);
+        TEST_ASSERT_EQUAL_INT(0, system(cmd));
+        snprintf(p, sizeof p, "%s/2030/01/01/scan-%d.json", store.archive, n);
+        scratch_spit(p, "{}\n");
+        append_verdict(n, 10 - n);
+    }
+    int removed = 0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 2, 0, now, &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(2, uwbd_archive_count(&store));
+    char got[256];
+    numbers_in_log(got, sizeof got);
+    TEST_ASSERT_EQUAL_STRING("4,5", got);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_count_keeps_the_newest_lines_in_order);
+    RUN_TEST(test_a_log_within_the_limits_is_not_rewritten);
+    RUN_TEST(test_age_drops_lines_created_before_the_cutoff);
+    RUN_TEST(test_a_line_without_a_time_is_dated_by_its_neighbour);
+    RUN_TEST(test_count_and_age_together_keep_the_smaller_span);
+    RUN_TEST(test_a_torn_last_line_does_not_survive_a_rewrite);
+    RUN_TEST(test_no_log_yet_is_nothing_to_trim);
+    RUN_TEST(test_an_unreadable_log_is_an_error_naming_it);
+    RUN_TEST(test_retention_trims_the_log_with_the_archive);
+    return UNITY_END();
+}
