@@ -7,39 +7,11 @@
 # the next scan after the fault is cleared is an ordinary verdict.
 set -euo pipefail
 
-BUILD=${UWB_BUILD_DIR:?run through tests/run-tests.sh}
-REPO=$(pwd)
-uwbd() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" "$@"; }
-uwbemu() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" "$@"; }
+source "$(dirname "$0")/daemon_e2e.sh"
+e2e_workdir uwbd-board-faults
 
-work=$(mktemp -d /tmp/uwbd-board-faults-XXXXXX)
-pids=()
-cleanup() {
-    for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-    for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
-    rm -rf "$work"
-}
-trap cleanup EXIT
-cd "$work"
-mkdir run
-
-passed=0
-pass() { echo "PASS: $*"; passed=$((passed + 1)); }
-fail() {
-    echo "FAIL: $*" >&2
-    for log in "$work"/*.log; do [[ -f "$log" ]] && { echo "--- $log" >&2; tail -n 20 "$log" >&2; }; done
-    exit 1
-}
-wait_for() {
-    for _ in $(seq 200); do "$@" >/dev/null 2>&1 && return 0; sleep 0.1; done
-    return 1
-}
-json_get() { python3 -c 'import json,sys; v=json.load(sys.stdin); print(eval(sys.argv[1], {}, {"v": v}))' "$1"; }
 ctl() { uwbd ctl --socket run/control.sock "$@"; }
 emu() { uwbemu --ctl unix:run/emu.sock "$*"; }
-
-root_flag=()
-[[ $(id -u) == 0 ]] && root_flag=(--allow-root)
 
 # Short frame time-outs and few retries so a silent digitiser costs seconds,
 # not minutes; the carriage starts near home, so a home search that gives up

@@ -6,40 +6,9 @@
 # middle of a scan, and the start-up refusals with their exit codes.
 set -euo pipefail
 
-BUILD=${UWB_BUILD_DIR:?run through tests/run-tests.sh}
-REPO=$(pwd)
-# Foreground helpers; programs started in the background are written out in
-# full so that $! is the program itself, not a shell running a function.
-uwbd() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" "$@"; }
-uwbemu() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" "$@"; }
+source "$(dirname "$0")/daemon_e2e.sh"
+e2e_workdir uwbd-e2e
 
-work=$(mktemp -d /tmp/uwbd-e2e-XXXXXX)
-pids=()
-cleanup() {
-    for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-    for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
-    rm -rf "$work"
-}
-trap cleanup EXIT
-cd "$work"
-mkdir run
-
-passed=0
-pass() { echo "PASS: $*"; passed=$((passed + 1)); }
-fail() {
-    echo "FAIL: $*" >&2
-    for log in "$work"/*.log; do [[ -f "$log" ]] && { echo "--- $log" >&2; tail -n 20 "$log" >&2; }; done
-    exit 1
-}
-# Wait until a command succeeds (up to ~20 s); no timing is asserted.
-wait_for() {
-    for _ in $(seq 200); do "$@" >/dev/null 2>&1 && return 0; sleep 0.1; done
-    return 1
-}
-json_get() { python3 -c 'import json,sys; v=json.load(sys.stdin); print(eval(sys.argv[1], {}, {"v": v}))' "$1"; }
-
-root_flag=()
-[[ $(id -u) == 0 ]] && root_flag=(--allow-root)
 config="$work/uwbd.json"
 cp "$REPO/board/emulated/uwbd.json" "$config"
 ctl() { uwbd ctl --socket run/control.sock "$@"; }

@@ -21,9 +21,6 @@
 # skips (exit 77) with the reason where neither works.
 set -euo pipefail
 
-BUILD=$(cd "${UWB_BUILD_DIR:?run through tests/run-tests.sh}" && pwd)
-REPO=$(pwd)
-
 if [[ -z ${UWB_FAULTS_IN_NAMESPACE:-} ]]; then
     if [[ $(id -u) == 0 ]]; then ns=(unshare -m --propagation private); else ns=(unshare -Urm --propagation private); fi
     probe='d=$(mktemp -d) && mount -t tmpfs -o size=64k uwbd-probe "$d" && umount "$d"; rc=$?; rmdir "$d"; exit $rc'
@@ -39,8 +36,9 @@ if [[ -z ${UWB_FAULTS_IN_NAMESPACE:-} ]]; then
     exec "${ns[@]}" env UWB_FAULTS_IN_NAMESPACE=1 bash "$0" "$@"
 fi
 
-uwbd() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" "$@"; }
-uwbemu() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" "$@"; }
+# Up to ~60 s for a daemon or board to answer (scans under qemu are slow).
+E2E_WAIT_TRIES=600
+source "$(dirname "$0")/daemon_e2e.sh"
 state_check() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/state_check" "$@"; }
 
 # Under qemu-user every scan is far slower: fewer kills unless asked.
@@ -61,18 +59,6 @@ trap cleanup EXIT
 cd "$work"
 mkdir run
 
-passed=0
-pass() { echo "PASS: $*"; passed=$((passed + 1)); }
-fail() {
-    echo "FAIL: $*" >&2
-    for log in "$work"/*.log; do [[ -f "$log" ]] && { echo "--- $log" >&2; tail -n 20 "$log" >&2; }; done
-    exit 1
-}
-# Wait until a command succeeds (up to ~60 s); no timing is asserted.
-wait_for() {
-    for _ in $(seq 600); do "$@" > /dev/null 2>&1 && return 0; sleep 0.1; done
-    return 1
-}
 get() { state_check get "$@"; }
 sha() { sha256sum "$1" | cut -d' ' -f1; }
 free_bytes() { df -B1 --output=avail "$1" | tail -n 1 | tr -d ' '; }
@@ -81,8 +67,6 @@ tree_ok() {
     state_check tree "$@" > tree.out 2> tree.err || fail "state directory damaged: $(cat tree.err)"
 }
 
-root_flag=()
-[[ $(id -u) == 0 ]] && root_flag=(--allow-root)
 config="$work/uwbd.json"
 cp "$REPO/board/emulated/uwbd.json" "$config"
 ctl() { uwbd ctl --socket run/control.sock "$@"; }

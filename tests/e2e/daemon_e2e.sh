@@ -1,0 +1,45 @@
+# Sourced by the daemon e2e scripts (tests/e2e/test_daemon_*.sh): our
+# programs under $UWB_EXEC_PREFIX, a scratch directory whose background
+# processes are stopped at exit, PASS/FAIL lines, waiting without timing,
+# and reading a JSON reply.
+
+BUILD=$(cd "${UWB_BUILD_DIR:?run through tests/run-tests.sh}" && pwd)
+REPO=$(pwd)
+# Foreground helpers; programs started in the background are written out in
+# full so that $! is the program itself, not a shell running a function.
+uwbd() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" "$@"; }
+uwbemu() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" "$@"; }
+
+root_flag=()
+[[ $(id -u) == 0 ]] && root_flag=(--allow-root)
+
+# e2e_workdir NAME: a fresh /tmp/NAME-XXXXXX as $work and the working
+# directory, with run/ in it; the pids added to $pids are stopped and
+# reaped, and $work removed, when the script exits.
+e2e_workdir() {
+    work=$(mktemp -d "/tmp/$1-XXXXXX")
+    pids=()
+    trap e2e_cleanup EXIT
+    cd "$work"
+    mkdir run
+}
+e2e_cleanup() {
+    for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
+    for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
+    rm -rf "$work"
+}
+
+passed=0
+pass() { echo "PASS: $*"; passed=$((passed + 1)); }
+fail() {
+    echo "FAIL: $*" >&2
+    for log in "$work"/*.log; do [[ -f "$log" ]] && { echo "--- $log" >&2; tail -n 20 "$log" >&2; }; done
+    exit 1
+}
+# Wait until a command succeeds, E2E_WAIT_TRIES tenths of a second at most
+# (default ~20 s); no timing is asserted.
+wait_for() {
+    for _ in $(seq "${E2E_WAIT_TRIES:-200}"); do "$@" >/dev/null 2>&1 && return 0; sleep 0.1; done
+    return 1
+}
+json_get() { python3 -c 'import json,sys; v=json.load(sys.stdin); print(eval(sys.argv[1], {}, {"v": v}))' "$1"; }
