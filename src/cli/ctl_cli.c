@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
@@ -17,6 +16,7 @@
 #include "uwb/daemon/config.h"
 #include "uwb/daemon/control_socket.h"
 #include "uwb/daemon/exit_codes.h"
+#include "uwb/monotonic.h"
 
 /* A scan takes as long as the carriage needs; everything else is instant. */
 #define SCAN_TIMEOUT_S 900
@@ -50,13 +50,6 @@ static int is_error_reply(const char *line)
     return error;
 }
 
-static double seconds_now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + t.tv_nsec * 1e-9;
-}
-
 /* Read up to the first newline; 0, or an exit status. */
 static int read_reply(int fd, double timeout_s, char **out)
 {
@@ -64,9 +57,9 @@ static int read_reply(int fd, double timeout_s, char **out)
     char *buf = malloc(cap);
     if (!buf)
         return UWBD_CTL_NO_DAEMON;
-    double deadline = seconds_now() + timeout_s;
+    double deadline = uwb_monotonic_s() + timeout_s;
     for (;;) {
-        double left = deadline - seconds_now();
+        double left = deadline - uwb_monotonic_s();
         struct pollfd pfd = {.fd = fd, .events = POLLIN};
         int ready = left > 0 ? poll(&pfd, 1, (int)(left * 1000) + 1) : 0;
         if (ready < 0 && errno == EINTR)

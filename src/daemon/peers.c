@@ -17,6 +17,7 @@
 #include "uwb/daemon/log.h"
 #include "uwb/daemon/reply.h"
 #include "uwb/daemon/verdict_log.h"
+#include "uwb/monotonic.h"
 
 void peers_init(struct daemon *d)
 {
@@ -211,13 +212,6 @@ static void feed(struct daemon *d, struct peer *p, const char *buf, size_t n)
     }
 }
 
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + t.tv_nsec * 1e-9;
-}
-
 /* With every slot taken, the client quiet for longest (and not waiting for
  * a scan) makes room, so clients that connect and say nothing cannot lock
  * the operators out. */
@@ -247,7 +241,7 @@ void peer_accept(struct daemon *d)
         close(fd);
         return;
     }
-    double now = now_s();
+    double now = uwb_monotonic_s();
     struct peer *idle = idle_client_to_drop(d, now);
     for (int i = 0; i < MAX_CLIENTS; i++) {
         struct peer *p = &d->clients[i];
@@ -301,7 +295,7 @@ void peer_readable(struct daemon *d, struct peer *p)
     if (p->kind == PEER_CONTROL) {
         ssize_t r = recv(p->fd, buf, sizeof buf, MSG_DONTWAIT);
         if (r > 0) {
-            p->last_active_s = now_s();
+            p->last_active_s = uwb_monotonic_s();
             feed(d, p, buf, (size_t)r);
         }
         else if (r == 0 || (errno != EAGAIN && errno != EINTR))

@@ -9,10 +9,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "uwb/frame.h"
 #include "uwb/link.h"
+#include "uwb/monotonic.h"
 
 /* Commands may make a digitiser (or the emulated board) rebuild its
  * acquisition set-up; give them longer than one frame. */
@@ -32,13 +32,6 @@ struct uwb_digitiser {
 /* Internal outcomes of waiting for a frame, beside enum uwb_frame_status. */
 enum { WAIT_TIMEOUT = -10, WAIT_LINK = -11 };
 
-static long long now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (long long)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
-}
-
 enum uwb_sequence_check uwb_digitiser_check_sequence(uint32_t expected, uint32_t got)
 {
     int32_t ahead = (int32_t)(got - expected);
@@ -54,7 +47,7 @@ static int next_frame(struct uwb_digitiser *d, struct uwb_frame *frame, long lon
         int status = uwb_frame_decoder_next(&d->dec, frame);
         if (status != UWB_FRAME_NEED_MORE)
             return status;
-        long long left = deadline - now_ms();
+        long long left = deadline - uwb_monotonic_ms();
         if (left <= 0) {
             snprintf(err, errlen, "%s: no complete frame in time", d->cfg.endpoint);
             return WAIT_TIMEOUT;
@@ -99,7 +92,7 @@ static int command(struct uwb_digitiser *d, uint8_t type, const void *payload, s
         snprintf(err, errlen, "digitiser %s: %s", command_name(type), why);
         return UWB_DIGITISER_ERR_LINK;
     }
-    long long deadline = now_ms() + command_timeout_ms(d);
+    long long deadline = uwb_monotonic_ms() + command_timeout_ms(d);
     for (;;) {
         int status = next_frame(d, reply, deadline, why, sizeof why);
         if (status == WAIT_TIMEOUT) {
@@ -207,7 +200,7 @@ const char *uwb_digitiser_identity(const struct uwb_digitiser *dig)
  * `expected`). 1: got it in out; 0: bad or missing, fire again; <0: fatal. */
 static int await_trace(struct uwb_digitiser *d, uint32_t expected, float *out, char *why, size_t whylen)
 {
-    long long deadline = now_ms() + d->cfg.frame_timeout_ms;
+    long long deadline = uwb_monotonic_ms() + d->cfg.frame_timeout_ms;
     for (;;) {
         struct uwb_frame frame;
         int status = next_frame(d, &frame, deadline, why, whylen);

@@ -3,9 +3,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "uwb/link_backend.h"
+#include "uwb/monotonic.h"
 
 static const struct uwb_link_ops *ops_for(enum uwb_endpoint_kind kind)
 {
@@ -46,20 +46,13 @@ ssize_t uwb_link_read(struct uwb_link *link, void *buf, size_t len, int timeout_
     return link->ops->read(link, buf, len, timeout_ms, err, errlen);
 }
 
-static long long now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (long long)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
-}
-
 int uwb_link_read_exact(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen)
 {
     /* One deadline for the whole read, not one per chunk. */
-    long long deadline = now_ms() + timeout_ms;
+    long long deadline = uwb_monotonic_ms() + timeout_ms;
     size_t got = 0;
     while (got < len) {
-        int left = timeout_ms < 0 ? -1 : (int)(deadline - now_ms());
+        int left = timeout_ms < 0 ? -1 : (int)(deadline - uwb_monotonic_ms());
         if (timeout_ms >= 0 && left < 0)
             left = 0;
         ssize_t n = link->ops->read(link, (char *)buf + got, len - got, left, err, errlen);

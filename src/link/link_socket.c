@@ -13,27 +13,20 @@
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/un.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "uwb/link_backend.h"
+#include "uwb/monotonic.h"
 
 #define CONNECT_TIMEOUT_MS 5000
-
-static long long now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (long long)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
-}
 
 /* Waits for `events` on fd; 1 ready, 0 timed out, -1 error (errno). */
 static int wait_fd(int fd, short events, int timeout_ms)
 {
-    long long deadline = now_ms() + timeout_ms;
+    long long deadline = uwb_monotonic_ms() + timeout_ms;
     for (;;) {
         struct pollfd p = {.fd = fd, .events = events};
-        int left = timeout_ms < 0 ? -1 : (int)(deadline - now_ms());
+        int left = timeout_ms < 0 ? -1 : (int)(deadline - uwb_monotonic_ms());
         if (timeout_ms >= 0 && left < 0)
             left = 0;
         int n = poll(&p, 1, left);
@@ -83,7 +76,7 @@ int uwb_link_socket_write_all(struct uwb_link *link, const void *buf, size_t len
         snprintf(err, errlen, "%s: link is closed", link->endpoint);
         return UWB_LINK_ERR_IO;
     }
-    long long deadline = now_ms() + timeout_ms;
+    long long deadline = uwb_monotonic_ms() + timeout_ms;
     size_t done = 0;
     while (done < len) {
         ssize_t n = send(link->fd, (const char *)buf + done, len - done, MSG_NOSIGNAL | MSG_DONTWAIT);
@@ -97,7 +90,7 @@ int uwb_link_socket_write_all(struct uwb_link *link, const void *buf, size_t len
             snprintf(err, errlen, "%s: write: %s", link->endpoint, strerror(errno));
             return UWB_LINK_ERR_IO;
         }
-        int left = timeout_ms < 0 ? -1 : (int)(deadline - now_ms());
+        int left = timeout_ms < 0 ? -1 : (int)(deadline - uwb_monotonic_ms());
         if (timeout_ms >= 0 && left < 0)
             left = 0;
         int ready = wait_fd(link->fd, POLLOUT, left);
