@@ -21,6 +21,7 @@ struct uwb_analysis_options {
     double edge_fraction;          /* edge where the face profile crosses this fraction of its peak */
     double min_snr_db;             /* below this the winding is "not established" */
     double systematic_edge_m;      /* 1-sigma floor of an edge's position */
+    int remove_side_reflector;     /* take a compact reflector beside the winding out (clamping plate) */
     struct uwb_condition_options condition;
 };
 

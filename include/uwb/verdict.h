@@ -26,6 +26,9 @@ struct uwb_edges {
     double sigma_center_m;
     double sigma_center_noise_m; /* the part of sigma_center from noise alone: what a comparison of two scans inherits */
     double snr_db;               /* face peak over image noise floor */
+    int side_reflector;          /* a compact reflector beside the winding (clamping plate) was taken out */
+    double side_reflector_y_m;   /* ...where it imaged */
+    double sigma_center_clutter_m; /* what its removal may leave: does not cancel between scans */
     char reason[256];
 };
 

@@ -67,10 +67,13 @@ void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur,
     }
     v->axial_displacement_m = cur->center_m - base->center_m;
     v->height_change_m = cur->height_m - base->height_m;
-    /* Both scans blur their edges alike, so only their noise and a floor for
-     * what the two scans do not share (sampling, drift) enter. */
+    /* Both scans blur their edges alike, so only their noise, what removing
+     * a plate beside the winding may leave, and a floor for what the two
+     * scans do not share (sampling, drift) enter. */
     v->uncertainty_m = sqrt(cur->sigma_center_noise_m * cur->sigma_center_noise_m +
                             base->sigma_center_noise_m * base->sigma_center_noise_m +
+                            cur->sigma_center_clutter_m * cur->sigma_center_clutter_m +
+                            base->sigma_center_clutter_m * base->sigma_center_clutter_m +
                             opt->systematic_displacement_m * opt->systematic_displacement_m);
     double d = fabs(v->axial_displacement_m);
     if (v->uncertainty_m > opt->max_uncertainty_m) {

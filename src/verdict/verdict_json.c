@@ -56,6 +56,8 @@ char *uwb_verdict_to_json(const struct uwb_verdict *v)
         add_mm(o, "face_range_mm", v->current.face_z_m);
         cJSON_AddNumberToObject(o, "snr_db", round(v->current.snr_db * 10.0) / 10.0);
         add_mm(o, "edge_uncertainty_mm", fmax(v->current.sigma_lower_m, v->current.sigma_upper_m));
+        if (v->current.side_reflector)
+            add_mm(o, "side_reflector_mm", v->current.side_reflector_y_m);
     }
     if (v->has_baseline && v->baseline.found) {
         cJSON *b = cJSON_AddObjectToObject(o, "baseline");

@@ -125,9 +125,10 @@ static void test_jitter_and_drift_are_undone(void)
 }
 
 /* The issue's scene: 3-D, eps_r 2.2, core leg, barrier, far wall, 20 dB
- * per pulse and the appliance's 64 pulses per position. The clamping plate
- * is left out: flush with the face 90 mm above the winding it images into
- * the upper shoulder and biases large shifts (README, Known limits). */
+ * per pulse and the appliance's 64 pulses per position. A single pulse at
+ * 20 dB cannot give 0.5 mm: the Cramer-Rao bound of the displacement is
+ * 0.7-0.9 mm there (README, Accuracy). The clamping plate has its own test
+ * below: flush with the face it costs up to half a millimetre. */
 static void tank_scene(struct sim_scene *sc)
 {
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(sc));
@@ -136,7 +137,8 @@ static void tank_scene(struct sim_scene *sc)
     set(sc, "clamp", "false");
 }
 
-static void check_shifts(const struct sim_scene *sc, const double *shifts_mm, int n, double tol_m)
+static void check_shifts(const struct sim_scene *sc, const double *shifts_mm, int n, double tol_m,
+                         int expect_side_reflector)
 {
     struct uwb_scan base;
     simulate(sc, 0.0, 100, &base);
@@ -153,6 +155,8 @@ static void check_shifts(const struct sim_scene *sc, const double *shifts_mm, in
                shifts_mm[i], v.axial_displacement_m * 1e3, e * 1e3, v.uncertainty_m * 1e3,
                uwb_status_name(v.status));
         TEST_ASSERT_NOT_EQUAL(UWB_STATUS_INCONCLUSIVE, v.status);
+        TEST_ASSERT_EQUAL_INT(expect_side_reflector, v.current.side_reflector);
+        TEST_ASSERT_EQUAL_INT(expect_side_reflector, v.baseline.side_reflector);
         /* honest uncertainty: the error lies inside 2 sigma */
         TEST_ASSERT_TRUE(fabs(e) <= 2.0 * v.uncertainty_m);
         worst = fmax(worst, fabs(e));
@@ -173,9 +177,58 @@ static void test_3d_tank_displacement_within_half_mm(void)
     static const double all[] = {-40, -27, -13, -5, 0, 0, 0, 5, 13, 20, 33, 40};
     static const double few[] = {-27, 0, 13};
     if (emulated())
-        check_shifts(&sc, few, 3, 0.0005);
+        check_shifts(&sc, few, 3, 0.0005, 0);
     else
-        check_shifts(&sc, all, (int)(sizeof all / sizeof all[0]), 0.0005);
+        check_shifts(&sc, all, (int)(sizeof all / sizeof all[0]), 0.0005, 0);
+}
+
+/* The default clamping plate: steel, 88 mm above the winding, its front edge
+ * level with the face. It images into the face's range cell as a blob half
+ * as bright as the face; left in, it reads +40 mm as +44.6. Taken out as a
+ * side reflector, the error stays within 1 mm (noiseless: 0.5 at most, at
+ * +33 and +40, where the plate is 50 mm from the top) and inside the stated
+ * uncertainty. The issue's 0.5 mm is not met with this plate (README). */
+static void test_3d_tank_with_flush_clamp_plate(void)
+{
+    struct sim_scene sc;
+    tank_scene(&sc);
+    set(&sc, "clamp", "true");
+    static const double all[] = {-40, -20, 0, 13, 27, 33, 40};
+    check_shifts(&sc, all, (int)(sizeof all / sizeof all[0]), 0.001, 1);
+}
+
+static struct uwb_verdict noiseless_plate_verdict(double shift_m, int remove)
+{
+    struct sim_scene sc;
+    TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
+    set(&sc, "noise", "false");
+    struct uwb_scan base, cur;
+    simulate(&sc, 0.0, 1, &base);
+    simulate(&sc, shift_m, 1, &cur);
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    opt.analysis.remove_side_reflector = remove;
+    struct uwb_verdict v;
+    verdict(&cur, &base, &opt, &v);
+    uwb_scan_free(&base);
+    uwb_scan_free(&cur);
+    return v;
+}
+
+/* The removal is what makes the difference, and it finds the plate's edge
+ * (0.47..0.49 m) to within the model's few millimetres. */
+static void test_clamp_plate_removal_is_what_corrects_it(void)
+{
+    struct uwb_verdict on = noiseless_plate_verdict(0.04, 1);
+    struct uwb_verdict off = noiseless_plate_verdict(0.04, 0);
+    printf("+40 mm under a flush plate: %.2f mm with the plate taken out (at %.1f mm), %.2f mm left in\n",
+           on.axial_displacement_m * 1e3, on.current.side_reflector_y_m * 1e3,
+           off.axial_displacement_m * 1e3);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0006, 0.04, on.axial_displacement_m);
+    TEST_ASSERT_TRUE(fabs(off.axial_displacement_m - 0.04) > 0.003);
+    TEST_ASSERT_EQUAL_INT(1, on.current.side_reflector);
+    TEST_ASSERT_DOUBLE_WITHIN(0.01, 0.48, on.current.side_reflector_y_m);
+    TEST_ASSERT_EQUAL_INT(0, off.current.side_reflector);
 }
 
 int main(void)
@@ -185,5 +238,8 @@ int main(void)
     RUN_TEST(test_sim_2d_edges_match_fdtd_up20);
     RUN_TEST(test_jitter_and_drift_are_undone);
     RUN_TEST(test_3d_tank_displacement_within_half_mm);
+    if (!emulated())   /* test_clamp_plate_removal... covers the plate under qemu-user */
+        RUN_TEST(test_3d_tank_with_flush_clamp_plate);
+    RUN_TEST(test_clamp_plate_removal_is_what_corrects_it);
     return UNITY_END();
 }

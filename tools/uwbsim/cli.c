@@ -1,3 +1,4 @@
+#include "bound.h"
 #include "cli.h"
 
 #include <errno.h>
@@ -23,6 +24,8 @@ static void usage(FILE *out)
             "  --seed N               seed of every random draw (default 1): same seed, same file\n"
             "  --scene FILE           load a JSON scene: one object, keys = the parameters below\n"
             "  --print-scene          print the effective scene as JSON and exit\n"
+            "  --precision-bound      print the Cramer-Rao bound on the displacement for the\n"
+            "                         scene's noise (snr_db, stack; white noise) as JSON and exit\n"
             "  --params-markdown      print the parameter table as Markdown and exit\n"
             "  -h, --help             this text\n"
             "\n"
@@ -54,7 +57,7 @@ int uwbsim_cli(int argc, char **argv, FILE *out, FILE *errout)
     }
     const char *output = NULL, *truth = NULL;
     uint64_t seed = 1;
-    int print_scene = 0;
+    int print_scene = 0, print_bound = 0;
 
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
@@ -68,6 +71,10 @@ int uwbsim_cli(int argc, char **argv, FILE *out, FILE *errout)
         }
         if (!strcmp(arg, "--print-scene")) {
             print_scene = 1;
+            continue;
+        }
+        if (!strcmp(arg, "--precision-bound")) {
+            print_bound = 1;
             continue;
         }
         if (strncmp(arg, "--", 2) != 0 && strcmp(arg, "-o") != 0) {
@@ -127,6 +134,16 @@ int uwbsim_cli(int argc, char **argv, FILE *out, FILE *errout)
         }
         fprintf(out, "%s\n", json);
         free(json);
+        return 0;
+    }
+    if (print_bound) {
+        struct sim_bound b;
+        if (sim_displacement_bound(&scene, &b, err, sizeof err) != 0) {
+            fprintf(errout, "uwbsim: %s\n", err);
+            return 1;
+        }
+        fprintf(out, "{\"noise_rms_v\": %.4g, \"single_scan_mm\": %.3f, \"displacement_mm\": %.3f}\n",
+                b.noise_rms, b.single_scan_m * 1e3, b.displacement_m * 1e3);
         return 0;
     }
     if (!output) {

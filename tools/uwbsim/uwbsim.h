@@ -3,6 +3,7 @@
 #ifndef UWBSIM_UWBSIM_H
 #define UWBSIM_UWBSIM_H
 
+#include "bound.h"
 #include "engine.h"
 #include "measure.h"
 #include "scene.h"
