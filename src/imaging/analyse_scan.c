@@ -87,27 +87,25 @@ static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geo
         lo = 0;
     if (hi > fine.nz - 1)
         hi = fine.nz - 1;
-    int best = lo;
-    float best_v = -1.0f;
-    for (int iz = lo; iz <= hi; iz++)
-        for (int iy = 0; iy < fine.ny; iy++)
-            if (fine.pix[(size_t)iy * fine.nz + iz] > best_v) {
-                best_v = fine.pix[(size_t)iy * fine.nz + iz];
-                best = iz;
-            }
+    int best = lo, row;
+    double best_v = -1.0;
+    for (int iz = lo; iz <= hi; iz++) {
+        double v = image_column_peak(&fine, iz, &row);
+        if (v > best_v) {
+            best_v = v;
+            best = iz;
+        }
+    }
     /* Sub-pixel range of the face (parabola through the column peaks): the
      * side reflector is modelled at this range, and a whole-pixel step of it
      * between two scans would move the model. */
     double offset = 0.0;
     if (best > 0 && best < fine.nz - 1) {
-        float m[3] = {0.0f, 0.0f, 0.0f};
-        for (int j = 0; j < 3; j++)
-            for (int iy = 0; iy < fine.ny; iy++)
-                if (fine.pix[(size_t)iy * fine.nz + best - 1 + j] > m[j])
-                    m[j] = fine.pix[(size_t)iy * fine.nz + best - 1 + j];
-        double den = m[0] - 2.0 * m[1] + m[2];
+        double before = image_column_peak(&fine, best - 1, &row);
+        double after = image_column_peak(&fine, best + 1, &row);
+        double den = before - 2.0 * best_v + after;
         if (den < 0.0)
-            offset = 0.5 * (m[0] - m[2]) / den;
+            offset = 0.5 * (before - after) / den;
         if (fabs(offset) > 0.5)
             offset = 0.0;
     }

@@ -17,7 +17,7 @@
 #define END_MARGIN_STEPS 2.0
 #define SHADOW_MARGIN 0.316      /* -10 dB */
 
-static double column_peak(const struct uwb_image *img, int iz, int *row)
+double image_column_peak(const struct uwb_image *img, int iz, int *row)
 {
     double best = -1.0;
     for (int iy = 0; iy < img->ny; iy++) {
@@ -63,7 +63,7 @@ int face_search(const struct uwb_image *img, double aperture_lo_m, double apertu
     }
     double strongest = 0.0;
     for (int iz = 0; iz < img->nz; iz++) {
-        peak[iz] = column_peak(img, iz, &row[iz]);
+        peak[iz] = image_column_peak(img, iz, &row[iz]);
         if (peak[iz] > strongest)
             strongest = peak[iz];
     }

@@ -18,6 +18,9 @@ int imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *condi
                       const struct uwb_geometry *g, struct uwb_image *img,
                       char *err, size_t errlen);
 
+/* The brightest pixel of range column iz: its value, and its row in *row. */
+double image_column_peak(const struct uwb_image *img, int iz, int *row);
+
 struct face_candidate {
     double z_m;
     double peak;

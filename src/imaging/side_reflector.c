@@ -129,7 +129,7 @@ static void point_asymmetry(const struct side_reflector *r, const struct uwb_sca
 }
 
 struct fit {
-    double score, y, z;
+    double score, y;
     double complex amp;
     double explained;
 };
@@ -152,7 +152,6 @@ static void try_position(const struct side_reflector *r, const struct uwb_scan *
     if (score > best->score) {
         best->score = score;
         best->y = yp;
-        best->z = z;
         best->amp = ba / bb;
         best->explained = a_energy > 0.0 ? score / a_energy : 0.0;
     }

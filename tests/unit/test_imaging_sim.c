@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "fixture_support.h"
+#include "scene_support.h"
 #include "unity.h"
 #include "uwb/evaluate.h"
 #include "uwbsim/uwbsim.h"
@@ -22,12 +23,6 @@ static int emulated(void)
 {
     const char *p = getenv("UWB_EXEC_PREFIX");
     return p && *p;
-}
-
-static void set(struct sim_scene *sc, const char *key, const char *value)
-{
-    char err[256];
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_scene_set(sc, key, value, err, sizeof err), err);
 }
 
 static void simulate(const struct sim_scene *sc, double displacement_m, uint64_t seed,
@@ -102,10 +97,10 @@ static void test_jitter_and_drift_are_undone(void)
 {
     struct sim_scene sc;
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
-    set(&sc, "noise", "false");
-    set(&sc, "clutter", "false");
-    set(&sc, "jitter_s", "8e-12");
-    set(&sc, "drift_db", "0.1");
+    scene_set_or_fail(&sc, "noise", "false");
+    scene_set_or_fail(&sc, "clutter", "false");
+    scene_set_or_fail(&sc, "jitter_s", "8e-12");
+    scene_set_or_fail(&sc, "drift_db", "0.1");
     struct uwb_scan base, cur;
     simulate(&sc, 0.0, 11, &base);
     simulate(&sc, 0.013, 12, &cur);
@@ -132,9 +127,9 @@ static void test_jitter_and_drift_are_undone(void)
 static void tank_scene(struct sim_scene *sc)
 {
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(sc));
-    set(sc, "snr_db", "20");
-    set(sc, "stack", "64");
-    set(sc, "clamp", "false");
+    scene_set_or_fail(sc, "snr_db", "20");
+    scene_set_or_fail(sc, "stack", "64");
+    scene_set_or_fail(sc, "clamp", "false");
 }
 
 static void check_shifts(const struct sim_scene *sc, const double *shifts_mm, int n, double tol_m,
@@ -192,7 +187,7 @@ static void test_3d_tank_with_flush_clamp_plate(void)
 {
     struct sim_scene sc;
     tank_scene(&sc);
-    set(&sc, "clamp", "true");
+    scene_set_or_fail(&sc, "clamp", "true");
     static const double all[] = {-40, -20, 0, 13, 27, 33, 40};
     check_shifts(&sc, all, (int)(sizeof all / sizeof all[0]), 0.001, 1);
 }
@@ -201,7 +196,7 @@ static struct uwb_verdict noiseless_plate_verdict(double shift_m, int remove)
 {
     struct sim_scene sc;
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
-    set(&sc, "noise", "false");
+    scene_set_or_fail(&sc, "noise", "false");
     struct uwb_scan base, cur;
     simulate(&sc, 0.0, 1, &base);
     simulate(&sc, shift_m, 1, &cur);

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "scene_support.h"
 #include "scratch_support.h"
 #include "uwb/daemon/baseline_store.h"
 #include "uwb/daemon/config.h"
@@ -87,7 +88,7 @@ static int fake_acquire(void *ctx, const volatile sig_atomic_t *stop, struct uwb
 
 static void set_scene(const char *key, const char *value)
 {
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_scene_set(&rig.scene, key, value, err, sizeof err), err);
+    scene_set_or_fail(&rig.scene, key, value);
 }
 
 void setUp(void)

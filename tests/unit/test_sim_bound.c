@@ -5,24 +5,19 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene_support.h"
 #include "unity.h"
 #include "uwbsim/uwbsim.h"
 
 void setUp(void) {}
 void tearDown(void) {}
 
-static void set(struct sim_scene *sc, const char *key, const char *value)
-{
-    char err[256];
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_scene_set(sc, key, value, err, sizeof err), err);
-}
-
 static struct sim_bound bound_for(const char *stack)
 {
     struct sim_scene sc;
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
-    set(&sc, "snr_db", "20");
-    set(&sc, "stack", stack);
+    scene_set_or_fail(&sc, "snr_db", "20");
+    scene_set_or_fail(&sc, "stack", stack);
     struct sim_bound b;
     char err[256];
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_displacement_bound(&sc, &b, err, sizeof err), err);
@@ -54,7 +49,7 @@ static void test_coloured_noise_is_refused(void)
 {
     struct sim_scene sc;
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
-    set(&sc, "noise_bandwidth_hz", "5e9");
+    scene_set_or_fail(&sc, "noise_bandwidth_hz", "5e9");
     struct sim_bound b;
     char err[256] = "";
     TEST_ASSERT_EQUAL_INT(-1, sim_displacement_bound(&sc, &b, err, sizeof err));

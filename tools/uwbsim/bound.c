@@ -11,8 +11,10 @@
 
 #define HALF_STEP_M 0.0005
 
-static int clean(const struct sim_scene *scene, double shift_m, int winding_only, int noise,
-                 struct uwb_scan *scan, char *err, size_t errlen)
+/* The scene shifted by shift_m, without jitter, drift or quantisation; with
+ * or without its noise; with everything or the winding's echo alone. */
+static int scene_variant(const struct sim_scene *scene, double shift_m, int winding_only,
+                         int noise, struct uwb_scan *scan, char *err, size_t errlen)
 {
     struct sim_scene s = *scene;
     s.noise = noise;
@@ -36,17 +38,17 @@ int sim_displacement_bound(const struct sim_scene *scene, struct sim_bound *b, c
         return -1;
     }
     struct uwb_scan up = {0}, down = {0};
-    if (clean(scene, HALF_STEP_M, 1, 0, &up, err, errlen) != 0)
+    if (scene_variant(scene, HALF_STEP_M, 1, 0, &up, err, errlen) != 0)
         return -1;
-    if (clean(scene, -HALF_STEP_M, 1, 0, &down, err, errlen) != 0) {
+    if (scene_variant(scene, -HALF_STEP_M, 1, 0, &down, err, errlen) != 0) {
         uwb_scan_free(&up);
         return -1;
     }
     /* The noise is what the simulator adds, stacking included: the same
      * scene with and without it. */
     struct uwb_scan noisy = {0}, quiet = {0};
-    if (clean(scene, 0.0, 0, 1, &noisy, err, errlen) != 0 ||
-        clean(scene, 0.0, 0, 0, &quiet, err, errlen) != 0) {
+    if (scene_variant(scene, 0.0, 0, 1, &noisy, err, errlen) != 0 ||
+        scene_variant(scene, 0.0, 0, 0, &quiet, err, errlen) != 0) {
         uwb_scan_free(&up);
         uwb_scan_free(&down);
         uwb_scan_free(&noisy);
