@@ -4,6 +4,7 @@
 #include "unity.h"
 
 #include <dirent.h>
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,7 +17,7 @@ void scratch_scratch_dir(char *path, size_t n, const char *tag)
     TEST_ASSERT_NOT_NULL_MESSAGE(mkdtemp(path), "mkdtemp");
 }
 
-void scratch_remove_tree(const char *path)
+int scratch_remove_tree(const char *path)
 {
     DIR *d = opendir(path);
     if (d) {
@@ -34,7 +35,7 @@ void scratch_remove_tree(const char *path)
         }
         closedir(d);
     }
-    rmdir(path);
+    return rmdir(path) == 0 || errno == ENOENT ? 0 : -1;
 }
 
 char *scratch_slurp(const char *path, size_t *len)

@@ -6,8 +6,8 @@
 
 /* A fresh directory under /tmp (mkdtemp); fails the test if it cannot. */
 void scratch_scratch_dir(char *path, size_t n, const char *tag);
-/* rm -r */
-void scratch_remove_tree(const char *path);
+/* rm -r; 0 when path is gone afterwards, -1 if something stayed. */
+int scratch_remove_tree(const char *path);
 /* Whole file into a malloc'd NUL-terminated buffer, NULL if unreadable. */
 char *scratch_slurp(const char *path, size_t *len);
 /* Write text to path (not atomically: for setting up test states). */

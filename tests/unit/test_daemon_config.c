@@ -34,6 +34,16 @@ static int parse_text(const char *text)
     return uwbd_config_parse(text, strlen(text), "test.json", NULL, 0, &cfg, err, sizeof err);
 }
 
+/* A JSON document, printed, through the loader. */
+static int parse_document(const cJSON *root)
+{
+    char *text = cJSON_Print(root);
+    TEST_ASSERT_NOT_NULL(text);
+    int rc = parse_text(text);
+    free(text);
+    return rc;
+}
+
 /* The emulated sample with one change: `path` set to the JSON `value`, or
  * removed when value is NULL. Returns what the loader says. */
 static int parse_changed(const char *path, const char *value)
@@ -58,18 +68,17 @@ static int parse_changed(const char *path, const char *value)
         TEST_ASSERT_NOT_NULL_MESSAGE(v, value);
         cJSON_AddItemToObject(obj, part, v);
     }
-    char *text = cJSON_Print(root);
+    int rc = parse_document(root);
     cJSON_Delete(root);
-    int rc = parse_text(text);
-    free(text);
     return rc;
 }
 
-static void assert_refused(const char *path, const char *value, const char *expected_key, const char *words)
+/* The error names the changed key and says `words`. */
+static void assert_refused(const char *path, const char *value, const char *words)
 {
     TEST_ASSERT_EQUAL_INT_MESSAGE(-1, parse_changed(path, value), path);
     char want[160];
-    snprintf(want, sizeof want, "test.json: key `%s`: ", expected_key);
+    snprintf(want, sizeof want, "test.json: key `%s`: ", path);
     if (strncmp(err, want, strlen(want)) != 0 || !strstr(err, words)) {
         char msg[1400];
         snprintf(msg, sizeof msg, "want \"%s...%s\", got \"%s\"", want, words, err);
@@ -127,54 +136,54 @@ static void test_defaults_fill_what_is_left_out(void)
 
 static void test_unknown_keys_are_errors(void)
 {
-    assert_refused("bogus", "1", "bogus", "unknown key");
-    assert_refused("digitiser.sampels", "2048", "digitiser.sampels", "unknown key");
-    assert_refused("gpio.lines.bogus", "3", "gpio.lines.bogus", "unknown key");
+    assert_refused("bogus", "1", "unknown key");
+    assert_refused("digitiser.sampels", "2048", "unknown key");
+    assert_refused("gpio.lines.bogus", "3", "unknown key");
 }
 
 static void test_wrong_types_are_errors(void)
 {
-    assert_refused("digitiser.samples", "\"2048\"", "digitiser.samples", "expected an integer");
-    assert_refused("digitiser.samples", "2048.5", "digitiser.samples", "not an integer");
-    assert_refused("carriage.steps_per_mm", "true", "carriage.steps_per_mm", "expected a number");
-    assert_refused("allow_root", "1", "allow_root", "expected true or false");
-    assert_refused("state_dir", "7", "state_dir", "expected a string");
-    assert_refused("geometry.tx_mm", "[1]", "geometry.tx_mm", "two numbers");
-    assert_refused("gpio", "5", "gpio", "expected an object");
-    assert_refused("gpio.lines.step", "[1]", "gpio.lines.step", "offset (integer) or a line name");
+    assert_refused("digitiser.samples", "\"2048\"", "expected an integer");
+    assert_refused("digitiser.samples", "2048.5", "not an integer");
+    assert_refused("carriage.steps_per_mm", "true", "expected a number");
+    assert_refused("allow_root", "1", "expected true or false");
+    assert_refused("state_dir", "7", "expected a string");
+    assert_refused("geometry.tx_mm", "[1]", "two numbers");
+    assert_refused("gpio", "5", "expected an object");
+    assert_refused("gpio.lines.step", "[1]", "offset (integer) or a line name");
 }
 
 static void test_out_of_range_and_bad_choices_are_errors(void)
 {
-    assert_refused("analysis.edge_fraction", "2", "analysis.edge_fraction", "out of range");
-    assert_refused("digitiser.sample_interval_ps", "0", "digitiser.sample_interval_ps", "out of range");
-    assert_refused("schedule.interval_s", "-5", "schedule.interval_s", "out of range");
-    assert_refused("gpio.backend", "\"sysfs\"", "gpio.backend", "not one of libgpiod, emulated");
-    assert_refused("analysis.migration", "\"double\"", "analysis.migration", "neither fixed nor float");
-    assert_refused("control.mode", "\"0666\"", "control.mode", "gives others access");
-    assert_refused("control.mode", "\"0440\"", "control.mode", "owner");
-    assert_refused("control.mode", "\"rw\"", "control.mode", "not an octal mode");
-    assert_refused("state_dir", "\"a\\nb\"", "state_dir", "control character");
+    assert_refused("analysis.edge_fraction", "2", "out of range");
+    assert_refused("digitiser.sample_interval_ps", "0", "out of range");
+    assert_refused("schedule.interval_s", "-5", "out of range");
+    assert_refused("gpio.backend", "\"sysfs\"", "not one of libgpiod, emulated");
+    assert_refused("analysis.migration", "\"double\"", "neither fixed nor float");
+    assert_refused("control.mode", "\"0666\"", "gives others access");
+    assert_refused("control.mode", "\"0440\"", "owner");
+    assert_refused("control.mode", "\"rw\"", "not an octal mode");
+    assert_refused("state_dir", "\"a\\nb\"", "control character");
 }
 
 static void test_missing_required_keys_are_errors(void)
 {
-    assert_refused("digitiser.endpoint", NULL, "digitiser.endpoint", "missing");
-    assert_refused("scan.positions", NULL, "scan.positions", "missing");
-    assert_refused("geometry.eps_r", NULL, "geometry.eps_r", "missing");
-    assert_refused("carriage.home_offset_mm", NULL, "carriage.home_offset_mm", "missing");
+    assert_refused("digitiser.endpoint", NULL, "missing");
+    assert_refused("scan.positions", NULL, "missing");
+    assert_refused("geometry.eps_r", NULL, "missing");
+    assert_refused("carriage.home_offset_mm", NULL, "missing");
 }
 
 static void test_keys_that_depend_on_others(void)
 {
-    assert_refused("analysis.alarm_mm", "1", "analysis.alarm_mm", "below analysis.watch_mm");
-    assert_refused("scan.positions", "40", "scan.positions", "beyond the travel");
-    assert_refused("scan.first_position_mm", "-25", "scan.first_position_mm", "below home");
-    assert_refused("gpio.endpoint", NULL, "gpio.endpoint", "required with the emulated backend");
-    assert_refused("digitiser.endpoint", "\"ttyUSB0\"", "digitiser.endpoint", "ttyUSB0");
-    assert_refused("console.endpoint", "\"9600\"", "console.endpoint", "9600");
-    assert_refused("geometry.target_z_mm", "[900, 300]", "geometry.target_z_mm", "below far");
-    assert_refused("carriage.home_rate_hz", "5000", "carriage.home_rate_hz", "above carriage.max_rate_hz");
+    assert_refused("analysis.alarm_mm", "1", "below analysis.watch_mm");
+    assert_refused("scan.positions", "40", "beyond the travel");
+    assert_refused("scan.first_position_mm", "-25", "below home");
+    assert_refused("gpio.endpoint", NULL, "required with the emulated backend");
+    assert_refused("digitiser.endpoint", "\"ttyUSB0\"", "ttyUSB0");
+    assert_refused("console.endpoint", "\"9600\"", "9600");
+    assert_refused("geometry.target_z_mm", "[900, 300]", "below far");
+    assert_refused("carriage.home_rate_hz", "5000", "above carriage.max_rate_hz");
 }
 
 static void test_libgpiod_needs_chip_and_lines(void)
@@ -183,27 +192,21 @@ static void test_libgpiod_needs_chip_and_lines(void)
     cJSON *gpio = cJSON_GetObjectItemCaseSensitive(root, "gpio");
     cJSON_ReplaceItemInObjectCaseSensitive(gpio, "backend", cJSON_CreateString("libgpiod"));
     cJSON_DeleteItemFromObjectCaseSensitive(gpio, "endpoint");
-    char *text = cJSON_Print(root);
-    TEST_ASSERT_EQUAL_INT(-1, parse_text(text));
+    TEST_ASSERT_EQUAL_INT(-1, parse_document(root));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `gpio.chip`: missing"), err);
-    free(text);
     cJSON_AddStringToObject(gpio, "chip", "gpiochip0");
-    text = cJSON_Print(root);
-    TEST_ASSERT_EQUAL_INT(-1, parse_text(text));
+    TEST_ASSERT_EQUAL_INT(-1, parse_document(root));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `gpio.lines.trigger`: missing"), err);
-    free(text);
     cJSON *lines = cJSON_AddObjectToObject(gpio, "lines");
     cJSON_AddNumberToObject(lines, "trigger", 17);
     cJSON_AddStringToObject(lines, "step", "STEP");
     cJSON_AddNumberToObject(lines, "dir", 22);
     cJSON_AddNumberToObject(lines, "enable", 23);
     cJSON_AddNumberToObject(lines, "home", 24);
-    text = cJSON_Print(root);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_text(text), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_document(root), err);
     TEST_ASSERT_EQUAL_INT(17, cfg.rig.gpio.offset[UWB_LINE_TRIGGER]);
     TEST_ASSERT_EQUAL_INT(-1, cfg.rig.gpio.offset[UWB_LINE_STEP]);
     TEST_ASSERT_EQUAL_STRING("STEP", cfg.rig.gpio.name[UWB_LINE_STEP]);
-    free(text);
     cJSON_Delete(root);
 }
 

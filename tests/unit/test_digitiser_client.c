@@ -5,11 +5,11 @@
 #include <poll.h>
 #include <signal.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "scratch_support.h"
 #include "unity.h"
 #include "uwb/digitiser.h"
 #include "uwb/frame.h"
@@ -19,7 +19,7 @@
 #define VOLTS_PER_COUNT 0.001f
 
 enum action {
-    ANSWER,               /* the frame for this trigger */
+    ANSWER = 0,           /* the frame for this trigger; also every unscripted one (peer is zeroed) */
     STALE_THEN_ANSWER,    /* an old frame first, then this trigger's */
     JUMP_AHEAD,           /* a sequence 5 beyond (the digitiser counted extra triggers) */
     WRONG_LENGTH,         /* one sample short */
@@ -27,8 +27,7 @@ enum action {
 };
 
 static struct {
-    enum action script[8];
-    int steps;
+    enum action script[8];   /* what the n-th trigger gets */
     int refuse_configure;
     uint32_t configured_samples;
 } peer;
@@ -39,13 +38,22 @@ static pid_t child = -1;
 static struct uwb_link_listener *listener;
 static char err[1024];
 
-static void send_frame(struct uwb_link *link, uint8_t type, uint32_t seq, const void *payload, size_t len)
+/* corrupt: one byte in the middle flipped, so the frame fails its CRC. */
+static void send_encoded(struct uwb_link *link, uint8_t type, uint32_t seq, const void *payload, size_t len,
+                         int corrupt)
 {
     static uint8_t buf[UWB_FRAME_HEADER_BYTES + 4096];
     size_t n = uwb_frame_encode(type, seq, payload, len, buf, sizeof buf);
+    if (corrupt)
+        buf[n / 2] ^= 0xFF;
     char e[256];
     if (!n || uwb_link_write_all(link, buf, n, 2000, e, sizeof e) != UWB_LINK_OK)
         _exit(3);
+}
+
+static void send_frame(struct uwb_link *link, uint8_t type, uint32_t seq, const void *payload, size_t len)
+{
+    send_encoded(link, type, seq, payload, len, 0);
 }
 
 /* Codes seq * 100 + i, so the parent can tell which trigger a trace answers. */
@@ -56,16 +64,7 @@ static void send_trace(struct uwb_link *link, uint32_t seq, uint32_t samples, in
     for (uint32_t i = 0; i < samples; i++)
         codes[i] = (int16_t)(seq * 100 + i);
     size_t plen = uwb_trace_payload_encode(codes, samples, VOLTS_PER_COUNT, payload, sizeof payload);
-    if (!corrupt) {
-        send_frame(link, UWB_FRAME_DATA, seq, payload, plen);
-        return;
-    }
-    uint8_t buf[UWB_FRAME_HEADER_BYTES + sizeof payload + UWB_FRAME_TRAILER_BYTES];
-    size_t n = uwb_frame_encode(UWB_FRAME_DATA, seq, payload, plen, buf, sizeof buf);
-    buf[n / 2] ^= 0xFF;
-    char e[256];
-    if (uwb_link_write_all(link, buf, n, 2000, e, sizeof e) != UWB_LINK_OK)
-        _exit(3);
+    send_encoded(link, UWB_FRAME_DATA, seq, payload, plen, corrupt);
 }
 
 static void answer_command(struct uwb_link *link, const struct uwb_frame *f, uint32_t *seq)
@@ -126,7 +125,7 @@ static void serve(void)
             char byte;
             if (read(trigger_pipe[0], &byte, 1) != 1)
                 _exit(0);
-            enum action a = step < peer.steps ? peer.script[step] : ANSWER;
+            enum action a = step < (int)(sizeof peer.script / sizeof peer.script[0]) ? peer.script[step] : ANSWER;
             step++;
             if (a == STALE_THEN_ANSWER && seq > 0)
                 send_trace(link, seq - 1, SAMPLES, 0);
@@ -157,8 +156,7 @@ static void start_peer(void)
 
 void setUp(void)
 {
-    strcpy(dir, "/tmp/uwb-dig-XXXXXX");
-    TEST_ASSERT_NOT_NULL(mkdtemp(dir));
+    scratch_scratch_dir(dir, sizeof dir, "dig");
     snprintf(endpoint, sizeof endpoint, "unix:%s/digitiser", dir);
     memset(&peer, 0, sizeof peer);
     peer.configured_samples = SAMPLES;
@@ -175,9 +173,7 @@ void tearDown(void)
         waitpid(child, &status, 0);
     }
     uwb_link_listener_close(listener);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    TEST_ASSERT_EQUAL_INT(0, system(cmd));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, scratch_remove_tree(dir), dir);
 }
 
 static int fire(void *ctx, char *e, size_t elen)
@@ -188,14 +184,22 @@ static int fire(void *ctx, char *e, size_t elen)
     return write(trigger_pipe[1], "t", 1) == 1 ? 0 : -1;
 }
 
+/* Start the scripted digitiser as `peer` says and open the client on it;
+ * returns what uwb_digitiser_open says. */
+static int start_and_open(int frame_timeout_ms, int frame_retries, struct uwb_digitiser **dig)
+{
+    start_peer();
+    struct uwb_digitiser_config cfg = {.samples = SAMPLES, .sample_interval_s = 1e-11, .stack = 1,
+                                       .frame_timeout_ms = frame_timeout_ms, .frame_retries = frame_retries};
+    snprintf(cfg.endpoint, sizeof cfg.endpoint, "%s", endpoint);
+    int detail;
+    return uwb_digitiser_open(&cfg, dig, &detail, err, sizeof err);
+}
+
 static struct uwb_digitiser *open_client(void)
 {
-    struct uwb_digitiser_config cfg = {.samples = SAMPLES, .sample_interval_s = 1e-11, .stack = 1,
-                                       .frame_timeout_ms = 3000, .frame_retries = 2};
-    snprintf(cfg.endpoint, sizeof cfg.endpoint, "%s", endpoint);
     struct uwb_digitiser *dig;
-    int detail;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_DIGITISER_OK, uwb_digitiser_open(&cfg, &dig, &detail, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_DIGITISER_OK, start_and_open(3000, 2, &dig), err);
     TEST_ASSERT_EQUAL_STRING("scripted digitiser", uwb_digitiser_identity(dig));
     return dig;
 }
@@ -212,8 +216,6 @@ static void acquire_expecting(struct uwb_digitiser *dig, uint32_t seq)
 static void test_stale_frames_are_skipped(void)
 {
     peer.script[1] = STALE_THEN_ANSWER;
-    peer.steps = 2;
-    start_peer();
     struct uwb_digitiser *dig = open_client();
     acquire_expecting(dig, 0);
     acquire_expecting(dig, 1);
@@ -228,8 +230,6 @@ static void test_stale_frames_are_skipped(void)
 static void test_a_sequence_jump_is_followed(void)
 {
     peer.script[0] = JUMP_AHEAD;
-    peer.steps = 1;
-    start_peer();
     struct uwb_digitiser *dig = open_client();
     acquire_expecting(dig, 5);
     acquire_expecting(dig, 6);   /* the count follows the digitiser's */
@@ -243,8 +243,6 @@ static void test_a_sequence_jump_is_followed(void)
 static void test_a_wrong_record_length_is_fired_again(void)
 {
     peer.script[0] = WRONG_LENGTH;
-    peer.steps = 1;
-    start_peer();
     struct uwb_digitiser *dig = open_client();
     acquire_expecting(dig, 1);
     struct uwb_digitiser_stats st;
@@ -260,8 +258,6 @@ static void test_a_wrong_record_length_is_fired_again(void)
 static void test_a_corrupt_frame_is_fired_again(void)
 {
     peer.script[0] = CORRUPT_THEN_ANSWER;
-    peer.steps = 1;
-    start_peer();
     struct uwb_digitiser *dig = open_client();
     acquire_expecting(dig, 1);
     struct uwb_digitiser_stats st;
@@ -276,8 +272,6 @@ static void test_bad_frames_beyond_the_retries_fail(void)
 {
     for (int i = 0; i < 3; i++)
         peer.script[i] = WRONG_LENGTH;
-    peer.steps = 3;
-    start_peer();
     struct uwb_digitiser *dig = open_client();
     float out[SAMPLES];
     TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_FRAMES, uwb_digitiser_acquire(dig, fire, NULL, out, err, sizeof err));
@@ -289,13 +283,8 @@ static void test_bad_frames_beyond_the_retries_fail(void)
 static void test_a_refused_configuration_is_reported_with_the_reason(void)
 {
     peer.refuse_configure = 1;
-    start_peer();
-    struct uwb_digitiser_config cfg = {.samples = SAMPLES, .sample_interval_s = 1e-11, .stack = 1,
-                                       .frame_timeout_ms = 1000, .frame_retries = 0};
-    snprintf(cfg.endpoint, sizeof cfg.endpoint, "%s", endpoint);
     struct uwb_digitiser *dig;
-    int detail;
-    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_PROTOCOL, uwb_digitiser_open(&cfg, &dig, &detail, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_PROTOCOL, start_and_open(1000, 0, &dig));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "refused CONFIGURE"), err);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "record length not supported"), err);
 }
@@ -303,13 +292,8 @@ static void test_a_refused_configuration_is_reported_with_the_reason(void)
 static void test_a_different_record_length_in_force_is_refused(void)
 {
     peer.configured_samples = 1024;
-    start_peer();
-    struct uwb_digitiser_config cfg = {.samples = SAMPLES, .sample_interval_s = 1e-11, .stack = 1,
-                                       .frame_timeout_ms = 1000, .frame_retries = 0};
-    snprintf(cfg.endpoint, sizeof cfg.endpoint, "%s", endpoint);
     struct uwb_digitiser *dig;
-    int detail;
-    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_PROTOCOL, uwb_digitiser_open(&cfg, &dig, &detail, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_PROTOCOL, start_and_open(1000, 0, &dig));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "runs 1024 samples"), err);
 }
 

@@ -195,29 +195,30 @@ static void test_reset_forgets_a_partial_frame(void)
     uwb_frame_decoder_free(&dec);
 }
 
+/* Rewrite a header's payload length (LE at 12) and fix up its CRC (LE at
+ * 16, over the 16 bytes before it), so the header itself stays valid. */
+static void rewrite_header_length(uint8_t *header, uint32_t length)
+{
+    for (int i = 0; i < 4; i++)
+        header[12 + i] = (uint8_t)(length >> (8 * i));
+    uint32_t crc = (uint32_t)crc32(crc32(0L, Z_NULL, 0), header, 16);
+    for (int i = 0; i < 4; i++)
+        header[16 + i] = (uint8_t)(crc >> (8 * i));
+}
+
 static void test_header_claiming_a_huge_length_is_rejected_at_once(void)
 {
     uint8_t buf[64];
     size_t n = uwb_frame_encode(UWB_FRAME_PONG, 1, "x", 1, buf, sizeof buf);
     TEST_ASSERT_TRUE(n > 0);
-    /* rewrite the length and fix up the header CRC: only the limit can stop it */
-    uint32_t huge = UWB_FRAME_MAX_PAYLOAD + 1;
-    for (int i = 0; i < 4; i++)
-        buf[12 + i] = (uint8_t)(huge >> (8 * i));
-    uint32_t crc = (uint32_t)crc32(crc32(0L, Z_NULL, 0), buf, 16);
-    for (int i = 0; i < 4; i++)
-        buf[16 + i] = (uint8_t)(crc >> (8 * i));
+    /* a valid header with a length past the limit: only the limit can stop it */
+    rewrite_header_length(buf, UWB_FRAME_MAX_PAYLOAD + 1);
     struct uwb_frame f;
     size_t consumed;
     TEST_ASSERT_EQUAL_INT(UWB_FRAME_BAD_HEADER, uwb_frame_decode(buf, n, &f, &consumed));
     ASSERT_SIZE(1, consumed);
     /* the same header with a length inside the limit is waited for */
-    uint32_t fine = UWB_FRAME_MAX_PAYLOAD;
-    for (int i = 0; i < 4; i++)
-        buf[12 + i] = (uint8_t)(fine >> (8 * i));
-    crc = (uint32_t)crc32(crc32(0L, Z_NULL, 0), buf, 16);
-    for (int i = 0; i < 4; i++)
-        buf[16 + i] = (uint8_t)(crc >> (8 * i));
+    rewrite_header_length(buf, UWB_FRAME_MAX_PAYLOAD);
     TEST_ASSERT_EQUAL_INT(UWB_FRAME_NEED_MORE, uwb_frame_decode(buf, n, &f, &consumed));
 }
 

@@ -1,12 +1,12 @@
 /* Socket links: a socketpair, a listening unix socket, a listening tcp
  * socket; timeouts, a vanished peer, bad endpoints. */
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "scratch_support.h"
 #include "unity.h"
 #include "uwb/link.h"
 
@@ -15,15 +15,12 @@ static char err[512];
 
 void setUp(void)
 {
-    strcpy(dir, "/tmp/uwb-link-XXXXXX");
-    TEST_ASSERT_NOT_NULL(mkdtemp(dir));
+    scratch_scratch_dir(dir, sizeof dir, "link");
 }
 
 void tearDown(void)
 {
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    TEST_ASSERT_EQUAL_INT(0, system(cmd));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, scratch_remove_tree(dir), dir);
 }
 
 static void pair(struct uwb_link **a, struct uwb_link **b)
@@ -32,6 +29,17 @@ static void pair(struct uwb_link **a, struct uwb_link **b)
     TEST_ASSERT_EQUAL_INT(0, socketpair(AF_UNIX, SOCK_STREAM, 0, fds));
     TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_from_fd(fds[0], "pair-a", a, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_from_fd(fds[1], "pair-b", b, err, sizeof err));
+}
+
+/* `message` written on one end arrives whole at the other. */
+static void assert_crosses(struct uwb_link *from, struct uwb_link *to, const char *message)
+{
+    size_t len = strlen(message);
+    char buf[16];
+    TEST_ASSERT_TRUE(len <= sizeof buf);
+    TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_write_all(from, message, len, 1000, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_read_exact(to, buf, len, 1000, err, sizeof err));
+    TEST_ASSERT_EQUAL_MEMORY(message, buf, len);
 }
 
 static void test_bytes_cross_and_read_exact_gathers_chunks(void)
@@ -79,10 +87,7 @@ static void test_unix_listener_accepts_one_peer_after_another(void)
         TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_LINK_OK, uwb_link_open(endpoint, &client, err, sizeof err), err);
         TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_accept(l, &server, 1000, err, sizeof err));
         TEST_ASSERT_EQUAL_STRING(endpoint, uwb_link_name(client));
-        TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_write_all(client, "ping", 4, 1000, err, sizeof err));
-        char buf[4];
-        TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_read_exact(server, buf, 4, 1000, err, sizeof err));
-        TEST_ASSERT_EQUAL_MEMORY("ping", buf, 4);
+        assert_crosses(client, server, "ping");
         uwb_link_close(client);
         uwb_link_close(server);
     }
@@ -127,10 +132,7 @@ static void test_tcp_listener_and_client(void)
     struct uwb_link *client, *server;
     TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_LINK_OK, uwb_link_open(endpoint, &client, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_accept(l, &server, 1000, err, sizeof err));
-    TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_write_all(server, "frame", 5, 1000, err, sizeof err));
-    char buf[5];
-    TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_read_exact(client, buf, 5, 1000, err, sizeof err));
-    TEST_ASSERT_EQUAL_MEMORY("frame", buf, 5);
+    assert_crosses(server, client, "frame");
     uwb_link_close(client);
     uwb_link_close(server);
     uwb_link_listener_close(l);

@@ -14,6 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "scratch_support.h"
 #include "unity.h"
 #include "uwb/gpio.h"
 #include "uwb/link.h"
@@ -166,9 +167,7 @@ static void stop_board(void)
         if (i == 100)
             kill(emu_pid, SIGTERM);
     }
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    if (system(cmd) != 0)
+    if (scratch_remove_tree(dir) != 0)
         fprintf(stderr, "could not remove %s\n", dir);
 }
 
@@ -527,6 +526,15 @@ static void test_stop_request_ends_the_scan_safely(void)
     uwb_rig_close(rig);
 }
 
+/* n full STEP pulses (high, then low). */
+static void pulse_steps(struct uwb_gpio *gpio, int n)
+{
+    for (int i = 0; i < n; i++) {
+        uwb_gpio_set(gpio, UWB_LINE_STEP, 1, err, sizeof err);
+        uwb_gpio_set(gpio, UWB_LINE_STEP, 0, err, sizeof err);
+    }
+}
+
 /* The emulated GPIO backend on its own: steps count only while enabled,
  * DIR gives the direction, HOME reads the switch. */
 static void test_emulated_gpio_backend_drives_the_board(void)
@@ -541,21 +549,12 @@ static void test_emulated_gpio_backend_drives_the_board(void)
     TEST_ASSERT_EQUAL_INT(UWB_GPIO_OK, uwb_gpio_get(gpio, UWB_LINE_HOME, &home, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(0, home);
     /* 3 steps while disabled are lost; 20 down and 5 up while enabled count */
-    for (int i = 0; i < 3; i++) {
-        uwb_gpio_set(gpio, UWB_LINE_STEP, 1, err, sizeof err);
-        uwb_gpio_set(gpio, UWB_LINE_STEP, 0, err, sizeof err);
-    }
+    pulse_steps(gpio, 3);
     uwb_gpio_set(gpio, UWB_LINE_ENABLE, 1, err, sizeof err);
     uwb_gpio_set(gpio, UWB_LINE_DIR, 0, err, sizeof err);
-    for (int i = 0; i < 20; i++) {
-        uwb_gpio_set(gpio, UWB_LINE_STEP, 1, err, sizeof err);
-        uwb_gpio_set(gpio, UWB_LINE_STEP, 0, err, sizeof err);
-    }
+    pulse_steps(gpio, 20);
     uwb_gpio_set(gpio, UWB_LINE_DIR, 1, err, sizeof err);
-    for (int i = 0; i < 5; i++) {
-        uwb_gpio_set(gpio, UWB_LINE_STEP, 1, err, sizeof err);
-        uwb_gpio_set(gpio, UWB_LINE_STEP, 0, err, sizeof err);
-    }
+    pulse_steps(gpio, 5);
     int enable = -1;
     TEST_ASSERT_EQUAL_INT(UWB_GPIO_OK, uwb_gpio_get(gpio, UWB_LINE_ENABLE, &enable, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(1, enable);

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "scratch_support.h"
 #include "unity.h"
 #include "uwbsim/cli.h"
 #include "uwbsim/uwbsim.h"
@@ -13,15 +14,12 @@ static char dir[64];
 
 void setUp(void)
 {
-    strcpy(dir, "/tmp/uwbsim-cli-XXXXXX");
-    TEST_ASSERT_NOT_NULL(mkdtemp(dir));
+    scratch_scratch_dir(dir, sizeof dir, "sim-cli");
 }
 
 void tearDown(void)
 {
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    TEST_ASSERT_EQUAL_INT(0, system(cmd));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, scratch_remove_tree(dir), dir);
 }
 
 /* Run the CLI; return its status, its stdout and stderr (malloc'd). */

@@ -39,10 +39,7 @@ void tearDown(void)
 static void append_verdict(int n, long age_s)
 {
     char created[32], line[160];
-    time_t t = now - age_s;
-    struct tm tm;
-    gmtime_r(&t, &tm);
-    strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    uwbd_utc_text(now - age_s, created, sizeof created);
     snprintf(line, sizeof line, "{\"class\":\"VERDICT\",\"n\":%d,\"created\":\"%s\"}", n, created);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_append(&store, line, err, sizeof err), err);
 }
@@ -186,13 +183,12 @@ static void test_an_unreadable_log_is_an_error_naming_it(void)
 /* Retention of the archive trims the log to the same number of cycles. */
 static void test_retention_trims_the_log_with_the_archive(void)
 {
+    struct tm day = {.tm_year = 2030 - 1900, .tm_mon = 0, .tm_mday = 1};
+    char day_dir[2300];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_day_dir(&store, &day, day_dir, sizeof day_dir, err, sizeof err), err);
     for (int n = 1; n <= 5; n++) {
-        char p[2300];
-        snprintf(p, sizeof p, "%s/2030/01/01", store.archive);
-        char cmd[2400];
-        snprintf(cmd, sizeof cmd, "mkdir -p '%s'", p);
-        TEST_ASSERT_EQUAL_INT(0, system(cmd));
-        snprintf(p, sizeof p, "%s/2030/01/01/scan-%d.json", store.archive, n);
+        char p[2400];
+        snprintf(p, sizeof p, "%s/scan-%d.json", day_dir, n);
         scratch_spit(p, "{}\n");
         append_verdict(n, 10 - n);
     }

@@ -37,6 +37,7 @@
 #include <unistd.h>
 
 #include "uwb/daemon/store.h"
+#include "uwb/monotonic.h"
 #include "uwb/scan.h"
 
 #define MAX_TEXT (64L * 1024 * 1024)
@@ -343,13 +344,6 @@ static int get(int argc, char **argv)
     return 0;
 }
 
-static double seconds_now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
-}
-
 /* One of the daemon's writes: a temporary created, or the verdict log appended to. */
 static int is_write(const struct inotify_event *ev)
 {
@@ -368,7 +362,7 @@ static int kill_on_write(int argc, char **argv)
     }
     pid_t pid = (pid_t)atol(argv[0]);
     long skip = atol(argv[1]), delay_us = atol(argv[2]);
-    double deadline = seconds_now() + atof(argv[3]);
+    double deadline = uwb_monotonic_s() + atof(argv[3]);
     int fd = inotify_init1(IN_CLOEXEC | IN_NONBLOCK);
     if (fd < 0 || pid <= 0) {
         fprintf(stderr, "state_check kill-on-write: %s\n", pid <= 0 ? "bad PID" : strerror(errno));
@@ -382,7 +376,7 @@ static int kill_on_write(int argc, char **argv)
             fprintf(stderr, "state_check kill-on-write: %s: %s (not watched)\n", argv[4 + i], strerror(errno));
     }
     char buf[8192] __attribute__((aligned(__alignof__(struct inotify_event))));
-    while (seconds_now() < deadline && kill(pid, 0) == 0) {
+    while (uwb_monotonic_s() < deadline && kill(pid, 0) == 0) {
         struct pollfd p = {.fd = fd, .events = POLLIN};
         if (poll(&p, 1, 50) <= 0)
             continue;
