@@ -7,6 +7,8 @@
 
 #include <stddef.h>
 
+#include "uwb/link.h"   /* UWB_ENDPOINT_MAX: the emulated backend's endpoint is a link's */
+
 enum uwb_gpio_line {
     UWB_LINE_TRIGGER,   /* out: pulser trigger, a pulse fires on the rising edge */
     UWB_LINE_STEP,      /* out: stepper driver STEP, one microstep per rising edge */
@@ -17,7 +19,6 @@ enum uwb_gpio_line {
 };
 
 #define UWB_GPIO_NAME_MAX 64
-#define UWB_ENDPOINT_MAX 256
 
 struct uwb_gpio_config {
     char backend[16];                          /* "libgpiod" or "emulated" */
@@ -42,14 +43,6 @@ enum uwb_gpio_error {
 };
 
 struct uwb_gpio;
-
-struct uwb_gpio_ops {
-    const char *name;
-    int (*open)(struct uwb_gpio *gpio, const struct uwb_gpio_config *cfg, char *err, size_t errlen);
-    int (*set)(struct uwb_gpio *gpio, enum uwb_gpio_line line, int value, char *err, size_t errlen);
-    int (*get)(struct uwb_gpio *gpio, enum uwb_gpio_line line, int *value, char *err, size_t errlen);
-    void (*close)(struct uwb_gpio *gpio);
-};
 
 void uwb_gpio_config_defaults(struct uwb_gpio_config *cfg);
 const char *uwb_gpio_line_name(enum uwb_gpio_line line);

@@ -9,9 +9,7 @@
 #include <stddef.h>
 #include <sys/types.h>
 
-#ifndef UWB_ENDPOINT_MAX
 #define UWB_ENDPOINT_MAX 256
-#endif
 
 enum uwb_link_error {
     UWB_LINK_OK = 0,
@@ -40,19 +38,9 @@ int uwb_endpoint_parse(const char *text, struct uwb_endpoint *ep, char *err, siz
 
 struct uwb_link;
 
-struct uwb_link_ops {
-    const char *scheme;            /* "serial", "tcp", "unix" */
-    /* address: the whole endpoint string, which the backend parses again */
-    int (*open)(struct uwb_link *link, const char *address, char *err, size_t errlen);
-    /* Up to len bytes, waiting at most timeout_ms for the first; returns the
-     * count (> 0) or an enum uwb_link_error. */
-    ssize_t (*read)(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen);
-    int (*write_all)(struct uwb_link *link, const void *buf, size_t len, int timeout_ms, char *err, size_t errlen);
-    int (*fd)(struct uwb_link *link);          /* for poll(); -1 if none */
-    void (*close)(struct uwb_link *link);
-};
-
 int uwb_link_open(const char *endpoint, struct uwb_link **link, char *err, size_t errlen);
+/* Up to len bytes, waiting at most timeout_ms (-1: for ever) for the first;
+ * returns the count (> 0) or an enum uwb_link_error. */
 ssize_t uwb_link_read(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen);
 /* Exactly len bytes or an error. */
 int uwb_link_read_exact(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen);

@@ -66,6 +66,19 @@ static int send_text(struct uwb_gpio *gpio, const char *text, char *err, size_t 
     return UWB_GPIO_OK;
 }
 
+/* Drives the four outputs low (pulser idle, motor off); stops at the first
+ * failure, as a link that failed once would only time out again. */
+static int drive_outputs_low(struct uwb_gpio *gpio, char *err, size_t errlen)
+{
+    char text[64];
+    int rc = UWB_GPIO_OK;
+    for (int line = 0; rc == UWB_GPIO_OK && line < UWB_LINE_HOME; line++) {
+        snprintf(text, sizeof text, "set %s 0\n", uwb_gpio_line_name(line));
+        rc = send_text(gpio, text, err, errlen);
+    }
+    return rc;
+}
+
 static void emulated_close(struct uwb_gpio *gpio)
 {
     struct emulated *em = gpio->state;
@@ -73,16 +86,34 @@ static void emulated_close(struct uwb_gpio *gpio)
         return;
     if (em->link) {
         /* Leave the board's outputs low, as a released real line would. */
-        char text[64], ignored[512];
-        for (int line = 0; line < UWB_LINE_HOME; line++) {
-            snprintf(text, sizeof text, "set %s 0\n", uwb_gpio_line_name(line));
-            if (send_text(gpio, text, ignored, sizeof ignored) != UWB_GPIO_OK)
-                break;
-        }
+        char ignored[512];
+        drive_outputs_low(gpio, ignored, sizeof ignored);
         uwb_link_close(em->link);
     }
     free(em);
     gpio->state = NULL;
+}
+
+/* The protocol greeting: tells a wrong endpoint (another service, another
+ * protocol version) from the emulated board's GPIO. */
+static int say_hello(struct uwb_gpio *gpio, const char *endpoint, char *err, size_t errlen)
+{
+    char line[256];
+    int rc = send_text(gpio, "hello " PROTOCOL "\n", err, errlen);
+    if (rc == UWB_GPIO_OK)
+        rc = read_line(gpio, line, sizeof line, err, errlen);
+    if (rc != UWB_GPIO_OK) {
+        char inner[512];
+        snprintf(inner, sizeof inner, "%s", err);
+        snprintf(err, errlen, "%s (no hello from %s: is this the emulated board's GPIO endpoint?)", inner, endpoint);
+        return UWB_GPIO_ERR_CHIP;
+    }
+    if (strncmp(line, "ok " PROTOCOL, strlen("ok " PROTOCOL)) != 0) {
+        snprintf(err, errlen, "emulated GPIO at %s: answered '%.80s' to hello, not 'ok " PROTOCOL "' "
+                 "(is this the emulated board's GPIO endpoint?)", endpoint, line);
+        return UWB_GPIO_ERR_CHIP;
+    }
+    return UWB_GPIO_OK;
 }
 
 static int emulated_open(struct uwb_gpio *gpio, const struct uwb_gpio_config *cfg, char *err, size_t errlen)
@@ -101,31 +132,14 @@ static int emulated_open(struct uwb_gpio *gpio, const struct uwb_gpio_config *cf
     int rc = uwb_link_open(cfg->endpoint, &em->link, why, sizeof why);
     if (rc != UWB_LINK_OK) {
         snprintf(err, errlen, "emulated GPIO: %s", why);
-        free(em);
-        gpio->state = NULL;
-        return rc == UWB_LINK_ERR_ENDPOINT ? UWB_GPIO_ERR_CONFIG : UWB_GPIO_ERR_CHIP;
-    }
-    char line[256];
-    rc = send_text(gpio, "hello " PROTOCOL "\n", err, errlen);
-    if (rc == UWB_GPIO_OK)
-        rc = read_line(gpio, line, sizeof line, err, errlen);
-    if (rc == UWB_GPIO_OK && strncmp(line, "ok " PROTOCOL, strlen("ok " PROTOCOL)) != 0) {
-        snprintf(err, errlen, "emulated GPIO at %s: answered '%.80s' to hello, not 'ok " PROTOCOL "' "
-                 "(is this the emulated board's GPIO endpoint?)", cfg->endpoint, line);
-        rc = UWB_GPIO_ERR_CHIP;
-    } else if (rc != UWB_GPIO_OK) {
-        char inner[512];
-        snprintf(inner, sizeof inner, "%s", err);
-        snprintf(err, errlen, "%s (no hello from %s: is this the emulated board's GPIO endpoint?)", inner,
-                 cfg->endpoint);
-        rc = UWB_GPIO_ERR_CHIP;
-    }
-    for (int l = 0; rc == UWB_GPIO_OK && l < UWB_LINE_HOME; l++) {
-        snprintf(line, sizeof line, "set %s 0\n", uwb_gpio_line_name(l));
-        rc = send_text(gpio, line, err, errlen);
+        rc = rc == UWB_LINK_ERR_ENDPOINT ? UWB_GPIO_ERR_CONFIG : UWB_GPIO_ERR_CHIP;
+    } else {
+        rc = say_hello(gpio, cfg->endpoint, err, errlen);
+        if (rc == UWB_GPIO_OK)
+            rc = drive_outputs_low(gpio, err, errlen);
     }
     if (rc != UWB_GPIO_OK) {
-        uwb_link_close(em->link);
+        uwb_link_close(em->link);   /* NULL when the link did not open */
         free(em);
         gpio->state = NULL;
     }

@@ -111,14 +111,13 @@ static int request_line(struct chip_lines *cl, const struct uwb_gpio_config *cfg
 
 static int libgpiod_open(struct uwb_gpio *gpio, const struct uwb_gpio_config *cfg, char *err, size_t errlen)
 {
+    if (!cfg->chip[0]) {
+        snprintf(err, errlen, "gpio: no chip configured (a name such as gpiochip0, a label or a /dev path)");
+        return UWB_GPIO_ERR_CONFIG;
+    }
     struct chip_lines *cl = calloc(1, sizeof *cl);
     if (!cl) {
         snprintf(err, errlen, "gpio: out of memory");
-        return UWB_GPIO_ERR_CONFIG;
-    }
-    if (!cfg->chip[0]) {
-        free(cl);
-        snprintf(err, errlen, "gpio: no chip configured (a name such as gpiochip0, a label or a /dev path)");
         return UWB_GPIO_ERR_CONFIG;
     }
     /* Name, /dev path, label or number, as gpiodetect shows them. */

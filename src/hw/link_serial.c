@@ -27,30 +27,26 @@ static void describe(enum sp_return rc, char *buf, size_t buflen)
     }
 }
 
-static int serial_open(struct uwb_link *link, const char *address, char *err, size_t errlen)
+static int serial_open(struct uwb_link *link, const struct uwb_endpoint *ep, char *err, size_t errlen)
 {
-    struct uwb_endpoint ep;
-    int rc = uwb_endpoint_parse(address, &ep, err, errlen);
-    if (rc != UWB_LINK_OK)
-        return rc;
     /* libserialport says only "invalid argument" for a missing device;
      * the engineer needs to hear that the device is not there. */
     struct stat st;
-    if (stat(ep.path, &st) != 0) {
-        snprintf(err, errlen, "%s: serial port %s: %s", address, ep.path, strerror(errno));
+    if (stat(ep->path, &st) != 0) {
+        snprintf(err, errlen, "%s: serial port %s: %s", link->endpoint, ep->path, strerror(errno));
         return UWB_LINK_ERR_OPEN;
     }
     struct sp_port *port = NULL;
     char why[256];
-    enum sp_return sp = sp_get_port_by_name(ep.path, &port);
+    enum sp_return sp = sp_get_port_by_name(ep->path, &port);
     if (sp != SP_OK) {
         describe(sp, why, sizeof why);
-        snprintf(err, errlen, "%s: serial port %s: %s", address, ep.path, why);
+        snprintf(err, errlen, "%s: serial port %s: %s", link->endpoint, ep->path, why);
         return UWB_LINK_ERR_OPEN;
     }
     const char *step = "open";
     sp = sp_open(port, SP_MODE_READ_WRITE);
-    if (sp == SP_OK && (step = "set baud rate", sp = sp_set_baudrate(port, ep.baud)) == SP_OK &&
+    if (sp == SP_OK && (step = "set baud rate", sp = sp_set_baudrate(port, ep->baud)) == SP_OK &&
         (step = "set 8 data bits", sp = sp_set_bits(port, 8)) == SP_OK &&
         (step = "set no parity", sp = sp_set_parity(port, SP_PARITY_NONE)) == SP_OK &&
         (step = "set 1 stop bit", sp = sp_set_stopbits(port, 1)) == SP_OK &&
@@ -59,7 +55,7 @@ static int serial_open(struct uwb_link *link, const char *address, char *err, si
         return UWB_LINK_OK;
     }
     describe(sp, why, sizeof why);
-    snprintf(err, errlen, "%s: serial port %s: cannot %s: %s", address, ep.path, step, why);
+    snprintf(err, errlen, "%s: serial port %s: cannot %s: %s", link->endpoint, ep->path, step, why);
     sp_close(port);
     sp_free_port(port);
     return UWB_LINK_ERR_OPEN;
@@ -119,7 +115,6 @@ static void serial_close(struct uwb_link *link)
 }
 
 const struct uwb_link_ops uwb_link_serial_ops = {
-    .scheme = "serial",
     .open = serial_open,
     .read = serial_read,
     .write_all = serial_write_all,

@@ -17,6 +17,27 @@ static const struct uwb_link_ops *ops_for(enum uwb_endpoint_kind kind)
     return NULL;
 }
 
+struct uwb_link *uwb_link_new(const struct uwb_link_ops *ops, const char *name, int fd, char *err, size_t errlen)
+{
+    struct uwb_link *l = calloc(1, sizeof *l);
+    if (!l) {
+        snprintf(err, errlen, "%s: out of memory", name);
+        return NULL;
+    }
+    l->ops = ops;
+    l->fd = fd;
+    snprintf(l->endpoint, sizeof l->endpoint, "%s", name);
+    return l;
+}
+
+int uwb_link_time_left(long long deadline, int timeout_ms)
+{
+    if (timeout_ms < 0)
+        return -1;
+    long long left = deadline - uwb_monotonic_ms();
+    return left < 0 ? 0 : (int)left;
+}
+
 int uwb_link_open(const char *endpoint, struct uwb_link **link, char *err, size_t errlen)
 {
     *link = NULL;
@@ -24,15 +45,10 @@ int uwb_link_open(const char *endpoint, struct uwb_link **link, char *err, size_
     int rc = uwb_endpoint_parse(endpoint, &ep, err, errlen);
     if (rc != UWB_LINK_OK)
         return rc;
-    struct uwb_link *l = calloc(1, sizeof *l);
-    if (!l) {
-        snprintf(err, errlen, "%s: out of memory", endpoint);
+    struct uwb_link *l = uwb_link_new(ops_for(ep.kind), endpoint, -1, err, errlen);
+    if (!l)
         return UWB_LINK_ERR_OPEN;
-    }
-    l->ops = ops_for(ep.kind);
-    l->fd = -1;
-    snprintf(l->endpoint, sizeof l->endpoint, "%s", endpoint);
-    rc = l->ops->open(l, endpoint, err, errlen);
+    rc = l->ops->open(l, &ep, err, errlen);
     if (rc != UWB_LINK_OK) {
         free(l);
         return rc;
@@ -52,10 +68,8 @@ int uwb_link_read_exact(struct uwb_link *link, void *buf, size_t len, int timeou
     long long deadline = uwb_monotonic_ms() + timeout_ms;
     size_t got = 0;
     while (got < len) {
-        int left = timeout_ms < 0 ? -1 : (int)(deadline - uwb_monotonic_ms());
-        if (timeout_ms >= 0 && left < 0)
-            left = 0;
-        ssize_t n = link->ops->read(link, (char *)buf + got, len - got, left, err, errlen);
+        ssize_t n = link->ops->read(link, (char *)buf + got, len - got, uwb_link_time_left(deadline, timeout_ms),
+                                    err, errlen);
         if (n < 0) {
             if (n == UWB_LINK_ERR_TIMEOUT)
                 snprintf(err, errlen, "%s: timed out after %d ms with %zu of %zu bytes", link->endpoint,

@@ -115,11 +115,7 @@ int uwb_link_listener_fd(const struct uwb_link_listener *listener)
 int uwb_link_accept(struct uwb_link_listener *l, struct uwb_link **link, int timeout_ms, char *err, size_t errlen)
 {
     *link = NULL;
-    struct pollfd p = {.fd = l->fd, .events = POLLIN};
-    int n;
-    do
-        n = poll(&p, 1, timeout_ms);
-    while (n < 0 && errno == EINTR);
+    int n = uwb_link_wait_fd(l->fd, POLLIN, timeout_ms);
     if (n == 0) {
         snprintf(err, errlen, "%s: nobody connected within %d ms", l->endpoint, timeout_ms);
         return UWB_LINK_ERR_TIMEOUT;

@@ -9,7 +9,6 @@
 #include <netinet/tcp.h>
 #include <poll.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -20,16 +19,12 @@
 
 #define CONNECT_TIMEOUT_MS 5000
 
-/* Waits for `events` on fd; 1 ready, 0 timed out, -1 error (errno). */
-static int wait_fd(int fd, short events, int timeout_ms)
+int uwb_link_wait_fd(int fd, short events, int timeout_ms)
 {
     long long deadline = uwb_monotonic_ms() + timeout_ms;
     for (;;) {
         struct pollfd p = {.fd = fd, .events = events};
-        int left = timeout_ms < 0 ? -1 : (int)(deadline - uwb_monotonic_ms());
-        if (timeout_ms >= 0 && left < 0)
-            left = 0;
-        int n = poll(&p, 1, left);
+        int n = poll(&p, 1, uwb_link_time_left(deadline, timeout_ms));
         if (n > 0)
             return 1;
         if (n == 0)
@@ -39,14 +34,14 @@ static int wait_fd(int fd, short events, int timeout_ms)
     }
 }
 
-ssize_t uwb_link_socket_read(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen)
+static ssize_t socket_read(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen)
 {
     if (link->fd < 0) {
         snprintf(err, errlen, "%s: link is closed", link->endpoint);
         return UWB_LINK_ERR_IO;
     }
     for (;;) {
-        int ready = wait_fd(link->fd, POLLIN, timeout_ms);
+        int ready = uwb_link_wait_fd(link->fd, POLLIN, timeout_ms);
         if (ready == 0) {
             snprintf(err, errlen, "%s: no data within %d ms", link->endpoint, timeout_ms);
             return UWB_LINK_ERR_TIMEOUT;
@@ -69,8 +64,8 @@ ssize_t uwb_link_socket_read(struct uwb_link *link, void *buf, size_t len, int t
     }
 }
 
-int uwb_link_socket_write_all(struct uwb_link *link, const void *buf, size_t len, int timeout_ms,
-                              char *err, size_t errlen)
+static int socket_write_all(struct uwb_link *link, const void *buf, size_t len, int timeout_ms, char *err,
+                            size_t errlen)
 {
     if (link->fd < 0) {
         snprintf(err, errlen, "%s: link is closed", link->endpoint);
@@ -90,10 +85,7 @@ int uwb_link_socket_write_all(struct uwb_link *link, const void *buf, size_t len
             snprintf(err, errlen, "%s: write: %s", link->endpoint, strerror(errno));
             return UWB_LINK_ERR_IO;
         }
-        int left = timeout_ms < 0 ? -1 : (int)(deadline - uwb_monotonic_ms());
-        if (timeout_ms >= 0 && left < 0)
-            left = 0;
-        int ready = wait_fd(link->fd, POLLOUT, left);
+        int ready = uwb_link_wait_fd(link->fd, POLLOUT, uwb_link_time_left(deadline, timeout_ms));
         if (ready == 0) {
             snprintf(err, errlen, "%s: peer not reading: %zu of %zu bytes sent within %d ms", link->endpoint,
                      done, len, timeout_ms);
@@ -107,12 +99,12 @@ int uwb_link_socket_write_all(struct uwb_link *link, const void *buf, size_t len
     return UWB_LINK_OK;
 }
 
-int uwb_link_socket_fd(struct uwb_link *link)
+static int socket_fd(struct uwb_link *link)
 {
     return link->fd;
 }
 
-void uwb_link_socket_close(struct uwb_link *link)
+static void socket_close(struct uwb_link *link)
 {
     if (link->fd >= 0)
         close(link->fd);
@@ -130,7 +122,7 @@ static int connect_bounded(int fd, const struct sockaddr *addr, socklen_t addrle
     if (rc < 0 && errno != EINPROGRESS) {
         error = errno;
     } else if (rc < 0) {
-        int ready = wait_fd(fd, POLLOUT, CONNECT_TIMEOUT_MS);
+        int ready = uwb_link_wait_fd(fd, POLLOUT, CONNECT_TIMEOUT_MS);
         socklen_t elen = sizeof error;
         if (ready == 0)
             error = ETIMEDOUT;
@@ -144,16 +136,12 @@ static int connect_bounded(int fd, const struct sockaddr *addr, socklen_t addrle
     return error;
 }
 
-static int tcp_open(struct uwb_link *link, const char *address, char *err, size_t errlen)
+static int tcp_open(struct uwb_link *link, const struct uwb_endpoint *ep, char *err, size_t errlen)
 {
-    struct uwb_endpoint ep;
-    int rc = uwb_endpoint_parse(address, &ep, err, errlen);
-    if (rc != UWB_LINK_OK)
-        return rc;
     struct addrinfo hints = {.ai_family = AF_UNSPEC, .ai_socktype = SOCK_STREAM}, *res;
-    int gai = getaddrinfo(ep.host, ep.port, &hints, &res);
+    int gai = getaddrinfo(ep->host, ep->port, &hints, &res);
     if (gai != 0) {
-        snprintf(err, errlen, "%s: cannot resolve host '%s': %s", address, ep.host, gai_strerror(gai));
+        snprintf(err, errlen, "%s: cannot resolve host '%s': %s", link->endpoint, ep->host, gai_strerror(gai));
         return UWB_LINK_ERR_OPEN;
     }
     int error = 0;
@@ -175,27 +163,23 @@ static int tcp_open(struct uwb_link *link, const char *address, char *err, size_
         close(fd);
     }
     freeaddrinfo(res);
-    snprintf(err, errlen, "%s: cannot connect: %s", address, strerror(error ? error : ECONNREFUSED));
+    snprintf(err, errlen, "%s: cannot connect: %s", link->endpoint, strerror(error ? error : ECONNREFUSED));
     return UWB_LINK_ERR_OPEN;
 }
 
-static int unix_open(struct uwb_link *link, const char *address, char *err, size_t errlen)
+static int unix_open(struct uwb_link *link, const struct uwb_endpoint *ep, char *err, size_t errlen)
 {
-    struct uwb_endpoint ep;
-    int rc = uwb_endpoint_parse(address, &ep, err, errlen);
-    if (rc != UWB_LINK_OK)
-        return rc;
     struct sockaddr_un sun = {.sun_family = AF_UNIX};
-    memcpy(sun.sun_path, ep.path, strlen(ep.path) + 1);   /* length checked by the parser */
+    memcpy(sun.sun_path, ep->path, strlen(ep->path) + 1);   /* length checked by the parser */
     int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd < 0) {
-        snprintf(err, errlen, "%s: socket: %s", address, strerror(errno));
+        snprintf(err, errlen, "%s: socket: %s", link->endpoint, strerror(errno));
         return UWB_LINK_ERR_OPEN;
     }
     int error = connect_bounded(fd, (const struct sockaddr *)&sun, sizeof sun);
     if (error) {
         close(fd);
-        snprintf(err, errlen, "%s: cannot connect to socket %s: %s", address, ep.path, strerror(error));
+        snprintf(err, errlen, "%s: cannot connect to socket %s: %s", link->endpoint, ep->path, strerror(error));
         return UWB_LINK_ERR_OPEN;
     }
     link->fd = fd;
@@ -203,43 +187,36 @@ static int unix_open(struct uwb_link *link, const char *address, char *err, size
 }
 
 const struct uwb_link_ops uwb_link_tcp_ops = {
-    .scheme = "tcp",
     .open = tcp_open,
-    .read = uwb_link_socket_read,
-    .write_all = uwb_link_socket_write_all,
-    .fd = uwb_link_socket_fd,
-    .close = uwb_link_socket_close,
+    .read = socket_read,
+    .write_all = socket_write_all,
+    .fd = socket_fd,
+    .close = socket_close,
 };
 
 const struct uwb_link_ops uwb_link_unix_ops = {
-    .scheme = "unix",
     .open = unix_open,
-    .read = uwb_link_socket_read,
-    .write_all = uwb_link_socket_write_all,
-    .fd = uwb_link_socket_fd,
-    .close = uwb_link_socket_close,
+    .read = socket_read,
+    .write_all = socket_write_all,
+    .fd = socket_fd,
+    .close = socket_close,
 };
 
 /* A link over a socket someone else connected: socketpair or accept. */
 static const struct uwb_link_ops fd_ops = {
-    .scheme = "fd",
     .open = NULL,
-    .read = uwb_link_socket_read,
-    .write_all = uwb_link_socket_write_all,
-    .fd = uwb_link_socket_fd,
-    .close = uwb_link_socket_close,
+    .read = socket_read,
+    .write_all = socket_write_all,
+    .fd = socket_fd,
+    .close = socket_close,
 };
 
 int uwb_link_from_fd(int fd, const char *name, struct uwb_link **link, char *err, size_t errlen)
 {
-    *link = calloc(1, sizeof **link);
+    *link = uwb_link_new(&fd_ops, name, fd, err, errlen);
     if (!*link) {
         close(fd);
-        snprintf(err, errlen, "%s: out of memory", name);
         return UWB_LINK_ERR_OPEN;
     }
-    (*link)->ops = &fd_ops;
-    (*link)->fd = fd;
-    snprintf((*link)->endpoint, sizeof (*link)->endpoint, "%s", name);
     return UWB_LINK_OK;
 }
