@@ -1,7 +1,10 @@
 /* uwbd --config / --check-config / --config-keys: the daemon's command line. */
 #include <getopt.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include <cjson/cJSON.h>
 
 #include "uwb/cli.h"
 #include "uwb/daemon/daemon.h"
@@ -69,22 +72,22 @@ static int add_set(struct uwbd_options *o, char *arg)
     return add_override(o, arg, eq + 1);
 }
 
-/* JSON text for a string override given on its own option. */
-static char string_values[4][UWBD_PATH_MAX + 8];
-
-static const char *as_json_string(int slot, const char *text)
+/* An override given on its own option (a path, an endpoint): a string even
+ * where it would read as JSON, so quoted and escaped by cJSON. The text
+ * lives as long as the options, i.e. the process. */
+static int add_string_override(struct uwbd_options *o, const char *key, const char *text)
 {
-    char *out = string_values[slot];
-    size_t j = 0;
-    out[j++] = '"';
-    for (size_t i = 0; text[i] && j + 3 < sizeof string_values[slot]; i++) {
-        if (text[i] == '"' || text[i] == '\\')
-            out[j++] = '\\';
-        out[j++] = text[i];
+    cJSON *string = cJSON_CreateString(text);
+    char *json = string ? cJSON_PrintUnformatted(string) : NULL;
+    cJSON_Delete(string);
+    if (!json) {
+        fprintf(stderr, "uwbd: out of memory\n");
+        return -1;
     }
-    out[j++] = '"';
-    out[j] = '\0';
-    return out;
+    int rc = add_override(o, key, json);
+    if (rc != 0)
+        free(json);
+    return rc;
 }
 
 int uwbd_daemon_main(int argc, char **argv)
@@ -114,10 +117,10 @@ int uwbd_daemon_main(int argc, char **argv)
         case OPT_CONFIG: opt.config_path = optarg; break;
         case OPT_CHECK: check = optarg; break;
         case OPT_KEYS: keys = 1; break;
-        case OPT_STATE_DIR: bad |= add_override(&opt, "state_dir", as_json_string(0, optarg)); break;
+        case OPT_STATE_DIR: bad |= add_string_override(&opt, "state_dir", optarg); break;
         case OPT_INTERVAL: bad |= add_override(&opt, "schedule.interval_s", optarg); break;
-        case OPT_CONSOLE: bad |= add_override(&opt, "console.endpoint", as_json_string(1, optarg)); break;
-        case OPT_CONTROL: bad |= add_override(&opt, "control.socket", as_json_string(2, optarg)); break;
+        case OPT_CONSOLE: bad |= add_string_override(&opt, "console.endpoint", optarg); break;
+        case OPT_CONTROL: bad |= add_string_override(&opt, "control.socket", optarg); break;
         case OPT_SET: bad |= add_set(&opt, optarg); break;
         case OPT_ALLOW_ROOT: bad |= add_override(&opt, "allow_root", "true"); break;
         case 'v': opt.log_level = UWBD_LOG_DEBUG; break;

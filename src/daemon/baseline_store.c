@@ -10,7 +10,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "uwb/atomic_file.h"
 #include "uwb/daemon/direct_coupling.h"
 #include "uwb/daemon/log.h"
 
@@ -47,12 +46,7 @@ static int write_info(const char *path, const struct uwbd_baseline_info *info, c
         snprintf(err, errlen, "%s: out of memory", path);
         return -1;
     }
-    struct atomic_file af;
-    int rc = atomic_file_open(&af, path, err, errlen);
-    if (rc == 0) {
-        fprintf(af.fp, "%s\n", text);
-        rc = atomic_file_commit(&af, err, errlen);
-    }
+    int rc = uwbd_write_json_file(path, text, err, errlen);
     free(text);
     return rc;
 }

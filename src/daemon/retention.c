@@ -37,14 +37,16 @@ static int later(struct timespec a, struct timespec b)
     return a.tv_sec != b.tv_sec ? a.tv_sec > b.tv_sec : a.tv_nsec > b.tv_nsec;
 }
 
-static int add_scan(struct scan_list *list, const char *day_dir, const char *id, size_t id_len,
+/* A scan's files all lie in its day directory, whose scans are the list's
+ * items from day_start on: only those can be this one again. */
+static int add_scan(struct scan_list *list, size_t day_start, const char *day_dir, const char *id, size_t id_len,
                     struct timespec mtime)
 {
     if (id_len > UWBD_SCAN_ID_MAX)
         return 0;
-    for (size_t i = 0; i < list->count; i++) {
+    for (size_t i = day_start; i < list->count; i++) {
         struct archived_scan *s = &list->items[i];
-        if (strncmp(s->id, id, id_len) == 0 && s->id[id_len] == '\0' && strcmp(s->day_dir, day_dir) == 0) {
+        if (strncmp(s->id, id, id_len) == 0 && s->id[id_len] == '\0') {
             if (later(mtime, s->mtime))
                 s->mtime = mtime;
             return 0;
@@ -73,6 +75,7 @@ static int list_day(const char *day_dir, struct scan_list *list)
     DIR *d = opendir(day_dir);
     if (!d)
         return 0;
+    size_t day_start = list->count;
     struct dirent *e;
     int rc = 0;
     while (rc == 0 && (e = readdir(d)) != NULL) {
@@ -85,7 +88,7 @@ static int list_day(const char *day_dir, struct scan_list *list)
         struct stat st;
         if (uwbd_path_join(path, sizeof path, day_dir, e->d_name) != 0 || stat(path, &st) != 0)
             continue;
-        rc = add_scan(list, day_dir, e->d_name, stem, st.st_mtim);
+        rc = add_scan(list, day_start, day_dir, e->d_name, stem, st.st_mtim);
     }
     closedir(d);
     return rc;

@@ -12,7 +12,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "uwb/atomic_file.h"
 #include "uwb/daemon/baseline_store.h"
 #include "uwb/daemon/direct_coupling.h"
 #include "uwb/daemon/log.h"
@@ -132,11 +131,7 @@ static int write_verdict_file(struct cycle *c, const char *text, char *err, size
 {
     char path[UWBD_PATH_MAX + 200];
     snprintf(path, sizeof path, "%s/%s.json", c->day_dir, c->id);
-    struct atomic_file af;
-    if (atomic_file_open(&af, path, err, errlen) != 0)
-        return -1;
-    fprintf(af.fp, "%s\n", text);
-    return atomic_file_commit(&af, err, errlen);
+    return uwbd_write_json_file(path, text, err, errlen);
 }
 
 /* The verdict file in the archive, its line in verdicts.jsonl, latest.json.

@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "uwb/atomic_file.h"
 #include "uwb/daemon/verdict_log.h"
 
 int uwbd_path_join(char *out, size_t n, const char *dir, const char *name)
@@ -175,6 +176,15 @@ void uwbd_safe_scan_id(const char *in, char *out, size_t n)
     out[j] = '\0';
     if (out[0] == '.')
         out[0] = '_';
+}
+
+int uwbd_write_json_file(const char *path, const char *json, char *err, size_t errlen)
+{
+    struct atomic_file af;
+    if (atomic_file_open(&af, path, err, errlen) != 0)
+        return -1;
+    fprintf(af.fp, "%s\n", json);   /* a failed write shows at the commit's flush */
+    return atomic_file_commit(&af, err, errlen);
 }
 
 void uwbd_utc_text(time_t t, char *buf, size_t n)

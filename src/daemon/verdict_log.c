@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/uio.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -25,24 +26,17 @@ int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, ch
         snprintf(err, errlen, "%s: refusing to append an empty or multi-line record", store->verdict_log);
         return -1;
     }
-    char *line = malloc(n + 1);
-    if (!line) {
-        snprintf(err, errlen, "%s: out of memory", store->verdict_log);
-        return -1;
-    }
-    memcpy(line, json, n);
-    line[n] = '\n';
     int fd = open(store->verdict_log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) {
         snprintf(err, errlen, "%s: cannot open for appending: %s", store->verdict_log, strerror(errno));
-        free(line);
         return -1;
     }
     struct stat st;
     off_t before = fstat(fd, &st) == 0 ? st.st_size : -1;
-    ssize_t w = write(fd, line, n + 1);
+    /* The record and its newline in one write. */
+    struct iovec line[2] = {{.iov_base = (void *)json, .iov_len = n}, {.iov_base = "\n", .iov_len = 1}};
+    ssize_t w = writev(fd, line, 2);
     int e = errno;
-    free(line);
     int rc = 0;
     if (w != (ssize_t)(n + 1)) {
         /* A short write (disk full) would leave a torn line: take it back. */
@@ -195,8 +189,7 @@ int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines_o
             return -1;
         }
         have += block;
-        newlines = 0;
-        for (size_t i = 0; i < have; i++)
+        for (size_t i = 0; i < block; i++)   /* the new block only: the rest was counted */
             newlines += buf[i] == '\n';
     }
     close(fd);
@@ -391,18 +384,7 @@ int uwbd_verdict_log_trim(const struct uwbd_store *store, int max_lines, double 
 
 int uwbd_latest_write(const struct uwbd_store *store, const char *json, char *err, size_t errlen)
 {
-    size_t n = strlen(json);
-    char *text = malloc(n + 2);
-    if (!text) {
-        snprintf(err, errlen, "%s: out of memory", store->latest);
-        return -1;
-    }
-    memcpy(text, json, n);
-    text[n] = '\n';
-    text[n + 1] = '\0';
-    int rc = atomic_write_file(store->latest, text, n + 1, err, errlen);
-    free(text);
-    return rc;
+    return uwbd_write_json_file(store->latest, json, err, errlen);
 }
 
 int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, size_t errlen)

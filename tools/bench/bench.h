@@ -6,6 +6,7 @@
 #include <stddef.h>
 
 #include "uwb/geometry.h"
+#include "uwb/monotonic.h"
 #include "uwb/scan.h"
 
 /* ---- options ----------------------------------------------------------- */
@@ -21,8 +22,7 @@ struct bench_options {
 
 /* ---- clock ------------------------------------------------------------- */
 
-/* CLOCK_MONOTONIC in seconds. */
-double bench_now(void);
+/* Times are taken with uwb_monotonic_s() (CLOCK_MONOTONIC in seconds). */
 
 /* A series of timed runs: the median is what a run usually costs, the best
  * what it costs when the shared machine leaves it alone. */

@@ -1,16 +1,8 @@
-/* Timing: the monotonic clock and the median / best of repeated runs. */
+/* Timing: the median / best of repeated runs. */
 #include "bench.h"
 
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-double bench_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 void bench_series_add(struct bench_series *s, double seconds)
 {

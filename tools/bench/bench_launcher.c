@@ -78,7 +78,7 @@ static void launch_one(char *request, size_t len, int reply_fd)
         used = (size_t)snprintf(text, sizeof text, "launcher: cannot start: %s", strerror(errno));
         goto reply;
     }
-    double t0 = bench_now();
+    double t0 = uwb_monotonic_s();
     pid_t pid = fork();
     if (pid < 0) {
         used = (size_t)snprintf(text, sizeof text, "launcher: fork: %s", strerror(errno));
@@ -119,7 +119,7 @@ static void launch_one(char *request, size_t len, int reply_fd)
         goto reply;
     }
     rep.ok = 1;
-    rep.seconds = bench_now() - t0;
+    rep.seconds = uwb_monotonic_s() - t0;
     rep.maxrss_kib = ru.ru_maxrss;   /* Linux: kibibytes */
     rep.status = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : 128 + WTERMSIG(wstatus);
 reply:

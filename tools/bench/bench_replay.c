@@ -150,7 +150,7 @@ static int run_uwbd(char *const args[], struct bench_child *child, char *err, si
     return 0;
 }
 
-/* One in-process run: the calls src/main.c makes for --replay/--baseline/--out. */
+/* One in-process run: the calls src/cli/replay_cli.c makes for --replay/--baseline/--out. */
 static int run_in_process(const struct replay_files *f, double part[3], char *err, size_t errlen)
 {
     struct uwb_scan cur = {0}, base = {0};
@@ -159,16 +159,16 @@ static int run_in_process(const struct replay_files *f, double part[3], char *er
     struct uwb_evaluate_options opt;
     uwb_evaluate_defaults(&opt);
     int rc = -1;
-    double t0 = bench_now();
+    double t0 = uwb_monotonic_s();
     if (uwbscan_read_file(f->current, &cur, err, errlen) != 0 ||
         uwbscan_read_file(f->baseline, &base, err, errlen) != 0)
         goto done;
-    double t1 = bench_now();
+    double t1 = uwb_monotonic_s();
     if (uwb_evaluate(&cur, &base, &opt, &v, &cur_a, &base_a, err, errlen) != 0)
         goto done;
-    double t2 = bench_now();
+    double t2 = uwb_monotonic_s();
     rc = uwb_write_images(f->out_inproc, "current", &cur, &cur_a, &base_a, &v, err, errlen);
-    double t3 = bench_now();
+    double t3 = uwb_monotonic_s();
     uwb_analysis_free(&cur_a);
     uwb_analysis_free(&base_a);
     part[0] = t1 - t0;

@@ -37,7 +37,7 @@ const char *bench_stage_name(enum bench_stage s)
 
 static void count(enum bench_stage s, double since, int ny, int nz)
 {
-    double seconds = bench_now() - since;
+    double seconds = uwb_monotonic_s() - since;
     totals.seconds[s] += seconds;
     totals.calls[s]++;
     if (totals.n_calls < BENCH_MAX_CALLS)
@@ -76,7 +76,7 @@ int __wrap_uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g
                          const struct uwb_target_window *winding, struct uwb_scan *out,
                          char *err, size_t errlen)
 {
-    double t0 = bench_now();
+    double t0 = uwb_monotonic_s();
     int rc = __real_uwb_condition(in, g, opt, dominant_hz, winding, out, err, errlen);
     count(STAGE_CONDITION, t0, 0, 0);
     return rc;
@@ -84,7 +84,7 @@ int __wrap_uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g
 
 double __wrap_uwb_dominant_frequency(const struct uwb_scan *scan)
 {
-    double t0 = bench_now();
+    double t0 = uwb_monotonic_s();
     double hz = __real_uwb_dominant_frequency(scan);
     count(STAGE_DOMINANT, t0, 0, 0);
     return hz;
@@ -94,7 +94,7 @@ int __wrap_uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan
                        const struct uwb_geometry *geom, struct uwb_image *img,
                        char *err, size_t errlen)
 {
-    double t0 = bench_now();
+    double t0 = uwb_monotonic_s();
     int rc = __real_uwb_migrate(kind, scan, geom, img, err, errlen);
     count(STAGE_MIGRATE, t0, img->ny, img->nz);
     totals.pixel_traces += (long long)img->ny * img->nz * scan->positions;
@@ -103,7 +103,7 @@ int __wrap_uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan
 
 int __wrap_uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
 {
-    double t0 = bench_now();
+    double t0 = uwb_monotonic_s();
     int rc = __real_uwb_envelope_along_z(img, err, errlen);
     count(STAGE_ENVELOPE, t0, img->ny, img->nz);
     return rc;
@@ -113,7 +113,7 @@ int __wrap_uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
                                 const struct uwb_png_text *texts, int n_texts,
                                 char *err, size_t errlen)
 {
-    double t0 = bench_now();
+    double t0 = uwb_monotonic_s();
     int rc = __real_uwb_canvas_write_png(c, path, texts, n_texts, err, errlen);
     count(STAGE_PNG_ENCODE, t0, c->height, c->width);
     return rc;

@@ -187,39 +187,33 @@ ensure_cross() {
     [[ ${#missing[@]} == 0 ]] || die "still missing after install: ${missing[*]}"
 }
 
-# The emulated board's host side, as command:package pairs.
+# What make test-board and make soak run beside the build, as command:package pairs.
 readonly BOARD_COMMANDS=(qemu-system-aarch64:qemu-system-arm cpio:cpio python3:python3)
+readonly SOAK_COMMANDS=(valgrind:valgrind)
 
-# Prints the packages whose commands the emulated board lacks, one a line.
-missing_board_packages() {
+# Prints the packages (from command:package pairs) whose commands are missing, one a line.
+missing_command_packages() {
     local pair
-    for pair in "${BOARD_COMMANDS[@]}"; do
+    for pair in "$@"; do
         have_command "${pair%%:*}" || echo "${pair#*:}"
     done
 }
 
-ensure_board() {
-    local missing
-    mapfile -t missing < <(missing_board_packages)
+# ensure_commands PURPOSE COMMAND:PACKAGE...: installs the packages whose
+# commands are missing.
+ensure_commands() {
+    local purpose="$1" missing
+    shift
+    mapfile -t missing < <(missing_command_packages "$@")
     [[ ${#missing[@]} == 0 ]] && return 0
 
-    note "missing for the emulated board: ${missing[*]}; installing them"
+    note "missing for $purpose: ${missing[*]}; installing them"
     require_root "apt-get update && apt-get install -y ${missing[*]}"
     apt_install "${missing[@]}"
     [[ "$DRY_RUN" == 1 ]] && return 0
     FAKE_MISSING=" "
-    mapfile -t missing < <(missing_board_packages)
+    mapfile -t missing < <(missing_command_packages "$@")
     [[ ${#missing[@]} == 0 ]] || die "still missing after install: ${missing[*]}"
-}
-
-ensure_soak() {
-    have_command valgrind && return 0
-    note "missing for make soak: valgrind; installing it"
-    require_root "apt-get update && apt-get install -y valgrind"
-    apt_install valgrind
-    [[ "$DRY_RUN" == 1 ]] && return 0
-    FAKE_MISSING=" "
-    have_command valgrind || die "still missing after install: valgrind"
 }
 
 readonly FUZZ_PACKAGES=(clang libclang-rt-dev)
@@ -385,9 +379,9 @@ main() {
     case "$mode" in
         native) ensure_native ;;
         cross) ensure_cross "$cross_arch" ;;
-        board) ensure_native; ensure_cross aarch64; ensure_board ;;
+        board) ensure_native; ensure_cross aarch64; ensure_commands "the emulated board" "${BOARD_COMMANDS[@]}" ;;
         fuzz) ensure_native; ensure_fuzz ;;
-        soak) ensure_native; ensure_soak ;;
+        soak) ensure_native; ensure_commands "make soak" "${SOAK_COMMANDS[@]}" ;;
         unity) ;;
     esac
     ensure_unity

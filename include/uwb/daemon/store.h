@@ -46,6 +46,10 @@ int uwbd_store_day_dir(const struct uwbd_store *store, const struct tm *utc, cha
  * dot, at most UWBD_SCAN_ID_MAX bytes; empty input gives "". */
 void uwbd_safe_scan_id(const char *in, char *out, size_t n);
 
+/* One JSON text and a newline as the whole of `path`, written atomically
+ * (atomic_file.h). Returns 0 or -1 with err. */
+int uwbd_write_json_file(const char *path, const char *json, char *err, size_t errlen);
+
 /* "%Y-%m-%dT%H:%M:%SZ" of t. */
 void uwbd_utc_text(time_t t, char *buf, size_t n);
 
