@@ -168,12 +168,16 @@ int side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, cons
     double *tau_down = malloc((size_t)K * nu * sizeof *tau_down);
     double complex *a = calloc((size_t)nu, sizeof *a);
     double complex *b = malloc((size_t)nu * sizeof *b);
-    if (!tau_up || !tau_down || !a || !b ||
+    double complex *row_up = calloc((size_t)nu, sizeof *row_up);
+    double complex *row_down = calloc((size_t)nu, sizeof *row_down);
+    if (!tau_up || !tau_down || !a || !b || !row_up || !row_down ||
         cut_echo(s, q, g, centre, z_face, 1.0 / dominant_hz, r) != 0) {
         free(tau_up);
         free(tau_down);
         free(a);
         free(b);
+        free(row_up);
+        free(row_down);
         side_reflector_free(r);
         snprintf(err, errlen, "side reflector: out of memory");
         return -1;
@@ -191,12 +195,26 @@ int side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, cons
                 continue;
             double complex up = trace_at(d, s->samples, g, tu) + I * trace_at(h, s->samples, g, tu);
             double complex down = trace_at(d, s->samples, g, td) + I * trace_at(h, s->samples, g, td);
-            a[iu] += weight[k] * (up - down);
+            row_up[iu] += weight[k] * up;
+            row_down[iu] += weight[k] * down;
         }
     }
-    double a_energy = 0.0;
-    for (int iu = 0; iu < nu; iu++)
+    /* The antisymmetric part alone cannot tell a reflector from its mirror
+     * image with the sign flipped: look on the side where the row beyond the
+     * winding's end is stronger. */
+    double from = half_height + CLEAR_OF_EDGE_M, to = ROW_HALF_SPAN_M - CLEAR_OF_EDGE_M;
+    double a_energy = 0.0, beyond_up = 0.0, beyond_down = 0.0;
+    for (int iu = 0; iu < nu; iu++) {
+        a[iu] = row_up[iu] - row_down[iu];
         a_energy += creal(a[iu] * conj(a[iu]));
+        if ((iu + 0.5) * ROW_STEP_M >= from) {
+            beyond_up += creal(row_up[iu] * conj(row_up[iu]));
+            beyond_down += creal(row_down[iu] * conj(row_down[iu]));
+        }
+    }
+    int side = beyond_up >= beyond_down ? 1 : -1;
+    free(row_up);
+    free(row_down);
     /* The face row at the centre, to judge the reflector's strength by. */
     double complex face = 0.0;
     for (int k = 0; k < K; k++) {
@@ -205,15 +223,13 @@ int side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, cons
         face += weight[k] * (trace_at(d, s->samples, g, t) + I * trace_at(h, s->samples, g, t));
     }
 
-    /* Where to look: beyond either end of the winding, or near where the
+    /* Where to look: beyond that end of the winding, or near where the
      * previous pass found it (the plate stays put while the centre settles). */
-    double from = half_height + CLEAR_OF_EDGE_M, to = ROW_HALF_SPAN_M - CLEAR_OF_EDGE_M;
     struct fit best = {0};
     if (isnan(near_y_m)) {
         for (double off = from; off <= to; off += COARSE_STEP_M)
-            for (int side = -1; side <= 1; side += 2)
-                try_position(r, s, weight, g, tau_up, tau_down, a, a_energy, nu, centre + side * off,
-                             z_face, b, &best);
+            try_position(r, s, weight, g, tau_up, tau_down, a, a_energy, nu, centre + side * off,
+                         z_face, b, &best);
     } else {
         best.y = near_y_m;
         best.score = 1.0;   /* only marks "have a start"; scores below replace it */

@@ -226,6 +226,22 @@ static void test_clamp_plate_removal_is_what_corrects_it(void)
     TEST_ASSERT_EQUAL_INT(0, off.current.side_reflector);
 }
 
+/* The row's antisymmetric part reads the same for a plate above and for its
+ * mirror image below with the sign flipped; the plate is looked for on the
+ * side where the row beyond the winding is stronger. Without that, -40 mm
+ * put it 48 mm up and +20 mm below the winding, at 166 mm. */
+static void test_clamp_plate_is_found_on_its_own_side(void)
+{
+    static const double shifts_m[] = {-0.04, 0.0, 0.02};
+    for (size_t i = 0; i < sizeof shifts_m / sizeof shifts_m[0]; i++) {
+        struct uwb_verdict v = noiseless_plate_verdict(shifts_m[i], 1);
+        printf("  shift %+5.1f mm: plate found at %.1f mm\n", shifts_m[i] * 1e3,
+               v.current.side_reflector_y_m * 1e3);
+        TEST_ASSERT_EQUAL_INT(1, v.current.side_reflector);
+        TEST_ASSERT_DOUBLE_WITHIN(0.01, 0.48, v.current.side_reflector_y_m);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -236,5 +252,7 @@ int main(void)
     if (!emulated())   /* test_clamp_plate_removal... covers the plate under qemu-user */
         RUN_TEST(test_3d_tank_with_flush_clamp_plate);
     RUN_TEST(test_clamp_plate_removal_is_what_corrects_it);
+    if (!emulated())
+        RUN_TEST(test_clamp_plate_is_found_on_its_own_side);
     return UNITY_END();
 }
