@@ -4,7 +4,6 @@
 #include "uwb/daemon/config.h"
 
 #include <cjson/cJSON.h>
-#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -13,6 +12,7 @@
 
 #include "config_keys.h"
 #include "uwb/migrate.h"
+#include "uwb/read_file.h"
 
 #define PATH_TEXT_MAX 160
 /* A config file is a few kilobytes; this bounds what a typo can make us read. */
@@ -547,25 +547,15 @@ int uwbd_config_parse(const char *text, size_t len, const char *name,
 int uwbd_config_load(const char *path, const struct uwbd_override *overrides, size_t n_overrides,
                      struct uwbd_config *cfg, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
-        return -1;
+    char *text;
+    size_t len;
+    enum uwb_read_result read_result = uwb_read_file(path, CONFIG_FILE_MAX, &text, &len, err, errlen);
+    if (read_result == UWB_READ_TOO_BIG) {
+        size_t used = strlen(err);
+        snprintf(err + used, errlen - used, ": not a configuration file");
     }
-    char *text = malloc(CONFIG_FILE_MAX + 1);
-    size_t len = text ? fread(text, 1, CONFIG_FILE_MAX + 1, f) : 0;
-    int read_error = ferror(f);
-    fclose(f);
-    if (!text || read_error) {
-        snprintf(err, errlen, "%s: cannot read: %s", path, text ? "read error" : "out of memory");
-        free(text);
+    if (read_result != UWB_READ_OK)
         return -1;
-    }
-    if (len > CONFIG_FILE_MAX) {
-        snprintf(err, errlen, "%s: larger than %d bytes: not a configuration file", path, CONFIG_FILE_MAX);
-        free(text);
-        return -1;
-    }
     int rc = uwbd_config_parse(text, len, path, overrides, n_overrides, cfg, err, errlen);
     free(text);
     return rc;

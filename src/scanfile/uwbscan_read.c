@@ -3,8 +3,6 @@
  * never reads past `len` and never allocates what the input only claims. */
 #include "uwb/scan.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <inttypes.h>
 #include <limits.h>
 #include <math.h>
@@ -12,11 +10,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <cJSON.h>
 
+#include "uwb/read_file.h"
 #include "uwbscan_check.h"
 
 _Static_assert(sizeof(float) == 4, "uwbscan/1 samples are IEEE-754 binary32");
@@ -396,77 +393,18 @@ int uwbscan_parse(const void *buf, size_t len, const char *name,
     ((uint64_t)UWBSCAN_MAX_HEADER_BYTES + 1 +                                         \
      (uint64_t)UWBSCAN_MAX_POSITIONS * UWBSCAN_MAX_SAMPLES * 4u)
 
-static int read_whole_file(const char *path, unsigned char **out, size_t *out_len,
-                           char *err, size_t errlen)
-{
-    *out = NULL;
-    *out_len = 0;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        uwbscan_fail(err, errlen, path, "cannot open: %s", strerror(errno));
-        return -1;
-    }
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        uwbscan_fail(err, errlen, path, "cannot stat: %s", strerror(errno));
-        close(fd);
-        return -1;
-    }
-    if (S_ISDIR(st.st_mode)) {
-        uwbscan_fail(err, errlen, path, "cannot read: %s", strerror(EISDIR));
-        close(fd);
-        return -1;
-    }
-    /* Regular files tell their size; pipes and the like grow the buffer. */
-    size_t cap = S_ISREG(st.st_mode) && st.st_size > 0 && (uint64_t)st.st_size < SIZE_MAX
-                     ? (size_t)st.st_size + 1
-                     : 65536;
-    unsigned char *buf = NULL;
-    size_t len = 0;
-    for (;;) {
-        if (len == cap || buf == NULL) {
-            if (buf != NULL)
-                cap = cap > SIZE_MAX / 2 ? SIZE_MAX : cap * 2;
-            unsigned char *grown = realloc(buf, cap);
-            if (grown == NULL) {
-                uwbscan_fail(err, errlen, path, "cannot read: %s", strerror(ENOMEM));
-                goto fail;
-            }
-            buf = grown;
-        }
-        ssize_t got = read(fd, buf + len, cap - len);
-        if (got < 0) {
-            if (errno == EINTR)
-                continue;
-            uwbscan_fail(err, errlen, path, "cannot read: %s", strerror(errno));
-            goto fail;
-        }
-        if (got == 0)
-            break;
-        len += (size_t)got;
-        if ((uint64_t)len > UWBSCAN_MAX_FILE_BYTES) {
-            uwbscan_fail(err, errlen, path,
-                         "file is larger than any valid uwbscan/1 file (%" PRIu64 " bytes)",
-                         (uint64_t)UWBSCAN_MAX_FILE_BYTES);
-            goto fail;
-        }
-    }
-    close(fd);
-    *out = buf;
-    *out_len = len;
-    return 0;
-fail:
-    free(buf);
-    close(fd);
-    return -1;
-}
-
 int uwbscan_read_file(const char *path, struct uwb_scan *scan, char *err, size_t errlen)
 {
     memset(scan, 0, sizeof *scan);
-    unsigned char *buf;
+    char *buf;
     size_t len;
-    if (read_whole_file(path, &buf, &len, err, errlen) != 0)
+    size_t max_bytes = UWBSCAN_MAX_FILE_BYTES > SIZE_MAX ? SIZE_MAX : (size_t)UWBSCAN_MAX_FILE_BYTES;
+    enum uwb_read_result read_result = uwb_read_file(path, max_bytes, &buf, &len, err, errlen);
+    if (read_result == UWB_READ_TOO_BIG && err != NULL && errlen > 0) {
+        size_t used = strlen(err);
+        snprintf(err + used, errlen - used, ": larger than any valid uwbscan/1 file");
+    }
+    if (read_result != UWB_READ_OK)
         return -1;
     int rc = uwbscan_parse(buf, len, path, scan, err, errlen);
     free(buf);

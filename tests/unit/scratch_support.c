@@ -11,6 +11,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "uwb/read_file.h"
+
+/* Far above any file a test writes or reads back. */
+#define SCRATCH_SLURP_MAX_BYTES ((size_t)64 * 1024 * 1024)
+
 void scratch_scratch_dir(char *path, size_t n, const char *tag)
 {
     snprintf(path, n, "/tmp/uwbd-%s-XXXXXX", tag);
@@ -40,31 +45,12 @@ int scratch_remove_tree(const char *path)
 
 char *scratch_slurp(const char *path, size_t *len)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    size_t cap = 4096, n = 0;
-    char *buf = malloc(cap);
-    size_t r;
-    while (buf && (r = fread(buf + n, 1, cap - n - 1, f)) > 0) {
-        n += r;
-        if (n + 1 == cap) {
-            char *grown = realloc(buf, cap * 2);
-            if (!grown) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = grown;
-            cap *= 2;
-        }
-    }
-    fclose(f);
-    if (buf)
-        buf[n] = '\0';
+    char *text, err[512];
+    size_t n;
+    uwb_read_file(path, SCRATCH_SLURP_MAX_BYTES, &text, &n, err, sizeof err);
     if (len)
         *len = n;
-    return buf;
+    return text;
 }
 
 void scratch_spit(const char *path, const char *text)

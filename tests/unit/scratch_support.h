@@ -8,7 +8,7 @@
 void scratch_scratch_dir(char *path, size_t n, const char *tag);
 /* rm -r; 0 when path is gone afterwards, -1 if something stayed. */
 int scratch_remove_tree(const char *path);
-/* Whole file into a malloc'd NUL-terminated buffer, NULL if unreadable. */
+/* Whole file into a malloc'd NUL-terminated buffer, NULL if unreadable or over 64 MiB. */
 char *scratch_slurp(const char *path, size_t *len);
 /* Write text to path (not atomically: for setting up test states). */
 void scratch_spit(const char *path, const char *text);

@@ -14,6 +14,10 @@
 
 #include "../fuzz/fuzz_harness.h"
 #include "unity.h"
+#include "uwb/read_file.h"
+
+/* Far above any corpus input; bounds what a stray large file costs. */
+#define CORPUS_FILE_MAX_BYTES ((size_t)16 * 1024 * 1024)
 
 struct target {
     const char *name;
@@ -37,29 +41,20 @@ struct tally {
 void setUp(void) {}
 void tearDown(void) {}
 
-static uint8_t *read_all(const char *path, size_t *size)
+/* An exact-size copy of the file (the reader leaves a NUL after the bytes),
+ * so ASan sees a harness reading one byte past the end. NULL with err
+ * filled when unreadable. */
+static uint8_t *read_exact(const char *path, size_t *size, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    char *text;
+    if (uwb_read_file(path, CORPUS_FILE_MAX_BYTES, &text, size, err, errlen) != UWB_READ_OK)
         return NULL;
-    size_t cap = 4096, len = 0;
-    uint8_t *buf = malloc(cap);
-    for (size_t got; buf && (got = fread(buf + len, 1, cap - len, f)) > 0;) {
-        len += got;
-        if (len == cap) {
-            uint8_t *grown = realloc(buf, cap *= 2);
-            if (!grown)
-                free(buf);
-            buf = grown;
-        }
-    }
-    fclose(f);
-    /* An exact-size copy, so ASan sees a read past the end. */
-    uint8_t *exact = buf ? malloc(len ? len : 1) : NULL;
+    uint8_t *exact = malloc(*size ? *size : 1);
     if (exact)
-        memcpy(exact, buf, len);
-    free(buf);
-    *size = len;
+        memcpy(exact, text, *size);
+    else
+        snprintf(err, errlen, "%s: out of memory", path);
+    free(text);
     return exact;
 }
 
@@ -81,8 +76,7 @@ static void run_dir(const struct target *t, const char *dir, int required, struc
         char path[1024], message[1600], why[1024] = "";
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
         size_t size = 0;
-        uint8_t *data = read_all(path, &size);
-        snprintf(message, sizeof message, "%s: cannot read", path);
+        uint8_t *data = read_exact(path, &size, message, sizeof message);
         TEST_ASSERT_NOT_NULL_MESSAGE(data, message);
         int rc = t->harness(data, size, why, sizeof why);
         free(data);

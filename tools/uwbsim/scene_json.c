@@ -2,10 +2,14 @@
 #include "scene.h"
 
 #include <cjson/cJSON.h>
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "uwb/read_file.h"
+
+/* A scene is a few hundred bytes; this bounds what a wrong path can cost. */
+#define SCENE_FILE_MAX_BYTES ((size_t)16 * 1024 * 1024)
 
 static const char *type_word(enum sim_param_type t)
 {
@@ -101,49 +105,15 @@ int sim_scene_apply_json_text(const char *text, const char *name, struct sim_sce
 
 int sim_scene_load_json(const char *path, struct sim_scene *scene, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(err, errlen, "%s: %s", path, strerror(errno));
+    char *text;
+    size_t len;
+    enum uwb_read_result read_result = uwb_read_file(path, SCENE_FILE_MAX_BYTES, &text, &len, err, errlen);
+    if (read_result == UWB_READ_TOO_BIG) {
+        size_t used = strlen(err);
+        snprintf(err + used, errlen - used, ": not a scene file");
+    }
+    if (read_result != UWB_READ_OK)
         return -1;
-    }
-    size_t cap = 4096, len = 0;
-    char *text = malloc(cap);
-    if (!text) {
-        fclose(f);
-        snprintf(err, errlen, "%s: out of memory", path);
-        return -1;
-    }
-    for (;;) {
-        if (len + 1 >= cap) {
-            if (cap >= (16u << 20)) {
-                free(text);
-                fclose(f);
-                snprintf(err, errlen, "%s: larger than 16 MiB, not a scene file", path);
-                return -1;
-            }
-            char *bigger = realloc(text, cap * 2);
-            if (!bigger) {
-                free(text);
-                fclose(f);
-                snprintf(err, errlen, "%s: out of memory", path);
-                return -1;
-            }
-            text = bigger;
-            cap *= 2;
-        }
-        size_t got = fread(text + len, 1, cap - len - 1, f);
-        len += got;
-        if (got == 0)
-            break;
-    }
-    int read_error = ferror(f);
-    fclose(f);
-    if (read_error) {
-        free(text);
-        snprintf(err, errlen, "%s: read error", path);
-        return -1;
-    }
-    text[len] = '\0';
     int rc = sim_scene_apply_json_text(text, path, scene, err, errlen);
     free(text);
     return rc;

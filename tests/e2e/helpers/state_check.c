@@ -38,9 +38,11 @@
 
 #include "uwb/daemon/store.h"
 #include "uwb/monotonic.h"
+#include "uwb/read_file.h"
 #include "uwb/scan.h"
 
-#define MAX_TEXT (64L * 1024 * 1024)
+/* Far above anything the daemon writes; bounds what a broken file costs. */
+#define MAX_FILE_BYTES ((size_t)64 * 1024 * 1024)
 
 struct tally {
     int problems, json, lines, uwbscan, png, other;
@@ -53,49 +55,11 @@ static void problem(struct tally *t, const char *path, const char *what)
     t->problems++;
 }
 
-/* The whole file, NUL-terminated; NULL (and *len 0) when unreadable. */
-static char *slurp(FILE *f, size_t *len)
+/* A problem the reader has described already, path included. */
+static void read_problem(struct tally *t, const char *message)
 {
-    size_t cap = 65536, n = 0;
-    char *buf = malloc(cap + 1);
-    while (buf) {
-        n += fread(buf + n, 1, cap - n, f);
-        if (n < cap || ferror(f))
-            break;
-        if (cap >= (size_t)MAX_TEXT) {
-            free(buf);
-            buf = NULL;
-            break;
-        }
-        char *grown = realloc(buf, 2 * cap + 1);
-        if (!grown) {
-            free(buf);
-            buf = NULL;
-            break;
-        }
-        buf = grown;
-        cap *= 2;
-    }
-    if (buf && ferror(f)) {
-        free(buf);
-        buf = NULL;
-    }
-    if (buf)
-        buf[n] = '\0';
-    *len = buf ? n : 0;
-    return buf;
-}
-
-static char *slurp_path(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        *len = 0;
-        return NULL;
-    }
-    char *text = slurp(f, len);
-    fclose(f);
-    return text;
+    fprintf(stderr, "state_check: %s\n", message);
+    t->problems++;
 }
 
 static int is_object(const char *text, size_t len)
@@ -121,10 +85,10 @@ static int is_regular_file(const char *path)
 /* A file the daemon writes as one JSON object and a newline. */
 static void check_json(struct tally *t, const char *path)
 {
+    char *text, err[1024];
     size_t len;
-    char *text = slurp_path(path, &len);
-    if (!text)
-        problem(t, path, "cannot read");
+    if (uwb_read_file(path, MAX_FILE_BYTES, &text, &len, err, sizeof err) != UWB_READ_OK)
+        read_problem(t, err);
     else if (len == 0 || text[len - 1] != '\n')
         problem(t, path, "does not end in a newline (cut short?)");
     else if (!is_object(text, len - 1))
@@ -153,10 +117,10 @@ static void check_named_files(struct tally *t, const char *log, int line_no, con
 
 static void check_verdict_log(struct tally *t, const char *path)
 {
+    char *text, err[1024];
     size_t len;
-    char *text = slurp_path(path, &len);
-    if (!text) {
-        problem(t, path, "cannot read");
+    if (uwb_read_file(path, MAX_FILE_BYTES, &text, &len, err, sizeof err) != UWB_READ_OK) {
+        read_problem(t, err);
         return;
     }
     if (len > 0 && text[len - 1] != '\n')
@@ -195,8 +159,10 @@ static void check_png(struct tally *t, const char *path)
 {
     static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
     t->png++;
+    char *bytes, err[1024];
     size_t len;
-    char *bytes = slurp_path(path, &len);
+    /* An unreadable file fails as "does not end in IEND" below (bytes NULL). */
+    uwb_read_file(path, MAX_FILE_BYTES, &bytes, &len, err, sizeof err);
     int ends_whole = bytes && len >= sizeof iend && memcmp(bytes + len - sizeof iend, iend, sizeof iend) == 0;
     free(bytes);
     if (!ends_whole) {
@@ -237,8 +203,10 @@ static void check_baseline(struct tally *t, const char *root)
     char id[UWBD_SCAN_ID_MAX + 1];
     uwbd_safe_scan_id(scan.scan_id ? scan.scan_id : "", id, sizeof id);
     uwb_scan_free(&scan);
+    char *text;
     size_t len;
-    char *text = slurp_path(info_path, &len);
+    /* Unreadable is reported below as not naming the scan (text NULL). */
+    uwb_read_file(info_path, MAX_FILE_BYTES, &text, &len, err, sizeof err);
     cJSON *info = text ? cJSON_ParseWithLength(text, len) : NULL;
     const cJSON *named = cJSON_GetObjectItemCaseSensitive(info, "scan_id");
     if (!cJSON_IsString(named) || strcmp(named->valuestring, id) != 0) {
@@ -319,9 +287,13 @@ static const cJSON *lookup(const cJSON *o, const char *path)
 
 static int get(int argc, char **argv)
 {
+    char *text, err[1024];
     size_t len;
-    char *text = slurp(stdin, &len);
-    cJSON *o = text ? cJSON_ParseWithLength(text, len) : NULL;
+    if (uwb_read_fd(STDIN_FILENO, "stdin", MAX_FILE_BYTES, &text, &len, err, sizeof err) != UWB_READ_OK) {
+        fprintf(stderr, "state_check get: %s\n", err);
+        return 2;
+    }
+    cJSON *o = cJSON_ParseWithLength(text, len);
     free(text);
     if (!cJSON_IsObject(o)) {
         cJSON_Delete(o);
