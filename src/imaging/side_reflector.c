@@ -55,27 +55,27 @@ int quadrature_scan(const struct uwb_scan *in, struct uwb_scan *out, char *err, 
     return 0;
 }
 
-/* Linear interpolation of a trace at a delay in seconds (zero outside). */
-static double trace_at(const float *tr, int n, const struct uwb_geometry *g, double delay_s)
+/* Linear interpolation of v[0..n-1] at fractional index x (zero outside). */
+static double sample_at(const float *v, int n, double x)
 {
-    double x = (delay_s - g->t0_s) / g->dt_s;
     if (!(x >= 0.0 && x < n - 1))
         return 0.0;
     int i = (int)x;
     double f = x - i;
-    return tr[i] + (tr[i + 1] - tr[i]) * f;
+    return v[i] + (v[i + 1] - v[i]) * f;
 }
 
+/* A trace at a delay in seconds. */
+static double trace_at(const float *tr, int n, const struct uwb_geometry *g, double delay_s)
+{
+    return sample_at(tr, n, (delay_s - g->t0_s) / g->dt_s);
+}
+
+/* The echo model and its quadrature partner, s seconds after the echo's delay. */
 static double complex echo_at(const struct side_reflector *r, double dt, double s)
 {
     double x = (s - r->lead_s) / dt;
-    if (!(x >= 0.0 && x < r->len - 1))
-        return 0.0;
-    int i = (int)x;
-    double f = x - i;
-    double re = r->echo[i] + (r->echo[i + 1] - r->echo[i]) * f;
-    double im = r->quadrature[i] + (r->quadrature[i + 1] - r->quadrature[i]) * f;
-    return re + I * im;
+    return sample_at(r->echo, r->len, x) + I * sample_at(r->quadrature, r->len, x);
 }
 
 static double point_amplitude(double dy, double z)
