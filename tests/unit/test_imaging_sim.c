@@ -192,30 +192,30 @@ static void test_3d_tank_with_flush_clamp_plate(void)
     check_shifts(&sc, all, (int)(sizeof all / sizeof all[0]), 0.001, 1);
 }
 
-static struct uwb_verdict noiseless_plate_verdict(double shift_m, int remove)
+/* The default scene (flush plate included) without noise. */
+static void noiseless_plate_scan(double shift_m, struct uwb_scan *scan)
 {
     struct sim_scene sc;
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
     scene_set_or_fail(&sc, "noise", "false");
-    struct uwb_scan base, cur;
-    simulate(&sc, 0.0, 1, &base);
-    simulate(&sc, shift_m, 1, &cur);
-    struct uwb_evaluate_options opt;
-    uwb_evaluate_defaults(&opt);
-    opt.analysis.remove_side_reflector = remove;
-    struct uwb_verdict v;
-    verdict(&cur, &base, &opt, &v);
-    uwb_scan_free(&base);
-    uwb_scan_free(&cur);
-    return v;
+    simulate(&sc, shift_m, 1, scan);
 }
 
 /* The removal is what makes the difference, and it finds the plate's edge
  * (0.47..0.49 m) to within the model's few millimetres. */
 static void test_clamp_plate_removal_is_what_corrects_it(void)
 {
-    struct uwb_verdict on = noiseless_plate_verdict(0.04, 1);
-    struct uwb_verdict off = noiseless_plate_verdict(0.04, 0);
+    struct uwb_scan base, cur;
+    noiseless_plate_scan(0.0, &base);
+    noiseless_plate_scan(0.04, &cur);
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    struct uwb_verdict on, off;
+    verdict(&cur, &base, &opt, &on);
+    opt.analysis.remove_side_reflector = 0;
+    verdict(&cur, &base, &opt, &off);
+    uwb_scan_free(&base);
+    uwb_scan_free(&cur);
     printf("+40 mm under a flush plate: %.2f mm with the plate taken out (at %.1f mm), %.2f mm left in\n",
            on.axial_displacement_m * 1e3, on.current.side_reflector_y_m * 1e3,
            off.axial_displacement_m * 1e3);
@@ -229,16 +229,23 @@ static void test_clamp_plate_removal_is_what_corrects_it(void)
 /* The row's antisymmetric part reads the same for a plate above and for its
  * mirror image below with the sign flipped; the plate is looked for on the
  * side where the row beyond the winding is stronger. Without that, -40 mm
- * put it 48 mm up and +20 mm below the winding, at 166 mm. */
+ * put it 48 mm up and +20 mm below the winding, at 166 mm. Where the plate
+ * is found is a property of one scan: no baseline needed. */
 static void test_clamp_plate_is_found_on_its_own_side(void)
 {
     static const double shifts_m[] = {-0.04, 0.0, 0.02};
+    struct uwb_analysis_options opt;
+    uwb_analysis_defaults(&opt);
     for (size_t i = 0; i < sizeof shifts_m / sizeof shifts_m[0]; i++) {
-        struct uwb_verdict v = noiseless_plate_verdict(shifts_m[i], 1);
+        struct uwb_scan scan;
+        noiseless_plate_scan(shifts_m[i], &scan);
+        struct uwb_edges edges;
+        analyse(&scan, &opt, &edges);
+        uwb_scan_free(&scan);
         printf("  shift %+5.1f mm: plate found at %.1f mm\n", shifts_m[i] * 1e3,
-               v.current.side_reflector_y_m * 1e3);
-        TEST_ASSERT_EQUAL_INT(1, v.current.side_reflector);
-        TEST_ASSERT_DOUBLE_WITHIN(0.01, 0.48, v.current.side_reflector_y_m);
+               edges.side_reflector_y_m * 1e3);
+        TEST_ASSERT_EQUAL_INT(1, edges.side_reflector);
+        TEST_ASSERT_DOUBLE_WITHIN(0.01, 0.48, edges.side_reflector_y_m);
     }
 }
 
