@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "scratch_support.h"
+#include "uwb/atomic_file.h"
 #include "uwb/daemon/baseline_store.h"
 #include "uwb/daemon/retention.h"
 #include "uwb/daemon/store.h"
@@ -74,21 +75,65 @@ static void test_open_makes_the_layout(void)
 static void test_open_removes_leftover_temporaries_only(void)
 {
     char p[2048];
-    path_in(p, sizeof p, ".latest.json.Ab12Cd");
+    path_in(p, sizeof p, ATOMIC_FILE_TEMP_PREFIX "latest.json.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX);
     scratch_spit(p, "{\"half");
-    path_in(p, sizeof p, "baseline/.current.uwbscan.zzzzzz");
+    path_in(p, sizeof p, "baseline/" ATOMIC_FILE_TEMP_PREFIX "current.uwbscan.zzzzzz" ATOMIC_FILE_TEMP_SUFFIX);
     scratch_spit(p, "half");
     path_in(p, sizeof p, "keep.txt");
     scratch_spit(p, "mine");
     int repairs = 0;
     TEST_ASSERT_EQUAL_INT(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(2, repairs);
-    path_in(p, sizeof p, ".latest.json.Ab12Cd");
+    path_in(p, sizeof p, ATOMIC_FILE_TEMP_PREFIX "latest.json.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX);
     TEST_ASSERT_FALSE(scratch_file_exists(p));
-    path_in(p, sizeof p, "baseline/.current.uwbscan.zzzzzz");
+    path_in(p, sizeof p, "baseline/" ATOMIC_FILE_TEMP_PREFIX "current.uwbscan.zzzzzz" ATOMIC_FILE_TEMP_SUFFIX);
     TEST_ASSERT_FALSE(scratch_file_exists(p));
     path_in(p, sizeof p, "keep.txt");
     TEST_ASSERT_TRUE(scratch_file_exists(p));
+}
+
+/* Issue 17, break 1: a state_dir holding someone else's tree lost every
+ * file named like ".X.YYYYYY" four levels down. Now only our own temporary
+ * names, only in the directories uwbd writes, never through a symlink. */
+static void test_open_touches_nothing_that_is_not_ours(void)
+{
+    static const char *const foreign[] = {
+        "home/alice/.bashrc.backup", "etc/.shadow.swp123", ".config/app/.settings.json~1",
+        "var/lib/db/.journal.000001", ".latest.json.Ab12Cd", "baseline/.current.uwbscan.zzzzzz",
+        "archive/2026/01/01/.scan.json.Ab12Cd",
+        /* our name, but not in a directory uwbd writes */
+        "home/alice/" ATOMIC_FILE_TEMP_PREFIX "x.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX,
+        "archive/notes/" ATOMIC_FILE_TEMP_PREFIX "x.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX,
+    };
+    char p[2048], outside[96], link[2048];
+    for (size_t i = 0; i < sizeof foreign / sizeof foreign[0]; i++) {
+        path_in(p, sizeof p, foreign[i]);
+        for (char *s = p + strlen(store.root) + 1; *s; s++)
+            if (*s == '/') {
+                *s = '\0';
+                mkdir(p, 0755);
+                *s = '/';
+            }
+        scratch_spit(p, "not uwbd's");
+    }
+    /* A day directory and baseline/history that are symlinks to elsewhere. */
+    scratch_scratch_dir(outside, sizeof outside, "store-outside");
+    char victim[256];
+    snprintf(victim, sizeof victim, "%s/" ATOMIC_FILE_TEMP_PREFIX "y.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX, outside);
+    scratch_spit(victim, "elsewhere");
+    path_in(link, sizeof link, "archive/2026/01/02");
+    TEST_ASSERT_EQUAL_INT(0, symlink(outside, link));
+    path_in(link, sizeof link, "archive/2027");
+    TEST_ASSERT_EQUAL_INT(0, symlink(outside, link));
+    int repairs = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(0, repairs);
+    for (size_t i = 0; i < sizeof foreign / sizeof foreign[0]; i++) {
+        path_in(p, sizeof p, foreign[i]);
+        TEST_ASSERT_TRUE_MESSAGE(scratch_file_exists(p), foreign[i]);
+    }
+    TEST_ASSERT_TRUE_MESSAGE(scratch_file_exists(victim), victim);
+    scratch_remove_tree(outside);
 }
 
 static void test_verdict_log_appends_whole_lines_and_reads_the_tail(void)
@@ -403,6 +448,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_open_makes_the_layout);
     RUN_TEST(test_open_removes_leftover_temporaries_only);
+    RUN_TEST(test_open_touches_nothing_that_is_not_ours);
     RUN_TEST(test_verdict_log_appends_whole_lines_and_reads_the_tail);
     RUN_TEST(test_torn_and_damaged_lines_are_tolerated_and_repaired);
     RUN_TEST(test_tail_reads_far_back_through_long_files);
