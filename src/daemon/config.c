@@ -15,6 +15,7 @@
 #include "config_keys.h"
 #include "uwb/migrate.h"
 #include "uwb/read_file.h"
+#include "uwb/scan.h"
 
 #define PATH_TEXT_MAX 160
 /* A config file is a few kilobytes; this bounds what a typo can make us read. */
@@ -525,6 +526,16 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
         fail(ctx, "scan.first_position_mm",
              "%g mm minus the backlash overshoot (%g mm) lies below home (carriage.home_offset_mm = %g mm)",
              first, c->backlash_mm, lowest);
+        return -1;
+    }
+    if (r->step_mm < UWBSCAN_MIN_STEP_M * 1e3) {
+        fail(ctx, "scan.step_mm", "%g mm is under the smallest step a scan file may hold (%g mm, uwb/scan.h)",
+             r->step_mm, UWBSCAN_MIN_STEP_M * 1e3);
+        return -1;
+    }
+    if ((r->positions - 1) * r->step_mm > UWBSCAN_MAX_TRAVEL_M * 1e3) {
+        fail(ctx, "scan.positions", "%d positions %g mm apart span %g mm, over the largest travel a scan file may hold (%g mm)",
+             r->positions, r->step_mm, (r->positions - 1) * r->step_mm, UWBSCAN_MAX_TRAVEL_M * 1e3);
         return -1;
     }
     if (last > highest + 1e-9) {

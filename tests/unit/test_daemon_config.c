@@ -184,6 +184,9 @@ static void test_keys_that_depend_on_others(void)
     assert_refused("console.endpoint", "\"9600\"", "9600");
     assert_refused("geometry.target_z_mm", "[900, 300]", "below far");
     assert_refused("carriage.home_rate_hz", "5000", "above carriage.max_rate_hz");
+    /* Issue 17, break 5: the rig may not record a scan the reader refuses. */
+    assert_refused("scan.step_mm", "0.5", "under the smallest step a scan file may hold (1 mm");
+    assert_refused("scan.positions", "4000", "over the largest travel a scan file may hold (5000 mm)");
 }
 
 /* Issue 17, break 1: state_dir "/" passed --check-config, and the start-up
