@@ -235,6 +235,7 @@ static void loop(struct daemon *d)
     struct pollfd fds[SLOT_CLIENTS + MAX_CLIENTS];
     struct peer *owner[SLOT_CLIENTS + MAX_CLIENTS];
     while (!(d->stopping && !d->scanning)) {
+        int timeout_ms = peers_expire(d);   /* drops clients past their deadlines first */
         fds[SLOT_SIGNAL] = (struct pollfd){.fd = d->signal_fd, .events = POLLIN};
         fds[SLOT_SCHEDULE] = (struct pollfd){.fd = d->schedule_fd, .events = POLLIN};
         fds[SLOT_DONE] = (struct pollfd){.fd = d->done_fd, .events = POLLIN};
@@ -249,9 +250,10 @@ static void loop(struct daemon *d)
             if (!d->clients[i].in_use)
                 continue;
             owner[n] = &d->clients[i];
-            fds[n++] = (struct pollfd){.fd = d->clients[i].fd, .events = POLLIN};
+            fds[n++] = (struct pollfd){.fd = d->clients[i].fd,
+                                       .events = (short)(POLLIN | (d->clients[i].out_len ? POLLOUT : 0))};
         }
-        if (poll(fds, n, -1) < 0) {
+        if (poll(fds, n, timeout_ms) < 0) {
             if (errno == EINTR)
                 continue;
             uwbd_log(UWBD_LOG_ERR, "poll: %s; stopping", strerror(errno));
@@ -277,9 +279,12 @@ static void loop(struct daemon *d)
         }
         if (fds[SLOT_CONTROL].revents)
             peer_accept(d);
-        for (nfds_t i = SLOT_CONSOLE; i < n; i++)
-            if (fds[i].revents && owner[i]->in_use)
+        for (nfds_t i = SLOT_CONSOLE; i < n; i++) {
+            if ((fds[i].revents & POLLOUT) && owner[i]->in_use)
+                peer_writable(d, owner[i]);
+            if ((fds[i].revents & ~POLLOUT) && owner[i]->in_use)
                 peer_readable(d, owner[i]);
+        }
     }
 }
 

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Issue 17, break 6 (and 9's pipelined scans): control-group members that
+# trickle bytes or never read must not lock the operators out or stall the
+# loop. Measured through the running daemon on the emulated board with
+# tests/e2e/helpers/ctl_attack.c:
+#   - 16 clients each sending one byte every 0.9 s (never a whole line):
+#     a fresh `status` is still answered (before: nobody got in for 20 s),
+#     and the tricklers are dropped after CLIENT_LINE_TIMEOUT_S (5 s);
+#   - 15 clients sending `help` x400 and never reading: a fresh `status` is
+#     answered at once (before: 24 s) and SIGTERM is prompt;
+#   - `scan\nscan\n` on one connection: two answers (a verdict, and a
+#     refusal for the second), not one.
+set -euo pipefail
+
+source "$(dirname "$0")/daemon_e2e.sh"
+e2e_workdir uwbd-lockout
+
+ctl() { uwbd ctl --socket run/control.sock "$@"; }
+attack() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/ctl_attack" "$@"; }
+get() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/state_check" get "$@"; }
+
+${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
+    --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 11 \
+    --start-mm 5 --steps-per-mm 10 > emu.log 2>&1 &
+pids+=($!)
+wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$REPO/board/emulated/uwbd.json" "${root_flag[@]}" -v \
+    --set carriage.steps_per_mm=10 > uwbd.log 2>&1 &
+daemon_pid=$!
+pids+=($daemon_pid)
+wait_for ctl status || fail "uwbd does not answer on its control socket"
+
+attack trickle run/control.sock 16 8 > trickle.out || fail "trickling clients locked out status: $(cat trickle.out)"
+grep -q "trickling clients dropped: 16 of 16" trickle.out || fail "tricklers kept their slots: $(cat trickle.out)"
+grep -q "no complete command line in time" uwbd.log || fail "no log line for a dropped trickler"
+pass "16 trickling clients: $(head -n 1 trickle.out), all 16 dropped"
+
+attack noread run/control.sock 15 400 > noread.out || fail "clients that never read stalled the loop: $(cat noread.out)"
+pass "15 clients that never read: $(cat noread.out)"
+
+attack send run/control.sock 'scan\nscan\n' 2 120 > pipeline.out ||
+    fail "scan\\nscan\\n on one connection: not two answers: $(cat pipeline.out)"
+[[ $(sed -n 1p pipeline.out | get class) == ERROR ]] || fail "second scan not refused first: $(cat pipeline.out)"
+sed -n 1p pipeline.out | get message | grep -q "already pending on this connection" ||
+    fail "refusal does not say why: $(cat pipeline.out)"
+[[ $(sed -n 2p pipeline.out | get class) == VERDICT ]] || fail "no verdict for the first scan: $(cat pipeline.out)"
+pass "scan\\nscan\\n on one connection: a refusal for the second, then the first one's verdict"
+
+attack noread run/control.sock 15 400 > /dev/null || true
+t0=$(date +%s%N)
+kill -TERM "$daemon_pid"
+set +e; wait "$daemon_pid"; rc=$?; set -e
+ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+[[ $rc == 0 ]] || fail "SIGTERM with clients that never read: exit $rc"
+(( ms < 3000 )) || fail "SIGTERM with clients that never read took $ms ms"
+pass "SIGTERM with 15 clients that never read: exit 0 in $ms ms"
+
+echo "$passed passed, 0 failed"
