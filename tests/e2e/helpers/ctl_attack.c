@@ -1,5 +1,5 @@
 /* ctl_attack: hostile control-socket clients for the lockout tests
- * (tests/e2e/test_daemon_lockout.sh, issue 17 break 6), in C because a
+ * (tests/e2e/test_daemon_attacks.sh, issue 17 break 6), in C because a
  * fresh machine has no python3.
  *
  *   ctl_attack trickle SOCKET CLIENTS SECONDS

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Issue 17, break 6 (and 9's pipelined scans): control-group members that
+# Attacks and accidents of issue 17 against the running daemon on the
+# emulated board. Break 6 (and 9's pipelined scans): control-group members that
 # trickle bytes or never read must not lock the operators out or stall the
 # loop. Measured through the running daemon on the emulated board with
 # tests/e2e/helpers/ctl_attack.c:
@@ -16,6 +17,7 @@ source "$(dirname "$0")/daemon_e2e.sh"
 e2e_workdir uwbd-lockout
 
 ctl() { uwbd ctl --socket run/control.sock "$@"; }
+emu() { uwbemu --ctl unix:run/emu.sock "$*"; }
 attack() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/ctl_attack" "$@"; }
 get() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/state_check" get "$@"; }
 
@@ -45,6 +47,20 @@ sed -n 1p pipeline.out | get message | grep -q "already pending on this connecti
     fail "refusal does not say why: $(cat pipeline.out)"
 [[ $(sed -n 2p pipeline.out | get class) == VERDICT ]] || fail "no verdict for the first scan: $(cat pipeline.out)"
 pass "scan\\nscan\\n on one connection: a refusal for the second, then the first one's verdict"
+
+# Issue 17, break 8: steps lost on the way up (the emulated belt slips on
+# every 50th upward step: 12 mm over the 600 mm travel) put every trace
+# elsewhere than recorded; the home switch after the last position must
+# agree with the counted steps, else the scan is an `error` verdict.
+emu fault lose-steps every 50 > /dev/null || fail "uwbemu refused the lose-steps fault"
+set +e; ctl scan > lost.json; set -e
+[[ $(get class status < lost.json | tr '\n' ' ') == "VERDICT error " ]] || fail "lost steps: not an error verdict: $(cat lost.json)"
+get reason < lost.json | grep -Eq "steps lost: [0-9.]+ mm" || fail "lost steps: reason: $(get reason < lost.json)"
+[[ $(emu status | get steps_lost) != 0 ]] || fail "the emulated board lost no steps"
+emu fault lose-steps off > /dev/null
+ctl scan > after-lost.json || fail "scan after the lost steps: $(cat after-lost.json)"
+[[ $(get status < after-lost.json) != error ]] || fail "the next scan did not recover: $(cat after-lost.json)"
+pass "lost steps: error verdict ($(get reason < lost.json)); the next scan re-homes: $(get status < after-lost.json)"
 
 attack noread run/control.sock 15 400 > /dev/null || true
 t0=$(date +%s%N)
