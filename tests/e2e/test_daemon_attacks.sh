@@ -14,7 +14,7 @@
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
-e2e_workdir uwbd-lockout
+e2e_workdir uwbd-attacks
 
 ctl() { uwbd ctl --socket run/control.sock "$@"; }
 emu() { uwbemu --ctl unix:run/emu.sock "$*"; }
@@ -26,7 +26,8 @@ ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:
     --start-mm 5 --steps-per-mm 10 > emu.log 2>&1 &
 pids+=($!)
 wait_for test -S run/emu.sock || fail "uwbemu did not come up"
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$REPO/board/emulated/uwbd.json" "${root_flag[@]}" -v \
+cp "$REPO/board/emulated/uwbd.json" uwbd.json
+${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config uwbd.json "${root_flag[@]}" -v \
     --set carriage.steps_per_mm=10 > uwbd.log 2>&1 &
 daemon_pid=$!
 pids+=($daemon_pid)
@@ -62,6 +63,19 @@ ctl scan > after-lost.json || fail "scan after the lost steps: $(cat after-lost.
 [[ $(get status < after-lost.json) != error ]] || fail "the next scan did not recover: $(cat after-lost.json)"
 pass "lost steps: error verdict ($(get reason < lost.json)); the next scan re-homes: $(get status < after-lost.json)"
 
+# Issue 17, break 9: a reload whose rig cannot be reached is refused whole:
+# the log never says both "cannot connect" and "reloaded", and the running
+# rig still scans.
+sed 's|unix:run/digitiser.sock|unix:run/nowhere.sock|' uwbd.json > uwbd.json.new && mv uwbd.json.new uwbd.json
+log_before=$(wc -l < uwbd.log)
+kill -HUP "$daemon_pid"
+wait_for grep -q "reload refused" uwbd.log || fail "a reload with an unreachable rig was not refused"
+tail -n +"$((log_before + 1))" uwbd.log > reload.log
+grep -q "configuration reloaded" reload.log && fail "the log says both: $(cat reload.log)"
+ctl scan > after-reload.json || fail "scan after the refused reload: $(cat after-reload.json)"
+[[ $(get status < after-reload.json) != error ]] || fail "the running rig did not survive: $(cat after-reload.json)"
+pass "reload with an unreachable rig: $(grep -o 'reload refused.*' reload.log | cut -c1-90)...; scans go on"
+
 attack noread run/control.sock 15 400 > /dev/null || true
 t0=$(date +%s%N)
 kill -TERM "$daemon_pid"
@@ -70,5 +84,22 @@ ms=$(( ($(date +%s%N) - t0) / 1000000 ))
 [[ $rc == 0 ]] || fail "SIGTERM with clients that never read: exit $rc"
 (( ms < 3000 )) || fail "SIGTERM with clients that never read took $ms ms"
 pass "SIGTERM with 15 clients that never read: exit 0 in $ms ms"
+
+# Issue 17, break 9: after a corrupt latest.json, `verdict` falls back to
+# the newest line of verdicts.jsonl instead of "no scan has been recorded".
+cp "$REPO/board/emulated/uwbd.json" uwbd.json
+printf '{"class":"VERDICT","status":' > run/state/latest.json
+${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config uwbd.json "${root_flag[@]}" -v --set carriage.steps_per_mm=10 \
+    > uwbd-restart.log 2>&1 &
+daemon_pid=$!
+pids+=($daemon_pid)
+wait_for ctl status || fail "uwbd did not come back"
+ctl verdict > fallback.json || fail "verdict after a corrupt latest.json: $(cat fallback.json)"
+[[ $(get class scan_id < fallback.json | tr '\n' ' ') == "VERDICT $(tail -n 1 run/state/verdicts.jsonl | get scan_id) " ]] ||
+    fail "verdict is not the newest history line: $(cat fallback.json)"
+grep -q "taken from verdicts.jsonl" uwbd-restart.log || fail "no warning about the corrupt latest.json"
+kill -TERM "$daemon_pid"
+wait "$daemon_pid" || fail "SIGTERM after the restart: exit $?"
+pass "corrupt latest.json: verdict falls back to verdicts.jsonl ($(get scan_id < fallback.json))"
 
 echo "$passed passed, 0 failed"
