@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # Attacks and accidents of issue 17 against the running daemon on the
-# emulated board. Break 6 (and 9's pipelined scans): control-group members that
-# trickle bytes or never read must not lock the operators out or stall the
-# loop. Measured through the running daemon on the emulated board with
-# tests/e2e/helpers/ctl_attack.c:
+# emulated board, with tests/e2e/helpers/ctl_attack.c for hostile clients:
 #   - 16 clients each sending one byte every 0.9 s (never a whole line):
 #     a fresh `status` is still answered (before: nobody got in for 20 s),
 #     and the tricklers are dropped after CLIENT_LINE_TIMEOUT_S (5 s);
 #   - 15 clients sending `help` x400 and never reading: a fresh `status` is
-#     answered at once (before: 24 s) and SIGTERM is prompt;
-#   - `scan\nscan\n` on one connection: two answers (a verdict, and a
-#     refusal for the second), not one.
+#     answered at once (before: 24 s) and SIGTERM is prompt (break 6);
+#   - `scan\nscan\n` on one connection: two answers (a refusal for the
+#     second, then the verdict), not one (break 9);
+#   - steps lost on the way up: an `error` verdict "steps lost", and the
+#     next scan re-homes and is ordinary (break 8);
+#   - a SIGHUP reload whose rig cannot be reached is refused whole (the log
+#     said both "cannot connect" and "reloaded") (break 9);
+#   - a corrupt latest.json: `verdict` falls back to verdicts.jsonl (break 9).
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
