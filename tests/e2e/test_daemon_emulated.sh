@@ -154,6 +154,10 @@ json_check history.json 'class == HISTORY' 'count = 2' 'verdicts len 2' 'verdict
     'verdicts.1.status == alarm' || fail "history: $(cat history.json)"
 ctl verdict > verdict.json
 json_check verdict.json '. same scan2.json' || fail "verdict is not the latest scan's"
+ctl --text verdict > verdict.txt || fail "uwbd ctl --text verdict"
+shift_text=$(printf '%+.2f' "$(json_get axial_displacement_mm < scan2.json)")
+[[ $(sed -n 1p verdict.txt) == "status ALARM: displacement $shift_text ± "*" mm (edges "*" mm, baseline "*" mm)" &&
+   $(grep -c '^image: /' verdict.txt) == 3 && $(wc -l < verdict.txt) == 4 ]] || fail "uwbd ctl --text verdict: $(cat verdict.txt)"
 ctl help | grep -q '"class":"HELP"' || fail "help"
 set +e; ctl frobnicate > /dev/null 2> ctl-bad.err; rc=$?; set -e
 [[ $rc == 64 ]] || fail "ctl with an unknown command: exit $rc, want 64"
@@ -163,7 +167,7 @@ set +e; ctl frobnicate > /dev/null 2> ctl-bad.err; rc=$?; set -e
 sed -n 1p raw.json | json_check - 'class == ERROR' || fail "a path argument was not refused: $(sed -n 1p raw.json)"
 sed -n 2p raw.json | json_check - 'class == ERROR' || fail "an over-long line was not refused"
 sed -n 3p raw.json | json_check - 'class == STATUS' || fail "the connection did not recover after bad lines"
-pass "uwbd ctl: status, baseline set, scan, history, verdict, help; bad lines refused with ERROR"
+pass "uwbd ctl: status, baseline set, scan, history, verdict (JSON and --text), help; bad lines refused with ERROR"
 
 # At most 16 control clients; when all are taken, one quiet for 2 s or more
 # makes room, so silent connections cannot lock the operators out.
