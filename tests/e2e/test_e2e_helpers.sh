@@ -75,4 +75,15 @@ set +e; printf 'r1\nr2\n' | unix_peer ask peer.sock 2 > asked.txt; rc=$?; set -e
 wait "$peer" || true
 [[ $rc == 0 && $(cat asked.txt) == $'hello\nworld' && $(cat out.txt) == $'r1\nr2' ]] ||
     fail "unix_peer: ask exit $rc, it got '$(cat asked.txt)', the console got '$(cat out.txt)'"
+
+# unix_peer invert (make test-board's serial peer) answers each byte with its
+# inverse: the console peer sends ~"hello" and 0xf5 (~'\n') and reads "hello".
+unix_peer console uart.sock go2 inverted.txt $'\x97\x9a\x93\x93\x90\xf5' &
+peer=$!
+touch go2
+unix_peer invert uart.sock 10 2> invert.log || fail "unix_peer invert: $(cat invert.log)"
+wait "$peer" || fail "the console peer got no inverted reply"
+[[ $(cat inverted.txt) == hello ]] || fail "unix_peer invert answered '$(cat inverted.txt)', want hello"
+grep -q "^serial-peer: 7 bytes received and answered" invert.log || fail "unix_peer invert: $(cat invert.log)"
+
 echo "e2e helpers ok"

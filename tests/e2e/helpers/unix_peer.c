@@ -12,6 +12,12 @@
  *       checks: one more is told "too many control clients"; after 2.5 s
  *       of silence a new client is served, the longest-idle client was the
  *       one dropped, and the next one is still served.
+ *   unix_peer invert SOCKET [CONNECT_TIMEOUT_S]
+ *       The host end of a guest UART for make test-board's serial test
+ *       (tests/board/test_serial_link.c): connects to qemu's chardev socket
+ *       (retrying up to CONNECT_TIMEOUT_S, default 30), answers every byte
+ *       with its bitwise inverse until qemu closes the socket, and prints
+ *       how many bytes it answered.
  * Every wait is bounded (60 s); exit 0 when all went as expected, 1 not. */
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -282,6 +288,45 @@ static int slots(const char *path, const char *count)
     return ok ? 0 : 1;
 }
 
+static int invert(const char *path, const char *timeout_arg)
+{
+    double deadline = uwb_monotonic_s() + (timeout_arg ? atof(timeout_arg) : 30.0);
+    struct sockaddr_un a;
+    int fd = -1;
+    if (unix_address(path, &a) != 0)
+        return fail("invert: socket path too long");
+    for (;;) {
+        fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        if (fd >= 0 && connect(fd, (struct sockaddr *)&a, sizeof a) == 0)
+            break;
+        int why = errno;
+        if (fd >= 0)
+            close(fd);
+        if (uwb_monotonic_s() > deadline) {
+            fprintf(stderr, "unix_peer: cannot connect to %s: %s\n", path, strerror(why));
+            return 1;
+        }
+        sleep_s(0.05);
+    }
+    unsigned char buf[65536];
+    long long answered = 0;
+    for (;;) {
+        ssize_t n = recv(fd, buf, sizeof buf, 0);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)   /* qemu closed the socket (or reset it): the guest is done */
+            break;
+        for (ssize_t i = 0; i < n; i++)
+            buf[i] = (unsigned char)~buf[i];
+        if (send_all(fd, (const char *)buf, (size_t)n) != 0)
+            break;
+        answered += n;
+    }
+    close(fd);
+    fprintf(stderr, "serial-peer: %lld bytes received and answered\n", answered);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 4 && strcmp(argv[1], "ask") == 0)
@@ -290,8 +335,11 @@ int main(int argc, char **argv)
         return console(argv[2], argv[3], argv[4], argc - 5, argv + 5);
     if (argc == 4 && strcmp(argv[1], "slots") == 0)
         return slots(argv[2], argv[3]);
+    if ((argc == 3 || argc == 4) && strcmp(argv[1], "invert") == 0)
+        return invert(argv[2], argc == 4 ? argv[3] : NULL);
     fprintf(stderr, "usage: unix_peer ask SOCKET N < BYTES\n"
                     "       unix_peer console SOCKET GO_FILE OUT_FILE LINE...\n"
-                    "       unix_peer slots SOCKET N\n");
+                    "       unix_peer slots SOCKET N\n"
+                    "       unix_peer invert SOCKET [CONNECT_TIMEOUT_S]\n");
     return 64;
 }
