@@ -137,6 +137,8 @@ void uwbd_verdict_lines_free(char **lines, int count)
 /* Keep text[0..len) if it is one JSON object; returns a malloc'd copy or NULL. */
 static char *valid_line(const char *text, size_t len)
 {
+    if (memchr(text, '\0', len))
+        return NULL;   /* a NUL inside would cut the line short for every reader */
     cJSON *o = cJSON_ParseWithLength(text, len);
     int ok = o && cJSON_IsObject(o);
     cJSON_Delete(o);
@@ -419,7 +421,7 @@ int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, siz
     while (len > 0 && (text[len - 1] == '\n' || text[len - 1] == '\r'))
         len--;
     text[len] = '\0';
-    cJSON *o = cJSON_ParseWithLength(text, len);
+    cJSON *o = memchr(text, '\0', len) ? NULL : cJSON_ParseWithLength(text, len);
     int ok = o && cJSON_IsObject(o);
     cJSON_Delete(o);
     if (!ok) {

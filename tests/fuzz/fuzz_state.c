@@ -136,7 +136,14 @@ int fuzz_state_input(const uint8_t *data, size_t size, char *why, size_t whylen)
     int rc = uwbd_latest_read(&store, &latest, err, sizeof err);
     if (rc != 0 && (!err[0] || latest))
         return fuzz_broken(why, whylen, "latest.json refused without a message, or with a result");
-    free(latest);
+    if (latest) {
+        cJSON *o = cJSON_Parse(latest);
+        int object = cJSON_IsObject(o);
+        cJSON_Delete(o);
+        free(latest);
+        if (!object)
+            return fuzz_broken(why, whylen, "latest.json accepted, but its text is not a JSON object");
+    }
 
     struct uwbd_baseline_info info;
     int repaired = 0;
