@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
 # Attacks and accidents of issue 17 against the running daemon on the
 # emulated board, with tests/e2e/helpers/ctl_attack.c for hostile clients:
+#   - --check-config refuses state_dir / or a system directory, and a
+#     control.group that does not exist (breaks 1 and 9);
+#   - a state directory holding files that are not uwbd's: only uwbd's own
+#     temporary is removed at start, the rest named in a warning (break 1);
 #   - 16 clients each sending one byte every 0.9 s (never a whole line):
 #     a fresh `status` is still answered (before: nobody got in for 20 s),
 #     and the tricklers are dropped after CLIENT_LINE_TIMEOUT_S (5 s);
@@ -28,12 +32,40 @@ ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:
     --start-mm 5 --steps-per-mm 10 > emu.log 2>&1 &
 pids+=($!)
 wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+# Break 1 and 9 at the command line: --check-config refuses a state_dir
+# that is / or a system directory, and a control.group that does not exist.
 cp "$REPO/board/emulated/uwbd.json" uwbd.json
+for bad in "state_dir=/:is a system directory" "state_dir=/var/lib/:is /var/lib" \
+           "control.group=uwbd-no-such-group-17:no group named"; do
+    set +e; uwbd --check-config uwbd.json --set "${bad%%:*}" > /dev/null 2> check.err; rc=$?; set -e
+    [[ $rc == 78 ]] || fail "--check-config --set ${bad%%:*}: exit $rc, want 78"
+    grep -q "${bad#*:}" check.err || fail "--check-config --set ${bad%%:*}: $(cat check.err)"
+done
+pass "--check-config refuses state_dir / and /var/lib/, and a control.group that does not exist (exit 78)"
+
+# Break 1: a state directory holding files that are not uwbd's: only uwbd's
+# own temporary goes at start; the others are named in a warning and kept.
+mkdir -p run/state/home/alice run/state/baseline run/state/archive/2026/01/01
+for f in home/alice/.bashrc.backup baseline/.current.uwbscan.zzzzzz archive/2026/01/01/.scan.json.Ab12Cd \
+         .uwbd-tmp.latest.json.Ab12Cd.part; do echo "someone's" > "run/state/$f"; done
+ln -s /etc run/state/archive/2026/01/02
 ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config uwbd.json "${root_flag[@]}" -v \
     --set carriage.steps_per_mm=10 > uwbd.log 2>&1 &
 daemon_pid=$!
 pids+=($daemon_pid)
 wait_for ctl status || fail "uwbd does not answer on its control socket"
+
+for f in home/alice/.bashrc.backup baseline/.current.uwbscan.zzzzzz archive/2026/01/01/.scan.json.Ab12Cd; do
+    [[ -f run/state/$f ]] || fail "start-up cleanup deleted run/state/$f"
+done
+[[ ! -e run/state/.uwbd-tmp.latest.json.Ab12Cd.part ]] || fail "uwbd's own leftover temporary was kept"
+grep -q "removed 1 leftover" uwbd.log || fail "no log line for the removed temporary"
+for f in baseline/.current.uwbscan.zzzzzz archive/2026/01/01/.scan.json.Ab12Cd; do
+    grep -q "$f is a hidden file, not uwbd's: left alone" uwbd.log || fail "no warning naming $f"
+done
+grep -q "archive/2026/01/02 is a symbolic link, not uwbd's: left alone" uwbd.log || fail "no warning for the symlink"
+grep -q "bashrc" uwbd.log && fail "looked outside the directories uwbd writes"
+pass "start-up cleanup: only uwbd's own temporary removed; foreign hidden files and a symlink named and kept"
 
 attack trickle run/control.sock 16 8 > trickle.out || fail "trickling clients locked out status: $(cat trickle.out)"
 grep -q "trickling clients dropped: 16 of 16" trickle.out || fail "tricklers kept their slots: $(cat trickle.out)"
