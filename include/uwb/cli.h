@@ -19,6 +19,13 @@ void uwbd_replay_usage(FILE *f);
 void uwbd_daemon_usage(FILE *f);
 void uwbd_ctl_usage(FILE *f);
 
+/* After getopt_long (with opterr = 0) returned '?': one line on stderr naming the
+ * refused option and the problem, a close option name if there is one, and
+ * "see HELP" (e.g. "uwbd --help"), instead of the whole usage. */
+struct option;
+void uwb_cli_option_error(const char *prog, const char *help, char *const argv[], int argc,
+                          const struct option *longopts);
+
 /* A VERDICT reply (one JSON line) as text for people: "status ALARM:
  * displacement +12.04 ± 0.23 mm (edges ...)", or the edges, or the reason;
  * then "image: PATH" lines. -1, nothing printed, for any other reply. */

@@ -112,6 +112,7 @@ int uwbd_daemon_main(int argc, char **argv)
     opt.log_level = UWBD_LOG_INFO;
     const char *check = NULL;
     int keys = 0, c, bad = 0;
+    opterr = 0;   /* one line of our own instead of getopt's and the usage */
     while ((c = getopt_long(argc, argv, "vh", longopts, NULL)) != -1) {
         switch (c) {
         case OPT_CONFIG: opt.config_path = optarg; break;
@@ -126,7 +127,7 @@ int uwbd_daemon_main(int argc, char **argv)
         case 'v': opt.log_level = UWBD_LOG_DEBUG; break;
         case OPT_SYSLOG: opt.use_syslog = 1; break;
         case 'h': uwbd_daemon_usage(stdout); return UWBD_EXIT_OK;
-        default: uwbd_daemon_usage(stderr); return UWBD_EXIT_USAGE;
+        default: uwb_cli_option_error("uwbd", "uwbd --help", argv, argc, longopts); return UWBD_EXIT_USAGE;
         }
     }
     if (bad)

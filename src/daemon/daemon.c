@@ -13,6 +13,7 @@
 #include <string.h>
 #include <sys/eventfd.h>
 #include <sys/signalfd.h>
+#include <sys/stat.h>
 #include <sys/timerfd.h>
 #include <time.h>
 #include <unistd.h>
@@ -372,7 +373,61 @@ static void teardown(struct daemon *d)
     d->latest_verdict = NULL;
 }
 
-static int start(struct daemon *d)
+/* The outermost directory of `path` that does not exist yet (what mkdir -p
+ * would create first), or "" when the path exists. A start that fails
+ * removes what it made there, so that trying the emulated sample by hand
+ * leaves no run/state behind in the working directory. */
+static void first_missing_directory(const char *path, char *out, size_t n)
+{
+    out[0] = '\0';
+    char walk[UWBD_PATH_MAX];
+    if (snprintf(walk, sizeof walk, "%s", path) >= (int)sizeof walk)
+        return;
+    struct stat st;
+    while (walk[0] && stat(walk, &st) != 0 && errno == ENOENT) {
+        snprintf(out, n, "%s", walk);
+        char *slash = strrchr(walk, '/');
+        if (!slash || slash == walk)
+            break;
+        *slash = '\0';
+    }
+}
+
+/* Undo a failed start's fresh state directory: only the empty skeleton
+ * uwbd_store_open and the lock made; rmdir leaves anything else alone. */
+static void remove_fresh_state_dir(const struct daemon *d, const char *created)
+{
+    static const char *const inner[] = {"baseline/history", "baseline", "archive"};
+    char path[UWBD_PATH_MAX + 32];
+    if (uwbd_path_join(path, sizeof path, d->cfg.state_dir, "uwbd.lock") == 0)
+        unlink(path);
+    for (size_t i = 0; i < sizeof inner / sizeof inner[0]; i++)
+        if (uwbd_path_join(path, sizeof path, d->cfg.state_dir, inner[i]) == 0)
+            rmdir(path);
+    snprintf(path, sizeof path, "%s", d->cfg.state_dir);
+    size_t stop = strlen(created);
+    while (strlen(path) >= stop && rmdir(path) == 0) {
+        char *slash = strrchr(path, '/');
+        if (!slash)
+            break;
+        *slash = '\0';
+    }
+}
+
+/* The emulated board is a separate program; say how to start it. */
+static void hint_emulated_board(const struct daemon *d, int rc)
+{
+    if (strcmp(d->cfg.rig.gpio.backend, "emulated") != 0 || (rc != UWB_RIG_ERR_GPIO && rc != UWB_RIG_ERR_LINK))
+        return;
+    char cwd[UWBD_PATH_MAX] = "";
+    if (!getcwd(cwd, sizeof cwd))
+        snprintf(cwd, sizeof cwd, "the working directory");
+    uwbd_log(UWBD_LOG_ERR, "the emulated board (uwbemu) is not running there: start it first, in %s: "
+                           "uwbemu --gpio %s --digitiser %s &  (build/uwbemu in the source tree; see uwbemu --help)",
+             cwd, d->cfg.rig.gpio.endpoint, d->cfg.rig.digitiser.endpoint);
+}
+
+static int start(struct daemon *d, char *created_dir, size_t created_len)
 {
     char err[1024];
     if (uwbd_config_load(d->options->config_path, d->options->overrides, d->options->n_overrides, &d->cfg, err,
@@ -386,6 +441,7 @@ static int start(struct daemon *d)
                                "or set allow_root / pass --allow-root");
         return UWBD_EXIT_NO_PERM;
     }
+    first_missing_directory(d->cfg.state_dir, created_dir, created_len);
     d->lock_fd = uwbd_store_lock(d->cfg.state_dir, err, sizeof err);
     if (d->lock_fd < 0) {
         uwbd_log(UWBD_LOG_ERR, "state directory: %s", err);
@@ -414,6 +470,7 @@ static int start(struct daemon *d)
     if (rc != UWB_RIG_OK) {
         int code = uwbd_exit_for_rig_open(rc, detail);
         uwbd_log(UWBD_LOG_ERR, "%s (exit %d)", err, code);
+        hint_emulated_board(d, rc);
         return code;
     }
     load_baseline_info(d);
@@ -440,10 +497,13 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     peers_init(&d);
     d.last_cycle_start = monotonic_now();
     uwbd_log_setup(opt->log_level, opt->use_syslog);
-    int rc = start(&d);
+    static char created_dir[UWBD_PATH_MAX];
+    int rc = start(&d, created_dir, sizeof created_dir);
     if (rc == UWBD_EXIT_OK)
         loop(&d);
     teardown(&d);
+    if (rc != UWBD_EXIT_OK && created_dir[0])
+        remove_fresh_state_dir(&d, created_dir);
     if (rc == UWBD_EXIT_OK)
         uwbd_log(UWBD_LOG_NOTICE, "stopped; hardware left safe");
     return rc;
