@@ -13,6 +13,7 @@
 #include "uwb/daemon/config.h"
 #include "uwb/daemon/control_socket.h"
 #include "uwb/daemon/daemon.h"
+#include "uwb/daemon/console_line.h"
 #include "uwb/daemon/line_buffer.h"
 #include "uwb/daemon/scan_cycle.h"
 #include "uwb/daemon/store.h"
@@ -42,6 +43,7 @@ struct peer {
     int fd;                        /* control client socket */
     struct uwb_link *link;         /* console */
     struct uwbd_line_buffer lines;
+    struct uwbd_console_line console_line; /* the console's: echo and editing keys */
     unsigned long waiting_for;     /* cycle whose verdict this peer asked for; 0 = none */
     double last_active_s;          /* CLOCK_MONOTONIC of its connection or last input */
     double line_since_s;           /* CLOCK_MONOTONIC of its connection or last complete line */
