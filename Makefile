@@ -16,7 +16,9 @@
 #                         RSS, open fds and archive size must stay flat; then
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
 #   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}, the systemd unit, udev
-#                         rules, sample configs (share/uwbd) and board docs (share/doc/uwbd)
+#                         rules, the Pi sample config (share/uwbd), board docs (share/doc/uwbd)
+#                         and manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1)
+#   make man              the manual pages into $(BUILD)/man (uwbd.json.5 from the key table)
 #   make deps / deps-arm  install the native / aarch64 packages and Unity
 #   make check-hw-headers only src/hw/ may include gpiod.h / libserialport.h
 #   make fuzz             build tests/fuzz/fuzz_*.c with clang + libFuzzer in
@@ -290,20 +292,46 @@ soak:
 	    bash tools/soak/run-soak.sh --build '$(BUILD)' --cycles $(SOAK_VALGRIND_CYCLES) --max-scans 5 \
 	    --every 5 --daemon-wrapper '$(SOAK_VALGRIND)')
 
+# ---- manual pages and install ----------------------------------------------
+# uwbd.json(5) is printed by uwbd from its key table (--config-keys=man), so
+# it cannot drift from what the loader accepts; uwbd(8) and uwbd-ctl(1) are
+# board/man/. A cross build runs the target's uwbd under TEST_RUNNER.
+MAN_PAGES     := $(BUILD)/man/uwbd.8 $(BUILD)/man/uwbd-ctl.1 $(BUILD)/man/uwbd.json.5
+.PHONY: man
+man: $(MAN_PAGES)
+
+$(BUILD)/man/uwbd.json.5: $(BUILD)/uwbd
+	@mkdir -p $(dir $@)
+	$(TEST_RUNNER) $(BUILD)/uwbd --config-keys=man > $@.tmp && mv $@.tmp $@
+
+$(BUILD)/man/%: board/man/%
+	@mkdir -p $(dir $@)
+	cp $< $@
+
+# Documents installed under share/doc/uwbd keep board/'s layout, so every
+# relative link among them resolves there (tests/e2e/test_install.sh). The
+# emulated board's sample config is not installed: uwbemu is not either.
+DOC_FILES     := install-guide.md config.md state-dir.md digitiser-protocol.md \
+                 raspberry-pi-4/pinmap.md raspberry-pi-4/uwbd.json
+DOCDIR        := $(PREFIX)/share/doc/uwbd
+MANDIR        := $(PREFIX)/share/man
+
 # The unit names the installed binary and docs, so @bindir@/@docdir@ are filled in here.
-install: all
+install: all $(MAN_PAGES)
 	install -d '$(DESTDIR)$(PREFIX)/bin'
 	install -m 0755 $(BUILD)/uwbd '$(DESTDIR)$(PREFIX)/bin/uwbd'
 	$(if $(wildcard tools/uwbsim/main.c),install -m 0755 $(BUILD)/uwbsim '$(DESTDIR)$(PREFIX)/bin/uwbsim')
 	install -d '$(DESTDIR)$(PREFIX)/lib/systemd/system' '$(DESTDIR)$(PREFIX)/lib/udev/rules.d' \
-	    '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4' '$(DESTDIR)$(PREFIX)/share/uwbd/emulated' \
-	    '$(DESTDIR)$(PREFIX)/share/doc/uwbd'
-	sed -e 's|@bindir@|$(PREFIX)/bin|g' -e 's|@docdir@|$(PREFIX)/share/doc/uwbd|g' board/uwbd.service \
+	    '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4' '$(DESTDIR)$(DOCDIR)/raspberry-pi-4' \
+	    '$(DESTDIR)$(MANDIR)/man1' '$(DESTDIR)$(MANDIR)/man5' '$(DESTDIR)$(MANDIR)/man8'
+	sed -e 's|@bindir@|$(PREFIX)/bin|g' -e 's|@docdir@|$(DOCDIR)|g' board/uwbd.service \
 	    > '$(DESTDIR)$(PREFIX)/lib/systemd/system/uwbd.service'
 	install -m 0644 board/99-uwbd-digitiser.rules board/99-uwbd-gpio.rules '$(DESTDIR)$(PREFIX)/lib/udev/rules.d/'
 	install -m 0644 board/raspberry-pi-4/uwbd.json '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4/'
-	install -m 0644 board/emulated/uwbd.json '$(DESTDIR)$(PREFIX)/share/uwbd/emulated/'
-	install -m 0644 board/install-guide.md board/config.md board/state-dir.md '$(DESTDIR)$(PREFIX)/share/doc/uwbd/'
+	for f in $(DOC_FILES); do install -m 0644 "board/$$f" "$(DESTDIR)$(DOCDIR)/$$f" || exit 1; done
+	install -m 0644 $(BUILD)/man/uwbd-ctl.1 '$(DESTDIR)$(MANDIR)/man1/'
+	install -m 0644 $(BUILD)/man/uwbd.json.5 '$(DESTDIR)$(MANDIR)/man5/'
+	install -m 0644 $(BUILD)/man/uwbd.8 '$(DESTDIR)$(MANDIR)/man8/'
 
 clean:
 	rm -rf build build-*

@@ -15,6 +15,9 @@ int uwbd_ctl_main(int argc, char **argv);
 /* Whether argv asks for the daemon (--config, --check-config, --config-keys). */
 int uwbd_wants_daemon(int argc, char **argv);
 
+/* The uwbd.json(5) manual page (roff) from the configuration key table: 0, or -1. */
+int uwbd_config_print_keys_man(FILE *out);
+
 void uwbd_replay_usage(FILE *f);
 void uwbd_daemon_usage(FILE *f);
 void uwbd_ctl_usage(FILE *f);
