@@ -23,7 +23,13 @@
 #include "daemon_internal.h"
 #include "uwb/daemon/exit_codes.h"
 #include "uwb/daemon/log.h"
+#include "uwb/daemon/service_notify.h"
+#include "uwb/daemon/test_hang.h"
 #include "uwb/daemon/verdict_log.h"
+#include "uwb/monotonic.h"
+
+static void worker_beat(struct daemon *d);
+static void report_status(struct daemon *d);
 
 static struct timespec monotonic_now(void)
 {
@@ -78,10 +84,14 @@ void scan_now(struct daemon *d)
     }
     schedule_off(d);
     d->last_cycle_start = monotonic_now();
+    worker_beat(d);
     if (worker_start(d) != 0) {
         peers_send_verdict(d, d->cycles_started + 1, NULL, "cannot start a scan (see the daemon's log)");
         schedule_arm(d, &d->last_cycle_start);
+        return;
     }
+    report_status(d);
+    uwbd_test_hang_point("loop");
 }
 
 /* After a restart the schedule carries on from the latest verdict's time. */
@@ -236,6 +246,7 @@ static void cycle_finished(struct daemon *d)
     worker_collect(d);
     if (d->scanning)
         return;
+    report_status(d);
     if (d->reload_pending)
         reload(d);
     if (d->stopping) {
@@ -258,7 +269,86 @@ static void drain(int fd)
     }
 }
 
-enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
+enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_WATCHDOG, SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
+
+/* How long a healthy scan worker may go without a sign of life (a rig
+ * message: at least one a position): homing at its slowest, one position
+ * with every frame retried to its timeout, and the analysis and writes
+ * after the last position. UWBD_TEST_SCAN_STALL_S (tests only) shortens it. */
+#define ANALYSIS_ALLOWANCE_S 120.0
+static double worker_stall_limit_s(const struct uwbd_config *cfg)
+{
+    const char *test = getenv("UWBD_TEST_SCAN_STALL_S");
+    if (test && atof(test) > 0)
+        return atof(test);
+    const struct uwb_rig_config *r = &cfg->rig;
+    double position_s = r->digitiser.stack * (r->digitiser.frame_retries + 1.0) * r->digitiser.frame_timeout_ms / 1e3 +
+                        r->carriage.settle_ms / 1e3 + 60.0;
+    return r->carriage.home_timeout_s + position_s + ANALYSIS_ALLOWANCE_S;
+}
+
+static void worker_beat(struct daemon *d)
+{
+    atomic_store(&d->worker_beat_ms, (long long)(uwb_monotonic_s() * 1000.0));
+}
+
+/* A watchdog tick: ping systemd if the main loop (here) and the scan
+ * worker, when one runs, are alive; otherwise stay silent so that systemd
+ * restarts the daemon after WatchdogSec. */
+static void watchdog_tick(struct daemon *d)
+{
+    drain(d->watchdog_fd);
+    double silent_s = uwb_monotonic_s() - (double)atomic_load(&d->worker_beat_ms) / 1000.0;
+    double limit_s = worker_stall_limit_s(&d->cfg);
+    if (d->scanning && silent_s > limit_s) {
+        if (!d->watchdog_withheld)
+            uwbd_log(UWBD_LOG_ERR, "the scan worker has been silent for %.0f s (limit %.0f s): no more watchdog "
+                                   "pings, so systemd restarts uwbd", silent_s, limit_s);
+        d->watchdog_withheld = 1;
+        return;
+    }
+    d->watchdog_withheld = 0;
+    uwbd_service_notify("WATCHDOG=1");
+}
+
+/* STATUS= for systemctl status: what the daemon does and the latest verdict. */
+static void report_status(struct daemon *d)
+{
+    if (d->stopping) {
+        uwbd_service_status("stopping");
+        return;
+    }
+    if (d->scanning) {
+        uwbd_service_status("scanning (cycle %lu)", d->job.cycle);
+        return;
+    }
+    cJSON *latest = d->latest_verdict ? cJSON_Parse(d->latest_verdict) : NULL;
+    const cJSON *status = cJSON_GetObjectItemCaseSensitive(latest, "status");
+    const cJSON *created = cJSON_GetObjectItemCaseSensitive(latest, "created");
+    if (cJSON_IsString(status))
+        uwbd_service_status("idle; latest verdict %s%s%s", status->valuestring, cJSON_IsString(created) ? " at " : "",
+                            cJSON_IsString(created) ? created->valuestring : "");
+    else
+        uwbd_service_status("idle; no verdict yet");
+    cJSON_Delete(latest);
+}
+
+static void watchdog_start(struct daemon *d)
+{
+    long ping_ms = uwbd_service_watchdog_ping_ms();
+    if (ping_ms <= 0)
+        return;
+    d->watchdog_fd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
+    if (d->watchdog_fd < 0) {
+        uwbd_log(UWBD_LOG_ERR, "watchdog: timerfd: %s; systemd will not be pinged", strerror(errno));
+        return;
+    }
+    struct timespec every = {.tv_sec = ping_ms / 1000, .tv_nsec = (ping_ms % 1000) * 1000000L};
+    struct itimerspec its = {.it_value = every, .it_interval = every};
+    timerfd_settime(d->watchdog_fd, 0, &its, NULL);
+    uwbd_log(UWBD_LOG_INFO, "systemd watchdog: a ping every %ld ms while the main loop and scan worker are alive",
+             ping_ms);
+}
 
 static void loop(struct daemon *d)
 {
@@ -270,6 +360,7 @@ static void loop(struct daemon *d)
         fds[SLOT_SCHEDULE] = (struct pollfd){.fd = d->schedule_fd, .events = POLLIN};
         fds[SLOT_DONE] = (struct pollfd){.fd = d->done_fd, .events = POLLIN};
         fds[SLOT_CONSOLE_RETRY] = (struct pollfd){.fd = d->console_retry_fd, .events = POLLIN};
+        fds[SLOT_WATCHDOG] = (struct pollfd){.fd = d->watchdog_fd, .events = POLLIN};
         /* A negative fd is skipped by poll(). */
         fds[SLOT_CONTROL] = (struct pollfd){.fd = d->stopping ? -1 : d->control.fd, .events = POLLIN};
         fds[SLOT_CONSOLE] = (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1,
@@ -307,6 +398,8 @@ static void loop(struct daemon *d)
             drain(d->console_retry_fd);
             console_open(d);
         }
+        if (fds[SLOT_WATCHDOG].revents)
+            watchdog_tick(d);
         if (fds[SLOT_CONTROL].revents)
             peer_accept(d);
         for (nfds_t i = SLOT_CONSOLE; i < n; i++) {
@@ -368,6 +461,7 @@ static void teardown(struct daemon *d)
     close_fd(&d->schedule_fd);
     close_fd(&d->console_retry_fd);
     close_fd(&d->done_fd);
+    close_fd(&d->watchdog_fd);
     close_fd(&d->lock_fd);
     free(d->latest_verdict);
     d->latest_verdict = NULL;
@@ -492,7 +586,7 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     memset(&d, 0, sizeof d);
     d.options = opt;
     d.started = time(NULL);
-    d.lock_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = -1;
+    d.lock_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = d.watchdog_fd = -1;
     d.control.fd = -1;
     peers_init(&d);
     d.last_cycle_start = monotonic_now();
@@ -500,7 +594,13 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     static char created_dir[UWBD_PATH_MAX];
     int rc = start(&d, created_dir, sizeof created_dir);
     if (rc == UWBD_EXIT_OK)
+    {
+        watchdog_start(&d);
+        report_status(&d);
+        uwbd_service_notify("READY=1");
         loop(&d);
+        uwbd_service_notify("STOPPING=1");
+    }
     teardown(&d);
     if (rc != UWBD_EXIT_OK && created_dir[0])
         remove_fresh_state_dir(&d, created_dir);

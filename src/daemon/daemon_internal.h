@@ -6,6 +6,7 @@
 #define UWB_DAEMON_INTERNAL_H
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <signal.h>
 #include <time.h>
 
@@ -87,6 +88,12 @@ struct daemon {
     struct timespec next_scan;       /* CLOCK_MONOTONIC */
     struct timespec last_cycle_start;/* CLOCK_MONOTONIC; the schedule counts from it */
     int console_failing;             /* log a console outage once, not every retry */
+
+    /* systemd's watchdog (daemon.c): pinged from the main loop while the
+     * scan worker, if one runs, has shown a sign of life recently. */
+    int watchdog_fd;                 /* timerfd, -1 without a watchdog */
+    int watchdog_withheld;           /* pings stopped: the worker went silent */
+    _Atomic long long worker_beat_ms;/* CLOCK_MONOTONIC ms of the worker's last sign of life */
 
     char *latest_verdict;            /* VERDICT line or NULL */
     int has_baseline;

@@ -26,6 +26,9 @@ done
 grep -qx 'ExecStart=/usr/bin/uwbd --config /etc/uwbd/uwbd.json' "$root/usr/lib/systemd/system/uwbd.service" ||
     fail "the unit does not run /usr/bin/uwbd"
 grep -q '@[a-z]*dir@' "$root/usr/lib/systemd/system/uwbd.service" && fail "the unit has an unfilled @...@"
+for line in Type=notify NotifyAccess=main 'WatchdogSec=[1-9][0-9]*' 'Documentation=man:uwbd(8) .*'; do
+    grep -qx "$line" "$root/usr/lib/systemd/system/uwbd.service" || fail "the unit lacks $line"
+done
 cmp -s "$root/usr/share/man/man5/uwbd.json.5" <(${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" --config-keys=man) ||
     fail "the installed uwbd.json(5) is not what uwbd --config-keys=man prints"
 pass "binary, unit, udev rules, sample config, manual pages and documents installed"
