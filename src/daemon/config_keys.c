@@ -115,7 +115,7 @@ const struct config_key uwbd_config_keys[] = {
     NUMBER("digitiser.t0_ps", rig.digitiser.t0_s, "ps", 1e-12, -1e6, 1e6, 0,
            "time of sample 0 after the pulse leaves the transmitter (negative: before it), "
            "from commissioning"),
-    INTEGER("digitiser.stack", rig.digitiser.stack, "", 1, 65536, 16,
+    INTEGER("digitiser.stack", rig.digitiser.stack, "", 1, 65536, UWB_DEFAULT_STACK,
             "pulses fired and averaged per antenna position"),
     INTEGER("digitiser.frame_timeout_ms", rig.digitiser.frame_timeout_ms, "ms", 1, 600000, 1000,
             "wait this long for a frame after a trigger"),
