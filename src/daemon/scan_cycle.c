@@ -29,6 +29,7 @@ struct verdict_extras {
     double direct_coupling_shift_s;
     int baseline_requested;
     int baseline_set;
+    const char *fault;           /* "baseline" when the baseline failed its check */
     char baseline_note[256];
     const char *archive_error;   /* a file of this cycle the archive did not take */
     const char *record_error;    /* why the verdict is not in verdicts.jsonl */
@@ -87,6 +88,8 @@ static char *verdict_text(const struct uwb_verdict *v, const struct verdict_extr
         cJSON_AddNumberToObject(o, "direct_coupling_ps", round(x->direct_coupling_s * 1e13) / 10.0);
     if (x->has_shift)
         cJSON_AddNumberToObject(o, "direct_coupling_shift_ps", round(x->direct_coupling_shift_s * 1e13) / 10.0);
+    if (x->fault)
+        cJSON_AddStringToObject(o, "fault", x->fault);
     if (x->baseline_requested) {
         cJSON_AddBoolToObject(o, "baseline_set", x->baseline_set);
         if (x->baseline_note[0])
@@ -216,10 +219,32 @@ static void direct_coupling_check(const struct cycle *c, int dc_ok, double arriv
                  (arrival_s - base->direct_coupling_s) * 1e12, c->cfg->direct_coupling_tolerance_s * 1e12);
 }
 
+/* The commissioning rules beyond edges and time zero: a scan that says the
+ * winding moved past the alarm threshold against the current baseline is
+ * never made the baseline, or the alarm would be silenced for good. The
+ * request is then refused (not kept for a later scan) with the reason. */
+static int commissioning_refusal(const struct cycle *c, const struct uwb_verdict *v, char *note, size_t n)
+{
+    int moved = v->has_baseline && v->current.found && v->baseline.found &&
+                fabs(v->axial_displacement_m) >= c->cfg->evaluate.compare.thresholds.alarm_m;
+    if (v->status != UWB_STATUS_ALARM && !moved)
+        return 0;
+    snprintf(note, n,
+             "refused: this scan is %s against the current baseline (%+.2f mm): a winding that moved is not made "
+             "the baseline; inspect it, then send `baseline set` again after moving baseline/current.* aside",
+             v->status == UWB_STATUS_ALARM ? "an alarm" : "past the alarm threshold", v->axial_displacement_m * 1e3);
+    return 1;
+}
+
 static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, const struct uwb_verdict *v,
                                  int dc_ok, double arrival_s, const char *dc_why, struct verdict_extras *x)
 {
     x->baseline_requested = 1;
+    if (commissioning_refusal(c, v, x->baseline_note, sizeof x->baseline_note)) {
+        c->res->baseline_refused = 1;
+        uwbd_log(UWBD_LOG_WARNING, "scan %s: baseline set %s", c->id, x->baseline_note);
+        return;
+    }
     if (!v->current.found) {
         snprintf(x->baseline_note, sizeof x->baseline_note,
                  "not set: the winding's edges were not found in this scan; the next good scan will be tried");
@@ -274,19 +299,15 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
                                             sizeof dc_why) == 0;
     struct uwb_scan base = {0};
     struct uwbd_baseline_info info;
-    int repaired = 0;
-    char base_err[512] = "";
-    int b = uwbd_baseline_load(c->store, c->cfg->direct_coupling_window_end_s, &base, &info, &repaired, base_err,
-                               sizeof base_err);
-    if (b == UWBD_BASELINE_ERROR)
-        uwbd_log(UWBD_LOG_ERR, "baseline unreadable, scan %s not compared: %s", c->id, base_err);
-    if (repaired)
-        uwbd_log(UWBD_LOG_WARNING, "baseline/current.json did not describe current.uwbscan; rebuilt it");
+    int b = uwbd_baseline_watch(c->store, c->cfg->direct_coupling_window_end_s,
+                                c->req->has_expected ? &c->req->expected : NULL, &base, &info, c->res->fault,
+                                sizeof c->res->fault);
+    c->res->baseline_checked = 1;
+    if (b == UWBD_BASELINE_FAULT)
+        uwbd_log(UWBD_LOG_WARNING, "scan %s not compared: fault: %s", c->id, c->res->fault);
     char not_compared[256] = "";
     if (b == UWBD_BASELINE_LOADED)
         direct_coupling_check(c, dc_ok, arrival, dc_why, &info, not_compared, sizeof not_compared);
-    else if (b == UWBD_BASELINE_ERROR)
-        snprintf(not_compared, sizeof not_compared, "baseline unreadable: %.200s", base_err);
     int compare = b == UWBD_BASELINE_LOADED && !not_compared[0];
 
     struct uwb_analysis cur_a, base_a;
@@ -317,6 +338,17 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     }
     if (c->req->make_baseline)
         set_baseline_if_good(c, scan, &v, dc_ok, arrival, dc_why, &x);
+    if (b == UWBD_BASELINE_FAULT) {
+        if (x.baseline_set) {
+            snprintf(x.baseline_note, sizeof x.baseline_note, "replaced a baseline that failed its check: %.200s",
+                     c->res->fault);
+            c->res->fault[0] = '\0';
+        } else {
+            v.status = UWB_STATUS_ERROR;
+            snprintf(v.reason, sizeof v.reason, "fault: %.240s", c->res->fault);
+            x.fault = "baseline";
+        }
+    }
     record(c, &v, &x);
     uwbd_log(UWBD_LOG_INFO, "scan %s: %s%s%s", c->id, uwb_status_name(v.status), v.reason[0] ? ": " : "", v.reason);
 }

@@ -67,4 +67,108 @@ stop_daemon
 pass "one stacking default ($default_stack: key table, samples, config.md, README); the sample config" \
      "as shipped on the emulated board: 12 mm rise -> alarm $shift ± $sigma mm"
 
+# ---- the baseline watched, recoverable by the operator -------------------------
+# Quicker settings from here on: 40 dB per pulse, 4 pulses, one scan per baseline.
+stop_emu
+start_emu --set snr_db=40
+fast=(--state-dir run/state2 --set digitiser.stack=4 --set baseline.scans=1)
+state=run/state2
+start_daemon uwbd-watch.log "${fast[@]}"
+ctl baseline set > /dev/null
+ctl scan > w-base.json
+[[ $(get baseline_set < w-base.json) == true ]] || fail "commissioning: $(cat w-base.json)"
+base_id=$(get scan_id < w-base.json)
+[[ -n $(get crc32 < $state/baseline/current.json) && $(get crc32 < $state/baseline/current.json) != "(missing)" ]] ||
+    fail "current.json records no checksum: $(cat $state/baseline/current.json)"
+
+# A baseline deleted while running: the next scan is an error with a fault, not a silent `edges`.
+emu 'set displacement_m 0.012' > /dev/null
+rm $state/baseline/current.uwbscan
+ctl scan > w-deleted.json || true
+[[ $(get status fault < w-deleted.json | paste -sd' ') == "error baseline" ]] ||
+    fail "a deleted baseline: $(cat w-deleted.json)"
+[[ $(get reason < w-deleted.json) == "fault: baseline missing: "*"$base_id"* ]] || fail "reason: $(cat w-deleted.json)"
+grep -q "warning: .*fault: baseline missing" uwbd-watch.log || fail "no warning-level log line for the fault"
+ctl status > w-status.json
+[[ $(get fault baseline.check < w-status.json | paste -sd'|') == "baseline missing: "*"|failed" ]] ||
+    fail "status does not say the baseline failed its check: $(cat w-status.json)"
+pass "baseline deleted while running: error verdict, fault 'baseline missing', warning logged, status says so"
+
+# `baseline set` recovers: the next good scan replaces it; the fault clears.
+ctl baseline set > /dev/null
+emu 'set displacement_m 0' > /dev/null
+ctl scan > w-recommission.json
+[[ $(get status baseline_set < w-recommission.json | paste -sd' ') == "edges true" ]] ||
+    fail "recommissioning after a deleted baseline: $(cat w-recommission.json)"
+[[ $(get baseline_note < w-recommission.json) == "replaced a baseline that failed its check"* ]] ||
+    fail "note: $(cat w-recommission.json)"
+ctl status > w-status2.json
+[[ $(get fault < w-status2.json) == "(missing)" ]] || fail "fault not cleared: $(cat w-status2.json)"
+base_id=$(get scan_id < w-recommission.json)
+
+# A damaged (truncated) baseline: fault; `baseline set` moves it aside and replaces it.
+size=$(stat -c %s $state/baseline/current.uwbscan)
+truncate -s $((size / 2)) $state/baseline/current.uwbscan
+ctl scan > w-damaged.json || true
+[[ $(get status fault < w-damaged.json | paste -sd' ') == "error baseline" &&
+   $(get reason < w-damaged.json) == "fault: baseline damaged: "* ]] || fail "a damaged baseline: $(cat w-damaged.json)"
+ctl baseline set > /dev/null
+ctl scan > w-replaced.json
+[[ $(get status baseline_set < w-replaced.json | paste -sd' ') == "edges true" ]] ||
+    fail "a damaged baseline was not replaced: $(cat w-replaced.json)"
+damaged=( $state/baseline/history/damaged-*.uwbscan )
+[[ -f ${damaged[0]} && $(stat -c %s "${damaged[0]}") == $((size / 2)) ]] ||
+    fail "the damaged baseline was not kept in history: $(ls $state/baseline/history)"
+ctl scan > w-after.json
+[[ $(get status < w-after.json) == ok ]] || fail "scan after replacing the damaged baseline: $(cat w-after.json)"
+pass "damaged baseline: fault; \`baseline set\` replaced it (the damaged one kept as $(basename "${damaged[0]}")), next scan ok"
+
+# A pending `baseline set` survives a restart.
+ctl baseline set > /dev/null
+stop_daemon
+start_daemon uwbd-watch2.log "${fast[@]}"
+[[ $(ctl status | get baseline_pending) == true ]] || fail "the pending baseline set was forgotten at restart"
+ctl scan > w-restart.json
+[[ $(get baseline_set < w-restart.json) == true ]] || fail "pending after restart not applied: $(cat w-restart.json)"
+[[ ! -e $state/baseline/pending.json && $(ctl status | get baseline_pending) == false ]] ||
+    fail "the request is still pending after it was applied"
+base_id=$(get scan_id < w-restart.json)
+pass "a pending \`baseline set\` survives a restart and is applied to the next good scan"
+
+# ...and is never applied to an alarm: refused with the reason, the old baseline kept.
+emu 'set displacement_m 0.012' > /dev/null
+ctl baseline set > /dev/null
+ctl scan > w-alarm.json
+[[ $(get status baseline_set < w-alarm.json | paste -sd' ') == "alarm false" &&
+   $(get baseline_note < w-alarm.json) == "refused: this scan is an alarm"* ]] ||
+    fail "baseline set on an alarm: $(cat w-alarm.json)"
+[[ $(ctl status | get baseline_pending baseline.scan_id | paste -sd' ') == "false $base_id" ]] ||
+    fail "after the refusal: $(ctl status)"
+ctl scan > w-alarm2.json
+[[ $(get status baseline_set < w-alarm2.json | paste -sd' ') == "alarm (missing)" ]] ||
+    fail "the refused request came back: $(cat w-alarm2.json)"
+pass "a pending \`baseline set\` meets an alarm: refused with the reason, the baseline kept, the alarm stays"
+
+# A current.json whose direct coupling is wrong is checked against the baseline scan itself.
+emu 'set displacement_m 0' > /dev/null
+stop_daemon
+sed -i 's/"direct_coupling_ps":[-0-9.e]*/"direct_coupling_ps":1234.5/' $state/baseline/current.json
+grep -q '"direct_coupling_ps":1234.5' $state/baseline/current.json || fail "could not edit current.json"
+start_daemon uwbd-watch3.log "${fast[@]}"
+ctl scan > w-dc.json
+[[ $(get status < w-dc.json) == ok ]] || fail "a wrong direct_coupling_ps in current.json: $(cat w-dc.json)"
+grep -q "warning: baseline: current.json gives the direct coupling at 1234.5 ps" uwbd-watch3.log ||
+    fail "no warning about the wrong direct coupling"
+! grep -q '"direct_coupling_ps":1234.5' $state/baseline/current.json || fail "current.json not corrected"
+pass "current.json with a wrong direct_coupling_ps: the baseline scan's own is used (warning), scan ok"
+
+# The state directory deleted under the daemon: it stops (73) with a clear message; a new one may start.
+rm -rf "$state"
+set +e; wait "$daemon_pid"; rc=$?; set -e
+[[ $rc == 73 ]] || fail "daemon after its state directory was deleted: exit $rc, want 73"
+grep -q "lock file .* was deleted or replaced" uwbd-watch3.log || fail "no clear message: $(tail -3 uwbd-watch3.log)"
+start_daemon uwbd-watch4.log "${fast[@]}"
+stop_daemon
+pass "state directory deleted while running: the daemon stops (73) naming the lock; the next one starts cleanly"
+
 echo "$passed passed, 0 failed"
