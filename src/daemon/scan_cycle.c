@@ -12,12 +12,14 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "uwb/daemon/acquire_more.h"
 #include "uwb/daemon/baseline_store.h"
 #include "uwb/daemon/direct_coupling.h"
 #include "uwb/daemon/log.h"
 #include "uwb/daemon/retention.h"
 #include "uwb/daemon/verdict_log.h"
 #include "uwb/evaluate.h"
+#include "uwb/monotonic.h"
 #include "uwb/verdict_json.h"
 
 /* What the daemon adds to the imaging core's verdict. */
@@ -33,6 +35,12 @@ struct verdict_extras {
     char baseline_note[256];
     const char *archive_error;   /* a file of this cycle the archive did not take */
     const char *record_error;    /* why the verdict is not in verdicts.jsonl */
+    int pulses;                  /* per position, in the scan evaluated */
+    int acquisitions;
+    const char *reacquire_note;  /* why no more were acquired while inconclusive */
+    int baseline_scans;          /* a baseline set from this many scans... */
+    int has_repeatability;
+    double repeatability_m;      /* ...whose centres spread this much */
 };
 
 struct cycle {
@@ -46,6 +54,14 @@ struct cycle {
     char id[UWBD_SCAN_ID_MAX + 1];
     char created[64];
     char archive_error[512];     /* the first file of this cycle that could not be archived */
+    uwbd_acquire_fn acquire;
+    void *acquire_ctx;
+    const volatile sig_atomic_t *stop;
+    double started_s, acquire_s; /* CLOCK_MONOTONIC at the start; one acquisition's duration */
+    int acquisitions, pulses_each;
+    int baseline_scans, has_repeatability;
+    double repeatability_m;
+    char reacquire_note[256];
 };
 
 static int file_exists_in(const char *dir, const char *id, const char *suffix)
@@ -94,6 +110,17 @@ static char *verdict_text(const struct uwb_verdict *v, const struct verdict_extr
         cJSON_AddBoolToObject(o, "baseline_set", x->baseline_set);
         if (x->baseline_note[0])
             cJSON_AddStringToObject(o, "baseline_note", x->baseline_note);
+    }
+    if (x->pulses > 0) {
+        cJSON_AddNumberToObject(o, "pulses_per_position", x->pulses);
+        cJSON_AddNumberToObject(o, "acquisitions", x->acquisitions);
+    }
+    if (x->reacquire_note)
+        cJSON_AddStringToObject(o, "reacquire_note", x->reacquire_note);
+    if (x->baseline_set && x->baseline_scans > 0) {
+        cJSON_AddNumberToObject(o, "baseline_scans", x->baseline_scans);
+        if (x->has_repeatability)
+            cJSON_AddNumberToObject(o, "baseline_repeatability_mm", round(x->repeatability_m * 1e6) / 1e3);
     }
     if (x->archive_error)
         cJSON_AddStringToObject(o, "archive_error", x->archive_error);
@@ -262,6 +289,12 @@ static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, c
     uwbd_utc_text(c->req->now, info.set_at, sizeof info.set_at);
     info.has_direct_coupling = 1;
     info.direct_coupling_s = arrival_s;
+    info.scans = c->baseline_scans > 0 ? c->baseline_scans : 1;
+    info.has_repeatability = c->has_repeatability;
+    info.repeatability_m = c->repeatability_m;
+    x->baseline_scans = info.scans;
+    x->has_repeatability = info.has_repeatability;
+    x->repeatability_m = info.repeatability_m;
     char err[512];
     if (uwbd_baseline_set(c->store, scan, &info, c->cfg->direct_coupling_window_end_s, err, sizeof err) != 0) {
         problem(c, "baseline", err);
@@ -270,6 +303,98 @@ static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, c
     }
     x->baseline_set = 1;
     uwbd_log(UWBD_LOG_NOTICE, "scan %s is the new baseline (direct coupling at %.1f ps)", c->id, arrival_s * 1e12);
+}
+
+/* The centre of the winding in one scan alone (NaN when not found): what
+ * the commissioning scans' spread is measured on. */
+static double scan_centre(const struct cycle *c, const struct uwb_scan *scan)
+{
+    struct uwb_verdict v;
+    struct uwb_analysis a, unused;
+    char err[256];
+    if (uwb_evaluate(scan, NULL, &c->cfg->evaluate, &v, &a, &unused, err, sizeof err) != 0)
+        return NAN;
+    uwb_analysis_free(&a);
+    uwb_analysis_free(&unused);
+    return v.current.found ? v.current.center_m : NAN;
+}
+
+/* `baseline set N`: N acquisitions back to back, averaged into *scan; the
+ * spread of their centres is the baseline's repeatability. */
+static int acquire_baseline_scans(struct cycle *c, struct uwb_scan *scan, char *err, size_t errlen)
+{
+    int n = c->req->baseline_scans > UWBD_BASELINE_SCANS_MAX ? UWBD_BASELINE_SCANS_MAX : c->req->baseline_scans;
+    double centres[UWBD_BASELINE_SCANS_MAX];
+    centres[0] = scan_centre(c, scan);
+    for (int i = 1; i < n; i++) {
+        struct uwb_scan added;
+        int rc = uwbd_acquire_and_average(c->acquire, c->acquire_ctx, c->stop, scan, &added, err, errlen);
+        if (rc != UWBD_ACQUIRE_OK)
+            return rc;
+        centres[i] = scan_centre(c, &added);
+        uwb_scan_free(&added);
+        c->acquisitions++;
+    }
+    int used = 0;
+    c->repeatability_m = uwbd_spread(centres, n, &used);
+    c->has_repeatability = used >= 2;
+    c->baseline_scans = n;
+    uwbd_log(UWBD_LOG_INFO, "baseline: %d scans averaged; their centres spread %.3f mm (1-sigma, %d with edges)", n,
+             c->repeatability_m * 1e3, used);
+    return UWBD_ACQUIRE_OK;
+}
+
+/* Inconclusive only for noise that more pulses would average down: acquire
+ * again and average, within analysis.reacquire_budget_s of the cycle's
+ * start, re-evaluating each time. Why it stopped short goes to the verdict.
+ * -1 (err) when the evaluation itself fails. */
+static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan, const struct uwb_scan *base,
+                                    const struct uwb_evaluate_options *opt, struct uwb_verdict *v,
+                                    struct uwb_analysis *cur_a, struct uwb_analysis *base_a, const char *scan_path,
+                                    char *err, size_t errlen)
+{
+    double max_m = opt->compare.max_uncertainty_m, budget = c->cfg->reacquire_budget_s;
+    int added_any = 0;
+    while (budget > 0 && v->status == UWB_STATUS_INCONCLUSIVE && v->has_baseline && v->current.found &&
+           v->baseline.found && v->uncertainty_m > max_m) {
+        int more = uwbd_acquisitions_needed(v, max_m, scan->stack > 0 ? scan->stack : 1, c->pulses_each);
+        double spent = uwb_monotonic_s() - c->started_s;
+        if (more < 0) {
+            snprintf(c->reacquire_note, sizeof c->reacquire_note,
+                     "more pulses cannot bring the uncertainty under %.2f mm: its part that does not average "
+                     "down is over it", max_m * 1e3);
+            break;
+        }
+        if (more < 1)
+            more = 1;
+        if (spent + more * c->acquire_s > budget) {
+            snprintf(c->reacquire_note, sizeof c->reacquire_note,
+                     "%d more acquisition%s (about %.0f s) would be needed, over analysis.reacquire_budget_s %.0f s",
+                     more, more == 1 ? "" : "s", more * c->acquire_s, budget);
+            break;
+        }
+        struct uwb_scan added;
+        char why[256];
+        int rc = uwbd_acquire_and_average(c->acquire, c->acquire_ctx, c->stop, scan, &added, why, sizeof why);
+        if (rc != UWBD_ACQUIRE_OK) {
+            snprintf(c->reacquire_note, sizeof c->reacquire_note, "acquiring again failed: %.200s", why);
+            break;
+        }
+        uwb_scan_free(&added);
+        c->acquisitions++;
+        added_any = 1;
+        uwb_analysis_free(cur_a);
+        uwb_analysis_free(base_a);
+        if (uwb_evaluate(scan, base, opt, v, cur_a, base_a, err, errlen) != 0)
+            return -1;
+        uwbd_log(UWBD_LOG_INFO, "scan %s: acquired again (%d pulses per position): uncertainty %.2f mm", c->id,
+                 scan->stack, v->uncertainty_m * 1e3);
+    }
+    /* The archive keeps the scan the verdict was made from. */
+    char write_err[512];
+    if (added_any && uwbscan_write_file(scan_path, scan, write_err, sizeof write_err) != 0)
+        archive_problem(c, "archive", write_err);
+    return 0;
 }
 
 /* Everything after a successful acquisition. */
@@ -310,8 +435,13 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
         direct_coupling_check(c, dc_ok, arrival, dc_why, &info, not_compared, sizeof not_compared);
     int compare = b == UWBD_BASELINE_LOADED && !not_compared[0];
 
+    struct uwb_evaluate_options opt = c->cfg->evaluate;
+    if (compare && info.has_repeatability)   /* the baseline's mean carries spread/sqrt(N) */
+        opt.compare.baseline_repeatability_m = info.repeatability_m / sqrt(info.scans > 1 ? info.scans : 1);
     struct uwb_analysis cur_a, base_a;
-    if (uwb_evaluate(scan, compare ? &base : NULL, &c->cfg->evaluate, &v, &cur_a, &base_a, err, sizeof err) != 0) {
+    if (uwb_evaluate(scan, compare ? &base : NULL, &opt, &v, &cur_a, &base_a, err, sizeof err) != 0 ||
+        (compare && reacquire_until_decisive(c, scan, &base, &opt, &v, &cur_a, &base_a, scan_path, err,
+                                             sizeof err) != 0)) {
         uwb_scan_free(&base);
         record_error(c, "evaluation failed: %s", err);
         return;
@@ -331,7 +461,9 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     uwb_analysis_free(&base_a);
     uwb_scan_free(&base);
 
-    struct verdict_extras x = {.scan_file = scan_path, .has_direct_coupling = dc_ok, .direct_coupling_s = arrival};
+    struct verdict_extras x = {.scan_file = scan_path, .has_direct_coupling = dc_ok, .direct_coupling_s = arrival,
+                               .pulses = scan->stack, .acquisitions = c->acquisitions,
+                               .reacquire_note = c->reacquire_note[0] ? c->reacquire_note : NULL};
     if (compare) {
         x.has_shift = 1;
         x.direct_coupling_shift_s = arrival - info.direct_coupling_s;
@@ -358,7 +490,8 @@ int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store
                    struct uwbd_cycle_result *res)
 {
     memset(res, 0, sizeof *res);
-    struct cycle c = {.cfg = cfg, .store = store, .req = req, .res = res};
+    struct cycle c = {.cfg = cfg, .store = store, .req = req, .res = res, .acquire = acquire,
+                      .acquire_ctx = acquire_ctx, .stop = stop, .started_s = uwb_monotonic_s()};
     uwbd_utc_text(req->now, c.created, sizeof c.created);
     struct tm utc;
     gmtime_r(&req->now, &utc);
@@ -368,6 +501,11 @@ int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store
 
     struct uwb_scan scan = {0};
     int rc = acquire(acquire_ctx, stop, &scan, err, sizeof err);
+    c.acquire_s = uwb_monotonic_s() - c.started_s;
+    c.acquisitions = 1;
+    c.pulses_each = scan.stack > 0 ? scan.stack : 1;
+    if (rc == UWBD_ACQUIRE_OK && req->make_baseline && req->baseline_scans > 1)
+        rc = acquire_baseline_scans(&c, &scan, err, sizeof err);
     if (rc == UWBD_ACQUIRE_STOPPED) {
         uwb_scan_free(&scan);
         res->outcome = UWBD_CYCLE_STOPPED;

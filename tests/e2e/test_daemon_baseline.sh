@@ -67,6 +67,56 @@ stop_daemon
 pass "one stacking default ($default_stack: key table, samples, config.md, README); the sample config" \
      "as shipped on the emulated board: 12 mm rise -> alarm $shift ± $sigma mm"
 
+# ---- decisive when the data allows: acquire again within the budget -----------------
+# 4 pulses per position at 20 dB leave the 12 mm rise just over the 1 mm limit.
+emu 'set displacement_m 0' > /dev/null
+few=(--state-dir run/state3 --set digitiser.stack=4 --set baseline.scans=1)
+start_daemon uwbd-few.log "${few[@]}" --set analysis.reacquire_budget_s=0
+ctl baseline set > /dev/null
+ctl scan > few-base.json
+[[ $(get baseline_set < few-base.json) == true ]] || fail "commissioning with 4 pulses: $(cat few-base.json)"
+emu 'set displacement_m 0.012' > /dev/null
+ctl scan > few-nobudget.json
+[[ $(get status acquisitions < few-nobudget.json | paste -sd' ') == "inconclusive 1" ]] ||
+    fail "4 pulses, no budget: $(cat few-nobudget.json)"
+stop_daemon
+start_daemon uwbd-few2.log "${few[@]}"
+ctl scan > few-budget.json
+read -r status acq pulses shift sigma < <(get status acquisitions pulses_per_position axial_displacement_mm \
+                                             uncertainty_mm < few-budget.json | paste -sd' ')
+[[ $status == alarm && $acq -ge 2 && $pulses == $((4 * acq)) ]] ||
+    fail "4 pulses with the default budget: $(cat few-budget.json)"
+awk -v s="$sigma" 'BEGIN { exit !(s <= 1.0) }' || fail "uncertainty $sigma mm after acquiring again"
+stop_daemon
+pass "uncertainty over the limit: without a budget inconclusive ($(get reason < few-nobudget.json));" \
+     "with it $acq acquisitions, $pulses pulses per position: alarm $shift ± $sigma mm"
+
+# ---- a baseline from several scans ---------------------------------------------------
+emu 'set displacement_m 0' > /dev/null
+start_daemon uwbd-n.log --state-dir run/state4 --set digitiser.stack=4 --set baseline.scans=2
+ctl baseline set 3 > /dev/null
+ctl scan > n-base.json
+read -r set scans acq pulses rep < <(get baseline_set baseline_scans acquisitions pulses_per_position \
+                                         baseline_repeatability_mm < n-base.json | paste -sd' ')
+[[ $set == true && $scans == 3 && $acq == 3 && $pulses == 12 && $rep != "(missing)" ]] ||
+    fail "baseline set 3: $(cat n-base.json)"
+[[ $(get scans repeatability_mm < run/state4/baseline/current.json | paste -sd' ') == "3 $rep" ]] ||
+    fail "current.json: $(cat run/state4/baseline/current.json)"
+[[ $(ctl status | get baseline.scans baseline.repeatability_mm | paste -sd' ') == "3 $rep" ]] ||
+    fail "status does not show the baseline's scans and repeatability"
+ctl scan > n-next.json
+read -r status sigma < <(get status uncertainty_mm < n-next.json | paste -sd' ')
+awk -v s="$sigma" -v r="$rep" 'BEGIN { exit !(s >= r / sqrt(3) - 0.005) }' ||
+    fail "the verdict's uncertainty $sigma mm leaves out the baseline's repeatability $rep mm / sqrt(3)"
+# `baseline set` without N takes baseline.scans (2 here).
+ctl baseline set > /dev/null
+ctl scan > n-default.json
+[[ $(get baseline_set baseline_scans < n-default.json | paste -sd' ') == "true 2" ]] ||
+    fail "baseline set without N: $(cat n-default.json)"
+stop_daemon
+pass "baseline set 3: 3 scans averaged (12 pulses per position), repeatability $rep mm recorded in" \
+     "current.json and status; next verdict ± $sigma mm includes it; without N, baseline.scans"
+
 # ---- the baseline watched, recoverable by the operator -------------------------
 # Quicker settings from here on: 40 dB per pulse, 4 pulses, one scan per baseline.
 stop_emu
