@@ -329,8 +329,14 @@ static int acquire_baseline_scans(struct cycle *c, struct uwb_scan *scan, char *
     for (int i = 1; i < n; i++) {
         struct uwb_scan added;
         int rc = uwbd_acquire_and_average(c->acquire, c->acquire_ctx, c->stop, scan, &added, err, errlen);
-        if (rc != UWBD_ACQUIRE_OK)
+        if (rc == UWBD_ACQUIRE_STOPPED)
             return rc;
+        if (rc != UWBD_ACQUIRE_OK) {   /* keep what was acquired: the scans so far make the baseline */
+            uwbd_log(UWBD_LOG_WARNING, "baseline: acquisition %d of %d failed (%s); averaging the %d acquired", i + 1,
+                     n, err, i);
+            n = i;
+            break;
+        }
         centres[i] = scan_centre(c, &added);
         uwb_scan_free(&added);
         c->acquisitions++;
