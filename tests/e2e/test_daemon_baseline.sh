@@ -13,7 +13,7 @@ cp "$REPO/board/emulated/uwbd.json" "$config"
 ctl() { uwbd ctl --socket run/control.sock "$@"; }
 emu() { uwbemu --ctl unix:run/emu.sock "$@"; }
 # get KEY... < JSON: one line per key (the project's own JSON reader).
-get() { "$BUILD/e2e/state_check" get "$@"; }
+get() { json_get "$@"; }
 
 start_emu() {   # extra uwbemu arguments
     ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
@@ -93,9 +93,20 @@ pass "uncertainty over the limit: without a budget inconclusive ($(get reason < 
 
 # ---- a baseline from several scans ---------------------------------------------------
 emu 'set displacement_m 0' > /dev/null
-start_daemon uwbd-n.log --state-dir run/state4 --set digitiser.stack=4 --set baseline.scans=2
-ctl baseline set 3 > /dev/null
-ctl scan > n-base.json
+# `baseline set 3` on the serial console (a unix endpoint the daemon connects to).
+rm -f run/console.go
+${UWB_EXEC_PREFIX:-} "$BUILD/e2e/unix_peer" console run/console.sock run/console.go console.out \
+    "baseline set 3" scan > console.log 2>&1 &
+console_pid=$!
+pids+=($console_pid)
+wait_for test -S run/console.sock || fail "console listener did not come up"
+start_daemon uwbd-n.log --state-dir run/state4 --set digitiser.stack=4 --set baseline.scans=2 \
+    --console unix:run/console.sock
+touch run/console.go
+wait "$console_pid" || fail "console peer: $(cat console.log)"
+[[ $(sed -n 1p console.out | get class pending | paste -sd' ') == "BASELINE true" ]] ||
+    fail "console baseline set 3: $(cat console.out)"
+sed -n 2p console.out > n-base.json
 read -r set scans acq pulses rep < <(get baseline_set baseline_scans acquisitions pulses_per_position \
                                          baseline_repeatability_mm < n-base.json | paste -sd' ')
 [[ $set == true && $scans == 3 && $acq == 3 && $pulses == 12 && $rep != "(missing)" ]] ||
@@ -114,7 +125,7 @@ ctl scan > n-default.json
 [[ $(get baseline_set baseline_scans < n-default.json | paste -sd' ') == "true 2" ]] ||
     fail "baseline set without N: $(cat n-default.json)"
 stop_daemon
-pass "baseline set 3: 3 scans averaged (12 pulses per position), repeatability $rep mm recorded in" \
+pass "baseline set 3 (console): 3 scans averaged (12 pulses per position), repeatability $rep mm recorded in" \
      "current.json and status; next verdict ± $sigma mm includes it; without N, baseline.scans"
 
 # ---- the baseline watched, recoverable by the operator -------------------------
