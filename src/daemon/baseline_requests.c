@@ -10,24 +10,26 @@
 #include "uwb/daemon/log.h"
 #include "uwb/daemon/reply.h"
 
-char *baseline_request(struct daemon *d, int scans)
+char *baseline_request(struct daemon *d, int scans, int force)
 {
     d->baseline_requests++;
     d->baseline_scans = scans > 0 ? scans : d->cfg.baseline_scans;
+    d->baseline_force = force;
     char err[1024];
-    if (uwbd_baseline_pending_write(&d->store, d->baseline_scans, time(NULL), err, sizeof err) != 0)
+    if (uwbd_baseline_pending_write(&d->store, d->baseline_scans, force, time(NULL), err, sizeof err) != 0)
         uwbd_log(UWBD_LOG_WARNING, "baseline set: the request holds until the next good scan but is not kept "
                                    "across a restart: %s", err);
     uwbd_log(UWBD_LOG_NOTICE, "baseline set requested: the next good scan, averaged over %d acquisition%s, becomes "
-                              "the baseline", d->baseline_scans, d->baseline_scans == 1 ? "" : "s");
+                              "the baseline%s", d->baseline_scans, d->baseline_scans == 1 ? "" : "s",
+             force ? " even if it is an alarm against the current one (force)" : "");
     return uwbd_reply_baseline(1, d->has_baseline, &d->baseline);
 }
 
 void baseline_requests_restore(struct daemon *d)
 {
     char err[1024];
-    int scans = 0;
-    int rc = uwbd_baseline_pending_read(&d->store, &scans, err, sizeof err);
+    int scans = 0, force = 0;
+    int rc = uwbd_baseline_pending_read(&d->store, &scans, &force, err, sizeof err);
     if (rc < 0) {
         uwbd_log(UWBD_LOG_WARNING, "baseline: %s; no `baseline set` is pending", err);
         return;
@@ -36,6 +38,7 @@ void baseline_requests_restore(struct daemon *d)
         return;
     d->baseline_requests = d->baseline_done + 1;
     d->baseline_scans = scans;
+    d->baseline_force = force;
     uwbd_log(UWBD_LOG_NOTICE, "baseline set (%d scan%s) pending from before the restart: the next good scan "
                               "becomes the baseline", scans, scans == 1 ? "" : "s");
 }
@@ -44,6 +47,7 @@ void baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req)
 {
     req->make_baseline = d->baseline_requests > d->baseline_done;
     req->baseline_scans = req->make_baseline ? d->baseline_scans : 1;
+    req->force_baseline = req->make_baseline && d->baseline_force;
     req->has_expected = d->has_baseline;
     if (d->has_baseline)
         req->expected = d->baseline;

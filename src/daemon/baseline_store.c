@@ -346,18 +346,19 @@ int uwbd_baseline_watch(const struct uwbd_store *store, double window_end_s,
     return UWBD_BASELINE_LOADED;
 }
 
-int uwbd_baseline_pending_write(const struct uwbd_store *store, int scans, time_t requested, char *err,
+int uwbd_baseline_pending_write(const struct uwbd_store *store, int scans, int force, time_t requested, char *err,
                                 size_t errlen)
 {
     struct baseline_paths p;
     current_paths(store, &p);
     char at[64], text[160];
     uwbd_utc_text(requested, at, sizeof at);
-    snprintf(text, sizeof text, "{\"requested_at\":\"%s\",\"scans\":%d}", at, scans);
+    snprintf(text, sizeof text, "{\"requested_at\":\"%s\",\"scans\":%d,\"force\":%s}", at, scans,
+             force ? "true" : "false");
     return uwbd_write_json_file(p.pending, text, err, errlen);
 }
 
-int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, char *err, size_t errlen)
+int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, int *force, char *err, size_t errlen)
 {
     struct baseline_paths p;
     current_paths(store, &p);
@@ -370,8 +371,10 @@ int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, char 
     const cJSON *n = cJSON_GetObjectItemCaseSensitive(o, "scans");
     int ok = cJSON_IsNumber(n) && n->valuedouble >= 1 && n->valuedouble <= UWBD_BASELINE_SCANS_MAX &&
              n->valuedouble == (int)n->valuedouble;
-    if (ok)
+    if (ok) {
         *scans = (int)n->valuedouble;
+        *force = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(o, "force"));
+    }
     else
         snprintf(err, errlen, "%s: not a pending `baseline set` (scans 1..%d)", p.pending, UWBD_BASELINE_SCANS_MAX);
     cJSON_Delete(o);

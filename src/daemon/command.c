@@ -16,6 +16,8 @@ const struct uwb_command_help uwb_command_help[] = {
     {"history [N]", "the last N verdicts, oldest first (N 1..100, default 10)"},
     {"baseline set [N]", "the next good scan, averaged over N acquisitions (1..16; default baseline.scans), becomes "
                          "the baseline (the old one is kept in baseline/history)"},
+    {"baseline set force", "the same, also when the scan is an alarm against the current baseline (after a repair "
+                           "that moved the winding); logged"},
     {"help", "this list"},
 };
 const size_t uwb_command_help_count = sizeof uwb_command_help / sizeof uwb_command_help[0];
@@ -135,8 +137,10 @@ int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, cha
         }
         cmd.kind = UWB_COMMAND_BASELINE_SET;
         max_args = 2;
-        if (n_words == 3 && (parse_count(words[2], &cmd.count) != 0 || cmd.count > UWB_BASELINE_SCANS_MAX)) {
-            set_error(err, errlen, "baseline set: N (scans to average) must be a whole number from 1 to 16, not",
+        if (n_words == 3 && strcmp(words[2], "force") == 0)
+            cmd.force = 1;
+        else if (n_words == 3 && (parse_count(words[2], &cmd.count) != 0 || cmd.count > UWB_BASELINE_SCANS_MAX)) {
+            set_error(err, errlen, "baseline set: N (scans to average) must be a whole number from 1 to 16, or `force`, not",
                       words[2]);
             return UWB_COMMAND_INVALID;
         }

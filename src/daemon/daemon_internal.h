@@ -68,6 +68,7 @@ struct daemon {
     unsigned long baseline_requests; /* `baseline set` commands so far */
     unsigned long baseline_done;     /* the request the baseline last satisfied */
     int baseline_scans;              /* scans the pending request averages */
+    int baseline_force;              /* ...and it is `baseline set force` */
     char fault[512];                 /* "" or the device fault the last scan found (the baseline) */
     int lock_watch_fd;               /* inotify on the state directory's lock file, -1 none */
     int exit_code;                   /* non-zero: stop and exit with it */
@@ -100,7 +101,7 @@ void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line,
 void console_open(struct daemon *d);
 
 /* baseline_requests.c */
-char *baseline_request(struct daemon *d, int scans);       /* `baseline set [N]`: the reply */
+char *baseline_request(struct daemon *d, int scans, int force); /* `baseline set [N|force]`: the reply */
 void baseline_requests_restore(struct daemon *d);         /* a request pending at the last stop */
 void baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req);
 void baseline_request_finished(struct daemon *d, unsigned long request, const struct uwbd_cycle_result *res);

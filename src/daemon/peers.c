@@ -164,7 +164,7 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         return;
     }
     case UWB_COMMAND_BASELINE_SET:
-        reply(d, p, baseline_request(d, cmd->count));
+        reply(d, p, baseline_request(d, cmd->count, cmd->force));
         return;
     case UWB_COMMAND_SCAN:
         if (d->stopping) {

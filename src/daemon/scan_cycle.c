@@ -256,9 +256,17 @@ static int commissioning_refusal(const struct cycle *c, const struct uwb_verdict
                 fabs(v->axial_displacement_m) >= c->cfg->evaluate.compare.thresholds.alarm_m;
     if (v->status != UWB_STATUS_ALARM && !moved)
         return 0;
+    if (c->req->force_baseline) {   /* the operator's decision after a repair: said, not silent */
+        uwbd_log(UWBD_LOG_WARNING, "scan %s: baseline set force: taking it as the baseline although it is %+.2f mm from the "
+                                   "current one", c->id, v->axial_displacement_m * 1e3);
+        snprintf(note, n, "forced (`baseline set force`): made the baseline although it is %s against the previous "
+                          "one (%+.2f mm)", v->status == UWB_STATUS_ALARM ? "an alarm" : "past the alarm threshold",
+                 v->axial_displacement_m * 1e3);
+        return 0;
+    }
     snprintf(note, n,
              "refused: this scan is %s against the current baseline (%+.2f mm): a winding that moved is not made "
-             "the baseline; inspect it, then send `baseline set` again after moving baseline/current.* aside",
+             "the baseline; inspect it, and if the move is known (a repair), send `baseline set force`",
              v->status == UWB_STATUS_ALARM ? "an alarm" : "past the alarm threshold", v->axial_displacement_m * 1e3);
     return 1;
 }

@@ -210,8 +210,18 @@ ctl scan > w-alarm2.json
     fail "the refused request came back: $(cat w-alarm2.json)"
 pass "a pending \`baseline set\` meets an alarm: refused with the reason, the baseline kept, the alarm stays"
 
+# After a repair that moved the winding, the operator says so: `baseline set force`.
+ctl baseline set force > /dev/null
+ctl scan > w-force.json
+[[ $(get status baseline_set < w-force.json | paste -sd' ') == "alarm true" &&
+   $(get baseline_note < w-force.json) == "forced (\`baseline set force\`)"* ]] ||
+    fail "baseline set force on an alarm: $(cat w-force.json)"
+grep -q "warning: scan .*: baseline set force: taking it as the baseline" uwbd-watch2.log || fail "force not logged"
+ctl scan > w-after-force.json
+[[ $(get status < w-after-force.json) == ok ]] || fail "after baseline set force: $(cat w-after-force.json)"
+pass "\`baseline set force\` (after a repair): the alarm scan becomes the baseline, said in the verdict and log"
+
 # A current.json whose direct coupling is wrong is checked against the baseline scan itself.
-emu 'set displacement_m 0' > /dev/null
 stop_daemon
 sed -i 's/"direct_coupling_ps":[-0-9.e]*/"direct_coupling_ps":1234.5/' $state/baseline/current.json
 grep -q '"direct_coupling_ps":1234.5' $state/baseline/current.json || fail "could not edit current.json"

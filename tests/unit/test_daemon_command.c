@@ -45,6 +45,10 @@ static void test_every_command(void)
     TEST_ASSERT_EQUAL_INT(4, cmd.count);
     assert_command("baseline set 16", UWB_COMMAND_BASELINE_SET);
     TEST_ASSERT_EQUAL_INT(16, cmd.count);
+    TEST_ASSERT_EQUAL_INT(0, cmd.force);
+    assert_command("baseline set force", UWB_COMMAND_BASELINE_SET);
+    TEST_ASSERT_EQUAL_INT(1, cmd.force);
+    TEST_ASSERT_EQUAL_INT(0, cmd.count);
     assert_command("history", UWB_COMMAND_HISTORY);
     TEST_ASSERT_EQUAL_INT(UWB_HISTORY_DEFAULT, cmd.count);
     assert_command("history 7", UWB_COMMAND_HISTORY);

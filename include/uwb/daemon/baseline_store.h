@@ -65,10 +65,11 @@ int uwbd_baseline_watch(const struct uwbd_store *store, double window_end_s,
 
 /* A `baseline set` waiting for its scan, kept in baseline/pending.json so
  * that a restart does not forget it. read: 1 and *scans when one is
- * pending, 0 when none, -1 unreadable (err; treated as none). */
-int uwbd_baseline_pending_write(const struct uwbd_store *store, int scans, time_t requested, char *err,
+ * pending (and *force: `baseline set force`), 0 when none, -1 unreadable
+ * (err; treated as none). */
+int uwbd_baseline_pending_write(const struct uwbd_store *store, int scans, int force, time_t requested, char *err,
                                 size_t errlen);
-int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, char *err, size_t errlen);
+int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, int *force, char *err, size_t errlen);
 int uwbd_baseline_pending_clear(const struct uwbd_store *store, char *err, size_t errlen);
 
 #endif

@@ -25,6 +25,7 @@ enum uwb_command_kind {
 struct uwb_command {
     enum uwb_command_kind kind;
     int count;                 /* history: how many; baseline set: scans to average (0 = the configured default) */
+    int force;                 /* baseline set force: also on a scan that is an alarm against the current baseline */
 };
 
 enum uwb_command_result {

@@ -29,6 +29,7 @@ typedef int (*uwbd_acquire_fn)(void *ctx, const volatile sig_atomic_t *stop, str
 struct uwbd_cycle_request {
     int make_baseline;         /* a `baseline set` is pending */
     int baseline_scans;        /* ...to be made from this many scans averaged (0 or 1: this one) */
+    int force_baseline;        /* ...even from a scan that is an alarm against the current one */
     int has_expected;          /* the daemon commissioned `expected`: it must still be there, whole */
     struct uwbd_baseline_info expected;
     time_t now;                /* wall clock at the start (names the archive day) */
