@@ -72,6 +72,8 @@ int uwbd_acquisitions_needed(const struct uwb_verdict *v, double max_m, int puls
 {
     double total2 = v->uncertainty_m * v->uncertainty_m;
     double noise2 = v->current.sigma_center_noise_m * v->current.sigma_center_noise_m;
+    if (!(noise2 > 0))   /* no noise term given: take it all as noise; the fit corrects it */
+        noise2 = total2;
     double rest2 = total2 - noise2;
     if (rest2 < 0)
         rest2 = 0;
@@ -82,5 +84,26 @@ int uwbd_acquisitions_needed(const struct uwb_verdict *v, double max_m, int puls
     if (pulses_needed <= pulses_now)
         return 0;
     double more = ceil((pulses_needed - pulses_now) / pulses_each);
+    return more > 1e6 ? -1 : (int)more;
+}
+
+int uwbd_acquisitions_needed_fit(double sigma1, int pulses1, double sigma2, int pulses2, double max_m,
+                                 int pulses_each)
+{
+    if (pulses2 <= pulses1 || pulses_each < 1)
+        return -1;
+    double scaling = (sigma1 * sigma1 - sigma2 * sigma2) / (1.0 / pulses1 - 1.0 / pulses2);
+    if (!(scaling > 0))
+        return -1;   /* sigma did not fall with more pulses: more will not help */
+    double fixed = sigma2 * sigma2 - scaling / pulses2;
+    if (fixed < 0)
+        fixed = 0;
+    double room = max_m * max_m - fixed;
+    if (!(room > 0))
+        return -1;
+    double pulses_needed = scaling / room;
+    if (pulses_needed <= pulses2)
+        return 0;
+    double more = ceil((pulses_needed - pulses2) / pulses_each);
     return more > 1e6 ? -1 : (int)more;
 }

@@ -369,9 +369,18 @@ static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan, cons
 {
     double max_m = opt->compare.max_uncertainty_m, budget = c->cfg->reacquire_budget_s;
     int added_any = 0;
+    double sigma_before = 0;
+    int pulses_before = 0;
     while (budget > 0 && v->status == UWB_STATUS_INCONCLUSIVE && v->has_baseline && v->current.found &&
            v->baseline.found && v->uncertainty_m > max_m) {
-        int more = uwbd_acquisitions_needed(v, max_m, scan->stack > 0 ? scan->stack : 1, c->pulses_each);
+        int pulses = scan->stack > 0 ? scan->stack : 1;
+        /* First from the verdict's noise term; once sigma has been seen at two
+         * pulse counts, from how it actually fell. */
+        int more = added_any ? uwbd_acquisitions_needed_fit(sigma_before, pulses_before, v->uncertainty_m, pulses,
+                                                            max_m, c->pulses_each)
+                             : uwbd_acquisitions_needed(v, max_m, pulses, c->pulses_each);
+        sigma_before = v->uncertainty_m;
+        pulses_before = pulses;
         double spent = uwb_monotonic_s() - c->started_s;
         if (more < 0) {
             snprintf(c->reacquire_note, sizeof c->reacquire_note,

@@ -65,6 +65,21 @@ static void test_acquisitions_needed_follow_the_noise_part_alone(void)
     v.current.sigma_center_noise_m = 0.0005;
     v.uncertainty_m = 0.0008;
     TEST_ASSERT_EQUAL_INT(0, uwbd_acquisitions_needed(&v, 0.001, 4, 4));
+    v.current.sigma_center_noise_m = 0;   /* no term given: all of it taken as noise, 1.44 x the pulses */
+    v.uncertainty_m = 0.0012;
+    TEST_ASSERT_EQUAL_INT(1, uwbd_acquisitions_needed(&v, 0.001, 4, 4));
+}
+
+/* sigma^2 = 0.5 + 4 / pulses (mm^2): 1.5 at 4 pulses, 1.0 at 8. Under 1.01 mm
+ * the 8 are enough; under 0.8 mm it takes 28.6 pulses (0.5 + 4 / P <= 0.64),
+ * 6 more acquisitions of 4; under 0.7 mm none can (0.49 < 0.5). */
+static void test_acquisitions_needed_from_two_measurements(void)
+{
+    double s4 = sqrt(0.5 + 4.0 / 4) * 1e-3, s8 = sqrt(0.5 + 4.0 / 8) * 1e-3;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_acquisitions_needed_fit(s4, 4, s8, 8, 0.00101, 4));
+    TEST_ASSERT_EQUAL_INT(6, uwbd_acquisitions_needed_fit(s4, 4, s8, 8, 0.0008, 4));
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed_fit(s4, 4, s8, 8, 0.0007, 4));
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed_fit(s8, 4, s4, 8, 0.001, 4));  /* sigma rose */
 }
 
 static void test_the_baselines_repeatability_enters_the_uncertainty(void)
@@ -95,6 +110,7 @@ int main(void)
     RUN_TEST(test_scans_average_weighted_by_their_pulses);
     RUN_TEST(test_spread_is_the_sample_deviation_of_what_was_found);
     RUN_TEST(test_acquisitions_needed_follow_the_noise_part_alone);
+    RUN_TEST(test_acquisitions_needed_from_two_measurements);
     RUN_TEST(test_the_baselines_repeatability_enters_the_uncertainty);
     return UNITY_END();
 }

@@ -29,4 +29,11 @@ double uwbd_spread(const double *values, int n, int *used);
  * number of pulses can (the rest alone is over the limit). */
 int uwbd_acquisitions_needed(const struct uwb_verdict *v, double max_m, int pulses_now, int pulses_each);
 
+/* The same from two measurements of the uncertainty, sigma1 at pulses1 and
+ * sigma2 at pulses2 (more): sigma^2 = fixed + scaling / pulses fitted
+ * through both, whatever the verdict's terms are. -1 when the fit says no
+ * number of pulses can (or the two do not show sigma falling). */
+int uwbd_acquisitions_needed_fit(double sigma1, int pulses1, double sigma2, int pulses2, double max_m,
+                                 int pulses_each);
+
 #endif
