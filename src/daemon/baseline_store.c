@@ -323,7 +323,7 @@ int uwbd_baseline_watch(const struct uwbd_store *store, double window_end_s,
     int repaired = 0;
     int rc = uwbd_baseline_load(store, window_end_s, scan, info, &repaired, err, sizeof err);
     if (repaired)
-        uwbd_log(UWBD_LOG_WARNING, "baseline/current.json did not describe current.uwbscan; rebuilt it");
+        uwbd_log(UWBD_LOG_WARNING, "baseline/current.json did not describe current.uwbscan; rebuilt it from the scan");
     switch (rc) {
     case UWBD_BASELINE_NONE:   /* nothing commissioned, nothing expected (checked above) */
         return UWBD_BASELINE_NONE;

@@ -116,17 +116,21 @@ static void schedule_first(struct daemon *d)
 
 static void load_baseline_info(struct daemon *d)
 {
-    char err[512];
-    int repaired = 0;
-    int rc = uwbd_baseline_load(&d->store, d->cfg.direct_coupling_window_end_s, NULL, &d->baseline, &repaired, err,
-                                sizeof err);
+    char why[512];
+    struct uwb_scan scan = {0};
+    /* The same check as before every scan: a baseline already missing or
+     * damaged at start is a device fault from the start. */
+    int rc = uwbd_baseline_watch(&d->store, d->cfg.direct_coupling_window_end_s, NULL, &scan, &d->baseline, why,
+                                 sizeof why);
+    uwb_scan_free(&scan);
     d->has_baseline = rc == UWBD_BASELINE_LOADED;
-    if (rc == UWBD_BASELINE_ERROR)
-        uwbd_log(UWBD_LOG_ERR, "baseline: %s", err);
-    else if (rc == UWBD_BASELINE_NONE)
+    if (rc == UWBD_BASELINE_FAULT) {
+        snprintf(d->fault, sizeof d->fault, "%s", why);
+        uwbd_log(UWBD_LOG_WARNING, "device fault: %s; every scan is an error until `baseline set` re-commissions "
+                                   "(the damaged files are kept) or the file is restored", why);
+    } else if (rc == UWBD_BASELINE_NONE) {
         uwbd_log(UWBD_LOG_NOTICE, "no baseline yet: send `baseline set`, then `scan`, to commission");
-    if (repaired)
-        uwbd_log(UWBD_LOG_WARNING, "baseline/current.json did not describe current.uwbscan; rebuilt it from the scan");
+    }
 }
 
 static void set_rig_source(struct uwbd_config *cfg)

@@ -173,6 +173,11 @@ truncate -s $((size / 2)) $state/baseline/current.uwbscan
 ctl scan > w-damaged.json || true
 [[ $(get status fault < w-damaged.json | paste -sd' ') == "error baseline" &&
    $(get reason < w-damaged.json) == "fault: baseline damaged: "* ]] || fail "a damaged baseline: $(cat w-damaged.json)"
+# ...and a daemon started on it says so from the start.
+stop_daemon
+start_daemon uwbd-watch1b.log "${fast[@]}"
+[[ $(ctl status | get fault) == "baseline damaged: "* ]] || fail "after a restart: $(ctl status)"
+grep -q "warning: device fault: baseline damaged" uwbd-watch1b.log || fail "no warning at start for the damaged baseline"
 ctl baseline set > /dev/null
 ctl scan > w-replaced.json
 [[ $(get status baseline_set < w-replaced.json | paste -sd' ') == "edges true" ]] ||
