@@ -12,6 +12,7 @@ struct uwb_compare_options {
     struct uwb_thresholds thresholds;
     double systematic_displacement_m; /* 1-sigma floor of a displacement between two scans */
     double max_uncertainty_m;         /* above this 1-sigma the verdict is inconclusive */
+    double baseline_repeatability_m;  /* 1-sigma of the baseline's centre from the spread of its commissioning scans */
 };
 
 void uwb_compare_defaults(struct uwb_compare_options *opt);

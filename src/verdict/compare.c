@@ -10,6 +10,7 @@ void uwb_compare_defaults(struct uwb_compare_options *opt)
     opt->thresholds.alarm_m = 0.005;
     opt->systematic_displacement_m = 0.0002;
     opt->max_uncertainty_m = 0.001;
+    opt->baseline_repeatability_m = 0;
 }
 
 int uwb_scans_comparable(const struct uwb_scan *cur, const struct uwb_scan *base,
@@ -69,12 +70,14 @@ void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur,
     v->height_change_m = cur->height_m - base->height_m;
     /* Both scans blur their edges alike, so only their noise, what removing
      * a plate beside the winding may leave, and a floor for what the two
-     * scans do not share (sampling, drift) enter. */
+     * scans do not share (sampling, drift) enter, and what the baseline's
+     * commissioning scans showed of its repeatability (baseline set N). */
     v->uncertainty_m = sqrt(cur->sigma_center_noise_m * cur->sigma_center_noise_m +
                             base->sigma_center_noise_m * base->sigma_center_noise_m +
                             cur->sigma_center_clutter_m * cur->sigma_center_clutter_m +
                             base->sigma_center_clutter_m * base->sigma_center_clutter_m +
-                            opt->systematic_displacement_m * opt->systematic_displacement_m);
+                            opt->systematic_displacement_m * opt->systematic_displacement_m +
+                            opt->baseline_repeatability_m * opt->baseline_repeatability_m);
     double d = fabs(v->axial_displacement_m);
     if (v->uncertainty_m > opt->max_uncertainty_m) {
         v->status = UWB_STATUS_INCONCLUSIVE;
