@@ -8,7 +8,17 @@ REPO=$(pwd)
 # Foreground helpers; programs started in the background are written out in
 # full so that $! is the program itself, not a shell running a function.
 uwbd() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" "$@"; }
-uwbemu() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" "$@"; }
+# The emulated board and the scripts' own checkers stand in for hardware and
+# the tester: with UWB_HOST_BUILD_DIR (make test-arm) they run natively from
+# there, and only the programs under test run under $UWB_EXEC_PREFIX.
+if [[ -n ${UWB_HOST_BUILD_DIR:-} ]]; then
+    HOST_BUILD=$(cd "$UWB_HOST_BUILD_DIR" && pwd)
+    HOST_PREFIX=""
+else
+    HOST_BUILD=$BUILD
+    HOST_PREFIX=${UWB_EXEC_PREFIX:-}
+fi
+uwbemu() { $HOST_PREFIX "$HOST_BUILD/uwbemu" "$@"; }
 
 root_flag=()
 [[ $(id -u) == 0 ]] && root_flag=(--allow-root)
@@ -43,12 +53,12 @@ wait_for() {
     return 1
 }
 # JSON and sockets through the project's own helpers (tests/e2e/helpers/,
-# built by make into $BUILD/e2e): a fresh Debian minbase has no python3.
+# built by make into $BUILD/e2e): a fresh Debian minbase has no Python.
 #   json_check FILE 'PATH OP ARG'...   assertions, see json_check.c
 #   json_get KEY... < JSON             the values, strings bare
 #   json_edit IN OUT 'PATH=JSON' '-PATH'...
 #   unix_peer ask|console|slots ...    see unix_peer.c
-json_check() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/json_check" "$@"; }
-json_get() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/state_check" get "$@"; }
-json_edit() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/json_edit" "$@"; }
-unix_peer() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/unix_peer" "$@"; }
+json_check() { $HOST_PREFIX "$HOST_BUILD/e2e/json_check" "$@"; }
+json_get() { $HOST_PREFIX "$HOST_BUILD/e2e/state_check" get "$@"; }
+json_edit() { $HOST_PREFIX "$HOST_BUILD/e2e/json_edit" "$@"; }
+unix_peer() { $HOST_PREFIX "$HOST_BUILD/e2e/unix_peer" "$@"; }

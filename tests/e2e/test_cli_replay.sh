@@ -3,7 +3,7 @@
 # line on stdout, the PNGs in --out, clear errors and distinct exit codes.
 set -euo pipefail
 uwbd() { ${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" "$@"; }
-# JSON through our own helpers (tests/e2e/helpers): a fresh Debian has no python3.
+# JSON through our own helpers (tests/e2e/helpers): a fresh Debian has no Python.
 json_check() { ${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/e2e/json_check" "$@"; }
 json_get() { ${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/e2e/state_check" get "$@"; }
 fail() { echo "FAIL: $*" >&2; exit 1; }

@@ -11,7 +11,7 @@ e2e_workdir uwbd-console
 
 config="$work/uwbd.json"
 cp "$REPO/board/emulated/uwbd.json" "$config"
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
+$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
     --control unix:run/emu.sock > emu.log 2>&1 &
 pids+=($!)
 wait_for test -S run/emu.sock || fail "uwbemu did not come up"
@@ -26,7 +26,7 @@ keys=(
     'bogus\x03'                # 7 Ctrl-C drops the line: a new prompt
     'status\r'                 # 8 and the next line is whole
 )
-${UWB_EXEC_PREFIX:-} "$BUILD/e2e/unix_peer" terminal run/console.sock run/console.go transcript.bin \
+$HOST_PREFIX "$HOST_BUILD/e2e/unix_peer" terminal run/console.sock run/console.go transcript.bin \
     "${keys[@]}" > terminal.log 2>&1 &
 terminal_pid=$!
 pids+=($terminal_pid)

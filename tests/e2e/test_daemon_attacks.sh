@@ -24,10 +24,10 @@ e2e_workdir uwbd-attacks
 
 ctl() { uwbd ctl --socket run/control.sock "$@"; }
 emu() { uwbemu --ctl unix:run/emu.sock "$*"; }
-attack() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/ctl_attack" "$@"; }
-get() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/state_check" get "$@"; }
+attack() { $HOST_PREFIX "$HOST_BUILD/e2e/ctl_attack" "$@"; }
+get() { $HOST_PREFIX "$HOST_BUILD/e2e/state_check" get "$@"; }
 
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
+$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
     --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 11 \
     --start-mm 5 --steps-per-mm 10 > emu.log 2>&1 &
 pids+=($!)

@@ -16,7 +16,7 @@ emu() { uwbemu --ctl unix:run/emu.sock "$@"; }
 get() { json_get "$@"; }
 
 start_emu() {   # extra uwbemu arguments
-    ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
+    $HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
         --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --seed 5 "$@" \
         > emu.log 2>&1 &
     emu_pid=$!
@@ -95,7 +95,7 @@ pass "uncertainty over the limit: without a budget inconclusive ($(get reason < 
 emu 'set displacement_m 0' > /dev/null
 # `baseline set 3` on the serial console (a unix endpoint the daemon connects to).
 rm -f run/console.go
-${UWB_EXEC_PREFIX:-} "$BUILD/e2e/unix_peer" console run/console.sock run/console.go console.out \
+$HOST_PREFIX "$HOST_BUILD/e2e/unix_peer" console run/console.sock run/console.go console.out \
     "baseline set 3" scan > console.log 2>&1 &
 console_pid=$!
 pids+=($console_pid)

@@ -58,7 +58,7 @@ pass "missing GPIO chip (libgpiod backend) -> exit 69: $(grep -o "gpio chip 'gpi
 # position; tests/e2e/test_daemon_baseline.sh runs the sample config at 20 dB.
 emu_args=(--gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock --control unix:run/emu.sock
           --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7)
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" "${emu_args[@]}" > emu.log 2>&1 &
+$HOST_PREFIX "$HOST_BUILD/uwbemu" "${emu_args[@]}" > emu.log 2>&1 &
 pids+=($!)
 wait_for test -S run/emu.sock || fail "uwbemu did not come up"
 wait_for uwbemu --ctl unix:run/emu.sock status || fail "uwbemu does not answer"
@@ -74,7 +74,7 @@ pass "missing digitiser serial port -> exit 74"
 
 # ---- the console: a peer the daemon connects to ---------------------------
 long_line=$(printf 'x%.0s' $(seq 100))
-${UWB_EXEC_PREFIX:-} "$BUILD/e2e/unix_peer" console run/console.sock run/console.go console.out \
+$HOST_PREFIX "$HOST_BUILD/e2e/unix_peer" console run/console.sock run/console.go console.out \
     help status "frobnicate --now" "$long_line" "history 2" verdict > console.log 2>&1 &
 console_pid=$!
 pids+=($console_pid)

@@ -40,7 +40,7 @@ fi
 # Up to ~60 s for a daemon or board to answer (scans under qemu are slow).
 E2E_WAIT_TRIES=600
 source "$(dirname "$0")/daemon_e2e.sh"
-state_check() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/state_check" "$@"; }
+state_check() { $HOST_PREFIX "$HOST_BUILD/e2e/state_check" "$@"; }
 
 # Under qemu-user every scan is far slower: fewer kills unless asked.
 if [[ -n ${UWB_EXEC_PREFIX:-} ]]; then kills=${UWB_FAULT_KILLS:-2}; else kills=${UWB_FAULT_KILLS:-30}; fi
@@ -73,7 +73,7 @@ cp "$REPO/board/emulated/uwbd.json" "$config"
 ctl() { uwbd ctl --socket run/control.sock "$@"; }
 
 # The emulated board with coarse steps (5 per mm) so a scan is mostly imaging.
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
+$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
     --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7 \
     --steps-per-mm 5 > emu.log 2>&1 &
 emu_pid=$!

@@ -12,7 +12,7 @@ e2e_workdir uwbd-notify
 
 config="$work/uwbd.json"
 cp "$REPO/board/emulated/uwbd.json" "$config"
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
+$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
     --control unix:run/emu.sock > emu.log 2>&1 &
 pids+=($!)
 wait_for test -S run/emu.sock || fail "uwbemu did not come up"
@@ -25,7 +25,7 @@ pings() { grep -c ' WATCHDOG=1$' "$1" || true; }
 start_daemon() {
     local name=$1
     shift
-    ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/notify_listen" "$work/run/$name.notify" "$name.notify.log" 120 &
+    $HOST_PREFIX "$HOST_BUILD/e2e/notify_listen" "$work/run/$name.notify" "$name.notify.log" 120 &
     listener=$!
     pids+=($listener)
     wait_for test -S "run/$name.notify" || fail "$name: the notify listener did not come up"

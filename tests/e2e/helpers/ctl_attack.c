@@ -1,6 +1,6 @@
 /* ctl_attack: hostile control-socket clients for the lockout tests
  * (tests/e2e/test_daemon_attacks.sh, issue 17 break 6), in C because a
- * fresh machine has no python3.
+ * fresh machine has no Python.
  *
  *   ctl_attack trickle SOCKET CLIENTS SECONDS
  *       CLIENTS connections that each send one byte ('h') every 0.9 s and

@@ -1,5 +1,5 @@
 /* json_check: assertions on the daemon's JSON replies and files for the e2e
- * scripts and make test-board, with cJSON instead of python3 or jq, which
+ * scripts and make test-board, with cJSON instead of a Python interpreter or jq, which
  * a fresh Debian minbase does not have.
  *
  *   json_check FILE CHECK...              FILE holds one JSON value ("-": stdin)

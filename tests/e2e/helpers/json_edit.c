@@ -1,6 +1,6 @@
 /* json_edit: writes a changed copy of a JSON file (a configuration with one
  * key wrong, a slowed scan) for the e2e scripts, with cJSON instead of
- * python3, which a fresh Debian minbase does not have.
+ * a Python interpreter, which a fresh Debian minbase does not have.
  *
  *   json_edit IN OUT EDIT...
  *     PATH=JSON   set PATH (dotted; its parent must exist) to the JSON value

@@ -1,6 +1,6 @@
 /* state_check: what the fault tests (tests/e2e/test_daemon_faults.sh) ask
  * of a state directory and of the daemon's JSON replies, with the project's
- * own readers instead of python3 or jq, which `make test` does not install.
+ * own readers instead of a Python interpreter or jq, which `make test` does not install.
  *
  *   state_check tree STATE_DIR [--verdict-files]
  *       Every file whole: no temporary left (any hidden file, e.g.

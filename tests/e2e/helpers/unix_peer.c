@@ -1,6 +1,6 @@
 /* unix_peer: the other end of uwbd's unix sockets for the e2e scripts, a
  * client that sends what `uwbd ctl` never would and a console peer, in C
- * instead of python3, which a fresh Debian minbase does not have.
+ * instead of a Python interpreter, which a fresh Debian minbase does not have.
  *
  *   unix_peer ask SOCKET N < BYTES
  *       Connects, sends stdin as it is, prints the first N reply lines.
