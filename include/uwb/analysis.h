@@ -46,6 +46,13 @@ struct uwb_analysis {
  * was established, with edges.reason otherwise), -1 on a hard error. */
 int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_options *opt,
                      struct uwb_analysis *out, char *err, size_t errlen);
+/* The displacement between two analysed scans of one installation: the
+ * shift that best maps the baseline's face profile onto the current one
+ * (src/imaging/profile_shift.c). Both analyses must have found the winding.
+ * Returns 0, or -1 with err filled. */
+int uwb_measure_shift(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                      double *shift_m, char *err, size_t errlen);
+
 void uwb_analysis_free(struct uwb_analysis *a);
 
 #endif

@@ -24,4 +24,16 @@ int uwb_scans_comparable(const struct uwb_scan *current, const struct uwb_scan *
 void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *current,
                        const struct uwb_edges *baseline, const struct uwb_compare_options *opt);
 
+/* What is measured on the two scans together (src/imaging): when valid, the
+ * displacement comes from here instead of the difference of the centres. */
+struct uwb_pair_figures {
+    int valid;
+    double displacement_m;
+};
+
+/* uwb_compare_edges with the pair's own figures (pair may be NULL). */
+void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *current,
+                      const struct uwb_edges *baseline, const struct uwb_pair_figures *pair,
+                      const struct uwb_compare_options *opt);
+
 #endif

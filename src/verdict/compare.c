@@ -46,6 +46,12 @@ static void copy_reason(struct uwb_verdict *v, const char *prefix, const char *r
 void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur,
                        const struct uwb_edges *base, const struct uwb_compare_options *opt)
 {
+    uwb_compare_pair(v, cur, base, NULL, opt);
+}
+
+void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const struct uwb_edges *base,
+                      const struct uwb_pair_figures *pair, const struct uwb_compare_options *opt)
+{
     v->current = *cur;
     v->has_baseline = base != NULL;
     if (base)
@@ -65,7 +71,7 @@ void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur,
         copy_reason(v, "baseline: ", base->reason);
         return;
     }
-    v->axial_displacement_m = cur->center_m - base->center_m;
+    v->axial_displacement_m = pair && pair->valid ? pair->displacement_m : cur->center_m - base->center_m;
     v->height_change_m = cur->height_m - base->height_m;
     /* Both scans blur their edges alike, so only their noise, what removing
      * a plate beside the winding may leave, and a floor for what the two
