@@ -330,22 +330,24 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
                               err, errlen);
         }
         side_reflector_free(&side);
-        uwb_scan_free(&tapered);
+        uwb_scan_free(&out->measured);
+        out->measured = tapered;
         if (rc != 0) {
+            uwb_scan_free(&out->measured);
             free(weight);
             free(profile.value);
             finish_free(&conditioned, &quadrature, NULL);
             return -1;
         }
     }
-    free(weight);
+    out->weight = weight;
     uwb_scan_free(&quadrature);
     out->profile = profile;
     edges->face_z_m = z_face;
     double dlo = z_face - DISPLAY_HALF_RANGE_M > 0.01 ? z_face - DISPLAY_HALF_RANGE_M : 0.01;
     int rc = display_image(&conditioned, &g, opt, dlo, z_face + DISPLAY_HALF_RANGE_M,
                            &out->intensity, err, errlen);
-    uwb_scan_free(&conditioned);
+    out->conditioned = conditioned;
     if (rc != 0)
         return -1;
 
@@ -394,5 +396,37 @@ void uwb_analysis_free(struct uwb_analysis *a)
 {
     uwb_image_free(&a->intensity);
     free(a->profile.value);
+    uwb_scan_free(&a->conditioned);
+    uwb_scan_free(&a->measured);
+    free(a->weight);
     memset(a, 0, sizeof *a);
+}
+
+int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
+                           const struct uwb_scan *added, double scale, struct uwb_face_profile *p,
+                           char *err, size_t errlen)
+{
+    memset(p, 0, sizeof *p);
+    if (!a->measured.data || !a->weight || added->positions != a->measured.positions ||
+        added->samples != a->measured.samples) {
+        snprintf(err, errlen, "measure again: the analysis kept no measured traces of this shape");
+        return -1;
+    }
+    struct uwb_geometry g;
+    uwb_geometry_from_scan(&g, &a->measured, opt->time_zero_offset_s);
+    struct uwb_scan s = {0};
+    if (uwb_scan_copy(&s, &a->measured, err, errlen) != 0)
+        return -1;
+    for (int k = 0; k < s.positions; k++) {
+        float *tr = s.data + (size_t)k * s.samples;
+        const float *n = added->data + (size_t)k * s.samples;
+        float w = (float)(scale * a->weight[k]);
+        for (int i = 0; i < s.samples; i++)
+            tr[i] += w * n[i];
+    }
+    double z_face = a->edges.face_z_m;
+    struct profile_edges pe;
+    int rc = measure_face(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, &z_face, p, &pe, err, errlen);
+    uwb_scan_free(&s);
+    return rc;
 }

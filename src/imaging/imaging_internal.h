@@ -63,4 +63,20 @@ double profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m,
 double profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                          double base_centre_m, double half_span_m, double guess_m);
 
+/* The displacement between a current and a baseline profile of these
+ * analyses (profile_shift_fit over the baseline's winding). */
+double analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+                      const struct uwb_analysis *base_analysis, double guess_m);
+
+/* The face profile of an analysis measured again on its kept traces plus
+ * scale * added (weighted by the analysis' aperture weights): what the same
+ * scan with that noise would have given. Returns 0, or -1 with err filled. */
+int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
+                           const struct uwb_scan *added, double scale, struct uwb_face_profile *p,
+                           char *err, size_t errlen);
+
+/* Band-limit every trace as conditioning does (its pulse band). */
+int condition_band_limit(struct uwb_scan *s, const struct uwb_condition_options *opt,
+                         double dominant_hz, char *err, size_t errlen);
+
 #endif

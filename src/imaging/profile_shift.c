@@ -87,6 +87,13 @@ double profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_fa
 /* The fit compares the profiles over the baseline's winding, edge to edge
  * at half its peak: beyond, the winding's image falls off and the static
  * scene's share of the row grows. */
+double analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+                      const struct uwb_analysis *base_analysis, double guess_m)
+{
+    return profile_shift_fit(cur, base, base_analysis->edges.center_m,
+                             0.5 * base_analysis->edges.height_m, guess_m);
+}
+
 int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis *base,
                       double *shift_m, char *err, size_t errlen)
 {
@@ -94,8 +101,7 @@ int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis 
         snprintf(err, errlen, "shift: the winding is not established in both scans");
         return -1;
     }
-    double guess = cur->edges.center_m - base->edges.center_m;
-    *shift_m = profile_shift_fit(&cur->profile, &base->profile, base->edges.center_m,
-                                 0.5 * base->edges.height_m, guess);
+    *shift_m = analysis_shift(&cur->profile, &base->profile, base,
+                              cur->edges.center_m - base->edges.center_m);
     return 0;
 }

@@ -90,8 +90,19 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_scan *baseline
         return -1;
     }
     struct uwb_pair_figures pair = {0};
-    if (cur_a->edges.found && base_a->edges.found)
-        pair.valid = uwb_measure_shift(cur_a, base_a, &pair.displacement_m, err, errlen) == 0;
+    if (cur_a->edges.found && base_a->edges.found &&
+        uwb_measure_shift(cur_a, base_a, &pair.displacement_m, err, errlen) == 0) {
+        pair.valid = 1;
+        struct uwb_shift_noise noise;
+        if (uwb_shift_noise(cur_a, base_a, &opt->analysis, pair.displacement_m, &noise, err, errlen) != 0) {
+            uwb_analysis_free(cur_a);
+            uwb_analysis_free(base_a);
+            return -1;
+        }
+        pair.noise_measured = noise.measured;
+        pair.sigma_noise_current_m = noise.sigma_current_m;
+        pair.sigma_noise_baseline_m = noise.sigma_baseline_m;
+    }
     uwb_compare_pair(v, &cur_a->edges, &base_a->edges, &pair, &opt->compare);
     return 0;
 }

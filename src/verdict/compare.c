@@ -8,7 +8,7 @@ void uwb_compare_defaults(struct uwb_compare_options *opt)
 {
     opt->thresholds.watch_m = 0.002;
     opt->thresholds.alarm_m = 0.005;
-    opt->systematic_displacement_m = 0.0002;
+    opt->systematic_displacement_m = 0.0001;
     opt->max_uncertainty_m = 0.001;
 }
 
@@ -41,6 +41,13 @@ int uwb_scans_comparable(const struct uwb_scan *cur, const struct uwb_scan *base
 static void copy_reason(struct uwb_verdict *v, const char *prefix, const char *reason)
 {
     snprintf(v->reason, sizeof v->reason, "%.20s%.230s", prefix, reason);
+}
+
+double uwb_displacement_uncertainty(const struct uwb_uncertainty_terms *t)
+{
+    return sqrt(t->noise_current_m * t->noise_current_m + t->noise_baseline_m * t->noise_baseline_m +
+                t->clutter_current_m * t->clutter_current_m +
+                t->clutter_baseline_m * t->clutter_baseline_m + t->systematic_m * t->systematic_m);
 }
 
 void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur,
@@ -76,11 +83,18 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
     /* Both scans blur their edges alike, so only their noise, what removing
      * a plate beside the winding may leave, and a floor for what the two
      * scans do not share (sampling, drift) enter. */
-    v->uncertainty_m = sqrt(cur->sigma_center_noise_m * cur->sigma_center_noise_m +
-                            base->sigma_center_noise_m * base->sigma_center_noise_m +
-                            cur->sigma_center_clutter_m * cur->sigma_center_clutter_m +
-                            base->sigma_center_clutter_m * base->sigma_center_clutter_m +
-                            opt->systematic_displacement_m * opt->systematic_displacement_m);
+    struct uwb_uncertainty_terms terms = {
+        .noise_current_m = cur->sigma_center_noise_m,
+        .noise_baseline_m = base->sigma_center_noise_m,
+        .clutter_current_m = cur->sigma_center_clutter_m,
+        .clutter_baseline_m = base->sigma_center_clutter_m,
+        .systematic_m = opt->systematic_displacement_m,
+    };
+    if (pair && pair->valid && pair->noise_measured) {
+        terms.noise_current_m = pair->sigma_noise_current_m;
+        terms.noise_baseline_m = pair->sigma_noise_baseline_m;
+    }
+    v->uncertainty_m = uwb_displacement_uncertainty(&terms);
     double d = fabs(v->axial_displacement_m);
     if (v->uncertainty_m > opt->max_uncertainty_m) {
         v->status = UWB_STATUS_INCONCLUSIVE;
