@@ -277,7 +277,7 @@ test-board:
 	@bash $(DEPS_SCRIPT) --board || { echo "make test-board: cannot install what the emulated board needs (see above)" >&2; \
 	    echo "0 passed, 1 failed"; exit 1; }
 	+@$(SUBMAKE) CROSS_COMPILE=$(ARM_PREFIX) SAN= BUILD=$(BOARD_ARM_BUILD) all board-tests
-	+@$(SUBMAKE) all
+	+@$(SUBMAKE) all $(E2E_HELPER_BIN)
 	@bash tools/board-in-loop/test-board.sh '$(BUILD)' '$(BOARD_ARM_BUILD)'
 
 demo: deps

@@ -126,7 +126,11 @@ run_unit_binary() {
     [[ "$ignored" != 0 ]] && ignored_note=", $ignored ignored"
     if [[ "$failed" == 0 ]]; then
         echo "PASS  $name  ($passed ok$ignored_note, $took)"
-        if [[ "$VERBOSE" == 1 ]]; then indent <"$log"; fi
+        if [[ "$VERBOSE" == 1 ]]; then
+            indent <"$log"
+        elif [[ "$ignored" != 0 ]]; then
+            grep -E ':IGNORE' "$log" | indent || true   # a skip says why
+        fi
         return 0
     fi
     echo "FAIL  $name  ($passed ok, $failed failing$ignored_note, $took)${problem:+: $problem}"
@@ -157,7 +161,7 @@ run_e2e_script() {
     elif [[ "$status" == 77 ]]; then
         total_skipped=$((total_skipped + 1))
         echo "SKIP  $name  ($took)"
-        tail -n 3 "$log" | indent
+        tail -n 3 "$log" | indent   # the script's reason
     else
         total_failed=$((total_failed + 1))
         echo "FAIL  $name  ($took): $(describe_exit "$status")"

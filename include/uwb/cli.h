@@ -19,4 +19,9 @@ void uwbd_replay_usage(FILE *f);
 void uwbd_daemon_usage(FILE *f);
 void uwbd_ctl_usage(FILE *f);
 
+/* A VERDICT reply (one JSON line) as text for people: "status ALARM:
+ * displacement +12.04 ± 0.23 mm (edges ...)", or the edges, or the reason;
+ * then "image: PATH" lines. -1, nothing printed, for any other reply. */
+int uwbd_verdict_text(const char *reply, FILE *out);
+
 #endif

@@ -27,7 +27,7 @@
 void uwbd_ctl_usage(FILE *f)
 {
     fprintf(f,
-        "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] COMMAND...\n"
+        "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text] COMMAND...\n"
         "\n"
         "Sends COMMAND to the running daemon and prints its reply (one JSON line).\n"
         "Commands: status, scan, verdict, history [N], baseline set, help.\n"
@@ -35,6 +35,8 @@ void uwbd_ctl_usage(FILE *f)
         "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
         "  --config FILE    take the socket's path from this configuration\n"
         "  --timeout S      wait at most S seconds for the reply (default %d for scan, %d otherwise)\n"
+        "  --text           print a verdict as lines for people (status, displacement or\n"
+        "                   edges or reason, images) instead of its JSON line\n"
         "\n"
         "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
         "69 no daemon on the socket; 75 no reply in time.\n",
@@ -107,11 +109,13 @@ int uwbd_ctl_main(int argc, char **argv)
         {"socket", required_argument, 0, 's'},
         {"config", required_argument, 0, 'c'},
         {"timeout", required_argument, 0, 't'},
+        {"text", no_argument, 0, 'T'},
         {"help", no_argument, 0, 'h'},
         {0, 0, 0, 0},
     };
     const char *socket_path = NULL, *config_path = NULL;
     double timeout_s = 0;
+    int as_text = 0;
     int c;
     /* "+": stop at the first command word, so "history 5" is not an option. */
     while ((c = getopt_long(argc, argv, "+h", longopts, NULL)) != -1) {
@@ -127,6 +131,7 @@ int uwbd_ctl_main(int argc, char **argv)
             }
             break;
         }
+        case 'T': as_text = 1; break;
         case 'h': uwbd_ctl_usage(stdout); return UWBD_CTL_OK;
         default: uwbd_ctl_usage(stderr); return UWBD_CTL_USAGE;
         }
@@ -188,7 +193,8 @@ int uwbd_ctl_main(int argc, char **argv)
     close(fd);
     if (rc != 0)
         return rc;
-    puts(reply);
+    if (!as_text || uwbd_verdict_text(reply, stdout) != 0)
+        puts(reply);
     rc = is_error_reply(reply) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
     free(reply);
     return rc;

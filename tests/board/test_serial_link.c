@@ -1,7 +1,7 @@
 /* The link layer's serial: endpoint (libserialport, src/hw/) on a real
  * kernel UART driver: the 16550 behind qemu's pci-serial inside the
  * emulated board. The host end of the UART's socket runs
- * tools/board-in-loop/serial-peer.py, which answers every byte with its
+ * `unix_peer invert` (tests/e2e/helpers), which answers every byte with its
  * bitwise inverse, so a reply proves the bytes went out through the UART
  * and came back in, and a wrong tty mode (echo, CR/LF mapping, software
  * flow control eating 0x11/0x13) shows up as a wrong byte.

@@ -1,7 +1,7 @@
 # Sourced by the daemon e2e scripts (tests/e2e/test_daemon_*.sh): our
 # programs under $UWB_EXEC_PREFIX, a scratch directory whose background
 # processes are stopped at exit, PASS/FAIL lines, waiting without timing,
-# and reading a JSON reply.
+# and reading JSON and the sockets with our own helpers.
 
 BUILD=$(cd "${UWB_BUILD_DIR:?run through tests/run-tests.sh}" && pwd)
 REPO=$(pwd)
@@ -42,4 +42,13 @@ wait_for() {
     for _ in $(seq "${E2E_WAIT_TRIES:-200}"); do "$@" >/dev/null 2>&1 && return 0; sleep 0.1; done
     return 1
 }
-json_get() { python3 -c 'import json,sys; v=json.load(sys.stdin); print(eval(sys.argv[1], {}, {"v": v}))' "$1"; }
+# JSON and sockets through the project's own helpers (tests/e2e/helpers/,
+# built by make into $BUILD/e2e): a fresh Debian minbase has no python3.
+#   json_check FILE 'PATH OP ARG'...   assertions, see json_check.c
+#   json_get KEY... < JSON             the values, strings bare
+#   json_edit IN OUT 'PATH=JSON' '-PATH'...
+#   unix_peer ask|console|slots ...    see unix_peer.c
+json_check() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/json_check" "$@"; }
+json_get() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/state_check" get "$@"; }
+json_edit() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/json_edit" "$@"; }
+unix_peer() { ${UWB_EXEC_PREFIX:-} "$BUILD/e2e/unix_peer" "$@"; }

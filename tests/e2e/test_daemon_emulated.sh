@@ -15,17 +15,11 @@ ctl() { uwbd ctl --socket run/control.sock "$@"; }
 
 # ---- configuration refused with the key named, exit 78 -------------------
 uwbd --check-config "$config" > check.out || fail "the emulated sample does not validate"
-python3 - "$config" <<'PY'
-import json, sys
-base = json.load(open(sys.argv[1]))
-def variant(name, change):
-    v = json.loads(json.dumps(base)); change(v); json.dump(v, open(name, "w"))
-variant("bad-unknown.json", lambda v: v["digitiser"].__setitem__("sampels", 2048))
-variant("bad-missing.json", lambda v: v["scan"].pop("positions"))
-variant("bad-type.json", lambda v: v["carriage"].__setitem__("travel_mm", "650"))
-variant("bad-mode.json", lambda v: v["control"].__setitem__("mode", "0666"))
-open("bad-syntax.json", "w").write('{"state_dir": "x",\n "schedule": {"interval_s": 0,}}\n')
-PY
+json_edit "$config" bad-unknown.json 'digitiser.sampels=2048'
+json_edit "$config" bad-missing.json '-scan.positions'
+json_edit "$config" bad-type.json 'carriage.travel_mm="650"'
+json_edit "$config" bad-mode.json 'control.mode="0666"'
+printf '{"state_dir": "x",\n "schedule": {"interval_s": 0,}}\n' > bad-syntax.json
 for case in unknown:digitiser.sampels missing:scan.positions type:carriage.travel_mm mode:control.mode \
             syntax:line; do
     name=${case%%:*} key=${case#*:}
@@ -79,29 +73,9 @@ grep -q "/dev/ttyUWBmissing" serial.err || fail "missing serial port: message do
 pass "missing digitiser serial port -> exit 74"
 
 # ---- the console: a peer the daemon connects to ---------------------------
-cat > console.py <<'PY'
-# Listens where uwbd's console connects; when run/console.go appears, sends
-# each command line and records the reply lines in console.out.
-import json, os, socket, sys, time
-srv = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-srv.bind("run/console.sock"); srv.listen(1); srv.settimeout(60)
-conn, _ = srv.accept(); conn.settimeout(60)
-while not os.path.exists("run/console.go"):
-    time.sleep(0.05)
-out = open("console.out", "w")
-buf = b""
-for line in sys.argv[1:]:
-    conn.sendall(line.encode() + b"\n")
-    while b"\n" not in buf:
-        chunk = conn.recv(65536)
-        if not chunk:
-            sys.exit("console: uwbd closed the connection")
-        buf += chunk
-    reply, buf = buf.split(b"\n", 1)
-    out.write(reply.decode() + "\n"); out.flush()
-PY
 long_line=$(printf 'x%.0s' $(seq 100))
-python3 console.py help status "frobnicate --now" "$long_line" "history 2" verdict > console.log 2>&1 &
+${UWB_EXEC_PREFIX:-} "$BUILD/e2e/unix_peer" console run/console.sock run/console.go console.out \
+    help status "frobnicate --now" "$long_line" "history 2" verdict > console.log 2>&1 &
 console_pid=$!
 pids+=($console_pid)
 wait_for test -S run/console.sock || fail "console listener did not come up"
@@ -114,8 +88,7 @@ pids+=($daemon_pid)
 wait_for ctl status || fail "uwbd does not answer on its control socket"
 [[ $(stat -c %a run/control.sock) == 660 ]] || fail "control socket mode $(stat -c %a run/control.sock), want 660"
 ctl status > status0.json
-[[ $(json_get 'v["class"], v["state"], "baseline" in v' < status0.json) == "('STATUS', 'idle', False)" ]] ||
-    fail "first status: $(cat status0.json)"
+json_check status0.json 'class == STATUS' 'state == idle' 'baseline absent' || fail "first status: $(cat status0.json)"
 pass "daemon up: control socket mode 0660, STATUS idle, no baseline"
 
 # A second daemon stops before it touches the state or the hardware.
@@ -131,136 +104,103 @@ ctl status > /dev/null || fail "the first daemon was disturbed by the second"
 pass "a second uwbd on the same state directory or socket exits 73 and leaves the first alone"
 
 ctl baseline set > baseline.json
-[[ $(json_get 'v["class"], v["pending"]' < baseline.json) == "('BASELINE', True)" ]] || fail "baseline set: $(cat baseline.json)"
+json_check baseline.json 'class == BASELINE' 'pending = true' || fail "baseline set: $(cat baseline.json)"
 ctl scan > scan1.json || fail "first scan: $(cat scan1.json)"
-[[ $(json_get 'v["class"], v["status"], v["baseline_set"]' < scan1.json) == "('VERDICT', 'edges', True)" ]] ||
+json_check scan1.json 'class == VERDICT' 'status == edges' 'baseline_set = true' ||
     fail "commissioning scan: $(cat scan1.json)"
-base_id=$(json_get 'v["scan_id"]' < scan1.json)
+base_id=$(json_get scan_id < scan1.json)
 pass "commissioning: the scan after \`baseline set\` became the baseline ($base_id)"
 
 uwbemu --ctl unix:run/emu.sock 'set displacement_m 0.012' > /dev/null
 ctl scan > scan2.json || fail "second scan: $(cat scan2.json)"
-python3 - scan2.json <<'PY' || fail "shifted scan: $(cat scan2.json)"
-import json, sys
-v = json.load(open(sys.argv[1]))
-assert v["class"] == "VERDICT" and v["status"] == "alarm", v
-d = v["axial_displacement_mm"]
-assert abs(d - 12.0) <= 0.5, f"displacement {d} mm for an emulated +12 mm shift"
-print(f"measured {d:+.2f} +- {v['uncertainty_mm']:.2f} mm, direct coupling shift {v['direct_coupling_shift_ps']} ps")
-PY
-pass "winding shifted +12 mm on the emulated board: $(json_get '"%+.2f mm" % v["axial_displacement_mm"]' < scan2.json), status alarm"
+json_check scan2.json 'class == VERDICT' 'status == alarm' 'axial_displacement_mm ~ 12.0 0.5' ||
+    fail "shifted scan (the emulated winding moved +12 mm): $(cat scan2.json)"
+read -r shift_mm uncertainty_mm coupling_ps < <(json_get axial_displacement_mm uncertainty_mm direct_coupling_shift_ps < scan2.json | paste -sd ' ')
+echo "measured $(printf '%+.2f +- %.2f' "$shift_mm" "$uncertainty_mm") mm, direct coupling shift $coupling_ps ps"
+pass "winding shifted +12 mm on the emulated board: $(printf '%+.2f' "$shift_mm") mm, status alarm"
 
 # ---- the state directory ---------------------------------------------------
-python3 - run/state "$base_id" scan1.json scan2.json <<'PY' || fail "state directory"
-import glob, json, os, sys
-state, base_id = sys.argv[1], sys.argv[2]
-verdicts = [json.load(open(p)) for p in sys.argv[3:]]
-lines = open(os.path.join(state, "verdicts.jsonl")).read().splitlines()
-assert [json.loads(l) for l in lines] == verdicts, "verdicts.jsonl is not the two verdicts, in order"
-assert json.load(open(os.path.join(state, "latest.json"))) == verdicts[-1], "latest.json is not the last verdict"
-for v in verdicts:
-    day = [os.path.abspath(p) for p in glob.glob(os.path.join(state, "archive", "[0-9]" * 4, "[0-9]" * 2, "[0-9]" * 2))]
-    assert len(day) == 1, day
-    stem = os.path.join(day[0], v["scan_id"])
-    assert json.load(open(stem + ".json")) == v
-    head = open(stem + ".uwbscan", "rb").readline()
-    assert json.loads(head)["scan_id"] == v["scan_id"] and json.loads(head)["format"] == "uwbscan/1"
-    assert len(v["images"]) == 3
-    for png in v["images"]:
-        assert png.startswith(day[0]) and open(png, "rb").read(8) == b"\x89PNG\r\n\x1a\n", png
-cur = json.load(open(os.path.join(state, "baseline", "current.json")))
-assert cur["scan_id"] == base_id and "direct_coupling_ps" in cur, cur
-head = json.loads(open(os.path.join(state, "baseline", "current.uwbscan"), "rb").readline())
-assert head["scan_id"] == base_id
-hidden = [p for p in glob.glob(os.path.join(state, "**", ".*"), recursive=True)]
-assert not hidden, f"temporary files left: {hidden}"
-PY
+state=run/state
+[[ $(wc -l < $state/verdicts.jsonl) == 2 ]] || fail "verdicts.jsonl is not two lines"
+for n in 1 2; do
+    sed -n "${n}p" $state/verdicts.jsonl | json_check - ". same scan$n.json" ||
+        fail "verdicts.jsonl line $n is not the verdict of scan $n"
+done
+json_check $state/latest.json '. same scan2.json' || fail "latest.json is not the last verdict"
+days=($state/archive/[0-9][0-9][0-9][0-9]/[0-9][0-9]/[0-9][0-9])
+[[ ${#days[@]} == 1 && -d ${days[0]} ]] || fail "want one archive day directory, found: ${days[*]}"
+day=$(cd "${days[0]}" && pwd)
+for n in 1 2; do
+    id=$(json_get scan_id < scan$n.json)
+    json_check "$day/$id.json" ". same scan$n.json" || fail "archived verdict $id"
+    head -n 1 "$day/$id.uwbscan" | json_check - "scan_id == $id" 'format == uwbscan/1' ||
+        fail "archived scan $id: header $(head -n 1 "$day/$id.uwbscan" | head -c 300)"
+    json_check scan$n.json 'images len 3' || fail "scan $n: not three images"
+    for i in 0 1 2; do
+        png=$(json_get "images.$i" < scan$n.json)
+        [[ $png == "$day"/* && $(head -c 8 "$png" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] ||
+            fail "scan $n: image $png is not a PNG in $day"
+    done
+done
+json_check $state/baseline/current.json "scan_id == $base_id" 'direct_coupling_ps exists' ||
+    fail "baseline/current.json: $(cat $state/baseline/current.json)"
+head -n 1 $state/baseline/current.uwbscan | json_check - "scan_id == $base_id" || fail "baseline/current.uwbscan"
+[[ -z $(find $state -name '.*') ]] || fail "temporary files left: $(find $state -name '.*')"
 pass "archive, verdicts.jsonl, latest.json and baseline files present and valid"
 
 # ---- control socket replies --------------------------------------------------
 ctl history 5 > history.json
-[[ $(json_get 'v["class"], v["count"], [h["status"] for h in v["verdicts"]]' < history.json) == \
-   "('HISTORY', 2, ['edges', 'alarm'])" ]] || fail "history: $(cat history.json)"
+json_check history.json 'class == HISTORY' 'count = 2' 'verdicts len 2' 'verdicts.0.status == edges' \
+    'verdicts.1.status == alarm' || fail "history: $(cat history.json)"
 ctl verdict > verdict.json
-cmp -s <(json_get 'v' < verdict.json) <(json_get 'v' < scan2.json) || fail "verdict is not the latest scan's"
+json_check verdict.json '. same scan2.json' || fail "verdict is not the latest scan's"
+ctl --text verdict > verdict.txt || fail "uwbd ctl --text verdict"
+shift_text=$(printf '%+.2f' "$(json_get axial_displacement_mm < scan2.json)")
+[[ $(sed -n 1p verdict.txt) == "status ALARM: displacement $shift_text ± "*" mm (edges "*" mm, baseline "*" mm)" &&
+   $(grep -c '^image: /' verdict.txt) == 3 && $(wc -l < verdict.txt) == 4 ]] || fail "uwbd ctl --text verdict: $(cat verdict.txt)"
 ctl help | grep -q '"class":"HELP"' || fail "help"
 set +e; ctl frobnicate > /dev/null 2> ctl-bad.err; rc=$?; set -e
 [[ $rc == 64 ]] || fail "ctl with an unknown command: exit $rc, want 64"
 # The daemon itself refuses what a client other than uwbd ctl might send.
-python3 - <<'PY' > raw.json || fail "raw control socket"
-import socket
-s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM); s.connect("run/control.sock")
-s.sendall(b"scan ../../etc/passwd\n" + b"y" * 500 + b"\nstatus\n")
-buf = b""
-while buf.count(b"\n") < 3:
-    buf += s.recv(65536)
-print(buf.decode(), end="")
-PY
-[[ $(sed -n 1p raw.json | json_get 'v["class"]') == ERROR ]] || fail "a path argument was not refused: $(sed -n 1p raw.json)"
-[[ $(sed -n 2p raw.json | json_get 'v["class"]') == ERROR ]] || fail "an over-long line was not refused"
-[[ $(sed -n 3p raw.json | json_get 'v["class"]') == STATUS ]] || fail "the connection did not recover after bad lines"
-pass "uwbd ctl: status, baseline set, scan, history, verdict, help; bad lines refused with ERROR"
+{ printf 'scan ../../etc/passwd\n'; printf 'y%.0s' $(seq 500); printf '\nstatus\n'; } |
+    unix_peer ask run/control.sock 3 > raw.json || fail "raw control socket"
+sed -n 1p raw.json | json_check - 'class == ERROR' || fail "a path argument was not refused: $(sed -n 1p raw.json)"
+sed -n 2p raw.json | json_check - 'class == ERROR' || fail "an over-long line was not refused"
+sed -n 3p raw.json | json_check - 'class == STATUS' || fail "the connection did not recover after bad lines"
+pass "uwbd ctl: status, baseline set, scan, history, verdict (JSON and --text), help; bad lines refused with ERROR"
 
 # At most 16 control clients; when all are taken, one quiet for 2 s or more
 # makes room, so silent connections cannot lock the operators out.
-python3 - <<'PY' || fail "control client slots"
-import json, socket, time
-def connect():
-    s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM); s.connect("run/control.sock"); s.settimeout(20)
-    return s
-def ask(s, line):
-    s.sendall(line.encode() + b"\n")
-    buf = b""
-    while not buf.endswith(b"\n"):
-        chunk = s.recv(65536)
-        assert chunk, f"closed while waiting for the reply to {line!r}"
-        buf += chunk
-    return json.loads(buf)
-idle = [connect() for _ in range(16)]
-time.sleep(0.3)
-extra = connect()
-reply = json.loads(extra.recv(65536))
-assert reply["class"] == "ERROR" and "too many control clients" in reply["message"], reply
-time.sleep(2.5)
-late = connect()
-assert ask(late, "status")["class"] == "STATUS"
-assert idle[0].recv(16) == b"", "the longest-idle client was not the one dropped"
-assert ask(idle[1], "status")["class"] == "STATUS", "another idle client lost its connection"
-PY
+unix_peer slots run/control.sock 16 || fail "control client slots"
 grep -q "dropping one idle" uwbd.log || fail "no log line for the dropped idle client"
 pass "17th control client refused while all 16 are fresh; after 2 s idle the oldest makes room"
 
 # ---- the console ---------------------------------------------------------------
 touch run/console.go
 wait "$console_pid" || fail "console peer: $(cat console.log)"
-python3 - console.out verdict.json <<'PY' || fail "console replies: $(cat console.out)"
-import json, sys
-replies = [json.loads(l) for l in open(sys.argv[1])]
-classes = [r["class"] for r in replies]
-assert classes == ["HELP", "STATUS", "ERROR", "ERROR", "HISTORY", "VERDICT"], classes
-assert "unknown command" in replies[2]["message"] and "too long" in replies[3]["message"], replies[2:4]
-assert replies[1]["baseline"]["scan_id"] and replies[4]["count"] == 2
-assert replies[5] == json.load(open(sys.argv[2])), "console verdict differs from uwbd ctl verdict"
-PY
+[[ $(wc -l < console.out) == 6 ]] || fail "console replies: want 6 lines: $(cat console.out)"
+n=0
+for class in HELP STATUS ERROR ERROR HISTORY VERDICT; do
+    n=$((n + 1))
+    sed -n "${n}p" console.out | json_check - "class == $class" || fail "console reply $n: want $class: $(cat console.out)"
+done
+sed -n 3p console.out | json_check - 'message contains unknown command' || fail "console replies: $(cat console.out)"
+sed -n 4p console.out | json_check - 'message contains too long' || fail "console replies: $(cat console.out)"
+sed -n 2p console.out | json_check - 'baseline.scan_id matches .' || fail "console status: $(sed -n 2p console.out)"
+sed -n 5p console.out | json_check - 'count = 2' || fail "console history: $(sed -n 5p console.out)"
+sed -n 6p console.out | json_check - '. same verdict.json' || fail "console verdict differs from uwbd ctl verdict"
 pass "serial console (unix endpoint): the same replies, one JSON line each"
 
 # ---- SIGHUP reload, then SIGTERM in the middle of a scan --------------------------
-python3 - "$config" <<'PY'
-import json, sys
-c = json.load(open(sys.argv[1])); c["scan"]["time_scale"] = 0.2
-json.dump(c, open(sys.argv[1], "w"))
-PY
+json_edit "$config" "$config" 'scan.time_scale=0.2'
 kill -HUP "$daemon_pid"
 wait_for grep -q "configuration reloaded" uwbd.log || fail "SIGHUP did not reload the configuration"
 lines_before=$(wc -l < run/state/verdicts.jsonl)
-triggers_before=$(uwbemu --ctl unix:run/emu.sock status | json_get 'v["triggers"]')
+triggers_before=$(uwbemu --ctl unix:run/emu.sock status | json_get triggers)
 (ctl scan > scan-stopped.json 2>&1 && echo 0 > scan-stopped.rc || echo $? > scan-stopped.rc) &
 ctl_pid=$!
-wait_for python3 -c "
-import json, subprocess, sys
-s = json.loads(subprocess.run(sys.argv[1:], capture_output=True, text=True).stdout)
-sys.exit(0 if s['triggers'] > $triggers_before else 1)" ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" --ctl unix:run/emu.sock status ||
-    fail "the slowed scan never started firing"
+emu_fired_since() { uwbemu --ctl unix:run/emu.sock status | json_check - "triggers > $1"; }
+wait_for emu_fired_since "$triggers_before" || fail "the slowed scan never started firing"
 kill -TERM "$daemon_pid"
 set +e; wait "$daemon_pid"; rc=$?; set -e
 [[ $rc == 0 ]] || fail "SIGTERM mid-scan: exit $rc, want 0"
@@ -268,7 +208,7 @@ wait "$ctl_pid" || true
 [[ $(cat scan-stopped.rc) == 1 ]] || fail "the interrupted scan's client: exit $(cat scan-stopped.rc), want 1 (ERROR)"
 grep -q "stopped" scan-stopped.json || fail "the interrupted scan's reply: $(cat scan-stopped.json)"
 uwbemu --ctl unix:run/emu.sock status > emu-after.json
-[[ $(json_get 'v["lines"]["trigger"], v["lines"]["enable"]' < emu-after.json) == "(0, 0)" ]] ||
+json_check emu-after.json 'lines.trigger = 0' 'lines.enable = 0' ||
     fail "hardware not safe after SIGTERM: $(cat emu-after.json)"
 [[ $(wc -l < run/state/verdicts.jsonl) == "$lines_before" ]] || fail "the stopped scan left a verdict"
 [[ -z $(find run/state -name '.*') ]] || fail "half-written files left: $(find run/state -name '.*')"
@@ -282,10 +222,9 @@ daemon_pid=$!
 pids+=($daemon_pid)
 wait_for ctl status || fail "uwbd does not come back"
 ctl status > status2.json
-[[ $(json_get 'v["baseline"]["scan_id"], v["latest"]["status"]' < status2.json) == "('$base_id', 'alarm')" ]] ||
-    fail "after restart: $(cat status2.json)"
+json_check status2.json "baseline.scan_id == $base_id" 'latest.status == alarm' || fail "after restart: $(cat status2.json)"
 ctl scan > scan3.json || fail "scan after restart: $(cat scan3.json)"
-[[ $(json_get 'v["status"]' < scan3.json) == alarm ]] || fail "scan after restart: $(cat scan3.json)"
+json_check scan3.json 'status == alarm' || fail "scan after restart: $(cat scan3.json)"
 kill -TERM "$daemon_pid"
 set +e; wait "$daemon_pid"; rc=$?; set -e
 [[ $rc == 0 ]] || fail "SIGTERM when idle: exit $rc"

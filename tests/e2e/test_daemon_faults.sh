@@ -30,7 +30,8 @@ if [[ -z ${UWB_FAULTS_IN_NAMESPACE:-} ]]; then
     fi
     if ! probe_err=$("${ns[@]}" sh -c "$probe" 2>&1); then
         echo "SKIP: cannot mount a tmpfs in a private mount namespace (${ns[*]}): ${probe_err:-no reason given}"
-        echo "SKIP: run as root, or allow unprivileged user namespaces (kernel.unprivileged_userns_clone=1)"
+        echo "SKIP: needs root on a machine (in a chroot / is not a mount point and user namespaces are refused)," \
+             "or unprivileged user namespaces (kernel.unprivileged_userns_clone=1)"
         exit 77
     fi
     exec "${ns[@]}" env UWB_FAULTS_IN_NAMESPACE=1 bash "$0" "$@"

@@ -5,7 +5,7 @@
 #   drivers boot  tests/board/test_* (Unity) in the guest: the libgpiod
 #                 backend against the virt machine's PL061 GPIO chip, the
 #                 serial: link (libserialport) through a PCI 16550 UART to
-#                 tools/board-in-loop/serial-peer.py on the host.
+#                 HOST_BUILD_DIR/e2e/unix_peer invert on the host.
 #   appliance     the aarch64 uwbd daemon in the guest, its digitiser on
 #   boot          /dev/ttyS0 (serial:, libserialport) and the emulated-GPIO
 #                 protocol on /dev/ttyS1, both joined to the emulated board
@@ -20,7 +20,7 @@
 # Usage: tools/board-in-loop/test-board.sh HOST_BUILD_DIR ARM_BUILD_DIR
 #   ARM_BUILD_DIR holds the aarch64 build (make CROSS_COMPILE=aarch64-linux-gnu-
 #   ... all board-tests): uwbd and board-tests/test_*; HOST_BUILD_DIR the
-#   native one with uwbemu.
+#   native one with uwbemu and e2e/{unix_peer,json_check,state_check}.
 # Knobs: UWB_BOARD_BOOT_TIMEOUT (seconds per boot, default 240),
 #        UWB_BOARD_KEEP=1 (keep the work directory: console logs, initramfs),
 #        UWB_TEST_VERBOSE=1 (print every guest test's full output).
@@ -170,7 +170,7 @@ check_boot() {
 
 # The drivers boot: tests/board programs with the serial peer on ttyS0.
 run_drivers_boot() {
-    local work="$1" arm_build="$2"
+    local work="$1" arm_build="$2" host_build="$3"
     local programs=("$arm_build"/board-tests/test_*)
     if [[ ! -x "${programs[0]}" ]]; then
         fail_step drivers "no test programs in $arm_build/board-tests (make ... board-tests)"
@@ -196,7 +196,7 @@ run_drivers_boot() {
         --uart "$digitiser_socket:qemu" --uart "$spare_socket:qemu" >"$console" 2>&1 &
     local qemu_pid=$!
     background_pids+=("$qemu_pid")
-    python3 "$HERE/serial-peer.py" "$digitiser_socket" 30 2>"$work/serial-peer.log" &
+    "$host_build/e2e/unix_peer" invert "$digitiser_socket" 30 2>"$work/serial-peer.log" &
     local peer_pid=$!
     background_pids+=("$peer_pid")
     local qemu_status=0
@@ -285,15 +285,15 @@ ENV
         return
     fi
     local positions stack checks status=0
-    read -r positions stack < <(python3 -c 'import json, sys; c = json.load(open(sys.argv[1]))
-print(c["scan"]["positions"], c["digitiser"]["stack"])' "$DAEMON_CONFIG")
-    checks="$(python3 "$HERE/check-appliance.py" "$console.clean" "$work/uwbemu-status.json" \
+    { read -r positions; read -r stack; } < <("$host_build/e2e/state_check" get scan.positions digitiser.stack \
+        < "$DAEMON_CONFIG")
+    checks="$(bash "$HERE/check-appliance.sh" "$host_build" "$console.clean" "$work/uwbemu-status.json" \
         "$SHIFT_MM" "$positions" "$stack")" || status=$?
     echo "$checks"
     total_passed=$((total_passed + $(grep -c '^PASS' <<<"$checks" || true)))
     total_failed=$((total_failed + $(grep -c '^FAIL' <<<"$checks" || true)))
     if [[ "$status" != 0 ]] && ! grep -q '^FAIL' <<<"$checks"; then
-        fail_step "$name" "check-appliance.py ended with status $status"
+        fail_step "$name" "check-appliance.sh ended with status $status"
     fi
     if [[ "$status" != 0 || "$VERBOSE" == 1 ]]; then
         echo "    --- guest console (daemon log lines start with BOARD-LOG):"
@@ -320,14 +320,14 @@ main() {
     local start="$EPOCHREALTIME"
     if ! command -v qemu-system-aarch64 >/dev/null; then
         fail_step qemu "qemu-system-aarch64 is not installed and could not be installed (Debian package qemu-system-arm)"
-    elif ! command -v python3 >/dev/null; then
-        fail_step host "python3 is not installed (the host end of the serial test)"
+    elif [[ ! -x "$host_build/e2e/unix_peer" || ! -x "$host_build/e2e/json_check" ]]; then
+        fail_step host "no $host_build/e2e/unix_peer or json_check (the host end of the serial test; make tests builds them)"
     elif ! parts="$(bash "$HERE/fetch-guest.sh" 2>"$work/fetch.log")"; then
         fail_step guest-parts "could not fetch the arm64 kernel and busybox"
         show_tail "$work/fetch.log"
     else
         eval "$parts"   # KERNEL=… BUSYBOX=…
-        run_drivers_boot "$work" "$arm_build"
+        run_drivers_boot "$work" "$arm_build" "$host_build"
         run_appliance_boot "$work" "$host_build" "$arm_build"
     fi
     echo "test-board: $(elapsed_since "$start") in all"

@@ -37,23 +37,10 @@ wait_for() {
     return 1
 }
 ctl() { "$BUILD/uwbd" ctl --socket run/control.sock "$@"; }
-show() {   # label, verdict line
-    python3 - "$1" "$2" <<'PY'
-import json, sys
-label, v = sys.argv[1], json.loads(sys.argv[2])
-print(f"== {label}")
-if "axial_displacement_mm" in v:
-    print(f"   status {v['status'].upper()}: displacement {v['axial_displacement_mm']:+.2f} ± {v['uncertainty_mm']:.2f} mm "
-          f"(edges {v['lower_edge_mm']:.1f}..{v['upper_edge_mm']:.1f} mm, baseline "
-          f"{v['baseline']['lower_edge_mm']:.1f}..{v['baseline']['upper_edge_mm']:.1f} mm)")
-elif v.get("status") == "edges":
-    print(f"   status EDGES: winding from {v['lower_edge_mm']:.1f} to {v['upper_edge_mm']:.1f} mm, "
-          f"face at {v['face_range_mm']:.0f} mm; became the baseline: {v.get('baseline_set')}")
-else:
-    print(f"   status {v['status'].upper()}: {v.get('reason', '')}")
-for p in v.get("images", []):
-    print(f"   image: {p}")
-PY
+show() {   # label: the latest verdict as text, from uwbd ctl --text
+    echo "== $1"
+    echo "\$ uwbd ctl --text verdict"
+    ctl --text verdict | sed "s/^/   /" || die "uwbd ctl --text verdict"
 }
 
 root_flag=()
@@ -76,14 +63,14 @@ ctl baseline set
 echo "\$ uwbd ctl scan"
 line=$(ctl scan) || die "commissioning scan: $line"
 echo "$line"
-show "commissioning scan of the intact winding (it becomes the baseline)" "$line"
+show "commissioning scan of the intact winding (it becomes the baseline)"
 
 echo "\$ uwbemu --ctl unix:run/emu.sock 'set displacement_m 0.012'     # the winding moves up 12 mm"
 "$BUILD/uwbemu" --ctl unix:run/emu.sock 'set displacement_m 0.012' > /dev/null || die "cannot move the emulated winding"
 echo "\$ uwbd ctl scan"
 line=$(ctl scan) || die "second scan: $line"
 echo "$line"
-show "scan after the emulated winding moved up 12 mm" "$line"
+show "scan after the emulated winding moved up 12 mm"
 
 stop_all
 echo "== stopped uwbemu and uwbd; the state directory is $OUT/run/state:"

@@ -9,7 +9,7 @@
 #   --cross ARCH   cross toolchain, qemu-user and the ARCH multiarch -dev
 #                  packages (ARCH: aarch64), then Unity
 #   --board        make test-board: native and aarch64 as above, plus
-#                  qemu-system-aarch64, cpio and python3 (the guest's kernel
+#                  qemu-system-aarch64 and cpio (the guest's kernel
 #                  and busybox: tools/board-in-loop/fetch-guest.sh)
 #   --fuzz         make fuzz: native as above, plus clang and its libFuzzer
 #                  runtime (Debian 12: clang-14, libclang-rt-14-dev, which
@@ -188,7 +188,7 @@ ensure_cross() {
 }
 
 # What make test-board and make soak run beside the build, as command:package pairs.
-readonly BOARD_COMMANDS=(qemu-system-aarch64:qemu-system-arm cpio:cpio python3:python3)
+readonly BOARD_COMMANDS=(qemu-system-aarch64:qemu-system-arm cpio:cpio)
 readonly SOAK_COMMANDS=(valgrind:valgrind)
 
 # Prints the packages (from command:package pairs) whose commands are missing, one a line.

@@ -1,0 +1,345 @@
+/* unix_peer: the other end of uwbd's unix sockets for the e2e scripts, a
+ * client that sends what `uwbd ctl` never would and a console peer, in C
+ * instead of python3, which a fresh Debian minbase does not have.
+ *
+ *   unix_peer ask SOCKET N < BYTES
+ *       Connects, sends stdin as it is, prints the first N reply lines.
+ *   unix_peer console SOCKET GO_FILE OUT_FILE LINE...
+ *       Listens on SOCKET for the daemon's console to connect; once GO_FILE
+ *       exists, sends each LINE and writes each reply line to OUT_FILE.
+ *   unix_peer slots SOCKET N
+ *       Fills the daemon's N control-client slots with silent clients and
+ *       checks: one more is told "too many control clients"; after 2.5 s
+ *       of silence a new client is served, the longest-idle client was the
+ *       one dropped, and the next one is still served.
+ *   unix_peer invert SOCKET [CONNECT_TIMEOUT_S]
+ *       The host end of a guest UART for make test-board's serial test
+ *       (tests/board/test_serial_link.c): connects to qemu's chardev socket
+ *       (retrying up to CONNECT_TIMEOUT_S, default 30), answers every byte
+ *       with its bitwise inverse until qemu closes the socket, and prints
+ *       how many bytes it answered.
+ * Every wait is bounded (60 s); exit 0 when all went as expected, 1 not. */
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "uwb/monotonic.h"
+#include "uwb/read_file.h"
+
+#define WAIT_S 60.0
+#define MAX_REPLY (4 * 1024 * 1024)
+
+static int fail(const char *what)
+{
+    fprintf(stderr, "unix_peer: %s\n", what);
+    return 1;
+}
+
+static void sleep_s(double s)
+{
+    struct timespec t = {.tv_sec = (time_t)s, .tv_nsec = (long)((s - (double)(time_t)s) * 1e9)};
+    while (nanosleep(&t, &t) != 0 && errno == EINTR) {
+    }
+}
+
+static int unix_address(const char *path, struct sockaddr_un *a)
+{
+    memset(a, 0, sizeof *a);
+    a->sun_family = AF_UNIX;
+    if (strlen(path) >= sizeof a->sun_path)
+        return -1;
+    strcpy(a->sun_path, path);
+    return 0;
+}
+
+static int connect_to(const char *path)
+{
+    struct sockaddr_un a;
+    int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0 || unix_address(path, &a) != 0 || connect(fd, (struct sockaddr *)&a, sizeof a) != 0) {
+        fprintf(stderr, "unix_peer: %s: cannot connect: %s\n", path, strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+static int send_all(int fd, const char *bytes, size_t len)
+{
+    while (len > 0) {
+        ssize_t n = send(fd, bytes, len, MSG_NOSIGNAL);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return -1;
+        bytes += n;
+        len -= (size_t)n;
+    }
+    return 0;
+}
+
+/* Reads until the buffer holds `lines` newlines: 0; -1 closed, timed out or too long. */
+struct inbox {
+    char *buf;
+    size_t len, cap;
+};
+
+static int read_lines(int fd, struct inbox *in, int lines)
+{
+    double deadline = uwb_monotonic_s() + WAIT_S;
+    for (;;) {
+        int have = 0;
+        for (size_t i = 0; i < in->len; i++)
+            have += in->buf[i] == '\n';
+        if (have >= lines)
+            return 0;
+        double left = deadline - uwb_monotonic_s();
+        struct pollfd p = {.fd = fd, .events = POLLIN};
+        if (left <= 0 || poll(&p, 1, (int)(left * 1000) + 1) <= 0)
+            return -1;
+        if (in->len + 65536 > in->cap) {
+            if (in->cap >= MAX_REPLY)
+                return -1;
+            char *grown = realloc(in->buf, in->cap + 65536 + 1);
+            if (!grown)
+                return -1;
+            in->buf = grown;
+            in->cap += 65536;
+        }
+        ssize_t n = recv(fd, in->buf + in->len, in->cap - in->len, 0);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return -1;
+        in->len += (size_t)n;
+        in->buf[in->len] = '\0';
+    }
+}
+
+/* Takes the first line out of the inbox as a string the caller frees. */
+static char *take_line(struct inbox *in)
+{
+    char *nl = memchr(in->buf, '\n', in->len);
+    size_t n = (size_t)(nl - in->buf);
+    char *line = strndup(in->buf, n);
+    memmove(in->buf, nl + 1, in->len - n - 1);
+    in->len -= n + 1;
+    in->buf[in->len] = '\0';
+    return line;
+}
+
+static int ask(const char *path, const char *count)
+{
+    int lines = atoi(count);
+    char *bytes, err[1024];
+    size_t len;
+    if (lines <= 0)
+        return fail("ask: N must be a positive number of lines");
+    if (uwb_read_fd(STDIN_FILENO, "stdin", MAX_REPLY, &bytes, &len, err, sizeof err) != UWB_READ_OK)
+        return fail(err);
+    int fd = connect_to(path);
+    struct inbox in = {0};
+    int ok = fd >= 0 && send_all(fd, bytes, len) == 0 && read_lines(fd, &in, lines) == 0;
+    if (fd >= 0 && !ok)
+        fprintf(stderr, "unix_peer: %s: fewer than %d reply lines within %.0f s\n", path, lines, WAIT_S);
+    for (int i = 0; ok && i < lines; i++) {
+        char *line = take_line(&in);
+        puts(line);
+        free(line);
+    }
+    free(bytes);
+    free(in.buf);
+    if (fd >= 0)
+        close(fd);
+    return ok ? 0 : 1;
+}
+
+static int console(const char *path, const char *go_file, const char *out_path, int n_lines, char **lines)
+{
+    struct sockaddr_un a;
+    int srv = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (srv < 0 || unix_address(path, &a) != 0 || bind(srv, (struct sockaddr *)&a, sizeof a) != 0 ||
+        listen(srv, 1) != 0) {
+        fprintf(stderr, "unix_peer: %s: cannot listen: %s\n", path, strerror(errno));
+        return 1;
+    }
+    struct pollfd p = {.fd = srv, .events = POLLIN};
+    if (poll(&p, 1, (int)(WAIT_S * 1000)) <= 0)
+        return fail("console: uwbd did not connect");
+    int conn = accept(srv, NULL, NULL);
+    if (conn < 0)
+        return fail("console: accept failed");
+    double deadline = uwb_monotonic_s() + WAIT_S;
+    while (access(go_file, F_OK) != 0) {
+        if (uwb_monotonic_s() > deadline)
+            return fail("console: the go file never appeared");
+        sleep_s(0.05);
+    }
+    FILE *out = fopen(out_path, "w");
+    if (!out)
+        return fail("console: cannot write the output file");
+    struct inbox in = {0};
+    int ok = 1;
+    for (int i = 0; ok && i < n_lines; i++) {
+        size_t n = strlen(lines[i]);
+        char *line = malloc(n + 2);
+        if (!line)
+            return fail("out of memory");
+        memcpy(line, lines[i], n);
+        line[n] = '\n';
+        ok = send_all(conn, line, n + 1) == 0 && read_lines(conn, &in, 1) == 0;
+        free(line);
+        if (!ok) {
+            fprintf(stderr, "unix_peer: console: no reply to '%s' (uwbd closed the connection?)\n", lines[i]);
+            break;
+        }
+        char *reply = take_line(&in);
+        fprintf(out, "%s\n", reply);
+        fflush(out);
+        free(reply);
+    }
+    free(in.buf);
+    fclose(out);
+    close(conn);
+    close(srv);
+    return ok ? 0 : 1;
+}
+
+/* One line sent, one reply line read, and its "class". */
+static int reply_class_is(int fd, const char *line, const char *want)
+{
+    struct inbox in = {0};
+    if (send_all(fd, line, strlen(line)) != 0 || read_lines(fd, &in, 1) != 0) {
+        free(in.buf);
+        fprintf(stderr, "unix_peer: no reply to %s", line);
+        return 0;
+    }
+    char *reply = take_line(&in);
+    cJSON *o = cJSON_Parse(reply);
+    const cJSON *cls = cJSON_GetObjectItemCaseSensitive(o, "class");
+    int ok = cJSON_IsString(cls) && strcmp(cls->valuestring, want) == 0;
+    if (!ok)
+        fprintf(stderr, "unix_peer: reply to %.*s: %s, want class %s\n", (int)strcspn(line, "\n"), line, reply, want);
+    cJSON_Delete(o);
+    free(reply);
+    free(in.buf);
+    return ok;
+}
+
+static int slots(const char *path, const char *count)
+{
+    int n = atoi(count);
+    if (n <= 0 || n > 1000)
+        return fail("slots: N must be a number of clients");
+    int *idle = calloc((size_t)n, sizeof *idle);
+    if (!idle)
+        return fail("out of memory");
+    int ok = 1;
+    for (int i = 0; i < n; i++)
+        ok = ok && (idle[i] = connect_to(path)) >= 0;
+    if (!ok)
+        return fail("slots: cannot connect the idle clients");
+    sleep_s(0.3);
+
+    int extra = connect_to(path);
+    struct inbox in = {0};
+    if (extra < 0 || read_lines(extra, &in, 1) != 0)
+        return fail("slots: the client over the limit got no reply");
+    char *reply = take_line(&in);
+    cJSON *o = cJSON_Parse(reply);
+    const cJSON *cls = cJSON_GetObjectItemCaseSensitive(o, "class");
+    const cJSON *msg = cJSON_GetObjectItemCaseSensitive(o, "message");
+    if (!cJSON_IsString(cls) || strcmp(cls->valuestring, "ERROR") != 0 || !cJSON_IsString(msg) ||
+        !strstr(msg->valuestring, "too many control clients")) {
+        fprintf(stderr, "unix_peer: the client over the limit: %s, want ERROR \"too many control clients\"\n", reply);
+        ok = 0;
+    }
+    cJSON_Delete(o);
+    free(reply);
+    free(in.buf);
+
+    sleep_s(2.5);
+    int late = connect_to(path);
+    if (late < 0 || !reply_class_is(late, "status\n", "STATUS"))
+        return fail("slots: a client after 2.5 s of silence was not served");
+    char byte;
+    struct pollfd p = {.fd = idle[0], .events = POLLIN};
+    if (poll(&p, 1, (int)(WAIT_S * 1000)) <= 0 || recv(idle[0], &byte, 1, 0) != 0) {
+        fprintf(stderr, "unix_peer: the longest-idle client was not the one dropped\n");
+        ok = 0;
+    }
+    if (!reply_class_is(idle[1], "status\n", "STATUS")) {
+        fprintf(stderr, "unix_peer: another idle client lost its connection\n");
+        ok = 0;
+    }
+    for (int i = 0; i < n; i++)
+        close(idle[i]);
+    close(extra);
+    close(late);
+    free(idle);
+    return ok ? 0 : 1;
+}
+
+static int invert(const char *path, const char *timeout_arg)
+{
+    double deadline = uwb_monotonic_s() + (timeout_arg ? atof(timeout_arg) : 30.0);
+    struct sockaddr_un a;
+    int fd = -1;
+    if (unix_address(path, &a) != 0)
+        return fail("invert: socket path too long");
+    for (;;) {
+        fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        if (fd >= 0 && connect(fd, (struct sockaddr *)&a, sizeof a) == 0)
+            break;
+        int why = errno;
+        if (fd >= 0)
+            close(fd);
+        if (uwb_monotonic_s() > deadline) {
+            fprintf(stderr, "unix_peer: cannot connect to %s: %s\n", path, strerror(why));
+            return 1;
+        }
+        sleep_s(0.05);
+    }
+    unsigned char buf[65536];
+    long long answered = 0;
+    for (;;) {
+        ssize_t n = recv(fd, buf, sizeof buf, 0);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)   /* qemu closed the socket (or reset it): the guest is done */
+            break;
+        for (ssize_t i = 0; i < n; i++)
+            buf[i] = (unsigned char)~buf[i];
+        if (send_all(fd, (const char *)buf, (size_t)n) != 0)
+            break;
+        answered += n;
+    }
+    close(fd);
+    fprintf(stderr, "serial-peer: %lld bytes received and answered\n", answered);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 4 && strcmp(argv[1], "ask") == 0)
+        return ask(argv[2], argv[3]);
+    if (argc >= 5 && strcmp(argv[1], "console") == 0)
+        return console(argv[2], argv[3], argv[4], argc - 5, argv + 5);
+    if (argc == 4 && strcmp(argv[1], "slots") == 0)
+        return slots(argv[2], argv[3]);
+    if ((argc == 3 || argc == 4) && strcmp(argv[1], "invert") == 0)
+        return invert(argv[2], argc == 4 ? argv[3] : NULL);
+    fprintf(stderr, "usage: unix_peer ask SOCKET N < BYTES\n"
+                    "       unix_peer console SOCKET GO_FILE OUT_FILE LINE...\n"
+                    "       unix_peer slots SOCKET N\n"
+                    "       unix_peer invert SOCKET [CONNECT_TIMEOUT_S]\n");
+    return 64;
+}

@@ -1,0 +1,93 @@
+/* uwbd ctl --text: a verdict reply as lines for people, with every figure
+ * the engineer needs, and anything that is not a verdict left alone. */
+#include "unity.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "uwb/cli.h"
+
+static char *text;
+static size_t text_len;
+static FILE *out;
+
+void setUp(void)
+{
+    text = NULL;
+    out = open_memstream(&text, &text_len);
+    TEST_ASSERT_NOT_NULL(out);
+}
+
+void tearDown(void)
+{
+    if (out)
+        fclose(out);
+    free(text);
+}
+
+static int render(const char *reply)
+{
+    int rc = uwbd_verdict_text(reply, out);
+    fclose(out);
+    out = NULL;
+    return rc;
+}
+
+static void test_a_displacement_has_status_figure_edges_and_images(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, render("{\"class\":\"VERDICT\",\"status\":\"alarm\",\"axial_displacement_mm\":12.0449,"
+                                    "\"uncertainty_mm\":0.234,\"lower_edge_mm\":212.04,\"upper_edge_mm\":612.49,"
+                                    "\"baseline\":{\"lower_edge_mm\":200.0,\"upper_edge_mm\":600.46},"
+                                    "\"images\":[\"/s/a.png\",\"/s/b.png\"]}"));
+    TEST_ASSERT_EQUAL_STRING("status ALARM: displacement +12.04 \u00b1 0.23 mm "
+                             "(edges 212.0..612.5 mm, baseline 200.0..600.5 mm)\n"
+                             "image: /s/a.png\nimage: /s/b.png\n",
+                             text);
+}
+
+static void test_a_downward_shift_keeps_its_sign(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, render("{\"class\":\"VERDICT\",\"status\":\"watch\",\"axial_displacement_mm\":-3.5,"
+                                    "\"uncertainty_mm\":0.4}"));
+    TEST_ASSERT_EQUAL_STRING("status WATCH: displacement -3.50 \u00b1 0.40 mm\n", text);
+}
+
+static void test_edges_only_says_where_the_winding_is_and_whether_it_became_the_baseline(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, render("{\"class\":\"VERDICT\",\"status\":\"edges\",\"lower_edge_mm\":200.04,"
+                                    "\"upper_edge_mm\":600.46,\"face_range_mm\":96.4,\"baseline_set\":true}"));
+    TEST_ASSERT_EQUAL_STRING("status EDGES: winding from 200.0 to 600.5 mm, face at 96 mm; "
+                             "became the baseline: yes\n",
+                             text);
+}
+
+static void test_an_error_verdict_gives_its_reason(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, render("{\"class\":\"VERDICT\",\"status\":\"error\","
+                                    "\"reason\":\"acquisition failed: no frame within 300 ms\"}"));
+    TEST_ASSERT_EQUAL_STRING("status ERROR: acquisition failed: no frame within 300 ms\n", text);
+}
+
+static void test_other_replies_are_not_rendered(void)
+{
+    TEST_ASSERT_EQUAL_INT(-1, render("{\"class\":\"STATUS\",\"state\":\"idle\"}"));
+    TEST_ASSERT_EQUAL_UINT(0, text_len);
+}
+
+static void test_a_reply_that_is_not_json_is_not_rendered(void)
+{
+    TEST_ASSERT_EQUAL_INT(-1, render("{\"class\":\"VERDICT\",\"status\":"));
+    TEST_ASSERT_EQUAL_UINT(0, text_len);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_a_displacement_has_status_figure_edges_and_images);
+    RUN_TEST(test_a_downward_shift_keeps_its_sign);
+    RUN_TEST(test_edges_only_says_where_the_winding_is_and_whether_it_became_the_baseline);
+    RUN_TEST(test_an_error_verdict_gives_its_reason);
+    RUN_TEST(test_other_replies_are_not_rendered);
+    RUN_TEST(test_a_reply_that_is_not_json_is_not_rendered);
+    return UNITY_END();
+}
