@@ -23,7 +23,7 @@
 
 #include "select.h"
 
-#define NOISE_DRAWS 12
+#define NOISE_DRAWS 24
 #define NOISE_SEED 0x5577424400000001ull
 #define MIN_NOISE_SAMPLES 500
 #define QUIET_PERIODS 2.0
