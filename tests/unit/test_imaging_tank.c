@@ -1,7 +1,8 @@
 /* The full-wave tank scans (tests/fixtures/fdtd2d-tank-*: oil, window,
  * barrier, core leg, end rings, clamp plate), noiseless, default settings:
  * every shift against the unmoved scan within 0.25 mm of the truth, and the
- * measured-against-true slope over -8...+30 mm within 1 % of one. The truth
+ * measured-against-true slope over -8...+30 mm within 1 % of one, each with
+ * a figure (not inconclusive) and sigma at the noiseless floor. The truth
  * files are read here, by the test, never by the processing. */
 #include <math.h>
 #include <stdio.h>
@@ -59,6 +60,9 @@ static void test_every_tank_shift_within_a_quarter_millimetre_on_a_slope_of_one(
         printf("%s: true %+.1f mm, measured %+.3f mm, error %+.3f mm, sigma %.3f mm, %s\n", moved[i],
                truth, got, got - truth, v.uncertainty_m * 1e3, uwb_status_name(v.status));
         TEST_ASSERT_TRUE_MESSAGE(v.current.found && v.baseline.found, v.reason);
+        /* A figure, with default settings: no noise, so sigma is the floor. */
+        TEST_ASSERT_NOT_EQUAL_MESSAGE(UWB_STATUS_INCONCLUSIVE, v.status, v.reason);
+        TEST_ASSERT_TRUE(v.uncertainty_m < 0.0002);
         TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(0.25, truth, got, moved[i]);
         sx += truth;
         sy += got;

@@ -32,15 +32,19 @@ struct accuracy_row {
     double within_2sigma;      /* share of errors within 2 sigma */
     double with_figure;        /* share not inconclusive (default uncertainty limit) */
     double crb_m;              /* 0 for the clean replay */
+    double crb_face_cell_m;    /* the bound from the face's range cell alone (see accuracy_crb_m) */
 };
 
 /* The Cramer-Rao bound of a displacement measured between two scans that
  * both carry white noise of rms noise_sigma per sample, with everything but
  * the winding unknown and taken from the baseline: sqrt(2) * sigma / |D|,
- * D = (b - a) / shift, samples of every position. Returns NAN when a and b
- * differ in size. */
+ * D = (b - a) / shift, samples of every position. *face_cell_m gets the same
+ * bound from the samples where the winding's face replies alone (each
+ * position's delays to the face between its edges as the analysis of a finds
+ * them, one period either side): what a method that reads only the face's
+ * range cell can reach. Returns NAN when a and b differ in size. */
 double accuracy_crb_m(const char *path_a, const char *path_b, double shift_m, double noise_sigma,
-                      char *err, size_t errlen);
+                      double *face_cell_m, char *err, size_t errlen);
 
 /* Replay one case: clean when level is NULL, else over `pairs` noisy pairs
  * (seeds derived from seed_base, pair and level). Returns 0, or -1 with err. */
