@@ -70,10 +70,12 @@ double analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_
 
 /* The face profile of an analysis measured again on its kept traces plus
  * scale * added (weighted by the analysis' aperture weights): what the same
- * scan with that noise would have given. Returns 0, or -1 with err filled. */
+ * scan with that noise would have given, imaged between y_lo_m and y_hi_m
+ * only (the whole aperture when y_lo_m >= y_hi_m). Returns 0, or -1 with err
+ * filled. */
 int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
-                           const struct uwb_scan *added, double scale, struct uwb_face_profile *p,
-                           char *err, size_t errlen);
+                           const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
+                           struct uwb_face_profile *p, char *err, size_t errlen);
 
 /* Band-limit every trace as conditioning does (its pulse band). */
 int condition_band_limit(struct uwb_scan *s, const struct uwb_condition_options *opt,

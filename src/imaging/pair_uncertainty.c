@@ -27,6 +27,7 @@
 #define NOISE_SEED 0x5577424400000001ull
 #define MIN_NOISE_SAMPLES 500
 #define QUIET_PERIODS 2.0
+#define ROWS_MARGIN_M 0.01
 
 static uint64_t splitmix64(uint64_t *state)
 {
@@ -110,6 +111,11 @@ int uwb_shift_noise(const struct uwb_analysis *ca, const struct uwb_analysis *ba
     struct uwb_scan noise = {0};
     if (uwb_scan_copy(&noise, &ca->conditioned, err, errlen) != 0)
         return -1;
+    /* Only the heights the fit reads: the baseline's winding, and the current's
+     * within the fit's search, with room for the interpolation. */
+    double half = 0.5 * ba->edges.height_m + ROWS_MARGIN_M;
+    double y_lo = ba->edges.center_m + fmin(0.0, shift_m) - half;
+    double y_hi = ba->edges.center_m + fmax(0.0, shift_m) + half;
     uint64_t state = NOISE_SEED;
     double ss_cur = 0.0, ss_base = 0.0;
     int rc = 0;
@@ -119,7 +125,7 @@ int uwb_shift_noise(const struct uwb_analysis *ca, const struct uwb_analysis *ba
             struct uwb_face_profile p;
             rc = noise_draw(&noise, a, opt, &state, err, errlen);
             if (rc == 0)
-                rc = analysis_measure_again(a, opt, &noise, rms, &p, err, errlen);
+                rc = analysis_measure_again(a, opt, &noise, rms, y_lo, y_hi, &p, err, errlen);
             if (rc != 0)
                 break;
             double d = which == 0 ? analysis_shift(&p, &ba->profile, ba, shift_m)
