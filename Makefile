@@ -61,7 +61,8 @@ ifeq ($(SAN),1)
 ifeq ($(filter %-san,$(BUILD)),)
 override BUILD := $(BUILD)-san
 endif
-SAN_FLAGS     := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+# float-cast-overflow is not part of gcc's "undefined" group; gcc (12) has it.
+SAN_FLAGS     := -fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer -fno-sanitize-recover=all
 endif
 
 # Project flags are kept apart from CFLAGS so a packager can override CFLAGS.
@@ -217,7 +218,7 @@ FUZZ_SUPPORT_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(filter-out $(FUZZ_SRC),$(w
 EMU_LIB_OBJ   := $(filter-out %/main.o,$(EMU_OBJ))
 # The harnesses play a board's side of a link (tests/fuzz/scripted_link.c).
 FUZZ_LINK_WRAP := -Wl,--wrap=uwb_link_open
-FUZZ_SANITIZE := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+FUZZ_SANITIZE := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
 
 $(BUILD)/tests/test_fuzz_corpus: $(BUILD)/obj/tests/unit/test_fuzz_corpus.o $(TEST_SUPPORT_OBJ) \
         $(FUZZ_SRC:%.c=$(BUILD)/obj/%.o) $(FUZZ_SUPPORT_OBJ) $(EMU_LIB_OBJ) $(UNITY_OBJ) \

@@ -12,6 +12,15 @@ struct atomic_file {
     char temp_path[4096];
 };
 
+/* Temporaries are named ATOMIC_FILE_TEMP_PREFIX "<name>.XXXXXX"
+ * ATOMIC_FILE_TEMP_SUFFIX, a name nothing else makes, so a start-up cleanup
+ * can tell a crash's leftover from someone else's file. */
+#define ATOMIC_FILE_TEMP_PREFIX ".uwbd-tmp."
+#define ATOMIC_FILE_TEMP_SUFFIX ".part"
+
+/* 1 when `name` (no directory) is one of our temporaries. */
+int atomic_file_is_temporary_name(const char *name);
+
 /* Open a temporary file beside `path`. Returns 0, or -1 with err filled. */
 int atomic_file_open(struct atomic_file *af, const char *path, char *err, size_t errlen);
 /* Flush, fsync, rename over the final path, fsync the directory. On any

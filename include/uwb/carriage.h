@@ -81,5 +81,14 @@ int uwb_carriage_home(struct uwb_carriage *c, char *err, size_t errlen);
 int uwb_carriage_move_to(struct uwb_carriage *c, double mm, char *err, size_t errlen);
 /* Straight to park_mm (no backlash approach needed to rest). */
 int uwb_carriage_park(struct uwb_carriage *c, char *err, size_t errlen);
+/* After the last position: back down to the home switch at the homing's
+ * slow rate and compare where it closes with the counted steps (*off_mm,
+ * positive when it closes above the counted home: upward steps lost). More
+ * than uwb_carriage_home_tolerance_mm apart is UWB_RIG_ERR_HOME with
+ * "steps lost: X mm" and the carriage no longer counts as homed; within it,
+ * the switch is position 0 again. */
+int uwb_carriage_check_home(struct uwb_carriage *c, double *off_mm, char *err, size_t errlen);
+/* backlash_mm + 0.5 mm (the switch's repeatability at the slow rate). */
+double uwb_carriage_home_tolerance_mm(const struct uwb_carriage_config *cfg);
 
 #endif

@@ -26,7 +26,8 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_scan *baseline
                  char *err, size_t errlen);
 
 /* Write the migrated, B-scan and comparison PNGs into dir, named after
- * `stem`, and list them in v->images. */
+ * `stem`, and list them in v->images; without a migrated image (analysis
+ * stopped before imaging) only the B-scan. */
 int uwb_write_images(const char *dir, const char *stem, const struct uwb_scan *current,
                      const struct uwb_analysis *current_analysis,
                      const struct uwb_analysis *baseline_analysis, struct uwb_verdict *v,

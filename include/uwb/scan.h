@@ -11,6 +11,26 @@
 #define UWBSCAN_MAX_SAMPLES 1048576
 #define UWBSCAN_MAX_HEADER_BYTES (1024u * 1024u)
 
+/* What this rig can record, so that every accepted scan is bounded work
+ * (the imaging grids scale with travel / step and range / pixel):
+ * - antenna_y_m strictly increasing, neighbours at least 1 mm apart: the
+ *   carriage's backlash alone is 0.5 mm, and a step finer than the 1 mm
+ *   image pixel adds nothing (the method uses 30 mm);
+ * - travel (last - first) at most 5 m: the tallest power-transformer
+ *   windings are about 3 m (4096 positions 1 mm apart still fit);
+ * - sample_interval_s from 0.1 ps to 1 ns (a 1-3 GHz pulse needs samples
+ *   under 0.17 ns), t0_s within 1 us of the pulse (150 m of range in air);
+ * - tx/rx offsets within 1 m of the reference point, eps_r at most 100
+ *   (oil is 2.2, water 80), target_z_m within 0..10 m of the antennas. */
+#define UWBSCAN_MIN_STEP_M 0.001
+#define UWBSCAN_MAX_TRAVEL_M 5.0
+#define UWBSCAN_MIN_SAMPLE_INTERVAL_S 1e-13
+#define UWBSCAN_MAX_SAMPLE_INTERVAL_S 1e-9
+#define UWBSCAN_MAX_ABS_T0_S 1e-6
+#define UWBSCAN_MAX_ANTENNA_OFFSET_M 1.0
+#define UWBSCAN_MAX_EPS_R 100.0
+#define UWBSCAN_MAX_RANGE_M 10.0
+
 struct uwb_scan {
     int positions;              /* K traces */
     int samples;                /* S samples per trace */

@@ -150,6 +150,10 @@ int uwbd_daemon_main(int argc, char **argv)
             fprintf(stderr, "%s\n", err);
             return UWBD_EXIT_CONFIG;
         }
+        if (uwbd_config_check_system(&cfg, check, err, sizeof err) != 0) {
+            fprintf(stderr, "%s\n", err);
+            return UWBD_EXIT_CONFIG;
+        }
         printf("%s: configuration valid\n", check);
         return UWBD_EXIT_OK;
     }

@@ -4,6 +4,8 @@
 #include "uwb/daemon/config.h"
 
 #include <cjson/cJSON.h>
+#include <grp.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -13,6 +15,7 @@
 #include "config_keys.h"
 #include "uwb/migrate.h"
 #include "uwb/read_file.h"
+#include "uwb/scan.h"
 
 #define PATH_TEXT_MAX 160
 /* A config file is a few kilobytes; this bounds what a typo can make us read. */
@@ -397,6 +400,76 @@ static int check_endpoint(struct load_context *ctx, const char *key, const char 
     return 0;
 }
 
+/* Directories state_dir may never be: the root and the Filesystem Hierarchy
+ * Standard's top-level and shared directories (FHS 3.0, chapters 3-5), which
+ * hold other programs' and users' files. uwbd's start-up cleanup, retention
+ * and trims delete inside state_dir, so it must be a directory of its own
+ * (e.g. /var/lib/uwbd). */
+static const char *const system_directories[] = {
+    "/", "/bin", "/boot", "/dev", "/etc", "/home", "/lib", "/lib32", "/lib64", "/libx32", "/media",
+    "/mnt", "/opt", "/proc", "/root", "/run", "/sbin", "/srv", "/sys", "/tmp", "/usr", "/usr/bin",
+    "/usr/include", "/usr/lib", "/usr/libexec", "/usr/local", "/usr/sbin", "/usr/share", "/usr/src",
+    "/var", "/var/backups", "/var/cache", "/var/lib", "/var/local", "/var/lock", "/var/log",
+    "/var/mail", "/var/opt", "/var/run", "/var/spool", "/var/tmp",
+};
+
+/* path made lexically canonical: repeated and trailing slashes dropped,
+ * "." and ".." resolved; a relative path is left relative. */
+static void lexical_path(const char *path, char *out, size_t n)
+{
+    char buf[UWBD_PATH_MAX];
+    snprintf(buf, sizeof buf, "%s", path);
+    size_t len = 0;
+    int absolute = path[0] == '/';
+    out[0] = '\0';
+    for (char *save = NULL, *part = strtok_r(buf, "/", &save); part; part = strtok_r(NULL, "/", &save)) {
+        if (strcmp(part, ".") == 0)
+            continue;
+        if (strcmp(part, "..") == 0) {
+            char *slash = strrchr(out, '/');
+            len = slash ? (size_t)(slash - out) : 0;
+            out[len] = '\0';
+            continue;
+        }
+        int w = snprintf(out + len, n - len, "%s%s", absolute || len ? "/" : "", part);
+        if (w < 0 || (size_t)w >= n - len)
+            break;
+        len += (size_t)w;
+    }
+    if (!out[0])
+        snprintf(out, n, "%s", absolute ? "/" : ".");
+}
+
+/* The system directory `path` names, as given or after resolving symlinks
+ * (an existing path only), or NULL. */
+static const char *names_system_directory(const char *path)
+{
+    char lexical[UWBD_PATH_MAX], resolved[PATH_MAX];
+    lexical_path(path, lexical, sizeof lexical);
+    const char *forms[2] = {lexical, realpath(path, resolved) ? resolved : NULL};
+    for (size_t f = 0; f < 2; f++)
+        for (size_t i = 0; forms[f] && i < sizeof system_directories / sizeof system_directories[0]; i++)
+            if (strcmp(forms[f], system_directories[i]) == 0)
+                return system_directories[i];
+    return NULL;
+}
+
+int uwbd_config_check_system(const struct uwbd_config *cfg, const char *name, char *err, size_t errlen)
+{
+    if (cfg->control_group[0]) {
+        char buf[4096];
+        struct group gr, *found = NULL;
+        int rc = getgrnam_r(cfg->control_group, &gr, buf, sizeof buf, &found);
+        if (rc != 0 || !found) {
+            snprintf(err, errlen, "%s: key `control.group`: no group named \"%s\" on this system%s%s", name,
+                     cfg->control_group, rc ? ": " : " (create it, or leave the key empty)",
+                     rc ? strerror(rc) : "");
+            return -1;
+        }
+    }
+    return 0;
+}
+
 /* Checks that involve more than one key, or a key that depends on another. */
 static int check_together(struct load_context *ctx, const struct uwbd_config *cfg)
 {
@@ -430,6 +503,13 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
         fail(ctx, "state_dir", "empty");
         return -1;
     }
+    const char *system_dir = names_system_directory(cfg->state_dir);
+    if (system_dir) {
+        fail(ctx, "state_dir",
+             "\"%s\" is %s, which holds other files: uwbd deletes inside its state directory, so give it one of its own (e.g. /var/lib/uwbd)",
+             cfg->state_dir, strcmp(system_dir, cfg->state_dir) == 0 ? "a system directory" : system_dir);
+        return -1;
+    }
     if (!cfg->control_socket[0]) {
         fail(ctx, "control.socket", "empty");
         return -1;
@@ -446,6 +526,16 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
         fail(ctx, "scan.first_position_mm",
              "%g mm minus the backlash overshoot (%g mm) lies below home (carriage.home_offset_mm = %g mm)",
              first, c->backlash_mm, lowest);
+        return -1;
+    }
+    if (r->step_mm < UWBSCAN_MIN_STEP_M * 1e3) {
+        fail(ctx, "scan.step_mm", "%g mm is under the smallest step a scan file may hold (%g mm, uwb/scan.h)",
+             r->step_mm, UWBSCAN_MIN_STEP_M * 1e3);
+        return -1;
+    }
+    if ((r->positions - 1) * r->step_mm > UWBSCAN_MAX_TRAVEL_M * 1e3) {
+        fail(ctx, "scan.positions", "%d positions %g mm apart span %g mm, over the largest travel a scan file may hold (%g mm)",
+             r->positions, r->step_mm, (r->positions - 1) * r->step_mm, UWBSCAN_MAX_TRAVEL_M * 1e3);
         return -1;
     }
     if (last > highest + 1e-9) {

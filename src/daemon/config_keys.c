@@ -57,7 +57,8 @@ static const char *const gpio_backends[] = {"libgpiod", "emulated", NULL};
 const struct config_key uwbd_config_keys[] = {
     STRING("state_dir", state_dir, "/var/lib/uwbd",
            "directory of the archive, verdicts.jsonl, latest.json and the baseline (board/state-dir.md); "
-           "created if missing; a relative path is taken from the daemon's working directory"),
+           "created if missing; a relative path is taken from the daemon's working directory; a directory of its "
+           "own: / and system directories (/etc, /home, /usr, /var, /var/lib, ...) are refused"),
     BOOLEAN("allow_root", allow_root, 0,
             "let the daemon run as root; without it uwbd refuses to start as root (exit 77)"),
 
@@ -69,7 +70,8 @@ const struct config_key uwbd_config_keys[] = {
             "keep at most this many scans in the archive, and as many lines in verdicts.jsonl, deleting "
             "the oldest first; 0 = no limit. Baselines are never deleted"),
     NUMBER("retention.max_age_days", retention_max_age_days, "days", 1, 0, 36500, 0,
-           "delete archived scans and verdicts.jsonl lines older than this; 0 = no limit"),
+           "delete archived scans and verdicts.jsonl lines older than this, only while the system clock is "
+           "synchronised (NTP), and never the newest scan; 0 = no limit"),
 
     STRING("control.socket", control_socket, UWBD_DEFAULT_CONTROL_SOCKET,
            "path of the local control socket that `uwbd ctl` talks to (at most 107 bytes)"),
@@ -152,7 +154,9 @@ const struct config_key uwbd_config_keys[] = {
                      "antenna positions per scan (K)"),
     REQUIRED_NUMBER("scan.first_position_mm", rig.first_position_mm, "mm", 1, -1e5, 1e5,
                     "height of position 0 in scan coordinates"),
-    REQUIRED_NUMBER_ABOVE("scan.step_mm", rig.step_mm, "mm", 1, 0, 1e4, "spacing between positions"),
+    REQUIRED_NUMBER_ABOVE("scan.step_mm", rig.step_mm, "mm", 1, 0, 1e4,
+                          "spacing between positions; at least 1 mm, and (positions - 1) x step at most "
+                          "5000 mm (what a scan file may hold)"),
     NUMBER_ABOVE("scan.trigger_pulse_us", rig.trigger_pulse_us, "us", 1, 0, 1e6, 10,
                  "how long the trigger line is held high"),
     NUMBER("scan.time_scale", rig.time_scale, "", 1, 0, 100, 1,

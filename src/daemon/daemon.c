@@ -124,6 +124,25 @@ static void load_baseline_info(struct daemon *d)
         uwbd_log(UWBD_LOG_WARNING, "baseline/current.json did not describe current.uwbscan; rebuilt it from the scan");
 }
 
+/* The latest verdict at start: latest.json, or when that is unreadable the
+ * newest line of verdicts.jsonl, so `verdict` still answers. */
+static void load_latest_verdict(struct daemon *d)
+{
+    char err[1024];
+    if (uwbd_latest_read(&d->store, &d->latest_verdict, err, sizeof err) == 0)
+        return;
+    char **lines = NULL, log_err[512];
+    int count = 0;
+    if (uwbd_verdict_log_tail(&d->store, 1, &lines, &count, NULL, log_err, sizeof log_err) == 0 && count == 1) {
+        d->latest_verdict = lines[0];
+        lines[0] = NULL;
+        uwbd_log(UWBD_LOG_WARNING, "%s; the latest verdict is taken from verdicts.jsonl until the next scan", err);
+    } else {
+        uwbd_log(UWBD_LOG_WARNING, "%s; it is replaced at the next scan", err);
+    }
+    uwbd_verdict_lines_free(lines, count);
+}
+
 static void set_rig_source(struct uwbd_config *cfg)
 {
     char host[64] = "";
@@ -156,14 +175,24 @@ static void reload(struct daemon *d)
 
     int rig_changed = memcmp(&next.rig, &d->cfg.rig, sizeof next.rig) != 0;
     int console_changed = strcmp(next.console_endpoint, d->cfg.console_endpoint) != 0;
+    static struct uwbd_config previous;   /* static: a configuration is large */
+    previous = d->cfg;
     d->cfg = next;
     if (rig_changed) {
         if (d->rig)
             uwb_rig_close(d->rig);
         d->rig = NULL;
         int detail = 0;
-        if (rig_open_logged(d, &detail, err, sizeof err) != UWB_RIG_OK)
-            uwbd_log(UWBD_LOG_ERR, "reload: rig: %s (tried again at the next scan)", err);
+        if (rig_open_logged(d, &detail, err, sizeof err) != UWB_RIG_OK) {
+            /* A reload is whole or not at all: the log never says both that
+             * the new rig cannot be reached and that the reload happened. */
+            d->cfg = previous;
+            char old_err[512];
+            if (rig_open_logged(d, &detail, old_err, sizeof old_err) != UWB_RIG_OK)
+                uwbd_log(UWBD_LOG_WARNING, "rig: %s (tried again at the next scan)", old_err);
+            uwbd_log(UWBD_LOG_ERR, "reload refused, the running configuration stays: the new rig: %s", err);
+            return;
+        }
     }
     if (console_changed) {
         peer_close(&d->console);
@@ -235,6 +264,7 @@ static void loop(struct daemon *d)
     struct pollfd fds[SLOT_CLIENTS + MAX_CLIENTS];
     struct peer *owner[SLOT_CLIENTS + MAX_CLIENTS];
     while (!(d->stopping && !d->scanning)) {
+        int timeout_ms = peers_expire(d);   /* drops clients past their deadlines first */
         fds[SLOT_SIGNAL] = (struct pollfd){.fd = d->signal_fd, .events = POLLIN};
         fds[SLOT_SCHEDULE] = (struct pollfd){.fd = d->schedule_fd, .events = POLLIN};
         fds[SLOT_DONE] = (struct pollfd){.fd = d->done_fd, .events = POLLIN};
@@ -249,9 +279,10 @@ static void loop(struct daemon *d)
             if (!d->clients[i].in_use)
                 continue;
             owner[n] = &d->clients[i];
-            fds[n++] = (struct pollfd){.fd = d->clients[i].fd, .events = POLLIN};
+            fds[n++] = (struct pollfd){.fd = d->clients[i].fd,
+                                       .events = (short)(POLLIN | (d->clients[i].out_len ? POLLOUT : 0))};
         }
-        if (poll(fds, n, -1) < 0) {
+        if (poll(fds, n, timeout_ms) < 0) {
             if (errno == EINTR)
                 continue;
             uwbd_log(UWBD_LOG_ERR, "poll: %s; stopping", strerror(errno));
@@ -277,9 +308,12 @@ static void loop(struct daemon *d)
         }
         if (fds[SLOT_CONTROL].revents)
             peer_accept(d);
-        for (nfds_t i = SLOT_CONSOLE; i < n; i++)
-            if (fds[i].revents && owner[i]->in_use)
+        for (nfds_t i = SLOT_CONSOLE; i < n; i++) {
+            if ((fds[i].revents & POLLOUT) && owner[i]->in_use)
+                peer_writable(d, owner[i]);
+            if ((fds[i].revents & ~POLLOUT) && owner[i]->in_use)
                 peer_readable(d, owner[i]);
+        }
     }
 }
 
@@ -383,8 +417,7 @@ static int start(struct daemon *d)
         return code;
     }
     load_baseline_info(d);
-    if (uwbd_latest_read(&d->store, &d->latest_verdict, err, sizeof err) != 0)
-        uwbd_log(UWBD_LOG_WARNING, "%s; it is replaced at the next scan", err);
+    load_latest_verdict(d);
     console_open(d);
     schedule_first(d);
     if (d->cfg.interval_s > 0)

@@ -20,10 +20,18 @@
 #include "uwb/rig.h"
 
 #define MAX_CLIENTS 16
-/* A reply that cannot be sent within this is dropped with its client. */
+/* A reply that cannot be sent within this is dropped with its client (the
+ * console's blocking write; a control client's queue that makes no progress). */
 #define SEND_TIMEOUT_MS 2000
-/* A full table drops its longest-idle client once it has been quiet this long. */
+/* A control client must complete a command line within this of connecting
+ * or of its previous line, unless it waits for a scan's verdict. */
+#define CLIENT_LINE_TIMEOUT_S 5.0
+/* A full table drops, for a new connection, a client whose current line
+ * began at least this long ago. */
 #define CLIENT_IDLE_EVICT_S 2.0
+/* Replies queued for one control client that does not read: beyond this it
+ * is dropped (the loop never blocks on a client). */
+#define CLIENT_QUEUE_MAX (1024 * 1024)
 #define CONSOLE_RETRY_S 5
 
 enum peer_kind { PEER_CONTROL, PEER_CONSOLE };
@@ -36,6 +44,10 @@ struct peer {
     struct uwbd_line_buffer lines;
     unsigned long waiting_for;     /* cycle whose verdict this peer asked for; 0 = none */
     double last_active_s;          /* CLOCK_MONOTONIC of its connection or last input */
+    double line_since_s;           /* CLOCK_MONOTONIC of its connection or last complete line */
+    char *out;                     /* queued reply bytes not yet sent (control clients) */
+    size_t out_len, out_cap;
+    double out_progress_s;         /* CLOCK_MONOTONIC of the queue's last progress */
 };
 
 struct scan_job {
@@ -91,6 +103,11 @@ void peers_init(struct daemon *d);
 void peer_accept(struct daemon *d);
 void peer_readable(struct daemon *d, struct peer *p);
 void peer_close(struct peer *p);
+/* Send what a control client's queue holds, as far as its socket takes it. */
+void peer_writable(struct daemon *d, struct peer *p);
+/* Drop control clients past their deadlines; returns the milliseconds until
+ * the next deadline (-1: none), for poll(). */
+int peers_expire(struct daemon *d);
 /* The verdict line to the peers waiting for `cycle`, or ERROR with `error` when line is NULL. */
 void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error);
 void console_open(struct daemon *d);

@@ -41,35 +41,110 @@ void peer_close(struct peer *p)
     p->link = NULL;
     p->in_use = 0;
     p->waiting_for = 0;
+    free(p->out);
+    p->out = NULL;
+    p->out_len = p->out_cap = 0;
     memset(&p->lines, 0, sizeof p->lines);
 }
 
-/* Whole line or nothing; a client too slow to take it is dropped. */
-static int send_all(int fd, const char *buf, size_t len)
+static void drop_client(struct peer *p, const char *why)
+{
+    uwbd_log(UWBD_LOG_INFO, "control client dropped: %s", why);
+    peer_close(p);
+}
+
+/* Send as much of the queue as the socket takes now, never waiting. */
+static void flush_queue(struct peer *p)
 {
     size_t sent = 0;
-    while (sent < len) {
-        ssize_t w = send(fd, buf + sent, len - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
+    while (sent < p->out_len) {
+        ssize_t w = send(p->fd, p->out + sent, p->out_len - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
         if (w > 0) {
             sent += (size_t)w;
             continue;
         }
         if (w < 0 && errno == EINTR)
             continue;
-        if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-            struct pollfd pfd = {.fd = fd, .events = POLLOUT};
-            if (poll(&pfd, 1, SEND_TIMEOUT_MS) > 0)
-                continue;
-        }
-        return -1;
+        if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK))
+            break;
+        drop_client(p, "gone while a reply was sent");
+        return;
     }
-    return 0;
+    if (sent > 0) {
+        memmove(p->out, p->out + sent, p->out_len - sent);
+        p->out_len -= sent;
+        p->out_progress_s = uwb_monotonic_s();
+    }
+}
+
+/* Queue a whole line for a control client; one that lets its queue grow
+ * past CLIENT_QUEUE_MAX does not read and is dropped. */
+static void queue_line(struct peer *p, const char *text, size_t n)
+{
+    if (p->out_len + n > CLIENT_QUEUE_MAX) {
+        drop_client(p, "it does not read its replies (queue full)");
+        return;
+    }
+    if (p->out_len + n > p->out_cap) {
+        size_t cap = p->out_cap ? p->out_cap : 4096;
+        while (cap < p->out_len + n)
+            cap *= 2;
+        char *grown = realloc(p->out, cap);
+        if (!grown) {
+            drop_client(p, "out of memory for its replies");
+            return;
+        }
+        p->out = grown;
+        p->out_cap = cap;
+    }
+    if (p->out_len == 0)
+        p->out_progress_s = uwb_monotonic_s();
+    memcpy(p->out + p->out_len, text, n);
+    p->out_len += n;
+    flush_queue(p);
+}
+
+void peer_writable(struct daemon *d, struct peer *p)
+{
+    (void)d;
+    if (p->in_use && p->kind == PEER_CONTROL && p->out_len)
+        flush_queue(p);
+}
+
+int peers_expire(struct daemon *d)
+{
+    double now = uwb_monotonic_s(), next = -1;
+    for (int i = 0; i < MAX_CLIENTS; i++) {
+        struct peer *p = &d->clients[i];
+        if (!p->in_use)
+            continue;
+        double deadline;
+        const char *why;
+        if (p->out_len) {
+            deadline = p->out_progress_s + SEND_TIMEOUT_MS / 1000.0;
+            why = "it does not read its replies";
+        } else if (!p->waiting_for) {
+            deadline = p->line_since_s + CLIENT_LINE_TIMEOUT_S;
+            why = "no complete command line in time";
+        } else {
+            continue;   /* waits for a scan's verdict */
+        }
+        if (now >= deadline) {
+            drop_client(p, why);
+            continue;
+        }
+        if (next < 0 || deadline < next)
+            next = deadline;
+    }
+    return next < 0 ? -1 : (int)((next - now) * 1000.0) + 1;
 }
 
 static void console_lost(struct daemon *d, const char *why);
 
 static void send_line(struct daemon *d, struct peer *p, const char *line)
 {
+    if (!p->in_use)
+        return;   /* dropped meanwhile (e.g. an earlier reply of a pipeline) */
     if (!line) {
         uwbd_log(UWBD_LOG_ERR, "out of memory building a reply");
         return;
@@ -83,10 +158,7 @@ static void send_line(struct daemon *d, struct peer *p, const char *line)
     memcpy(text, line, n);
     text[n] = '\n';
     if (p->kind == PEER_CONTROL) {
-        if (send_all(p->fd, text, n + 1) != 0) {
-            uwbd_log(UWBD_LOG_INFO, "control client gone or too slow; closed");
-            peer_close(p);
-        }
+        queue_line(p, text, n + 1);
     } else {
         /* A serial line may be slow: allow a millisecond a byte (9600 baud) on top. */
         int timeout_ms = SEND_TIMEOUT_MS + (int)(n < 600000 ? n : 600000);
@@ -172,6 +244,12 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
             reply(d, p, uwbd_reply_error("the daemon is stopping; no new scan"));
             return;
         }
+        if (p->waiting_for) {
+            /* One connection waits for one verdict: a second `scan` sent before
+             * the first one's verdict is refused, not silently merged. */
+            reply(d, p, uwbd_reply_error("a scan is already pending on this connection; wait for its verdict"));
+            return;
+        }
         /* The peer waits for the cycle that starts now, or the one queued after the running one. */
         p->waiting_for = d->cycles_started + 1;
         scan_now(d);
@@ -202,6 +280,7 @@ static void feed(struct daemon *d, struct peer *p, const char *buf, size_t n)
     size_t len;
     int ev;
     while (p->in_use && (ev = uwbd_line_buffer_feed(&p->lines, buf, n, &used, &line, &len)) != UWBD_LINE_NONE) {
+        p->line_since_s = uwb_monotonic_s();
         if (ev == UWBD_LINE_TOO_LONG) {
             char msg[96];
             snprintf(msg, sizeof msg, "command line too long (at most %d bytes); ignored", UWB_COMMAND_MAX_LINE);
@@ -212,17 +291,19 @@ static void feed(struct daemon *d, struct peer *p, const char *buf, size_t n)
     }
 }
 
-/* With every slot taken, the client quiet for longest (and not waiting for
- * a scan) makes room, so clients that connect and say nothing cannot lock
- * the operators out. */
-static struct peer *idle_client_to_drop(struct daemon *d, double now)
+/* With every slot taken, the client whose current command line began
+ * longest ago, at least CLIENT_IDLE_EVICT_S before (and that is not waiting
+ * for a scan), makes room. Counted from its last complete line, not its
+ * last byte: clients that trickle a byte a second or say nothing cannot
+ * lock the operators out for more than that. */
+static struct peer *client_to_drop(struct daemon *d, double now)
 {
     struct peer *oldest = NULL;
     for (int i = 0; i < MAX_CLIENTS; i++) {
         struct peer *p = &d->clients[i];
-        if (!p->in_use || p->waiting_for || now - p->last_active_s < CLIENT_IDLE_EVICT_S)
+        if (!p->in_use || p->waiting_for || now - p->line_since_s < CLIENT_IDLE_EVICT_S)
             continue;
-        if (!oldest || p->last_active_s < oldest->last_active_s)
+        if (!oldest || p->line_since_s < oldest->line_since_s)
             oldest = p;
     }
     return oldest;
@@ -242,18 +323,19 @@ void peer_accept(struct daemon *d)
         return;
     }
     double now = uwb_monotonic_s();
-    struct peer *idle = idle_client_to_drop(d, now);
-    for (int i = 0; i < MAX_CLIENTS; i++) {
-        struct peer *p = &d->clients[i];
-        if (p->in_use && p != idle)
-            continue;
-        if (p->in_use)
-            uwbd_log(UWBD_LOG_NOTICE, "control: %d clients connected; dropping one idle for %.0f s to make room",
-                     MAX_CLIENTS, now - p->last_active_s);
-        peer_close(p);
-        p->in_use = 1;
-        p->fd = fd;
-        p->last_active_s = now;
+    struct peer *slot = NULL;
+    for (int i = 0; i < MAX_CLIENTS && !slot; i++)
+        if (!d->clients[i].in_use)
+            slot = &d->clients[i];
+    if (!slot && (slot = client_to_drop(d, now)) != NULL) {
+        uwbd_log(UWBD_LOG_NOTICE, "control: %d clients connected; dropping one idle for %.1f s (no complete command line) to make room",
+                 MAX_CLIENTS, now - slot->line_since_s);
+        peer_close(slot);
+    }
+    if (slot) {
+        slot->in_use = 1;
+        slot->fd = fd;
+        slot->last_active_s = slot->line_since_s = now;
         return;
     }
     struct peer turned_away = {.kind = PEER_CONTROL, .in_use = 1, .fd = fd};

@@ -32,6 +32,7 @@ struct verdict_extras {
     char baseline_note[256];
     const char *archive_error;   /* a file of this cycle the archive did not take */
     const char *record_error;    /* why the verdict is not in verdicts.jsonl */
+    const char *clock_note;      /* this scan is dated before the newest recorded one */
 };
 
 struct cycle {
@@ -45,6 +46,7 @@ struct cycle {
     char id[UWBD_SCAN_ID_MAX + 1];
     char created[64];
     char archive_error[512];     /* the first file of this cycle that could not be archived */
+    char clock_note[200];        /* "" unless the clock went back (issue 17) */
 };
 
 static int file_exists_in(const char *dir, const char *id, const char *suffix)
@@ -96,6 +98,8 @@ static char *verdict_text(const struct uwb_verdict *v, const struct verdict_extr
         cJSON_AddStringToObject(o, "archive_error", x->archive_error);
     if (x->record_error)
         cJSON_AddStringToObject(o, "record_error", x->record_error);
+    if (x->clock_note)
+        cJSON_AddStringToObject(o, "clock_warning", x->clock_note);
     char *text = cJSON_PrintUnformatted(o);
     cJSON_Delete(o);
     return text;
@@ -149,6 +153,7 @@ static void record(struct cycle *c, const struct uwb_verdict *v, const struct ve
     snprintf(res->reason, sizeof res->reason, "%s", v->reason);
     res->baseline_set = x.baseline_set;
     x.archive_error = c->archive_error[0] ? c->archive_error : NULL;
+    x.clock_note = c->clock_note[0] ? c->clock_note : NULL;
     if (retext(c, v, &x) != 0) {
         problem(c, "verdict", "out of memory");
         return;
@@ -328,6 +333,13 @@ int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store
     memset(res, 0, sizeof *res);
     struct cycle c = {.cfg = cfg, .store = store, .req = req, .res = res};
     uwbd_utc_text(req->now, c.created, sizeof c.created);
+    char newest[64];
+    if (uwbd_verdict_log_latest_created(store, newest, sizeof newest) && strcmp(c.created, newest) < 0)
+        snprintf(c.clock_note, sizeof c.clock_note,
+                 "this scan's time %s is earlier than the newest recorded scan's (%.40s): the clock went back", c.created,
+                 newest);
+    if (c.clock_note[0])
+        uwbd_log(UWBD_LOG_WARNING, "%s", c.clock_note);
     struct tm utc;
     gmtime_r(&req->now, &utc);
     char err[512];
@@ -348,9 +360,13 @@ int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store
         process_scan(&c, &scan);
         uwb_scan_free(&scan);
     }
-    int removed = 0;
-    if (uwbd_retention_apply(store, cfg->retention_max_scans, cfg->retention_max_age_days, req->now, &removed, err,
-                             sizeof err) != 0)
+    int removed = 0, synchronised = uwbd_clock_synchronised();
+    static int said_unsynchronised;   /* once per run, not once per scan */
+    if (cfg->retention_max_age_days > 0 && !synchronised && !said_unsynchronised++)
+        uwbd_log(UWBD_LOG_NOTICE, "retention: the system clock is not synchronised: "
+                                  "retention.max_age_days waits for it (max_scans still applies)");
+    if (uwbd_retention_apply(store, cfg->retention_max_scans, cfg->retention_max_age_days, req->now, synchronised,
+                             &removed, err, sizeof err) != 0)
         uwbd_log(UWBD_LOG_ERR, "retention: %s", err);
     else if (removed)
         uwbd_log(UWBD_LOG_INFO, "retention: deleted %d archived scan%s", removed, removed == 1 ? "" : "s");

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "uwb/atomic_file.h"
+#include "uwb/daemon/log.h"
 #include "uwb/daemon/verdict_log.h"
 
 int uwbd_path_join(char *out, size_t n, const char *dir, const char *name)
@@ -54,34 +55,103 @@ static int make_dirs(const char *path, char *err, size_t errlen)
     return make_dir(buf, err, errlen);
 }
 
-/* atomic_file's temporaries are ".<name>.XXXXXX"; only a crash leaves one. */
-static int is_stale_temporary(const char *name)
+/* At most this many files that are not ours are named one by one in the
+ * start-up warning; the rest are counted. */
+#define FOREIGN_NAMED_MAX 8
+
+struct cleanup {
+    int removed;
+    int foreign;     /* hidden files or symlinks left alone */
+};
+
+static int all_digits(const char *s, size_t len)
 {
-    size_t n = strlen(name);
-    return name[0] == '.' && n > 8 && name[n - 7] == '.' && strcmp(name, "..") != 0;
+    if (strlen(s) != len)
+        return 0;
+    for (size_t i = 0; i < len; i++)
+        if (s[i] < '0' || s[i] > '9')
+            return 0;
+    return 1;
 }
 
-static void remove_stale_temporaries(const char *dir, int depth, int *removed)
+static void note_foreign(struct cleanup *c, const char *where, const char *name, const char *what)
 {
-    DIR *d = opendir(dir);
-    if (!d)
+    if (c->foreign++ < FOREIGN_NAMED_MAX)
+        uwbd_log(UWBD_LOG_WARNING, "state directory: %s/%s is %s, not uwbd's: left alone", where, name, what);
+}
+
+/* Remove our temporaries (atomic_file_is_temporary_name) from one directory
+ * uwbd writes, given as an fd opened without following a symlink. Anything
+ * else hidden, and any symlink, is named and left alone. `levels` are the
+ * digit-widths of the subdirectories to descend into (archive/YYYY/MM/DD),
+ * each opened with O_NOFOLLOW relative to its parent's fd. */
+static void clean_directory(int dfd, const char *where, const int *levels, struct cleanup *c)
+{
+    int lfd = dup(dfd);
+    DIR *d = lfd >= 0 ? fdopendir(lfd) : NULL;
+    if (!d) {
+        if (lfd >= 0)
+            close(lfd);
         return;
+    }
     struct dirent *e;
     while ((e = readdir(d)) != NULL) {
-        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
-            continue;
-        char path[UWBD_PATH_MAX + 256];
-        if (uwbd_path_join(path, sizeof path, dir, e->d_name) != 0)
+        const char *name = e->d_name;
+        if (strcmp(name, ".") == 0 || strcmp(name, "..") == 0)
             continue;
         struct stat st;
-        if (lstat(path, &st) != 0)
+        if (fstatat(dfd, name, &st, AT_SYMLINK_NOFOLLOW) != 0)
             continue;
-        if (S_ISDIR(st.st_mode) && depth > 0)
-            remove_stale_temporaries(path, depth - 1, removed);
-        else if (S_ISREG(st.st_mode) && is_stale_temporary(e->d_name) && unlink(path) == 0)
-            ++*removed;
+        if (S_ISLNK(st.st_mode)) {
+            note_foreign(c, where, name, "a symbolic link");
+        } else if (S_ISDIR(st.st_mode)) {
+            if (levels == NULL || levels[0] == 0 || !all_digits(name, (size_t)levels[0]))
+                continue;
+            int sub = openat(dfd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+            if (sub < 0)
+                continue;
+            char sub_where[UWBD_PATH_MAX + 300];
+            snprintf(sub_where, sizeof sub_where, "%s/%s", where, name);
+            clean_directory(sub, sub_where, levels + 1, c);
+            close(sub);
+        } else if (S_ISREG(st.st_mode) && atomic_file_is_temporary_name(name)) {
+            if (unlinkat(dfd, name, 0) == 0)
+                ++c->removed;
+        } else if (name[0] == '.') {
+            note_foreign(c, where, name, "a hidden file");
+        }
     }
     closedir(d);
+}
+
+/* The directories uwbd writes: the root, baseline/, baseline/history/ and
+ * archive/YYYY/MM/DD/. Nothing else under the root is looked at. */
+static void remove_stale_temporaries(const struct uwbd_store *store, struct cleanup *c)
+{
+    static const int archive_levels[] = {4, 2, 2, 0};
+    int root = open(store->root, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (root < 0)
+        return;
+    clean_directory(root, store->root, NULL, c);
+    int baseline = openat(root, "baseline", O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (baseline >= 0) {
+        clean_directory(baseline, store->baseline_dir, NULL, c);
+        int history = openat(baseline, "history", O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        if (history >= 0) {
+            clean_directory(history, store->baseline_history, NULL, c);
+            close(history);
+        }
+        close(baseline);
+    }
+    int archive = openat(root, "archive", O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (archive >= 0) {
+        clean_directory(archive, store->archive, archive_levels, c);
+        close(archive);
+    }
+    close(root);
+    if (c->foreign > FOREIGN_NAMED_MAX)
+        uwbd_log(UWBD_LOG_WARNING, "state directory: %d more files that are not uwbd's left alone",
+                 c->foreign - FOREIGN_NAMED_MAX);
 }
 
 int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repairs, char *err,
@@ -114,9 +184,9 @@ int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repair
         snprintf(err, errlen, "%s: not writable: %s", store->root, strerror(errno));
         return -1;
     }
-    int removed = 0;
-    /* root, baseline/history (2 levels), archive/YYYY/MM/DD (4 levels) */
-    remove_stale_temporaries(store->root, 4, &removed);
+    struct cleanup cleanup = {0, 0};
+    remove_stale_temporaries(store, &cleanup);
+    int removed = cleanup.removed;
     long dropped = 0;
     if (uwbd_verdict_log_repair(store, &dropped, err, errlen) != 0)
         return -1;

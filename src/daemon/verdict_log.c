@@ -19,6 +19,14 @@
 /* A verdict line is a few kilobytes; a "line" longer than this is damage. */
 #define MAX_LINE (256 * 1024)
 
+/* Every file of the state directory is opened with O_NOFOLLOW: a symlink
+ * put in place of verdicts.jsonl or latest.json is refused, never written
+ * through (appends and trims would otherwise reach another file). */
+static const char *open_problem(int e)
+{
+    return e == ELOOP ? "is a symbolic link, which uwbd does not follow in its state directory" : strerror(e);
+}
+
 int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, char *err, size_t errlen)
 {
     size_t n = strlen(json);
@@ -26,9 +34,9 @@ int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, ch
         snprintf(err, errlen, "%s: refusing to append an empty or multi-line record", store->verdict_log);
         return -1;
     }
-    int fd = open(store->verdict_log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+    int fd = open(store->verdict_log, O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
     if (fd < 0) {
-        snprintf(err, errlen, "%s: cannot open for appending: %s", store->verdict_log, strerror(errno));
+        snprintf(err, errlen, "%s: cannot open for appending: %s", store->verdict_log, open_problem(errno));
         return -1;
     }
     struct stat st;
@@ -61,11 +69,11 @@ int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, ch
 static int open_log(const struct uwbd_store *store, int flags, int *fd, off_t *size, char *err,
                     size_t errlen)
 {
-    *fd = open(store->verdict_log, flags | O_CLOEXEC);
+    *fd = open(store->verdict_log, flags | O_NOFOLLOW | O_CLOEXEC);
     if (*fd < 0) {
         if (errno == ENOENT)
             return 1;
-        snprintf(err, errlen, "%s: cannot open: %s", store->verdict_log, strerror(errno));
+        snprintf(err, errlen, "%s: cannot open: %s", store->verdict_log, open_problem(errno));
         return -1;
     }
     struct stat st;
@@ -129,6 +137,8 @@ void uwbd_verdict_lines_free(char **lines, int count)
 /* Keep text[0..len) if it is one JSON object; returns a malloc'd copy or NULL. */
 static char *valid_line(const char *text, size_t len)
 {
+    if (memchr(text, '\0', len))
+        return NULL;   /* a NUL inside would cut the line short for every reader */
     cJSON *o = cJSON_ParseWithLength(text, len);
     int ok = o && cJSON_IsObject(o);
     cJSON_Delete(o);
@@ -390,11 +400,15 @@ int uwbd_latest_write(const struct uwbd_store *store, const char *json, char *er
 int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, size_t errlen)
 {
     *json = NULL;
-    FILE *f = fopen(store->latest, "rb");
+    int fd = open(store->latest, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
     if (!f) {
-        if (errno == ENOENT)
+        int e = errno;
+        if (fd >= 0)
+            close(fd);
+        if (e == ENOENT)
             return 0;
-        snprintf(err, errlen, "%s: cannot open: %s", store->latest, strerror(errno));
+        snprintf(err, errlen, "%s: cannot open: %s", store->latest, open_problem(e));
         return -1;
     }
     char *text = malloc(MAX_LINE + 1);
@@ -407,7 +421,7 @@ int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, siz
     while (len > 0 && (text[len - 1] == '\n' || text[len - 1] == '\r'))
         len--;
     text[len] = '\0';
-    cJSON *o = cJSON_ParseWithLength(text, len);
+    cJSON *o = memchr(text, '\0', len) ? NULL : cJSON_ParseWithLength(text, len);
     int ok = o && cJSON_IsObject(o);
     cJSON_Delete(o);
     if (!ok) {
@@ -417,4 +431,22 @@ int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, siz
     }
     *json = text;
     return 0;
+}
+
+int uwbd_verdict_log_latest_created(const struct uwbd_store *store, char *created, size_t n)
+{
+    created[0] = '\0';
+    char **lines = NULL, err[256];
+    int count = 0;
+    if (uwbd_verdict_log_tail(store, 1, &lines, &count, NULL, err, sizeof err) != 0 || count < 1) {
+        uwbd_verdict_lines_free(lines, count);
+        return 0;
+    }
+    cJSON *o = cJSON_Parse(lines[0]);
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(o, "created");
+    if (cJSON_IsString(c) && c->valuestring)
+        snprintf(created, n, "%s", c->valuestring);
+    cJSON_Delete(o);
+    uwbd_verdict_lines_free(lines, count);
+    return created[0] != '\0';
 }

@@ -6,6 +6,24 @@
 
 #include "uwb/envelope.h"
 
+/* The most pixels along either side of an imaging grid: 5 m of travel (the
+ * scan file's limit) plus margins at 0.1 mm, or 10 m of range at 1 mm, are
+ * well inside it. Computed in double and checked before any conversion to
+ * int, so a degenerate pixel size or span is a message, not undefined
+ * behaviour. */
+#define IMAGING_GRID_MAX_SIDE 200000
+
+static int grid_side(double span_m, double pixel_m, int *n)
+{
+    if (!(pixel_m > 0.0) || !isfinite(span_m) || !isfinite(pixel_m))
+        return -1;
+    double cells = floor(span_m / pixel_m + 1e-9) + 1.0;
+    if (!(cells >= 0.0 && cells <= IMAGING_GRID_MAX_SIDE))
+        return -1;
+    *n = (int)cells;
+    return 0;
+}
+
 int imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m,
                  double dy_m, double z_lo_m, double z_hi_m, double dz_m,
                  char *err, size_t errlen)
@@ -18,8 +36,12 @@ int imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_ma
             hi = scan->antenna_y_m[k];
     }
     double y0 = lo - ceil(y_margin_m / dy_m) * dy_m;
-    int ny = (int)floor((hi + y_margin_m - y0) / dy_m + 1e-9) + 1;
-    int nz = (int)floor((z_hi_m - z_lo_m) / dz_m + 1e-9) + 1;
+    int ny = 0, nz = 0;
+    if (grid_side(hi + y_margin_m - y0, dy_m, &ny) != 0 || grid_side(z_hi_m - z_lo_m, dz_m, &nz) != 0) {
+        snprintf(err, errlen, "imaging: a grid over %g m x %g m in %g m x %g m pixels is not at most %d pixels a side",
+                 hi + y_margin_m - y0, z_hi_m - z_lo_m, dy_m, dz_m, IMAGING_GRID_MAX_SIDE);
+        return -1;
+    }
     if (ny < 2 || nz < 8) {
         snprintf(err, errlen, "imaging: grid of %d x %d pixels is too small", ny, nz);
         return -1;

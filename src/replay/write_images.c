@@ -17,6 +17,10 @@ int uwb_write_images(const char *dir, const char *stem, const struct uwb_scan *c
             snprintf(err, errlen, "%s: output path too long", dir);
             return -1;
         }
+        /* An analysis that stopped before imaging (e.g. an inconclusive "record
+         * too short") has no migrated image: the B-scan alone is written. */
+        if (i != 1 && !cur_a->intensity.pix)
+            continue;
         int rc;
         if (i == 0)
             rc = render_migrated_png(path, &cur_a->intensity, v, err, errlen);

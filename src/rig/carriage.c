@@ -1,6 +1,7 @@
 /* The carriage at run time: step pulses on the ramp's schedule, the home
  * search with a software-debounced switch, positions approached from below.
  * The stop flag is polled before every step. */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -255,4 +256,67 @@ int uwb_carriage_park(struct uwb_carriage *c, char *err, size_t errlen)
         return UWB_RIG_ERR_CONFIG;
     }
     return move_steps(c, uwb_carriage_mm_to_steps(&c->cfg, c->cfg.park_mm) - c->position, err, errlen);
+}
+
+int uwb_carriage_check_home(struct uwb_carriage *c, double *off_mm, char *err, size_t errlen)
+{
+    const struct uwb_carriage_config *cfg = &c->cfg;
+    *off_mm = 0;
+    if (!c->homed) {
+        snprintf(err, errlen, "carriage: home check before homing");
+        return UWB_RIG_ERR_CONFIG;
+    }
+    double tolerance_mm = uwb_carriage_home_tolerance_mm(cfg);
+    long approach = uwb_carriage_mm_to_steps(cfg, cfg->home_backoff_mm + tolerance_mm);
+    int rc = UWB_RIG_OK;
+    if (c->position > approach)
+        rc = move_steps(c, approach - c->position, err, errlen);
+    int active = 0;
+    if (rc == UWB_RIG_OK)
+        rc = read_home(c, &active, err, errlen);
+    if (rc != UWB_RIG_OK)
+        return rc;
+    c->homed = 0;   /* until the switch agrees with the count */
+    double nominal_s = 0;
+    int found = 0;
+    if (active) {
+        /* Already closed this high by the count: up slowly until it opens to
+         * say by how much. */
+        rc = seek_switch(c, 1, 0, cfg->home_rate_hz / 4.0, uwb_carriage_mm_to_steps(cfg, cfg->travel_mm), &found,
+                         &nominal_s, err, errlen);
+        if (rc != UWB_RIG_OK)
+            return rc;
+        *off_mm = c->position / cfg->steps_per_mm;
+        snprintf(err, errlen, "steps lost: %.2f mm (the home switch opens %.2f mm above the counted home%s; "
+                 "tolerance %.2f mm)", *off_mm, *off_mm, found > 0 ? "" : " or higher", tolerance_mm);
+        return UWB_RIG_ERR_HOME;
+    }
+    /* Down at the homing's slow rate, as the zero was found: the switch
+     * should close at position 0, within the tolerance. */
+    long start = c->position;
+    long limit = start + uwb_carriage_mm_to_steps(cfg, tolerance_mm + 1.0);
+    rc = seek_switch(c, 0, 1, cfg->home_rate_hz / 4.0, limit, &found, &nominal_s, err, errlen);
+    if (rc != UWB_RIG_OK)
+        return rc;
+    *off_mm = c->position / cfg->steps_per_mm;
+    if (found <= 0) {
+        snprintf(err, errlen, "steps lost: %.2f mm or more (the home switch did not close within %.2f mm below the "
+                 "counted home; tolerance %.2f mm)", -*off_mm, -*off_mm, tolerance_mm);
+        return UWB_RIG_ERR_HOME;
+    }
+    if (fabs(*off_mm) > tolerance_mm) {
+        snprintf(err, errlen, "steps lost: %.2f mm (the home switch closed %.2f mm %s the counted home; "
+                 "tolerance %.2f mm)", fabs(*off_mm), fabs(*off_mm), *off_mm > 0 ? "above" : "below", tolerance_mm);
+        return UWB_RIG_ERR_HOME;
+    }
+    c->position = 0;   /* the switch is the reference again */
+    c->homed = 1;
+    return UWB_RIG_OK;
+}
+
+double uwb_carriage_home_tolerance_mm(const struct uwb_carriage_config *cfg)
+{
+    /* The reversal before the check takes up the backlash; half a millimetre
+     * more covers the switch's repeatability at the slow approach rate. */
+    return cfg->backlash_mm + 0.5;
 }

@@ -236,6 +236,14 @@ static int scan_cycle(struct uwb_rig *rig, const volatile sig_atomic_t *stop, st
         rc = acquire_position(rig, stop, k, scan->data + (size_t)k * cfg->digitiser.samples, sum, trace, err,
                               errlen);
     }
+    if (rc == UWB_RIG_OK) {
+        /* Lost steps would put every position elsewhere than recorded: the
+         * home switch must agree with the count before the scan counts. */
+        double off_mm;
+        rc = uwb_carriage_check_home(c, &off_mm, err, errlen);
+        if (rc == UWB_RIG_OK)
+            rig_log(rig, LOG_INFO, "home switch within %.2f mm of the counted steps after the scan", off_mm);
+    }
     if (rc == UWB_RIG_OK)
         rc = uwb_carriage_park(c, err, errlen);
     rig->last_scan_steps = c->steps_moved;

@@ -183,6 +183,63 @@ static int check_extra_json(const char *extra, const char *name, char *err, size
     return rc;
 }
 
+/* The rig's physical limits (uwb/scan.h), so that no accepted scan asks the
+ * imaging for unbounded memory or time. */
+static int check_rig_limits(const struct uwb_scan *scan, const char *name, char *err, size_t errlen)
+{
+    if (scan->sample_interval_s < UWBSCAN_MIN_SAMPLE_INTERVAL_S ||
+        scan->sample_interval_s > UWBSCAN_MAX_SAMPLE_INTERVAL_S) {
+        uwbscan_fail(err, errlen, name, "sample_interval_s is %g s, outside what a UWB digitiser records (%g..%g s)",
+                     scan->sample_interval_s, UWBSCAN_MIN_SAMPLE_INTERVAL_S, UWBSCAN_MAX_SAMPLE_INTERVAL_S);
+        return -1;
+    }
+    if (fabs(scan->t0_s) > UWBSCAN_MAX_ABS_T0_S) {
+        uwbscan_fail(err, errlen, name, "t0_s is %g s, beyond the limit of +-%g s", scan->t0_s, UWBSCAN_MAX_ABS_T0_S);
+        return -1;
+    }
+    for (int k = 1; k < scan->positions; k++) {
+        double step = scan->antenna_y_m[k] - scan->antenna_y_m[k - 1];
+        if (step <= 0.0) {
+            uwbscan_fail(err, errlen, name,
+                         "antenna_y_m[%d] = %g m %s antenna_y_m[%d] = %g m: positions must increase strictly "
+                         "(a duplicated or reversed position is a carriage or recording fault)",
+                         k, scan->antenna_y_m[k], step == 0.0 ? "repeats" : "is below", k - 1,
+                         scan->antenna_y_m[k - 1]);
+            return -1;
+        }
+        if (step < UWBSCAN_MIN_STEP_M - 1e-12) {
+            uwbscan_fail(err, errlen, name,
+                         "antenna_y_m[%d] is %g mm above antenna_y_m[%d], under the smallest step of %g mm",
+                         k, step * 1e3, k - 1, UWBSCAN_MIN_STEP_M * 1e3);
+            return -1;
+        }
+    }
+    double travel = scan->antenna_y_m[scan->positions - 1] - scan->antenna_y_m[0];
+    if (travel > UWBSCAN_MAX_TRAVEL_M) {
+        uwbscan_fail(err, errlen, name, "antenna_y_m spans %g m, over the rig's largest travel of %g m", travel,
+                     UWBSCAN_MAX_TRAVEL_M);
+        return -1;
+    }
+    const double *offsets[2] = {scan->tx_m, scan->rx_m};
+    for (int a = 0; a < 2; a++)
+        for (int i = 0; i < 2; i++)
+            if (fabs(offsets[a][i]) > UWBSCAN_MAX_ANTENNA_OFFSET_M) {
+                uwbscan_fail(err, errlen, name, "%s[%d] is %g m, over the limit of %g m from the reference point",
+                             a ? "rx_m" : "tx_m", i, offsets[a][i], UWBSCAN_MAX_ANTENNA_OFFSET_M);
+                return -1;
+            }
+    if (scan->eps_r > UWBSCAN_MAX_EPS_R) {
+        uwbscan_fail(err, errlen, name, "eps_r is %g, over the limit of %g", scan->eps_r, UWBSCAN_MAX_EPS_R);
+        return -1;
+    }
+    if (scan->has_target_z && (scan->target_z_m[0] < 0.0 || scan->target_z_m[1] > UWBSCAN_MAX_RANGE_M)) {
+        uwbscan_fail(err, errlen, name, "target_z_m is [%g, %g] m, outside 0..%g m", scan->target_z_m[0],
+                     scan->target_z_m[1], UWBSCAN_MAX_RANGE_M);
+        return -1;
+    }
+    return 0;
+}
+
 int uwbscan_check_fields(const struct uwb_scan *scan, const char *name,
                          char *err, size_t errlen)
 {
@@ -231,6 +288,8 @@ int uwbscan_check_fields(const struct uwb_scan *scan, const char *name,
                      scan->stack);
         return -1;
     }
+    if (check_rig_limits(scan, name, err, errlen) != 0)
+        return -1;
     if (check_string("created", scan->created, name, err, errlen) ||
         check_string("scan_id", scan->scan_id, name, err, errlen) ||
         check_string("source", scan->source, name, err, errlen) ||

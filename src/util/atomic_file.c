@@ -67,7 +67,8 @@ int atomic_file_open(struct atomic_file *af, const char *path, char *err, size_t
         return -1;
     }
     int dir_len = slash ? (int)(slash - path + 1) : 0;
-    int n = snprintf(af->temp_path, sizeof af->temp_path, "%.*s.%s.XXXXXX", dir_len, path, base);
+    int n = snprintf(af->temp_path, sizeof af->temp_path, "%.*s" ATOMIC_FILE_TEMP_PREFIX "%s.XXXXXX" ATOMIC_FILE_TEMP_SUFFIX,
+                     dir_len, path, base);
     if (strlen(path) >= sizeof af->final_path || n < 0 || (size_t)n >= sizeof af->temp_path) {
         af->temp_path[0] = '\0';
         /* Quote only the start: the whole path would crowd out the reason. */
@@ -76,7 +77,7 @@ int atomic_file_open(struct atomic_file *af, const char *path, char *err, size_t
     }
     snprintf(af->final_path, sizeof af->final_path, "%s", path);
 
-    int fd = mkstemp(af->temp_path);
+    int fd = mkstemps(af->temp_path, (int)strlen(ATOMIC_FILE_TEMP_SUFFIX));
     if (fd < 0) {
         int e = errno;
         af->temp_path[0] = '\0';
@@ -183,4 +184,22 @@ int atomic_write_file(const char *path, const void *data, size_t len, char *err,
         return -1;
     }
     return atomic_file_commit(&af, err, errlen);
+}
+
+int atomic_file_is_temporary_name(const char *name)
+{
+    size_t n = strlen(name), pre = strlen(ATOMIC_FILE_TEMP_PREFIX), suf = strlen(ATOMIC_FILE_TEMP_SUFFIX);
+    /* prefix, at least one byte of name, '.', six random characters, suffix */
+    if (n < pre + 1 + 1 + 6 + suf || strncmp(name, ATOMIC_FILE_TEMP_PREFIX, pre) != 0 ||
+        strcmp(name + n - suf, ATOMIC_FILE_TEMP_SUFFIX) != 0)
+        return 0;
+    const char *random = name + n - suf - 6;
+    if (random[-1] != '.')
+        return 0;
+    for (int i = 0; i < 6; i++) {
+        char c = random[i];
+        if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9')))
+            return 0;
+    }
+    return 1;
 }

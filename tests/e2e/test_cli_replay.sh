@@ -40,6 +40,35 @@ grep -q "missing.uwbscan" "$out/e1" || fail "error does not name the missing fil
 grep -q "short.uwbscan" "$out/e2" || fail "error does not name the malformed file"
 [[ ! -s "$out/o1" && ! -s "$out/o2" ]] || fail "stdout written on error"
 
+# Issue 17, break 9: an inconclusive verdict with no migrated image still
+# writes what it can (the B-scan) and exits 0, not 73.
+set +e
+uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan --target-z 5:6 --out "$out/inc" > "$out/o4" 2> "$out/e4"
+rc_inconclusive=$?
+set -e
+[[ $rc_inconclusive -eq 0 ]] || fail "inconclusive --out: exit $rc_inconclusive, want 0 ($(cat "$out/e4"))"
+grep -q '"status":"inconclusive"' "$out/o4" || fail "inconclusive --out: no inconclusive verdict"
+[[ -s "$out/inc/fdtd2d-paper-intact-bscan.png" ]] || fail "inconclusive --out: no B-scan written"
+
+# Issue 17, breaks 5 and 9: a crafted header (positions spread over 600 m,
+# a 1 nm step, a duplicated position) is refused when read, exit 65, with
+# the reason; nothing is analysed. The payload is the fixture's own.
+crafted() {  # NAME SED-EXPRESSION
+    { head -n 1 tests/fixtures/fdtd2d-paper-intact.uwbscan | sed -e "$2"
+      tail -n +2 tests/fixtures/fdtd2d-paper-intact.uwbscan; } > "$out/$1.uwbscan"
+}
+crafted spread600m 's/,0\.57,0\.6\]/,0.57,600.0]/'
+crafted step1nm 's/\[0\.0,0\.03,/[0.0,0.000000001,/; s/,0\.03,0\.06,.*,0\.6\]/]/'
+crafted duplicated 's/\[0\.0,0\.03,0\.06,/[0.0,0.03,0.03,/'
+for name in spread600m:"over the rig's largest travel of 5 m" step1nm:"under the smallest step of 1 mm" \
+            duplicated:"antenna_y_m\[2\] = 0.03 m repeats antenna_y_m\[1\]"; do
+    file=${name%%:*} want=${name#*:}
+    set +e; uwbd --replay "$out/$file.uwbscan" > "$out/o-$file" 2> "$out/e-$file"; rc=$?; set -e
+    [[ $rc -eq 65 ]] || fail "$file: exit $rc, want 65"
+    grep -q "$file.uwbscan: .*$want" "$out/e-$file" || fail "$file: message: $(cat "$out/e-$file")"
+    [[ ! -s "$out/o-$file" ]] || fail "$file: a verdict was printed"
+done
+
 # --help documents every option the parser accepts.
 help=$(uwbd --help)
 for opt in --replay --baseline --out --migration --target-z --time-zero-offset-ps --watch-mm \

@@ -31,6 +31,10 @@ int fuzz_config_input(const uint8_t *data, size_t size, char *why, size_t whylen
 int fuzz_command_input(const uint8_t *data, size_t size, char *why, size_t whylen);
 int fuzz_gpio_reply_input(const uint8_t *data, size_t size, char *why, size_t whylen);
 int fuzz_gpio_board_input(const uint8_t *data, size_t size, char *why, size_t whylen);
+int fuzz_analysis_input(const uint8_t *data, size_t size, char *why, size_t whylen);
+int fuzz_state_input(const uint8_t *data, size_t size, char *why, size_t whylen);
+int fuzz_set_input(const uint8_t *data, size_t size, char *why, size_t whylen);
+int fuzz_ctl_reply_input(const uint8_t *data, size_t size, char *why, size_t whylen);
 
 /* scripted_link.c: the links a harness's code under test opens (the
  * digitiser client, the emulated-GPIO backend) are socket pairs whose far

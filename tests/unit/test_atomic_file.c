@@ -126,8 +126,14 @@ static void test_temporary_is_a_hidden_sibling_until_commit(void)
     struct atomic_file af;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, atomic_file_open(&af, path, err, sizeof err), err);
     char prefix[256];
-    snprintf(prefix, sizeof prefix, "%s/.scan.uwbscan.", tmpdir);
+    snprintf(prefix, sizeof prefix, "%s/" ATOMIC_FILE_TEMP_PREFIX "scan.uwbscan.", tmpdir);
     TEST_ASSERT_TRUE_MESSAGE(strncmp(af.temp_path, prefix, strlen(prefix)) == 0, af.temp_path);
+    const char *temp_name = strrchr(af.temp_path, '/') + 1;
+    /* A name only uwbd makes: the start-up cleanup removes nothing else. */
+    TEST_ASSERT_TRUE_MESSAGE(atomic_file_is_temporary_name(temp_name), temp_name);
+    TEST_ASSERT_FALSE(atomic_file_is_temporary_name(".scan.uwbscan.Ab12Cd"));
+    TEST_ASSERT_FALSE(atomic_file_is_temporary_name(".bashrc.backup"));
+    TEST_ASSERT_FALSE(atomic_file_is_temporary_name(ATOMIC_FILE_TEMP_PREFIX "x.Ab12C.part"));
     TEST_ASSERT_EQUAL_STRING(path, af.final_path);
     fputs("new", af.fp);
     /* Before the commit, readers still see the old content. */
@@ -231,7 +237,7 @@ static void test_bare_file_name_uses_current_directory(void)
     TEST_ASSERT_EQUAL_INT(0, chdir(tmpdir));
     struct atomic_file af;
     int rc = atomic_file_open(&af, "plain.txt", err, sizeof err);
-    int temp_is_local = rc == 0 && strncmp(af.temp_path, ".plain.txt.", 11) == 0;
+    int temp_is_local = rc == 0 && strncmp(af.temp_path, ATOMIC_FILE_TEMP_PREFIX "plain.txt.", strlen(ATOMIC_FILE_TEMP_PREFIX "plain.txt.")) == 0;
     if (rc == 0) {
         fputs("here", af.fp);
         rc = atomic_file_commit(&af, err, sizeof err);

@@ -184,6 +184,35 @@ static void test_keys_that_depend_on_others(void)
     assert_refused("console.endpoint", "\"9600\"", "9600");
     assert_refused("geometry.target_z_mm", "[900, 300]", "below far");
     assert_refused("carriage.home_rate_hz", "5000", "above carriage.max_rate_hz");
+    /* Issue 17, break 5: the rig may not record a scan the reader refuses. */
+    assert_refused("scan.step_mm", "0.5", "under the smallest step a scan file may hold (1 mm");
+    assert_refused("scan.positions", "4000", "over the largest travel a scan file may hold (5000 mm)");
+}
+
+/* Issue 17, break 1: state_dir "/" passed --check-config, and the start-up
+ * cleanup then walked the whole tree. */
+static void test_state_dir_must_be_a_directory_of_its_own(void)
+{
+    assert_refused("state_dir", "\"/\"", "a system directory");
+    assert_refused("state_dir", "\"/etc\"", "a system directory");
+    assert_refused("state_dir", "\"/var/lib/\"", "is /var/lib");
+    assert_refused("state_dir", "\"//usr/./local/bin/..\"", "is /usr/local");
+    assert_refused("state_dir", "\"/home/alice/..\"", "is /home");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("state_dir", "\"/var/lib/uwbd\""), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("state_dir", "\"/srv/uwbd\""), err);
+}
+
+/* Issue 17, break 9: --check-config passed a control.group that does not
+ * exist, and the daemon then stopped with exit 78. */
+static void test_check_system_refuses_a_missing_control_group(void)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("control.group", "\"uwbd-no-such-group-17\""), err);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_config_check_system(&cfg, "test.json", err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "test.json: key `control.group`: no group named \"uwbd-no-such-group-17\""), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("control.group", "\"root\""), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_check_system(&cfg, "test.json", err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("control.group", "\"\""), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_check_system(&cfg, "test.json", err, sizeof err), err);
 }
 
 static void test_libgpiod_needs_chip_and_lines(void)
@@ -269,6 +298,8 @@ int main(void)
     RUN_TEST(test_out_of_range_and_bad_choices_are_errors);
     RUN_TEST(test_missing_required_keys_are_errors);
     RUN_TEST(test_keys_that_depend_on_others);
+    RUN_TEST(test_state_dir_must_be_a_directory_of_its_own);
+    RUN_TEST(test_check_system_refuses_a_missing_control_group);
     RUN_TEST(test_libgpiod_needs_chip_and_lines);
     RUN_TEST(test_syntax_errors_name_the_place);
     RUN_TEST(test_overrides_are_checked_like_the_file);

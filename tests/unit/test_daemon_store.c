@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "scratch_support.h"
+#include "uwb/atomic_file.h"
 #include "uwb/daemon/baseline_store.h"
 #include "uwb/daemon/retention.h"
 #include "uwb/daemon/store.h"
@@ -74,21 +75,65 @@ static void test_open_makes_the_layout(void)
 static void test_open_removes_leftover_temporaries_only(void)
 {
     char p[2048];
-    path_in(p, sizeof p, ".latest.json.Ab12Cd");
+    path_in(p, sizeof p, ATOMIC_FILE_TEMP_PREFIX "latest.json.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX);
     scratch_spit(p, "{\"half");
-    path_in(p, sizeof p, "baseline/.current.uwbscan.zzzzzz");
+    path_in(p, sizeof p, "baseline/" ATOMIC_FILE_TEMP_PREFIX "current.uwbscan.zzzzzz" ATOMIC_FILE_TEMP_SUFFIX);
     scratch_spit(p, "half");
     path_in(p, sizeof p, "keep.txt");
     scratch_spit(p, "mine");
     int repairs = 0;
     TEST_ASSERT_EQUAL_INT(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(2, repairs);
-    path_in(p, sizeof p, ".latest.json.Ab12Cd");
+    path_in(p, sizeof p, ATOMIC_FILE_TEMP_PREFIX "latest.json.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX);
     TEST_ASSERT_FALSE(scratch_file_exists(p));
-    path_in(p, sizeof p, "baseline/.current.uwbscan.zzzzzz");
+    path_in(p, sizeof p, "baseline/" ATOMIC_FILE_TEMP_PREFIX "current.uwbscan.zzzzzz" ATOMIC_FILE_TEMP_SUFFIX);
     TEST_ASSERT_FALSE(scratch_file_exists(p));
     path_in(p, sizeof p, "keep.txt");
     TEST_ASSERT_TRUE(scratch_file_exists(p));
+}
+
+/* Issue 17, break 1: a state_dir holding someone else's tree lost every
+ * file named like ".X.YYYYYY" four levels down. Now only our own temporary
+ * names, only in the directories uwbd writes, never through a symlink. */
+static void test_open_touches_nothing_that_is_not_ours(void)
+{
+    static const char *const foreign[] = {
+        "home/alice/.bashrc.backup", "etc/.shadow.swp123", ".config/app/.settings.json~1",
+        "var/lib/db/.journal.000001", ".latest.json.Ab12Cd", "baseline/.current.uwbscan.zzzzzz",
+        "archive/2026/01/01/.scan.json.Ab12Cd",
+        /* our name, but not in a directory uwbd writes */
+        "home/alice/" ATOMIC_FILE_TEMP_PREFIX "x.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX,
+        "archive/notes/" ATOMIC_FILE_TEMP_PREFIX "x.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX,
+    };
+    char p[2048], outside[96], link[2048];
+    for (size_t i = 0; i < sizeof foreign / sizeof foreign[0]; i++) {
+        path_in(p, sizeof p, foreign[i]);
+        for (char *s = p + strlen(store.root) + 1; *s; s++)
+            if (*s == '/') {
+                *s = '\0';
+                mkdir(p, 0755);
+                *s = '/';
+            }
+        scratch_spit(p, "not uwbd's");
+    }
+    /* A day directory and baseline/history that are symlinks to elsewhere. */
+    scratch_scratch_dir(outside, sizeof outside, "store-outside");
+    char victim[256];
+    snprintf(victim, sizeof victim, "%s/" ATOMIC_FILE_TEMP_PREFIX "y.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX, outside);
+    scratch_spit(victim, "elsewhere");
+    path_in(link, sizeof link, "archive/2026/01/02");
+    TEST_ASSERT_EQUAL_INT(0, symlink(outside, link));
+    path_in(link, sizeof link, "archive/2027");
+    TEST_ASSERT_EQUAL_INT(0, symlink(outside, link));
+    int repairs = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(0, repairs);
+    for (size_t i = 0; i < sizeof foreign / sizeof foreign[0]; i++) {
+        path_in(p, sizeof p, foreign[i]);
+        TEST_ASSERT_TRUE_MESSAGE(scratch_file_exists(p), foreign[i]);
+    }
+    TEST_ASSERT_TRUE_MESSAGE(scratch_file_exists(victim), victim);
+    scratch_remove_tree(outside);
 }
 
 static void test_verdict_log_appends_whole_lines_and_reads_the_tail(void)
@@ -341,7 +386,7 @@ static void test_retention_by_count_deletes_the_oldest_and_spares_baselines(void
     archive_scan("2030/01/03", "d", 1);
     TEST_ASSERT_EQUAL_INT(5, uwbd_archive_count(&store));
     int removed = 0;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 3, 0, time(NULL), &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 3, 0, time(NULL), 1, &removed, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(2, removed);
     TEST_ASSERT_EQUAL_INT(3, uwbd_archive_count(&store));
     TEST_ASSERT_FALSE(archived("2030/01/01", "a", ".uwbscan"));
@@ -363,7 +408,7 @@ static void test_retention_keeps_a_scan_whose_name_begins_like_a_deleted_one(voi
     archive_scan("2030/01/01", "a", 5);
     archive_scan("2030/01/01", "a-2", 1);
     int removed = 0;
-    TEST_ASSERT_EQUAL_INT(0, uwbd_retention_apply(&store, 1, 0, time(NULL), &removed, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_retention_apply(&store, 1, 0, time(NULL), 1, &removed, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(1, removed);
     TEST_ASSERT_FALSE(archived("2030/01/01", "a", ".json"));
     TEST_ASSERT_TRUE(archived("2030/01/01", "a-2", ".json"));
@@ -376,12 +421,105 @@ static void test_retention_by_age(void)
     archive_scan("2030/01/02", "older", 50);
     archive_scan("2030/01/03", "new", 10);
     int removed = 0;
-    TEST_ASSERT_EQUAL_INT(0, uwbd_retention_apply(&store, 0, 30, time(NULL), &removed, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_retention_apply(&store, 0, 30, time(NULL), 1, &removed, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(2, removed);
     TEST_ASSERT_TRUE(archived("2030/01/03", "new", ".uwbscan"));
     TEST_ASSERT_EQUAL_INT(1, uwbd_archive_count(&store));
-    TEST_ASSERT_EQUAL_INT(0, uwbd_retention_apply(&store, 0, 0, time(NULL), &removed, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_retention_apply(&store, 0, 0, time(NULL), 1, &removed, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(0, removed);
+}
+
+/* Issue 17, break 3: one scan dated a year ahead (max_age_days 30) deleted
+ * all 20 archived scans and all but one line of verdicts.jsonl. Age counts
+ * only while the clock is synchronised; it never deletes the newest scan. */
+static void test_retention_by_age_waits_for_a_synchronised_clock(void)
+{
+    char day[16], id[16], line[128], p[2048];
+    path_in(p, sizeof p, "verdicts.jsonl");
+    for (int i = 0; i < 20; i++) {
+        snprintf(day, sizeof day, "2030/01/%02d", 1 + i);
+        snprintf(id, sizeof id, "s%02d", i);
+        archive_scan(day, id, 20 - i);
+        char created[64];
+        uwbd_utc_text(time(NULL) - (time_t)(20 - i) * 86400, created, sizeof created);
+        snprintf(line, sizeof line, "{\"scan_id\":\"%s\",\"created\":\"%s\"}", id, created);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_append(&store, line, err, sizeof err), err);
+    }
+    time_t a_year_ahead = time(NULL) + 365 * 86400;
+    int removed = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 0, 30, a_year_ahead, 0, &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(0, removed);
+    TEST_ASSERT_EQUAL_INT(20, uwbd_archive_count(&store));
+    TEST_ASSERT_EQUAL_INT(20, scratch_count_lines(p));
+    /* Synchronised, the same clock is trusted, but the newest scan stays. */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 0, 30, a_year_ahead, 1, &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(19, removed);
+    TEST_ASSERT_EQUAL_INT(1, uwbd_archive_count(&store));
+    TEST_ASSERT_TRUE(archived("2030/01/20", "s19", ".json"));
+}
+
+/* Issue 17, break 7: a day directory archive/2001/01/01 -> elsewhere, and
+ * retention deleted the files there. */
+static void test_retention_never_follows_a_symlink(void)
+{
+    char outside[96], p[2048], target[256];
+    scratch_scratch_dir(outside, sizeof outside, "retention-outside");
+    static const char *const theirs[] = {"x.json", "x.uwbscan", "x-bscan.png", "y.json"};
+    for (size_t i = 0; i < 4; i++) {
+        snprintf(target, sizeof target, "%s/%s", outside, theirs[i]);
+        scratch_spit(target, "not uwbd's");
+        struct timeval tv[2] = {{1000000000, 0}, {1000000000, 0}};   /* 2001: the oldest of all */
+        TEST_ASSERT_EQUAL_INT(0, utimes(target, tv));
+    }
+    archive_scan("2030/01/01", "mine", 1);
+    path_in(p, sizeof p, "archive/2001/01");
+    char cmd[4400];
+    snprintf(cmd, sizeof cmd, "mkdir -p '%s' '%s/2001/01/02'", p, store.archive);
+    TEST_ASSERT_EQUAL_INT(0, system(cmd));
+    path_in(p, sizeof p, "archive/2001/01/01");
+    TEST_ASSERT_EQUAL_INT(0, symlink(outside, p));              /* a day directory elsewhere */
+    snprintf(target, sizeof target, "%s/y.json", outside);
+    path_in(p, sizeof p, "archive/2001/01/02/y.json");
+    TEST_ASSERT_EQUAL_INT(0, symlink(target, p));               /* a verdict file elsewhere */
+    TEST_ASSERT_EQUAL_INT(1, uwbd_archive_count(&store));
+    int removed = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 1, 30, time(NULL), 1, &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(0, removed);
+    for (size_t i = 0; i < 4; i++) {
+        snprintf(target, sizeof target, "%s/%s", outside, theirs[i]);
+        TEST_ASSERT_TRUE_MESSAGE(scratch_file_exists(target), target);
+    }
+    TEST_ASSERT_TRUE(archived("2030/01/01", "mine", ".json"));
+    scratch_remove_tree(outside);
+}
+
+/* Issue 17, break 7: verdicts.jsonl -> another file: verdicts were appended
+ * to it, and its last line was cut at the next start. */
+static void test_verdict_log_and_latest_are_never_written_through_a_symlink(void)
+{
+    char outside[96], victim[256], p[2048];
+    scratch_scratch_dir(outside, sizeof outside, "verdicts-outside");
+    snprintf(victim, sizeof victim, "%s/notes.txt", outside);
+    scratch_spit(victim, "someone's file without a final newline");
+    path_in(p, sizeof p, "verdicts.jsonl");
+    TEST_ASSERT_EQUAL_INT(0, symlink(victim, p));
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_append(&store, "{\"scan_id\":\"a\"}", err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "is a symbolic link"), err);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_open(&store, dir, NULL, err, sizeof err));   /* the repair refuses */
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "verdicts.jsonl: cannot open: is a symbolic link"), err);
+    size_t len = 0;
+    char *text = scratch_slurp(victim, &len);
+    TEST_ASSERT_EQUAL_STRING("someone's file without a final newline", text);
+    free(text);
+    path_in(p, sizeof p, "latest.json");
+    snprintf(victim, sizeof victim, "%s/latest.json", outside);
+    scratch_spit(victim, "{\"status\":\"ok\"}");
+    TEST_ASSERT_EQUAL_INT(0, symlink(victim, p));
+    char *json = NULL;
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_latest_read(&store, &json, err, sizeof err));
+    TEST_ASSERT_NULL(json);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "is a symbolic link"), err);
+    scratch_remove_tree(outside);
 }
 
 static void test_scan_ids_become_safe_file_names(void)
@@ -403,6 +541,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_open_makes_the_layout);
     RUN_TEST(test_open_removes_leftover_temporaries_only);
+    RUN_TEST(test_open_touches_nothing_that_is_not_ours);
     RUN_TEST(test_verdict_log_appends_whole_lines_and_reads_the_tail);
     RUN_TEST(test_torn_and_damaged_lines_are_tolerated_and_repaired);
     RUN_TEST(test_tail_reads_far_back_through_long_files);
@@ -414,6 +553,9 @@ int main(void)
     RUN_TEST(test_retention_by_count_deletes_the_oldest_and_spares_baselines);
     RUN_TEST(test_retention_keeps_a_scan_whose_name_begins_like_a_deleted_one);
     RUN_TEST(test_retention_by_age);
+    RUN_TEST(test_retention_by_age_waits_for_a_synchronised_clock);
+    RUN_TEST(test_retention_never_follows_a_symlink);
+    RUN_TEST(test_verdict_log_and_latest_are_never_written_through_a_symlink);
     RUN_TEST(test_scan_ids_become_safe_file_names);
     return UNITY_END();
 }

@@ -32,6 +32,10 @@ static const struct target targets[] = {
     {"command", fuzz_command_input},
     {"gpio_reply", fuzz_gpio_reply_input},
     {"gpio_board", fuzz_gpio_board_input},
+    {"analysis", fuzz_analysis_input},
+    {"state", fuzz_state_input},
+    {"set", fuzz_set_input},
+    {"ctl_reply", fuzz_ctl_reply_input},
 };
 
 struct tally {
@@ -115,6 +119,10 @@ static void test_config_corpus(void) { run_target("config"); }
 static void test_command_corpus(void) { run_target("command"); }
 static void test_gpio_reply_corpus(void) { run_target("gpio_reply"); }
 static void test_gpio_board_corpus(void) { run_target("gpio_board"); }
+static void test_analysis_corpus(void) { run_target("analysis"); }
+static void test_state_corpus(void) { run_target("state"); }
+static void test_set_corpus(void) { run_target("set"); }
+static void test_ctl_reply_corpus(void) { run_target("ctl_reply"); }
 
 /* Every tests/fuzz/fuzz_<name>.c has its entry above. */
 static void test_every_fuzz_target_is_listed(void)
@@ -149,5 +157,9 @@ int main(void)
     RUN_TEST(test_command_corpus);
     RUN_TEST(test_gpio_reply_corpus);
     RUN_TEST(test_gpio_board_corpus);
+    RUN_TEST(test_analysis_corpus);
+    RUN_TEST(test_state_corpus);
+    RUN_TEST(test_set_corpus);
+    RUN_TEST(test_ctl_reply_corpus);
     return UNITY_END();
 }

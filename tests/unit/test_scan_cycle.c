@@ -376,6 +376,29 @@ static void test_a_verdict_the_log_refuses_says_so(void)
 
 /* Lost scans keep the cycles cheap here: each leaves its verdict file,
  * which is what retention counts (test_daemon_store covers whole scans). */
+/* Issue 17, break 3: a scan dated before the newest recorded one (the
+ * clock went back, e.g. a board without RTC booting in 1970) is flagged in
+ * its verdict, not silently archived out of order. */
+static void test_a_scan_dated_before_the_newest_is_flagged(void)
+{
+    rig.fail = 1;   /* error verdicts are quick, and flagged like any other */
+    struct uwbd_cycle_request req = {.now = CYCLE_TIME};
+    TEST_ASSERT_EQUAL_INT(0, uwbd_cycle_run(&cfg, &store, fake_acquire, &rig, NULL, &req, &res));
+    TEST_ASSERT_NULL_MESSAGE(strstr(res.verdict_json, "clock_warning"), res.verdict_json);
+    uwbd_cycle_result_free(&res);
+    req.now = CYCLE_TIME - 3600;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_cycle_run(&cfg, &store, fake_acquire, &rig, NULL, &req, &res));
+    cJSON *v = verdict();
+    const cJSON *w = cJSON_GetObjectItemCaseSensitive(v, "clock_warning");
+    TEST_ASSERT_TRUE_MESSAGE(cJSON_IsString(w), res.verdict_json);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(w->valuestring, "earlier than the newest recorded scan"), w->valuestring);
+    cJSON_Delete(v);
+    uwbd_cycle_result_free(&res);
+    req.now = CYCLE_TIME + 60;   /* later again: no flag */
+    TEST_ASSERT_EQUAL_INT(0, uwbd_cycle_run(&cfg, &store, fake_acquire, &rig, NULL, &req, &res));
+    TEST_ASSERT_NULL_MESSAGE(strstr(res.verdict_json, "clock_warning"), res.verdict_json);
+}
+
 static void test_retention_runs_after_each_cycle(void)
 {
     cfg.retention_max_scans = 2;
@@ -410,6 +433,7 @@ int main(void)
     RUN_TEST(test_an_image_the_archive_refuses_is_named_and_the_verdict_kept);
     RUN_TEST(test_a_verdict_the_log_refuses_says_so);
     RUN_TEST(test_retention_runs_after_each_cycle);
+    RUN_TEST(test_a_scan_dated_before_the_newest_is_flagged);
     uwb_scan_free(&simulated[0]);
     uwb_scan_free(&simulated[1]);
     return UNITY_END();

@@ -575,6 +575,41 @@ static void test_rejects_optional_strings_of_wrong_type(void)
     }
 }
 
+/* Issue 17, break 5: the paper fixture's positions spread over 600 m took
+ * 38 s and 3.3 GB and gave a confident figure; a 1 nm step ended in a grid
+ * of -2147483647 rows. Break 9: a duplicated position gave a confident
+ * alarm. The rig's limits (uwb/scan.h) are checked when the file is read. */
+static void test_rejects_what_the_rig_cannot_record(void)
+{
+    expect_key_reject("antenna_y_m", "[0,600]", "antenna_y_m spans 600 m, over the rig's largest travel of 5 m");
+    expect_key_reject("antenna_y_m", "[0,1e-9]", "under the smallest step of 1 mm");
+    expect_key_reject("antenna_y_m", "[0.1,0.1]", "antenna_y_m[1] = 0.1 m repeats antenna_y_m[0] = 0.1 m");
+    expect_key_reject("antenna_y_m", "[0.1,0]", "antenna_y_m[1] = 0 m is below antenna_y_m[0] = 0.1 m");
+    expect_key_reject("sample_interval_s", "1e-3", "sample_interval_s is 0.001 s, outside what a UWB digitiser records");
+    expect_key_reject("sample_interval_s", "1e-300", "outside what a UWB digitiser records");
+    expect_key_reject("t0_s", "-1e302", "t0_s is -1e+302 s, beyond the limit");
+    expect_key_reject("tx_m", "[-1e302,0]", "tx_m[0] is -1e+302 m, over the limit of 1 m");
+    expect_key_reject("rx_m", "[0,2]", "rx_m[1] is 2 m, over the limit");
+    expect_key_reject("eps_r", "1e300", "eps_r is 1e+300, over the limit of 100");
+    expect_key_reject("target_z_m", "[0.3,1e302]", "target_z_m is [0.3, 1e+302] m, outside 0..10 m");
+    expect_key_reject("target_z_m", "[-5,1]", "outside 0..10 m");
+    /* the limits themselves are accepted */
+    char *header = header_with("antenna_y_m", "[0,5]");
+    size_t len;
+    unsigned char *buf = build_file(header, GOOD_FLOATS, &len);
+    struct uwb_scan scan;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbscan_parse(buf, len, NAME, &scan, err, sizeof err), err);
+    uwb_scan_free(&scan);
+    free(buf);
+    free(header);
+    header = header_with("antenna_y_m", "[0,0.001]");
+    buf = build_file(header, GOOD_FLOATS, &len);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbscan_parse(buf, len, NAME, &scan, err, sizeof err), err);
+    uwb_scan_free(&scan);
+    free(buf);
+    free(header);
+}
+
 static void test_huge_dimensions_are_checked_without_overflow(void)
 {
     /* 4096 x 1048576 x 4 = 2^34 bytes: must be reported, not wrapped or allocated. */
@@ -839,7 +874,7 @@ static void test_writer_refuses_invalid_scans(void)
 
     scan.antenna_y_m[1] = NAN;
     expect_writer_refuses(&scan, "antenna_y_m[1] is not a finite number");
-    scan.antenna_y_m[1] = 0.1;
+    scan.antenna_y_m[1] = 0.3;   /* above antenna_y_m[0] = 0.1 */
 
     scan.t0_s = INFINITY;
     expect_writer_refuses(&scan, "t0_s is not a finite number");
@@ -1064,6 +1099,7 @@ int main(void)
     RUN_TEST(test_rejects_bad_eps_r);
     RUN_TEST(test_rejects_stack_not_positive_integer);
     RUN_TEST(test_rejects_optional_strings_of_wrong_type);
+    RUN_TEST(test_rejects_what_the_rig_cannot_record);
     RUN_TEST(test_huge_dimensions_are_checked_without_overflow);
     RUN_TEST(test_error_buffer_may_be_small_or_absent);
     /* bounds safety */

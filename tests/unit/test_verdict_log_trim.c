@@ -193,7 +193,7 @@ static void test_retention_trims_the_log_with_the_archive(void)
         append_verdict(n, 10 - n);
     }
     int removed = 0;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 2, 0, now, &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 2, 0, now, 1, &removed, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(2, uwbd_archive_count(&store));
     char got[256];
     numbers_in_log(got, sizeof got);

@@ -47,6 +47,7 @@ static char *status(struct emu_board *b)
     cJSON_AddBoolToObject(o, "invert_dir", b->invert_dir);
     cJSON_AddNumberToObject(o, "steps_counted", (double)b->steps_counted);
     cJSON_AddNumberToObject(o, "steps_stalled", (double)b->steps_stalled);
+    cJSON_AddNumberToObject(o, "steps_lost", (double)b->steps_lost);
     cJSON_AddNumberToObject(o, "steps_while_disabled", (double)b->steps_while_disabled);
     cJSON *lines = cJSON_AddObjectToObject(o, "lines");
     for (int i = 0; i < UWB_LINE_COUNT; i++)
@@ -129,7 +130,7 @@ static char *fault(struct emu_board *b, const char *name, const char *mode, cons
 {
     int id = emu_fault_find(name);
     if (id < 0)
-        return reply_error("fault: no fault '%s' (crc, truncate, drop, silent, disconnect, home-never, home-stuck)%s",
+        return reply_error("fault: no fault '%s' (crc, truncate, drop, silent, disconnect, home-never, home-stuck, lose-steps)%s",
                            name, NULL);
     struct emu_fault f = {0};
     if (strcmp(mode, "on") == 0 && !count[0]) {

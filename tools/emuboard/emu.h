@@ -28,6 +28,7 @@ enum emu_fault_id {
     EMU_FAULT_DISCONNECT,   /* close the digitiser connection instead of answering */
     EMU_FAULT_HOME_NEVER,   /* home switch never closes */
     EMU_FAULT_HOME_STUCK,   /* home switch always closed */
+    EMU_FAULT_LOSE_STEPS,   /* an upward STEP pulse that strikes does not move the carriage (a slipping belt) */
     EMU_FAULT_COUNT
 };
 
@@ -67,6 +68,7 @@ struct emu_board {
     int line[UWB_LINE_COUNT];
     unsigned long steps_counted, steps_while_disabled;
     unsigned long steps_stalled;   /* counted, but against the end stop */
+    unsigned long steps_lost;      /* counted, but lost to the lose-steps fault */
 
     /* the digitiser */
     struct uwb_link *digitiser;

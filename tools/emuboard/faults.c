@@ -5,7 +5,7 @@
 #include "emu.h"
 
 static const char *const names[EMU_FAULT_COUNT] = {
-    "crc", "truncate", "drop", "silent", "disconnect", "home-never", "home-stuck",
+    "crc", "truncate", "drop", "silent", "disconnect", "home-never", "home-stuck", "lose-steps",
 };
 
 const char *emu_fault_name(enum emu_fault_id id)

@@ -37,6 +37,10 @@ static void set_line(struct emu_board *b, int line, int value)
             b->steps_stalled++;
             return;
         }
+        if (up && emu_fault_strikes(&b->fault[EMU_FAULT_LOSE_STEPS])) {
+            b->steps_lost++;   /* the belt slips: the driver stepped, the carriage stayed */
+            return;
+        }
         b->steps += up ? 1 : -1;
     } else if (line == UWB_LINE_TRIGGER) {
         emu_digitiser_trigger(b);

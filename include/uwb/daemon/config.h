@@ -51,6 +51,10 @@ int uwbd_config_parse(const char *text, size_t len, const char *name,
                       const struct uwbd_override *overrides, size_t n_overrides,
                       struct uwbd_config *cfg, char *err, size_t errlen);
 /* Read and parse a file; an unreadable file is an error too. */
+/* What only the running system can say (e.g. that control.group exists):
+ * --check-config asks it after loading; "name" prefixes the message. */
+int uwbd_config_check_system(const struct uwbd_config *cfg, const char *name, char *err, size_t errlen);
+
 int uwbd_config_load(const char *path, const struct uwbd_override *overrides,
                      size_t n_overrides, struct uwbd_config *cfg, char *err, size_t errlen);
 

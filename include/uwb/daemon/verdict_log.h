@@ -34,6 +34,10 @@ int uwbd_verdict_log_repair(const struct uwbd_store *store, long *dropped, char 
 int uwbd_verdict_log_trim(const struct uwbd_store *store, int max_lines, double max_age_days, time_t now,
                           int *dropped, char *err, size_t errlen);
 
+/* The "created" time (UTC text) of the newest line of verdicts.jsonl into
+ * created; 1 when there is one, else 0 and "". */
+int uwbd_verdict_log_latest_created(const struct uwbd_store *store, char *created, size_t n);
+
 /* latest.json, written atomically / read whole (malloc'd; NULL and 0 when
  * there is none yet). */
 int uwbd_latest_write(const struct uwbd_store *store, const char *json, char *err, size_t errlen);

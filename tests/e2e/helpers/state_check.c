@@ -3,7 +3,8 @@
  * own readers instead of python3 or jq, which `make test` does not install.
  *
  *   state_check tree STATE_DIR [--verdict-files]
- *       Every file whole: no temporary left (a hidden ".NAME.XXXXXX"), every
+ *       Every file whole: no temporary left (any hidden file, e.g.
+ *       atomic_file's ".uwbd-tmp.NAME.XXXXXX.part"), every
  *       .json one JSON object, every line of verdicts.jsonl one JSON object
  *       ending in a newline, every .uwbscan readable by the uwbscan reader,
  *       every .png decoded to its last row and ending in its IEND chunk, and
@@ -17,7 +18,7 @@
  *       "(missing)" when absent. Exit 2 if stdin is not a JSON object.
  *   state_check kill-on-write PID SKIP DELAY_US TIMEOUT_S DIR...
  *       Watches the DIRs (inotify) for the daemon's writes: a temporary
- *       being created (atomic_file's ".NAME.XXXXXX") or verdicts.jsonl
+ *       being created (a hidden name, atomic_file's ".uwbd-tmp.NAME.XXXXXX.part") or verdicts.jsonl
  *       growing. At the (SKIP+1)-th one it waits DELAY_US microseconds and
  *       sends SIGKILL to PID, so the kill lands while that file is being
  *       written. Prints the file's path; exit 0 when it killed, 1 when

@@ -1,0 +1,73 @@
+/* Issue 17, break 5: an in-memory scan the reader would refuse (it never
+ * reaches the analysis through a file) still gets a message from the
+ * imaging, not a conversion of 1.9e302 or NaN to int (undefined behaviour,
+ * caught by `make test SAN=1`'s float-cast-overflow) and not a grid of
+ * -2147483647 rows or gigabytes of pixels. */
+#include "unity.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "fixture_support.h"
+#include "uwb/analysis.h"
+
+static char err[512];
+static struct uwb_scan scan;
+
+void setUp(void)
+{
+    fixture_load_scan("tests/fixtures/fdtd2d-paper-intact.uwbscan", &scan);
+}
+
+void tearDown(void)
+{
+    uwb_scan_free(&scan);
+}
+
+/* The analysis either refuses with an imaging message or finds nothing:
+ * never a confident edge. */
+static void expect_refused(const char *what)
+{
+    struct uwb_analysis_options opt;
+    uwb_analysis_defaults(&opt);
+    struct uwb_analysis a;
+    memset(&a, 0, sizeof a);
+    err[0] = '\0';
+    int rc = uwb_analyse_scan(&scan, &opt, &a, err, sizeof err);
+    char msg[700];
+    snprintf(msg, sizeof msg, "%s: rc %d, found %d, err \"%s\"", what, rc, rc == 0 ? a.edges.found : -1, err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(-1, rc, msg);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "pixels a side"), msg);
+    uwb_analysis_free(&a);
+}
+
+static void test_positions_spread_over_1e302_m_are_refused(void)
+{
+    for (int k = 0; k < scan.positions; k++)
+        scan.antenna_y_m[k] = k * 1e301;
+    expect_refused("1e302 m travel");
+}
+
+static void test_positions_spread_over_600_km_are_refused_before_allocating(void)
+{
+    for (int k = 0; k < scan.positions; k++)
+        scan.antenna_y_m[k] = k * 3e4;
+    expect_refused("600 km travel");
+}
+
+static void test_a_nanometre_step_is_refused(void)
+{
+    for (int k = 0; k < scan.positions; k++)
+        scan.antenna_y_m[k] = k * 1e-9 + k * k * 0.03;   /* first step 1 nm + 30 mm */
+    scan.antenna_y_m[1] = scan.antenna_y_m[0] + 1e-9;
+    expect_refused("1 nm step");
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_positions_spread_over_1e302_m_are_refused);
+    RUN_TEST(test_positions_spread_over_600_km_are_refused_before_allocating);
+    RUN_TEST(test_a_nanometre_step_is_refused);
+    return UNITY_END();
+}
