@@ -12,6 +12,7 @@ struct uwb_compare_options {
     struct uwb_thresholds thresholds;
     double systematic_displacement_m; /* 1-sigma floor of a displacement between two scans */
     double max_uncertainty_m;         /* above this 1-sigma the verdict is inconclusive */
+    double baseline_repeatability_m;  /* 1-sigma of the baseline's centre from the spread of its commissioning scans */
 };
 
 void uwb_compare_defaults(struct uwb_compare_options *opt);
@@ -40,6 +41,7 @@ struct uwb_uncertainty_terms {
     double clutter_current_m;     /* what taking a reflector beside the winding out may leave */
     double clutter_baseline_m;
     double systematic_m;          /* the floor: what the static scene and sampling leave */
+    double baseline_repeatability_m; /* spread of the baseline's commissioning scans (baseline set N) */
 };
 
 /* Their sum in quadrature: the one place the verdict's sigma is composed. */

@@ -30,7 +30,7 @@ void uwbd_ctl_usage(FILE *f)
         "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text] COMMAND...\n"
         "\n"
         "Sends COMMAND to the running daemon and prints its reply (one JSON line).\n"
-        "Commands: status, scan, verdict, history [N], baseline set, help.\n"
+        "Commands: status, scan, verdict, history [N], baseline set [N], help.\n"
         "\n"
         "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
         "  --config FILE    take the socket's path from this configuration\n"

@@ -14,7 +14,10 @@ const struct uwb_command_help uwb_command_help[] = {
     {"scan", "scan now; the reply is that scan's verdict"},
     {"verdict", "the latest verdict"},
     {"history [N]", "the last N verdicts, oldest first (N 1..100, default 10)"},
-    {"baseline set", "the next good scan becomes the baseline (the old one is kept in baseline/history)"},
+    {"baseline set [N]", "the next good scan, averaged over N acquisitions (1..16; default baseline.scans), becomes "
+                         "the baseline (the old one is kept in baseline/history)"},
+    {"baseline set force", "the same, also when the scan is an alarm against the current baseline (after a repair "
+                           "that moved the winding); logged"},
     {"help", "this list"},
 };
 const size_t uwb_command_help_count = sizeof uwb_command_help / sizeof uwb_command_help[0];
@@ -127,12 +130,20 @@ int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, cha
             return UWB_COMMAND_INVALID;
         }
     } else if (strcmp(verb, "baseline") == 0) {
-        if (n_words != 2 || strcmp(words[1], "set") != 0) {
-            set_error(err, errlen, "say `baseline set` to make the next good scan the baseline", NULL);
+        if (n_words < 2 || strcmp(words[1], "set") != 0) {
+            set_error(err, errlen, "say `baseline set` (or `baseline set N`) to make the next good scan the baseline",
+                      NULL);
             return UWB_COMMAND_INVALID;
         }
         cmd.kind = UWB_COMMAND_BASELINE_SET;
-        max_args = 1;
+        max_args = 2;
+        if (n_words == 3 && strcmp(words[2], "force") == 0)
+            cmd.force = 1;
+        else if (n_words == 3 && (parse_count(words[2], &cmd.count) != 0 || cmd.count > UWB_BASELINE_SCANS_MAX)) {
+            set_error(err, errlen, "baseline set: N (scans to average) must be a whole number from 1 to 16, or `force`, not",
+                      words[2]);
+            return UWB_COMMAND_INVALID;
+        }
     } else {
         set_error(err, errlen, "unknown command (try help):", verb);
         return UWB_COMMAND_INVALID;

@@ -117,7 +117,7 @@ const struct config_key uwbd_config_keys[] = {
     NUMBER("digitiser.t0_ps", rig.digitiser.t0_s, "ps", 1e-12, -1e6, 1e6, 0,
            "time of sample 0 after the pulse leaves the transmitter (negative: before it), "
            "from commissioning"),
-    INTEGER("digitiser.stack", rig.digitiser.stack, "", 1, 65536, 16,
+    INTEGER("digitiser.stack", rig.digitiser.stack, "", 1, 65536, UWB_DEFAULT_STACK,
             "pulses fired and averaged per antenna position"),
     INTEGER("digitiser.frame_timeout_ms", rig.digitiser.frame_timeout_ms, "ms", 1, 600000, 1000,
             "wait this long for a frame after a trigger"),
@@ -193,6 +193,15 @@ const struct config_key uwbd_config_keys[] = {
     NUMBER_ABOVE("direct_coupling.tolerance_ps", direct_coupling_tolerance_s, "ps", 1e-12, 0, 1e6, 20,
                  "a scan whose direct-coupling arrival moved more than this from the baseline's is "
                  "inconclusive (cable or antenna changed?) instead of compared"),
+
+    INTEGER("baseline.scans", baseline_scans, "", 1, 16, 4,
+            "`baseline set` without N commissions the baseline from this many scans acquired back to back and "
+            "averaged; their spread is recorded as the baseline's repeatability and enters every verdict's "
+            "uncertainty"),
+    NUMBER("analysis.reacquire_budget_s", reacquire_budget_s, "s", 1, 0, 86400, 600,
+           "when a scan's uncertainty is over analysis.max_uncertainty_mm and more pulses would bring it under "
+           "(its noise part falls as 1/sqrt(pulses)), acquire again and average, for at most this long per "
+           "scan cycle, before the verdict says inconclusive; 0 = never"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];

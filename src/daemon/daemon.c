@@ -75,6 +75,11 @@ void scan_now(struct daemon *d)
         d->scan_queued = 1;
         return;
     }
+    lock_watch_check(d);   /* also when inotify is unavailable */
+    if (d->exit_code) {
+        peers_send_verdict(d, d->cycles_started + 1, NULL, "the state directory was deleted or replaced; uwbd is stopping");
+        return;
+    }
     schedule_off(d);
     d->last_cycle_start = monotonic_now();
     if (worker_start(d) != 0) {
@@ -111,17 +116,21 @@ static void schedule_first(struct daemon *d)
 
 static void load_baseline_info(struct daemon *d)
 {
-    char err[512];
-    int repaired = 0;
-    int rc = uwbd_baseline_load(&d->store, d->cfg.direct_coupling_window_end_s, NULL, &d->baseline, &repaired, err,
-                                sizeof err);
+    char why[512];
+    struct uwb_scan scan = {0};
+    /* The same check as before every scan: a baseline already missing or
+     * damaged at start is a device fault from the start. */
+    int rc = uwbd_baseline_watch(&d->store, d->cfg.direct_coupling_window_end_s, NULL, &scan, &d->baseline, why,
+                                 sizeof why);
+    uwb_scan_free(&scan);
     d->has_baseline = rc == UWBD_BASELINE_LOADED;
-    if (rc == UWBD_BASELINE_ERROR)
-        uwbd_log(UWBD_LOG_ERR, "baseline: %s", err);
-    else if (rc == UWBD_BASELINE_NONE)
+    if (rc == UWBD_BASELINE_FAULT) {
+        snprintf(d->fault, sizeof d->fault, "%s", why);
+        uwbd_log(UWBD_LOG_WARNING, "device fault: %s; every scan is an error until `baseline set` re-commissions "
+                                   "(the damaged files are kept) or the file is restored", why);
+    } else if (rc == UWBD_BASELINE_NONE) {
         uwbd_log(UWBD_LOG_NOTICE, "no baseline yet: send `baseline set`, then `scan`, to commission");
-    if (repaired)
-        uwbd_log(UWBD_LOG_WARNING, "baseline/current.json did not describe current.uwbscan; rebuilt it from the scan");
+    }
 }
 
 /* The latest verdict at start: latest.json, or when that is unreadable the
@@ -257,7 +266,8 @@ static void drain(int fd)
     }
 }
 
-enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
+enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_LOCK_WATCH, SLOT_CONTROL, SLOT_CONSOLE,
+       SLOT_CLIENTS };
 
 static void loop(struct daemon *d)
 {
@@ -269,6 +279,7 @@ static void loop(struct daemon *d)
         fds[SLOT_SCHEDULE] = (struct pollfd){.fd = d->schedule_fd, .events = POLLIN};
         fds[SLOT_DONE] = (struct pollfd){.fd = d->done_fd, .events = POLLIN};
         fds[SLOT_CONSOLE_RETRY] = (struct pollfd){.fd = d->console_retry_fd, .events = POLLIN};
+        fds[SLOT_LOCK_WATCH] = (struct pollfd){.fd = d->lock_watch_fd, .events = POLLIN};
         /* A negative fd is skipped by poll(). */
         fds[SLOT_CONTROL] = (struct pollfd){.fd = d->stopping ? -1 : d->control.fd, .events = POLLIN};
         fds[SLOT_CONSOLE] = (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1,
@@ -292,6 +303,8 @@ static void loop(struct daemon *d)
         }
         if (fds[SLOT_SIGNAL].revents)
             handle_signals(d);
+        if (fds[SLOT_LOCK_WATCH].revents)
+            lock_watch_check(d);
         if (fds[SLOT_DONE].revents)
             cycle_finished(d);
         if (fds[SLOT_SCHEDULE].revents) {
@@ -367,6 +380,7 @@ static void teardown(struct daemon *d)
     close_fd(&d->schedule_fd);
     close_fd(&d->console_retry_fd);
     close_fd(&d->done_fd);
+    close_fd(&d->lock_watch_fd);
     close_fd(&d->lock_fd);
     free(d->latest_verdict);
     d->latest_verdict = NULL;
@@ -398,6 +412,7 @@ static int start(struct daemon *d)
     }
     if (repairs)
         uwbd_log(UWBD_LOG_WARNING, "state directory: removed %d leftover(s) of an interrupted write", repairs);
+    lock_watch_open(d);
     if (setup_event_fds(d, err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_ERR, "%s", err);
         return UWBD_EXIT_OS;
@@ -417,6 +432,7 @@ static int start(struct daemon *d)
         return code;
     }
     load_baseline_info(d);
+    baseline_requests_restore(d);
     load_latest_verdict(d);
     console_open(d);
     schedule_first(d);
@@ -435,7 +451,7 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     memset(&d, 0, sizeof d);
     d.options = opt;
     d.started = time(NULL);
-    d.lock_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = -1;
+    d.lock_fd = d.lock_watch_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = -1;
     d.control.fd = -1;
     peers_init(&d);
     d.last_cycle_start = monotonic_now();
@@ -444,6 +460,10 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     if (rc == UWBD_EXIT_OK)
         loop(&d);
     teardown(&d);
+    if (rc == UWBD_EXIT_OK && d.exit_code) {
+        uwbd_log(UWBD_LOG_ERR, "stopped: the state directory is no longer ours (exit %d); hardware left safe", d.exit_code);
+        return d.exit_code;
+    }
     if (rc == UWBD_EXIT_OK)
         uwbd_log(UWBD_LOG_NOTICE, "stopped; hardware left safe");
     return rc;

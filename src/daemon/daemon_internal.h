@@ -79,6 +79,11 @@ struct daemon {
     int scan_queued;                 /* a `scan` came while one was running */
     unsigned long baseline_requests; /* `baseline set` commands so far */
     unsigned long baseline_done;     /* the request the baseline last satisfied */
+    int baseline_scans;              /* scans the pending request averages */
+    int baseline_force;              /* ...and it is `baseline set force` */
+    char fault[512];                 /* "" or the device fault the last scan found (the baseline) */
+    int lock_watch_fd;               /* inotify on the state directory's lock file, -1 none */
+    int exit_code;                   /* non-zero: stop and exit with it */
     int stopping;
     int reload_pending;
     int has_next_scan;
@@ -111,6 +116,16 @@ int peers_expire(struct daemon *d);
 /* The verdict line to the peers waiting for `cycle`, or ERROR with `error` when line is NULL. */
 void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error);
 void console_open(struct daemon *d);
+
+/* baseline_requests.c */
+char *baseline_request(struct daemon *d, int scans, int force); /* `baseline set [N|force]`: the reply */
+void baseline_requests_restore(struct daemon *d);         /* a request pending at the last stop */
+void baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req);
+void baseline_request_finished(struct daemon *d, unsigned long request, const struct uwbd_cycle_result *res);
+
+/* lock_watch.c */
+int lock_watch_open(struct daemon *d);                    /* 0, or -1 (logged; the daemon runs unwatched) */
+void lock_watch_check(struct daemon *d);                  /* stops the daemon when the lock is no longer ours */
 
 /* daemon.c */
 void schedule_arm(struct daemon *d, const struct timespec *from);

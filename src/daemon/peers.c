@@ -198,6 +198,7 @@ static char *status_reply(struct daemon *d)
         .baseline_pending = d->baseline_requests > d->baseline_done,
         .has_baseline = d->has_baseline,
         .baseline = d->baseline,
+        .fault = d->fault[0] ? d->fault : NULL,
         .latest_verdict = d->latest_verdict,
         .state_dir = d->store.root,
         /* The rig belongs to the scan thread while it runs. */
@@ -235,9 +236,7 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         return;
     }
     case UWB_COMMAND_BASELINE_SET:
-        d->baseline_requests++;
-        uwbd_log(UWBD_LOG_NOTICE, "baseline set requested: the next good scan becomes the baseline");
-        reply(d, p, uwbd_reply_baseline(1, d->has_baseline, &d->baseline));
+        reply(d, p, baseline_request(d, cmd->count, cmd->force));
         return;
     case UWB_COMMAND_SCAN:
         if (d->stopping) {

@@ -85,6 +85,10 @@ static cJSON *baseline_object(const struct uwbd_baseline_info *b)
         cJSON_AddStringToObject(o, "set_at", b->set_at);
     if (b->has_direct_coupling)
         cJSON_AddNumberToObject(o, "direct_coupling_ps", round(b->direct_coupling_s * 1e13) / 10.0);
+    if (b->scans > 0)
+        cJSON_AddNumberToObject(o, "scans", b->scans);
+    if (b->has_repeatability)
+        cJSON_AddNumberToObject(o, "repeatability_mm", round(b->repeatability_m * 1e6) / 1e3);
     return o;
 }
 
@@ -103,9 +107,13 @@ char *uwbd_reply_status(const struct uwbd_status *st)
         cJSON_AddNumberToObject(o, "next_scan_in_s", (double)st->next_scan_in_s);
     cJSON_AddNumberToObject(o, "scans_this_run", st->scans_this_run);
     cJSON_AddBoolToObject(o, "scan_queued", st->scan_queued);
+    if (st->fault)
+        cJSON_AddStringToObject(o, "fault", st->fault);
     cJSON_AddBoolToObject(o, "baseline_pending", st->baseline_pending);
     if (st->has_baseline)
         cJSON_AddItemToObject(o, "baseline", baseline_object(&st->baseline));
+    if (st->has_baseline && st->fault)
+        cJSON_AddStringToObject(cJSON_GetObjectItemCaseSensitive(o, "baseline"), "check", "failed");
     if (st->latest_verdict) {
         cJSON *latest = verdict_summary(st->latest_verdict);
         if (latest)

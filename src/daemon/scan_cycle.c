@@ -12,12 +12,14 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "uwb/daemon/acquire_more.h"
 #include "uwb/daemon/baseline_store.h"
 #include "uwb/daemon/direct_coupling.h"
 #include "uwb/daemon/log.h"
 #include "uwb/daemon/retention.h"
 #include "uwb/daemon/verdict_log.h"
 #include "uwb/evaluate.h"
+#include "uwb/monotonic.h"
 #include "uwb/verdict_json.h"
 
 /* What the daemon adds to the imaging core's verdict. */
@@ -29,9 +31,16 @@ struct verdict_extras {
     double direct_coupling_shift_s;
     int baseline_requested;
     int baseline_set;
+    const char *fault;           /* "baseline" when the baseline failed its check */
     char baseline_note[256];
     const char *archive_error;   /* a file of this cycle the archive did not take */
     const char *record_error;    /* why the verdict is not in verdicts.jsonl */
+    int pulses;                  /* per position, in the scan evaluated */
+    int acquisitions;
+    const char *reacquire_note;  /* why no more were acquired while inconclusive */
+    int baseline_scans;          /* a baseline set from this many scans... */
+    int has_repeatability;
+    double repeatability_m;      /* ...whose centres spread this much */
     const char *clock_note;      /* this scan is dated before the newest recorded one */
 };
 
@@ -46,6 +55,14 @@ struct cycle {
     char id[UWBD_SCAN_ID_MAX + 1];
     char created[64];
     char archive_error[512];     /* the first file of this cycle that could not be archived */
+    uwbd_acquire_fn acquire;
+    void *acquire_ctx;
+    const volatile sig_atomic_t *stop;
+    double started_s, acquire_s; /* CLOCK_MONOTONIC at the start; one acquisition's duration */
+    int acquisitions, pulses_each;
+    int baseline_scans, has_repeatability;
+    double repeatability_m;
+    char reacquire_note[256];
     char clock_note[200];        /* "" unless the clock went back (issue 17) */
 };
 
@@ -89,10 +106,23 @@ static char *verdict_text(const struct uwb_verdict *v, const struct verdict_extr
         cJSON_AddNumberToObject(o, "direct_coupling_ps", round(x->direct_coupling_s * 1e13) / 10.0);
     if (x->has_shift)
         cJSON_AddNumberToObject(o, "direct_coupling_shift_ps", round(x->direct_coupling_shift_s * 1e13) / 10.0);
+    if (x->fault)
+        cJSON_AddStringToObject(o, "fault", x->fault);
     if (x->baseline_requested) {
         cJSON_AddBoolToObject(o, "baseline_set", x->baseline_set);
         if (x->baseline_note[0])
             cJSON_AddStringToObject(o, "baseline_note", x->baseline_note);
+    }
+    if (x->pulses > 0) {
+        cJSON_AddNumberToObject(o, "pulses_per_position", x->pulses);
+        cJSON_AddNumberToObject(o, "acquisitions", x->acquisitions);
+    }
+    if (x->reacquire_note)
+        cJSON_AddStringToObject(o, "reacquire_note", x->reacquire_note);
+    if (x->baseline_set && x->baseline_scans > 0) {
+        cJSON_AddNumberToObject(o, "baseline_scans", x->baseline_scans);
+        if (x->has_repeatability)
+            cJSON_AddNumberToObject(o, "baseline_repeatability_mm", round(x->repeatability_m * 1e6) / 1e3);
     }
     if (x->archive_error)
         cJSON_AddStringToObject(o, "archive_error", x->archive_error);
@@ -221,10 +251,40 @@ static void direct_coupling_check(const struct cycle *c, int dc_ok, double arriv
                  (arrival_s - base->direct_coupling_s) * 1e12, c->cfg->direct_coupling_tolerance_s * 1e12);
 }
 
+/* The commissioning rules beyond edges and time zero: a scan that says the
+ * winding moved past the alarm threshold against the current baseline is
+ * never made the baseline, or the alarm would be silenced for good. The
+ * request is then refused (not kept for a later scan) with the reason. */
+static int commissioning_refusal(const struct cycle *c, const struct uwb_verdict *v, char *note, size_t n)
+{
+    int moved = v->has_baseline && v->current.found && v->baseline.found &&
+                fabs(v->axial_displacement_m) >= c->cfg->evaluate.compare.thresholds.alarm_m;
+    if (v->status != UWB_STATUS_ALARM && !moved)
+        return 0;
+    if (c->req->force_baseline) {   /* the operator's decision after a repair: said, not silent */
+        uwbd_log(UWBD_LOG_WARNING, "scan %s: baseline set force: taking it as the baseline although it is %+.2f mm from the "
+                                   "current one", c->id, v->axial_displacement_m * 1e3);
+        snprintf(note, n, "forced (`baseline set force`): made the baseline although it is %s against the previous "
+                          "one (%+.2f mm)", v->status == UWB_STATUS_ALARM ? "an alarm" : "past the alarm threshold",
+                 v->axial_displacement_m * 1e3);
+        return 0;
+    }
+    snprintf(note, n,
+             "refused: this scan is %s against the current baseline (%+.2f mm): a winding that moved is not made "
+             "the baseline; inspect it, and if the move is known (a repair), send `baseline set force`",
+             v->status == UWB_STATUS_ALARM ? "an alarm" : "past the alarm threshold", v->axial_displacement_m * 1e3);
+    return 1;
+}
+
 static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, const struct uwb_verdict *v,
                                  int dc_ok, double arrival_s, const char *dc_why, struct verdict_extras *x)
 {
     x->baseline_requested = 1;
+    if (commissioning_refusal(c, v, x->baseline_note, sizeof x->baseline_note)) {
+        c->res->baseline_refused = 1;
+        uwbd_log(UWBD_LOG_WARNING, "scan %s: baseline set %s", c->id, x->baseline_note);
+        return;
+    }
     if (!v->current.found) {
         snprintf(x->baseline_note, sizeof x->baseline_note,
                  "not set: the winding's edges were not found in this scan; the next good scan will be tried");
@@ -242,6 +302,12 @@ static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, c
     uwbd_utc_text(c->req->now, info.set_at, sizeof info.set_at);
     info.has_direct_coupling = 1;
     info.direct_coupling_s = arrival_s;
+    info.scans = c->baseline_scans > 0 ? c->baseline_scans : 1;
+    info.has_repeatability = c->has_repeatability;
+    info.repeatability_m = c->repeatability_m;
+    x->baseline_scans = info.scans;
+    x->has_repeatability = info.has_repeatability;
+    x->repeatability_m = info.repeatability_m;
     char err[512];
     if (uwbd_baseline_set(c->store, scan, &info, c->cfg->direct_coupling_window_end_s, err, sizeof err) != 0) {
         problem(c, "baseline", err);
@@ -250,6 +316,113 @@ static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, c
     }
     x->baseline_set = 1;
     uwbd_log(UWBD_LOG_NOTICE, "scan %s is the new baseline (direct coupling at %.1f ps)", c->id, arrival_s * 1e12);
+}
+
+/* The centre of the winding in one scan alone (NaN when not found): what
+ * the commissioning scans' spread is measured on. */
+static double scan_centre(const struct cycle *c, const struct uwb_scan *scan)
+{
+    struct uwb_verdict v;
+    struct uwb_analysis a, unused;
+    char err[256];
+    if (uwb_evaluate(scan, NULL, &c->cfg->evaluate, &v, &a, &unused, err, sizeof err) != 0)
+        return NAN;
+    uwb_analysis_free(&a);
+    uwb_analysis_free(&unused);
+    return v.current.found ? v.current.center_m : NAN;
+}
+
+/* `baseline set N`: N acquisitions back to back, averaged into *scan; the
+ * spread of their centres is the baseline's repeatability. */
+static int acquire_baseline_scans(struct cycle *c, struct uwb_scan *scan, char *err, size_t errlen)
+{
+    int n = c->req->baseline_scans > UWBD_BASELINE_SCANS_MAX ? UWBD_BASELINE_SCANS_MAX : c->req->baseline_scans;
+    double centres[UWBD_BASELINE_SCANS_MAX];
+    centres[0] = scan_centre(c, scan);
+    for (int i = 1; i < n; i++) {
+        struct uwb_scan added;
+        int rc = uwbd_acquire_and_average(c->acquire, c->acquire_ctx, c->stop, scan, &added, err, errlen);
+        if (rc == UWBD_ACQUIRE_STOPPED)
+            return rc;
+        if (rc != UWBD_ACQUIRE_OK) {   /* keep what was acquired: the scans so far make the baseline */
+            uwbd_log(UWBD_LOG_WARNING, "baseline: acquisition %d of %d failed (%s); averaging the %d acquired", i + 1,
+                     n, err, i);
+            n = i;
+            break;
+        }
+        centres[i] = scan_centre(c, &added);
+        uwb_scan_free(&added);
+        c->acquisitions++;
+    }
+    int used = 0;
+    c->repeatability_m = uwbd_spread(centres, n, &used);
+    c->has_repeatability = used >= 2;
+    c->baseline_scans = n;
+    uwbd_log(UWBD_LOG_INFO, "baseline: %d scans averaged; their centres spread %.3f mm (1-sigma, %d with edges)", n,
+             c->repeatability_m * 1e3, used);
+    return UWBD_ACQUIRE_OK;
+}
+
+/* Inconclusive only for noise that more pulses would average down: acquire
+ * again and average, within analysis.reacquire_budget_s of the cycle's
+ * start, re-evaluating each time. Why it stopped short goes to the verdict.
+ * -1 (err) when the evaluation itself fails. */
+static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan, const struct uwb_scan *base,
+                                    const struct uwb_evaluate_options *opt, struct uwb_verdict *v,
+                                    struct uwb_analysis *cur_a, struct uwb_analysis *base_a, const char *scan_path,
+                                    char *err, size_t errlen)
+{
+    double max_m = opt->compare.max_uncertainty_m, budget = c->cfg->reacquire_budget_s;
+    int added_any = 0;
+    double sigma_before = 0;
+    int pulses_before = 0;
+    while (budget > 0 && v->status == UWB_STATUS_INCONCLUSIVE && v->has_baseline && v->current.found &&
+           v->baseline.found && v->uncertainty_m > max_m) {
+        int pulses = scan->stack > 0 ? scan->stack : 1;
+        /* First from the verdict's noise term; once sigma has been seen at two
+         * pulse counts, from how it actually fell. */
+        int more = added_any ? uwbd_acquisitions_needed_fit(sigma_before, pulses_before, v->uncertainty_m, pulses,
+                                                            max_m, c->pulses_each)
+                             : uwbd_acquisitions_needed(v, max_m, pulses, c->pulses_each);
+        sigma_before = v->uncertainty_m;
+        pulses_before = pulses;
+        double spent = uwb_monotonic_s() - c->started_s;
+        if (more < 0) {
+            snprintf(c->reacquire_note, sizeof c->reacquire_note,
+                     "more pulses cannot bring the uncertainty under %.2f mm: its part that does not average "
+                     "down is over it", max_m * 1e3);
+            break;
+        }
+        if (more < 1)
+            more = 1;
+        if (spent + more * c->acquire_s > budget) {
+            snprintf(c->reacquire_note, sizeof c->reacquire_note,
+                     "%d more acquisition%s (about %.0f s) would be needed, over analysis.reacquire_budget_s %.0f s",
+                     more, more == 1 ? "" : "s", more * c->acquire_s, budget);
+            break;
+        }
+        struct uwb_scan added;
+        char why[256];
+        int rc = uwbd_acquire_and_average(c->acquire, c->acquire_ctx, c->stop, scan, &added, why, sizeof why);
+        if (rc != UWBD_ACQUIRE_OK) {
+            snprintf(c->reacquire_note, sizeof c->reacquire_note, "acquiring again failed: %.200s", why);
+            break;
+        }
+        uwb_scan_free(&added);
+        c->acquisitions++;
+        added_any = 1;
+        uwb_analysis_free(cur_a);
+        uwb_analysis_free(base_a);
+        if (uwb_evaluate(scan, base, opt, v, cur_a, base_a, err, errlen) != 0)
+            return -1;
+        uwbd_log(UWBD_LOG_INFO, "scan %s: acquired again (%d pulses per position): uncertainty %.2f mm", c->id,
+                 scan->stack, v->uncertainty_m * 1e3);
+    }
+    /* The archive keeps the scan the verdict was made from. */
+    char write_err[512];
+    if (added_any && uwbscan_write_file(scan_path, scan, write_err, sizeof write_err) != 0)
+        archive_problem(c, "archive", write_err);
+    return 0;
 }
 
 /* Everything after a successful acquisition. */
@@ -279,23 +452,24 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
                                             sizeof dc_why) == 0;
     struct uwb_scan base = {0};
     struct uwbd_baseline_info info;
-    int repaired = 0;
-    char base_err[512] = "";
-    int b = uwbd_baseline_load(c->store, c->cfg->direct_coupling_window_end_s, &base, &info, &repaired, base_err,
-                               sizeof base_err);
-    if (b == UWBD_BASELINE_ERROR)
-        uwbd_log(UWBD_LOG_ERR, "baseline unreadable, scan %s not compared: %s", c->id, base_err);
-    if (repaired)
-        uwbd_log(UWBD_LOG_WARNING, "baseline/current.json did not describe current.uwbscan; rebuilt it");
+    int b = uwbd_baseline_watch(c->store, c->cfg->direct_coupling_window_end_s,
+                                c->req->has_expected ? &c->req->expected : NULL, &base, &info, c->res->fault,
+                                sizeof c->res->fault);
+    c->res->baseline_checked = 1;
+    if (b == UWBD_BASELINE_FAULT)
+        uwbd_log(UWBD_LOG_WARNING, "scan %s not compared: fault: %s", c->id, c->res->fault);
     char not_compared[256] = "";
     if (b == UWBD_BASELINE_LOADED)
         direct_coupling_check(c, dc_ok, arrival, dc_why, &info, not_compared, sizeof not_compared);
-    else if (b == UWBD_BASELINE_ERROR)
-        snprintf(not_compared, sizeof not_compared, "baseline unreadable: %.200s", base_err);
     int compare = b == UWBD_BASELINE_LOADED && !not_compared[0];
 
+    struct uwb_evaluate_options opt = c->cfg->evaluate;
+    if (compare && info.has_repeatability)   /* the baseline's mean carries spread/sqrt(N) */
+        opt.compare.baseline_repeatability_m = info.repeatability_m / sqrt(info.scans > 1 ? info.scans : 1);
     struct uwb_analysis cur_a, base_a;
-    if (uwb_evaluate(scan, compare ? &base : NULL, &c->cfg->evaluate, &v, &cur_a, &base_a, err, sizeof err) != 0) {
+    if (uwb_evaluate(scan, compare ? &base : NULL, &opt, &v, &cur_a, &base_a, err, sizeof err) != 0 ||
+        (compare && reacquire_until_decisive(c, scan, &base, &opt, &v, &cur_a, &base_a, scan_path, err,
+                                             sizeof err) != 0)) {
         uwb_scan_free(&base);
         record_error(c, "evaluation failed: %s", err);
         return;
@@ -315,13 +489,26 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     uwb_analysis_free(&base_a);
     uwb_scan_free(&base);
 
-    struct verdict_extras x = {.scan_file = scan_path, .has_direct_coupling = dc_ok, .direct_coupling_s = arrival};
+    struct verdict_extras x = {.scan_file = scan_path, .has_direct_coupling = dc_ok, .direct_coupling_s = arrival,
+                               .pulses = scan->stack, .acquisitions = c->acquisitions,
+                               .reacquire_note = c->reacquire_note[0] ? c->reacquire_note : NULL};
     if (compare) {
         x.has_shift = 1;
         x.direct_coupling_shift_s = arrival - info.direct_coupling_s;
     }
     if (c->req->make_baseline)
         set_baseline_if_good(c, scan, &v, dc_ok, arrival, dc_why, &x);
+    if (b == UWBD_BASELINE_FAULT) {
+        if (x.baseline_set) {
+            snprintf(x.baseline_note, sizeof x.baseline_note, "replaced a baseline that failed its check: %.200s",
+                     c->res->fault);
+            c->res->fault[0] = '\0';
+        } else {
+            v.status = UWB_STATUS_ERROR;
+            snprintf(v.reason, sizeof v.reason, "fault: %.240s", c->res->fault);
+            x.fault = "baseline";
+        }
+    }
     record(c, &v, &x);
     uwbd_log(UWBD_LOG_INFO, "scan %s: %s%s%s", c->id, uwb_status_name(v.status), v.reason[0] ? ": " : "", v.reason);
 }
@@ -331,7 +518,8 @@ int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store
                    struct uwbd_cycle_result *res)
 {
     memset(res, 0, sizeof *res);
-    struct cycle c = {.cfg = cfg, .store = store, .req = req, .res = res};
+    struct cycle c = {.cfg = cfg, .store = store, .req = req, .res = res, .acquire = acquire,
+                      .acquire_ctx = acquire_ctx, .stop = stop, .started_s = uwb_monotonic_s()};
     uwbd_utc_text(req->now, c.created, sizeof c.created);
     char newest[64];
     if (uwbd_verdict_log_latest_created(store, newest, sizeof newest) && strcmp(c.created, newest) < 0)
@@ -348,6 +536,11 @@ int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store
 
     struct uwb_scan scan = {0};
     int rc = acquire(acquire_ctx, stop, &scan, err, sizeof err);
+    c.acquire_s = uwb_monotonic_s() - c.started_s;
+    c.acquisitions = 1;
+    c.pulses_each = scan.stack > 0 ? scan.stack : 1;
+    if (rc == UWBD_ACQUIRE_OK && req->make_baseline && req->baseline_scans > 1)
+        rc = acquire_baseline_scans(&c, &scan, err, sizeof err);
     if (rc == UWBD_ACQUIRE_STOPPED) {
         uwb_scan_free(&scan);
         res->outcome = UWBD_CYCLE_STOPPED;

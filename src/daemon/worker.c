@@ -99,8 +99,8 @@ int worker_start(struct daemon *d)
     memset(&d->job, 0, sizeof d->job);
     d->job.cycle = ++d->cycles_started;
     d->job.request.now = time(NULL);
-    int pending = d->baseline_requests > d->baseline_done;
-    d->job.request.make_baseline = pending;
+    baseline_request_fill(d, &d->job.request);
+    int pending = d->job.request.make_baseline;
     d->job.baseline_request = pending ? d->baseline_requests : 0;
     scan_stop = 0;   /* before the thread exists: pthread_create orders it */
     int rc = pthread_create(&d->job.thread, NULL, worker_main, d);
@@ -143,12 +143,7 @@ void worker_collect(struct daemon *d)
         free(d->latest_verdict);
         d->latest_verdict = strdup(res->verdict_json);
     }
-    if (res->baseline_set) {
-        d->baseline_done = d->job.baseline_request;
-        char err[512];
-        d->has_baseline = uwbd_baseline_load(&d->store, d->cfg.direct_coupling_window_end_s, NULL, &d->baseline,
-                                             NULL, err, sizeof err) == UWBD_BASELINE_LOADED;
-    }
+    baseline_request_finished(d, d->job.baseline_request, res);
     peers_send_verdict(d, d->job.cycle, res->verdict_json, "out of memory for the verdict");
     uwbd_cycle_result_free(res);
 }

@@ -19,7 +19,7 @@ void uwb_rig_config_defaults(struct uwb_rig_config *cfg)
     d->samples = 2048;
     d->sample_interval_s = 1e-11;
     d->t0_s = -1e-9;
-    d->stack = 1;
+    d->stack = UWB_DEFAULT_STACK;
     d->frame_timeout_ms = 1000;
     d->frame_retries = 3;
 

@@ -10,6 +10,7 @@ void uwb_compare_defaults(struct uwb_compare_options *opt)
     opt->thresholds.alarm_m = 0.005;
     opt->systematic_displacement_m = 0.0001;
     opt->max_uncertainty_m = 0.001;
+    opt->baseline_repeatability_m = 0;
 }
 
 int uwb_scans_comparable(const struct uwb_scan *cur, const struct uwb_scan *base,
@@ -47,7 +48,8 @@ double uwb_displacement_uncertainty(const struct uwb_uncertainty_terms *t)
 {
     return sqrt(t->noise_current_m * t->noise_current_m + t->noise_baseline_m * t->noise_baseline_m +
                 t->clutter_current_m * t->clutter_current_m +
-                t->clutter_baseline_m * t->clutter_baseline_m + t->systematic_m * t->systematic_m);
+                t->clutter_baseline_m * t->clutter_baseline_m + t->systematic_m * t->systematic_m +
+                t->baseline_repeatability_m * t->baseline_repeatability_m);
 }
 
 void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur,
@@ -82,13 +84,15 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
     v->height_change_m = cur->height_m - base->height_m;
     /* Both scans blur their edges alike, so only their noise, what removing
      * a plate beside the winding may leave, and a floor for what the two
-     * scans do not share (sampling, drift) enter. */
+     * scans do not share (sampling, drift) enter, and what the baseline's
+     * commissioning scans showed of its repeatability (baseline set N). */
     struct uwb_uncertainty_terms terms = {
         .noise_current_m = cur->sigma_center_noise_m,
         .noise_baseline_m = base->sigma_center_noise_m,
         .clutter_current_m = cur->sigma_center_clutter_m,
         .clutter_baseline_m = base->sigma_center_clutter_m,
         .systematic_m = opt->systematic_displacement_m,
+        .baseline_repeatability_m = opt->baseline_repeatability_m,
     };
     if (pair && pair->valid && pair->noise_measured) {
         terms.noise_current_m = pair->sigma_noise_current_m;

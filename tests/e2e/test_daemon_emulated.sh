@@ -54,8 +54,8 @@ grep -q "gpiochip9" gpio.err || fail "missing GPIO chip: message does not name i
 pass "missing GPIO chip (libgpiod backend) -> exit 69: $(grep -o "gpio chip 'gpiochip9'[^(]*" gpio.err | head -1)"
 
 # The emulated board: the tank scene (window, core leg, barrier, far wall,
-# jitter, drift), with 40 dB per pulse so the config's 4 pulses per
-# position stand in for the appliance's 64 at 20 dB and the test stays quick.
+# jitter, drift), with 40 dB per pulse on top of the config's 64 pulses per
+# position; tests/e2e/test_daemon_baseline.sh runs the sample config at 20 dB.
 emu_args=(--gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock --control unix:run/emu.sock
           --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7)
 ${UWB_EXEC_PREFIX:-} "$BUILD/uwbemu" "${emu_args[@]}" > emu.log 2>&1 &

@@ -40,6 +40,15 @@ static void test_every_command(void)
     assert_command("verdict", UWB_COMMAND_VERDICT);
     assert_command("help", UWB_COMMAND_HELP);
     assert_command("baseline set", UWB_COMMAND_BASELINE_SET);
+    TEST_ASSERT_EQUAL_INT(0, cmd.count);   /* the configured baseline.scans */
+    assert_command("baseline set 4", UWB_COMMAND_BASELINE_SET);
+    TEST_ASSERT_EQUAL_INT(4, cmd.count);
+    assert_command("baseline set 16", UWB_COMMAND_BASELINE_SET);
+    TEST_ASSERT_EQUAL_INT(16, cmd.count);
+    TEST_ASSERT_EQUAL_INT(0, cmd.force);
+    assert_command("baseline set force", UWB_COMMAND_BASELINE_SET);
+    TEST_ASSERT_EQUAL_INT(1, cmd.force);
+    TEST_ASSERT_EQUAL_INT(0, cmd.count);
     assert_command("history", UWB_COMMAND_HISTORY);
     TEST_ASSERT_EQUAL_INT(UWB_HISTORY_DEFAULT, cmd.count);
     assert_command("history 7", UWB_COMMAND_HISTORY);
@@ -74,6 +83,9 @@ static void test_bad_arguments(void)
     assert_invalid("baseline reset", "baseline set");
     assert_invalid("baseline set now", "baseline set");
     assert_invalid("baseline set now please", "too many words");
+    assert_invalid("baseline set 0", "1 to 16");
+    assert_invalid("baseline set 17", "1 to 16");
+    assert_invalid("baseline set 4 now", "too many words");
     assert_invalid("Status", "unknown command");
     assert_invalid("rm -rf", "unknown command");
 }

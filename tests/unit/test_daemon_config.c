@@ -99,6 +99,7 @@ static void test_emulated_sample_loads_with_units_converted(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.005, cfg.evaluate.compare.thresholds.alarm_m);
     TEST_ASSERT_DOUBLE_WITHIN(1e-18, 20e-12, cfg.direct_coupling_tolerance_s);
     TEST_ASSERT_EQUAL_UINT(0660, cfg.control_mode);
+    TEST_ASSERT_EQUAL_INT(UWB_DEFAULT_STACK, cfg.rig.digitiser.stack);
     TEST_ASSERT_EQUAL_DOUBLE(0.0, cfg.interval_s);
 }
 
@@ -110,6 +111,7 @@ static void test_raspberry_pi_sample_loads(void)
     for (int i = 0; i < UWB_LINE_COUNT; i++)
         TEST_ASSERT_TRUE(cfg.rig.gpio.offset[i] >= 0 || cfg.rig.gpio.name[i][0]);
     TEST_ASSERT_EQUAL_INT(0, cfg.allow_root);
+    TEST_ASSERT_EQUAL_INT(UWB_DEFAULT_STACK, cfg.rig.digitiser.stack);
 }
 
 static void test_defaults_fill_what_is_left_out(void)
@@ -126,7 +128,11 @@ static void test_defaults_fill_what_is_left_out(void)
     TEST_ASSERT_EQUAL_UINT(0660, cfg.control_mode);
     TEST_ASSERT_EQUAL_DOUBLE(86400.0, cfg.interval_s);
     TEST_ASSERT_EQUAL_INT(1000, cfg.retention_max_scans);
-    TEST_ASSERT_EQUAL_INT(16, cfg.rig.digitiser.stack);
+    /* One stacking default: the key table, the rig's own defaults and the samples (above). */
+    TEST_ASSERT_EQUAL_INT(64, cfg.rig.digitiser.stack);
+    struct uwb_rig_config rig_defaults;
+    uwb_rig_config_defaults(&rig_defaults);
+    TEST_ASSERT_EQUAL_INT(cfg.rig.digitiser.stack, rig_defaults.digitiser.stack);
     TEST_ASSERT_EQUAL_STRING("", cfg.console_endpoint);
     TEST_ASSERT_EQUAL_INT(0, cfg.rig.has_target_z);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.002, cfg.evaluate.compare.thresholds.watch_m);
@@ -284,6 +290,16 @@ static void test_config_md_documents_every_key(void)
         snprintf(quoted, sizeof quoted, "`%s`", uwbd_config_key_path(i));
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(doc, quoted), quoted);
     }
+    /* ...and each row as `uwbd --config-keys` prints it, defaults included. */
+    char *table = NULL;
+    size_t table_len = 0;
+    FILE *out = open_memstream(&table, &table_len);
+    TEST_ASSERT_NOT_NULL(out);
+    uwbd_config_print_keys_markdown(out);
+    fclose(out);
+    for (char *row = strtok(table, "\n"); row; row = strtok(NULL, "\n"))
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(doc, row), row);
+    free(table);
     free(doc);
 }
 

@@ -4,6 +4,7 @@
  * files; retention deletes the oldest scans and never a baseline. */
 #include "unity.h"
 
+#include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +16,7 @@
 #include "scratch_support.h"
 #include "uwb/atomic_file.h"
 #include "uwb/daemon/baseline_store.h"
+#include "uwb/daemon/direct_coupling.h"
 #include "uwb/daemon/retention.h"
 #include "uwb/daemon/store.h"
 #include "uwb/daemon/verdict_log.h"
@@ -217,8 +219,18 @@ static void test_latest_is_replaced_whole(void)
     TEST_ASSERT_EQUAL_INT(-1, uwbd_latest_read(&store, &json, err, sizeof err));
 }
 
-static void set_baseline(const struct uwb_scan *scan, double dc_s)
+/* The time zero recorded is the scan's own (the loader checks it against the scan). */
+static double own_direct_coupling(const struct uwb_scan *scan)
 {
+    double arrival = 0;
+    char why[160];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_direct_coupling_arrival(scan, WINDOW_END_S, &arrival, why, sizeof why), why);
+    return arrival;
+}
+
+static void set_baseline(const struct uwb_scan *scan)
+{
+    double dc_s = own_direct_coupling(scan);
     struct uwbd_baseline_info info = {0};
     snprintf(info.scan_id, sizeof info.scan_id, "%s", scan->scan_id);
     snprintf(info.set_at, sizeof info.set_at, "2030-01-02T04:00:00Z");
@@ -235,15 +247,16 @@ static void test_baseline_set_keeps_the_one_it_replaces(void)
                                                                  sizeof err));
     make_scan(&a, "scan-a", 100, 0.0f);
     make_scan(&b, "scan-b", 100, 0.25f);
-    set_baseline(&a, 5e-11);
+    set_baseline(&a);
     TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err,
                                                                    sizeof err));
     TEST_ASSERT_EQUAL_STRING("scan-a", info.scan_id);
     TEST_ASSERT_TRUE(info.has_direct_coupling);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-15, 5e-11, info.direct_coupling_s);
+    /* a's pulse peaks at t0 + 100 dt = 0; less its mean, it reaches half height 32.6 ps before */
+    TEST_ASSERT_DOUBLE_WITHIN(2e-12, -32.6e-12, info.direct_coupling_s);
     uwb_scan_free(&got);
 
-    set_baseline(&b, 6e-11);
+    set_baseline(&b);
     TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err,
                                                                    sizeof err));
     TEST_ASSERT_EQUAL_STRING("scan-b", info.scan_id);
@@ -259,7 +272,7 @@ static void test_baseline_set_keeps_the_one_it_replaces(void)
     path_in(p, sizeof p, "baseline/history/scan-a.json");
     char *json = scratch_slurp(p, NULL);
     TEST_ASSERT_NOT_NULL(json);
-    TEST_ASSERT_NOT_NULL(strstr(json, "\"direct_coupling_ps\":50"));
+    TEST_ASSERT_NOT_NULL(strstr(json, "\"direct_coupling_ps\":-32."));
     free(json);
     uwb_scan_free(&a);
     uwb_scan_free(&b);
@@ -272,7 +285,7 @@ static void test_baseline_description_is_rebuilt_after_a_crash(void)
     struct uwb_scan a = {0}, b = {0};
     make_scan(&a, "scan-a", 100, 0.0f);
     make_scan(&b, "scan-b", 150, 0.0f);
-    set_baseline(&a, 5e-11);
+    set_baseline(&a);
     char p[2048];
     path_in(p, sizeof p, "baseline/current.uwbscan");
     TEST_ASSERT_EQUAL_INT(0, uwbscan_write_file(p, &b, err, sizeof err));   /* the crash: json still says a */
@@ -302,7 +315,7 @@ static void test_baseline_set_counts_once_its_scan_is_in_place(void)
     struct uwb_scan a = {0}, b = {0};
     make_scan(&a, "scan-a", 100, 0.0f);
     make_scan(&b, "scan-b", 150, 0.0f);
-    set_baseline(&a, 5e-11);
+    set_baseline(&a);
     char info_path[2048];
     path_in(info_path, sizeof info_path, "baseline/current.json");
     TEST_ASSERT_EQUAL_INT(0, unlink(info_path));
@@ -378,7 +391,7 @@ static void test_retention_by_count_deletes_the_oldest_and_spares_baselines(void
 {
     struct uwb_scan a = {0};
     make_scan(&a, "a", 100, 0.0f);
-    set_baseline(&a, 5e-11);
+    set_baseline(&a);
     archive_scan("2030/01/01", "a", 5);
     archive_scan("2030/01/01", "a-2", 4);   /* its name begins like a's: not a's images */
     archive_scan("2030/01/02", "b", 3);
@@ -536,6 +549,85 @@ static void test_scan_ids_become_safe_file_names(void)
     TEST_ASSERT_EQUAL_INT(UWBD_SCAN_ID_MAX, (int)strlen(id));
 }
 
+/* A current.json whose time zero disagrees with the baseline scan it
+ * describes (edited, or written by a bug) is corrected from the scan at
+ * load, instead of making every later scan inconclusive. */
+static void test_a_wrong_time_zero_in_current_json_is_taken_from_the_scan(void)
+{
+    struct uwb_scan a = {0};
+    make_scan(&a, "scan-a", 100, 0.0f);
+    set_baseline(&a);
+    char p[2048];
+    path_in(p, sizeof p, "baseline/current.json");
+    char *json = scratch_slurp(p, NULL);
+    cJSON *o = cJSON_Parse(json);
+    free(json);
+    cJSON_ReplaceItemInObjectCaseSensitive(o, "direct_coupling_ps", cJSON_CreateNumber(1234.5));
+    json = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    scratch_spit(p, json);
+    free(json);
+    struct uwbd_baseline_info info;
+    int repaired = 0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWBD_BASELINE_LOADED,
+                                  uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(1, repaired);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, own_direct_coupling(&a), info.direct_coupling_s);
+    json = scratch_slurp(p, NULL);
+    TEST_ASSERT_NULL_MESSAGE(strstr(json, "1234.5"), json);
+    free(json);
+    uwb_scan_free(&a);
+}
+
+/* One changed byte in current.uwbscan: the checksum recorded at
+ * commissioning says so; the watch calls it a fault; `baseline set` moves
+ * the damaged files aside (kept, not deleted) and puts the new one in. */
+static void test_a_damaged_baseline_is_noticed_and_moved_aside(void)
+{
+    struct uwb_scan a = {0}, b = {0};
+    make_scan(&a, "scan-a", 100, 0.0f);
+    make_scan(&b, "scan-b", 120, 0.0f);
+    set_baseline(&a);
+    char p[2048];
+    path_in(p, sizeof p, "baseline/current.uwbscan");
+    size_t len = 0;
+    char *bytes = scratch_slurp(p, &len);
+    bytes[len - 5] ^= 0x40;   /* inside the last sample */
+    FILE *f = fopen(p, "wb");
+    TEST_ASSERT_NOT_NULL(f);
+    TEST_ASSERT_EQUAL_INT((int)len, (int)fwrite(bytes, 1, len, f));
+    fclose(f);
+    free(bytes);
+    struct uwbd_baseline_info info;
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_DAMAGED, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, NULL, err,
+                                                                    sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "recorded at commissioning"), err);
+    struct uwb_scan got = {0};
+    char why[1024];
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_FAULT, uwbd_baseline_watch(&store, WINDOW_END_S, NULL, &got, &info, why,
+                                                                   sizeof why));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(why, "baseline damaged: "), why);
+
+    set_baseline(&b);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWBD_BASELINE_LOADED,
+                                  uwbd_baseline_watch(&store, WINDOW_END_S, NULL, &got, &info, why, sizeof why), why);
+    TEST_ASSERT_EQUAL_STRING("scan-b", info.scan_id);
+    uwb_scan_free(&got);
+    path_in(p, sizeof p, "baseline/history/damaged-2030-01-02T04-00-00Z.uwbscan");
+    bytes = scratch_slurp(p, &len);
+    TEST_ASSERT_NOT_NULL_MESSAGE(bytes, p);
+    free(bytes);
+
+    /* Which baseline the daemon commissioned: another one in its place is a fault too. */
+    struct uwbd_baseline_info expected = info;
+    expected.checksum ^= 1;
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_FAULT, uwbd_baseline_watch(&store, WINDOW_END_S, &expected, &got, &info,
+                                                                   why, sizeof why));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(why, "replaced outside uwbd"), why);
+    uwb_scan_free(&a);
+    uwb_scan_free(&b);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -549,6 +641,8 @@ int main(void)
     RUN_TEST(test_baseline_set_keeps_the_one_it_replaces);
     RUN_TEST(test_baseline_description_is_rebuilt_after_a_crash);
     RUN_TEST(test_baseline_set_counts_once_its_scan_is_in_place);
+    RUN_TEST(test_a_wrong_time_zero_in_current_json_is_taken_from_the_scan);
+    RUN_TEST(test_a_damaged_baseline_is_noticed_and_moved_aside);
     RUN_TEST(test_damaged_baseline_is_an_error_not_a_silent_replacement);
     RUN_TEST(test_retention_by_count_deletes_the_oldest_and_spares_baselines);
     RUN_TEST(test_retention_keeps_a_scan_whose_name_begins_like_a_deleted_one);

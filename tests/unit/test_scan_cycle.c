@@ -201,13 +201,27 @@ static void test_the_baseline_changes_only_when_asked_and_keeps_the_old_one(void
     current_baseline(&info);
     TEST_ASSERT_EQUAL_STRING("sim-1", info.scan_id);   /* an alarm does not move the baseline */
 
+    /* ...nor does `baseline set` on an alarm: refused for good, with the reason. */
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ALARM, res.status);
+    TEST_ASSERT_EQUAL_INT(0, res.baseline_set);
+    TEST_ASSERT_EQUAL_INT(1, res.baseline_refused);
+    v = verdict();
+    const cJSON *note = cJSON_GetObjectItemCaseSensitive(v, "baseline_note");
+    TEST_ASSERT_TRUE(cJSON_IsString(note));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(note->valuestring, "refused: this scan is an alarm"), note->valuestring);
+    cJSON_Delete(v);
+    current_baseline(&info);
+    TEST_ASSERT_EQUAL_STRING("sim-1", info.scan_id);
+
+    rig.displaced = 0;
     run_cycle(1);
     TEST_ASSERT_EQUAL_INT(1, res.baseline_set);
     current_baseline(&info);
-    TEST_ASSERT_EQUAL_STRING("sim-3", info.scan_id);
+    TEST_ASSERT_EQUAL_STRING("sim-4", info.scan_id);
     TEST_ASSERT_TRUE(in_state("baseline/history/sim-1.uwbscan"));
     TEST_ASSERT_TRUE(in_state("baseline/history/sim-1.json"));
-    TEST_ASSERT_EQUAL_INT(3, scratch_count_lines(store.verdict_log));
+    TEST_ASSERT_EQUAL_INT(4, scratch_count_lines(store.verdict_log));
 }
 
 /* Make the intact scan the baseline through the store, as a commissioning

@@ -5,9 +5,13 @@
 #define UWB_DAEMON_BASELINE_STORE_H
 
 #include <stddef.h>
+#include <time.h>
 
 #include "uwb/daemon/store.h"
 #include "uwb/scan.h"
+
+/* `baseline set N`: at most this many scans averaged into one baseline. */
+#define UWBD_BASELINE_SCANS_MAX 16   /* = UWB_BASELINE_SCANS_MAX of command.h */
 
 struct uwbd_baseline_info {
     char scan_id[UWBD_SCAN_ID_MAX + 1];
@@ -15,12 +19,19 @@ struct uwbd_baseline_info {
     char set_at[64];                   /* when it became the baseline */
     int has_direct_coupling;
     double direct_coupling_s;          /* time zero recorded at commissioning */
+    int has_checksum;
+    unsigned long checksum;            /* CRC-32 of current.uwbscan's bytes, recorded at commissioning */
+    int scans;                         /* acquisitions averaged into it (0: not recorded, one) */
+    int has_repeatability;
+    double repeatability_m;            /* spread (1-sigma) of the centre across those scans */
 };
 
 enum uwbd_baseline_result {
     UWBD_BASELINE_LOADED = 0,
     UWBD_BASELINE_NONE = 1,            /* never set */
     UWBD_BASELINE_ERROR = -1,
+    UWBD_BASELINE_DAMAGED = -2,        /* readable, but not the bytes commissioned (checksum) */
+    UWBD_BASELINE_FAULT = -3,          /* uwbd_baseline_watch: missing, damaged or replaced */
 };
 
 /* Read baseline/current.uwbscan and current.json. current.uwbscan is the
@@ -41,5 +52,24 @@ int uwbd_baseline_load(const struct uwbd_store *store, double window_end_s, stru
  * -1 with err otherwise: the old baseline stays as it was. */
 int uwbd_baseline_set(const struct uwbd_store *store, const struct uwb_scan *scan,
                       const struct uwbd_baseline_info *info, double window_end_s, char *err, size_t errlen);
+
+/* The baseline a scan is compared with, verified: current.uwbscan must be
+ * whole (its checksum the one recorded at commissioning) and, when the
+ * daemon knows which baseline it commissioned (`expected`, NULL when none),
+ * that one. Returns LOADED (scan and info filled), NONE (never commissioned
+ * and none expected) or FAULT with `why` ("baseline missing: ...",
+ * "baseline damaged: ...", "baseline replaced outside uwbd: ..."). */
+int uwbd_baseline_watch(const struct uwbd_store *store, double window_end_s,
+                        const struct uwbd_baseline_info *expected, struct uwb_scan *scan,
+                        struct uwbd_baseline_info *info, char *why, size_t whylen);
+
+/* A `baseline set` waiting for its scan, kept in baseline/pending.json so
+ * that a restart does not forget it. read: 1 and *scans when one is
+ * pending (and *force: `baseline set force`), 0 when none, -1 unreadable
+ * (err; treated as none). */
+int uwbd_baseline_pending_write(const struct uwbd_store *store, int scans, int force, time_t requested, char *err,
+                                size_t errlen);
+int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, int *force, char *err, size_t errlen);
+int uwbd_baseline_pending_clear(const struct uwbd_store *store, char *err, size_t errlen);
 
 #endif

@@ -10,6 +10,8 @@
 #define UWB_COMMAND_MAX_LINE 64
 #define UWB_HISTORY_DEFAULT 10
 #define UWB_HISTORY_MAX 100
+/* `baseline set N`: at most this many scans averaged (UWBD_BASELINE_SCANS_MAX). */
+#define UWB_BASELINE_SCANS_MAX 16
 
 enum uwb_command_kind {
     UWB_COMMAND_STATUS,        /* status         daemon state, baseline, last verdict */
@@ -22,7 +24,8 @@ enum uwb_command_kind {
 
 struct uwb_command {
     enum uwb_command_kind kind;
-    int count;                 /* history: how many */
+    int count;                 /* history: how many; baseline set: scans to average (0 = the configured default) */
+    int force;                 /* baseline set force: also on a scan that is an alarm against the current baseline */
 };
 
 enum uwb_command_result {

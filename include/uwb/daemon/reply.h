@@ -27,6 +27,7 @@ struct uwbd_status {
     const char *state_dir;
     const char *rig;               /* "ready" or why not */
     const char *console;           /* endpoint, or NULL when none */
+    const char *fault;             /* a device fault (the baseline failed its check), or NULL */
 };
 
 char *uwbd_reply_error(const char *message);

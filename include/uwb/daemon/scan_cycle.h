@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include <time.h>
 
+#include "uwb/daemon/baseline_store.h"
 #include "uwb/daemon/config.h"
 #include "uwb/daemon/store.h"
 #include "uwb/scan.h"
@@ -27,6 +28,10 @@ typedef int (*uwbd_acquire_fn)(void *ctx, const volatile sig_atomic_t *stop, str
 
 struct uwbd_cycle_request {
     int make_baseline;         /* a `baseline set` is pending */
+    int baseline_scans;        /* ...to be made from this many scans averaged (0 or 1: this one) */
+    int force_baseline;        /* ...even from a scan that is an alarm against the current one */
+    int has_expected;          /* the daemon commissioned `expected`: it must still be there, whole */
+    struct uwbd_baseline_info expected;
     time_t now;                /* wall clock at the start (names the archive day) */
 };
 
@@ -41,6 +46,9 @@ struct uwbd_cycle_result {
     char scan_id[UWBD_SCAN_ID_MAX + 1];
     char reason[256];
     int baseline_set;          /* this scan became the baseline */
+    int baseline_refused;      /* the pending `baseline set` was refused for good (an alarm); see the verdict */
+    int baseline_checked;      /* the baseline was looked at: `fault` is current */
+    char fault[512];           /* "" or why the baseline cannot be trusted (a device fault) */
     char *verdict_json;        /* malloc'd one-line VERDICT object (as archived), NULL when stopped */
     int archive_problems;      /* files that could not be written (logged) */
 };
