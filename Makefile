@@ -18,7 +18,12 @@
 #                         RSS, open fds and archive size must stay flat; then
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
 #   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}, the systemd unit, udev
-#                         rules, sample configs (share/uwbd) and board docs (share/doc/uwbd)
+#                         rules, the Pi sample config (share/uwbd), board docs (share/doc/uwbd)
+#                         and manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1)
+#   make man              the manual pages into $(BUILD)/man (uwbd.json.5 from the key table)
+#   make deb              board/debian -> $(BUILD)/deb/uwbd_VERSION_ARCH.deb (dpkg-buildpackage,
+#                         lintian: no errors); DEB_ARCH=arm64 cross-builds
+#   make test-deb         install that .deb in a fresh Debian 12 chroot, check it (root)
 #   make deps / deps-arm  install the native / aarch64 packages and Unity
 #   make check-hw-headers only src/hw/ may include gpiod.h / libserialport.h
 #   make fuzz             build tests/fuzz/fuzz_*.c with clang + libFuzzer in
@@ -32,7 +37,7 @@ CROSS_COMPILE ?=
 CC            := $(CROSS_COMPILE)gcc
 AR            := $(CROSS_COMPILE)ar
 PKG_CONFIG    ?= pkg-config
-LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport zlib
+LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport zlib libsystemd
 PREFIX        ?= /usr/local
 DESTDIR       ?=
 
@@ -106,7 +111,7 @@ ARM_PREFIX    := aarch64-linux-gnu-
 # flags are computed on a machine that has the libraries.
 SUBMAKE       := $(MAKE) --no-print-directory -f $(abspath $(firstword $(MAKEFILE_LIST)))
 
-ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy soak fuzz clean,$(MAKECMDGOALS)),)
+ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
 ifneq ($(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --exists $(LIBS_PKG) 2>/dev/null && echo ok),ok)
 $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIPLET)); `make $(if $(TRIPLET),deps-arm,deps)` installs them)
 endif
@@ -316,20 +321,76 @@ soak:
 	    bash tools/soak/run-soak.sh --build '$(BUILD)' --cycles $(SOAK_VALGRIND_CYCLES) --max-scans 5 \
 	    --every 5 --daemon-wrapper '$(SOAK_VALGRIND)')
 
+# ---- manual pages and install ----------------------------------------------
+# uwbd.json(5) is printed by uwbd from its key table (--config-keys=man), so
+# it cannot drift from what the loader accepts; uwbd(8) and uwbd-ctl(1) are
+# board/man/. A cross build runs the target's uwbd under TEST_RUNNER.
+MAN_PAGES     := $(BUILD)/man/uwbd.8 $(BUILD)/man/uwbd-ctl.1 $(BUILD)/man/uwbd.json.5
+.PHONY: man
+man: $(MAN_PAGES)
+
+$(BUILD)/man/uwbd.json.5: $(BUILD)/uwbd
+	@mkdir -p $(dir $@)
+	$(TEST_RUNNER) $(BUILD)/uwbd --config-keys=man > $@.tmp && mv $@.tmp $@
+
+$(BUILD)/man/%: board/man/%
+	@mkdir -p $(dir $@)
+	cp $< $@
+
+# Documents installed under share/doc/uwbd keep board/'s layout, so every
+# relative link among them resolves there (tests/e2e/test_install.sh). The
+# emulated board's sample config is not installed: uwbemu is not either.
+DOC_FILES     := install-guide.md config.md state-dir.md digitiser-protocol.md \
+                 raspberry-pi-4/pinmap.md raspberry-pi-4/uwbd.json
+DOCDIR        := $(PREFIX)/share/doc/uwbd
+# A Debian 12 package puts units and udev rules under /lib (board/debian/rules).
+UNITDIR       ?= $(PREFIX)/lib/systemd/system
+UDEVRULESDIR  ?= $(PREFIX)/lib/udev/rules.d
+MANDIR        := $(PREFIX)/share/man
+
 # The unit names the installed binary and docs, so @bindir@/@docdir@ are filled in here.
-install: all
+install: all $(MAN_PAGES)
 	install -d '$(DESTDIR)$(PREFIX)/bin'
 	install -m 0755 $(BUILD)/uwbd '$(DESTDIR)$(PREFIX)/bin/uwbd'
 	$(if $(wildcard tools/uwbsim/main.c),install -m 0755 $(BUILD)/uwbsim '$(DESTDIR)$(PREFIX)/bin/uwbsim')
-	install -d '$(DESTDIR)$(PREFIX)/lib/systemd/system' '$(DESTDIR)$(PREFIX)/lib/udev/rules.d' \
-	    '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4' '$(DESTDIR)$(PREFIX)/share/uwbd/emulated' \
-	    '$(DESTDIR)$(PREFIX)/share/doc/uwbd'
-	sed -e 's|@bindir@|$(PREFIX)/bin|g' -e 's|@docdir@|$(PREFIX)/share/doc/uwbd|g' board/uwbd.service \
-	    > '$(DESTDIR)$(PREFIX)/lib/systemd/system/uwbd.service'
-	install -m 0644 board/99-uwbd-digitiser.rules board/99-uwbd-gpio.rules '$(DESTDIR)$(PREFIX)/lib/udev/rules.d/'
+	install -d '$(DESTDIR)$(UNITDIR)' '$(DESTDIR)$(UDEVRULESDIR)' \
+	    '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4' '$(DESTDIR)$(DOCDIR)/raspberry-pi-4' \
+	    '$(DESTDIR)$(MANDIR)/man1' '$(DESTDIR)$(MANDIR)/man5' '$(DESTDIR)$(MANDIR)/man8'
+	sed -e 's|@bindir@|$(PREFIX)/bin|g' -e 's|@docdir@|$(DOCDIR)|g' board/uwbd.service \
+	    > '$(DESTDIR)$(UNITDIR)/uwbd.service'
+	install -m 0644 board/99-uwbd-digitiser.rules board/99-uwbd-gpio.rules '$(DESTDIR)$(UDEVRULESDIR)/'
 	install -m 0644 board/raspberry-pi-4/uwbd.json '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4/'
-	install -m 0644 board/emulated/uwbd.json '$(DESTDIR)$(PREFIX)/share/uwbd/emulated/'
-	install -m 0644 board/install-guide.md board/config.md board/state-dir.md '$(DESTDIR)$(PREFIX)/share/doc/uwbd/'
+	for f in $(DOC_FILES); do install -m 0644 "board/$$f" "$(DESTDIR)$(DOCDIR)/$$f" || exit 1; done
+	install -m 0644 $(BUILD)/man/uwbd-ctl.1 '$(DESTDIR)$(MANDIR)/man1/'
+	install -m 0644 $(BUILD)/man/uwbd.json.5 '$(DESTDIR)$(MANDIR)/man5/'
+	install -m 0644 $(BUILD)/man/uwbd.8 '$(DESTDIR)$(MANDIR)/man8/'
+
+# ---- the Debian package -----------------------------------------------------
+# make deb: board/debian is copied into place (the top level stays Makefile,
+# src, include, board, tests, tools) in a staging copy of the sources under
+# $(BUILD)/deb, dpkg-buildpackage builds uwbd_VERSION_ARCH.deb next to it,
+# and lintian must report no error. DEB_ARCH=arm64 cross-builds.
+# make test-deb: installs that package in a fresh Debian 12 chroot
+# (debootstrap, under $(BUILD)/deb-chroot) and checks it there
+# (tools/deb/test-deb.sh); root needed.
+DEB_VERSION   := $(shell head -n 1 board/debian/changelog | cut -d' ' -f2 | tr -d '()')
+DEB_ARCH      ?=
+DEB_DIR       := $(BUILD)/deb$(if $(DEB_ARCH),-$(DEB_ARCH))
+DEB_STAGE     := $(DEB_DIR)/uwbd-$(DEB_VERSION)
+.PHONY: deb test-deb
+deb:
+	@bash $(DEPS_SCRIPT) --deb
+	$(if $(DEB_ARCH),@bash $(DEPS_SCRIPT) --cross $(DEB_ARCH))
+	rm -rf '$(DEB_DIR)'
+	mkdir -p '$(DEB_STAGE)'
+	cp -a Makefile README.md src include board tools '$(DEB_STAGE)/'
+	cp -a board/debian '$(DEB_STAGE)/debian'
+	cd '$(DEB_STAGE)' && dpkg-buildpackage -us -uc -b $(if $(DEB_ARCH),-a $(DEB_ARCH) -d)
+	lintian --fail-on error '$(DEB_DIR)'/uwbd_$(DEB_VERSION)_*.deb
+	@ls -l '$(DEB_DIR)'/uwbd_$(DEB_VERSION)_*.deb
+
+test-deb: deb
+	@bash tools/deb/test-deb.sh '$(DEB_DIR)' '$(DEB_VERSION)' '$(BUILD)/deb-chroot'
 
 clean:
 	rm -rf build build-*

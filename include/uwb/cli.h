@@ -15,9 +15,19 @@ int uwbd_ctl_main(int argc, char **argv);
 /* Whether argv asks for the daemon (--config, --check-config, --config-keys). */
 int uwbd_wants_daemon(int argc, char **argv);
 
+/* The uwbd.json(5) manual page (roff) from the configuration key table: 0, or -1. */
+int uwbd_config_print_keys_man(FILE *out);
+
 void uwbd_replay_usage(FILE *f);
 void uwbd_daemon_usage(FILE *f);
 void uwbd_ctl_usage(FILE *f);
+
+/* After getopt_long (with opterr = 0) returned '?': one line on stderr naming the
+ * refused option and the problem, a close option name if there is one, and
+ * "see HELP" (e.g. "uwbd --help"), instead of the whole usage. */
+struct option;
+void uwb_cli_option_error(const char *prog, const char *help, char *const argv[], int argc,
+                          const struct option *longopts);
 
 /* A VERDICT reply (one JSON line) as text for people: "status ALARM:
  * displacement +12.04 ± 0.23 mm (edges ...)", or the edges, or the reason;

@@ -118,6 +118,7 @@ int uwbd_ctl_main(int argc, char **argv)
     int as_text = 0;
     int c;
     /* "+": stop at the first command word, so "history 5" is not an option. */
+    opterr = 0;   /* one line of our own instead of getopt's and the usage */
     while ((c = getopt_long(argc, argv, "+h", longopts, NULL)) != -1) {
         switch (c) {
         case 's': socket_path = optarg; break;
@@ -133,7 +134,7 @@ int uwbd_ctl_main(int argc, char **argv)
         }
         case 'T': as_text = 1; break;
         case 'h': uwbd_ctl_usage(stdout); return UWBD_CTL_OK;
-        default: uwbd_ctl_usage(stderr); return UWBD_CTL_USAGE;
+        default: uwb_cli_option_error("uwbd ctl", "uwbd ctl --help", argv, argc, longopts); return UWBD_CTL_USAGE;
         }
     }
     if (optind >= argc) {

@@ -16,7 +16,8 @@ void uwbd_daemon_usage(FILE *f)
     fprintf(f,
         "usage: uwbd --config FILE [options]        run the appliance daemon (foreground)\n"
         "       uwbd --check-config FILE [options]  validate FILE with the overrides below, then exit\n"
-        "       uwbd --config-keys                  print every configuration key (Markdown table)\n"
+        "       uwbd --config-keys[=man]            print every configuration key (Markdown table, or the\n"
+        "                                           uwbd.json(5) manual page)\n"
         "\n"
         "  --state-dir DIR          override state_dir\n"
         "  --interval S             override schedule.interval_s (0: scan only on request)\n"
@@ -95,7 +96,7 @@ int uwbd_daemon_main(int argc, char **argv)
     static const struct option longopts[] = {
         {"config", required_argument, 0, OPT_CONFIG},
         {"check-config", required_argument, 0, OPT_CHECK},
-        {"config-keys", no_argument, 0, OPT_KEYS},
+        {"config-keys", optional_argument, 0, OPT_KEYS},
         {"state-dir", required_argument, 0, OPT_STATE_DIR},
         {"interval", required_argument, 0, OPT_INTERVAL},
         {"console", required_argument, 0, OPT_CONSOLE},
@@ -112,11 +113,21 @@ int uwbd_daemon_main(int argc, char **argv)
     opt.log_level = UWBD_LOG_INFO;
     const char *check = NULL;
     int keys = 0, c, bad = 0;
+    opterr = 0;   /* one line of our own instead of getopt's and the usage */
     while ((c = getopt_long(argc, argv, "vh", longopts, NULL)) != -1) {
         switch (c) {
         case OPT_CONFIG: opt.config_path = optarg; break;
         case OPT_CHECK: check = optarg; break;
-        case OPT_KEYS: keys = 1; break;
+        case OPT_KEYS:
+            if (!optarg || strcmp(optarg, "markdown") == 0) {
+                keys = 1;
+            } else if (strcmp(optarg, "man") == 0) {
+                keys = 2;
+            } else {
+                fprintf(stderr, "uwbd: --config-keys=%s: the format is markdown or man; see uwbd --help\n", optarg);
+                return UWBD_EXIT_USAGE;
+            }
+            break;
         case OPT_STATE_DIR: bad |= add_string_override(&opt, "state_dir", optarg); break;
         case OPT_INTERVAL: bad |= add_override(&opt, "schedule.interval_s", optarg); break;
         case OPT_CONSOLE: bad |= add_string_override(&opt, "console.endpoint", optarg); break;
@@ -126,7 +137,7 @@ int uwbd_daemon_main(int argc, char **argv)
         case 'v': opt.log_level = UWBD_LOG_DEBUG; break;
         case OPT_SYSLOG: opt.use_syslog = 1; break;
         case 'h': uwbd_daemon_usage(stdout); return UWBD_EXIT_OK;
-        default: uwbd_daemon_usage(stderr); return UWBD_EXIT_USAGE;
+        default: uwb_cli_option_error("uwbd", "uwbd --help", argv, argc, longopts); return UWBD_EXIT_USAGE;
         }
     }
     if (bad)
@@ -134,6 +145,13 @@ int uwbd_daemon_main(int argc, char **argv)
     if (optind < argc) {
         fprintf(stderr, "uwbd: unexpected argument '%s'\n", argv[optind]);
         return UWBD_EXIT_USAGE;
+    }
+    if (keys == 2) {
+        if (uwbd_config_print_keys_man(stdout) != 0) {
+            fprintf(stderr, "uwbd: cannot build the manual page from the key table\n");
+            return UWBD_EXIT_OS;
+        }
+        return UWBD_EXIT_OK;
     }
     if (keys) {
         uwbd_config_print_keys_markdown(stdout);

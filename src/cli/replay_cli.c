@@ -122,8 +122,9 @@ int uwbd_replay_main(int argc, char **argv)
     const char *replay = NULL, *baseline_path = NULL, *out_dir = NULL;
     struct uwb_evaluate_options opt;
     uwb_evaluate_defaults(&opt);
-    double v;
-    int c;
+    double v = 0;
+    int c, watch_given = 0, alarm_given = 0;
+    opterr = 0;   /* one line of our own instead of getopt's and the usage */
     while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
         switch (c) {
         case OPT_REPLAY: replay = optarg; break;
@@ -155,20 +156,25 @@ int uwbd_replay_main(int argc, char **argv)
             break;
         case OPT_WATCH:
         case OPT_ALARM:
-        case OPT_MAX_UNC:
-            if (parse_number(c == OPT_WATCH ? "--watch-mm" : c == OPT_ALARM ? "--alarm-mm" : "--max-uncertainty-mm",
-                             optarg, &v) != 0 || !(v > 0.0)) {
-                if (!(v > 0.0))
-                    fprintf(stderr, "uwbd: thresholds must be positive millimetres, got '%s'\n", optarg);
+        case OPT_MAX_UNC: {
+            const char *name = c == OPT_WATCH ? "--watch-mm" : c == OPT_ALARM ? "--alarm-mm" : "--max-uncertainty-mm";
+            if (parse_number(name, optarg, &v) != 0)
+                return EX_USAGE;
+            if (!(v > 0.0)) {
+                fprintf(stderr, "uwbd: %s: '%s' is not a positive number of millimetres\n", name, optarg);
                 return EX_USAGE;
             }
-            if (c == OPT_WATCH)
+            if (c == OPT_WATCH) {
                 opt.compare.thresholds.watch_m = v * 1e-3;
-            else if (c == OPT_ALARM)
+                watch_given = 1;
+            } else if (c == OPT_ALARM) {
                 opt.compare.thresholds.alarm_m = v * 1e-3;
-            else
+                alarm_given = 1;
+            } else {
                 opt.compare.max_uncertainty_m = v * 1e-3;
+            }
             break;
+        }
         case OPT_EDGE_FRACTION:
             if (parse_number("--edge-fraction", optarg, &v) != 0 || !(v > 0.05 && v < 0.95)) {
                 fprintf(stderr, "uwbd: --edge-fraction: '%s' must lie between 0.05 and 0.95\n", optarg);
@@ -178,7 +184,7 @@ int uwbd_replay_main(int argc, char **argv)
             break;
         case 'h': usage(stdout); return 0;
         case OPT_VERSION: printf("uwbd %s\n", UWBD_VERSION); return 0;
-        default: usage(stderr); return EX_USAGE;
+        default: uwb_cli_option_error("uwbd", "uwbd --help", argv, argc, longopts); return EX_USAGE;
         }
     }
     if (optind < argc) {
@@ -190,7 +196,10 @@ int uwbd_replay_main(int argc, char **argv)
         return EX_USAGE;
     }
     if (opt.compare.thresholds.alarm_m < opt.compare.thresholds.watch_m) {
-        fprintf(stderr, "uwbd: --alarm-mm must not be below --watch-mm\n");
+        /* Both values, and which one is a default, so the fix is plain. */
+        fprintf(stderr, "uwbd: --alarm-mm %g%s is below --watch-mm %g%s: the alarm threshold must be at least the "
+                        "watch threshold\n", opt.compare.thresholds.alarm_m * 1e3, alarm_given ? "" : " (the default)",
+                opt.compare.thresholds.watch_m * 1e3, watch_given ? "" : " (the default)");
         return EX_USAGE;
     }
 

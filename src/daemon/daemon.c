@@ -13,6 +13,7 @@
 #include <string.h>
 #include <sys/eventfd.h>
 #include <sys/signalfd.h>
+#include <sys/stat.h>
 #include <sys/timerfd.h>
 #include <time.h>
 #include <unistd.h>
@@ -22,7 +23,13 @@
 #include "daemon_internal.h"
 #include "uwb/daemon/exit_codes.h"
 #include "uwb/daemon/log.h"
+#include "uwb/daemon/service_notify.h"
+#include "uwb/daemon/test_hang.h"
 #include "uwb/daemon/verdict_log.h"
+#include "uwb/monotonic.h"
+
+static void worker_beat(struct daemon *d);
+static void report_status(struct daemon *d);
 
 static struct timespec monotonic_now(void)
 {
@@ -82,10 +89,14 @@ void scan_now(struct daemon *d)
     }
     schedule_off(d);
     d->last_cycle_start = monotonic_now();
+    worker_beat(d);
     if (worker_start(d) != 0) {
         peers_send_verdict(d, d->cycles_started + 1, NULL, "cannot start a scan (see the daemon's log)");
         schedule_arm(d, &d->last_cycle_start);
+        return;
     }
+    report_status(d);
+    uwbd_test_hang_point("loop");
 }
 
 /* After a restart the schedule carries on from the latest verdict's time. */
@@ -244,6 +255,7 @@ static void cycle_finished(struct daemon *d)
     worker_collect(d);
     if (d->scanning)
         return;
+    report_status(d);
     if (d->reload_pending)
         reload(d);
     if (d->stopping) {
@@ -266,8 +278,87 @@ static void drain(int fd)
     }
 }
 
-enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_LOCK_WATCH, SLOT_CONTROL, SLOT_CONSOLE,
-       SLOT_CLIENTS };
+enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_LOCK_WATCH, SLOT_WATCHDOG, SLOT_CONTROL,
+       SLOT_CONSOLE, SLOT_CLIENTS };
+
+/* How long a healthy scan worker may go without a sign of life (a rig
+ * message: at least one a position): homing at its slowest, one position
+ * with every frame retried to its timeout, and the analysis and writes
+ * after the last position. UWBD_TEST_SCAN_STALL_S (tests only) shortens it. */
+#define ANALYSIS_ALLOWANCE_S 120.0
+static double worker_stall_limit_s(const struct uwbd_config *cfg)
+{
+    const char *test = getenv("UWBD_TEST_SCAN_STALL_S");
+    if (test && atof(test) > 0)
+        return atof(test);
+    const struct uwb_rig_config *r = &cfg->rig;
+    double position_s = r->digitiser.stack * (r->digitiser.frame_retries + 1.0) * r->digitiser.frame_timeout_ms / 1e3 +
+                        r->carriage.settle_ms / 1e3 + 60.0;
+    return r->carriage.home_timeout_s + position_s + ANALYSIS_ALLOWANCE_S;
+}
+
+static void worker_beat(struct daemon *d)
+{
+    atomic_store(&d->worker_beat_ms, (long long)(uwb_monotonic_s() * 1000.0));
+}
+
+/* A watchdog tick: ping systemd if the main loop (here) and the scan
+ * worker, when one runs, are alive; otherwise stay silent so that systemd
+ * restarts the daemon after WatchdogSec. */
+static void watchdog_tick(struct daemon *d)
+{
+    drain(d->watchdog_fd);
+    double silent_s = uwb_monotonic_s() - (double)atomic_load(&d->worker_beat_ms) / 1000.0;
+    double limit_s = worker_stall_limit_s(&d->cfg);
+    if (d->scanning && silent_s > limit_s) {
+        if (!d->watchdog_withheld)
+            uwbd_log(UWBD_LOG_ERR, "the scan worker has been silent for %.0f s (limit %.0f s): no more watchdog "
+                                   "pings, so systemd restarts uwbd", silent_s, limit_s);
+        d->watchdog_withheld = 1;
+        return;
+    }
+    d->watchdog_withheld = 0;
+    uwbd_service_notify("WATCHDOG=1");
+}
+
+/* STATUS= for systemctl status: what the daemon does and the latest verdict. */
+static void report_status(struct daemon *d)
+{
+    if (d->stopping) {
+        uwbd_service_status("stopping");
+        return;
+    }
+    if (d->scanning) {
+        uwbd_service_status("scanning (cycle %lu)", d->job.cycle);
+        return;
+    }
+    cJSON *latest = d->latest_verdict ? cJSON_Parse(d->latest_verdict) : NULL;
+    const cJSON *status = cJSON_GetObjectItemCaseSensitive(latest, "status");
+    const cJSON *created = cJSON_GetObjectItemCaseSensitive(latest, "created");
+    if (cJSON_IsString(status))
+        uwbd_service_status("idle; latest verdict %s%s%s", status->valuestring, cJSON_IsString(created) ? " at " : "",
+                            cJSON_IsString(created) ? created->valuestring : "");
+    else
+        uwbd_service_status("idle; no verdict yet");
+    cJSON_Delete(latest);
+}
+
+static void watchdog_start(struct daemon *d)
+{
+    long ping_ms = uwbd_service_watchdog_ping_ms();
+    if (ping_ms <= 0)
+        return;
+    d->watchdog_fd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
+    if (d->watchdog_fd < 0) {
+        uwbd_log(UWBD_LOG_ERR, "watchdog: timerfd: %s; systemd will not be pinged", strerror(errno));
+        return;
+    }
+    struct timespec every = {.tv_sec = ping_ms / 1000, .tv_nsec = (ping_ms % 1000) * 1000000L};
+    struct itimerspec its = {.it_value = every, .it_interval = every};
+    timerfd_settime(d->watchdog_fd, 0, &its, NULL);
+    uwbd_log(UWBD_LOG_INFO, "systemd watchdog: a ping every %ld ms while the main loop and scan worker are alive",
+             ping_ms);
+}
 
 static void loop(struct daemon *d)
 {
@@ -280,6 +371,7 @@ static void loop(struct daemon *d)
         fds[SLOT_DONE] = (struct pollfd){.fd = d->done_fd, .events = POLLIN};
         fds[SLOT_CONSOLE_RETRY] = (struct pollfd){.fd = d->console_retry_fd, .events = POLLIN};
         fds[SLOT_LOCK_WATCH] = (struct pollfd){.fd = d->lock_watch_fd, .events = POLLIN};
+        fds[SLOT_WATCHDOG] = (struct pollfd){.fd = d->watchdog_fd, .events = POLLIN};
         /* A negative fd is skipped by poll(). */
         fds[SLOT_CONTROL] = (struct pollfd){.fd = d->stopping ? -1 : d->control.fd, .events = POLLIN};
         fds[SLOT_CONSOLE] = (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1,
@@ -319,6 +411,8 @@ static void loop(struct daemon *d)
             drain(d->console_retry_fd);
             console_open(d);
         }
+        if (fds[SLOT_WATCHDOG].revents)
+            watchdog_tick(d);
         if (fds[SLOT_CONTROL].revents)
             peer_accept(d);
         for (nfds_t i = SLOT_CONSOLE; i < n; i++) {
@@ -380,13 +474,68 @@ static void teardown(struct daemon *d)
     close_fd(&d->schedule_fd);
     close_fd(&d->console_retry_fd);
     close_fd(&d->done_fd);
+    close_fd(&d->watchdog_fd);
     close_fd(&d->lock_watch_fd);
     close_fd(&d->lock_fd);
     free(d->latest_verdict);
     d->latest_verdict = NULL;
 }
 
-static int start(struct daemon *d)
+/* The outermost directory of `path` that does not exist yet (what mkdir -p
+ * would create first), or "" when the path exists. A start that fails
+ * removes what it made there, so that trying the emulated sample by hand
+ * leaves no run/state behind in the working directory. */
+static void first_missing_directory(const char *path, char *out, size_t n)
+{
+    out[0] = '\0';
+    char walk[UWBD_PATH_MAX];
+    if (snprintf(walk, sizeof walk, "%s", path) >= (int)sizeof walk)
+        return;
+    struct stat st;
+    while (walk[0] && stat(walk, &st) != 0 && errno == ENOENT) {
+        snprintf(out, n, "%s", walk);
+        char *slash = strrchr(walk, '/');
+        if (!slash || slash == walk)
+            break;
+        *slash = '\0';
+    }
+}
+
+/* Undo a failed start's fresh state directory: only the empty skeleton
+ * uwbd_store_open and the lock made; rmdir leaves anything else alone. */
+static void remove_fresh_state_dir(const struct daemon *d, const char *created)
+{
+    static const char *const inner[] = {"baseline/history", "baseline", "archive"};
+    char path[UWBD_PATH_MAX + 32];
+    if (uwbd_path_join(path, sizeof path, d->cfg.state_dir, "uwbd.lock") == 0)
+        unlink(path);
+    for (size_t i = 0; i < sizeof inner / sizeof inner[0]; i++)
+        if (uwbd_path_join(path, sizeof path, d->cfg.state_dir, inner[i]) == 0)
+            rmdir(path);
+    snprintf(path, sizeof path, "%s", d->cfg.state_dir);
+    size_t stop = strlen(created);
+    while (strlen(path) >= stop && rmdir(path) == 0) {
+        char *slash = strrchr(path, '/');
+        if (!slash)
+            break;
+        *slash = '\0';
+    }
+}
+
+/* The emulated board is a separate program; say how to start it. */
+static void hint_emulated_board(const struct daemon *d, int rc)
+{
+    if (strcmp(d->cfg.rig.gpio.backend, "emulated") != 0 || (rc != UWB_RIG_ERR_GPIO && rc != UWB_RIG_ERR_LINK))
+        return;
+    char cwd[UWBD_PATH_MAX] = "";
+    if (!getcwd(cwd, sizeof cwd))
+        snprintf(cwd, sizeof cwd, "the working directory");
+    uwbd_log(UWBD_LOG_ERR, "the emulated board (uwbemu) is not running there: start it first, in %s: "
+                           "uwbemu --gpio %s --digitiser %s &  (build/uwbemu in the source tree; see uwbemu --help)",
+             cwd, d->cfg.rig.gpio.endpoint, d->cfg.rig.digitiser.endpoint);
+}
+
+static int start(struct daemon *d, char *created_dir, size_t created_len)
 {
     char err[1024];
     if (uwbd_config_load(d->options->config_path, d->options->overrides, d->options->n_overrides, &d->cfg, err,
@@ -400,6 +549,7 @@ static int start(struct daemon *d)
                                "or set allow_root / pass --allow-root");
         return UWBD_EXIT_NO_PERM;
     }
+    first_missing_directory(d->cfg.state_dir, created_dir, created_len);
     d->lock_fd = uwbd_store_lock(d->cfg.state_dir, err, sizeof err);
     if (d->lock_fd < 0) {
         uwbd_log(UWBD_LOG_ERR, "state directory: %s", err);
@@ -429,6 +579,7 @@ static int start(struct daemon *d)
     if (rc != UWB_RIG_OK) {
         int code = uwbd_exit_for_rig_open(rc, detail);
         uwbd_log(UWBD_LOG_ERR, "%s (exit %d)", err, code);
+        hint_emulated_board(d, rc);
         return code;
     }
     load_baseline_info(d);
@@ -451,15 +602,23 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     memset(&d, 0, sizeof d);
     d.options = opt;
     d.started = time(NULL);
-    d.lock_fd = d.lock_watch_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = -1;
+    d.lock_fd = d.lock_watch_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = d.watchdog_fd = -1;
     d.control.fd = -1;
     peers_init(&d);
     d.last_cycle_start = monotonic_now();
     uwbd_log_setup(opt->log_level, opt->use_syslog);
-    int rc = start(&d);
-    if (rc == UWBD_EXIT_OK)
+    static char created_dir[UWBD_PATH_MAX];
+    int rc = start(&d, created_dir, sizeof created_dir);
+    if (rc == UWBD_EXIT_OK) {
+        watchdog_start(&d);
+        report_status(&d);
+        uwbd_service_notify("READY=1");
         loop(&d);
+        uwbd_service_notify("STOPPING=1");
+    }
     teardown(&d);
+    if (rc != UWBD_EXIT_OK && created_dir[0])
+        remove_fresh_state_dir(&d, created_dir);
     if (rc == UWBD_EXIT_OK && d.exit_code) {
         uwbd_log(UWBD_LOG_ERR, "stopped: the state directory is no longer ours (exit %d); hardware left safe", d.exit_code);
         return d.exit_code;

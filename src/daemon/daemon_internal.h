@@ -6,6 +6,7 @@
 #define UWB_DAEMON_INTERNAL_H
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <signal.h>
 #include <time.h>
 
@@ -13,6 +14,7 @@
 #include "uwb/daemon/config.h"
 #include "uwb/daemon/control_socket.h"
 #include "uwb/daemon/daemon.h"
+#include "uwb/daemon/console_line.h"
 #include "uwb/daemon/line_buffer.h"
 #include "uwb/daemon/scan_cycle.h"
 #include "uwb/daemon/store.h"
@@ -42,6 +44,7 @@ struct peer {
     int fd;                        /* control client socket */
     struct uwb_link *link;         /* console */
     struct uwbd_line_buffer lines;
+    struct uwbd_console_line console_line; /* the console's: echo and editing keys */
     unsigned long waiting_for;     /* cycle whose verdict this peer asked for; 0 = none */
     double last_active_s;          /* CLOCK_MONOTONIC of its connection or last input */
     double line_since_s;           /* CLOCK_MONOTONIC of its connection or last complete line */
@@ -90,6 +93,12 @@ struct daemon {
     struct timespec next_scan;       /* CLOCK_MONOTONIC */
     struct timespec last_cycle_start;/* CLOCK_MONOTONIC; the schedule counts from it */
     int console_failing;             /* log a console outage once, not every retry */
+
+    /* systemd's watchdog (daemon.c): pinged from the main loop while the
+     * scan worker, if one runs, has shown a sign of life recently. */
+    int watchdog_fd;                 /* timerfd, -1 without a watchdog */
+    int watchdog_withheld;           /* pings stopped: the worker went silent */
+    _Atomic long long worker_beat_ms;/* CLOCK_MONOTONIC ms of the worker's last sign of life */
 
     char *latest_verdict;            /* VERDICT line or NULL */
     int has_baseline;

@@ -45,6 +45,7 @@ void peer_close(struct peer *p)
     p->out = NULL;
     p->out_len = p->out_cap = 0;
     memset(&p->lines, 0, sizeof p->lines);
+    memset(&p->console_line, 0, sizeof p->console_line);
 }
 
 static void drop_client(struct peer *p, const char *why)
@@ -141,6 +142,19 @@ int peers_expire(struct daemon *d)
 
 static void console_lost(struct daemon *d, const char *why);
 
+/* Bytes to the console as they are (echo, prompt); a console that cannot
+ * take them within the timeout is closed and retried. */
+static void console_write(struct daemon *d, struct peer *p, const char *bytes, size_t n)
+{
+    if (!p->in_use || n == 0)
+        return;
+    /* A serial line may be slow: allow a millisecond a byte (9600 baud) on top. */
+    int timeout_ms = SEND_TIMEOUT_MS + (int)(n < 600000 ? n : 600000);
+    char err[256];
+    if (uwb_link_write_all(p->link, bytes, n, timeout_ms, err, sizeof err) != UWB_LINK_OK)
+        console_lost(d, err);
+}
+
 static void send_line(struct daemon *d, struct peer *p, const char *line)
 {
     if (!p->in_use)
@@ -150,21 +164,20 @@ static void send_line(struct daemon *d, struct peer *p, const char *line)
         return;
     }
     size_t n = strlen(line);
-    char *text = malloc(n + 1);
+    /* The console ends a reply as a terminal wants it (CRLF), then prompts again. */
+    static const char console_end[] = "\r\n" UWBD_CONSOLE_PROMPT;
+    char *text = malloc(n + sizeof console_end);
     if (!text) {
         uwbd_log(UWBD_LOG_ERR, "out of memory sending a reply");
         return;
     }
     memcpy(text, line, n);
-    text[n] = '\n';
     if (p->kind == PEER_CONTROL) {
+        text[n] = '\n';
         queue_line(p, text, n + 1);
     } else {
-        /* A serial line may be slow: allow a millisecond a byte (9600 baud) on top. */
-        int timeout_ms = SEND_TIMEOUT_MS + (int)(n < 600000 ? n : 600000);
-        char err[256];
-        if (uwb_link_write_all(p->link, text, n + 1, timeout_ms, err, sizeof err) != UWB_LINK_OK)
-            console_lost(d, err);
+        memcpy(text + n, console_end, sizeof console_end - 1);
+        console_write(d, p, text, n + sizeof console_end - 1);
     }
     free(text);
 }
@@ -261,8 +274,11 @@ static void handle_line(struct daemon *d, struct peer *p, const char *line, size
     struct uwb_command cmd;
     char err[160];
     int rc = uwb_command_parse(line, len, &cmd, err, sizeof err);
-    if (rc == UWB_COMMAND_EMPTY)
+    if (rc == UWB_COMMAND_EMPTY) {
+        if (p->kind == PEER_CONSOLE)
+            console_write(d, p, UWBD_CONSOLE_PROMPT, strlen(UWBD_CONSOLE_PROMPT));
         return;
+    }
     if (rc != UWB_COMMAND_OK) {
         uwbd_log(UWBD_LOG_INFO, "%s: refused a command: %s", p->kind == PEER_CONSOLE ? "console" : "control", err);
         reply(d, p, uwbd_reply_error(err));
@@ -272,12 +288,39 @@ static void handle_line(struct daemon *d, struct peer *p, const char *line, size
     run_command(d, p, &cmd);
 }
 
+/* The console: a person types; echo what the editor says, then act on the line. */
+static void feed_console(struct daemon *d, struct peer *p, const char *buf, size_t n)
+{
+    size_t used = 0;
+    const char *line;
+    size_t len;
+    int ev;
+    do {
+        ev = uwbd_console_line_feed(&p->console_line, buf, n, &used, &line, &len);
+        console_write(d, p, p->console_line.echo, p->console_line.echo_len);
+        p->console_line.echo_len = 0;
+        if (!p->in_use)
+            return;
+        if (ev == UWBD_LINE_TOO_LONG) {
+            char msg[96];
+            snprintf(msg, sizeof msg, "command line too long (at most %d bytes); ignored", UWB_COMMAND_MAX_LINE);
+            reply(d, p, uwbd_reply_error(msg));
+        } else if (ev == UWBD_LINE_READY) {
+            handle_line(d, p, line, len);
+        }
+    } while (ev != UWBD_LINE_NONE && p->in_use);
+}
+
 static void feed(struct daemon *d, struct peer *p, const char *buf, size_t n)
 {
     size_t used = 0;
     const char *line;
     size_t len;
     int ev;
+    if (p->kind == PEER_CONSOLE) {
+        feed_console(d, p, buf, n);
+        return;
+    }
     while (p->in_use && (ev = uwbd_line_buffer_feed(&p->lines, buf, n, &used, &line, &len)) != UWBD_LINE_NONE) {
         p->line_since_s = uwb_monotonic_s();
         if (ev == UWBD_LINE_TOO_LONG) {
@@ -368,6 +411,7 @@ void console_open(struct daemon *d)
     d->console.link = link;
     d->console_failing = 0;
     uwbd_log(UWBD_LOG_INFO, "console on %s", d->cfg.console_endpoint);
+    console_write(d, &d->console, UWBD_CONSOLE_PROMPT, strlen(UWBD_CONSOLE_PROMPT));
 }
 
 void peer_readable(struct daemon *d, struct peer *p)

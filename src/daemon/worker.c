@@ -13,6 +13,8 @@
 
 #include "daemon_internal.h"
 #include "uwb/daemon/log.h"
+#include "uwb/daemon/test_hang.h"
+#include "uwb/monotonic.h"
 
 static volatile sig_atomic_t scan_stop;
 
@@ -36,7 +38,9 @@ void worker_install_stop_handler(void)
 
 static void rig_log(void *ctx, int priority, const char *message)
 {
-    (void)ctx;
+    struct daemon *d = ctx;
+    /* Every rig message (one a position at least) shows the worker alive. */
+    atomic_store(&d->worker_beat_ms, (long long)(uwb_monotonic_s() * 1000.0));
     uwbd_log(priority, "rig: %s", message);
 }
 
@@ -60,6 +64,7 @@ static int acquire_from_rig(void *ctx, const volatile sig_atomic_t *stop, struct
                             size_t errlen)
 {
     struct daemon *d = ctx;
+    uwbd_test_hang_point("worker");
     if (!d->rig) {
         int detail = 0;
         if (rig_open_logged(d, &detail, err, errlen) != UWB_RIG_OK)

@@ -235,6 +235,9 @@ static int scan_cycle(struct uwb_rig *rig, const volatile sig_atomic_t *stop, st
         uwb_pacer_sleep(&settle, cc->settle_ms / 1000.0);
         rc = acquire_position(rig, stop, k, scan->data + (size_t)k * cfg->digitiser.samples, sum, trace, err,
                               errlen);
+        /* Also the daemon's sign that its scan worker is alive (its watchdog). */
+        if (rc == UWB_RIG_OK)
+            rig_log(rig, LOG_DEBUG, "position %d of %d acquired", k + 1, cfg->positions);
     }
     if (rc == UWB_RIG_OK) {
         /* Lost steps would put every position elsewhere than recorded: the

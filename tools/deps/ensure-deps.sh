@@ -4,7 +4,7 @@
 # nothing run before them.  It runs on every `make test`, so the common case
 # (everything present) only asks pkg-config and returns.
 #
-# Usage: tools/deps/ensure-deps.sh [--cross ARCH] [--board] [--fuzz] [--soak] [--unity-only]
+# Usage: tools/deps/ensure-deps.sh [--cross ARCH] [--board] [--fuzz] [--soak] [--deb] [--unity-only]
 #   (no option)    native toolchain + -dev packages, then Unity
 #   --cross ARCH   cross toolchain, qemu-user and the ARCH multiarch -dev
 #                  packages (ARCH: aarch64), then Unity
@@ -15,6 +15,8 @@
 #                  runtime (Debian 12: clang-14, libclang-rt-14-dev, which
 #                  clang only recommends)
 #   --soak         make soak: native as above, plus valgrind (its leak-checked run)
+#   --deb          make deb / make test-deb: native as above, plus dpkg-dev,
+#                  debhelper, lintian, fakeroot and debootstrap
 #   --unity-only   only fetch Unity if it is absent
 #
 # Unity 2.4.3 comes from Debian's cjson source package (its tests/unity):
@@ -32,9 +34,9 @@ set -euo pipefail
 
 REPO_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 readonly REPO_ROOT
-readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib)
+readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib libsystemd)
 readonly NATIVE_PACKAGES=(gcc make libc6-dev pkg-config
-    libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev)
+    libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev)
 readonly UNITY_FILES=(unity.c unity.h unity_internals.h)
 readonly UNITY_EXPECTED_VERSION="2.4.3"
 # Unity comes from the cJSON source package of one fixed Debian release so
@@ -165,7 +167,7 @@ ensure_cross() {
     local cross_packages=("gcc-$triplet" "libc6-dev-$debian_arch-cross" qemu-user make pkg-config
         "libc6:$debian_arch")
     local package
-    for package in libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev; do
+    for package in libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev; do
         cross_packages+=("$package:$debian_arch")
     done
 
@@ -190,6 +192,9 @@ ensure_cross() {
 # What make test-board and make soak run beside the build, as command:package pairs.
 readonly BOARD_COMMANDS=(qemu-system-aarch64:qemu-system-arm cpio:cpio)
 readonly SOAK_COMMANDS=(valgrind:valgrind)
+# make deb / make test-deb: building, checking and trying the Debian package.
+readonly DEB_COMMANDS=(dpkg-buildpackage:dpkg-dev dh:debhelper lintian:lintian fakeroot:fakeroot
+    debootstrap:debootstrap)
 
 # Prints the packages (from command:package pairs) whose commands are missing, one a line.
 missing_command_packages() {
@@ -371,6 +376,7 @@ main() {
             --board) mode=board; shift ;;
             --fuzz) mode=fuzz; shift ;;
             --soak) mode=soak; shift ;;
+            --deb) mode=deb; shift ;;
             --unity-only) mode=unity; shift ;;
             -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; return 0 ;;
             *) die "unknown argument: $1 (see --help)" ;;
@@ -382,6 +388,7 @@ main() {
         board) ensure_native; ensure_cross aarch64; ensure_commands "the emulated board" "${BOARD_COMMANDS[@]}" ;;
         fuzz) ensure_native; ensure_fuzz ;;
         soak) ensure_native; ensure_commands "make soak" "${SOAK_COMMANDS[@]}" ;;
+        deb) ensure_native; ensure_commands "make deb" "${DEB_COMMANDS[@]}" ;;
         unity) ;;
     esac
     ensure_unity

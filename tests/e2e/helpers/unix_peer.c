@@ -7,6 +7,10 @@
  *   unix_peer console SOCKET GO_FILE OUT_FILE LINE...
  *       Listens on SOCKET for the daemon's console to connect; once GO_FILE
  *       exists, sends each LINE and writes each reply line to OUT_FILE.
+ *   unix_peer terminal SOCKET GO_FILE OUT_FILE KEYS...
+ *       Like console, but types each KEYS (C escapes: \r \n \b \e \xHH) a
+ *       byte at a time as minicom or picocom would, waits for the prompt(s)
+ *       it earns, and writes every byte the console sent to OUT_FILE.
  *   unix_peer slots SOCKET N
  *       Fills the daemon's N control-client slots with silent clients and
  *       checks: one more is told "too many control clients"; after 2.5 s
@@ -162,27 +166,48 @@ static int ask(const char *path, const char *count)
     return ok ? 0 : 1;
 }
 
-static int console(const char *path, const char *go_file, const char *out_path, int n_lines, char **lines)
+/* Listens on path, takes the daemon's console connection and waits for
+ * go_file; the connection's fd, or -1 (said why). *srv: the listener. */
+static int accept_console(const char *path, const char *go_file, int *srv_out)
 {
     struct sockaddr_un a;
     int srv = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (srv < 0 || unix_address(path, &a) != 0 || bind(srv, (struct sockaddr *)&a, sizeof a) != 0 ||
         listen(srv, 1) != 0) {
         fprintf(stderr, "unix_peer: %s: cannot listen: %s\n", path, strerror(errno));
-        return 1;
+        return -1;
     }
     struct pollfd p = {.fd = srv, .events = POLLIN};
-    if (poll(&p, 1, (int)(WAIT_S * 1000)) <= 0)
-        return fail("console: uwbd did not connect");
+    if (poll(&p, 1, (int)(WAIT_S * 1000)) <= 0) {
+        fail("console: uwbd did not connect");
+        return -1;
+    }
     int conn = accept(srv, NULL, NULL);
-    if (conn < 0)
-        return fail("console: accept failed");
+    if (conn < 0) {
+        fail("console: accept failed");
+        return -1;
+    }
     double deadline = uwb_monotonic_s() + WAIT_S;
     while (access(go_file, F_OK) != 0) {
-        if (uwb_monotonic_s() > deadline)
-            return fail("console: the go file never appeared");
+        if (uwb_monotonic_s() > deadline) {
+            fail("console: the go file never appeared");
+            return -1;
+        }
         sleep_s(0.05);
     }
+    *srv_out = srv;
+    return conn;
+}
+
+/* The daemon's console prompt; a line that starts with it is the prompt and
+ * the echo of what was typed, not a reply. */
+#define CONSOLE_PROMPT "uwbd> "
+
+static int console(const char *path, const char *go_file, const char *out_path, int n_lines, char **lines)
+{
+    int srv = -1, conn = accept_console(path, go_file, &srv);
+    if (conn < 0)
+        return 1;
     FILE *out = fopen(out_path, "w");
     if (!out)
         return fail("console: cannot write the output file");
@@ -202,12 +227,127 @@ static int console(const char *path, const char *go_file, const char *out_path, 
             break;
         }
         char *reply = take_line(&in);
+        while (ok && strncmp(reply, CONSOLE_PROMPT, strlen(CONSOLE_PROMPT)) == 0) {
+            free(reply);
+            ok = read_lines(conn, &in, 1) == 0;
+            reply = ok ? take_line(&in) : NULL;
+        }
+        if (!ok) {
+            fprintf(stderr, "unix_peer: console: no reply after the echo of '%s'\n", lines[i]);
+            break;
+        }
+        reply[strcspn(reply, "\r")] = '\0';   /* the console ends lines with CRLF */
         fprintf(out, "%s\n", reply);
         fflush(out);
         free(reply);
     }
     free(in.buf);
     fclose(out);
+    close(conn);
+    close(srv);
+    return ok ? 0 : 1;
+}
+
+/* KEYS with C escapes (\r \n \b \t \e \\ \xHH) as the bytes a terminal sends. */
+static size_t unescape_keys(const char *keys, char *out)
+{
+    size_t n = 0;
+    for (const char *k = keys; *k; k++) {
+        if (*k != '\\' || !k[1]) {
+            out[n++] = *k;
+            continue;
+        }
+        k++;
+        switch (*k) {
+        case 'r': out[n++] = '\r'; break;
+        case 'n': out[n++] = '\n'; break;
+        case 'b': out[n++] = '\b'; break;
+        case 't': out[n++] = '\t'; break;
+        case 'e': out[n++] = 0x1b; break;
+        case 'x': {
+            unsigned v = 0;
+            int digits = 0;
+            while (digits < 2 && k[1] && strchr("0123456789abcdefABCDEF", k[1])) {
+                char c = *++k;
+                v = v * 16 + (unsigned)(c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10);
+                digits++;
+            }
+            out[n++] = (char)v;
+            break;
+        }
+        default: out[n++] = *k; break;
+        }
+    }
+    return n;
+}
+
+static size_t count_prompts(const char *buf, size_t len)
+{
+    size_t count = 0, plen = strlen(CONSOLE_PROMPT);
+    for (size_t i = 0; i + plen <= len; i++)
+        if (memcmp(buf + i, CONSOLE_PROMPT, plen) == 0)
+            count++;
+    return count;
+}
+
+/* unix_peer terminal SOCKET GO_FILE OUT_FILE KEYS...: a person at minicom.
+ * Each KEYS is sent a byte at a time, 2 ms apart; the daemon has answered it
+ * when one new prompt came per line end (CR, LF, CRLF) or Ctrl-C in it.
+ * OUT_FILE gets every byte the console sent, as it came. */
+static int terminal(const char *path, const char *go_file, const char *out_path, int n_keys, char **keys)
+{
+    int srv = -1, conn = accept_console(path, go_file, &srv);
+    if (conn < 0)
+        return 1;
+    struct inbox in = {0};
+    int ok = 1;
+    size_t prompts_seen = 0;
+    for (int i = 0; ok && i < n_keys; i++) {
+        char *bytes = malloc(strlen(keys[i]) + 1);
+        if (!bytes)
+            return fail("out of memory");
+        size_t n = unescape_keys(keys[i], bytes);
+        size_t prompts_due = 0;
+        for (size_t j = 0; j < n; j++) {
+            prompts_due += bytes[j] == '\r' || bytes[j] == 0x03 || (bytes[j] == '\n' && (j == 0 || bytes[j - 1] != '\r'));
+            if (send_all(conn, bytes + j, 1) != 0)
+                ok = 0;
+            sleep_s(0.002);
+        }
+        free(bytes);
+        /* The prompt the console shows when it opens counts too. */
+        size_t want = prompts_seen + prompts_due + (i == 0);
+        double deadline = uwb_monotonic_s() + WAIT_S;
+        while (ok && count_prompts(in.buf ? in.buf : "", in.len) < want) {
+            if (in.len + 4096 > in.cap) {
+                char *grown = realloc(in.buf, in.cap + 65536 + 1);
+                if (!grown)
+                    return fail("out of memory");
+                in.buf = grown;
+                in.cap += 65536;
+            }
+            double left = deadline - uwb_monotonic_s();
+            struct pollfd p = {.fd = conn, .events = POLLIN};
+            if (left <= 0 || poll(&p, 1, (int)(left * 1000) + 1) <= 0) {
+                fprintf(stderr, "unix_peer: terminal: no prompt after '%s'\n", keys[i]);
+                ok = 0;
+                break;
+            }
+            ssize_t r = recv(conn, in.buf + in.len, in.cap - in.len, 0);
+            if (r <= 0) {
+                fprintf(stderr, "unix_peer: terminal: the console closed after '%s'\n", keys[i]);
+                ok = 0;
+                break;
+            }
+            in.len += (size_t)r;
+            in.buf[in.len] = '\0';
+        }
+        prompts_seen = want;
+    }
+    FILE *out = fopen(out_path, "wb");
+    if (!out || (in.len && fwrite(in.buf, 1, in.len, out) != in.len) || fclose(out) != 0)
+        ok = fail("terminal: cannot write the output file") == 0;
+    free(in.buf);
     close(conn);
     close(srv);
     return ok ? 0 : 1;
@@ -333,12 +473,15 @@ int main(int argc, char **argv)
         return ask(argv[2], argv[3]);
     if (argc >= 5 && strcmp(argv[1], "console") == 0)
         return console(argv[2], argv[3], argv[4], argc - 5, argv + 5);
+    if (argc >= 5 && strcmp(argv[1], "terminal") == 0)
+        return terminal(argv[2], argv[3], argv[4], argc - 5, argv + 5);
     if (argc == 4 && strcmp(argv[1], "slots") == 0)
         return slots(argv[2], argv[3]);
     if ((argc == 3 || argc == 4) && strcmp(argv[1], "invert") == 0)
         return invert(argv[2], argc == 4 ? argv[3] : NULL);
     fprintf(stderr, "usage: unix_peer ask SOCKET N < BYTES\n"
                     "       unix_peer console SOCKET GO_FILE OUT_FILE LINE...\n"
+                    "       unix_peer terminal SOCKET GO_FILE OUT_FILE KEYS...\n"
                     "       unix_peer slots SOCKET N\n"
                     "       unix_peer invert SOCKET [CONNECT_TIMEOUT_S]\n");
     return 64;

@@ -1,0 +1,92 @@
+/* One line for a command-line option getopt_long refused (opterr = 0): the
+ * option, what is wrong with it, a likely meant option, and "see --help". */
+#include <getopt.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "uwb/cli.h"
+
+/* Edit distance (insert, delete, substitute), capped: names are short. */
+static size_t edit_distance(const char *a, size_t na, const char *b, size_t nb)
+{
+    enum { MAX_NAME = 40 };
+    if (na > MAX_NAME || nb > MAX_NAME)
+        return (size_t)-1;
+    size_t row[MAX_NAME + 1];
+    for (size_t j = 0; j <= nb; j++)
+        row[j] = j;
+    for (size_t i = 1; i <= na; i++) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= nb; j++) {
+            size_t above = row[j];
+            size_t best = diagonal + (a[i - 1] != b[j - 1]);
+            if (above + 1 < best)
+                best = above + 1;
+            if (row[j - 1] + 1 < best)
+                best = row[j - 1] + 1;
+            row[j] = best;
+            diagonal = above;
+        }
+    }
+    return row[nb];
+}
+
+/* The long option closest to `name` (at most 2 edits away), or NULL. */
+static const char *closest_option(const char *name, size_t n, const struct option *longopts)
+{
+    const char *best = NULL;
+    size_t best_distance = 3;
+    for (const struct option *o = longopts; o->name; o++) {
+        size_t d = edit_distance(name, n, o->name, strlen(o->name));
+        if (d < best_distance) {
+            best_distance = d;
+            best = o->name;
+        }
+    }
+    return best;
+}
+
+static const struct option *option_with_val(const struct option *longopts, int val)
+{
+    for (const struct option *o = longopts; o->name; o++)
+        if (o->val == val && !o->flag)
+            return o;
+    return NULL;
+}
+
+void uwb_cli_option_error(const char *prog, const char *help, char *const argv[], int argc,
+                          const struct option *longopts)
+{
+    const char *arg = optind >= 1 && optind <= argc ? argv[optind - 1] : "";
+    if (optopt != 0) {
+        const struct option *o = option_with_val(longopts, optopt);
+        if (o && strncmp(arg, "--", 2) == 0)
+            fprintf(stderr, "%s: option '--%s' %s; see %s\n", prog, o->name,
+                    o->has_arg == no_argument ? "takes no value" : "needs a value", help);
+        else if (o)
+            fprintf(stderr, "%s: option '-%c' needs a value; see %s\n", prog, optopt, help);
+        else
+            fprintf(stderr, "%s: unknown option '-%c'; see %s\n", prog, optopt, help);
+        return;
+    }
+    if (strncmp(arg, "--", 2) != 0) {
+        fprintf(stderr, "%s: unknown option '%s'; see %s\n", prog, arg, help);
+        return;
+    }
+    const char *name = arg + 2;
+    size_t n = strcspn(name, "=");
+    int prefixed = 0;
+    for (const struct option *o = longopts; o->name; o++)
+        prefixed += strncmp(o->name, name, n) == 0;
+    if (prefixed > 1) {
+        fprintf(stderr, "%s: option '--%.*s' is ambiguous (%d options start so); see %s\n", prog, (int)n, name,
+                prefixed, help);
+        return;
+    }
+    const char *meant = closest_option(name, n, longopts);
+    if (meant)
+        fprintf(stderr, "%s: unknown option '--%.*s' (did you mean --%s?); see %s\n", prog, (int)n, name, meant, help);
+    else
+        fprintf(stderr, "%s: unknown option '--%.*s'; see %s\n", prog, (int)n, name, help);
+}

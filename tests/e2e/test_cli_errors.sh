@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Issue 19, item 8: short errors. A mistyped option is one line naming it
+# (and the option meant) plus "see --help", not the usage; value errors show
+# the values; a missing emulated board says to start uwbemu and how; a
+# failed start by hand leaves no state directory behind.
+set -uo pipefail
+source tests/e2e/daemon_e2e.sh
+e2e_workdir uwbd-cli-errors
+rmdir run   # this test wants to see run/ created, or not
+
+# one_line_error NAME WANT_RC PATTERN COMMAND...: exit WANT_RC, stdout empty,
+# stderr exactly one line matching PATTERN (grep -E) that says "see ... --help".
+one_line_error() {
+    local name=$1 want=$2 pattern=$3
+    shift 3
+    "$@" > "$name.out" 2> "$name.err"
+    local rc=$?
+    [[ $rc == "$want" ]] || fail "$name: exit $rc, want $want: $(cat "$name.err")"
+    [[ ! -s "$name.out" ]] || fail "$name: stdout not empty: $(head -c 300 "$name.out")"
+    [[ $(wc -l < "$name.err") == 1 ]] || fail "$name: want one line of error, got $(wc -l < "$name.err"): $(head -n 5 "$name.err")"
+    grep -qE -- "$pattern" "$name.err" || fail "$name: '$(cat "$name.err")' does not match '$pattern'"
+}
+
+one_line_error replay-typo 64 "unknown option '--basline' \(did you mean --baseline\?\); see uwbd --help" \
+    uwbd --replay x.uwbscan --basline y.uwbscan
+one_line_error daemon-typo 64 "unknown option '--state-dri' \(did you mean --state-dir\?\); see uwbd --help" \
+    uwbd --config x.json --state-dri /tmp/x
+one_line_error ctl-typo 64 "^uwbd ctl: unknown option '--sockt' \(did you mean --socket\?\); see uwbd ctl --help" \
+    uwbd ctl --sockt x status
+one_line_error no-value 64 "option '--config' needs a value; see uwbd --help" uwbd --config
+one_line_error extra-value 64 "option '--help' takes no value; see uwbd --help" uwbd --replay x --help=yes
+one_line_error short-unknown 64 "unknown option '-q'; see uwbd --help" uwbd --replay x -q
+pass "a wrong option: one line naming it (and the option meant), then 'see --help'"
+
+one_line_error watch-above-alarm 64 "alarm-mm 5 \(the default\) is below --watch-mm 6" \
+    uwbd --replay "$REPO/tests/fixtures/fdtd2d-paper-intact.uwbscan" --watch-mm 6
+one_line_error both-given 64 "alarm-mm 3 is below --watch-mm 4:" \
+    uwbd --replay "$REPO/tests/fixtures/fdtd2d-paper-intact.uwbscan" --alarm-mm 3 --watch-mm 4
+one_line_error negative 64 "--watch-mm: '-1' is not a positive number of millimetres" \
+    uwbd --replay "$REPO/tests/fixtures/fdtd2d-paper-intact.uwbscan" --watch-mm -1
+pass "threshold errors show both values and which is the default"
+
+# The emulated sample config, run by hand with no uwbemu: exit 69, the
+# message says to start uwbemu with the config's own endpoints, and the
+# run/state it would have used is not left behind.
+uwbd --config "$REPO/board/emulated/uwbd.json" "${root_flag[@]}" > emu.out 2> emu.err
+rc=$?
+[[ $rc == 69 ]] || fail "no emulated board: exit $rc, want 69: $(cat emu.err)"
+grep -q "cannot connect to socket run/gpio.sock" emu.err || fail "no emulated board: $(cat emu.err)"
+grep -qF "start it first, in $work: uwbemu --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock" emu.err ||
+    fail "no hint to start uwbemu: $(cat emu.err)"
+[[ ! -e run ]] || fail "a failed start left $(find run | tr '\n' ' ')"
+# A state directory that existed is kept, with whatever is in it.
+mkdir -p run/state && touch run/state/keep
+uwbd --config "$REPO/board/emulated/uwbd.json" "${root_flag[@]}" 2> emu2.err
+[[ -f run/state/keep ]] || fail "a failed start removed an existing state directory's file"
+pass "no emulated board: exit 69, 'start it first ... uwbemu --gpio ...', no run/state left"
+echo "$passed passed"

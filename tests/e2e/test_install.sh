@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# make install DESTDIR=... as a packager runs it: the binary, the unit, the
+# udev rules, the manual pages and the documents land where they should;
+# every relative link in the installed documents resolves inside the
+# installed tree; no document points outside it; the emulated board's
+# sample config comes with uwbemu or not at all.
+set -euo pipefail
+fail() { echo "FAIL: $*" >&2; exit 1; }
+passed=0
+pass() { echo "PASS: $*"; passed=$((passed + 1)); }
+root=$(mktemp -d)
+trap 'rm -rf "$root"' EXIT
+
+# The build the other tests use (BUILD, TEST_RUNNER for a cross build):
+# nothing is rebuilt, only the manual pages are made if missing.
+make --no-print-directory -s install DESTDIR="$root" PREFIX=/usr BUILD="$UWB_BUILD_DIR" \
+    TEST_RUNNER="${UWB_EXEC_PREFIX:-}" > "$root.log" 2>&1 || { cat "$root.log" >&2; rm -f "$root.log"; fail "make install"; }
+rm -f "$root.log"
+
+for f in usr/bin/uwbd usr/lib/systemd/system/uwbd.service usr/lib/udev/rules.d/99-uwbd-gpio.rules \
+         usr/lib/udev/rules.d/99-uwbd-digitiser.rules usr/share/uwbd/raspberry-pi-4/uwbd.json \
+         usr/share/man/man8/uwbd.8 usr/share/man/man5/uwbd.json.5 usr/share/man/man1/uwbd-ctl.1 \
+         usr/share/doc/uwbd/install-guide.md usr/share/doc/uwbd/config.md usr/share/doc/uwbd/state-dir.md; do
+    [[ -f $root/$f ]] || fail "not installed: /$f"
+done
+grep -qx 'ExecStart=/usr/bin/uwbd --config /etc/uwbd/uwbd.json' "$root/usr/lib/systemd/system/uwbd.service" ||
+    fail "the unit does not run /usr/bin/uwbd"
+grep -q '@[a-z]*dir@' "$root/usr/lib/systemd/system/uwbd.service" && fail "the unit has an unfilled @...@"
+for line in Type=notify NotifyAccess=main 'WatchdogSec=[1-9][0-9]*' 'Documentation=man:uwbd(8) .*'; do
+    grep -qx "$line" "$root/usr/lib/systemd/system/uwbd.service" || fail "the unit lacks $line"
+done
+cmp -s "$root/usr/share/man/man5/uwbd.json.5" <(${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" --config-keys=man) ||
+    fail "the installed uwbd.json(5) is not what uwbd --config-keys=man prints"
+pass "binary, unit, udev rules, sample config, manual pages and documents installed"
+
+# Every Markdown link [text](target) that is not a URL or an anchor resolves
+# to a file under the installed tree, relative to the document.
+docs=$(find "$root" -name '*.md' | sort)
+[[ -n $docs ]] || fail "no documents installed"
+links=0
+for doc in $docs; do
+    dir=$(dirname "$doc")
+    while IFS= read -r target; do
+        target=${target%%#*}
+        [[ -z $target || $target =~ ^[a-z]+: ]] && continue
+        links=$((links + 1))
+        [[ $target != /* ]] || fail "${doc#"$root"}: absolute link $target"
+        resolved=$(realpath -m "$dir/$target")
+        [[ $resolved == "$root"/* ]] || fail "${doc#"$root"}: link $target leaves the installed tree"
+        [[ -e $resolved ]] || fail "${doc#"$root"}: link $target does not resolve (no ${resolved#"$root"})"
+    done < <(grep -oE '\]\([^) ]+\)' "$doc" | sed -E 's/^\]\((.*)\)$/\1/')
+done
+(( links >= 5 )) || fail "only $links links checked"
+pass "$links relative links in $(wc -w <<< "$docs") installed documents resolve in the installed tree"
+
+# No document points at the developers' machine or outside the source tree.
+if grep -nE '/work/|\.\./shared|/home/[a-z]' $docs; then
+    fail "an installed document names a path outside the repository"
+fi
+if [[ -e $root/usr/share/uwbd/emulated/uwbd.json && ! -e $root/usr/bin/uwbemu ]]; then
+    fail "the emulated sample config is installed without uwbemu"
+fi
+pass "no paths outside the repository; no emulated sample without uwbemu"
+echo "$passed passed"

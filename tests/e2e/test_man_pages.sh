@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Manual pages: uwbd.json(5) printed from the key table lists every key;
+# uwbd(8) and uwbd-ctl(1) (board/man/) name every option the programs'
+# --help lists, and every ctl command; all three are well-formed roff
+# (known requests only; groff, when installed, warns about nothing).
+set -euo pipefail
+uwbd() { ${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" "$@"; }
+fail() { echo "FAIL: $*" >&2; exit 1; }
+passed=0
+pass() { echo "PASS: $*"; passed=$((passed + 1)); }
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+
+uwbd --config-keys=man > "$out/uwbd.json.5"
+uwbd --config-keys > "$out/keys.md"
+
+# well_formed PAGE SECTION: .TH first, then only the man(7) requests below;
+# no line starting with ' (a control line too); fonts switched back.
+well_formed() {
+    local page=$1 section=$2
+    head -n 1 "$page" | grep -qE "^\.TH [A-Z.\\-]+ $section " || fail "$page: does not start with .TH ... $section"
+    local bad
+    bad=$(grep -nE '^\.' "$page" | grep -vE '^[0-9]+:\.(TH|SH|SS|TP|PP|LP|IP|B|I|BR|RB|BI|IB|IR|RI|br|EX|EE|nf|fi|RS|RE|sp)( |$)' || true)
+    [[ -z $bad ]] || fail "$page: unknown requests: $bad"
+    ! grep -qn "^'" "$page" || fail "$page: a line starts with ' (a roff control line)"
+    ! grep -qn '`' "$page" || fail "$page: a raw backquote: $(grep -n '`' "$page" | head -3)"
+    for s in NAME SYNOPSIS DESCRIPTION 'SEE ALSO'; do
+        grep -qx "\\.SH $s" "$page" || fail "$page: no $s section"
+    done
+    if command -v groff > /dev/null; then
+        groff -man -Tutf8 -ww -z "$page" 2> "$out/groff.err" || fail "$page: groff failed"
+        [[ ! -s "$out/groff.err" ]] || fail "$page: groff warns: $(head -5 "$out/groff.err")"
+    fi
+    if command -v man > /dev/null; then
+        MANWIDTH=80 man -l "$page" > "$out/rendered" 2> /dev/null || fail "$page: man -l failed"
+        grep -q NAME "$out/rendered" || fail "$page: man -l renders no NAME"
+    fi
+}
+well_formed "$out/uwbd.json.5" 5
+well_formed board/man/uwbd.8 8
+well_formed board/man/uwbd-ctl.1 1
+pass "uwbd.json(5), uwbd(8), uwbd-ctl(1): well-formed roff"
+
+# Every key of the table, as its own tagged paragraph, and nothing more.
+mapfile -t keys < <(tail -n +3 "$out/keys.md" | cut -d'`' -f2)
+(( ${#keys[@]} > 40 )) || fail "only ${#keys[@]} keys in uwbd --config-keys"
+for key in "${keys[@]}"; do
+    grep -qxF "\\fB$key\\fR" "$out/uwbd.json.5" || fail "uwbd.json(5) lacks the key $key"
+done
+[[ $(grep -c '^\.TP$' "$out/uwbd.json.5") == $((${#keys[@]} + 1)) ]] ||
+    fail "uwbd.json(5): $(grep -c '^\.TP$' "$out/uwbd.json.5") tagged paragraphs for ${#keys[@]} keys (+1 file)"
+grep -A3 -xF '\fBdigitiser.endpoint\fR' "$out/uwbd.json.5" | grep -q 'required' || fail "a required key not said required"
+grep -A3 -xF '\fBschedule.interval_s\fR' "$out/uwbd.json.5" | grep -q 'default \\fB86400\\fR' ||
+    fail "schedule.interval_s: no default 86400"
+pass "uwbd.json(5) lists all ${#keys[@]} keys with type, range and default"
+
+# Every long option in the usage texts, in the page that documents it.
+options_in() { grep -oE -- '--[a-z][a-z-]+' | sort -u; }
+for opt in $(uwbd --help | sed '/^usage: uwbd ctl/,$d' | options_in); do
+    escaped=${opt//-/\\-}
+    grep -qF -- "$escaped" board/man/uwbd.8 || fail "uwbd(8) does not document $opt"
+done
+for opt in $(uwbd ctl --help | options_in); do
+    grep -qF -- "${opt//-/\\-}" board/man/uwbd-ctl.1 || fail "uwbd-ctl(1) does not document $opt"
+done
+commands=$(uwbd ctl --help | sed -n 's/^Commands: //p' | tr -d '.' | tr ',' '\n' | sed 's/^ *//; s/ \[.*//')
+[[ -n $commands ]] || fail "no Commands: line in uwbd ctl --help"
+while read -r cmd; do
+    grep -qE "^\.B(I)? \"?$cmd" board/man/uwbd-ctl.1 || fail "uwbd-ctl(1) does not document the command '$cmd'"
+done <<< "$commands"
+pass "uwbd(8) and uwbd-ctl(1) document every option and command of --help"
+echo "$passed passed"

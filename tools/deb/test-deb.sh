@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# make test-deb: the .deb that `make deb` built, installed with apt in a
+# fresh Debian 12 (bookworm) minbase chroot made by debootstrap, and checked
+# there: installed, the system user and group made, /etc/uwbd/uwbd.json a
+# conffile that `uwbd --check-config` accepts, the unit, udev rules, manual
+# pages and documents in place; purged cleanly. Ends with
+# "N passed, N failed". Needs root (debootstrap, chroot) and the network
+# (the Debian mirror). Everything is made under CHROOT_DIR, in the build
+# directory, and removed at the end.
+#
+# Usage: tools/deb/test-deb.sh DEB_DIR VERSION CHROOT_DIR
+set -uo pipefail
+
+if [[ $# != 3 ]]; then
+    echo "usage: $0 DEB_DIR VERSION CHROOT_DIR" >&2
+    exit 64
+fi
+deb_dir=$1 version=$2 root=$3
+passed=0 failed=0
+finish() {
+    echo "$passed passed, $failed failed"
+    [[ $failed == 0 ]]
+    exit
+}
+check() {   # WHAT COMMAND...: one result
+    local what=$1
+    shift
+    if "$@"; then
+        echo "PASS: $what"
+        passed=$((passed + 1))
+    else
+        echo "FAIL: $what"
+        failed=$((failed + 1))
+    fi
+}
+give_up() {
+    echo "FAIL: $*"
+    failed=$((failed + 1))
+    finish
+}
+
+[[ $(id -u) == 0 ]] || give_up "make test-deb needs root (debootstrap and chroot)"
+arch=$(dpkg --print-architecture)
+deb="$deb_dir/uwbd_${version}_$arch.deb"
+[[ -f $deb ]] || give_up "no $deb (make deb builds it)"
+
+mirror=$(sed -n 's/^URIs: *//p' /etc/apt/sources.list.d/debian.sources 2> /dev/null | head -n 1)
+mirror=${mirror:-http://deb.debian.org/debian}
+cleanup() {
+    umount -l "$root/proc" 2> /dev/null
+    rm -rf --one-file-system "$root"
+}
+trap cleanup EXIT
+cleanup
+mkdir -p "$root"
+in_root() { chroot "$root" env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin LANG=C.UTF-8 DEBIAN_FRONTEND=noninteractive "$@"; }
+
+SECONDS=0
+debootstrap --variant=minbase bookworm "$root" "$mirror" > "$root.debootstrap.log" 2>&1 ||
+    { tail -5 "$root.debootstrap.log"; rm -f "$root.debootstrap.log"; give_up "debootstrap bookworm from $mirror"; }
+rm -f "$root.debootstrap.log"
+echo "test-deb: Debian 12 minbase in ${SECONDS} s"
+mount -t proc proc "$root/proc"
+cp /etc/resolv.conf "$root/etc/" 2> /dev/null
+cp "$deb" "$root/tmp/"
+in_root apt-get update -qq > /dev/null 2>&1 || give_up "apt-get update in the chroot"
+in_root apt-get install -y -qq --no-install-recommends "/tmp/$(basename "$deb")" > "$root/install.log" 2>&1
+rc=$?
+check "apt-get install ./$(basename "$deb") in a fresh Debian 12 (exit $rc)" test "$rc" = 0
+[[ $rc == 0 ]] || { tail -20 "$root/install.log"; finish; }
+
+check "dpkg says uwbd $version is installed" \
+    test "$(in_root dpkg-query -W -f='${Status} ${Version}' uwbd)" = "install ok installed $version"
+passwd=$(in_root getent passwd uwbd)
+check "system user uwbd, home /var/lib/uwbd, no login shell: $passwd" \
+    bash -c '[[ $1 =~ ^uwbd:x:([0-9]+):[0-9]+:[^:]*:/var/lib/uwbd:(/usr/sbin/nologin|/bin/false)$ ]] && (( BASH_REMATCH[1] < 1000 ))' _ "$passwd"
+check "system groups uwbd and gpio" bash -c "chroot '$root' getent group uwbd > /dev/null && chroot '$root' getent group gpio > /dev/null"
+check "/etc/uwbd/uwbd.json is a conffile" \
+    bash -c "chroot '$root' dpkg-query -W -f='\${Conffiles}' uwbd | grep -q '^ /etc/uwbd/uwbd.json [0-9a-f]\{32\}$'"
+in_root uwbd --check-config /etc/uwbd/uwbd.json > "$root/check.out" 2>&1
+rc=$?
+check "uwbd --check-config /etc/uwbd/uwbd.json: exit $rc, $(head -c 200 "$root/check.out")" \
+    bash -c "[[ $rc == 0 ]] && grep -q 'configuration valid' '$root/check.out'"
+check "the unit: /lib/systemd/system/uwbd.service, Type=notify, ExecStart=/usr/bin/uwbd" \
+    bash -c "grep -qx 'Type=notify' '$root/lib/systemd/system/uwbd.service' &&
+             grep -qx 'ExecStart=/usr/bin/uwbd --config /etc/uwbd/uwbd.json' '$root/lib/systemd/system/uwbd.service'"
+check "udev rules in /lib/udev/rules.d" test -f "$root/lib/udev/rules.d/99-uwbd-gpio.rules" -a \
+    -f "$root/lib/udev/rules.d/99-uwbd-digitiser.rules"
+check "manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1)" test -f "$root/usr/share/man/man8/uwbd.8.gz" -a \
+    -f "$root/usr/share/man/man5/uwbd.json.5.gz" -a -f "$root/usr/share/man/man1/uwbd-ctl.1.gz"
+check "uwbd.json(5) lists the keys (gpio.backend)" bash -c "zcat '$root/usr/share/man/man5/uwbd.json.5.gz' | grep -q 'gpio.backend'"
+check "the install guide and the documents it links" test -f "$root/usr/share/doc/uwbd/install-guide.md" -a \
+    -f "$root/usr/share/doc/uwbd/raspberry-pi-4/pinmap.md" -a -f "$root/usr/share/doc/uwbd/digitiser-protocol.md"
+
+in_root apt-get purge -y -qq uwbd > "$root/purge.log" 2>&1
+rc=$?
+check "apt-get purge uwbd: exit $rc, /etc/uwbd and /usr/bin/uwbd gone" \
+    bash -c "[[ $rc == 0 && ! -e '$root/etc/uwbd/uwbd.json' && ! -e '$root/usr/bin/uwbd' ]]"
+echo "test-deb: ${SECONDS} s in all"
+finish
