@@ -12,6 +12,8 @@
 #   make CROSS_COMPILE=aarch64-linux-gnu-   cross-build all
 #   make demo             deps, all, then tools/demo/run-demo.sh
 #   make bench            build tools/bench/*.c into $(BUILD)/uwbbench, run it
+#   make accuracy         the accuracy report on the full-wave fixtures (build/uwbaccuracy);
+#                         it also rewrites the README's accuracy table
 #   make soak             SOAK_CYCLES (1000) scan cycles of uwbd on the emulated board:
 #                         RSS, open fds and archive size must stay flat; then
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
@@ -81,6 +83,9 @@ SIM_OBJ       := $(SIM_SRC:%.c=$(BUILD)/obj/%.o)
 EMU_SRC       := $(sort $(wildcard tools/emuboard/*.c))
 EMU_OBJ       := $(EMU_SRC:%.c=$(BUILD)/obj/%.o)
 BENCH_SRC     := $(sort $(wildcard tools/bench/*.c))
+# Helpers shared by the tools and the tests (tools/impair, tools/accuracy).
+TOOLS_LIB_SRC := $(filter-out %/main.c,$(sort $(wildcard tools/impair/*.c tools/accuracy/*.c)))
+TOOLS_LIB_OBJ := $(TOOLS_LIB_SRC:%.c=$(BUILD)/obj/%.o)
 BENCH_OBJ     := $(BENCH_SRC:%.c=$(BUILD)/obj/%.o)
 TEST_SRC      := $(sort $(wildcard tests/unit/test_*.c))
 TEST_BIN      := $(TEST_SRC:tests/unit/%.c=$(BUILD)/tests/%)
@@ -106,17 +111,17 @@ ARM_PREFIX    := aarch64-linux-gnu-
 # flags are computed on a machine that has the libraries.
 SUBMAKE       := $(MAKE) --no-print-directory -f $(abspath $(firstword $(MAKEFILE_LIST)))
 
-ifeq ($(filter deps deps-arm test test-arm test-board demo bench soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
+ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
 ifneq ($(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --exists $(LIBS_PKG) 2>/dev/null && echo ok),ok)
 $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIPLET)); `make $(if $(TRIPLET),deps-arm,deps)` installs them)
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy soak install deps deps-arm check-hw-headers clean
 # Programs whose main.c is not written yet are left out, so the library
 # and its tests build meanwhile.
 all: $(if $(wildcard src/main.c),$(BUILD)/uwbd) $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/uwbsim) \
-     $(if $(EMU_SRC),$(BUILD)/uwbemu)
+     $(if $(EMU_SRC),$(BUILD)/uwbemu) $(BUILD)/uwbimpair
 
 tests: $(TEST_BIN) $(E2E_HELPER_BIN)
 
@@ -141,6 +146,19 @@ $(BUILD)/libuwbsim.a: $(SIM_OBJ)
 	@mkdir -p $(dir $@)
 	@rm -f $@
 	$(AR) rcs $@ $^
+
+$(BUILD)/libuwbtools.a: $(TOOLS_LIB_OBJ)
+	@mkdir -p $(dir $@)
+	@rm -f $@
+	$(AR) rcs $@ $^
+
+# The accuracy report (tools/accuracy/main.c, make accuracy).
+$(BUILD)/uwbaccuracy: $(BUILD)/obj/tools/accuracy/main.o $(BUILD)/libuwbtools.a $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
+	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
+
+# A noisy copy of a scan (tools/impair/main.c).
+$(BUILD)/uwbimpair: $(BUILD)/obj/tools/impair/main.o $(BUILD)/libuwbtools.a $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
+	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
 
 $(BUILD)/uwbd: $(BUILD)/obj/src/main.o $(BUILD)/libuwb.a
 	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
@@ -171,7 +189,7 @@ $(UNITY_OBJ): $(UNITY_SRC)
 # Listing the test objects also keeps make from deleting them as intermediates.
 $(TEST_OBJ) $(TEST_SUPPORT_OBJ): | $(UNITY_SRC)
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/unit/%.o $(TEST_SUPPORT_OBJ) $(UNITY_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
+$(BUILD)/tests/%: $(BUILD)/obj/tests/unit/%.o $(TEST_SUPPORT_OBJ) $(UNITY_OBJ) $(BUILD)/libuwbtools.a $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
 
@@ -277,6 +295,14 @@ demo: deps
 	@if [ ! -f tools/demo/run-demo.sh ]; then \
 	    echo "make demo: tools/demo/run-demo.sh does not exist yet" >&2; exit 1; fi
 	UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh
+
+# The accuracy report (tools/accuracy): the full-wave fixtures clean and over
+# ACCURACY_PAIRS noisy pairs per case; the table also replaces the README's block
+# between its "make accuracy" markers, so the README shows what the command printed.
+ACCURACY_PAIRS ?= 30
+accuracy: deps
+	+@$(SUBMAKE) all $(BUILD)/uwbaccuracy
+	$(TEST_RUNNER) $(BUILD)/uwbaccuracy --pairs $(ACCURACY_PAIRS) --readme README.md
 
 bench: deps
 	@if [ -z "$(BENCH_SRC)" ]; then echo "make bench: no tools/bench/*.c yet" >&2; exit 1; fi

@@ -40,12 +40,40 @@ struct uwb_analysis {
     double dominant_hz;
     double noise_sigma;            /* per-sample noise of the conditioned traces */
     double aperture_lo_m, aperture_hi_m;  /* antenna travel */
+    /* What the last face measurement ran on, kept so that a comparison can
+     * measure again with noise added (src/imaging/pair_uncertainty.c): the
+     * conditioned traces, the per-position aperture weights, and the traces
+     * the profile was measured on (weighted, a side reflector taken out). */
+    struct uwb_scan conditioned;
+    struct uwb_scan measured;
+    double *weight;
 };
 
 /* Returns 0 when the analysis ran (edges.found tells whether the winding
  * was established, with edges.reason otherwise), -1 on a hard error. */
 int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_options *opt,
                      struct uwb_analysis *out, char *err, size_t errlen);
+/* The displacement between two analysed scans of one installation: the
+ * shift that best maps the baseline's face profile onto the current one
+ * (src/imaging/profile_shift.c). Both analyses must have found the winding.
+ * Returns 0, or -1 with err filled. */
+int uwb_measure_shift(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                      double *shift_m, char *err, size_t errlen);
+
+/* The noise of that displacement (src/imaging/pair_uncertainty.c): the noise
+ * rms per sample read on the two scans' difference where the winding cannot
+ * reply, and the displacement's rms change when noise of that rms is added
+ * to each scan in turn. measured = 0 when the noise could not be read (too
+ * few samples before the winding replies). */
+struct uwb_shift_noise {
+    int measured;
+    double noise_rms;              /* per sample, conditioned traces, each scan */
+    double sigma_current_m, sigma_baseline_m;
+};
+int uwb_shift_noise(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                    const struct uwb_analysis_options *opt, double shift_m,
+                    struct uwb_shift_noise *out, char *err, size_t errlen);
+
 void uwb_analysis_free(struct uwb_analysis *a);
 
 #endif

@@ -25,4 +25,31 @@ int uwb_scans_comparable(const struct uwb_scan *current, const struct uwb_scan *
 void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *current,
                        const struct uwb_edges *baseline, const struct uwb_compare_options *opt);
 
+/* What is measured on the two scans together (src/imaging): when valid, the
+ * displacement comes from here instead of the difference of the centres. */
+struct uwb_pair_figures {
+    int valid;
+    double displacement_m;
+    int noise_measured;           /* the two noise terms below replace the per-scan ones */
+    double sigma_noise_current_m, sigma_noise_baseline_m;
+};
+
+/* The terms of a displacement's 1-sigma uncertainty, all independent. */
+struct uwb_uncertainty_terms {
+    double noise_current_m;       /* each scan's noise carried into the displacement */
+    double noise_baseline_m;
+    double clutter_current_m;     /* what taking a reflector beside the winding out may leave */
+    double clutter_baseline_m;
+    double systematic_m;          /* the floor: what the static scene and sampling leave */
+    double baseline_repeatability_m; /* spread of the baseline's commissioning scans (baseline set N) */
+};
+
+/* Their sum in quadrature: the one place the verdict's sigma is composed. */
+double uwb_displacement_uncertainty(const struct uwb_uncertainty_terms *t);
+
+/* uwb_compare_edges with the pair's own figures (pair may be NULL). */
+void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *current,
+                      const struct uwb_edges *baseline, const struct uwb_pair_figures *pair,
+                      const struct uwb_compare_options *opt);
+
 #endif

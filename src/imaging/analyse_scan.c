@@ -63,11 +63,14 @@ static void aperture(const struct uwb_scan *scan, double *lo, double *hi)
     }
 }
 
-/* Measure a scan's face: fine image around z_face, profile, edges. */
-static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
-                        const struct uwb_analysis_options *opt, double z_centre, double dominant_hz,
-                        double *z_face, struct uwb_face_profile *profile, struct profile_edges *edges,
-                        char *err, size_t errlen)
+/* Measure a scan's face: fine image around z_face, profile, edges. The
+ * image spans the aperture and 0.15 m beyond, or, when y_lo_m < y_hi_m,
+ * only those heights (rows still on the antenna-aligned grid). */
+static int measure_face_rows(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                             const struct uwb_analysis_options *opt, double z_centre,
+                             double dominant_hz, double y_lo_m, double y_hi_m, double *z_face,
+                             struct uwb_face_profile *profile, struct profile_edges *edges,
+                             char *err, size_t errlen)
 {
     double wavelength = g->velocity_m_s / dominant_hz;
     double half = 0.6 * wavelength > 0.06 ? 0.6 * wavelength : 0.06;   /* two range cycles for the envelope */
@@ -76,6 +79,17 @@ static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geo
     if (imaging_grid(&fine, conditioned, 0.15, aligned_dy(conditioned, FINE_DY_M), z_lo,
                      z_centre + half, FINE_DZ_M, err, errlen) != 0)
         return -1;
+    if (y_lo_m < y_hi_m) {
+        /* Keep the grid's rows (aligned with the antennas), only fewer of them. */
+        int first = (int)floor((y_lo_m - fine.y0_m) / fine.dy_m);
+        int last = (int)ceil((y_hi_m - fine.y0_m) / fine.dy_m);
+        first = first < 0 ? 0 : first;
+        last = last > fine.ny - 1 ? fine.ny - 1 : last;
+        if (last - first >= 8) {
+            fine.y0_m += first * fine.dy_m;
+            fine.ny = last - first + 1;
+        }
+    }
     if (imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen) != 0) {
         uwb_image_free(&fine);
         return -1;
@@ -118,6 +132,15 @@ static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geo
         return -1;
     profile_edges(profile, opt->edge_fraction, edges);
     return 0;
+}
+
+static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                        const struct uwb_analysis_options *opt, double z_centre, double dominant_hz,
+                        double *z_face, struct uwb_face_profile *profile, struct profile_edges *edges,
+                        char *err, size_t errlen)
+{
+    return measure_face_rows(conditioned, g, opt, z_centre, dominant_hz, 0.0, 0.0, z_face, profile,
+                             edges, err, errlen);
 }
 
 #define SYMMETRY_SPAN 1.5         /* mirror comparison out to this times the half height */
@@ -330,22 +353,24 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
                               err, errlen);
         }
         side_reflector_free(&side);
-        uwb_scan_free(&tapered);
+        uwb_scan_free(&out->measured);
+        out->measured = tapered;
         if (rc != 0) {
+            uwb_scan_free(&out->measured);
             free(weight);
             free(profile.value);
             finish_free(&conditioned, &quadrature, NULL);
             return -1;
         }
     }
-    free(weight);
+    out->weight = weight;
     uwb_scan_free(&quadrature);
     out->profile = profile;
     edges->face_z_m = z_face;
     double dlo = z_face - DISPLAY_HALF_RANGE_M > 0.01 ? z_face - DISPLAY_HALF_RANGE_M : 0.01;
     int rc = display_image(&conditioned, &g, opt, dlo, z_face + DISPLAY_HALF_RANGE_M,
                            &out->intensity, err, errlen);
-    uwb_scan_free(&conditioned);
+    out->conditioned = conditioned;
     if (rc != 0)
         return -1;
 
@@ -394,5 +419,38 @@ void uwb_analysis_free(struct uwb_analysis *a)
 {
     uwb_image_free(&a->intensity);
     free(a->profile.value);
+    uwb_scan_free(&a->conditioned);
+    uwb_scan_free(&a->measured);
+    free(a->weight);
     memset(a, 0, sizeof *a);
+}
+
+int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
+                           const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
+                           struct uwb_face_profile *p, char *err, size_t errlen)
+{
+    memset(p, 0, sizeof *p);
+    if (!a->measured.data || !a->weight || added->positions != a->measured.positions ||
+        added->samples != a->measured.samples) {
+        snprintf(err, errlen, "measure again: the analysis kept no measured traces of this shape");
+        return -1;
+    }
+    struct uwb_geometry g;
+    uwb_geometry_from_scan(&g, &a->measured, opt->time_zero_offset_s);
+    struct uwb_scan s = {0};
+    if (uwb_scan_copy(&s, &a->measured, err, errlen) != 0)
+        return -1;
+    for (int k = 0; k < s.positions; k++) {
+        float *tr = s.data + (size_t)k * s.samples;
+        const float *n = added->data + (size_t)k * s.samples;
+        float w = (float)(scale * a->weight[k]);
+        for (int i = 0; i < s.samples; i++)
+            tr[i] += w * n[i];
+    }
+    double z_face = a->edges.face_z_m;
+    struct profile_edges pe;
+    int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, &z_face,
+                               p, &pe, err, errlen);
+    uwb_scan_free(&s);
+    return rc;
 }

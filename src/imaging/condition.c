@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "imaging_internal.h"
 #include "select.h"
 #include "trace_spectrum.h"
 
@@ -129,6 +130,12 @@ static int positions_quiet_at(const struct uwb_scan *s, const struct uwb_geometr
             quiet[n++] = k;
     }
     return n;
+}
+
+int condition_band_limit(struct uwb_scan *s, const struct uwb_condition_options *opt,
+                         double dominant_hz, char *err, size_t errlen)
+{
+    return bandpass(s, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz, err, errlen);
 }
 
 static int remove_static(struct uwb_scan *s, const struct uwb_geometry *g,

@@ -57,4 +57,28 @@ void profile_edges(const struct uwb_face_profile *p, double fraction, struct pro
 double profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
                                double search_m);
 
+/* The shift d that best maps base onto cur: cur(y + d) against g * base(y)
+ * on the squared envelope, y within +-half_span_m of base_centre_m, searched
+ * within 5 mm of guess_m (profile_shift.c says why). */
+double profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+                         double base_centre_m, double half_span_m, double guess_m);
+
+/* The displacement between a current and a baseline profile of these
+ * analyses (profile_shift_fit over the baseline's winding). */
+double analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+                      const struct uwb_analysis *base_analysis, double guess_m);
+
+/* The face profile of an analysis measured again on its kept traces plus
+ * scale * added (weighted by the analysis' aperture weights): what the same
+ * scan with that noise would have given, imaged between y_lo_m and y_hi_m
+ * only (the whole aperture when y_lo_m >= y_hi_m). Returns 0, or -1 with err
+ * filled. */
+int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
+                           const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
+                           struct uwb_face_profile *p, char *err, size_t errlen);
+
+/* Band-limit every trace as conditioning does (its pulse band). */
+int condition_band_limit(struct uwb_scan *s, const struct uwb_condition_options *opt,
+                         double dominant_hz, char *err, size_t errlen);
+
 #endif

@@ -8,7 +8,7 @@ void uwb_compare_defaults(struct uwb_compare_options *opt)
 {
     opt->thresholds.watch_m = 0.002;
     opt->thresholds.alarm_m = 0.005;
-    opt->systematic_displacement_m = 0.0002;
+    opt->systematic_displacement_m = 0.0001;
     opt->max_uncertainty_m = 0.001;
     opt->baseline_repeatability_m = 0;
 }
@@ -44,8 +44,22 @@ static void copy_reason(struct uwb_verdict *v, const char *prefix, const char *r
     snprintf(v->reason, sizeof v->reason, "%.20s%.230s", prefix, reason);
 }
 
+double uwb_displacement_uncertainty(const struct uwb_uncertainty_terms *t)
+{
+    return sqrt(t->noise_current_m * t->noise_current_m + t->noise_baseline_m * t->noise_baseline_m +
+                t->clutter_current_m * t->clutter_current_m +
+                t->clutter_baseline_m * t->clutter_baseline_m + t->systematic_m * t->systematic_m +
+                t->baseline_repeatability_m * t->baseline_repeatability_m);
+}
+
 void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur,
                        const struct uwb_edges *base, const struct uwb_compare_options *opt)
+{
+    uwb_compare_pair(v, cur, base, NULL, opt);
+}
+
+void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const struct uwb_edges *base,
+                      const struct uwb_pair_figures *pair, const struct uwb_compare_options *opt)
 {
     v->current = *cur;
     v->has_baseline = base != NULL;
@@ -66,18 +80,25 @@ void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur,
         copy_reason(v, "baseline: ", base->reason);
         return;
     }
-    v->axial_displacement_m = cur->center_m - base->center_m;
+    v->axial_displacement_m = pair && pair->valid ? pair->displacement_m : cur->center_m - base->center_m;
     v->height_change_m = cur->height_m - base->height_m;
     /* Both scans blur their edges alike, so only their noise, what removing
      * a plate beside the winding may leave, and a floor for what the two
      * scans do not share (sampling, drift) enter, and what the baseline's
      * commissioning scans showed of its repeatability (baseline set N). */
-    v->uncertainty_m = sqrt(cur->sigma_center_noise_m * cur->sigma_center_noise_m +
-                            base->sigma_center_noise_m * base->sigma_center_noise_m +
-                            cur->sigma_center_clutter_m * cur->sigma_center_clutter_m +
-                            base->sigma_center_clutter_m * base->sigma_center_clutter_m +
-                            opt->systematic_displacement_m * opt->systematic_displacement_m +
-                            opt->baseline_repeatability_m * opt->baseline_repeatability_m);
+    struct uwb_uncertainty_terms terms = {
+        .noise_current_m = cur->sigma_center_noise_m,
+        .noise_baseline_m = base->sigma_center_noise_m,
+        .clutter_current_m = cur->sigma_center_clutter_m,
+        .clutter_baseline_m = base->sigma_center_clutter_m,
+        .systematic_m = opt->systematic_displacement_m,
+        .baseline_repeatability_m = opt->baseline_repeatability_m,
+    };
+    if (pair && pair->valid && pair->noise_measured) {
+        terms.noise_current_m = pair->sigma_noise_current_m;
+        terms.noise_baseline_m = pair->sigma_noise_baseline_m;
+    }
+    v->uncertainty_m = uwb_displacement_uncertainty(&terms);
     double d = fabs(v->axial_displacement_m);
     if (v->uncertainty_m > opt->max_uncertainty_m) {
         v->status = UWB_STATUS_INCONCLUSIVE;
