@@ -97,6 +97,10 @@ void uwb_rig_close(struct uwb_rig *rig);
  * retried frames, the scan's summary. */
 typedef void (*uwb_rig_log_fn)(void *ctx, int priority, const char *message);
 void uwb_rig_set_log(struct uwb_rig *rig, uwb_rig_log_fn log, void *ctx);
+/* Optional: called after each position is acquired (done of total), on the
+ * thread that runs uwb_rig_scan; and with done 0 as a scan starts. */
+typedef void (*uwb_rig_progress_fn)(void *ctx, int done, int total);
+void uwb_rig_set_progress(struct uwb_rig *rig, uwb_rig_progress_fn progress, void *ctx);
 
 /* Counts since uwb_rig_open (frames, retries, ...) and of the last scan. */
 struct uwb_rig_stats {

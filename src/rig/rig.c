@@ -21,6 +21,8 @@ struct uwb_rig {
     struct uwb_carriage carriage;
     uwb_rig_log_fn log;
     void *log_ctx;
+    uwb_rig_progress_fn progress;
+    void *progress_ctx;
     unsigned long scans;
     long last_scan_steps;
     double last_home_found_mm;
@@ -42,6 +44,12 @@ void uwb_rig_set_log(struct uwb_rig *rig, uwb_rig_log_fn log, void *ctx)
 {
     rig->log = log;
     rig->log_ctx = ctx;
+}
+
+void uwb_rig_set_progress(struct uwb_rig *rig, uwb_rig_progress_fn progress, void *ctx)
+{
+    rig->progress = progress;
+    rig->progress_ctx = ctx;
 }
 
 int uwb_rig_open(const struct uwb_rig_config *cfg, struct uwb_rig **out, int *detail, char *err, size_t errlen)
@@ -201,6 +209,8 @@ static int scan_cycle(struct uwb_rig *rig, const volatile sig_atomic_t *stop, st
     const struct uwb_carriage_config *cc = &cfg->carriage;
     struct uwb_carriage *c = &rig->carriage;
     uwb_carriage_init(c, rig->gpio, cc, cfg->time_scale, stop);
+    if (rig->progress)
+        rig->progress(rig->progress_ctx, 0, cfg->positions);
 
     struct timespec started;
     clock_gettime(CLOCK_REALTIME, &started);
@@ -238,6 +248,8 @@ static int scan_cycle(struct uwb_rig *rig, const volatile sig_atomic_t *stop, st
         /* Also the daemon's sign that its scan worker is alive (its watchdog). */
         if (rc == UWB_RIG_OK)
             rig_log(rig, LOG_DEBUG, "position %d of %d acquired", k + 1, cfg->positions);
+        if (rc == UWB_RIG_OK && rig->progress)
+            rig->progress(rig->progress_ctx, k + 1, cfg->positions);
     }
     if (rc == UWB_RIG_OK) {
         /* Lost steps would put every position elsewhere than recorded: the
