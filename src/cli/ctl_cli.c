@@ -30,7 +30,10 @@ void uwbd_ctl_usage(FILE *f)
         "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text] COMMAND...\n"
         "\n"
         "Sends COMMAND to the running daemon and prints its reply (one JSON line).\n"
-        "Commands: status, scan, verdict, history [N], baseline set [N], help.\n"
+        "Commands: status, scan, verdict, history [N], baseline set [N], watch, watch off, help.\n"
+        "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
+        "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
+        "closes the connection or --timeout S passes (then exit 0).\n"
         "\n"
         "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
         "  --config FILE    take the socket's path from this configuration\n"
@@ -52,57 +55,105 @@ static int is_error_reply(const char *line)
     return error;
 }
 
-/* Read up to the first newline; 0, or an exit status. */
-static int read_reply(int fd, double timeout_s, char **out)
+/* Reply lines from the daemon; bytes after a line are kept for the next. */
+struct reply_reader {
+    int fd;
+    char *buf;
+    size_t len, cap;
+};
+
+/* The next line (without its newline) in *out, valid until the next call;
+ * 0, or an exit status. timeout_s <= 0: wait as long as it takes. */
+static int read_line(struct reply_reader *r, double timeout_s, char **out)
 {
-    size_t cap = 4096, len = 0;
-    char *buf = malloc(cap);
-    if (!buf)
-        return UWBD_CTL_NO_DAEMON;
+    static char *line;
+    free(line);
+    line = NULL;
     double deadline = uwb_monotonic_s() + timeout_s;
     for (;;) {
+        char *nl = r->len ? memchr(r->buf, '\n', r->len) : NULL;
+        if (nl) {
+            size_t n = (size_t)(nl - r->buf);
+            line = malloc(n + 1);
+            if (!line)
+                return UWBD_CTL_NO_DAEMON;
+            memcpy(line, r->buf, n);
+            line[n] = '\0';
+            memmove(r->buf, nl + 1, r->len - n - 1);
+            r->len -= n + 1;
+            *out = line;
+            return 0;
+        }
         double left = deadline - uwb_monotonic_s();
-        struct pollfd pfd = {.fd = fd, .events = POLLIN};
-        int ready = left > 0 ? poll(&pfd, 1, (int)(left * 1000) + 1) : 0;
+        struct pollfd pfd = {.fd = r->fd, .events = POLLIN};
+        int ready = timeout_s <= 0 ? poll(&pfd, 1, -1) : left > 0 ? poll(&pfd, 1, (int)(left * 1000) + 1) : 0;
         if (ready < 0 && errno == EINTR)
             continue;
         if (ready <= 0) {
-            free(buf);
             fprintf(stderr, "uwbd ctl: no reply within %.0f s\n", timeout_s);
             return UWBD_CTL_TIMEOUT;
         }
-        if (len + 1 >= cap) {
-            if (cap >= MAX_REPLY) {
-                free(buf);
+        if (r->len + 1 >= r->cap) {
+            if (r->cap >= MAX_REPLY) {
                 fprintf(stderr, "uwbd ctl: reply longer than %d bytes\n", MAX_REPLY);
                 return UWBD_CTL_NO_DAEMON;
             }
-            cap *= 2;
-            char *grown = realloc(buf, cap);
-            if (!grown) {
-                free(buf);
+            size_t cap = r->cap ? r->cap * 2 : 4096;
+            char *grown = realloc(r->buf, cap);
+            if (!grown)
                 return UWBD_CTL_NO_DAEMON;
-            }
-            buf = grown;
+            r->buf = grown;
+            r->cap = cap;
         }
-        ssize_t r = recv(fd, buf + len, cap - 1 - len, 0);
-        if (r < 0 && errno == EINTR)
+        ssize_t got = recv(r->fd, r->buf + r->len, r->cap - 1 - r->len, 0);
+        if (got < 0 && errno == EINTR)
             continue;
-        if (r <= 0) {
-            free(buf);
-            fprintf(stderr, "uwbd ctl: the daemon closed the connection without a reply\n");
+        if (got <= 0) {
+            fprintf(stderr, "uwbd ctl: the daemon closed the connection%s\n", r->len ? " in the middle of a line" : "");
             return UWBD_CTL_NO_DAEMON;
         }
-        char *nl = memchr(buf + len, '\n', (size_t)r);
-        len += (size_t)r;
-        if (nl) {
-            *nl = '\0';
-            *out = buf;
-            return 0;
-        }
+        r->len += (size_t)got;
     }
 }
 
+static int has_class(const char *line, const char *class_name)
+{
+    cJSON *o = cJSON_Parse(line);
+    const cJSON *cls = cJSON_GetObjectItemCaseSensitive(o, "class");
+    int yes = cJSON_IsString(cls) && strcmp(cls->valuestring, class_name) == 0;
+    cJSON_Delete(o);
+    return yes;
+}
+
+/* A PROGRESS line on stderr: a bar redrawn in place on a terminal, the
+ * line as it is otherwise (logs, pipes). */
+static void show_progress(const char *line, int on_terminal)
+{
+    if (!on_terminal) {
+        fprintf(stderr, "%s\n", line);
+        return;
+    }
+    cJSON *o = cJSON_Parse(line);
+    const cJSON *k = cJSON_GetObjectItemCaseSensitive(o, "position");
+    const cJSON *n = cJSON_GetObjectItemCaseSensitive(o, "positions");
+    const cJSON *elapsed = cJSON_GetObjectItemCaseSensitive(o, "elapsed_s");
+    const cJSON *left = cJSON_GetObjectItemCaseSensitive(o, "left_s");
+    if (cJSON_IsNumber(k) && cJSON_IsNumber(n) && n->valueint > 0) {
+        enum { WIDTH = 30 };
+        char bar[WIDTH + 1];
+        int filled = k->valueint * WIDTH / n->valueint;
+        for (int i = 0; i < WIDTH; i++)
+            bar[i] = i < filled ? '#' : '-';
+        bar[WIDTH] = '\0';
+        fprintf(stderr, "\r[%s] %d/%d positions  %.0f s", bar, k->valueint, n->valueint,
+                cJSON_IsNumber(elapsed) ? elapsed->valuedouble : 0.0);
+        if (cJSON_IsNumber(left))
+            fprintf(stderr, ", about %.0f s left", left->valuedouble);
+        fputs("\033[K", stderr);
+        fflush(stderr);
+    }
+    cJSON_Delete(o);
+}
 int uwbd_ctl_main(int argc, char **argv)
 {
     static const struct option longopts[] = {
@@ -175,6 +226,7 @@ int uwbd_ctl_main(int argc, char **argv)
     }
     if (!socket_path)
         socket_path = UWBD_DEFAULT_CONTROL_SOCKET;
+    int explicit_timeout = timeout_s > 0;
     if (timeout_s <= 0)
         timeout_s = cmd.kind == UWB_COMMAND_SCAN ? SCAN_TIMEOUT_S : OTHER_TIMEOUT_S;
 
@@ -184,19 +236,71 @@ int uwbd_ctl_main(int argc, char **argv)
         return UWBD_CTL_NO_DAEMON;
     }
     line[len++] = '\n';
-    if (send(fd, line, len, MSG_NOSIGNAL) != (ssize_t)len) {
+    /* A scan asks for PROGRESS lines first, for the bar on stderr; stdout
+     * still gets the one reply line. */
+    static const char progress_first[] = "watch progress\n";
+    int scan_progress = cmd.kind == UWB_COMMAND_SCAN;
+    int following = cmd.kind == UWB_COMMAND_WATCH && cmd.watch != 0;
+    if ((scan_progress && send(fd, progress_first, sizeof progress_first - 1, MSG_NOSIGNAL) !=
+                              (ssize_t)(sizeof progress_first - 1)) ||
+        send(fd, line, len, MSG_NOSIGNAL) != (ssize_t)len) {
         fprintf(stderr, "uwbd ctl: %s: cannot send: %s\n", socket_path, strerror(errno));
         close(fd);
         return UWBD_CTL_NO_DAEMON;
     }
+    struct reply_reader reader = {.fd = fd};
     char *reply = NULL;
-    int rc = read_reply(fd, timeout_s, &reply);
+    int rc;
+    if (following) {
+        /* Every line as it comes, until the daemon goes or --timeout. */
+        double until = explicit_timeout ? uwb_monotonic_s() + timeout_s : 0;
+        int first = 1;
+        for (;;) {
+            double left = explicit_timeout ? until - uwb_monotonic_s() : 0;
+            if (explicit_timeout && left <= 0) {
+                rc = UWBD_CTL_OK;
+                break;
+            }
+            rc = read_line(&reader, explicit_timeout ? left : (first ? OTHER_TIMEOUT_S : 0), &reply);
+            if (rc == UWBD_CTL_TIMEOUT && explicit_timeout && !first)
+                rc = UWBD_CTL_OK;
+            if (rc != 0)
+                break;
+            puts(reply);
+            fflush(stdout);
+            if (first && is_error_reply(reply)) {
+                rc = UWBD_CTL_REFUSED;
+                break;
+            }
+            first = 0;
+        }
+        close(fd);
+        free(reader.buf);
+        return rc;
+    }
+    int on_terminal = isatty(STDERR_FILENO), bar_drawn = 0, acked = !scan_progress;
+    for (;;) {
+        rc = read_line(&reader, timeout_s, &reply);
+        if (rc != 0)
+            break;
+        if (!acked) {
+            acked = 1;   /* the WATCH answer (an ERROR from a daemon without `watch`) */
+            continue;
+        }
+        if (scan_progress && has_class(reply, "PROGRESS")) {
+            show_progress(reply, on_terminal);
+            bar_drawn = on_terminal;
+            continue;
+        }
+        break;
+    }
+    if (bar_drawn)
+        fputs("\n", stderr);
     close(fd);
+    free(reader.buf);
     if (rc != 0)
         return rc;
     if (!as_text || uwbd_verdict_text(reply, stdout) != 0)
         puts(reply);
-    rc = is_error_reply(reply) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
-    free(reply);
-    return rc;
+    return is_error_reply(reply) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
 }

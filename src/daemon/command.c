@@ -18,6 +18,10 @@ const struct uwb_command_help uwb_command_help[] = {
                          "the baseline (the old one is kept in baseline/history)"},
     {"baseline set force", "the same, also when the scan is an alarm against the current baseline (after a repair "
                            "that moved the winding); logged"},
+    {"watch", "stream PROGRESS lines (position k of N, elapsed, time left) while scanning and a VERDICT line for "
+              "every verdict to this connection, until it closes; gpsd's ?WATCH={\"enable\":true} is the same"},
+    {"watch progress", "stream PROGRESS lines only (what `uwbd ctl scan` asks for its progress bar)"},
+    {"watch off", "stop the stream"},
     {"help", "this list"},
 };
 const size_t uwb_command_help_count = sizeof uwb_command_help / sizeof uwb_command_help[0];
@@ -31,6 +35,7 @@ const char *uwb_command_name(enum uwb_command_kind kind)
     case UWB_COMMAND_HISTORY: return "history";
     case UWB_COMMAND_BASELINE_SET: return "baseline set";
     case UWB_COMMAND_HELP: return "help";
+    case UWB_COMMAND_WATCH: return "watch";
     }
     return "?";
 }
@@ -56,6 +61,36 @@ static int parse_count(const char *word, int *count)
     return 0;
 }
 
+/* gpsd's form, for clients written against gpsd: ?WATCH={"enable":true} (or
+ * false), spaces allowed; nothing else of its JSON is understood. */
+static int parse_gpsd_watch(const char *line, size_t len, struct uwb_command *out, char *err, size_t errlen)
+{
+    char compact[UWB_COMMAND_MAX_LINE + 1];
+    size_t n = 0;
+    for (size_t i = 0; i < len; i++) {
+        unsigned char c = (unsigned char)line[i];
+        if (c == ' ' || c == '\t')
+            continue;
+        if (c < 0x21 || c > 0x7e) {
+            set_error(err, errlen, "command contains a byte that is not printable ASCII", NULL);
+            return UWB_COMMAND_INVALID;
+        }
+        compact[n++] = (char)c;
+    }
+    compact[n] = '\0';
+    struct uwb_command cmd = {.kind = UWB_COMMAND_WATCH};
+    if (strcmp(compact, "?WATCH={\"enable\":true}") == 0 || strcmp(compact, "?WATCH={\"enable\":true};") == 0)
+        cmd.watch = 1;
+    else if (strcmp(compact, "?WATCH={\"enable\":false}") == 0 || strcmp(compact, "?WATCH={\"enable\":false};") == 0)
+        cmd.watch = 0;
+    else {
+        set_error(err, errlen, "?WATCH: only gpsd's ?WATCH={\"enable\":true} or {\"enable\":false} is understood (or say `watch`)", NULL);
+        return UWB_COMMAND_INVALID;
+    }
+    *out = cmd;
+    return UWB_COMMAND_OK;
+}
+
 int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, char *err, size_t errlen)
 {
     if (err && errlen)
@@ -73,6 +108,8 @@ int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, cha
             snprintf(err, errlen, "command line too long (at most %d bytes)", UWB_COMMAND_MAX_LINE);
         return UWB_COMMAND_INVALID;
     }
+    if (len >= 6 && memcmp(line, "?WATCH", 6) == 0)
+        return parse_gpsd_watch(line, len, out, err, errlen);
     char words[MAX_WORDS][MAX_WORD + 1];
     int n_words = 0;
     size_t i = 0;
@@ -121,6 +158,18 @@ int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, cha
         cmd.kind = UWB_COMMAND_VERDICT;
     } else if (strcmp(verb, "help") == 0) {
         cmd.kind = UWB_COMMAND_HELP;
+    } else if (strcmp(verb, "watch") == 0) {
+        cmd.kind = UWB_COMMAND_WATCH;
+        cmd.watch = 1;
+        max_args = 1;
+        if (n_words == 2 && strcmp(words[1], "off") == 0)
+            cmd.watch = 0;
+        else if (n_words == 2 && strcmp(words[1], "progress") == 0)
+            cmd.watch = 2;
+        else if (n_words == 2) {
+            set_error(err, errlen, "watch: say `watch`, `watch progress` or `watch off`, not", words[1]);
+            return UWB_COMMAND_INVALID;
+        }
     } else if (strcmp(verb, "history") == 0) {
         cmd.kind = UWB_COMMAND_HISTORY;
         cmd.count = UWB_HISTORY_DEFAULT;

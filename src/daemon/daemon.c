@@ -278,8 +278,8 @@ static void drain(int fd)
     }
 }
 
-enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_LOCK_WATCH, SLOT_WATCHDOG, SLOT_CONTROL,
-       SLOT_CONSOLE, SLOT_CLIENTS };
+enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_LOCK_WATCH, SLOT_WATCHDOG, SLOT_PROGRESS,
+       SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
 
 /* How long a healthy scan worker may go without a sign of life (a rig
  * message: at least one a position): homing at its slowest, one position
@@ -372,6 +372,7 @@ static void loop(struct daemon *d)
         fds[SLOT_CONSOLE_RETRY] = (struct pollfd){.fd = d->console_retry_fd, .events = POLLIN};
         fds[SLOT_LOCK_WATCH] = (struct pollfd){.fd = d->lock_watch_fd, .events = POLLIN};
         fds[SLOT_WATCHDOG] = (struct pollfd){.fd = d->watchdog_fd, .events = POLLIN};
+        fds[SLOT_PROGRESS] = (struct pollfd){.fd = d->progress_fd, .events = POLLIN};
         /* A negative fd is skipped by poll(). */
         fds[SLOT_CONTROL] = (struct pollfd){.fd = d->stopping ? -1 : d->control.fd, .events = POLLIN};
         fds[SLOT_CONSOLE] = (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1,
@@ -413,6 +414,10 @@ static void loop(struct daemon *d)
         }
         if (fds[SLOT_WATCHDOG].revents)
             watchdog_tick(d);
+        if (fds[SLOT_PROGRESS].revents) {
+            drain(d->progress_fd);
+            peers_send_progress(d);
+        }
         if (fds[SLOT_CONTROL].revents)
             peer_accept(d);
         for (nfds_t i = SLOT_CONSOLE; i < n; i++) {
@@ -444,7 +449,9 @@ static int setup_event_fds(struct daemon *d, char *err, size_t errlen)
     d->schedule_fd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
     d->console_retry_fd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
     d->done_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
-    if (d->signal_fd < 0 || d->schedule_fd < 0 || d->console_retry_fd < 0 || d->done_fd < 0) {
+    d->progress_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+    if (d->signal_fd < 0 || d->schedule_fd < 0 || d->console_retry_fd < 0 || d->done_fd < 0 ||
+        d->progress_fd < 0) {
         snprintf(err, errlen, "signalfd/timerfd/eventfd: %s", strerror(errno));
         return -1;
     }
@@ -474,6 +481,7 @@ static void teardown(struct daemon *d)
     close_fd(&d->schedule_fd);
     close_fd(&d->console_retry_fd);
     close_fd(&d->done_fd);
+    close_fd(&d->progress_fd);
     close_fd(&d->watchdog_fd);
     close_fd(&d->lock_watch_fd);
     close_fd(&d->lock_fd);
@@ -602,7 +610,8 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     memset(&d, 0, sizeof d);
     d.options = opt;
     d.started = time(NULL);
-    d.lock_fd = d.lock_watch_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = d.watchdog_fd = -1;
+    d.lock_fd = d.lock_watch_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = d.watchdog_fd =
+        d.progress_fd = -1;
     d.control.fd = -1;
     peers_init(&d);
     d.last_cycle_start = monotonic_now();

@@ -17,6 +17,7 @@
 #include "uwb/daemon/console_line.h"
 #include "uwb/daemon/line_buffer.h"
 #include "uwb/daemon/scan_cycle.h"
+#include "uwb/daemon/scan_progress.h"
 #include "uwb/daemon/store.h"
 #include "uwb/link.h"
 #include "uwb/rig.h"
@@ -37,6 +38,7 @@
 #define CONSOLE_RETRY_S 5
 
 enum peer_kind { PEER_CONTROL, PEER_CONSOLE };
+enum { WATCH_ALL = 1, WATCH_PROGRESS = 2 };
 
 struct peer {
     enum peer_kind kind;
@@ -46,6 +48,7 @@ struct peer {
     struct uwbd_line_buffer lines;
     struct uwbd_console_line console_line; /* the console's: echo and editing keys */
     unsigned long waiting_for;     /* cycle whose verdict this peer asked for; 0 = none */
+    int watching;                  /* `watch`: WATCH_ALL, WATCH_PROGRESS (what `uwbd ctl scan` asks) or 0 */
     double last_active_s;          /* CLOCK_MONOTONIC of its connection or last input */
     double line_since_s;           /* CLOCK_MONOTONIC of its connection or last complete line */
     char *out;                     /* queued reply bytes not yet sent (control clients) */
@@ -100,6 +103,12 @@ struct daemon {
     int watchdog_withheld;           /* pings stopped: the worker went silent */
     _Atomic long long worker_beat_ms;/* CLOCK_MONOTONIC ms of the worker's last sign of life */
 
+    /* The running scan's progress, written by the worker (its rig hook), read
+     * by the loop; progress_fd tells the loop a position was acquired. */
+    int progress_fd;
+    _Atomic int progress_done, progress_total;
+    _Atomic long long progress_start_ms, progress_first_ms, progress_last_ms;
+
     char *latest_verdict;            /* VERDICT line or NULL */
     int has_baseline;
     struct uwbd_baseline_info baseline;
@@ -124,6 +133,10 @@ void peer_writable(struct daemon *d, struct peer *p);
 int peers_expire(struct daemon *d);
 /* The verdict line to the peers waiting for `cycle`, or ERROR with `error` when line is NULL. */
 void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error);
+/* A PROGRESS line to the peers that asked to `watch`. */
+void peers_send_progress(struct daemon *d);
+/* The running scan's progress now (0 when no scan runs). */
+int scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out);
 void console_open(struct daemon *d);
 
 /* baseline_requests.c */

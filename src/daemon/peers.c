@@ -40,6 +40,7 @@ void peer_close(struct peer *p)
     p->fd = -1;
     p->link = NULL;
     p->in_use = 0;
+    p->watching = 0;
     p->waiting_for = 0;
     free(p->out);
     p->out = NULL;
@@ -124,11 +125,11 @@ int peers_expire(struct daemon *d)
         if (p->out_len) {
             deadline = p->out_progress_s + SEND_TIMEOUT_MS / 1000.0;
             why = "it does not read its replies";
-        } else if (!p->waiting_for) {
+        } else if (!p->waiting_for && !p->watching) {
             deadline = p->line_since_s + CLIENT_LINE_TIMEOUT_S;
             why = "no complete command line in time";
         } else {
-            continue;   /* waits for a scan's verdict */
+            continue;   /* waits for a scan's verdict, or watches */
         }
         if (now >= deadline) {
             drop_client(p, why);
@@ -199,6 +200,8 @@ static long seconds_until(const struct timespec *t)
 
 static char *status_reply(struct daemon *d)
 {
+    struct uwbd_scan_progress progress;
+    int has_progress = scan_progress_now(d, &progress);
     struct uwbd_status st = {
         .version = UWBD_VERSION,
         .state = d->stopping ? "stopping" : d->scanning ? "scanning" : "idle",
@@ -217,6 +220,7 @@ static char *status_reply(struct daemon *d)
         /* The rig belongs to the scan thread while it runs. */
         .rig = d->scanning ? "scanning" : d->rig_state,
         .console = d->cfg.console_endpoint[0] ? d->cfg.console_endpoint : NULL,
+        .progress = has_progress ? &progress : NULL,
     };
     return uwbd_reply_status(&st);
 }
@@ -250,6 +254,10 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
     }
     case UWB_COMMAND_BASELINE_SET:
         reply(d, p, baseline_request(d, cmd->count, cmd->force));
+        return;
+    case UWB_COMMAND_WATCH:
+        p->watching = cmd->watch;
+        reply(d, p, uwbd_reply_watch(cmd->watch));
         return;
     case UWB_COMMAND_SCAN:
         if (d->stopping) {
@@ -444,6 +452,8 @@ void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line,
     all[n++] = &d->console;
     for (int i = 0; i < n; i++) {
         struct peer *p = all[i];
+        if (p->in_use && p->watching == WATCH_ALL && p->waiting_for != cycle && line)
+            send_line(d, p, line);
         if (!p->in_use || p->waiting_for != cycle)
             continue;
         p->waiting_for = 0;
@@ -452,4 +462,25 @@ void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line,
         else
             reply(d, p, uwbd_reply_error(error));
     }
+}
+
+void peers_send_progress(struct daemon *d)
+{
+    struct uwbd_scan_progress progress;
+    if (!scan_progress_now(d, &progress))
+        return;
+    char *line = NULL;
+    struct peer *all[MAX_CLIENTS + 1];
+    int n = 0;
+    for (int i = 0; i < MAX_CLIENTS; i++)
+        all[n++] = &d->clients[i];
+    all[n++] = &d->console;
+    for (int i = 0; i < n; i++) {
+        if (!all[i]->in_use || !all[i]->watching)
+            continue;
+        if (!line && !(line = uwbd_reply_progress(&progress)))
+            return;
+        send_line(d, all[i], line);
+    }
+    free(line);
 }

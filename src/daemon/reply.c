@@ -101,6 +101,15 @@ char *uwbd_reply_status(const struct uwbd_status *st)
     cJSON_AddNumberToObject(o, "proto_major", UWBD_PROTOCOL_MAJOR);
     cJSON_AddNumberToObject(o, "proto_minor", UWBD_PROTOCOL_MINOR);
     cJSON_AddStringToObject(o, "state", st->state);
+    if (st->progress) {
+        char *line = uwbd_reply_progress(st->progress);
+        cJSON *p = line ? cJSON_Parse(line) : NULL;
+        free(line);
+        if (p) {
+            cJSON_DeleteItemFromObjectCaseSensitive(p, "class");
+            cJSON_AddItemToObject(o, "progress", p);
+        }
+    }
     cJSON_AddNumberToObject(o, "uptime_s", (double)st->uptime_s);
     cJSON_AddNumberToObject(o, "interval_s", st->interval_s);
     if (st->has_next_scan)
@@ -154,5 +163,16 @@ char *uwbd_reply_baseline(int pending, int has_current, const struct uwbd_baseli
                                                   : "no baseline change pending");
     if (has_current)
         cJSON_AddItemToObject(o, "current", baseline_object(current));
+    return finish(o);
+}
+
+char *uwbd_reply_watch(int watch)
+{
+    cJSON *o = start("WATCH");
+    if (!o)
+        return NULL;
+    cJSON_AddBoolToObject(o, "enable", watch != 0);
+    cJSON_AddBoolToObject(o, "progress", watch != 0);
+    cJSON_AddBoolToObject(o, "verdicts", watch == 1);
     return finish(o);
 }

@@ -44,6 +44,41 @@ static void rig_log(void *ctx, int priority, const char *message)
     uwbd_log(priority, "rig: %s", message);
 }
 
+static void progress_signal(struct daemon *d)
+{
+    uint64_t one = 1;
+    if (write(d->progress_fd, &one, sizeof one) != sizeof one) {
+        /* the counter is full: the loop has a wake-up pending anyway */
+    }
+}
+
+/* The rig's position hook: record where the scan is, wake the loop. */
+static void rig_progress(void *ctx, int done, int total)
+{
+    struct daemon *d = ctx;
+    long long now_ms = (long long)(uwb_monotonic_s() * 1000.0);
+    atomic_store(&d->worker_beat_ms, now_ms);
+    if (done == 0)
+        atomic_store(&d->progress_start_ms, now_ms);
+    if (done == 1)
+        atomic_store(&d->progress_first_ms, now_ms);
+    atomic_store(&d->progress_last_ms, now_ms);
+    atomic_store(&d->progress_total, total);
+    atomic_store(&d->progress_done, done);
+    progress_signal(d);
+}
+
+int scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out)
+{
+    if (!d->scanning)
+        return 0;
+    int done = atomic_load(&d->progress_done);
+    uwbd_scan_progress_estimate(done, atomic_load(&d->progress_total),
+                                atomic_load(&d->progress_start_ms) / 1000.0, atomic_load(&d->progress_first_ms) / 1000.0,
+                                atomic_load(&d->progress_last_ms) / 1000.0, uwb_monotonic_s(), out);
+    return 1;
+}
+
 int rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen)
 {
     int rc = uwb_rig_open(&d->cfg.rig, &d->rig, detail, err, errlen);
@@ -53,6 +88,7 @@ int rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen)
         return rc;
     }
     uwb_rig_set_log(d->rig, rig_log, d);
+    uwb_rig_set_progress(d->rig, rig_progress, d);
     snprintf(d->rig_state, sizeof d->rig_state, "ready");
     return rc;
 }
@@ -107,6 +143,10 @@ int worker_start(struct daemon *d)
     baseline_request_fill(d, &d->job.request);
     int pending = d->job.request.make_baseline;
     d->job.baseline_request = pending ? d->baseline_requests : 0;
+    long long now_ms = (long long)(uwb_monotonic_s() * 1000.0);
+    atomic_store(&d->progress_done, 0);
+    atomic_store(&d->progress_total, d->cfg.rig.positions);
+    atomic_store(&d->progress_start_ms, now_ms);
     scan_stop = 0;   /* before the thread exists: pthread_create orders it */
     int rc = pthread_create(&d->job.thread, NULL, worker_main, d);
     if (rc != 0) {

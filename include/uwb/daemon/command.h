@@ -20,12 +20,14 @@ enum uwb_command_kind {
     UWB_COMMAND_HISTORY,       /* history [N]    the last N verdicts, newest last */
     UWB_COMMAND_BASELINE_SET,  /* baseline set   the next good scan becomes the baseline */
     UWB_COMMAND_HELP,          /* help           the commands */
+    UWB_COMMAND_WATCH,         /* watch [off|progress], ?WATCH={"enable":true}  stream PROGRESS and VERDICT lines */
 };
 
 struct uwb_command {
     enum uwb_command_kind kind;
     int count;                 /* history: how many; baseline set: scans to average (0 = the configured default) */
     int force;                 /* baseline set force: also on a scan that is an alarm against the current baseline */
+    int watch;                 /* watch: 1 PROGRESS and VERDICT lines, 2 PROGRESS only, 0 off */
 };
 
 enum uwb_command_result {

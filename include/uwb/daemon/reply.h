@@ -6,6 +6,8 @@
 #ifndef UWB_DAEMON_REPLY_H
 #define UWB_DAEMON_REPLY_H
 
+#include "uwb/daemon/scan_progress.h"
+
 #include "uwb/daemon/baseline_store.h"
 
 #define UWBD_PROTOCOL_MAJOR 1
@@ -28,6 +30,7 @@ struct uwbd_status {
     const char *rig;               /* "ready" or why not */
     const char *console;           /* endpoint, or NULL when none */
     const char *fault;             /* a device fault (the baseline failed its check), or NULL */
+    const struct uwbd_scan_progress *progress; /* while scanning, or NULL */
 };
 
 char *uwbd_reply_error(const char *message);
@@ -37,5 +40,7 @@ char *uwbd_reply_status(const struct uwbd_status *status);
  * becomes a summary (scan_id, created, status, reason, displacement). */
 char *uwbd_reply_history(char *const *verdict_lines, int count, int requested, int skipped);
 char *uwbd_reply_baseline(int pending, int has_current, const struct uwbd_baseline_info *current);
+/* The answer to `watch`: what this connection will now be sent. */
+char *uwbd_reply_watch(int watch);
 
 #endif
