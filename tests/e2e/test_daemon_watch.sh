@@ -94,4 +94,16 @@ json_check --each-line scan.err 'class == PROGRESS' || fail "ctl scan stderr: $(
 tail -n 1 scan.err | json_check - "position = $positions" || fail "ctl scan: last PROGRESS $(tail -n 1 scan.err)"
 pass "ctl scan: stdout one VERDICT line, stderr $(wc -l < scan.err) PROGRESS lines ending at $positions of $positions"
 
+# ---- ctl scan on a terminal: a bar redrawn in place (script(1) gives it a pty) --
+if command -v script > /dev/null; then
+    script -qec "${UWB_EXEC_PREFIX:-} $BUILD/uwbd ctl --socket run/control.sock scan" /dev/null > tty.out ||
+        fail "ctl scan on a terminal: $(cat tty.out)"
+    grep -q "\[#\{30\}\] $positions/$positions positions" tty.out || fail "no full progress bar: $(cat -v tty.out)"
+    [[ $(tr '\r' '\n' < tty.out | grep -c 'positions  ') -ge $positions ]] ||
+        fail "the bar was not redrawn at every position: $(cat -v tty.out)"
+    grep -q '"class":"PROGRESS"' tty.out && fail "PROGRESS lines on a terminal: $(cat -v tty.out)"
+    tail -n 1 tty.out | tr -d '\r' | json_check - 'class == VERDICT' || fail "ctl scan on a terminal: last line $(tail -n 1 tty.out)"
+    pass "ctl scan on a terminal: a progress bar redrawn with \\r, then the VERDICT line"
+fi
+
 echo "$passed passed"

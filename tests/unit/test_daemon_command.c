@@ -59,6 +59,27 @@ static void test_every_command(void)
     TEST_ASSERT_EQUAL_INT(1, cmd.count);
 }
 
+/* `watch` and gpsd's ?WATCH form (longer than any word: once refused as "too long"). */
+static void test_watch_forms(void)
+{
+    assert_command("watch", UWB_COMMAND_WATCH);
+    TEST_ASSERT_EQUAL_INT(1, cmd.watch);
+    assert_command("watch progress", UWB_COMMAND_WATCH);
+    TEST_ASSERT_EQUAL_INT(2, cmd.watch);
+    assert_command("watch off", UWB_COMMAND_WATCH);
+    TEST_ASSERT_EQUAL_INT(0, cmd.watch);
+    assert_command("?WATCH={\"enable\":true}", UWB_COMMAND_WATCH);
+    TEST_ASSERT_EQUAL_INT(1, cmd.watch);
+    assert_command("?WATCH={\"enable\": true};\r\n", UWB_COMMAND_WATCH);
+    TEST_ASSERT_EQUAL_INT(1, cmd.watch);
+    assert_command("?WATCH={\"enable\":false}", UWB_COMMAND_WATCH);
+    TEST_ASSERT_EQUAL_INT(0, cmd.watch);
+    assert_invalid("?WATCH={\"json\":true}", "?WATCH");
+    TEST_ASSERT_NULL_MESSAGE(strstr(err, "too long"), err);
+    assert_invalid("watch on", "watch off");
+    assert_invalid("watch off now", "unexpected argument");
+}
+
 static void test_line_endings_and_spacing(void)
 {
     assert_command("status\n", UWB_COMMAND_STATUS);
@@ -188,6 +209,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_every_command);
+    RUN_TEST(test_watch_forms);
     RUN_TEST(test_line_endings_and_spacing);
     RUN_TEST(test_bad_arguments);
     RUN_TEST(test_bounds_and_bytes);
