@@ -23,6 +23,10 @@
 #include "uwb/rig.h"
 
 #define MAX_CLIENTS 16
+/* Clients other than root and the daemon's own user (control-group members)
+ * fill at most this many slots: the last is kept so that an administrator
+ * can always get in, as PostgreSQL keeps superuser_reserved_connections. */
+#define MAX_ORDINARY_CLIENTS (MAX_CLIENTS - 1)
 /* A reply that cannot be sent within this is dropped with its client (the
  * console's blocking write; a control client's queue that makes no progress). */
 #define SEND_TIMEOUT_MS 2000
@@ -54,6 +58,7 @@ struct peer {
     char *out;                     /* queued reply bytes not yet sent (control clients) */
     size_t out_len, out_cap;
     double out_progress_s;         /* CLOCK_MONOTONIC of the queue's last progress */
+    int privileged;                /* connected as root or the daemon's own user (SO_PEERCRED) */
 };
 
 struct scan_job {

@@ -1,6 +1,8 @@
 /* Who talks to the daemon: control-socket clients and the serial console.
  * Both send command lines and get one JSON line per reply; a `scan` reply
  * is sent when that scan's verdict exists. */
+/* struct ucred (SO_PEERCRED) is a GNU extension of <sys/socket.h>. */
+#define _GNU_SOURCE
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
@@ -341,22 +343,34 @@ static void feed(struct daemon *d, struct peer *p, const char *buf, size_t n)
     }
 }
 
-/* With every slot taken, the client whose current command line began
- * longest ago, at least CLIENT_IDLE_EVICT_S before (and that is not waiting
- * for a scan), makes room. Counted from its last complete line, not its
- * last byte: clients that trickle a byte a second or say nothing cannot
- * lock the operators out for more than that. */
-static struct peer *client_to_drop(struct daemon *d, double now)
+/* With every slot the newcomer may use taken, the client whose current
+ * command line began longest ago, at least CLIENT_IDLE_EVICT_S before (and
+ * that is not waiting for a scan), makes room; only an ordinary one when
+ * ordinary clients are at their limit. Counted from its last complete line,
+ * not its last byte: clients that trickle a byte a second or say nothing
+ * cannot lock the operators out for more than that. */
+static struct peer *client_to_drop(struct daemon *d, double now, int ordinary_only)
 {
     struct peer *oldest = NULL;
     for (int i = 0; i < MAX_CLIENTS; i++) {
         struct peer *p = &d->clients[i];
-        if (!p->in_use || p->waiting_for || now - p->line_since_s < CLIENT_IDLE_EVICT_S)
+        if (!p->in_use || p->waiting_for || now - p->line_since_s < CLIENT_IDLE_EVICT_S ||
+            (ordinary_only && p->privileged))
             continue;
         if (!oldest || p->line_since_s < oldest->line_since_s)
             oldest = p;
     }
     return oldest;
+}
+
+/* Root and the daemon's own user; an unknown peer counts as ordinary. */
+static int peer_is_privileged(int fd)
+{
+    struct ucred cred;
+    socklen_t len = sizeof cred;
+    if (getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) != 0 || len != sizeof cred)
+        return 0;
+    return cred.uid == 0 || cred.uid == geteuid();
 }
 
 void peer_accept(struct daemon *d)
@@ -373,23 +387,37 @@ void peer_accept(struct daemon *d)
         return;
     }
     double now = uwb_monotonic_s();
+    int privileged = peer_is_privileged(fd), ordinary = 0;
     struct peer *slot = NULL;
-    for (int i = 0; i < MAX_CLIENTS && !slot; i++)
-        if (!d->clients[i].in_use)
+    for (int i = 0; i < MAX_CLIENTS; i++) {
+        if (!d->clients[i].in_use && !slot)
             slot = &d->clients[i];
-    if (!slot && (slot = client_to_drop(d, now)) != NULL) {
+        ordinary += d->clients[i].in_use && !d->clients[i].privileged;
+    }
+    int ordinary_full = !privileged && ordinary >= MAX_ORDINARY_CLIENTS;
+    if (ordinary_full)
+        slot = NULL;
+    if (!slot && (slot = client_to_drop(d, now, ordinary_full)) != NULL) {
         uwbd_log(UWBD_LOG_NOTICE, "control: %d clients connected; dropping one idle for %.1f s (no complete command line) to make room",
-                 MAX_CLIENTS, now - slot->line_since_s);
+                 ordinary_full ? MAX_ORDINARY_CLIENTS : MAX_CLIENTS, now - slot->line_since_s);
         peer_close(slot);
     }
     if (slot) {
         slot->in_use = 1;
         slot->fd = fd;
+        slot->privileged = privileged;
         slot->last_active_s = slot->line_since_s = now;
         return;
     }
+    char why[160];
+    if (ordinary_full)
+        snprintf(why, sizeof why, "too many control clients (%d of %d; the last is kept for root and the daemon's user); try again later",
+                 MAX_ORDINARY_CLIENTS, MAX_CLIENTS);
+    else
+        snprintf(why, sizeof why, "too many control clients (%d of %d); try again later", MAX_CLIENTS, MAX_CLIENTS);
+    uwbd_log(UWBD_LOG_INFO, "control: a client was turned away: %s", why);
     struct peer turned_away = {.kind = PEER_CONTROL, .in_use = 1, .fd = fd};
-    reply(d, &turned_away, uwbd_reply_error("too many control clients; try again later"));
+    reply(d, &turned_away, uwbd_reply_error(why));
     peer_close(&turned_away);
 }
 

@@ -16,6 +16,11 @@
  *       checks: one more is told "too many control clients"; after 2.5 s
  *       of silence a new client is served, the longest-idle client was the
  *       one dropped, and the next one is still served.
+ *       As root, then: N-1 clients of uid 65534 (in the socket's group)
+ *       send `status` every 0.5 s and read the replies; after 2.5 s one more
+ *       of them is refused with the slot kept for root named, and a root
+ *       client is still answered. The socket's directories must let that
+ *       uid through. Not root: that part is skipped, saying so.
  *   unix_peer invert SOCKET [CONNECT_TIMEOUT_S]
  *       The host end of a guest UART for make test-board's serial test
  *       (tests/board/test_serial_link.c): connects to qemu's chardev socket
@@ -25,12 +30,15 @@
  * Every wait is bounded (60 s); exit 0 when all went as expected, 1 not. */
 #include <cjson/cJSON.h>
 #include <errno.h>
+#include <grp.h>
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -374,6 +382,122 @@ static int reply_class_is(int fd, const char *line, const char *want)
     return ok;
 }
 
+#define FLOOD_UID 65534   /* nobody: neither root nor the daemon's user */
+#define FLOOD_TICK_S 0.5
+#define FLOOD_HOLD_S 2.5
+
+/* In a child that has become FLOOD_UID (in the socket's group, as a
+ * control-group member would be): `fresh` clients hold their slots by
+ * sending `status` every FLOOD_TICK_S and reading the reply. After
+ * FLOOD_HOLD_S, past the daemon's 2 s idle rule, one more such client must
+ * be refused with the reserved slot named; then one byte on `ready` tells
+ * the parent, and the flood goes on until the parent closes `stop`. */
+static int flood_as_nobody(const char *path, int fresh, int ready, int stop)
+{
+    struct stat st;
+    if (stat(path, &st) != 0 || setgroups(0, NULL) != 0 || setgid(st.st_gid) != 0 || setuid(FLOOD_UID) != 0)
+        return fail("slots: cannot become an unprivileged control-group member");
+    int *fds = calloc((size_t)fresh, sizeof *fds);
+    if (!fds)
+        return fail("out of memory");
+    for (int i = 0; i < fresh; i++)
+        if ((fds[i] = connect_to(path)) < 0)
+            return fail("slots: an unprivileged client cannot connect (socket or directory permissions?)");
+    int ok = 1, told = 0, rounds = 0;
+    double start = uwb_monotonic_s();
+    for (;;) {
+        for (int i = 0; ok && i < fresh; i++)
+            if (!reply_class_is(fds[i], "status\n", "STATUS")) {
+                fprintf(stderr, "unix_peer: unprivileged client %d lost its slot after %d rounds\n", i + 1, rounds);
+                ok = 0;
+            }
+        rounds++;
+        if (ok && !told && uwb_monotonic_s() - start >= FLOOD_HOLD_S) {
+            int extra = connect_to(path);
+            struct inbox in = {0};
+            if (extra < 0 || read_lines(extra, &in, 1) != 0) {
+                fprintf(stderr, "unix_peer: unprivileged client %d got no reply (want refused)\n", fresh + 1);
+                ok = 0;
+            } else {
+                char *reply = take_line(&in);
+                if (!strstr(reply, "too many control clients") || !strstr(reply, "kept for root")) {
+                    fprintf(stderr, "unix_peer: unprivileged client %d: %s, want the reserved slot named\n",
+                            fresh + 1, reply);
+                    ok = 0;
+                } else {
+                    printf("slots: %d unprivileged clients fresh for %.1f s (%d rounds of status); the next: %s\n",
+                           fresh, uwb_monotonic_s() - start, rounds, reply);
+                    fflush(stdout);
+                }
+                free(reply);
+            }
+            free(in.buf);
+            if (extra >= 0)
+                close(extra);
+            told = 1;
+            if (write(ready, ok ? "y" : "n", 1) != 1)
+                ok = 0;
+        }
+        if (!ok)
+            break;
+        struct pollfd p = {.fd = stop, .events = POLLIN};
+        int r = poll(&p, 1, (int)(FLOOD_TICK_S * 1000));
+        if (r > 0 || (r < 0 && errno != EINTR))
+            break;   /* the parent is done */
+        if (uwb_monotonic_s() - start > WAIT_S) {
+            ok = fail("slots: the parent never finished");
+            break;
+        }
+    }
+    if (!told && write(ready, "n", 1) != 1)
+        ok = 0;
+    for (int i = 0; i < fresh; i++)
+        close(fds[i]);
+    free(fds);
+    return ok ? 0 : 1;
+}
+
+/* The slot kept for the administrator: n-1 unprivileged clients that keep
+ * sending commands fill what they may; the next is refused, and root is
+ * still answered. */
+static int reserved_slot(const char *path, int n)
+{
+    int ready[2], stop[2];
+    if (pipe(ready) != 0 || pipe(stop) != 0)
+        return fail("slots: pipe");
+    fflush(stdout);
+    pid_t child = fork();
+    if (child < 0)
+        return fail("slots: fork");
+    if (child == 0) {
+        close(ready[0]);
+        close(stop[1]);
+        _exit(flood_as_nobody(path, n - 1, ready[1], stop[0]));
+    }
+    close(ready[1]);
+    close(stop[0]);
+    char said = 'n';
+    struct pollfd p = {.fd = ready[0], .events = POLLIN};
+    int ok = poll(&p, 1, (int)(WAIT_S * 1000)) > 0 && read(ready[0], &said, 1) == 1 && said == 'y';
+    if (ok) {
+        int admin = connect_to(path);
+        double asked = uwb_monotonic_s();
+        ok = admin >= 0 && reply_class_is(admin, "status\n", "STATUS");
+        if (ok)
+            printf("slots: root client answered STATUS in %.3f s while they held on\n", uwb_monotonic_s() - asked);
+        else
+            fprintf(stderr, "unix_peer: root was not answered while unprivileged clients held %d slots\n", n - 1);
+        if (admin >= 0)
+            close(admin);
+    }
+    close(stop[1]);
+    int status = 0;
+    if (waitpid(child, &status, 0) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        ok = 0;
+    close(ready[0]);
+    return ok ? 0 : 1;
+}
+
 static int slots(const char *path, const char *count)
 {
     int n = atoi(count);
@@ -425,7 +549,15 @@ static int slots(const char *path, const char *count)
     close(extra);
     close(late);
     free(idle);
-    return ok ? 0 : 1;
+    if (!ok)
+        return 1;
+
+    sleep_s(0.3);   /* the daemon sees them gone */
+    if (geteuid() != 0) {
+        printf("slots: SKIPPED the slot kept for root: it needs root to connect as another user (uid %d)\n", FLOOD_UID);
+        return 0;
+    }
+    return reserved_slot(path, n);
 }
 
 static int invert(const char *path, const char *timeout_arg)
