@@ -471,13 +471,21 @@ void peer_readable(struct daemon *d, struct peer *p)
         console_lost(d, err);
 }
 
-void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error)
+/* The control clients' slots and the console: every peer a verdict or a
+ * progress line may go to. Returns how many there are. */
+static int every_peer(struct daemon *d, struct peer *all[MAX_CLIENTS + 1])
 {
-    struct peer *all[MAX_CLIENTS + 1];
     int n = 0;
     for (int i = 0; i < MAX_CLIENTS; i++)
         all[n++] = &d->clients[i];
     all[n++] = &d->console;
+    return n;
+}
+
+void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error)
+{
+    struct peer *all[MAX_CLIENTS + 1];
+    int n = every_peer(d, all);
     for (int i = 0; i < n; i++) {
         struct peer *p = all[i];
         if (p->in_use && p->watching == WATCH_ALL && p->waiting_for != cycle && line)
@@ -499,10 +507,7 @@ void peers_send_progress(struct daemon *d)
         return;
     char *line = NULL;
     struct peer *all[MAX_CLIENTS + 1];
-    int n = 0;
-    for (int i = 0; i < MAX_CLIENTS; i++)
-        all[n++] = &d->clients[i];
-    all[n++] = &d->console;
+    int n = every_peer(d, all);
     for (int i = 0; i < n; i++) {
         if (!all[i]->in_use || !all[i]->watching)
             continue;
