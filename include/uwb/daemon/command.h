@@ -21,6 +21,7 @@ enum uwb_command_kind {
     UWB_COMMAND_BASELINE_SET,  /* baseline set   the next good scan becomes the baseline */
     UWB_COMMAND_HELP,          /* help           the commands */
     UWB_COMMAND_WATCH,         /* watch [off|progress], ?WATCH={"enable":true}  stream PROGRESS and VERDICT lines */
+    /* WATCH is the last kind: tests/fuzz/fuzz_command.c checks kinds against it. */
 };
 
 struct uwb_command {
