@@ -28,9 +28,13 @@ reply() {
     name=$1
     shift
     began=$(uptime_s)
-    out=$(ctl "$@" 2>&1)
+    # stdout is the one reply line; stderr carries uwbd ctl scan's PROGRESS
+    # lines and, on failure, the reason.
+    out=$(ctl "$@" 2>run/ctl.err)
     status=$?
+    [ $status -ne 0 ] && [ -z "$out" ] && out=$(tail -n 1 run/ctl.err)
     echo "BOARD-REPLY $name $status $out"
+    echo "BOARD: $name: $(grep -c '"PROGRESS"' run/ctl.err) progress lines on stderr"
     echo "BOARD: $name took $(awk -v a="$began" -v b="$(uptime_s)" 'BEGIN { printf "%.1f", b - a }') s"
     return $status
 }
