@@ -16,7 +16,7 @@
 #include "scratch_support.h"
 #include "uwb/atomic_file.h"
 #include "uwb/daemon/baseline_store.h"
-#include "uwb/daemon/direct_coupling.h"
+#include "uwb/direct_coupling.h"
 #include "uwb/daemon/retention.h"
 #include "uwb/daemon/store.h"
 #include "uwb/daemon/verdict_log.h"
