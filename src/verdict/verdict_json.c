@@ -16,10 +16,11 @@ const char *uwb_status_name(enum uwb_status status)
     return "unknown";
 }
 
-/* Millimetres to 0.01 mm: finer digits would claim precision nobody has. */
+/* Millimetres to 0.01 mm: finer digits would claim precision nobody has.
+ * (+ 0.0 turns a -0 from rounding a small negative into 0.) */
 static void add_mm(cJSON *obj, const char *key, double metres)
 {
-    cJSON_AddNumberToObject(obj, key, round(metres * 1e5) / 100.0);
+    cJSON_AddNumberToObject(obj, key, round(metres * 1e5) / 100.0 + 0.0);
 }
 
 static void add_edges(cJSON *obj, const struct uwb_edges *e)
@@ -32,7 +33,7 @@ static void add_edges(cJSON *obj, const struct uwb_edges *e)
 
 void uwb_json_add_ps(cJSON *obj, const char *key, double seconds)
 {
-    cJSON_AddNumberToObject(obj, key, round(seconds * 1e13) / 10.0);
+    cJSON_AddNumberToObject(obj, key, round(seconds * 1e13) / 10.0 + 0.0);
 }
 
 cJSON *uwb_verdict_object(const struct uwb_verdict *v)

@@ -101,6 +101,19 @@ static void test_a_time_zero_not_recorded_is_measured_on_the_baseline(void)
     TEST_ASSERT_FALSE(v.has_direct_coupling_shift);
 }
 
+/* A shift a hair under zero is printed 0, not -0. */
+static void test_a_shift_that_rounds_to_zero_prints_as_zero(void)
+{
+    struct uwb_baseline_record rec = {.scan = &intact, .has_direct_coupling = 1,
+                                      .direct_coupling_s = intact_arrival_s + 0.01e-12};
+    struct uwb_verdict v;
+    evaluate(&rec, &v);
+    TEST_ASSERT_TRUE(v.direct_coupling_shift_s < 0);
+    char *text = uwb_verdict_to_json(&v);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "\"direct_coupling_shift_ps\":0,"), text);
+    cJSON_free(text);
+}
+
 static void test_a_scan_without_a_direct_coupling_is_not_compared(void)
 {
     /* Nothing but a constant in the direct-coupling window: a disconnected cable. */
@@ -136,6 +149,7 @@ int main(void)
     RUN_TEST(test_a_time_zero_moved_past_the_tolerance_is_not_compared);
     RUN_TEST(test_a_time_zero_within_the_tolerance_is_compared);
     RUN_TEST(test_a_time_zero_not_recorded_is_measured_on_the_baseline);
+    RUN_TEST(test_a_shift_that_rounds_to_zero_prints_as_zero);
     RUN_TEST(test_a_scan_without_a_direct_coupling_is_not_compared);
     RUN_TEST(test_the_recorded_repeatability_adds_spread_over_root_n);
     return UNITY_END();
