@@ -251,6 +251,8 @@ static void test_moved_direct_coupling_is_inconclusive_not_compared(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(res.reason, "cable or antenna changed?"), res.reason);
     cJSON *v = verdict();
     TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(v, "axial_displacement_mm"));
+    /* The evaluation's figure for the move, also when it declined the scan. */
+    TEST_ASSERT_DOUBLE_WITHIN(1.0, 40.0, number(v, "direct_coupling_shift_ps"));
     cJSON_Delete(v);
 
     rig.delay_samples = 1;   /* 10 ps: within the tolerance, compared */
