@@ -399,7 +399,7 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     }
 
     struct uwb_scan base = {0};
-    struct uwbd_baseline_info info;
+    struct uwbd_baseline_info info = {0};
     int b = uwbd_baseline_watch(c->store, c->cfg->evaluate.direct_coupling.window_end_s,
                                 c->req->has_expected ? &c->req->expected : NULL, &base, &info, c->res->fault,
                                 sizeof c->res->fault);
