@@ -130,7 +130,7 @@ tests: $(TEST_BIN) $(E2E_HELPER_BIN)
 # Tools may include each other's headers (e.g. tools/uwbsim/...); the
 # library in src/ may not.
 $(BUILD)/obj/tools/%.o: EXTRA_CFLAGS := -Itools
-$(BUILD)/obj/tests/%.o: EXTRA_CFLAGS := -I$(UNITY_DIR) -Itools -Itests/unit \
+$(BUILD)/obj/tests/%.o: EXTRA_CFLAGS := -I$(UNITY_DIR) -Itools -Itests/unit -Isrc \
                                         $(UNITY_DEFS) -DUWB_BUILD_DIR='"$(BUILD)"'
 
 $(BUILD)/obj/%.o: %.c
