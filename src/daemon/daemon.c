@@ -24,6 +24,7 @@
 #include "uwb/daemon/exit_codes.h"
 #include "uwb/daemon/log.h"
 #include "uwb/daemon/service_notify.h"
+#include "uwb/daemon/state_open.h"
 #include "uwb/daemon/test_hang.h"
 #include "uwb/daemon/verdict_log.h"
 #include "uwb/monotonic.h"
@@ -564,7 +565,7 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         return UWBD_EXIT_CANT_CREATE;
     }
     int repairs = 0;
-    if (uwbd_store_open(&d->store, d->cfg.state_dir, &repairs, err, sizeof err) != 0) {
+    if (uwbd_state_open(&d->store, d->cfg.state_dir, &repairs, err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_ERR, "state directory: %s", err);
         return UWBD_EXIT_CANT_CREATE;
     }

@@ -15,7 +15,6 @@
 
 #include "uwb/atomic_file.h"
 #include "uwb/daemon/log.h"
-#include "uwb/daemon/verdict_log.h"
 
 int uwbd_path_join(char *out, size_t n, const char *dir, const char *name)
 {
@@ -186,12 +185,8 @@ int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repair
     }
     struct cleanup cleanup = {0, 0};
     remove_stale_temporaries(store, &cleanup);
-    int removed = cleanup.removed;
-    long dropped = 0;
-    if (uwbd_verdict_log_repair(store, &dropped, err, errlen) != 0)
-        return -1;
     if (repairs)
-        *repairs = removed + (dropped > 0);
+        *repairs = cleanup.removed;
     return 0;
 }
 
