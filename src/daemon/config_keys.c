@@ -9,7 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 #include "uwb/frame.h"
 #include "uwb/scan.h"
 

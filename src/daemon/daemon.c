@@ -1,7 +1,7 @@
 /* The daemon's main loop and its life: start-up checks in the order an
  * installer fixes them (config, user, state directory, control socket,
  * hardware), then poll() until SIGTERM/SIGINT, then a safe shutdown. */
-#include "uwb/daemon/daemon.h"
+#include "daemon/daemon.h"
 
 #include <errno.h>
 #include <poll.h>
@@ -21,12 +21,12 @@
 #include <cjson/cJSON.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/exit_codes.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/service_notify.h"
-#include "uwb/daemon/state_open.h"
-#include "uwb/daemon/test_hang.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/exit_codes.h"
+#include "daemon/log.h"
+#include "daemon/service_notify.h"
+#include "daemon/state_open.h"
+#include "daemon/test_hang.h"
+#include "daemon/verdict_log.h"
 #include "uwb/monotonic.h"
 
 static void worker_beat(struct daemon *d);

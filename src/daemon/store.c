@@ -1,6 +1,6 @@
 /* The state directory: creating its rooms, tidying what a crash left, and
  * naming files inside it. */
-#include "uwb/daemon/store.h"
+#include "daemon/store.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 #include "uwb/atomic_file.h"
-#include "uwb/daemon/log.h"
+#include "daemon/log.h"
 
 int uwbd_path_join(char *out, size_t n, const char *dir, const char *name)
 {

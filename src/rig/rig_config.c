@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "../daemon/config_keys.h"
-#include "uwb/carriage.h"
+#include "rig/carriage.h"
 #include "uwb/frame.h"
 #include "uwb/rig.h"
 #include "uwb/scan.h"

@@ -15,7 +15,7 @@
 #include "daemon/config_keys.h"
 #include "scratch_support.h"
 #include "uwb/cli.h"
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 
 #define SAMPLE_EMULATED "board/emulated/uwbd.json"
 

@@ -15,12 +15,12 @@
 
 #include "scratch_support.h"
 #include "uwb/atomic_file.h"
-#include "uwb/daemon/baseline_store.h"
+#include "daemon/baseline_store.h"
 #include "uwb/daemon/direct_coupling.h"
-#include "uwb/daemon/retention.h"
-#include "uwb/daemon/state_open.h"
-#include "uwb/daemon/store.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/retention.h"
+#include "daemon/state_open.h"
+#include "daemon/store.h"
+#include "daemon/verdict_log.h"
 
 #define WINDOW_END_S 2e-9
 

@@ -12,7 +12,7 @@
 #include <stddef.h>
 #include <time.h>
 
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 
 #define UWBD_SCAN_ID_MAX 100
 

@@ -7,7 +7,7 @@
 
 #include <stddef.h>
 
-#include "uwb/daemon/store.h"
+#include "daemon/store.h"
 
 /* uwbd_store_open, then uwbd_verdict_log_repair: a torn last line is cut off
  * verdicts.jsonl. *repairs (may be NULL) counts the leftovers removed, plus
