@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../daemon/config_keys.h"
+#include "daemon/config_keys.h"
 #include "rig/carriage.h"
 #include "uwb/frame.h"
 #include "uwb/rig.h"
