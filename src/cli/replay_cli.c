@@ -13,8 +13,8 @@
 
 #include "uwb/atomic_file.h"
 #include "uwb/cli.h"
-#include "uwb/daemon/baseline_store.h"
-#include "uwb/daemon/daemon.h"
+#include "daemon/baseline_store.h"
+#include "daemon/daemon.h"
 #include "uwb/evaluate.h"
 #include "uwb/scan.h"
 #include "uwb/verdict_json.h"
@@ -158,12 +158,12 @@ static int write_verdict_file(const char *dir, const char *stem, const char *jso
     char path[4096], err[1024];
     snprintf(path, sizeof path, "%s/%s.json", dir, stem);
     struct atomic_file af;
-    if (atomic_file_open(&af, path, err, sizeof err) != 0) {
+    if (uwb_atomic_file_open(&af, path, err, sizeof err) != 0) {
         fprintf(stderr, "uwbd: %s\n", err);
         return -1;
     }
     fprintf(af.fp, "%s\n", json);
-    if (atomic_file_commit(&af, err, sizeof err) != 0) {
+    if (uwb_atomic_file_commit(&af, err, sizeof err) != 0) {
         fprintf(stderr, "uwbd: %s\n", err);
         return -1;
     }

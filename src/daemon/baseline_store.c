@@ -3,7 +3,7 @@
  * and the json can be rebuilt from it. current.json records the scan's
  * CRC-32 at commissioning, so a baseline damaged or replaced later is
  * noticed at the next scan instead of trusted. */
-#include "uwb/daemon/baseline_store.h"
+#include "daemon/baseline_store.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -14,8 +14,8 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include "daemon/log.h"
 #include "uwb/direct_coupling.h"
-#include "uwb/daemon/log.h"
 #include "uwb/read_file.h"
 
 #define INFO_MAX 65536
