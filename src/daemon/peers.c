@@ -18,6 +18,7 @@
 #include "uwb/daemon/command.h"
 #include "uwb/daemon/log.h"
 #include "uwb/daemon/reply.h"
+#include "uwb/daemon/trend.h"
 #include "uwb/daemon/verdict_log.h"
 #include "uwb/monotonic.h"
 
@@ -227,6 +228,21 @@ static char *status_reply(struct daemon *d)
     return uwbd_reply_status(&st);
 }
 
+/* `trend N`: read from verdicts.jsonl, like `history`. */
+static char *trend_reply(struct daemon *d, int n)
+{
+    struct uwb_trend t;
+    char err[512], image[UWBD_PATH_MAX + 32];
+    if (uwbd_trend_read(&d->store, n, &t, err, sizeof err) != 0) {
+        uwbd_log(UWBD_LOG_ERR, "trend: %s", err);
+        return uwbd_reply_error(err);
+    }
+    int has_image = uwbd_trend_png_path(&d->store, image, sizeof image) == 0 && access(image, F_OK) == 0;
+    char *line = uwbd_reply_trend(&t, n, &d->cfg.evaluate.compare.thresholds, has_image ? image : NULL);
+    uwb_trend_free(&t);
+    return line;
+}
+
 static void run_command(struct daemon *d, struct peer *p, const struct uwb_command *cmd)
 {
     switch (cmd->kind) {
@@ -254,6 +270,9 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         uwbd_verdict_lines_free(lines, count);
         return;
     }
+    case UWB_COMMAND_TREND:
+        reply(d, p, trend_reply(d, cmd->count));
+        return;
     case UWB_COMMAND_BASELINE_SET:
         reply(d, p, baseline_request(d, cmd->count, cmd->force));
         return;
