@@ -17,8 +17,8 @@
 #   make soak             SOAK_CYCLES (1000) scan cycles of uwbd on the emulated board:
 #                         RSS, open fds and archive size must stay flat; then
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
-#   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}, the systemd unit, udev
-#                         rules, the Pi sample config (share/uwbd), board docs (share/doc/uwbd)
+#   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}, the systemd unit (and the
+#                         drop-in bounding systemd-time-wait-sync to 5 min), udev rules, the Pi sample config (share/uwbd), board docs (share/doc/uwbd)
 #                         and manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1)
 #   make man              the manual pages into $(BUILD)/man (uwbd.json.5 from the key table)
 #   make deb              board/debian -> $(BUILD)/deb/uwbd_VERSION_ARCH.deb (dpkg-buildpackage,
@@ -362,6 +362,8 @@ install: all $(MAN_PAGES)
 	    '$(DESTDIR)$(MANDIR)/man1' '$(DESTDIR)$(MANDIR)/man5' '$(DESTDIR)$(MANDIR)/man8'
 	sed -e 's|@bindir@|$(PREFIX)/bin|g' -e 's|@docdir@|$(DOCDIR)|g' board/uwbd.service \
 	    > '$(DESTDIR)$(UNITDIR)/uwbd.service'
+	install -D -m 0644 board/systemd-time-wait-sync-uwbd.conf \
+	    '$(DESTDIR)$(UNITDIR)/systemd-time-wait-sync.service.d/uwbd.conf'
 	install -m 0644 board/99-uwbd-digitiser.rules board/99-uwbd-gpio.rules '$(DESTDIR)$(UDEVRULESDIR)/'
 	install -m 0644 board/raspberry-pi-4/uwbd.json '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4/'
 	for f in $(DOC_FILES); do install -m 0644 "board/$$f" "$(DESTDIR)$(DOCDIR)/$$f" || exit 1; done
