@@ -202,6 +202,12 @@ const struct config_key uwbd_config_keys[] = {
            "when a scan's uncertainty is over analysis.max_uncertainty_mm and more pulses would bring it under "
            "(its noise part falls as 1/sqrt(pulses)), acquire again and average, for at most this long per "
            "scan cycle, before the verdict says inconclusive; 0 = never"),
+    STRING("site.phase", site_phase, "",
+           "the phase (or winding) this unit watches, as the site names it (e.g. B, L2, HV-B; at most 7 bytes); "
+           "shown in `status` and the trend image"),
+    STRING("site.label", site_label, "",
+           "a free label for people (e.g. Hillside GT2, north window; at most 63 bytes); shown in `status` and "
+           "the trend image"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];

@@ -224,6 +224,8 @@ static char *status_reply(struct daemon *d)
         .rig = d->scanning ? "scanning" : d->rig_state,
         .console = d->cfg.console_endpoint[0] ? d->cfg.console_endpoint : NULL,
         .progress = has_progress ? &progress : NULL,
+        .site_phase = d->cfg.site_phase,
+        .site_label = d->cfg.site_label,
     };
     return uwbd_reply_status(&st);
 }

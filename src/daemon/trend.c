@@ -24,6 +24,12 @@ int uwbd_trend_read(const struct uwbd_store *store, int n, struct uwb_trend *t, 
     return 0;
 }
 
+void uwbd_trend_site_text(const struct uwbd_config *cfg, char *buf, size_t n)
+{
+    const char *phase = cfg->site_phase, *label = cfg->site_label;
+    snprintf(buf, n, "%s%s%s%s", phase[0] ? "phase " : "", phase, phase[0] && label[0] ? ", " : "", label);
+}
+
 int uwbd_trend_png_path(const struct uwbd_store *store, char *path, size_t n)
 {
     return uwbd_path_join(path, n, store->root, UWBD_TREND_PNG_NAME);

@@ -375,13 +375,18 @@ int render_trend_png(const char *path, const struct uwb_trend *t, const struct u
     if (uwb_canvas_init(&c, UWB_TREND_PNG_WIDTH, UWB_TREND_PNG_HEIGHT, white, err, errlen) != 0)
         return -1;
     draw(&c, t, th, site);
-    char summary[1024];
+    char summary[1024], asset[256];
     uwb_trend_summary(t, th, summary, sizeof summary);
+    /* A site label may be UTF-8; tEXt is Latin-1: other bytes become '?'. */
+    snprintf(asset, sizeof asset, "%s", site ? site : "");
+    for (char *c = asset; *c; c++)
+        if ((unsigned char)*c < 0x20 || (unsigned char)*c > 0x7e)
+            *c = '?';
     /* tEXt is Latin-1: ASCII only here ("+/-", "sigma"). */
     struct uwb_png_text texts[] = {
         {"Title", "uwbd trend: axial displacement"},
         {"Description", summary},
-        {"Asset", site && site[0] ? site : NULL},
+        {"Asset", asset[0] ? asset : NULL},
         {"Software", "uwbd"},
     };
     int rc = uwb_canvas_write_png(&c, path, texts, 4, err, errlen);

@@ -86,13 +86,14 @@ wait_for test -S run/console.sock || fail "console listener did not come up"
 group_flag=()
 if [[ $(id -u) == 0 ]]; then group_flag=(--set control.group='"nogroup"'); fi
 ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" "${group_flag[@]}" --console unix:run/console.sock -v \
-    > uwbd.log 2>&1 &
+    --set site.phase='"B"' --set site.label='"Hillside GT2, north window"' > uwbd.log 2>&1 &
 daemon_pid=$!
 pids+=($daemon_pid)
 wait_for ctl status || fail "uwbd does not answer on its control socket"
 [[ $(stat -c %a run/control.sock) == 660 ]] || fail "control socket mode $(stat -c %a run/control.sock), want 660"
 ctl status > status0.json
-json_check status0.json 'class == STATUS' 'state == idle' 'baseline absent' || fail "first status: $(cat status0.json)"
+json_check status0.json 'class == STATUS' 'state == idle' 'baseline absent' 'site.phase == B' \
+    'site.label == Hillside GT2, north window' || fail "first status: $(cat status0.json)"
 pass "daemon up: control socket mode 0660, STATUS idle, no baseline"
 
 # A second daemon stops before it touches the state or the hardware.
@@ -169,6 +170,7 @@ grep -q "ALARM  *$(printf '%+.2f' "$shift_mm") ± $(printf '%.2f' "$uncertainty_
 [[ $(head -c 8 $state/trend.png | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] || fail "trend.png is not a PNG"
 grep -aq '2 verdicts: 1 with a figure, 0 inconclusive, 0 error, 1 edges only' $state/trend.png ||
     fail "trend.png does not describe the two verdicts"
+grep -aq 'phase B, Hillside GT2, north window' $state/trend.png || fail "trend.png does not name the site"
 pass "trend: JSON and --text from verdicts.jsonl; trend.png rewritten after the scan"
 ctl verdict > verdict.json
 json_check verdict.json '. same scan2.json' || fail "verdict is not the latest scan's"
