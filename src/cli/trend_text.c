@@ -36,6 +36,18 @@ static void upper(char *dst, size_t n, const char *src)
     dst[i] = '\0';
 }
 
+/* s left-aligned in `width` columns: printf counts bytes, a terminal
+ * counts characters, and "±" is two bytes. */
+static void column(FILE *out, const char *s, int width)
+{
+    int shown = 0;
+    for (const unsigned char *c = (const unsigned char *)s; *c; c++)
+        shown += (*c & 0xC0) != 0x80;
+    fputs(s, out);
+    for (; shown < width; shown++)
+        fputc(' ', out);
+}
+
 static void verdict_line(const cJSON *v, FILE *out)
 {
     char status[16], figure[64], height[32];
@@ -48,11 +60,13 @@ static void verdict_line(const cJSON *v, FILE *out)
     if (number(v, "height_change_mm", &h))
         snprintf(height, sizeof height, "%+7.2f mm", h);
     else
-        snprintf(height, sizeof height, "-");
+        snprintf(height, sizeof height, "-");   /* right-aligned under the figures' "mm" */
     /* "*" marks a baseline change: the figures before and after it are
      * against different references. */
-    fprintf(out, "%-20s %c %-12s  %-20s  %-10s  %s", text(v, "created", "(no time)"),
-            cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ', status, figure, height, text(v, "scan_id", ""));
+    fprintf(out, "%-20s %c %-12s  ", text(v, "created", "(no time)"), cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ',
+            status);
+    column(out, figure, 20);
+    fprintf(out, "  %10s  %s", height, text(v, "scan_id", ""));
     if (cJSON_IsTrue(item(v, "baseline_set")))
         fputs("  (became the baseline)", out);
     const char *reason = text(v, "reason", NULL);
@@ -76,8 +90,9 @@ int uwbd_trend_text(const char *reply, FILE *out)
     if (number(limits, "watch_mm", &watch) && number(limits, "alarm_mm", &alarm))
         fprintf(out, " (watch from %.2f mm, alarm from %.2f mm)", watch, alarm);
     fputc('\n', out);
-    fprintf(out, "%-20s   %-12s  %-20s  %-10s  %s\n", "created (UTC)", "status", "displacement \u00b1 1\u03c3",
-            "height chg", "scan");
+    fprintf(out, "%-20s   %-12s  ", "created (UTC)", "status");
+    column(out, "displacement \u00b1 1\u03c3", 20);
+    fprintf(out, "  %10s  %s\n", "height chg", "scan");
     const cJSON *v;
     cJSON_ArrayForEach(v, list)
         verdict_line(v, out);

@@ -172,6 +172,18 @@ static char *trend_as_text(const char *reply)
     return memstream_text;
 }
 
+/* Terminal column (characters, not bytes) of `at` in its line. */
+static int column_of(const char *text, const char *at)
+{
+    const char *line = at;
+    while (line > text && line[-1] != '\n')
+        line--;
+    int col = 0;
+    for (const unsigned char *c = (const unsigned char *)line; c < (const unsigned char *)at; c++)
+        col += (*c & 0xC0) != 0x80;
+    return col;
+}
+
 static void test_trend_reply_reads_as_a_table(void)
 {
     struct uwb_trend t;
@@ -203,6 +215,13 @@ static void test_trend_reply_reads_as_a_table(void)
     const char *s7 = strstr(text, "2026-03-08T06:00:00Z");
     TEST_ASSERT_NOT_NULL(s7);
     TEST_ASSERT_EQUAL_STRING_LEN(" * OK", s7 + 20, 5);
+    /* Columns line up on a terminal ("±" and "σ" are two bytes each):
+     * every scan id under the header's "scan". */
+    int scan_col = column_of(text, strstr(text, "scan\n"));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S2\n")));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S3\n")));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S6\n")));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S4\n")));
     TEST_ASSERT_NOT_NULL(strstr(text, "rate: -73.05 \u00b1 "));
     TEST_ASSERT_NOT_NULL(strstr(text, "watch from 2.00 mm, alarm from 5.00 mm"));
     TEST_ASSERT_NOT_NULL(strstr(text, "1 line of verdicts.jsonl could not be read"));
