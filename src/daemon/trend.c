@@ -1,12 +1,12 @@
-/* `trend` and trend.png (see uwb/daemon/trend.h). */
-#include "uwb/daemon/trend.h"
+/* `trend` and trend.png (see daemon/trend.h). */
+#include "daemon/trend.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
 
-#include "uwb/daemon/verdict_log.h"
-#include "uwb/render_trend.h"
+#include "daemon/verdict_log.h"
+#include "output/render_trend.h"
 
 int uwbd_trend_read(const struct uwbd_store *store, int n, struct uwb_trend *t, char *err, size_t errlen)
 {
@@ -46,7 +46,7 @@ int uwbd_trend_png_update(const struct uwbd_config *cfg, const struct uwbd_store
     struct uwb_trend t;
     if (uwbd_trend_read(store, UWBD_TREND_PNG_VERDICTS, &t, err, errlen) != 0)
         return -1;
-    int rc = render_trend_png(path, &t, &cfg->evaluate.compare.thresholds, site, err, errlen);
+    int rc = uwb_render_trend_png(path, &t, &cfg->evaluate.compare.thresholds, site, err, errlen);
     uwb_trend_free(&t);
     return rc;
 }

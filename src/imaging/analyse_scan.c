@@ -76,7 +76,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     double half = 0.6 * wavelength > 0.06 ? 0.6 * wavelength : 0.06;   /* two range cycles for the envelope */
     double z_lo = z_centre - half > 0.01 ? z_centre - half : 0.01;
     struct uwb_image fine = {0};
-    if (imaging_grid(&fine, conditioned, 0.15, aligned_dy(conditioned, FINE_DY_M), z_lo,
+    if (uwb_imaging_grid(&fine, conditioned, 0.15, aligned_dy(conditioned, FINE_DY_M), z_lo,
                      z_centre + half, FINE_DZ_M, err, errlen) != 0)
         return -1;
     if (y_lo_m < y_hi_m) {
@@ -90,7 +90,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
             fine.ny = last - first + 1;
         }
     }
-    if (imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen) != 0) {
+    if (uwb_imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen) != 0) {
         uwb_image_free(&fine);
         return -1;
     }
@@ -104,7 +104,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     int best = lo, row;
     double best_v = -1.0;
     for (int iz = lo; iz <= hi; iz++) {
-        double v = image_column_peak(&fine, iz, &row);
+        double v = uwb_image_column_peak(&fine, iz, &row);
         if (v > best_v) {
             best_v = v;
             best = iz;
@@ -115,8 +115,8 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
      * between two scans would move the model. */
     double offset = 0.0;
     if (best > 0 && best < fine.nz - 1) {
-        double before = image_column_peak(&fine, best - 1, &row);
-        double after = image_column_peak(&fine, best + 1, &row);
+        double before = uwb_image_column_peak(&fine, best - 1, &row);
+        double after = uwb_image_column_peak(&fine, best + 1, &row);
         double den = before - 2.0 * best_v + after;
         if (den < 0.0)
             offset = 0.5 * (before - after) / den;
@@ -126,11 +126,11 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     *z_face = fine.z0_m + (best + offset) * fine.dz_m;
     /* The ridge within a quarter wavelength: the face's range cell, wide
      * enough that which 1 mm row the peak fell on does not matter. */
-    int rc = face_profile(&fine, *z_face, wavelength / 4, profile, err, errlen);
+    int rc = uwb_face_profile_measure(&fine, *z_face, wavelength / 4, profile, err, errlen);
     uwb_image_free(&fine);
     if (rc != 0)
         return -1;
-    profile_edges(profile, opt->edge_fraction, edges);
+    uwb_profile_edges(profile, opt->edge_fraction, edges);
     return 0;
 }
 
@@ -149,7 +149,7 @@ static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geo
 static double symmetric_centre(const struct uwb_face_profile *p, const struct profile_edges *e)
 {
     double mid = 0.5 * (e->lower_m + e->upper_m);
-    return profile_symmetry_centre(p, mid, SYMMETRY_SPAN * 0.5 * (e->upper_m - e->lower_m),
+    return uwb_profile_symmetry_centre(p, mid, SYMMETRY_SPAN * 0.5 * (e->upper_m - e->lower_m),
                                    SYMMETRY_SEARCH_M);
 }
 
@@ -191,10 +191,10 @@ static int display_image(const struct uwb_scan *conditioned, const struct uwb_ge
                          const struct uwb_analysis_options *opt, double z_lo, double z_hi,
                          struct uwb_image *img, char *err, size_t errlen)
 {
-    if (imaging_grid(img, conditioned, 0.1, aligned_dy(conditioned, DISPLAY_DY_M), z_lo, z_hi,
+    if (uwb_imaging_grid(img, conditioned, 0.1, aligned_dy(conditioned, DISPLAY_DY_M), z_lo, z_hi,
                      DISPLAY_DZ_M, err, errlen) != 0)
         return -1;
-    return imaging_intensity(opt->migration, conditioned, g, img, err, errlen);
+    return uwb_imaging_intensity(opt->migration, conditioned, g, img, err, errlen);
 }
 
 /* Where the search says the winding is: its range and rough ends, widened
@@ -208,8 +208,8 @@ static void rough_window(const struct uwb_image *coarse, double z_face, double w
     char err[128];
     w->y_lo_m = ap_lo;
     w->y_hi_m = ap_hi;
-    if (face_profile(coarse, z_face, 0.0, &p, err, sizeof err) == 0) {
-        profile_edges(&p, 0.5, &e);
+    if (uwb_face_profile_measure(coarse, z_face, 0.0, &p, err, sizeof err) == 0) {
+        uwb_profile_edges(&p, 0.5, &e);
         if (e.ok) {
             w->y_lo_m = e.lower_m - wavelength;
             w->y_hi_m = e.upper_m + wavelength;
@@ -266,9 +266,9 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
     if (uwb_condition(scan, &g, &opt->condition, out->dominant_hz, NULL, &searched, err, errlen) != 0)
         return -1;
     struct uwb_image coarse = {0};
-    if (imaging_grid(&coarse, &searched, 0.1, aligned_dy(scan, COARSE_DY_M), z_lo, z_hi,
+    if (uwb_imaging_grid(&coarse, &searched, 0.1, aligned_dy(scan, COARSE_DY_M), z_lo, z_hi,
                      COARSE_DZ_M, err, errlen) != 0 ||
-        imaging_intensity(opt->migration, &searched, &g, &coarse, err, errlen) != 0) {
+        uwb_imaging_intensity(opt->migration, &searched, &g, &coarse, err, errlen) != 0) {
         finish_free(&searched, NULL, &coarse);
         return -1;
     }
@@ -276,7 +276,7 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
         &searched, uwb_condition_first_open_sample(&searched, &g, &opt->condition, out->dominant_hz));
     uwb_scan_free(&searched);
     struct face_candidate face;
-    if (face_search(&coarse, ap_lo, ap_hi, antenna_step(scan), &face, edges->reason,
+    if (uwb_face_search(&coarse, ap_lo, ap_hi, antenna_step(scan), &face, edges->reason,
                     sizeof edges->reason) != 0) {
         out->intensity = coarse;   /* show what was searched */
         return 0;
@@ -303,7 +303,7 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
     double *weight = malloc((size_t)scan->positions * sizeof *weight);
     struct uwb_scan quadrature = {0};
     if (!weight || (opt->remove_side_reflector &&
-                    quadrature_scan(&conditioned, &quadrature, err, errlen) != 0)) {
+                    uwb_quadrature_scan(&conditioned, &quadrature, err, errlen) != 0)) {
         if (!weight)
             snprintf(err, errlen, "out of memory for the aperture taper");
         free(weight);
@@ -330,7 +330,7 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
         taper_weights(&conditioned, centre, ap_lo, ap_hi, weight);
         struct side_reflector side = {0};
         if (side_pass) {
-            if (side_reflector_find(&conditioned, &quadrature, weight, &g, z_face, centre,
+            if (uwb_side_reflector_find(&conditioned, &quadrature, weight, &g, z_face, centre,
                                     0.5 * (pe.upper_m - pe.lower_m), out->dominant_hz, side_y,
                                     &side, err, errlen) != 0) {
                 free(weight);
@@ -347,12 +347,12 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
         profile.value = NULL;
         int rc = uwb_scan_copy(&tapered, &conditioned, err, errlen);
         if (rc == 0) {
-            side_reflector_remove(&side, &g, &tapered);
+            uwb_side_reflector_remove(&side, &g, &tapered);
             apply_weights(&tapered, weight);
             rc = measure_face(&tapered, &g, opt, z_face, out->dominant_hz, &z_face, &profile, &pe,
                               err, errlen);
         }
-        side_reflector_free(&side);
+        uwb_side_reflector_free(&side);
         uwb_scan_free(&out->measured);
         out->measured = tapered;
         if (rc != 0) {
@@ -425,7 +425,7 @@ void uwb_analysis_free(struct uwb_analysis *a)
     memset(a, 0, sizeof *a);
 }
 
-int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
+int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
                            const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
                            struct uwb_face_profile *p, char *err, size_t errlen)
 {

@@ -32,7 +32,7 @@ int uwb_migration_kind_parse(const char *name, enum uwb_migration_kind *kind)
 
 const char *uwb_migration_simd(void)
 {
-    return migrate_simd_name();
+    return uwb_migrate_simd_name();
 }
 
 static void sum_row_float(const int32_t *restrict idx, const float *restrict frac,
@@ -48,12 +48,12 @@ static int migrate_float(const struct uwb_scan *scan, const struct uwb_geometry 
                          struct uwb_image *img, char *err, size_t errlen)
 {
     struct delay_table t;
-    if (delay_table_plan(&t, DELAY_FLOAT, scan, g, img, err, errlen) != 0)
+    if (uwb_delay_table_plan(&t, DELAY_FLOAT, scan, g, img, err, errlen) != 0)
         return -1;
     int S = scan->samples;
     float *trace = malloc(((size_t)S + 2) * sizeof *trace);
     if (!trace) {
-        delay_table_free(&t);
+        uwb_delay_table_free(&t);
         snprintf(err, errlen, "migration: out of memory");
         return -1;
     }
@@ -61,7 +61,7 @@ static int migrate_float(const struct uwb_scan *scan, const struct uwb_geometry 
     for (int k = 0; k < scan->positions; k++) {
         memcpy(trace, scan->data + (size_t)k * S, (size_t)S * sizeof *trace);
         trace[S] = trace[S + 1] = 0.0f;   /* out-of-range delays read zeros */
-        delay_table_fill_trace(&t, scan, g, img, k);
+        uwb_delay_table_fill_trace(&t, scan, g, img, k);
         for (int iy = 0; iy < img->ny; iy++) {
             size_t row = delay_table_row(&t, k, iy);
             sum_row_float(t.index + row, t.frac + row, trace, img->pix + (size_t)iy * img->nz,
@@ -69,7 +69,7 @@ static int migrate_float(const struct uwb_scan *scan, const struct uwb_geometry 
         }
     }
     free(trace);
-    delay_table_free(&t);
+    uwb_delay_table_free(&t);
     return 0;
 }
 
@@ -94,23 +94,23 @@ static int migrate_fixed(int simd, const struct uwb_scan *scan, const struct uwb
     float scale = 32767.0f / peak;
 
     struct delay_table t;
-    if (delay_table_plan(&t, DELAY_FIXED, scan, g, img, err, errlen) != 0)
+    if (uwb_delay_table_plan(&t, DELAY_FIXED, scan, g, img, err, errlen) != 0)
         return -1;
     int16_t *pairs = malloc(((size_t)S + 1) * 2 * sizeof *pairs);
     int32_t *acc = calloc(npix, sizeof *acc);
     if (!pairs || !acc) {
         free(pairs);
         free(acc);
-        delay_table_free(&t);
+        uwb_delay_table_free(&t);
         snprintf(err, errlen, "migration: out of memory for a %d x %d image", img->ny, img->nz);
         return -1;
     }
     void (*sum_row)(const int32_t *restrict, const int16_t *restrict, const int16_t *restrict,
                     int32_t *restrict, int) =
-        simd ? migrate_row_fixed_simd : migrate_row_fixed_portable;
+        simd ? uwb_migrate_row_fixed_simd : uwb_migrate_row_fixed_portable;
     for (int k = 0; k < K; k++) {
-        migrate_fill_pairs(scan->data + (size_t)k * S, S, scale, pairs);
-        delay_table_fill_trace(&t, scan, g, img, k);
+        uwb_migrate_fill_pairs(scan->data + (size_t)k * S, S, scale, pairs);
+        uwb_delay_table_fill_trace(&t, scan, g, img, k);
         for (int iy = 0; iy < img->ny; iy++) {
             size_t row = delay_table_row(&t, k, iy);
             sum_row(t.index + row, t.weight_q15 + row, pairs, acc + (size_t)iy * img->nz,
@@ -121,7 +121,7 @@ static int migrate_fixed(int simd, const struct uwb_scan *scan, const struct uwb
         img->pix[i] = (float)acc[i] / scale;
     free(pairs);
     free(acc);
-    delay_table_free(&t);
+    uwb_delay_table_free(&t);
     return 0;
 }
 

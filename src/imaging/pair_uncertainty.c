@@ -85,7 +85,7 @@ static int noise_draw(struct uwb_scan *noise, const struct uwb_analysis *a,
     size_t n = (size_t)noise->positions * noise->samples;
     for (size_t i = 0; i < n; i++)
         noise->data[i] = (float)normal(state);
-    if (condition_band_limit(noise, &opt->condition, a->dominant_hz, err, errlen) != 0)
+    if (uwb_condition_band_limit(noise, &opt->condition, a->dominant_hz, err, errlen) != 0)
         return -1;
     double ss = 0.0;
     for (size_t i = 0; i < n; i++)
@@ -125,11 +125,11 @@ int uwb_shift_noise(const struct uwb_analysis *ca, const struct uwb_analysis *ba
             struct uwb_face_profile p;
             rc = noise_draw(&noise, a, opt, &state, err, errlen);
             if (rc == 0)
-                rc = analysis_measure_again(a, opt, &noise, rms, y_lo, y_hi, &p, err, errlen);
+                rc = uwb_analysis_measure_again(a, opt, &noise, rms, y_lo, y_hi, &p, err, errlen);
             if (rc != 0)
                 break;
-            double d = which == 0 ? analysis_shift(&p, &ba->profile, ba, shift_m)
-                                  : analysis_shift(&ca->profile, &p, ba, shift_m);
+            double d = which == 0 ? uwb_analysis_shift(&p, &ba->profile, ba, shift_m)
+                                  : uwb_analysis_shift(&ca->profile, &p, ba, shift_m);
             free(p.value);
             if (which == 0)
                 ss_cur += (d - shift_m) * (d - shift_m);

@@ -53,7 +53,7 @@ static double misfit(const struct uwb_face_profile *cur, const struct uwb_face_p
     return bb > 0.0 ? cc - cb * cb / bb : cc;
 }
 
-double profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+double uwb_profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                          double base_centre_m, double half_span_m, double guess_m)
 {
     double best_d = guess_m, best = INFINITY;
@@ -87,10 +87,10 @@ double profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_fa
 /* The fit compares the profiles over the baseline's winding, edge to edge
  * at half its peak: beyond, the winding's image falls off and the static
  * scene's share of the row grows. */
-double analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+double uwb_analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                       const struct uwb_analysis *base_analysis, double guess_m)
 {
-    return profile_shift_fit(cur, base, base_analysis->edges.center_m,
+    return uwb_profile_shift_fit(cur, base, base_analysis->edges.center_m,
                              0.5 * base_analysis->edges.height_m, guess_m);
 }
 
@@ -101,7 +101,7 @@ int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis 
         snprintf(err, errlen, "shift: the winding is not established in both scans");
         return -1;
     }
-    *shift_m = analysis_shift(&cur->profile, &base->profile, base,
+    *shift_m = uwb_analysis_shift(&cur->profile, &base->profile, base,
                               cur->edges.center_m - base->edges.center_m);
     return 0;
 }

@@ -1,7 +1,7 @@
 /* The intensity image painted into a plot: bilinear in linear amplitude,
  * then dB re the image peak through the perceptual colour map. Also the
  * face intensity profile along y that the comparison draws. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,7 +1,7 @@
-/* The trend PNG (see uwb/render_trend.h): displacement over time with
+/* The trend PNG (see output/render_trend.h): displacement over time with
  * 2-sigma bars, the thresholds, baseline changes, and the verdicts that
  * have no figure shown as marks of their own. */
-#include "uwb/render_trend.h"
+#include "output/render_trend.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -173,7 +173,7 @@ static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct
     return y;
 }
 
-void render_trend_layout(const struct uwb_trend *t, const struct uwb_thresholds *th, const char *site,
+void uwb_render_trend_layout(const struct uwb_trend *t, const struct uwb_thresholds *th, const char *site,
                          struct uwb_trend_layout *out)
 {
     memset(out, 0, sizeof *out);
@@ -308,7 +308,7 @@ static void x_labels(struct uwb_canvas *c, const struct uwb_trend_layout *l, con
 static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct uwb_thresholds *th, const char *site)
 {
     struct uwb_trend_layout l;
-    render_trend_layout(t, th, site, &l);
+    uwb_render_trend_layout(t, th, site, &l);
     const struct uwb_plot *p = &l.plot;
     caption(c, t, th, site);
 
@@ -368,7 +368,7 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
     }
 }
 
-int render_trend_png(const char *path, const struct uwb_trend *t, const struct uwb_thresholds *th,
+int uwb_render_trend_png(const char *path, const struct uwb_trend *t, const struct uwb_thresholds *th,
                      const char *site, char *err, size_t errlen)
 {
     struct uwb_canvas c;

@@ -1,5 +1,5 @@
-/* Verdict lines -> a displacement series and its rate (see uwb/trend.h). */
-#include "uwb/trend.h"
+/* Verdict lines -> a displacement series and its rate (see verdict/trend.h). */
+#include "verdict/trend.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>

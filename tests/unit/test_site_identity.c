@@ -8,11 +8,11 @@
 #include <string.h>
 
 #include "scratch_support.h"
-#include "uwb/daemon/config.h"
-#include "uwb/daemon/reply.h"
-#include "uwb/daemon/store.h"
-#include "uwb/daemon/trend.h"
-#include "uwb/render_trend.h"
+#include "daemon/config.h"
+#include "daemon/reply.h"
+#include "daemon/store.h"
+#include "daemon/trend.h"
+#include "output/render_trend.h"
 
 #define SAMPLE "board/emulated/uwbd.json"
 
@@ -149,8 +149,8 @@ static void test_trend_png_carries_the_site_as_ascii(void)
     /* The caption gets a line for it. */
     struct uwb_trend t = {0};
     struct uwb_trend_layout with, without;
-    render_trend_layout(&t, &cfg.evaluate.compare.thresholds, "phase B", &with);
-    render_trend_layout(&t, &cfg.evaluate.compare.thresholds, NULL, &without);
+    uwb_render_trend_layout(&t, &cfg.evaluate.compare.thresholds, "phase B", &with);
+    uwb_render_trend_layout(&t, &cfg.evaluate.compare.thresholds, NULL, &without);
     TEST_ASSERT_EQUAL_INT(UWB_FONT_LINE_HEIGHT * 2 + 3, with.caption_h - without.caption_h);
 }
 

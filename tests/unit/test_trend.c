@@ -14,10 +14,10 @@
 
 #include "scratch_support.h"
 #include "uwb/cli.h"
-#include "uwb/daemon/command.h"
-#include "uwb/daemon/store.h"
-#include "uwb/daemon/trend.h"
-#include "uwb/render_trend.h"
+#include "daemon/command.h"
+#include "daemon/store.h"
+#include "daemon/trend.h"
+#include "output/render_trend.h"
 
 static char dir[256];
 
@@ -337,7 +337,7 @@ static void test_trend_png_shows_bars_thresholds_and_no_figure_marks(void)
     struct uwb_trend t;
     TEST_ASSERT_EQUAL_INT(0, uwbd_trend_read(&store, UWBD_TREND_PNG_VERDICTS, &t, err, sizeof err));
     struct uwb_trend_layout l;
-    render_trend_layout(&t, &cfg.evaluate.compare.thresholds, NULL, &l);
+    uwb_render_trend_layout(&t, &cfg.evaluate.compare.thresholds, NULL, &l);
     const struct uwb_plot *p = &l.plot;
     const struct uwb_rgb ink = {25, 25, 25}, white = {255, 255, 255};
 

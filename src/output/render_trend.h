@@ -9,8 +9,8 @@
 #include <stddef.h>
 #include <time.h>
 
-#include "uwb/render.h"
-#include "uwb/trend.h"
+#include "output/render_internal.h"
+#include "verdict/trend.h"
 #include "uwb/verdict.h"
 
 #define UWB_TREND_PNG_WIDTH 1000
@@ -18,7 +18,7 @@
 /* The bars' half-length in sigmas of the verdict's uncertainty. */
 #define UWB_TREND_BAR_SIGMAS 2.0
 
-/* Where render_trend_png draws: plot.x data is (time - t_ref) / unit_s,
+/* Where uwb_render_trend_png draws: plot.x data is (time - t_ref) / unit_s,
  * plot.y data is displacement in mm; the strip of verdicts without a
  * figure spans rows strip_y .. strip_y + strip_h - 1 above the plot;
  * its marks: "?" inconclusive, "X" error, "B" became the baseline, "E"
@@ -31,14 +31,14 @@ struct uwb_trend_layout {
     int caption_h;
 };
 
-void render_trend_layout(const struct uwb_trend *t, const struct uwb_thresholds *th, const char *site,
+void uwb_render_trend_layout(const struct uwb_trend *t, const struct uwb_thresholds *th, const char *site,
                          struct uwb_trend_layout *out);
 /* Pixel column of a time in that layout. */
 int uwb_trend_col(const struct uwb_trend_layout *l, time_t when);
 
 /* site: who the trend belongs to (asset, phase, label), or NULL. Returns 0,
  * or -1 with "PATH: problem"; the old file stays on failure. */
-int render_trend_png(const char *path, const struct uwb_trend *t, const struct uwb_thresholds *th,
+int uwb_render_trend_png(const char *path, const struct uwb_trend *t, const struct uwb_thresholds *th,
                      const char *site, char *err, size_t errlen);
 
 /* The trend in one line (the PNG's Description text, ASCII only). */

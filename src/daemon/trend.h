@@ -6,9 +6,9 @@
 
 #include <stddef.h>
 
-#include "uwb/daemon/config.h"
-#include "uwb/daemon/store.h"
-#include "uwb/trend.h"
+#include "daemon/config.h"
+#include "daemon/store.h"
+#include "verdict/trend.h"
 
 /* How many of the newest verdicts trend.png shows. */
 #define UWBD_TREND_PNG_VERDICTS 200
