@@ -240,7 +240,8 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
     aperture(scan, &out->aperture_lo_m, &out->aperture_hi_m);
     double ap_lo = out->aperture_lo_m, ap_hi = out->aperture_hi_m;
 
-    out->dominant_hz = uwb_dominant_frequency(scan);
+    if (uwb_dominant_frequency(scan, &out->dominant_hz, err, errlen) != 0)
+        return -1;
     double wavelength = g.velocity_m_s / out->dominant_hz;
 
     double z_lo = opt->search_z_min_m, z_hi = opt->search_z_max_m;

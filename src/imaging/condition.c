@@ -20,38 +20,48 @@ void uwb_condition_defaults(struct uwb_condition_options *opt)
     opt->align_coupling = 1;
 }
 
-double uwb_dominant_frequency(const struct uwb_scan *scan)
+int uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, size_t errlen)
 {
     int S = scan->samples, nh = S / 2 + 1;
+    *hz = 0.0;
+    if (S < 2 || scan->positions < 1 || !(scan->sample_interval_s > 0.0)) {
+        snprintf(err, errlen, "dominant frequency: a scan of %d positions x %d samples has no spectrum",
+                 scan->positions, S);
+        return -1;
+    }
     float *in = fftwf_alloc_real((size_t)S);
     fftwf_complex *spec = fftwf_alloc_complex((size_t)nh);
     double *power = calloc((size_t)nh, sizeof *power);
-    double f_best = 0.0;
-    if (in && spec && power) {
-        fftwf_plan p = fftwf_plan_dft_r2c_1d(S, in, spec, FFTW_ESTIMATE);
-        for (int k = 0; k < scan->positions; k++) {
-            const float *tr = scan->data + (size_t)k * S;
-            double mean = 0.0;
-            for (int s = 0; s < S; s++)
-                mean += tr[s];
-            mean /= S;
-            for (int s = 0; s < S; s++)
-                in[s] = (float)(tr[s] - mean);
-            fftwf_execute(p);
-            for (int i = 0; i < nh; i++)
-                power[i] += (double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1];
-        }
-        fftwf_destroy_plan(p);
-        int best = 1;
-        for (int i = 1; i < nh; i++)
-            if (power[i] > power[best])
-                best = i;
-        f_best = best / (S * scan->sample_interval_s);
+    if (!in || !spec || !power) {
+        fftwf_free(in);
+        fftwf_free(spec);
+        free(power);
+        snprintf(err, errlen, "dominant frequency: out of memory for traces of %d samples", S);
+        return -1;
     }
+    fftwf_plan p = fftwf_plan_dft_r2c_1d(S, in, spec, FFTW_ESTIMATE);
+    for (int k = 0; k < scan->positions; k++) {
+        const float *tr = scan->data + (size_t)k * S;
+        double mean = 0.0;
+        for (int s = 0; s < S; s++)
+            mean += tr[s];
+        mean /= S;
+        for (int s = 0; s < S; s++)
+            in[s] = (float)(tr[s] - mean);
+        fftwf_execute(p);
+        for (int i = 0; i < nh; i++)
+            power[i] += (double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1];
+    }
+    fftwf_destroy_plan(p);
+    int best = 1;
+    for (int i = 1; i < nh; i++)
+        if (power[i] > power[best])
+            best = i;
+    *hz = best / (S * scan->sample_interval_s);
     fftwf_free(in);
     fftwf_free(spec);
     free(power);
-    return f_best;
+    return 0;
 }
 
 /* Keep the pulse's band only: a raised-cosine high-pass removes DC and

@@ -49,7 +49,7 @@ int __real_uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g
                          const struct uwb_condition_options *opt, double dominant_hz,
                          const struct uwb_target_window *winding, struct uwb_scan *out,
                          char *err, size_t errlen);
-double __real_uwb_dominant_frequency(const struct uwb_scan *scan);
+int __real_uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, size_t errlen);
 int __real_uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
                        const struct uwb_geometry *geom, struct uwb_image *img,
                        char *err, size_t errlen);
@@ -62,7 +62,7 @@ int __wrap_uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g
                          const struct uwb_condition_options *opt, double dominant_hz,
                          const struct uwb_target_window *winding, struct uwb_scan *out,
                          char *err, size_t errlen);
-double __wrap_uwb_dominant_frequency(const struct uwb_scan *scan);
+int __wrap_uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, size_t errlen);
 int __wrap_uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
                        const struct uwb_geometry *geom, struct uwb_image *img,
                        char *err, size_t errlen);
@@ -82,12 +82,12 @@ int __wrap_uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g
     return rc;
 }
 
-double __wrap_uwb_dominant_frequency(const struct uwb_scan *scan)
+int __wrap_uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, size_t errlen)
 {
     double t0 = uwb_monotonic_s();
-    double hz = __real_uwb_dominant_frequency(scan);
+    int rc = __real_uwb_dominant_frequency(scan, hz, err, errlen);
     count(STAGE_DOMINANT, t0, 0, 0);
-    return hz;
+    return rc;
 }
 
 int __wrap_uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
