@@ -11,6 +11,7 @@
 
 #include <stddef.h>
 
+#include "uwb/analysis.h"
 #include "uwb/image.h"
 #include "uwb/scan.h"
 #include "uwb/verdict.h"
@@ -48,14 +49,16 @@ int render_bscan_png_opt(const char *path, const struct uwb_scan *scan,
                          char *err, size_t errlen);
 
 /* Baseline panel | current panel (both cropped to the face, same dB scale)
- * | face intensity profiles along y, edges and the centre shift marked.
- * baseline may be NULL: the baseline panel then says "no baseline" and only
- * the current image and profile are drawn, so the file set stays the same. */
-int render_comparison_png(const char *path, const struct uwb_image *current,
-                          const struct uwb_image *baseline, const struct uwb_verdict *v,
+ * | face profiles along y, edges and the centre shift marked. It draws what
+ * each analysis measured: its display image and the face profile its edges
+ * were read from (nothing is measured again here). baseline may be NULL:
+ * the baseline panel then says "no baseline" and only the current image and
+ * profile are drawn, so the file set stays the same. */
+int render_comparison_png(const char *path, const struct uwb_analysis *current,
+                          const struct uwb_analysis *baseline, const struct uwb_verdict *v,
                           char *err, size_t errlen);
-int render_comparison_png_opt(const char *path, const struct uwb_image *current,
-                              const struct uwb_image *baseline, const struct uwb_verdict *v,
+int render_comparison_png_opt(const char *path, const struct uwb_analysis *current,
+                              const struct uwb_analysis *baseline, const struct uwb_verdict *v,
                               const struct uwb_render_options *opt, char *err, size_t errlen);
 
 /* ------------------------------------------------------------------ */
@@ -211,10 +214,6 @@ double uwb_db_to_t(double amplitude, double peak, double floor_db);
 /* Fill the plot rectangle with the image in dB re peak (plot x = z, y = y). */
 void uwb_paint_image_db(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *img,
                         double peak, double floor_db);
-/* Intensity at the face along y: per row the max over |z - face_z| <=
- * half_width, normalised to its peak. profile has img->ny entries.
- * Returns -1 if the window misses the image or it is all zero. */
-int uwb_face_profile(const struct uwb_image *img, double face_z_m, double half_width_m, double *profile);
 
 enum uwb_edge_kind { UWB_EDGE_CURRENT, UWB_EDGE_BASELINE };
 /* A horizontal edge line in its style (core on `row`, halo around). */
@@ -257,9 +256,15 @@ void render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *
                          int *colorbar_x, int *colorbar_w);
 /* Likewise for the comparison's three panels (profile x: intensity re
  * peak, 0..1.05). */
-void render_comparison_layout(const struct uwb_image *current, const struct uwb_image *baseline,
+void render_comparison_layout(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                               const struct uwb_verdict *v, const struct uwb_render_options *opt,
                               struct uwb_plot *base_panel, struct uwb_plot *current_panel,
                               struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w);
+/* The points of a face profile's curve in the comparison's profile panel:
+ * one per profile sample inside the panel's heights, x = value / the
+ * profile's peak. xs and ys hold profile->n entries; returns how many were
+ * filled (0 for an empty or all-zero profile). */
+int render_profile_polyline(const struct uwb_plot *profile_panel, const struct uwb_face_profile *profile,
+                            int *xs, int *ys);
 
 #endif

@@ -1,6 +1,5 @@
 /* The intensity image painted into a plot: bilinear in linear amplitude,
- * then dB re the image peak through the perceptual colour map. Also the
- * face intensity profile along y that the comparison draws. */
+ * then dB re the image peak through the perceptual colour map. */
 #include "uwb/render.h"
 
 #include <math.h>
@@ -86,37 +85,6 @@ void uwb_paint_image_db(struct uwb_canvas *c, const struct uwb_plot *p, const st
             uwb_canvas_put(c, p->x + col, p->y + row, colour);
         }
     }
-}
-
-int uwb_face_profile(const struct uwb_image *img, double face_z_m, double half_width_m, double *profile)
-{
-    int iz0 = (int)floor((face_z_m - half_width_m - img->z0_m) / img->dz_m);
-    int iz1 = (int)ceil((face_z_m + half_width_m - img->z0_m) / img->dz_m);
-    if (iz0 < 0)
-        iz0 = 0;
-    if (iz1 > img->nz - 1)
-        iz1 = img->nz - 1;
-    if (iz0 > iz1)
-        return -1;
-    /* Max across a narrow window: a face a pixel off the given range, or
-     * slightly tilted, still gives its full profile. */
-    double peak = 0;
-    for (int iy = 0; iy < img->ny; iy++) {
-        double m = 0;
-        for (int iz = iz0; iz <= iz1; iz++) {
-            double v = amplitude(img, iy, iz);
-            if (v > m)
-                m = v;
-        }
-        profile[iy] = m;
-        if (m > peak)
-            peak = m;
-    }
-    if (!(peak > 0))
-        return -1;
-    for (int iy = 0; iy < img->ny; iy++)
-        profile[iy] /= peak;
-    return 0;
 }
 
 double uwb_image_peak_z(const struct uwb_image *img)
