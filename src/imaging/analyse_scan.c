@@ -68,7 +68,8 @@ static void aperture(const struct uwb_scan *scan, double *lo, double *hi)
  * only those heights (rows still on the antenna-aligned grid). */
 static int measure_face_rows(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
                              const struct uwb_analysis_options *opt, double z_centre,
-                             double dominant_hz, double y_lo_m, double y_hi_m, double *z_face,
+                             double dominant_hz, double y_lo_m, double y_hi_m,
+                             struct migration_plan *plan, double *z_face,
                              struct uwb_face_profile *profile, struct profile_edges *edges,
                              char *err, size_t errlen)
 {
@@ -90,7 +91,9 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
             fine.ny = last - first + 1;
         }
     }
-    if (imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen) != 0) {
+    int rc = plan ? imaging_intensity_planned(plan, opt->migration, conditioned, g, &fine, err, errlen)
+                  : imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen);
+    if (rc != 0) {
         uwb_image_free(&fine);
         return -1;
     }
@@ -126,7 +129,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     *z_face = fine.z0_m + (best + offset) * fine.dz_m;
     /* The ridge within a quarter wavelength: the face's range cell, wide
      * enough that which 1 mm row the peak fell on does not matter. */
-    int rc = face_profile(&fine, *z_face, wavelength / 4, profile, err, errlen);
+    rc = face_profile(&fine, *z_face, wavelength / 4, profile, err, errlen);
     uwb_image_free(&fine);
     if (rc != 0)
         return -1;
@@ -139,7 +142,7 @@ static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geo
                         double *z_face, struct uwb_face_profile *profile, struct profile_edges *edges,
                         char *err, size_t errlen)
 {
-    return measure_face_rows(conditioned, g, opt, z_centre, dominant_hz, 0.0, 0.0, z_face, profile,
+    return measure_face_rows(conditioned, g, opt, z_centre, dominant_hz, 0.0, 0.0, NULL, z_face, profile,
                              edges, err, errlen);
 }
 
@@ -428,7 +431,8 @@ void uwb_analysis_free(struct uwb_analysis *a)
 
 int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
                            const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
-                           struct uwb_face_profile *p, char *err, size_t errlen)
+                           struct migration_plan *plan, struct uwb_face_profile *p, char *err,
+                           size_t errlen)
 {
     memset(p, 0, sizeof *p);
     if (!a->measured.data || !a->weight || added->positions != a->measured.positions ||
@@ -450,8 +454,8 @@ int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analys
     }
     double z_face = a->edges.face_z_m;
     struct profile_edges pe;
-    int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, &z_face,
-                               p, &pe, err, errlen);
+    int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, plan,
+                               &z_face, p, &pe, err, errlen);
     uwb_scan_free(&s);
     return rc;
 }

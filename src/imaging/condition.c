@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fft_plans.h"
 #include "imaging_internal.h"
 #include "select.h"
 #include "trace_spectrum.h"
@@ -39,7 +40,14 @@ int uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, s
         snprintf(err, errlen, "dominant frequency: out of memory for traces of %d samples", S);
         return -1;
     }
-    fftwf_plan p = fftwf_plan_dft_r2c_1d(S, in, spec, FFTW_ESTIMATE);
+    fftwf_plan p = fft_plan_acquire(FFT_R2C, S);
+    if (!p) {
+        fftwf_free(in);
+        fftwf_free(spec);
+        free(power);
+        snprintf(err, errlen, "dominant frequency: out of memory for a transform of %d samples", S);
+        return -1;
+    }
     for (int k = 0; k < scan->positions; k++) {
         const float *tr = scan->data + (size_t)k * S;
         double mean = 0.0;
@@ -48,11 +56,11 @@ int uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, s
         mean /= S;
         for (int s = 0; s < S; s++)
             in[s] = (float)(tr[s] - mean);
-        fftwf_execute(p);
+        fftwf_execute_dft_r2c(p, in, spec);
         for (int i = 0; i < nh; i++)
             power[i] += (double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1];
     }
-    fftwf_destroy_plan(p);
+    fft_plan_release(p);
     int best = 1;
     for (int i = 1; i < nh; i++)
         if (power[i] > power[best])
@@ -142,10 +150,9 @@ static int positions_quiet_at(const struct uwb_scan *s, const struct uwb_geometr
     return n;
 }
 
-int condition_band_limit(struct uwb_scan *s, const struct uwb_condition_options *opt,
-                         double dominant_hz, char *err, size_t errlen)
+double condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz)
 {
-    return bandpass(s, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz, err, errlen);
+    return band_gain(f_hz, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz);
 }
 
 static int remove_static(struct uwb_scan *s, const struct uwb_geometry *g,

@@ -18,6 +18,13 @@ int imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *condi
                       const struct uwb_geometry *g, struct uwb_image *img,
                       char *err, size_t errlen);
 
+/* The same with a migration plan kept by the caller: (re)built when it was
+ * made for another grid, reused otherwise (repeated images of one grid). */
+struct migration_plan;
+int imaging_intensity_planned(struct migration_plan *plan, enum uwb_migration_kind kind,
+                              const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                              struct uwb_image *img, char *err, size_t errlen);
+
 /* The brightest pixel of range column iz: its value, and its row in *row. */
 double image_column_peak(const struct uwb_image *img, int iz, int *row);
 
@@ -71,14 +78,15 @@ double analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_
 /* The face profile of an analysis measured again on its kept traces plus
  * scale * added (weighted by the analysis' aperture weights): what the same
  * scan with that noise would have given, imaged between y_lo_m and y_hi_m
- * only (the whole aperture when y_lo_m >= y_hi_m). Returns 0, or -1 with err
- * filled. */
+ * only (the whole aperture when y_lo_m >= y_hi_m). plan: a migration plan
+ * the caller keeps across repeated calls (initialised to zeros, freed with
+ * migration_plan_free). Returns 0, or -1 with err filled. */
 int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
                            const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
-                           struct uwb_face_profile *p, char *err, size_t errlen);
+                           struct migration_plan *plan, struct uwb_face_profile *p, char *err,
+                           size_t errlen);
 
-/* Band-limit every trace as conditioning does (its pulse band). */
-int condition_band_limit(struct uwb_scan *s, const struct uwb_condition_options *opt,
-                         double dominant_hz, char *err, size_t errlen);
+/* The gain conditioning's band-pass gives frequency f_hz (0..1). */
+double condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz);
 
 #endif
