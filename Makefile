@@ -172,8 +172,8 @@ $(BUILD)/uwbemu: $(EMU_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 
 # The bench times these library entry points from outside the library
 # (tools/bench/bench_stage_timers.c) by wrapping them at link time.
-BENCH_WRAPS   := uwb_condition uwb_dominant_frequency uwb_migrate uwb_envelope_along_z \
-                 uwb_canvas_write_png
+BENCH_WRAPS   := uwb_condition_prepare uwb_condition_finish uwb_dominant_frequency uwb_migrate \
+                 uwb_migration_plan_run uwb_envelope_along_z uwb_canvas_write_png
 
 $(BUILD)/uwbbench: $(BENCH_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 	$(CC) $(LDFLAGS) $(SAN_FLAGS) $(BENCH_WRAPS:%=-Wl,--wrap=%) -o $@ $^ $(UWB_LDLIBS)

@@ -264,7 +264,7 @@ void render_comparison_layout(const struct uwb_analysis *current, const struct u
  * one per profile sample inside the panel's heights, x = value / the
  * profile's peak. xs and ys hold profile->n entries; returns how many were
  * filled (0 for an empty or all-zero profile). */
-int render_profile_polyline(const struct uwb_plot *profile_panel, const struct uwb_face_profile *profile,
+int uwb_comparison_profile_polyline(const struct uwb_plot *profile_panel, const struct uwb_face_profile *profile,
                             int *xs, int *ys);
 
 #endif

@@ -40,7 +40,7 @@ int uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, s
         snprintf(err, errlen, "dominant frequency: out of memory for traces of %d samples", S);
         return -1;
     }
-    fftwf_plan p = fft_plan_acquire(FFT_R2C, S);
+    fftwf_plan p = uwb_fft_plan_acquire(FFT_R2C, S);
     if (!p) {
         fftwf_free(in);
         fftwf_free(spec);
@@ -60,7 +60,7 @@ int uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, s
         for (int i = 0; i < nh; i++)
             power[i] += (double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1];
     }
-    fft_plan_release(p);
+    uwb_fft_plan_release(p);
     int best = 1;
     for (int i = 1; i < nh; i++)
         if (power[i] > power[best])
@@ -150,7 +150,7 @@ static int positions_quiet_at(const struct uwb_scan *s, const struct uwb_geometr
     return n;
 }
 
-double condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz)
+double uwb_condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz)
 {
     return band_gain(f_hz, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz);
 }
@@ -207,10 +207,9 @@ static void gate_early(struct uwb_scan *s, const struct uwb_geometry *g,
     }
 }
 
-int uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g,
-                  const struct uwb_condition_options *opt, double dominant_hz,
-                  const struct uwb_target_window *winding, struct uwb_scan *out,
-                  char *err, size_t errlen)
+int uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *g,
+                          const struct uwb_condition_options *opt, double dominant_hz,
+                          struct uwb_scan *out, char *err, size_t errlen)
 {
     if (uwb_scan_copy(out, in, err, errlen) != 0)
         return -1;
@@ -228,14 +227,40 @@ int uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g,
     if (bandpass(out, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz, err,
                  errlen) != 0 ||
         (opt->align_coupling &&
-         uwb_align_to_coupling(out, coupling_end, g->t0_s, period, &alignment, err, errlen) != 0) ||
-        (opt->remove_static && remove_static(out, g, winding, opt->static_end_fraction,
-                                             1.0 / dominant_hz, err, errlen) != 0)) {
+         uwb_align_to_coupling(out, coupling_end, g->t0_s, period, &alignment, err, errlen) != 0)) {
+        uwb_scan_free(out);
+        return -1;
+    }
+    return 0;
+}
+
+int uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geometry *g,
+                         const struct uwb_condition_options *opt, double dominant_hz,
+                         const struct uwb_target_window *winding, struct uwb_scan *out,
+                         char *err, size_t errlen)
+{
+    if (uwb_scan_copy(out, prepared, err, errlen) != 0)
+        return -1;
+    if (opt->remove_static && remove_static(out, g, winding, opt->static_end_fraction,
+                                            1.0 / dominant_hz, err, errlen) != 0) {
         uwb_scan_free(out);
         return -1;
     }
     gate_early(out, g, opt->gate_range_m, 1.0 / dominant_hz);
     return 0;
+}
+
+int uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g,
+                  const struct uwb_condition_options *opt, double dominant_hz,
+                  const struct uwb_target_window *winding, struct uwb_scan *out,
+                  char *err, size_t errlen)
+{
+    struct uwb_scan prepared = {0};
+    if (uwb_condition_prepare(in, g, opt, dominant_hz, &prepared, err, errlen) != 0)
+        return -1;
+    int rc = uwb_condition_finish(&prepared, g, opt, dominant_hz, winding, out, err, errlen);
+    uwb_scan_free(&prepared);
+    return rc;
 }
 
 double uwb_noise_sigma(const struct uwb_scan *scan, int first_sample)

@@ -27,10 +27,10 @@ int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
         snprintf(err, errlen, "envelope: out of memory for rows of %d", img->nz);
         return -1;
     }
-    fftwf_plan fwd = fft_plan_acquire(FFT_R2C, n), inv = fft_plan_acquire(FFT_C2C_BACKWARD_IN_PLACE, n);
+    fftwf_plan fwd = uwb_fft_plan_acquire(FFT_R2C, n), inv = uwb_fft_plan_acquire(FFT_C2C_BACKWARD_IN_PLACE, n);
     if (!fwd || !inv) {
-        fft_plan_release(fwd);
-        fft_plan_release(inv);
+        uwb_fft_plan_release(fwd);
+        uwb_fft_plan_release(inv);
         fftwf_free(row);
         fftwf_free(half);
         fftwf_free(full);
@@ -43,7 +43,7 @@ int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
         memset(row + img->nz, 0, (size_t)(n - img->nz) * sizeof *row);
         fftwf_execute_dft_r2c(fwd, row, half);
         /* Analytic signal: keep DC and Nyquist, double positive, drop negative. */
-        memset(full, 0, (size_t)n * sizeof *full);
+        memset(full + nh, 0, (size_t)(n - nh) * sizeof *full);
         full[0][0] = half[0][0];
         full[0][1] = half[0][1];
         for (int i = 1; i < nh - 1; i++) {
@@ -56,8 +56,8 @@ int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
         for (int iz = 0; iz < img->nz; iz++)
             pix[iz] = hypotf(full[iz][0], full[iz][1]) / (float)n;
     }
-    fft_plan_release(fwd);
-    fft_plan_release(inv);
+    uwb_fft_plan_release(fwd);
+    uwb_fft_plan_release(inv);
     fftwf_free(row);
     fftwf_free(half);
     fftwf_free(full);

@@ -33,7 +33,7 @@ static fftwf_plan make_plan(enum fft_kind kind, int n)
     return plan;
 }
 
-fftwf_plan fft_plan_acquire(enum fft_kind kind, int n)
+fftwf_plan uwb_fft_plan_acquire(enum fft_kind kind, int n)
 {
     for (int i = 0; i < cached; i++)
         if (cache[i].kind == kind && cache[i].n == n)
@@ -48,7 +48,7 @@ fftwf_plan fft_plan_acquire(enum fft_kind kind, int n)
     return plan;
 }
 
-void fft_plan_release(fftwf_plan plan)
+void uwb_fft_plan_release(fftwf_plan plan)
 {
     if (!plan)
         return;

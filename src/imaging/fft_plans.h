@@ -22,9 +22,9 @@ enum fft_kind {
 };
 
 /* A plan for this kind and length: a cached one, or (when the cache is
- * full) a new one that fft_plan_release destroys. NULL if FFTW has no
+ * full) a new one that uwb_fft_plan_release destroys. NULL if FFTW has no
  * memory for it. */
-fftwf_plan fft_plan_acquire(enum fft_kind kind, int n);
-void fft_plan_release(fftwf_plan plan);
+fftwf_plan uwb_fft_plan_acquire(enum fft_kind kind, int n);
+void uwb_fft_plan_release(fftwf_plan plan);
 
 #endif

@@ -65,16 +65,16 @@ int imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *condi
     return uwb_envelope_along_z(img, err, errlen);
 }
 
-int imaging_intensity_planned(struct migration_plan *plan, enum uwb_migration_kind kind,
+int uwb_imaging_intensity_planned(struct uwb_migration_plan *plan, enum uwb_migration_kind kind,
                               const struct uwb_scan *conditioned, const struct uwb_geometry *g,
                               struct uwb_image *img, char *err, size_t errlen)
 {
-    if (!migration_plan_serves(plan, kind, img)) {
-        migration_plan_free(plan);
-        if (migration_plan_init(plan, kind, conditioned, g, img, err, errlen) != 0)
+    if (!uwb_migration_plan_serves(plan, kind, img)) {
+        uwb_migration_plan_free(plan);
+        if (uwb_migration_plan_init(plan, kind, conditioned, g, img, err, errlen) != 0)
             return -1;
     }
-    if (migration_plan_run(plan, conditioned, g, img, err, errlen) != 0)
+    if (uwb_migration_plan_run(plan, conditioned, g, img, err, errlen) != 0)
         return -1;
     return uwb_envelope_along_z(img, err, errlen);
 }

@@ -20,8 +20,8 @@ int imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *condi
 
 /* The same with a migration plan kept by the caller: (re)built when it was
  * made for another grid, reused otherwise (repeated images of one grid). */
-struct migration_plan;
-int imaging_intensity_planned(struct migration_plan *plan, enum uwb_migration_kind kind,
+struct uwb_migration_plan;
+int uwb_imaging_intensity_planned(struct uwb_migration_plan *plan, enum uwb_migration_kind kind,
                               const struct uwb_scan *conditioned, const struct uwb_geometry *g,
                               struct uwb_image *img, char *err, size_t errlen);
 
@@ -80,13 +80,24 @@ double analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_
  * scan with that noise would have given, imaged between y_lo_m and y_hi_m
  * only (the whole aperture when y_lo_m >= y_hi_m). plan: a migration plan
  * the caller keeps across repeated calls (initialised to zeros, freed with
- * migration_plan_free). Returns 0, or -1 with err filled. */
+ * uwb_migration_plan_free). Returns 0, or -1 with err filled. */
 int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
                            const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
-                           struct migration_plan *plan, struct uwb_face_profile *p, char *err,
+                           struct uwb_migration_plan *plan, struct uwb_face_profile *p, char *err,
                            size_t errlen);
 
+/* uwb_condition in its two parts: what depends on the scan alone (band-pass,
+ * alignment on the direct coupling), done once per analysis, and what
+ * depends on where the winding is (static clutter removal, early gate). */
+int uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *g,
+                          const struct uwb_condition_options *opt, double dominant_hz,
+                          struct uwb_scan *out, char *err, size_t errlen);
+int uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geometry *g,
+                         const struct uwb_condition_options *opt, double dominant_hz,
+                         const struct uwb_target_window *winding, struct uwb_scan *out,
+                         char *err, size_t errlen);
+
 /* The gain conditioning's band-pass gives frequency f_hz (0..1). */
-double condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz);
+double uwb_condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz);
 
 #endif

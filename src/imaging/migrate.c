@@ -122,13 +122,13 @@ static enum delay_format format_of(enum uwb_migration_kind kind)
 }
 
 /* The grid a plan was built for, to tell whether it serves another image. */
-static int same_grid(const struct migration_plan *p, const struct uwb_image *img)
+static int same_grid(const struct uwb_migration_plan *p, const struct uwb_image *img)
 {
     return p->ny == img->ny && p->nz == img->nz && p->y0_m == img->y0_m && p->dy_m == img->dy_m &&
            p->z0_m == img->z0_m && p->dz_m == img->dz_m;
 }
 
-int migration_plan_init(struct migration_plan *p, enum uwb_migration_kind kind,
+int uwb_migration_plan_init(struct uwb_migration_plan *p, enum uwb_migration_kind kind,
                         const struct uwb_scan *scan, const struct uwb_geometry *geom,
                         const struct uwb_image *img, char *err, size_t errlen)
 {
@@ -150,7 +150,7 @@ int migration_plan_init(struct migration_plan *p, enum uwb_migration_kind kind,
     return 0;
 }
 
-int migration_plan_run(struct migration_plan *p, const struct uwb_scan *scan,
+int uwb_migration_plan_run(struct uwb_migration_plan *p, const struct uwb_scan *scan,
                        const struct uwb_geometry *geom, struct uwb_image *img, char *err, size_t errlen)
 {
     if (!p->planned || !same_grid(p, img)) {
@@ -164,13 +164,13 @@ int migration_plan_run(struct migration_plan *p, const struct uwb_scan *scan,
     }
 }
 
-int migration_plan_serves(const struct migration_plan *p, enum uwb_migration_kind kind,
+int uwb_migration_plan_serves(const struct uwb_migration_plan *p, enum uwb_migration_kind kind,
                           const struct uwb_image *img)
 {
     return p->planned && p->kind == kind && same_grid(p, img);
 }
 
-void migration_plan_free(struct migration_plan *p)
+void uwb_migration_plan_free(struct uwb_migration_plan *p)
 {
     if (p->planned)
         delay_table_free(&p->table);
@@ -181,10 +181,10 @@ int uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
                 const struct uwb_geometry *geom, struct uwb_image *img,
                 char *err, size_t errlen)
 {
-    struct migration_plan plan;
-    if (migration_plan_init(&plan, kind, scan, geom, img, err, errlen) != 0)
+    struct uwb_migration_plan plan;
+    if (uwb_migration_plan_init(&plan, kind, scan, geom, img, err, errlen) != 0)
         return -1;
-    int rc = migration_plan_run(&plan, scan, geom, img, err, errlen);
-    migration_plan_free(&plan);
+    int rc = uwb_migration_plan_run(&plan, scan, geom, img, err, errlen);
+    uwb_migration_plan_free(&plan);
     return rc;
 }

@@ -101,7 +101,7 @@ struct noise_source {
 
 static void noise_source_free(struct noise_source *ns)
 {
-    fft_plan_release(ns->inverse);
+    uwb_fft_plan_release(ns->inverse);
     fftwf_free(ns->trace);
     fftwf_free(ns->spec);
     free(ns->gain);
@@ -120,7 +120,7 @@ static int noise_source_init(struct noise_source *ns, const struct uwb_scan *sha
     ns->gain = malloc((size_t)nh * sizeof *ns->gain);
     ns->trace = fftwf_alloc_real((size_t)ns->n);
     ns->spec = fftwf_alloc_complex((size_t)nh);
-    ns->inverse = fft_plan_acquire(FFT_C2R, ns->n);
+    ns->inverse = uwb_fft_plan_acquire(FFT_C2R, ns->n);
     if (!ns->gain || !ns->trace || !ns->spec || !ns->inverse) {
         noise_source_free(ns);
         snprintf(err, errlen, "pair uncertainty: out of memory for noise traces of %d samples", shape->samples);
@@ -130,7 +130,7 @@ static int noise_source_init(struct noise_source *ns, const struct uwb_scan *sha
     ns->first_bin = nh;
     ns->last_bin = -1;
     for (int i = 0; i < nh; i++) {
-        ns->gain[i] = condition_band_gain(&opt->condition, a->dominant_hz, i * df);
+        ns->gain[i] = uwb_condition_band_gain(&opt->condition, a->dominant_hz, i * df);
         if (ns->gain[i] > 0.0) {
             if (ns->first_bin > i)
                 ns->first_bin = i;
@@ -202,7 +202,7 @@ int uwb_shift_noise(const struct uwb_analysis *ca, const struct uwb_analysis *ba
     double half = 0.5 * ba->edges.height_m + ROWS_MARGIN_M;
     double y_lo = ba->edges.center_m + fmin(0.0, shift_m) - half;
     double y_hi = ba->edges.center_m + fmax(0.0, shift_m) + half;
-    struct migration_plan plan[2];
+    struct uwb_migration_plan plan[2];
     memset(plan, 0, sizeof plan);
     uint64_t state = NOISE_SEED;
     double ss_cur = 0.0, ss_base = 0.0;
@@ -226,8 +226,8 @@ int uwb_shift_noise(const struct uwb_analysis *ca, const struct uwb_analysis *ba
     }
     noise_source_free(&source[0]);
     noise_source_free(&source[1]);
-    migration_plan_free(&plan[0]);
-    migration_plan_free(&plan[1]);
+    uwb_migration_plan_free(&plan[0]);
+    uwb_migration_plan_free(&plan[1]);
     uwb_scan_free(&noise);
     out->sigma_current_m = sqrt(ss_cur / NOISE_DRAWS);
     out->sigma_baseline_m = sqrt(ss_base / NOISE_DRAWS);

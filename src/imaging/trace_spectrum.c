@@ -18,10 +18,10 @@ int filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int k),
         snprintf(err, errlen, "%s: out of memory", what);
         return -1;
     }
-    fftwf_plan fwd = fft_plan_acquire(FFT_R2C, S), inv = fft_plan_acquire(FFT_C2R, S);
+    fftwf_plan fwd = uwb_fft_plan_acquire(FFT_R2C, S), inv = uwb_fft_plan_acquire(FFT_C2R, S);
     if (!fwd || !inv) {
-        fft_plan_release(fwd);
-        fft_plan_release(inv);
+        uwb_fft_plan_release(fwd);
+        uwb_fft_plan_release(inv);
         fftwf_free(buf);
         fftwf_free(spec);
         snprintf(err, errlen, "%s: out of memory for a transform of %d samples", what, S);
@@ -38,8 +38,8 @@ int filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int k),
         fftwf_execute_dft_c2r(inv, spec, buf);
         memcpy(tr, buf, (size_t)S * sizeof *buf);
     }
-    fft_plan_release(fwd);
-    fft_plan_release(inv);
+    uwb_fft_plan_release(fwd);
+    uwb_fft_plan_release(inv);
     fftwf_free(buf);
     fftwf_free(spec);
     return 0;

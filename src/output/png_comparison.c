@@ -75,7 +75,7 @@ static void panel_title(struct uwb_canvas *c, const struct uwb_plot *p, const ch
     uwb_draw_text(c, p->x + (p->w - w) / 2, p->y - 10 - UWB_FONT_CAP_HEIGHT * s, title, s, colour);
 }
 
-int render_profile_polyline(const struct uwb_plot *p, const struct uwb_face_profile *profile, int *xs, int *ys)
+int uwb_comparison_profile_polyline(const struct uwb_plot *p, const struct uwb_face_profile *profile, int *xs, int *ys)
 {
     if (!profile || !profile->value || profile->n < 2)
         return 0;
@@ -104,7 +104,7 @@ static void draw_profile(struct uwb_canvas *c, const struct uwb_plot *p, const s
     if (!profile || profile->n < 2)
         return;
     int *xs = malloc(sizeof *xs * (size_t)profile->n), *ys = malloc(sizeof *ys * (size_t)profile->n);
-    int n = xs && ys ? render_profile_polyline(p, profile, xs, ys) : 0;
+    int n = xs && ys ? uwb_comparison_profile_polyline(p, profile, xs, ys) : 0;
     if (kind == UWB_EDGE_BASELINE)
         uwb_canvas_polyline(c, xs, ys, n, UWB_RGB_BASELINE_EDGE, 2, 7, 5);
     else

@@ -41,7 +41,7 @@ static void check_curve_crosses_half_at_edges(const struct uwb_plot *pp, const s
     int *xs = malloc(sizeof *xs * (size_t)a->profile.n), *ys = malloc(sizeof *ys * (size_t)a->profile.n);
     TEST_ASSERT_NOT_NULL(xs);
     TEST_ASSERT_NOT_NULL(ys);
-    int n = render_profile_polyline(pp, &a->profile, xs, ys);
+    int n = uwb_comparison_profile_polyline(pp, &a->profile, xs, ys);
     TEST_ASSERT_TRUE_MESSAGE(n > 50, which);
     double x_half = uwb_plot_px_x(pp, 0.5);
     /* ys grow with the sample index downward on the page: y up = row down. */

@@ -763,7 +763,7 @@ static void test_comparison_draws_the_analysis_profile_not_the_image(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, at_image, "no curve at full intensity where only the image is bright");
     /* The drawing's own points: value / peak on the x axis, one per sample. */
     int xs[601], ys[601];
-    int n = render_profile_polyline(&pp, &cur.profile, xs, ys);
+    int n = uwb_comparison_profile_polyline(&pp, &cur.profile, xs, ys);
     TEST_ASSERT_TRUE(n > 300);
     for (int i = 0; i < n; i++) {
         double y = pp.y_max - (ys[i] - pp.y) * (pp.y_max - pp.y_min) / (pp.h - 1);
