@@ -66,7 +66,7 @@ double profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m,
 
 /* The shift d that best maps base onto cur: cur(y + d) against g * base(y)
  * on the squared envelope, y within +-half_span_m of base_centre_m, searched
- * within 5 mm of guess_m (profile_shift.c says why). */
+ * within 5 mm of guess_m (profile_shift.c says why). NAN when out of memory. */
 double profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                          double base_centre_m, double half_span_m, double guess_m);
 
