@@ -308,6 +308,8 @@ bench: deps
 	@if [ -z "$(BENCH_SRC)" ]; then echo "make bench: no tools/bench/*.c yet" >&2; exit 1; fi
 	+@$(SUBMAKE) all $(BUILD)/uwbbench
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench $(BENCH_ARGS)
+	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench --replay-only $(BENCH_ARGS) \
+	    --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan tests/fixtures/fdtd2d-paper-intact.uwbscan
 
 # Long runs (tools/soak/run-soak.sh): back-to-back scan cycles against the
 # emulated board, judging the daemon's RSS, open descriptors and state
