@@ -69,10 +69,33 @@ static void test_with_memory_the_scan_is_analysed(void)
     uwb_analysis_free(&a);
 }
 
+/* The display image (the migrated PNG) spans the face's range +- the
+ * option, which defaults to 0.25 m. */
+static void test_display_image_spans_the_optioned_range_about_the_face(void)
+{
+    const double halves[2] = {0.25, 0.1};
+    for (int i = 0; i < 2; i++) {
+        struct uwb_analysis_options opt;
+        uwb_analysis_defaults(&opt);
+        if (i == 0)
+            TEST_ASSERT_EQUAL_DOUBLE(0.25, opt.display_half_range_m);
+        opt.display_half_range_m = halves[i];
+        struct uwb_analysis a;
+        char err[256] = "";
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_analyse_scan(&scan, &opt, &a, err, sizeof err), err);
+        TEST_ASSERT_TRUE_MESSAGE(a.edges.found, a.edges.reason);
+        double z_first = a.intensity.z0_m, z_last = a.intensity.z0_m + (a.intensity.nz - 1) * a.intensity.dz_m;
+        TEST_ASSERT_DOUBLE_WITHIN(a.intensity.dz_m, a.edges.face_z_m - halves[i], z_first);
+        TEST_ASSERT_DOUBLE_WITHIN(a.intensity.dz_m, a.edges.face_z_m + halves[i], z_last);
+        uwb_analysis_free(&a);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_no_memory_for_the_dominant_frequency_is_a_hard_error);
     RUN_TEST(test_with_memory_the_scan_is_analysed);
+    RUN_TEST(test_display_image_spans_the_optioned_range_about_the_face);
     return UNITY_END();
 }
