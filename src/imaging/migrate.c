@@ -45,6 +45,17 @@ static void sum_row_float(const int32_t *restrict idx, const float *restrict fra
     }
 }
 
+/* A trace of zeros adds nothing to any pixel: the aperture taper weighs the
+ * positions beyond its reach 0 (a tenth of the traces on the paper scans),
+ * and every face measurement after the first migrates such traces. */
+static int silent(const float *trace, int samples)
+{
+    for (int i = 0; i < samples; i++)
+        if (trace[i] != 0.0f)
+            return 0;
+    return 1;
+}
+
 static int migrate_float(struct delay_table *t, const struct uwb_scan *scan, const struct uwb_geometry *g,
                          struct uwb_image *img, char *err, size_t errlen)
 {
@@ -56,6 +67,8 @@ static int migrate_float(struct delay_table *t, const struct uwb_scan *scan, con
     }
     memset(img->pix, 0, (size_t)img->ny * img->nz * sizeof *img->pix);
     for (int k = 0; k < scan->positions; k++) {
+        if (silent(scan->data + (size_t)k * S, S))
+            continue;
         memcpy(trace, scan->data + (size_t)k * S, (size_t)S * sizeof *trace);
         trace[S] = trace[S + 1] = 0.0f;   /* out-of-range delays read zeros */
         delay_table_fill_trace(t, scan, g, img, k);
@@ -101,6 +114,8 @@ static int migrate_fixed(int simd, struct delay_table *t, const struct uwb_scan 
                     int32_t *restrict, int) =
         simd ? migrate_row_fixed_simd : migrate_row_fixed_portable;
     for (int k = 0; k < K; k++) {
+        if (silent(scan->data + (size_t)k * S, S))
+            continue;
         migrate_fill_pairs(scan->data + (size_t)k * S, S, scale, pairs);
         delay_table_fill_trace(t, scan, g, img, k);
         for (int iy = 0; iy < img->ny; iy++) {
