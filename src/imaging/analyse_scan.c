@@ -77,6 +77,13 @@
  * plate is within 50 mm of an end (measured on the simulator's flush
  * plate, README); unlike blur, that does not cancel between two scans. */
 #define SIDE_REFLECTOR_SYSTEMATIC_M 0.00025
+/* The passes before the last read the profile only around the winding:
+ * its crossings and its mirror symmetry out to SYMMETRY_SPAN half heights
+ * plus SYMMETRY_SEARCH_M. They image those rows only (row by row the
+ * pixels are the same as in the full image), with 30 mm to spare for the
+ * winding's move between passes and the interpolation's neighbours; the
+ * last pass is measured again on every row. */
+#define PASS_ROWS_MARGIN_M 0.03
 /* SNR reported when the noise reads exactly 0 (a noiseless simulated
  * scan): far above any real scan's and still a finite number for the
  * verdict's JSON. */
@@ -285,6 +292,11 @@ struct analysis_run {
     struct uwb_scan quadrature;     /* Hilbert partner of out->conditioned (side reflector fit) */
     struct profile_edges pe;        /* crossings of out->profile */
     double z_face_m;                /* the face's range, sub-pixel */
+    /* The last taper pass: the range it was centred on and the reflector
+     * it took out, to measure it again on every row (measure_face). */
+    int passes;
+    double pass_z_centre_m;
+    struct side_reflector pass_side;
 };
 
 static enum step read_scan_basics(struct analysis_run *r)
@@ -396,19 +408,60 @@ static int usable_centre(const struct analysis_run *r, double *centre)
     return *centre > r->out->aperture_lo_m && *centre < r->out->aperture_hi_m;
 }
 
+/* Whether the rows of out->profile hold all the next pass reads: both
+ * crossings found inside them, and the mirror comparison's span about them
+ * with room for the interpolation's neighbours. */
+static int reads_within(const struct analysis_run *r)
+{
+    const struct uwb_face_profile *p = &r->out->profile;
+    if (!r->pe.ok)
+        return 0;
+    double mid = 0.5 * (r->pe.lower_m + r->pe.upper_m);
+    double span = SYMMETRY_SPAN * 0.5 * (r->pe.upper_m - r->pe.lower_m) + SYMMETRY_SEARCH_M + 3.0 * p->dy_m;
+    return mid - span > p->y0_m && mid + span < p->y0_m + (p->n - 1) * p->dy_m;
+}
+
 /* Measure again on the conditioned traces with `side` taken out (when found)
- * and out->weight applied: out->measured, out->profile, r->pe, r->z_face_m. */
-static enum step measure_weighted(struct analysis_run *r, const struct side_reflector *side)
+ * and out->weight applied: out->measured, out->profile, r->pe, r->z_face_m.
+ * A pass (every_row 0) images only the rows about the winding that the next
+ * pass reads (PASS_ROWS_MARGIN_M); it takes over `side`. */
+static enum step measure_weighted(struct analysis_run *r, struct side_reflector *side, int every_row)
 {
     struct uwb_analysis *out = r->out;
+    double y_lo = 0.0, y_hi = 0.0, z_centre = r->z_face_m;
+    if (every_row) {
+        z_centre = r->pass_z_centre_m;
+    } else {
+        double mid = 0.5 * (r->pe.lower_m + r->pe.upper_m);
+        double span = SYMMETRY_SPAN * 0.5 * (r->pe.upper_m - r->pe.lower_m) + SYMMETRY_SEARCH_M +
+                      PASS_ROWS_MARGIN_M;
+        y_lo = mid - span;
+        y_hi = mid + span;
+        side_reflector_free(&r->pass_side);
+        r->pass_side = *side;
+        memset(side, 0, sizeof *side);
+        r->pass_z_centre_m = z_centre;
+        r->passes++;
+    }
     uwb_scan_free(&out->measured);
     free(out->profile.value);
     out->profile.value = NULL;
     if (uwb_scan_copy(&out->measured, &out->conditioned, r->err, r->errlen) != 0)
         return STEP_FAILED;
-    side_reflector_remove(side, &r->g, &out->measured);
+    side_reflector_remove(&r->pass_side, &r->g, &out->measured);
     apply_weights(&out->measured, out->weight);
-    if (measure_face_rows(&out->measured, &r->g, r->opt, r->z_face_m, out->dominant_hz, 0.0, 0.0, NULL,
+    double z_face_before = r->z_face_m;
+    if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, y_lo, y_hi, NULL,
+                          &r->z_face_m, &out->profile, &r->pe, r->err, r->errlen) != 0)
+        return STEP_FAILED;
+    if (every_row || reads_within(r))
+        return STEP_NEXT;
+    /* What the next pass reads runs past the rows imaged (the face does not
+     * fall off inside them): this pass on every row after all. */
+    free(out->profile.value);
+    out->profile.value = NULL;
+    r->z_face_m = z_face_before;
+    if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, 0.0, 0.0, NULL,
                           &r->z_face_m, &out->profile, &r->pe, r->err, r->errlen) != 0)
         return STEP_FAILED;
     return STEP_NEXT;
@@ -426,7 +479,7 @@ static enum step taper_passes(struct analysis_run *r)
         taper_weights(&r->out->conditioned, centre, r->out->aperture_lo_m, r->out->aperture_hi_m,
                       r->out->weight);
         struct side_reflector none = {0};
-        if (measure_weighted(r, &none) != STEP_NEXT)
+        if (measure_weighted(r, &none, 0) != STEP_NEXT)
             return STEP_FAILED;
     }
     return STEP_NEXT;
@@ -459,10 +512,8 @@ static enum step side_reflector_passes(struct analysis_run *r)
         side_y = side.found ? side.y_m : NAN;
         out->edges.side_reflector = side.found;
         out->edges.side_reflector_y_m = side.found ? side.y_m : 0.0;
-        enum step rc = measure_weighted(r, &side);
-        side_reflector_free(&side);
-        if (rc != STEP_NEXT)
-            return rc;
+        if (measure_weighted(r, &side, 0) != STEP_NEXT)
+            return STEP_FAILED;
     }
     return STEP_NEXT;
 }
@@ -476,6 +527,9 @@ static enum step measure_face(struct analysis_run *r)
     if (rc == STEP_FAILED)
         return STEP_FAILED;
     if (rc == STEP_NEXT && r->opt->remove_side_reflector && side_reflector_passes(r) != STEP_NEXT)
+        return STEP_FAILED;
+    /* The last pass again, on every row: the profile the edges are read from. */
+    if (r->passes > 0 && measure_weighted(r, &r->pass_side, 1) != STEP_NEXT)
         return STEP_FAILED;
     r->out->edges.face_z_m = r->z_face_m;
     return STEP_NEXT;
@@ -554,6 +608,7 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
         rc = steps[i](&run);
     uwb_scan_free(&run.prepared);
     uwb_scan_free(&run.quadrature);
+    side_reflector_free(&run.pass_side);
     if (rc == STEP_FAILED) {
         uwb_analysis_free(out);
         return -1;
