@@ -34,17 +34,17 @@ void uwb_render_options_sane(const struct uwb_render_options *in, struct uwb_ren
 /* Migrated intensity image (linear envelope >= 0) in dB re its peak, y up,
  * z across, edges of v->current solid, v->baseline dashed. v may be NULL
  * (no overlay, caption says so). Returns 0, or -1 with "PATH: problem". */
-int render_migrated_png(const char *path, const struct uwb_image *intensity,
+int uwb_render_migrated_png(const char *path, const struct uwb_image *intensity,
                         const struct uwb_verdict *v, char *err, size_t errlen);
-int render_migrated_png_opt(const char *path, const struct uwb_image *intensity,
+int uwb_render_migrated_png_opt(const char *path, const struct uwb_image *intensity,
                             const struct uwb_verdict *v, const struct uwb_render_options *opt,
                             char *err, size_t errlen);
 
 /* Raw traces: antenna y (mm) vertical, time (ns) across, signed amplitude in
  * a diverging map on a signed dB scale. */
-int render_bscan_png(const char *path, const struct uwb_scan *scan,
+int uwb_render_bscan_png(const char *path, const struct uwb_scan *scan,
                      const struct uwb_verdict *v, char *err, size_t errlen);
-int render_bscan_png_opt(const char *path, const struct uwb_scan *scan,
+int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan,
                          const struct uwb_verdict *v, const struct uwb_render_options *opt,
                          char *err, size_t errlen);
 
@@ -54,10 +54,10 @@ int render_bscan_png_opt(const char *path, const struct uwb_scan *scan,
  * were read from (nothing is measured again here). baseline may be NULL:
  * the baseline panel then says "no baseline" and only the current image and
  * profile are drawn, so the file set stays the same. */
-int render_comparison_png(const char *path, const struct uwb_analysis *current,
+int uwb_render_comparison_png(const char *path, const struct uwb_analysis *current,
                           const struct uwb_analysis *baseline, const struct uwb_verdict *v,
                           char *err, size_t errlen);
-int render_comparison_png_opt(const char *path, const struct uwb_analysis *current,
+int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *current,
                               const struct uwb_analysis *baseline, const struct uwb_verdict *v,
                               const struct uwb_render_options *opt, char *err, size_t errlen);
 
@@ -247,16 +247,16 @@ double uwb_face_echo_time(const struct uwb_scan *scan, double face_z_m);
 
 /* Where render_migrated_png puts its plot for this image and options (data
  * units: metres). For tests and for anyone annotating the PNG afterwards. */
-void render_migrated_layout(const struct uwb_image *intensity, const struct uwb_verdict *v,
+void uwb_render_migrated_layout(const struct uwb_image *intensity, const struct uwb_verdict *v,
                             const struct uwb_render_options *opt, struct uwb_plot *plot,
                             int *colorbar_x, int *colorbar_w);
 /* Likewise for the B-scan (x: time in s, y: antenna height in m). */
-void render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
+void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
                          const struct uwb_render_options *opt, struct uwb_plot *plot,
                          int *colorbar_x, int *colorbar_w);
 /* Likewise for the comparison's three panels (profile x: intensity re
  * peak, 0..1.05). */
-void render_comparison_layout(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+void uwb_render_comparison_layout(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                               const struct uwb_verdict *v, const struct uwb_render_options *opt,
                               struct uwb_plot *base_panel, struct uwb_plot *current_panel,
                               struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w);

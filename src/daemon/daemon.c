@@ -68,7 +68,7 @@ static void arm_at(struct daemon *d, struct timespec when)
 }
 
 /* The next scheduled scan one interval after `from` (a past time fires at once). */
-void schedule_arm(struct daemon *d, const struct timespec *from)
+void uwbd_schedule_arm(struct daemon *d, const struct timespec *from)
 {
     if (d->cfg.interval_s <= 0)
         schedule_off(d);
@@ -76,23 +76,23 @@ void schedule_arm(struct daemon *d, const struct timespec *from)
         arm_at(d, add_seconds(*from, d->cfg.interval_s));
 }
 
-void scan_now(struct daemon *d)
+void uwbd_scan_now(struct daemon *d)
 {
     if (d->scanning) {
         d->scan_queued = 1;
         return;
     }
-    lock_watch_check(d);   /* also when inotify is unavailable */
+    uwbd_lock_watch_check(d);   /* also when inotify is unavailable */
     if (d->exit_code) {
-        peers_send_verdict(d, d->cycles_started + 1, NULL, "the state directory was deleted or replaced; uwbd is stopping");
+        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL, "the state directory was deleted or replaced; uwbd is stopping");
         return;
     }
     schedule_off(d);
     d->last_cycle_start = monotonic_now();
     worker_beat(d);
-    if (worker_start(d) != 0) {
-        peers_send_verdict(d, d->cycles_started + 1, NULL, "cannot start a scan (see the daemon's log)");
-        schedule_arm(d, &d->last_cycle_start);
+    if (uwbd_worker_start(d) != 0) {
+        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL, "cannot start a scan (see the daemon's log)");
+        uwbd_schedule_arm(d, &d->last_cycle_start);
         return;
     }
     report_status(d);
@@ -203,24 +203,24 @@ static void reload(struct daemon *d)
             uwb_rig_close(d->rig);
         d->rig = NULL;
         int detail = 0;
-        if (rig_open_logged(d, &detail, err, sizeof err) != UWB_RIG_OK) {
+        if (uwbd_rig_open_logged(d, &detail, err, sizeof err) != UWB_RIG_OK) {
             /* A reload is whole or not at all: the log never says both that
              * the new rig cannot be reached and that the reload happened. */
             d->cfg = previous;
             char old_err[512];
-            if (rig_open_logged(d, &detail, old_err, sizeof old_err) != UWB_RIG_OK)
+            if (uwbd_rig_open_logged(d, &detail, old_err, sizeof old_err) != UWB_RIG_OK)
                 uwbd_log(UWBD_LOG_WARNING, "rig: %s (tried again at the next scan)", old_err);
             uwbd_log(UWBD_LOG_ERR, "reload refused, the running configuration stays: the new rig: %s", err);
             return;
         }
     }
     if (console_changed) {
-        peer_close(&d->console);
+        uwbd_peer_close(&d->console);
         struct itimerspec off = {0};
         timerfd_settime(d->console_retry_fd, 0, &off, NULL);
-        console_open(d);
+        uwbd_console_open(d);
     }
-    schedule_arm(d, &d->last_cycle_start);
+    uwbd_schedule_arm(d, &d->last_cycle_start);
     uwbd_log(UWBD_LOG_NOTICE, "configuration reloaded from %s%s%s", d->options->config_path,
              rig_changed ? " (rig reopened)" : "", console_changed ? " (console reopened)" : "");
 }
@@ -243,7 +243,7 @@ static void handle_signals(struct daemon *d)
         if (d->scanning) {
             uwbd_log(UWBD_LOG_NOTICE, "%s: stopping the running scan safely, then exiting",
                      si.ssi_signo == SIGTERM ? "SIGTERM" : "SIGINT");
-            worker_request_stop(d);
+            uwbd_worker_request_stop(d);
         } else {
             uwbd_log(UWBD_LOG_NOTICE, "%s: exiting", si.ssi_signo == SIGTERM ? "SIGTERM" : "SIGINT");
         }
@@ -252,21 +252,21 @@ static void handle_signals(struct daemon *d)
 
 static void cycle_finished(struct daemon *d)
 {
-    worker_collect(d);
+    uwbd_worker_collect(d);
     if (d->scanning)
         return;
     report_status(d);
     if (d->reload_pending)
         reload(d);
     if (d->stopping) {
-        peers_send_verdict(d, d->cycles_started + 1, NULL, "the daemon is stopping; the queued scan will not run");
+        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL, "the daemon is stopping; the queued scan will not run");
         return;
     }
     if (d->scan_queued) {
         d->scan_queued = 0;
-        scan_now(d);
+        uwbd_scan_now(d);
     } else {
-        schedule_arm(d, &d->last_cycle_start);
+        uwbd_schedule_arm(d, &d->last_cycle_start);
     }
 }
 
@@ -365,7 +365,7 @@ static void loop(struct daemon *d)
     struct pollfd fds[SLOT_CLIENTS + MAX_CLIENTS];
     struct peer *owner[SLOT_CLIENTS + MAX_CLIENTS];
     while (!(d->stopping && !d->scanning)) {
-        int timeout_ms = peers_expire(d);   /* drops clients past their deadlines first */
+        int timeout_ms = uwbd_peers_expire(d);   /* drops clients past their deadlines first */
         fds[SLOT_SIGNAL] = (struct pollfd){.fd = d->signal_fd, .events = POLLIN};
         fds[SLOT_SCHEDULE] = (struct pollfd){.fd = d->schedule_fd, .events = POLLIN};
         fds[SLOT_DONE] = (struct pollfd){.fd = d->done_fd, .events = POLLIN};
@@ -391,13 +391,13 @@ static void loop(struct daemon *d)
                 continue;
             uwbd_log(UWBD_LOG_ERR, "poll: %s; stopping", strerror(errno));
             d->stopping = 1;
-            worker_request_stop(d);
+            uwbd_worker_request_stop(d);
             continue;
         }
         if (fds[SLOT_SIGNAL].revents)
             handle_signals(d);
         if (fds[SLOT_LOCK_WATCH].revents)
-            lock_watch_check(d);
+            uwbd_lock_watch_check(d);
         if (fds[SLOT_DONE].revents)
             cycle_finished(d);
         if (fds[SLOT_SCHEDULE].revents) {
@@ -405,26 +405,26 @@ static void loop(struct daemon *d)
             d->has_next_scan = 0;
             if (!d->stopping && !d->scanning) {
                 uwbd_log(UWBD_LOG_INFO, "scheduled scan");
-                scan_now(d);
+                uwbd_scan_now(d);
             }
         }
         if (fds[SLOT_CONSOLE_RETRY].revents) {
             drain(d->console_retry_fd);
-            console_open(d);
+            uwbd_console_open(d);
         }
         if (fds[SLOT_WATCHDOG].revents)
             watchdog_tick(d);
         if (fds[SLOT_PROGRESS].revents) {
             drain(d->progress_fd);
-            peers_send_progress(d);
+            uwbd_peers_send_progress(d);
         }
         if (fds[SLOT_CONTROL].revents)
-            peer_accept(d);
+            uwbd_peer_accept(d);
         for (nfds_t i = SLOT_CONSOLE; i < n; i++) {
             if ((fds[i].revents & POLLOUT) && owner[i]->in_use)
-                peer_writable(d, owner[i]);
+                uwbd_peer_writable(d, owner[i]);
             if ((fds[i].revents & ~POLLOUT) && owner[i]->in_use)
-                peer_readable(d, owner[i]);
+                uwbd_peer_readable(d, owner[i]);
         }
     }
 }
@@ -443,7 +443,7 @@ static int setup_event_fds(struct daemon *d, char *err, size_t errlen)
         return -1;
     }
     sigdelset(&mask, SIGUSR1);
-    worker_install_stop_handler();
+    uwbd_worker_install_stop_handler();
     signal(SIGPIPE, SIG_IGN);
     d->signal_fd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
     d->schedule_fd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
@@ -473,9 +473,9 @@ static void teardown(struct daemon *d)
     }
     for (int i = 0; i < MAX_CLIENTS; i++)
         if (d->clients[i].in_use)
-            peer_close(&d->clients[i]);
+            uwbd_peer_close(&d->clients[i]);
     if (d->console.in_use)
-        peer_close(&d->console);
+        uwbd_peer_close(&d->console);
     uwbd_control_close(&d->control);
     close_fd(&d->signal_fd);
     close_fd(&d->schedule_fd);
@@ -570,7 +570,7 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
     }
     if (repairs)
         uwbd_log(UWBD_LOG_WARNING, "state directory: removed %d leftover(s) of an interrupted write", repairs);
-    lock_watch_open(d);
+    uwbd_lock_watch_open(d);
     if (setup_event_fds(d, err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_ERR, "%s", err);
         return UWBD_EXIT_OS;
@@ -583,7 +583,7 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         return rc == UWBD_CONTROL_ERR_CONFIG ? UWBD_EXIT_CONFIG : UWBD_EXIT_CANT_CREATE;
     }
     int detail = 0;
-    rc = rig_open_logged(d, &detail, err, sizeof err);
+    rc = uwbd_rig_open_logged(d, &detail, err, sizeof err);
     if (rc != UWB_RIG_OK) {
         int code = uwbd_exit_for_rig_open(rc, detail);
         uwbd_log(UWBD_LOG_ERR, "%s (exit %d)", err, code);
@@ -591,9 +591,9 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         return code;
     }
     load_baseline_info(d);
-    baseline_requests_restore(d);
+    uwbd_baseline_requests_restore(d);
     load_latest_verdict(d);
-    console_open(d);
+    uwbd_console_open(d);
     schedule_first(d);
     if (d->cfg.interval_s > 0)
         uwbd_log(UWBD_LOG_NOTICE, "uwbd %s running: state %s, control %s, a scan every %.0f s", UWBD_VERSION,
@@ -613,7 +613,7 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     d.lock_fd = d.lock_watch_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = d.watchdog_fd =
         d.progress_fd = -1;
     d.control.fd = -1;
-    peers_init(&d);
+    uwbd_peers_init(&d);
     d.last_cycle_start = monotonic_now();
     uwbd_log_setup(opt->log_level, opt->use_syslog);
     static char created_dir[UWBD_PATH_MAX];

@@ -114,7 +114,7 @@ static void clean_directory(int dfd, const char *where, const int *levels, struc
             snprintf(sub_where, sizeof sub_where, "%s/%s", where, name);
             clean_directory(sub, sub_where, levels + 1, c);
             close(sub);
-        } else if (S_ISREG(st.st_mode) && atomic_file_is_temporary_name(name)) {
+        } else if (S_ISREG(st.st_mode) && uwb_atomic_file_is_temporary_name(name)) {
             if (unlinkat(dfd, name, 0) == 0)
                 ++c->removed;
         } else if (name[0] == '.') {
@@ -251,10 +251,10 @@ void uwbd_safe_scan_id(const char *in, char *out, size_t n)
 int uwbd_write_json_file(const char *path, const char *json, char *err, size_t errlen)
 {
     struct atomic_file af;
-    if (atomic_file_open(&af, path, err, errlen) != 0)
+    if (uwb_atomic_file_open(&af, path, err, errlen) != 0)
         return -1;
     fprintf(af.fp, "%s\n", json);   /* a failed write shows at the commit's flush */
-    return atomic_file_commit(&af, err, errlen);
+    return uwb_atomic_file_commit(&af, err, errlen);
 }
 
 void uwbd_utc_text(time_t t, char *buf, size_t n)

@@ -24,7 +24,7 @@ static void on_stop_signal(int sig)
     scan_stop = 1;
 }
 
-void worker_install_stop_handler(void)
+void uwbd_worker_install_stop_handler(void)
 {
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
@@ -68,7 +68,7 @@ static void rig_progress(void *ctx, int done, int total)
     progress_signal(d);
 }
 
-int scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out)
+int uwbd_scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out)
 {
     if (!d->scanning)
         return 0;
@@ -79,7 +79,7 @@ int scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out)
     return 1;
 }
 
-int rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen)
+int uwbd_rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen)
 {
     int rc = uwb_rig_open(&d->cfg.rig, &d->rig, detail, err, errlen);
     if (rc != UWB_RIG_OK) {
@@ -103,7 +103,7 @@ static int acquire_from_rig(void *ctx, const volatile sig_atomic_t *stop, struct
     uwbd_test_hang_point("worker");
     if (!d->rig) {
         int detail = 0;
-        if (rig_open_logged(d, &detail, err, errlen) != UWB_RIG_OK)
+        if (uwbd_rig_open_logged(d, &detail, err, errlen) != UWB_RIG_OK)
             return *stop ? UWBD_ACQUIRE_STOPPED : UWBD_ACQUIRE_FAILED;
         uwbd_log(UWBD_LOG_NOTICE, "rig opened again");
     }
@@ -135,12 +135,12 @@ static void *worker_main(void *arg)
     return NULL;
 }
 
-int worker_start(struct daemon *d)
+int uwbd_worker_start(struct daemon *d)
 {
     memset(&d->job, 0, sizeof d->job);
     d->job.cycle = ++d->cycles_started;
     d->job.request.now = time(NULL);
-    baseline_request_fill(d, &d->job.request);
+    uwbd_baseline_request_fill(d, &d->job.request);
     int pending = d->job.request.make_baseline;
     d->job.baseline_request = pending ? d->baseline_requests : 0;
     long long now_ms = (long long)(uwb_monotonic_s() * 1000.0);
@@ -160,13 +160,13 @@ int worker_start(struct daemon *d)
     return 0;
 }
 
-void worker_request_stop(struct daemon *d)
+void uwbd_worker_request_stop(struct daemon *d)
 {
     if (d->scanning)
         pthread_kill(d->job.thread, SIGUSR1);
 }
 
-void worker_collect(struct daemon *d)
+void uwbd_worker_collect(struct daemon *d)
 {
     uint64_t count;
     if (read(d->done_fd, &count, sizeof count) != sizeof count)
@@ -179,7 +179,7 @@ void worker_collect(struct daemon *d)
     if (res->outcome == UWBD_CYCLE_STOPPED) {
         uwbd_log(UWBD_LOG_NOTICE, "scan cycle %lu stopped before its end; nothing recorded, hardware safe",
                  d->job.cycle);
-        peers_send_verdict(d, d->job.cycle, NULL, "the scan was stopped (the daemon is shutting down); nothing recorded");
+        uwbd_peers_send_verdict(d, d->job.cycle, NULL, "the scan was stopped (the daemon is shutting down); nothing recorded");
         uwbd_cycle_result_free(res);
         return;
     }
@@ -188,7 +188,7 @@ void worker_collect(struct daemon *d)
         free(d->latest_verdict);
         d->latest_verdict = strdup(res->verdict_json);
     }
-    baseline_request_finished(d, d->job.baseline_request, res);
-    peers_send_verdict(d, d->job.cycle, res->verdict_json, "out of memory for the verdict");
+    uwbd_baseline_request_finished(d, d->job.baseline_request, res);
+    uwbd_peers_send_verdict(d, d->job.cycle, res->verdict_json, "out of memory for the verdict");
     uwbd_cycle_result_free(res);
 }

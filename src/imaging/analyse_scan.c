@@ -148,7 +148,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     double half = fmax(FACE_WINDOW_WAVELENGTHS * wavelength, FACE_WINDOW_MIN_M);
     double z_lo = fmax(z_centre - half, NEAREST_RANGE_M);
     struct uwb_image fine = {0};
-    if (imaging_grid(&fine, conditioned, FINE_Y_MARGIN_M, aligned_dy(conditioned, FINE_DY_M), z_lo,
+    if (uwb_imaging_grid(&fine, conditioned, FINE_Y_MARGIN_M, aligned_dy(conditioned, FINE_DY_M), z_lo,
                      z_centre + half, FINE_DZ_M, err, errlen) != 0)
         return -1;
     if (y_lo_m < y_hi_m) {
@@ -163,7 +163,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
         }
     }
     int rc = plan ? uwb_imaging_intensity_planned(plan, opt->migration, conditioned, g, &fine, err, errlen)
-                  : imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen);
+                  : uwb_imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen);
     if (rc != 0) {
         uwb_image_free(&fine);
         return -1;
@@ -178,7 +178,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     int best = lo, row;
     double best_v = -1.0;
     for (int iz = lo; iz <= hi; iz++) {
-        double v = image_column_peak(&fine, iz, &row);
+        double v = uwb_image_column_peak(&fine, iz, &row);
         if (v > best_v) {
             best_v = v;
             best = iz;
@@ -189,8 +189,8 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
      * between two scans would move the model. */
     double offset = 0.0;
     if (best > 0 && best < fine.nz - 1) {
-        double before = image_column_peak(&fine, best - 1, &row);
-        double after = image_column_peak(&fine, best + 1, &row);
+        double before = uwb_image_column_peak(&fine, best - 1, &row);
+        double after = uwb_image_column_peak(&fine, best + 1, &row);
         double den = before - 2.0 * best_v + after;
         if (den < 0.0)
             offset = 0.5 * (before - after) / den;
@@ -200,18 +200,18 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     *z_face = fine.z0_m + (best + offset) * fine.dz_m;
     /* The ridge within a quarter wavelength: the face's range cell, wide
      * enough that which 1 mm row the peak fell on does not matter. */
-    rc = face_profile(&fine, *z_face, wavelength / 4, profile, err, errlen);
+    rc = uwb_face_profile_measure(&fine, *z_face, wavelength / 4, profile, err, errlen);
     uwb_image_free(&fine);
     if (rc != 0)
         return -1;
-    profile_edges(profile, opt->edge_fraction, edges);
+    uwb_profile_edges(profile, opt->edge_fraction, edges);
     return 0;
 }
 
 static double symmetric_centre(const struct uwb_face_profile *p, const struct profile_edges *e)
 {
     double mid = 0.5 * (e->lower_m + e->upper_m);
-    return profile_symmetry_centre(p, mid, SYMMETRY_SPAN * 0.5 * (e->upper_m - e->lower_m),
+    return uwb_profile_symmetry_centre(p, mid, SYMMETRY_SPAN * 0.5 * (e->upper_m - e->lower_m),
                                    SYMMETRY_SEARCH_M);
 }
 
@@ -260,8 +260,8 @@ static void rough_window(const struct uwb_image *coarse, double z_face, double w
     char err[128];
     w->y_lo_m = ap_lo;
     w->y_hi_m = ap_hi;
-    if (face_profile(coarse, z_face, 0.0, &p, err, sizeof err) == 0) {
-        profile_edges(&p, 0.5, &e);
+    if (uwb_face_profile_measure(coarse, z_face, 0.0, &p, err, sizeof err) == 0) {
+        uwb_profile_edges(&p, 0.5, &e);
         if (e.ok) {
             w->y_lo_m = e.lower_m - wavelength;
             w->y_hi_m = e.upper_m + wavelength;
@@ -351,17 +351,17 @@ static enum step search_for_face(struct analysis_run *r)
     if (uwb_condition_finish(&r->prepared, &r->g, &opt->condition, out->dominant_hz, NULL, &searched,
                              r->err, r->errlen) != 0)
         return STEP_FAILED;
-    int rc = imaging_grid(&out->intensity, &searched, SEARCH_Y_MARGIN_M, aligned_dy(r->scan, SEARCH_DY_M),
+    int rc = uwb_imaging_grid(&out->intensity, &searched, SEARCH_Y_MARGIN_M, aligned_dy(r->scan, SEARCH_DY_M),
                           r->z_lo_m, r->z_hi_m, SEARCH_DZ_M, r->err, r->errlen);
     if (rc == 0)
-        rc = imaging_intensity(opt->migration, &searched, &r->g, &out->intensity, r->err, r->errlen);
+        rc = uwb_imaging_intensity(opt->migration, &searched, &r->g, &out->intensity, r->err, r->errlen);
     if (rc == 0)
         out->noise_sigma = uwb_noise_sigma(
             &searched, uwb_condition_first_open_sample(&searched, &r->g, &opt->condition, out->dominant_hz));
     uwb_scan_free(&searched);
     if (rc != 0)
         return STEP_FAILED;
-    if (face_search(&out->intensity, out->aperture_lo_m, out->aperture_hi_m, antenna_step(r->scan),
+    if (uwb_face_search(&out->intensity, out->aperture_lo_m, out->aperture_hi_m, antenna_step(r->scan),
                     &r->face, out->edges.reason, sizeof out->edges.reason) != 0)
         return STEP_DONE;
     return STEP_NEXT;
@@ -437,7 +437,7 @@ static enum step measure_weighted(struct analysis_run *r, struct side_reflector 
                       PASS_ROWS_MARGIN_M;
         y_lo = mid - span;
         y_hi = mid + span;
-        side_reflector_free(&r->pass_side);
+        uwb_side_reflector_free(&r->pass_side);
         r->pass_side = *side;
         memset(side, 0, sizeof *side);
         r->pass_z_centre_m = z_centre;
@@ -448,7 +448,7 @@ static enum step measure_weighted(struct analysis_run *r, struct side_reflector 
     out->profile.value = NULL;
     if (uwb_scan_copy(&out->measured, &out->conditioned, r->err, r->errlen) != 0)
         return STEP_FAILED;
-    side_reflector_remove(&r->pass_side, &r->g, &out->measured);
+    uwb_side_reflector_remove(&r->pass_side, &r->g, &out->measured);
     apply_weights(&out->measured, out->weight);
     double z_face_before = r->z_face_m;
     if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, y_lo, y_hi, NULL,
@@ -493,7 +493,7 @@ static enum step taper_passes(struct analysis_run *r)
 static enum step side_reflector_passes(struct analysis_run *r)
 {
     struct uwb_analysis *out = r->out;
-    if (quadrature_scan(&out->conditioned, &r->quadrature, r->err, r->errlen) != 0)
+    if (uwb_quadrature_scan(&out->conditioned, &r->quadrature, r->err, r->errlen) != 0)
         return STEP_FAILED;
     double last_centre = NAN, side_y = NAN;
     for (int pass = 0; pass < SIDE_PASSES; pass++) {
@@ -505,7 +505,7 @@ static enum step side_reflector_passes(struct analysis_run *r)
         last_centre = centre;
         taper_weights(&out->conditioned, centre, out->aperture_lo_m, out->aperture_hi_m, out->weight);
         struct side_reflector side = {0};
-        if (side_reflector_find(&out->conditioned, &r->quadrature, out->weight, &r->g, r->z_face_m, centre,
+        if (uwb_side_reflector_find(&out->conditioned, &r->quadrature, out->weight, &r->g, r->z_face_m, centre,
                                 0.5 * (r->pe.upper_m - r->pe.lower_m), out->dominant_hz, side_y, &side,
                                 r->err, r->errlen) != 0)
             return STEP_FAILED;
@@ -543,10 +543,10 @@ static enum step image_for_display(struct analysis_run *r)
     struct uwb_analysis *out = r->out;
     uwb_image_free(&out->intensity);
     double z_lo = fmax(r->z_face_m - opt->display_half_range_m, NEAREST_RANGE_M);
-    if (imaging_grid(&out->intensity, &out->conditioned, DISPLAY_Y_MARGIN_M,
+    if (uwb_imaging_grid(&out->intensity, &out->conditioned, DISPLAY_Y_MARGIN_M,
                      aligned_dy(&out->conditioned, DISPLAY_DY_M), z_lo,
                      r->z_face_m + opt->display_half_range_m, DISPLAY_DZ_M, r->err, r->errlen) != 0 ||
-        imaging_intensity(opt->migration, &out->conditioned, &r->g, &out->intensity, r->err, r->errlen) != 0)
+        uwb_imaging_intensity(opt->migration, &out->conditioned, &r->g, &out->intensity, r->err, r->errlen) != 0)
         return STEP_FAILED;
     return STEP_NEXT;
 }
@@ -608,7 +608,7 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
         rc = steps[i](&run);
     uwb_scan_free(&run.prepared);
     uwb_scan_free(&run.quadrature);
-    side_reflector_free(&run.pass_side);
+    uwb_side_reflector_free(&run.pass_side);
     if (rc == STEP_FAILED) {
         uwb_analysis_free(out);
         return -1;
@@ -626,7 +626,7 @@ void uwb_analysis_free(struct uwb_analysis *a)
     memset(a, 0, sizeof *a);
 }
 
-int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
+int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
                            const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
                            struct uwb_migration_plan *plan, struct uwb_face_profile *p, char *err,
                            size_t errlen)

@@ -110,7 +110,7 @@ static void apply_band(void *ctx, int k, fftwf_complex *spec, int n, double df_h
 static int bandpass(struct uwb_scan *s, double low_hz, double high_hz, char *err, size_t errlen)
 {
     struct band b = {low_hz, high_hz};
-    return filter_traces_in_spectrum(s, NULL, apply_band, &b, "conditioning", err, errlen);
+    return uwb_filter_traces_in_spectrum(s, NULL, apply_band, &b, "conditioning", err, errlen);
 }
 
 /* Static clutter (direct coupling, tank wall, barriers and core legs that

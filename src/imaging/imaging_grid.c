@@ -25,7 +25,7 @@ static int grid_side(double span_m, double pixel_m, int *n)
     return 0;
 }
 
-int imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m,
+int uwb_imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m,
                  double dy_m, double z_lo_m, double z_hi_m, double dz_m,
                  char *err, size_t errlen)
 {
@@ -56,7 +56,7 @@ int imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_ma
     return 0;
 }
 
-int imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *conditioned,
+int uwb_imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *conditioned,
                       const struct uwb_geometry *g, struct uwb_image *img,
                       char *err, size_t errlen)
 {

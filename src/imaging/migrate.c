@@ -33,7 +33,7 @@ int uwb_migration_kind_parse(const char *name, enum uwb_migration_kind *kind)
 
 const char *uwb_migration_simd(void)
 {
-    return migrate_simd_name();
+    return uwb_migrate_simd_name();
 }
 
 static void sum_row_float(const int32_t *restrict idx, const float *restrict frac,
@@ -71,7 +71,7 @@ static int migrate_float(struct delay_table *t, const struct uwb_scan *scan, con
             continue;
         memcpy(trace, scan->data + (size_t)k * S, (size_t)S * sizeof *trace);
         trace[S] = trace[S + 1] = 0.0f;   /* out-of-range delays read zeros */
-        delay_table_fill_trace(t, scan, g, img, k);
+        uwb_delay_table_fill_trace(t, scan, g, img, k);
         for (int iy = 0; iy < img->ny; iy++) {
             size_t row = delay_table_row(t, k, iy);
             sum_row_float(t->index + row, t->frac + row, trace, img->pix + (size_t)iy * img->nz,
@@ -116,8 +116,8 @@ static int migrate_fixed(int simd, struct delay_table *t, const struct uwb_scan 
     for (int k = 0; k < K; k++) {
         if (silent(scan->data + (size_t)k * S, S))
             continue;
-        migrate_fill_pairs(scan->data + (size_t)k * S, S, scale, pairs);
-        delay_table_fill_trace(t, scan, g, img, k);
+        uwb_migrate_fill_pairs(scan->data + (size_t)k * S, S, scale, pairs);
+        uwb_delay_table_fill_trace(t, scan, g, img, k);
         for (int iy = 0; iy < img->ny; iy++) {
             size_t row = delay_table_row(t, k, iy);
             sum_row(t->index + row, t->weight_q15 + row, pairs, acc + (size_t)iy * img->nz,
@@ -152,7 +152,7 @@ int uwb_migration_plan_init(struct uwb_migration_plan *p, enum uwb_migration_kin
         snprintf(err, errlen, "migration: image grid not allocated");
         return -1;
     }
-    if (delay_table_plan(&p->table, format_of(kind), scan, geom, img, err, errlen) != 0)
+    if (uwb_delay_table_plan(&p->table, format_of(kind), scan, geom, img, err, errlen) != 0)
         return -1;
     p->planned = 1;
     p->kind = kind;
@@ -188,7 +188,7 @@ int uwb_migration_plan_serves(const struct uwb_migration_plan *p, enum uwb_migra
 void uwb_migration_plan_free(struct uwb_migration_plan *p)
 {
     if (p->planned)
-        delay_table_free(&p->table);
+        uwb_delay_table_free(&p->table);
     memset(p, 0, sizeof *p);
 }
 

@@ -217,11 +217,11 @@ int uwb_shift_noise(const struct uwb_analysis *ca, const struct uwb_analysis *ba
             const struct uwb_analysis *a = which == 0 ? ca : ba;
             struct uwb_face_profile p;
             noise_draw(&source[which], &noise, a->weight, &state);
-            rc = analysis_measure_again(a, opt, &noise, rms, y_lo, y_hi, &plan[which], &p, err, errlen);
+            rc = uwb_analysis_measure_again(a, opt, &noise, rms, y_lo, y_hi, &plan[which], &p, err, errlen);
             if (rc != 0)
                 break;
-            double d = which == 0 ? analysis_shift(&p, &ba->profile, ba, shift_m)
-                                  : analysis_shift(&ca->profile, &p, ba, shift_m);
+            double d = which == 0 ? uwb_analysis_shift(&p, &ba->profile, ba, shift_m)
+                                  : uwb_analysis_shift(&ca->profile, &p, ba, shift_m);
             free(p.value);
             if (isnan(d)) {
                 snprintf(err, errlen, "pair uncertainty: out of memory for the profiles' fit");

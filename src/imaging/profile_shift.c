@@ -100,7 +100,7 @@ static double misfit(const struct energy *cur, const struct span *s, double d)
     return s->bb > 0.0 ? cc - cb * cb / s->bb : cc;
 }
 
-double profile_shift_fit(const struct uwb_face_profile *cur_profile, const struct uwb_face_profile *base_profile,
+double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile, const struct uwb_face_profile *base_profile,
                          double base_centre_m, double half_span_m, double guess_m)
 {
     struct energy cur, base;
@@ -150,10 +150,10 @@ double profile_shift_fit(const struct uwb_face_profile *cur_profile, const struc
 /* The fit compares the profiles over the baseline's winding, edge to edge
  * at half its peak: beyond, the winding's image falls off and the static
  * scene's share of the row grows. */
-double analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+double uwb_analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                       const struct uwb_analysis *base_analysis, double guess_m)
 {
-    return profile_shift_fit(cur, base, base_analysis->edges.center_m,
+    return uwb_profile_shift_fit(cur, base, base_analysis->edges.center_m,
                              0.5 * base_analysis->edges.height_m, guess_m);
 }
 
@@ -164,7 +164,7 @@ int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis 
         snprintf(err, errlen, "shift: the winding is not established in both scans");
         return -1;
     }
-    *shift_m = analysis_shift(&cur->profile, &base->profile, base,
+    *shift_m = uwb_analysis_shift(&cur->profile, &base->profile, base,
                               cur->edges.center_m - base->edges.center_m);
     if (isnan(*shift_m)) {
         snprintf(err, errlen, "shift: out of memory for the profiles' fit");

@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-int filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int k),
+int uwb_filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int k),
                               trace_spectrum_fn filter, void *ctx, const char *what,
                               char *err, size_t errlen)
 {

@@ -160,7 +160,7 @@ static void draw_signed_colorbar(struct uwb_canvas *c, int x, int y, int w, int 
     uwb_draw_text(c, x + w / 2 - tw / 2, y + h + 8, "- dB", s, ink);
 }
 
-void render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
+void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
                          const struct uwb_render_options *opt, struct uwb_plot *plot,
                          int *colorbar_x, int *colorbar_w)
 {
@@ -184,13 +184,13 @@ void render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *
     plot->y_max = hi + margin;
 }
 
-int render_bscan_png(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
+int uwb_render_bscan_png(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
                      char *err, size_t errlen)
 {
-    return render_bscan_png_opt(path, scan, v, NULL, err, errlen);
+    return uwb_render_bscan_png_opt(path, scan, v, NULL, err, errlen);
 }
 
-int render_bscan_png_opt(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
+int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
                          const struct uwb_render_options *opt, char *err, size_t errlen)
 {
     if (!path || !*path) {
@@ -208,7 +208,7 @@ int render_bscan_png_opt(const char *path, const struct uwb_scan *scan, const st
         return -1;
     struct uwb_plot plot;
     int bar_x, bar_w;
-    render_bscan_layout(scan, v, &o, &plot, &bar_x, &bar_w);
+    uwb_render_bscan_layout(scan, v, &o, &plot, &bar_x, &bar_w);
 
     uwb_draw_caption(&c, "uwbd raw B-scan - signed amplitude, dB re |peak|", v, s);
 

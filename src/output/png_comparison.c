@@ -137,7 +137,7 @@ static void draw_shift_arrow(struct uwb_canvas *c, const struct uwb_plot *p, con
     uwb_draw_text(c, tx, ty, text, s, UWB_RGB_CURRENT_EDGE);
 }
 
-void render_comparison_layout(const struct uwb_analysis *current_scan, const struct uwb_analysis *baseline_scan,
+void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const struct uwb_analysis *baseline_scan,
                               const struct uwb_verdict *v, const struct uwb_render_options *opt,
                               struct uwb_plot *base_panel, struct uwb_plot *current_panel,
                               struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w)
@@ -182,13 +182,13 @@ void render_comparison_layout(const struct uwb_analysis *current_scan, const str
     *colorbar_w = L.bar_w;
 }
 
-int render_comparison_png(const char *path, const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+int uwb_render_comparison_png(const char *path, const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                           const struct uwb_verdict *v, char *err, size_t errlen)
 {
-    return render_comparison_png_opt(path, current, baseline, v, NULL, err, errlen);
+    return uwb_render_comparison_png_opt(path, current, baseline, v, NULL, err, errlen);
 }
 
-int render_comparison_png_opt(const char *path, const struct uwb_analysis *current_scan,
+int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *current_scan,
                               const struct uwb_analysis *baseline_scan, const struct uwb_verdict *v,
                               const struct uwb_render_options *opt, char *err, size_t errlen)
 {
@@ -214,7 +214,7 @@ int render_comparison_png_opt(const char *path, const struct uwb_analysis *curre
     if (uwb_canvas_init(&c, o.width, o.height, page, err, errlen) != 0)
         return -1;
     struct comparison_layout L;
-    render_comparison_layout(current_scan, baseline_scan, v, &o, &L.base, &L.cur, &L.prof, &L.bar_x, &L.bar_w);
+    uwb_render_comparison_layout(current_scan, baseline_scan, v, &o, &L.base, &L.cur, &L.prof, &L.bar_x, &L.bar_w);
     const struct uwb_edges *ec = v && v->current.found ? &v->current : NULL;
     const struct uwb_edges *eb = v && v->has_baseline && v->baseline.found ? &v->baseline : NULL;
 

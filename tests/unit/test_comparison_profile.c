@@ -78,7 +78,7 @@ static void test_drawn_profiles_cross_half_peak_at_the_reported_edges(void)
     v.has_baseline = 1;
     struct uwb_plot pb, pc, pp;
     int bar_x, bar_w;
-    render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
     check_curve_crosses_half_at_edges(&pp, &cur, "up 20 mm");
     check_curve_crosses_half_at_edges(&pp, &base, "intact");
     uwb_analysis_free(&cur);
