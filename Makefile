@@ -127,10 +127,15 @@ tests: $(TEST_BIN) $(E2E_HELPER_BIN)
 
 # ---- compiling and linking -------------------------------------------------
 
+# The library's private headers live beside their code (src/daemon/*.h,
+# src/output/render_internal.h, ...) and are included as "daemon/config.h";
+# include/uwb/ holds only what a program linking libuwb.a needs. Tests may
+# include the private ones too.
+$(BUILD)/obj/src/%.o: EXTRA_CFLAGS := -Isrc
 # Tools may include each other's headers (e.g. tools/uwbsim/...); the
 # library in src/ may not.
 $(BUILD)/obj/tools/%.o: EXTRA_CFLAGS := -Itools
-$(BUILD)/obj/tests/%.o: EXTRA_CFLAGS := -I$(UNITY_DIR) -Itools -Itests/unit \
+$(BUILD)/obj/tests/%.o: EXTRA_CFLAGS := -I$(UNITY_DIR) -Itools -Itests/unit -Isrc \
                                         $(UNITY_DEFS) -DUWB_BUILD_DIR='"$(BUILD)"'
 
 $(BUILD)/obj/%.o: %.c

@@ -12,10 +12,10 @@
 #include <cjson/cJSON.h>
 
 #include "uwb/cli.h"
-#include "uwb/daemon/command.h"
-#include "uwb/daemon/config.h"
-#include "uwb/daemon/control_socket.h"
-#include "uwb/daemon/exit_codes.h"
+#include "daemon/command.h"
+#include "daemon/config.h"
+#include "daemon/control_socket.h"
+#include "daemon/exit_codes.h"
 #include "uwb/monotonic.h"
 
 /* A scan takes as long as the carriage needs; everything else is instant. */

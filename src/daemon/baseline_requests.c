@@ -7,8 +7,8 @@
 #include <time.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/reply.h"
+#include "daemon/log.h"
+#include "daemon/reply.h"
 
 char *uwbd_baseline_request(struct daemon *d, int scans, int force)
 {

@@ -1,7 +1,7 @@
 /* Parsing console and control-socket command lines. Everything is checked
  * against fixed bounds before it is looked at: the length, the bytes, the
  * number of words and each word's length. */
-#include "uwb/daemon/command.h"
+#include "daemon/command.h"
 
 #include <stdio.h>
 #include <string.h>

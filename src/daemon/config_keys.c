@@ -6,8 +6,10 @@
 #include <float.h>
 #include <limits.h>
 #include <stddef.h>
+#include <stdio.h>
+#include <string.h>
 
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 #include "uwb/frame.h"
 #include "uwb/scan.h"
 
@@ -124,8 +126,10 @@ const struct config_key uwbd_config_keys[] = {
     INTEGER("digitiser.frame_retries", rig.digitiser.frame_retries, "", 0, 100, 3,
             "a bad or missing frame is retried (with a fresh trigger) this many times per pulse"),
 
-    REQUIRED_NUMBER_ABOVE("carriage.steps_per_mm", rig.carriage.steps_per_mm, "steps/mm", 1, 0, 1e6,
-                          "microsteps per millimetre of carriage travel"),
+    REQUIRED_NUMBER("carriage.steps_per_mm", rig.carriage.steps_per_mm, "steps/mm", 1, 1, 1e6,
+                    "microsteps per millimetre of carriage travel; at least 1, as a coarser step could not "
+                    "place the antennas to the millimetre"),
+    /* At most 1e5 Hz: the STEP pulse (UWB_STEP_PULSE_S, 5 us) and the gap after it fit one period. */
     NUMBER_ABOVE("carriage.max_rate_hz", rig.carriage.max_rate_hz, "Hz", 1, 0, 1e5, 4000, "top step rate"),
     NUMBER_ABOVE("carriage.accel_hz_per_s", rig.carriage.accel_hz_per_s, "Hz/s", 1, 0, 1e9, 8000,
                  "linear ramp of the step rate at the start and end of a move"),
@@ -154,9 +158,11 @@ const struct config_key uwbd_config_keys[] = {
                      "antenna positions per scan (K)"),
     REQUIRED_NUMBER("scan.first_position_mm", rig.first_position_mm, "mm", 1, -1e5, 1e5,
                     "height of position 0 in scan coordinates"),
-    REQUIRED_NUMBER_ABOVE("scan.step_mm", rig.step_mm, "mm", 1, 0, 1e4,
-                          "spacing between positions; at least 1 mm, and (positions - 1) x step at most "
-                          "5000 mm (what a scan file may hold)"),
+    { .path = "scan.step_mm", .type = KEY_NUMBER, .offset = AT(rig.step_mm), .scale = 1,
+      .min = UWBSCAN_MIN_STEP_M * 1e3, .max = UWBSCAN_MAX_TRAVEL_M * 1e3, .required = 1, .unit = "mm",
+      .below_min_why = "under the smallest step a scan file may hold (1 mm, uwb/scan.h)",
+      .doc = "spacing between positions; at least 1 mm, and (positions - 1) x step at most 5000 mm (what a "
+             "scan file may hold)" },
     NUMBER_ABOVE("scan.trigger_pulse_us", rig.trigger_pulse_us, "us", 1, 0, 1e6, 10,
                  "how long the trigger line is held high"),
     NUMBER("scan.time_scale", rig.time_scale, "", 1, 0, 100, 1,
@@ -207,3 +213,42 @@ const struct config_key uwbd_config_keys[] = {
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];
+
+const struct config_key *uwbd_config_key_find(const char *path)
+{
+    for (size_t i = 0; i < uwbd_config_key_total; i++)
+        if (strcmp(uwbd_config_keys[i].path, path) == 0)
+            return &uwbd_config_keys[i];
+    return NULL;
+}
+
+void uwbd_config_key_describe_range(const struct config_key *k, char *buf, size_t n)
+{
+    snprintf(buf, n, "%s%.10g, %.10g]%s%s", k->min_exclusive ? "(" : "[", k->min, k->max,
+             k->unit[0] ? " " : "", k->unit);
+}
+
+int uwbd_config_key_check_range(const struct config_key *k, double written, char *problem, size_t n)
+{
+    int low = k->min_exclusive ? !(written > k->min) : !(written >= k->min);
+    if (!low && written <= k->max)
+        return 0;
+    char range[96];
+    uwbd_config_key_describe_range(k, range, sizeof range);
+    if (low && k->below_min_why)
+        snprintf(problem, n, "%g is out of range %s: %s", written, range, k->below_min_why);
+    else
+        snprintf(problem, n, "%g is out of range %s", written, range);
+    return -1;
+}
+
+int uwbd_config_key_in_rig(const struct config_key *k, size_t *offset, size_t *flag_offset)
+{
+    size_t rig = offsetof(struct uwbd_config, rig);
+    /* A GPIO line row has no offset: its `size` is the line's index. */
+    if (k->type == KEY_GPIO_LINE || k->offset < rig || k->offset >= rig + sizeof(struct uwb_rig_config))
+        return 0;
+    *offset = k->offset - rig;
+    *flag_offset = k->flag_offset ? k->flag_offset - rig : 0;
+    return 1;
+}

@@ -1,7 +1,7 @@
 /* The daemon's main loop and its life: start-up checks in the order an
  * installer fixes them (config, user, state directory, control socket,
  * hardware), then poll() until SIGTERM/SIGINT, then a safe shutdown. */
-#include "uwb/daemon/daemon.h"
+#include "daemon/daemon.h"
 
 #include <errno.h>
 #include <poll.h>
@@ -21,11 +21,12 @@
 #include <cjson/cJSON.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/exit_codes.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/service_notify.h"
-#include "uwb/daemon/test_hang.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/exit_codes.h"
+#include "daemon/log.h"
+#include "daemon/service_notify.h"
+#include "daemon/state_open.h"
+#include "daemon/test_hang.h"
+#include "daemon/verdict_log.h"
 #include "uwb/monotonic.h"
 
 static void worker_beat(struct daemon *d);
@@ -564,7 +565,7 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         return UWBD_EXIT_CANT_CREATE;
     }
     int repairs = 0;
-    if (uwbd_store_open(&d->store, d->cfg.state_dir, &repairs, err, sizeof err) != 0) {
+    if (uwbd_state_open(&d->store, d->cfg.state_dir, &repairs, err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_ERR, "state directory: %s", err);
         return UWBD_EXIT_CANT_CREATE;
     }

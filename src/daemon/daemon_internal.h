@@ -10,15 +10,15 @@
 #include <signal.h>
 #include <time.h>
 
-#include "uwb/daemon/baseline_store.h"
-#include "uwb/daemon/config.h"
-#include "uwb/daemon/control_socket.h"
-#include "uwb/daemon/daemon.h"
-#include "uwb/daemon/console_line.h"
-#include "uwb/daemon/line_buffer.h"
-#include "uwb/daemon/scan_cycle.h"
-#include "uwb/daemon/scan_progress.h"
-#include "uwb/daemon/store.h"
+#include "daemon/baseline_store.h"
+#include "daemon/config.h"
+#include "daemon/control_socket.h"
+#include "daemon/daemon.h"
+#include "daemon/console_line.h"
+#include "daemon/line_buffer.h"
+#include "daemon/scan_cycle.h"
+#include "daemon/scan_progress.h"
+#include "daemon/store.h"
 #include "uwb/link.h"
 #include "uwb/rig.h"
 

@@ -12,8 +12,8 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/exit_codes.h"
-#include "uwb/daemon/log.h"
+#include "daemon/exit_codes.h"
+#include "daemon/log.h"
 
 static void lock_path(const struct daemon *d, char *path, size_t n)
 {

@@ -15,10 +15,10 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/command.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/reply.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/command.h"
+#include "daemon/log.h"
+#include "daemon/reply.h"
+#include "daemon/verdict_log.h"
 #include "uwb/monotonic.h"
 
 void uwbd_peers_init(struct daemon *d)

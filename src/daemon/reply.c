@@ -1,11 +1,11 @@
 /* Building the JSON reply lines (see the header). */
-#include "uwb/daemon/reply.h"
+#include "daemon/reply.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
 
-#include "uwb/daemon/command.h"
+#include "daemon/command.h"
 
 static char *finish(cJSON *o)
 {

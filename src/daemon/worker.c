@@ -12,8 +12,8 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/test_hang.h"
+#include "daemon/log.h"
+#include "daemon/test_hang.h"
 #include "uwb/monotonic.h"
 
 static volatile sig_atomic_t scan_stop;

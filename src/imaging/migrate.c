@@ -112,7 +112,7 @@ static int migrate_fixed(int simd, struct delay_table *t, const struct uwb_scan 
     }
     void (*sum_row)(const int32_t *restrict, const int16_t *restrict, const int16_t *restrict,
                     int32_t *restrict, int) =
-        simd ? migrate_row_fixed_simd : migrate_row_fixed_portable;
+        simd ? uwb_migrate_row_fixed_simd : uwb_migrate_row_fixed_portable;
     for (int k = 0; k < K; k++) {
         if (silent(scan->data + (size_t)k * S, S))
             continue;

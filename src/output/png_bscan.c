@@ -4,7 +4,7 @@
  * than the winding's echo: on a linear scale the echo, the thing to look
  * at, would be a faint smudge. The face's expected arrival and the edges
  * are overlaid like in the migrated image. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -11,7 +11,7 @@
  * scan's centre labelled with the displacement.
  * Without a baseline the left panel says so and only this scan is drawn:
  * the archive keeps the same set of files for every scan. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>

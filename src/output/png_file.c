@@ -1,6 +1,6 @@
 /* Canvas -> PNG file through libpng, written into an atomic_file so a
  * reader never sees half an image and a failure leaves the old file. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 #include "uwb/atomic_file.h"
 
 #include <errno.h>

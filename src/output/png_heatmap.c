@@ -1,6 +1,6 @@
 /* The intensity image painted into a plot: bilinear in linear amplitude,
  * then dB re the image peak through the perceptual colour map. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,7 +1,7 @@
 /* The migrated image as an engineer reads it: envelope in dB re its peak
  * (perceptual map, colour bar), height y up the page as in the tank, range
  * z across, both in mm; this scan's edges solid, the baseline's dashed. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <stdio.h>
 

@@ -10,7 +10,7 @@
 
 #include "fixture_support.h"
 #include "uwb/analysis.h"
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 void setUp(void) {}
 void tearDown(void) {}

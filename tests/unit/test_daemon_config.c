@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "scratch_support.h"
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 
 #define SAMPLE_EMULATED "board/emulated/uwbd.json"
 #define SAMPLE_RPI4 "board/raspberry-pi-4/uwbd.json"

@@ -2,7 +2,7 @@
  * with libpng and check what a person relies on — where the edge lines sit,
  * how they differ, the colour bar, the axis labels, the caption. */
 #include "unity.h"
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <dirent.h>
 #include <math.h>

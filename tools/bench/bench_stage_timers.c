@@ -9,7 +9,7 @@
 #include "uwb/condition.h"
 #include "uwb/envelope.h"
 #include "uwb/migrate.h"
-#include "uwb/render.h"
+#include "../../src/output/render_internal.h"   /* the wrapped uwb_canvas_write_png */
 
 static struct bench_stage_totals totals;
 

@@ -6,9 +6,9 @@
 #ifndef UWB_DAEMON_REPLY_H
 #define UWB_DAEMON_REPLY_H
 
-#include "uwb/daemon/scan_progress.h"
+#include "daemon/scan_progress.h"
 
-#include "uwb/daemon/baseline_store.h"
+#include "daemon/baseline_store.h"
 
 #define UWBD_PROTOCOL_MAJOR 1
 #define UWBD_PROTOCOL_MINOR 0
