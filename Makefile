@@ -177,8 +177,8 @@ $(BUILD)/uwbemu: $(EMU_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 
 # The bench times these library entry points from outside the library
 # (tools/bench/bench_stage_timers.c) by wrapping them at link time.
-BENCH_WRAPS   := uwb_condition uwb_dominant_frequency uwb_migrate uwb_envelope_along_z \
-                 uwb_canvas_write_png
+BENCH_WRAPS   := uwb_condition_prepare uwb_condition_finish uwb_dominant_frequency uwb_migrate \
+                 uwb_migration_plan_run uwb_envelope_along_z uwb_canvas_write_png
 
 $(BUILD)/uwbbench: $(BENCH_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 	$(CC) $(LDFLAGS) $(SAN_FLAGS) $(BENCH_WRAPS:%=-Wl,--wrap=%) -o $@ $^ $(UWB_LDLIBS)
@@ -313,6 +313,8 @@ bench: deps
 	@if [ -z "$(BENCH_SRC)" ]; then echo "make bench: no tools/bench/*.c yet" >&2; exit 1; fi
 	+@$(SUBMAKE) all $(BUILD)/uwbbench
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench $(BENCH_ARGS)
+	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench --replay-only $(BENCH_ARGS) \
+	    --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan tests/fixtures/fdtd2d-paper-intact.uwbscan
 
 # Long runs (tools/soak/run-soak.sh): back-to-back scan cycles against the
 # emulated board, judging the daemon's RSS, open descriptors and state
