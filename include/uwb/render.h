@@ -16,6 +16,16 @@
 #include "uwb/scan.h"
 #include "uwb/verdict.h"
 
+/* Where an image came from, for its caption and its text chunks, so the
+ * PNG alone tells an engineer what was measured on what. Each field may be
+ * unset (NULL, "" or 0). The software version is always added. */
+struct uwb_provenance {
+    const char *scan_name;      /* names the scan when the verdict has no scan id (a replayed file's stem) */
+    const char *asset;          /* the asset as the site names it (site.phase, site.label) */
+    int stack;                  /* pulses averaged per antenna position */
+    double eps_r;               /* relative permittivity the image was focused with */
+};
+
 /* ------------------------------------------------------------------ */
 /* The three images                                                   */
 /* ------------------------------------------------------------------ */
@@ -25,6 +35,7 @@ struct uwb_render_options {
     double floor_db;            /* migrated / comparison colour floor re image peak (< 0, default -30) */
     double bscan_floor_db;      /* raw B-scan: |amplitude| below this re the peak shows as zero (default -40) */
     int font_scale;             /* text size: 1 = 5x7 px capitals, 2 (default) = 10x14 */
+    const struct uwb_provenance *provenance;   /* where the scan came from (NULL: the verdict alone) */
 };
 
 void uwb_render_options_default(struct uwb_render_options *opt);

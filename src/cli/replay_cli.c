@@ -317,7 +317,7 @@ int uwbd_replay_main(int argc, char **argv)
     } else {
         char stem[128];
         image_stem(&current, replay, stem, sizeof stem);
-        if (out_dir && uwb_write_images(out_dir, stem, &current, &cur_a, &base_a, &verdict, err,
+        if (out_dir && uwb_write_images(out_dir, stem, NULL, &current, &cur_a, &base_a, &verdict, err,
                                         sizeof err) != 0) {
             fprintf(stderr, "uwbd: %s\n", err);
             rc = EX_CANTCREAT;

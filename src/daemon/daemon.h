@@ -8,8 +8,8 @@
 #include <stddef.h>
 
 #include "daemon/config.h"
+#include "uwb/version.h"
 
-#define UWBD_VERSION "0.1.0"
 #define UWBD_MAX_OVERRIDES 64
 
 struct uwbd_options {

@@ -16,6 +16,7 @@
 #include "daemon/baseline_store.h"
 #include "daemon/log.h"
 #include "daemon/retention.h"
+#include "daemon/trend.h"
 #include "daemon/verdict_log.h"
 #include "uwb/evaluate.h"
 #include "uwb/monotonic.h"
@@ -421,7 +422,9 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
         record_error(c, "evaluation failed: %s", err);
         return;
     }
-    if (uwb_write_images(c->day_dir, c->id, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
+    char asset[128];
+    uwbd_trend_site_text(c->cfg, asset, sizeof asset);
+    if (uwb_write_images(c->day_dir, c->id, asset, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
         archive_problem(c, "images", err);
     uwb_analysis_free(&cur_a);
     uwb_analysis_free(&base_a);

@@ -166,7 +166,7 @@ void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdi
 {
     struct uwb_render_options o;
     uwb_render_options_sane(opt, &o);
-    uwb_layout_single_plot(o.width, o.height, o.font_scale, uwb_caption_height(v, o.width, o.font_scale),
+    uwb_layout_single_plot(o.width, o.height, o.font_scale, uwb_caption_height(v, o.provenance, o.width, o.font_scale),
                            plot, colorbar_x, colorbar_w);
     plot->x_min = scan->t0_s;
     plot->x_max = scan->t0_s + (scan->samples - 1) * scan->sample_interval_s;
@@ -210,7 +210,7 @@ int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, cons
     int bar_x, bar_w;
     uwb_render_bscan_layout(scan, v, &o, &plot, &bar_x, &bar_w);
 
-    uwb_draw_caption(&c, "uwbd raw B-scan - signed amplitude, dB re |peak|", v, s);
+    uwb_draw_caption(&c, "uwbd raw B-scan - signed amplitude, dB re |peak|", v, o.provenance, s);
 
     double peak = 0;
     for (int k = 0; k < scan->positions; k++)
@@ -241,5 +241,5 @@ int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, cons
     uwb_draw_edge_legend(&c, plot.x, uwb_layout_legend_y(&plot, s), v && v->current.found,
                          v && v->has_baseline && v->baseline.found, s);
 
-    return uwb_canvas_save_with_verdict(&c, path, "uwbd raw B-scan", v, err, errlen);
+    return uwb_canvas_save_with_verdict(&c, path, "uwbd raw B-scan", v, o.provenance, err, errlen);
 }

@@ -3,8 +3,11 @@
  * the verdict with displacement +/- uncertainty, and the edges in mm. */
 #include "output/render_internal.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
+
+#include "uwb/version.h"
 
 static const struct uwb_rgb ink = { 25, 25, 25 };
 static const struct uwb_rgb muted = { 90, 90, 90 };
@@ -40,6 +43,28 @@ static const char *or_unknown(const char *s)
     return s && *s ? s : "(unknown)";
 }
 
+/* The verdict's scan id, else the name the caller knows the scan by (a
+ * replayed file's stem), else "(unknown)". */
+static const char *scan_name(const struct uwb_verdict *v, const struct uwb_provenance *prov)
+{
+    if (v && v->scan_id[0])
+        return v->scan_id;
+    return or_unknown(prov ? prov->scan_name : NULL);
+}
+
+void uwb_describe_provenance(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf, size_t len)
+{
+    char stack[48] = "", eps[48] = "", snr[48] = "";
+    if (prov && prov->stack > 0)
+        snprintf(stack, sizeof stack, "   stack %d pulses/position", prov->stack);
+    if (prov && prov->eps_r > 0.0 && isfinite(prov->eps_r))
+        snprintf(eps, sizeof eps, "   eps_r %.2f", prov->eps_r);
+    if (v && isfinite(v->current.snr_db) && (v->current.found || v->current.snr_db != 0.0))
+        snprintf(snr, sizeof snr, "   SNR %.1f dB", v->current.snr_db);
+    snprintf(buf, len, "asset %s%s%s%s   uwbd %s", prov && prov->asset && prov->asset[0] ? prov->asset : "(not set)",
+             stack, eps, snr, UWBD_VERSION);
+}
+
 static void upper_case(char *dst, size_t len, const char *src)
 {
     size_t i = 0;
@@ -51,8 +76,14 @@ static void upper_case(char *dst, size_t len, const char *src)
 
 static int displacement_known(const struct uwb_verdict *v)
 {
-    return v->has_baseline && v->status != UWB_STATUS_INCONCLUSIVE && v->status != UWB_STATUS_EDGES
+    return v->has_baseline && (v->status == UWB_STATUS_OK || v->status == UWB_STATUS_WATCH
+                               || v->status == UWB_STATUS_ALARM)
         && v->current.found && v->baseline.found;
+}
+
+int uwb_displacement_measured(const struct uwb_verdict *v)
+{
+    return v && displacement_known(v);
 }
 
 void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t len)
@@ -64,8 +95,8 @@ void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t le
         snprintf(buf, len, "displacement %+.2f \u00b1 %.2f mm (%s)   height change %+.2f mm", d,
                  MM(v->uncertainty_m), d > 0 ? "up" : d < 0 ? "down" : "none",
                  MM(v->height_change_m));
-    } else if (v->status == UWB_STATUS_INCONCLUSIVE) {
-        snprintf(buf, len, "no displacement: %s", v->reason[0] ? v->reason : "inconclusive");
+    } else if (v->status == UWB_STATUS_INCONCLUSIVE || v->status == UWB_STATUS_ERROR) {
+        snprintf(buf, len, "no displacement: %s", v->reason[0] ? v->reason : uwb_status_name(v->status));
     } else if (!v->has_baseline) {
         snprintf(buf, len, "no baseline given: edges only");
     } else {
@@ -86,10 +117,12 @@ void uwb_describe_edges(const struct uwb_edges *e, char *buf, size_t len)
              MM(e->upper_m), MM(e->center_m), MM(e->sigma_center_m), MM(e->face_z_m));
 }
 
-void uwb_verdict_summary(const struct uwb_verdict *v, char *buf, size_t len)
+void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf, size_t len)
 {
+    char source[320];
+    uwb_describe_provenance(v, prov, source, sizeof source);
     if (!v) {
-        snprintf(buf, len, "no verdict");
+        snprintf(buf, len, "no verdict; %s", source);
         return;
     }
     char disp[320], now[320], base[320];
@@ -97,10 +130,10 @@ void uwb_verdict_summary(const struct uwb_verdict *v, char *buf, size_t len)
     uwb_describe_edges(&v->current, now, sizeof now);
     if (v->has_baseline)
         uwb_describe_edges(&v->baseline, base, sizeof base);
-    snprintf(buf, len, "scan %s created %s; status %s; %s; edges %s%s%s%s%s", or_unknown(v->scan_id),
+    snprintf(buf, len, "scan %s created %s; status %s; %s; edges %s%s%s%s%s; %s", scan_name(v, prov),
              or_unknown(v->created), uwb_status_name(v->status), disp, now,
              v->has_baseline ? "; baseline " : "", v->has_baseline ? or_unknown(v->baseline_scan_id) : "",
-             v->has_baseline ? " edges " : "", v->has_baseline ? base : "");
+             v->has_baseline ? " edges " : "", v->has_baseline ? base : "", source);
 }
 
 /* Bytes of the first n of `text` that fit in max_w pixels, cut at a code
@@ -182,7 +215,8 @@ static void labelled_text(struct pen *p, const char *label, const char *text, st
 
 #define REASON_LINES 3      /* a reason longer than this is in the JSON verdict */
 
-static int caption(struct uwb_canvas *c, int width, const char *title, const struct uwb_verdict *v, int scale)
+static int caption(struct uwb_canvas *c, int width, const char *title, const struct uwb_verdict *v,
+                   const struct uwb_provenance *prov, int scale)
 {
     struct pen p = { c, width, scale, 12, CAPTION_TOP };
     int title_scale = scale + 1;
@@ -197,7 +231,7 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
     } else {
         /* Labels are padded to one width so the figures of this scan and
          * of the baseline line up under each other. */
-        snprintf(a, sizeof a, "%s   created %s", or_unknown(v->scan_id), or_unknown(v->created));
+        snprintf(a, sizeof a, "%s   created %s", scan_name(v, prov), or_unknown(v->created));
         labelled_text(&p, "scan    ", a, ink, 1);
 
         /* Verdict: a status badge in its colour, then the figure or why
@@ -229,33 +263,50 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
             labelled_text(&p, "baseline", "none given", ink, 1);
         }
     }
+    uwb_describe_provenance(v, prov, a, sizeof a);
+    labelled_text(&p, "source  ", a, muted, 1);
     int height = p.y + 8;
     if (c)
         uwb_canvas_fill_rect(c, 0, height - 4, width, 1, rule);
     return height;
 }
 
-int uwb_caption_height(const struct uwb_verdict *v, int width, int font_scale)
+int uwb_caption_height(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width, int font_scale)
 {
-    return caption(NULL, width, "", v, font_scale);
+    return caption(NULL, width, "", v, prov, font_scale);
 }
 
-int uwb_draw_caption(struct uwb_canvas *c, const char *title, const struct uwb_verdict *v, int font_scale)
+int uwb_draw_caption(struct uwb_canvas *c, const char *title, const struct uwb_verdict *v,
+                     const struct uwb_provenance *prov, int font_scale)
 {
-    return caption(c, c->width, title, v, font_scale);
+    return caption(c, c->width, title, v, prov, font_scale);
 }
 
 int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const char *title,
-                                 const struct uwb_verdict *v, char *err, size_t errlen)
+                                 const struct uwb_verdict *v, const struct uwb_provenance *prov,
+                                 char *err, size_t errlen)
 {
-    char summary[2048];
-    uwb_verdict_summary(v, summary, sizeof summary);
+    char summary[2048], stack[32] = "", eps[32] = "", snr[32] = "";
+    uwb_verdict_summary(v, prov, summary, sizeof summary);
+    if (prov && prov->stack > 0)
+        snprintf(stack, sizeof stack, "%d", prov->stack);
+    if (prov && prov->eps_r > 0.0 && isfinite(prov->eps_r))
+        snprintf(eps, sizeof eps, "%.3g", prov->eps_r);
+    if (v && isfinite(v->current.snr_db) && (v->current.found || v->current.snr_db != 0.0))
+        snprintf(snr, sizeof snr, "%.1f", v->current.snr_db);
+    /* Machine-readable provenance beside the prose; an unknown value is
+     * left out rather than written as a guess. */
     struct uwb_png_text texts[] = {
         { "Title", title },
         { "Description", summary },
-        { "Software", "uwbd" },
+        { "Software", "uwbd " UWBD_VERSION },
+        { "Scan", v && v->scan_id[0] ? v->scan_id : prov && prov->scan_name && prov->scan_name[0] ? prov->scan_name : NULL },
+        { "Asset", prov && prov->asset && prov->asset[0] ? prov->asset : NULL },
+        { "Stack", stack[0] ? stack : NULL },
+        { "eps_r", eps[0] ? eps : NULL },
+        { "SNR dB", snr[0] ? snr : NULL },
     };
-    int rc = uwb_canvas_write_png(c, path, texts, 3, err, errlen);
+    int rc = uwb_canvas_write_png(c, path, texts, (int)(sizeof texts / sizeof texts[0]), err, errlen);
     uwb_canvas_free(c);
     return rc;
 }

@@ -16,6 +16,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define CROP_HALF_WIDTH_M 0.060     /* face region shown: +/- 60 mm of range */
 #define PANEL_GAP 20
@@ -26,6 +27,7 @@ static const struct uwb_rgb no_data = { 128, 128, 128 };
 static const struct uwb_rgb profile_background = { 40, 40, 48 };
 static const struct uwb_rgb profile_grid = { 95, 95, 105 };
 static const struct uwb_rgb baseline_ink = { 150, 20, 110 };
+const struct uwb_rgb UWB_RGB_NOT_MEASURED = { 150, 150, 150 };
 
 struct comparison_layout {
     struct uwb_plot base, cur, prof;
@@ -137,6 +139,43 @@ static void draw_shift_arrow(struct uwb_canvas *c, const struct uwb_plot *p, con
     uwb_draw_text(c, tx, ty, text, s, UWB_RGB_CURRENT_EDGE);
 }
 
+/* A verdict that measured no displacement (inconclusive, error) against a
+ * baseline: no arrow and no figure, but a grey hatched band between the two
+ * centres (where both were found) and a grey box saying "not measured" and
+ * why, so nobody reads the gap between the curves as a result. */
+static void draw_not_measured(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_verdict *v, int s)
+{
+    if (v->current.found && v->baseline.found) {
+        int r0 = uwb_plot_row(p, v->baseline.center_m), r1 = uwb_plot_row(p, v->current.center_m);
+        int top = r0 < r1 ? r0 : r1, bottom = r0 < r1 ? r1 : r0;
+        if (top < p->y)
+            top = p->y;
+        if (bottom > p->y + p->h - 1)
+            bottom = p->y + p->h - 1;
+        for (int y = top; y <= bottom; y++)
+            for (int x = p->x + (y % 6); x < p->x + p->w; x += 6)
+                uwb_canvas_put(c, x, y, UWB_RGB_NOT_MEASURED);
+    }
+    char why[sizeof v->reason];
+    snprintf(why, sizeof why, "%s", v->reason[0] ? v->reason : uwb_status_name(v->status));
+    const char *head = "not measured";
+    int max_w = p->w - 8 * s;
+    /* The reason, cut to the panel; the caption and JSON carry it whole. */
+    size_t n = strlen(why);
+    while (n > 0 && uwb_text_width(why, s) > max_w) {
+        why[--n] = '\0';
+        while (n > 0 && ((unsigned char)why[n] & 0xC0) == 0x80)
+            why[--n] = '\0';
+    }
+    int line = UWB_FONT_LINE_HEIGHT * s, w = uwb_text_width(head, s);
+    int wr = uwb_text_width(why, s);
+    int bw = (w > wr ? w : wr) + 8 * s, bh = 2 * line + 4 * s;
+    int bx = p->x + (p->w - bw) / 2, by = p->y + p->h / 2 - bh / 2;
+    uwb_canvas_fill_rect(c, bx, by, bw, bh, UWB_RGB_NOT_MEASURED);
+    uwb_draw_text(c, bx + (bw - w) / 2, by + 2 * s, head, s, page);
+    uwb_draw_text(c, bx + (bw - wr) / 2, by + 2 * s + line, why, s, page);
+}
+
 void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const struct uwb_analysis *baseline_scan,
                               const struct uwb_verdict *v, const struct uwb_render_options *opt,
                               struct uwb_plot *base_panel, struct uwb_plot *current_panel,
@@ -147,7 +186,7 @@ void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const
     struct uwb_render_options o;
     uwb_render_options_sane(opt, &o);
     struct comparison_layout L;
-    layout(o.width, o.height, o.font_scale, uwb_caption_height(v, o.width, o.font_scale), &L);
+    layout(o.width, o.height, o.font_scale, uwb_caption_height(v, o.provenance, o.width, o.font_scale), &L);
     const struct uwb_edges *ec = v && v->current.found ? &v->current : NULL;
     const struct uwb_edges *eb = v && v->has_baseline && v->baseline.found ? &v->baseline : NULL;
     /* Crop centre: the faces found, else the brightest range. */
@@ -218,7 +257,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     const struct uwb_edges *ec = v && v->current.found ? &v->current : NULL;
     const struct uwb_edges *eb = v && v->has_baseline && v->baseline.found ? &v->baseline : NULL;
 
-    uwb_draw_caption(&c, "uwbd comparison - baseline vs this scan", v, s);
+    uwb_draw_caption(&c, "uwbd comparison - baseline vs this scan", v, o.provenance, s);
 
     /* Baseline panel. */
     if (baseline) {
@@ -251,8 +290,10 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
         uwb_draw_edges(&c, &L.prof, eb, UWB_EDGE_BASELINE, 0.0, L.prof.x_max, NAN, 0, s);
     if (ec)
         uwb_draw_edges(&c, &L.prof, ec, UWB_EDGE_CURRENT, 0.0, L.prof.x_max, NAN, 0, s);
-    if (ec && eb && v->status != UWB_STATUS_INCONCLUSIVE)
+    if (ec && eb && uwb_displacement_measured(v))
         draw_shift_arrow(&c, &L.prof, v, s);
+    else if (v && v->has_baseline && !uwb_displacement_measured(v))
+        draw_not_measured(&c, &L.prof, v, s);
     panel_title(&c, &L.prof, "face profile", s, ink);
 
     struct uwb_axis_style img_axes = { .x_label_scale = 1000.0, .y_label_scale = 1000.0, .font_scale = s,
@@ -269,5 +310,5 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     uwb_draw_db_colorbar(&c, L.bar_x, L.cur.y, L.bar_w, L.cur.h, o.floor_db, s);
     uwb_draw_edge_legend(&c, L.base.x, uwb_layout_legend_y(&L.cur, s), ec != NULL, eb != NULL, s);
 
-    return uwb_canvas_save_with_verdict(&c, path, "uwbd comparison", v, err, errlen);
+    return uwb_canvas_save_with_verdict(&c, path, "uwbd comparison", v, o.provenance, err, errlen);
 }

@@ -32,6 +32,14 @@ static void on_png_warning(png_structp png, png_const_charp msg)
     (void)msg;  /* warnings do not spoil the image */
 }
 
+static int is_ascii(const char *s)
+{
+    for (; *s; s++)
+        if ((unsigned char)*s >= 0x80)
+            return 0;
+    return 1;
+}
+
 /* Kept apart from the caller so no local modified after setjmp is read
  * after the longjmp (the C rule that would otherwise need volatile). */
 static int write_rows(FILE *fp, const struct uwb_canvas *c, const struct uwb_png_text *texts,
@@ -61,13 +69,16 @@ static int write_rows(FILE *fp, const struct uwb_canvas *c, const struct uwb_png
     png_set_filter(png, 0, PNG_FILTER_SUB);
     png_set_IHDR(png, info, (png_uint_32)c->width, (png_uint_32)c->height, 8, PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_text chunks[8];
+    png_text chunks[16];
     int n = 0;
-    for (int i = 0; i < n_texts && n < 8; i++) {
+    for (int i = 0; i < n_texts && n < 16; i++) {
         if (!texts[i].key || !texts[i].text)
             continue;
         memset(&chunks[n], 0, sizeof chunks[n]);
-        chunks[n].compression = PNG_TEXT_COMPRESSION_NONE;
+        /* tEXt is Latin-1 by definition: UTF-8 (a plus-minus sign, a site name) goes in iTXt. */
+        chunks[n].compression = is_ascii(texts[i].text) ? PNG_TEXT_COMPRESSION_NONE : PNG_ITXT_COMPRESSION_NONE;
+        chunks[n].lang = (png_charp)"";
+        chunks[n].lang_key = (png_charp)"";
         chunks[n].key = (png_charp)texts[i].key;
         chunks[n].text = (png_charp)texts[i].text;
         n++;

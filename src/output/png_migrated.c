@@ -3,6 +3,7 @@
  * z across, both in mm; this scan's edges solid, the baseline's dashed. */
 #include "output/render_internal.h"
 
+#include <math.h>
 #include <stdio.h>
 
 static const struct uwb_rgb page = { 255, 255, 255 };
@@ -17,12 +18,24 @@ void uwb_render_migrated_layout(const struct uwb_image *intensity, const struct 
 {
     struct uwb_render_options o;
     uwb_render_options_sane(opt, &o);
-    uwb_layout_single_plot(o.width, o.height, o.font_scale, uwb_caption_height(v, o.width, o.font_scale),
+    uwb_layout_single_plot(o.width, o.height, o.font_scale, uwb_caption_height(v, o.provenance, o.width, o.font_scale),
                            plot, colorbar_x, colorbar_w);
     plot->x_min = intensity->z0_m;
     plot->x_max = intensity->z0_m + (intensity->nz - 1) * intensity->dz_m;
     plot->y_min = intensity->y0_m;
     plot->y_max = intensity->y0_m + (intensity->ny - 1) * intensity->dy_m;
+    /* Equal mm per pixel across and up, so the winding's shape and the
+     * distances an engineer reads off the picture are true: the plot keeps
+     * its top-left corner and gives up width or height, the colour bar
+     * follows its right side. */
+    double zspan = plot->x_max - plot->x_min, yspan = plot->y_max - plot->y_min;
+    if (zspan > 0.0 && yspan > 0.0) {
+        double m_per_px = fmax(zspan / (plot->w - 1), yspan / (plot->h - 1));
+        int w = (int)lround(zspan / m_per_px) + 1, h = (int)lround(yspan / m_per_px) + 1;
+        plot->w = w < plot->w ? w : plot->w;
+        plot->h = h < plot->h ? h : plot->h;
+        *colorbar_x = plot->x + plot->w + 22;
+    }
 }
 
 int uwb_render_migrated_png(const char *path, const struct uwb_image *intensity, const struct uwb_verdict *v,
@@ -53,7 +66,7 @@ int uwb_render_migrated_png_opt(const char *path, const struct uwb_image *intens
 
     char title[160];
     snprintf(title, sizeof title, "uwbd migrated image - envelope, dB re its peak");
-    uwb_draw_caption(&c, title, v, s);
+    uwb_draw_caption(&c, title, v, o.provenance, s);
 
     double peak = uwb_image_peak(intensity);
     uwb_paint_image_db(&c, &plot, intensity, peak, o.floor_db);
@@ -71,11 +84,11 @@ int uwb_render_migrated_png_opt(const char *path, const struct uwb_image *intens
 
     struct uwb_axis_style axes = { .x_label_scale = 1000.0, .y_label_scale = 1000.0, .font_scale = s, .x_ticks = 7, .y_ticks = 10,
                                    .x_labels = 1, .y_labels_left = 1,
-                                   .x_title = "range z (mm)", .y_title = "height y (mm)" };
+                                   .x_title = "range z (mm), to scale with height", .y_title = "height y (mm)" };
     uwb_draw_axes(&c, &plot, &axes);
     uwb_draw_db_colorbar(&c, bar_x, plot.y, bar_w, plot.h, o.floor_db, s);
     uwb_draw_edge_legend(&c, plot.x, uwb_layout_legend_y(&plot, s), v && v->current.found,
                          v && v->has_baseline && v->baseline.found, s);
 
-    return uwb_canvas_save_with_verdict(&c, path, "uwbd migrated image", v, err, errlen);
+    return uwb_canvas_save_with_verdict(&c, path, "uwbd migrated image", v, o.provenance, err, errlen);
 }

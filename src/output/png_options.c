@@ -9,6 +9,7 @@ void uwb_render_options_default(struct uwb_render_options *opt)
     opt->floor_db = -30.0;
     opt->bscan_floor_db = -40.0;
     opt->font_scale = 2;
+    opt->provenance = NULL;
 }
 
 /* Options as given, with nonsense replaced by the defaults, so a bad
@@ -28,4 +29,5 @@ void uwb_render_options_sane(const struct uwb_render_options *in, struct uwb_ren
         out->bscan_floor_db = in->bscan_floor_db;
     if (in->font_scale >= 1 && in->font_scale <= 4)
         out->font_scale = in->font_scale;
+    out->provenance = in->provenance;
 }

@@ -39,7 +39,9 @@ void uwb_canvas_line(struct uwb_canvas *c, int x0, int y0, int x1, int y1,
 void uwb_canvas_polyline(struct uwb_canvas *c, const int *xs, const int *ys, int n,
                          struct uwb_rgb colour, int thickness, int dash_on, int dash_off);
 
-/* Key/value pairs stored as PNG tEXt chunks (e.g. "Title", "Description"). */
+/* Key/value pairs stored as PNG text chunks (e.g. "Title", "Description"):
+ * ASCII text as tEXt, anything else as UTF-8 in iTXt (tEXt is Latin-1). A
+ * NULL text is left out. */
 struct uwb_png_text {
     const char *key;
     const char *text;
@@ -83,6 +85,7 @@ double uwb_rgb_lightness(struct uwb_rgb c);
 extern const struct uwb_rgb UWB_RGB_CURRENT_EDGE;   /* solid line */
 extern const struct uwb_rgb UWB_RGB_BASELINE_EDGE;  /* dashed line */
 extern const struct uwb_rgb UWB_RGB_HALO;           /* outline that keeps lines visible on any colour */
+extern const struct uwb_rgb UWB_RGB_NOT_MEASURED;   /* grey of a displacement not measured (comparison) */
 
 /* ------------------------------------------------------------------ */
 /* Plot geometry                                                       */
@@ -136,21 +139,31 @@ void uwb_draw_colorbar(struct uwb_canvas *c, int x, int y, int w, int h,
 
 /* Height of the caption block for this verdict on a canvas this wide
  * (long reasons wrap onto more lines). */
-int uwb_caption_height(const struct uwb_verdict *v, int width, int font_scale);
-/* Title, scan id and time, verdict badge + displacement, edges (this scan
- * and baseline). v may be NULL. Returns the y where the block ends. */
-int uwb_draw_caption(struct uwb_canvas *c, const char *title, const struct uwb_verdict *v, int font_scale);
+int uwb_caption_height(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width, int font_scale);
+/* Title, scan id (else prov->scan_name) and time, verdict badge +
+ * displacement, edges (this scan and baseline), then the source line
+ * (uwb_describe_provenance). v and prov may be NULL. Returns the y where
+ * the block ends. */
+int uwb_draw_caption(struct uwb_canvas *c, const char *title, const struct uwb_verdict *v,
+                     const struct uwb_provenance *prov, int font_scale);
+/* "asset phase B   stack 64 pulses/position   eps_r 3.20   SNR 24.1 dB   uwbd 0.1.0" */
+void uwb_describe_provenance(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf, size_t len);
+/* 1 if the verdict carries a displacement (ok/watch/alarm with both scans'
+ * edges): only then may an image draw one. */
+int uwb_displacement_measured(const struct uwb_verdict *v);
 struct uwb_rgb uwb_status_colour(enum uwb_status status);
 /* "displacement +2.40 ± 0.31 mm (up) ..." or why there is none. */
 void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t len);
 /* "lower 247.0 ± 0.5 upper ... mm" or "not found: reason". */
 void uwb_describe_edges(const struct uwb_edges *e, char *buf, size_t len);
 /* The caption in one line (stored as the PNG's Description text). */
-void uwb_verdict_summary(const struct uwb_verdict *v, char *buf, size_t len);
+void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf, size_t len);
 /* Write the canvas as `path` with Title (title), Description (the verdict
- * summary) and Software text chunks, then free it. */
+ * summary), Software ("uwbd VERSION") and, where known, Scan, Asset, Stack,
+ * eps_r and "SNR dB" text chunks, then free it. */
 int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const char *title,
-                                 const struct uwb_verdict *v, char *err, size_t errlen);
+                                 const struct uwb_verdict *v, const struct uwb_provenance *prov,
+                                 char *err, size_t errlen);
 
 /* -1 with "NAME: problem" if the image cannot be drawn (no data, < 2x2,
  * non-positive spacing). */

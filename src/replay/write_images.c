@@ -4,12 +4,18 @@
 
 #include "uwb/render.h"
 
-int uwb_write_images(const char *dir, const char *stem, const struct uwb_scan *current,
+int uwb_write_images(const char *dir, const char *stem, const char *asset, const struct uwb_scan *current,
                      const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
                      struct uwb_verdict *v, char *err, size_t errlen)
 {
     static const char *const kinds[] = {"migrated", "bscan", "comparison"};
     v->n_images = 0;
+    /* The stem names a scan that has no id (a replayed file). */
+    struct uwb_provenance prov = { .scan_name = stem, .asset = asset, .stack = current->stack,
+                                   .eps_r = current->eps_r };
+    struct uwb_render_options opt;
+    uwb_render_options_default(&opt);
+    opt.provenance = &prov;
     for (int i = 0; i < 3; i++) {
         char *path = v->images[v->n_images];
         int n = snprintf(path, sizeof v->images[0], "%s/%s-%s.png", dir, stem, kinds[i]);
@@ -23,12 +29,12 @@ int uwb_write_images(const char *dir, const char *stem, const struct uwb_scan *c
             continue;
         int rc;
         if (i == 0)
-            rc = uwb_render_migrated_png(path, &cur_a->intensity, v, err, errlen);
+            rc = uwb_render_migrated_png_opt(path, &cur_a->intensity, v, &opt, err, errlen);
         else if (i == 1)
-            rc = uwb_render_bscan_png(path, current, v, err, errlen);
+            rc = uwb_render_bscan_png_opt(path, current, v, &opt, err, errlen);
         else
-            rc = uwb_render_comparison_png(path, cur_a, base_a && base_a->intensity.pix ? base_a : NULL,
-                                       v, err, errlen);
+            rc = uwb_render_comparison_png_opt(path, cur_a, base_a && base_a->intensity.pix ? base_a : NULL,
+                                               v, &opt, err, errlen);
         if (rc != 0)
             return -1;
         v->n_images++;

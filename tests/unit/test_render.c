@@ -3,6 +3,9 @@
  * how they differ, the colour bar, the axis labels, the caption. */
 #include "unity.h"
 #include "output/render_internal.h"
+#include "fixture_support.h"
+#include "uwb/evaluate.h"
+#include "uwb/version.h"
 
 #include <dirent.h>
 #include <math.h>
@@ -509,7 +512,7 @@ static void test_caption_text_names_the_scan(void)
     struct png_rgb a = render_migrated("a.png", &img, &v, NULL);
     snprintf(v.scan_id, sizeof v.scan_id, "T1-20240611-0043");
     struct png_rgb b = render_migrated("b.png", &img, &v, NULL);
-    int caption_h = uwb_caption_height(&v, a.w, 2);
+    int caption_h = uwb_caption_height(&v, NULL, a.w, 2);
     int ink = ink_in(&a, 0, a.w - 1, 0, caption_h - 6), differ_caption = 0, differ_rest = 0;
     for (int y = 0; y < a.h; y++)
         for (int x = 0; x < a.w; x++) {
@@ -531,12 +534,12 @@ static void test_long_reason_wraps_and_pushes_the_plot_down(void)
 {
     struct uwb_image img = make_image(FACE_LO, FACE_HI);
     struct uwb_verdict v = make_verdict();
-    int short_h = uwb_caption_height(&v, 960, 2);
+    int short_h = uwb_caption_height(&v, NULL, 960, 2);
     v.status = UWB_STATUS_INCONCLUSIVE;
     snprintf(v.reason, sizeof v.reason,
              "the baseline's upper edge lies beyond the last antenna position, so its centre "
              "and with it the displacement cannot be established from these scans");
-    int long_h = uwb_caption_height(&v, 960, 2);
+    int long_h = uwb_caption_height(&v, NULL, 960, 2);
     int line = UWB_FONT_LINE_HEIGHT * 2 + 3;
     TEST_ASSERT_EQUAL_INT(short_h + 2 * line, long_h);     /* the reason takes three lines */
     /* a reason of any length stops at three lines */
@@ -544,7 +547,7 @@ static void test_long_reason_wraps_and_pushes_the_plot_down(void)
     for (size_t i = 10; i < sizeof v.reason - 1; i += 11)
         v.reason[i] = ' ';
     v.reason[sizeof v.reason - 1] = '\0';
-    TEST_ASSERT_EQUAL_INT(short_h + 2 * line, uwb_caption_height(&v, 960, 2));
+    TEST_ASSERT_EQUAL_INT(short_h + 2 * line, uwb_caption_height(&v, NULL, 960, 2));
     struct uwb_plot p_short, p_long;
     int bx, bw;
     struct uwb_verdict plain = make_verdict();
@@ -862,6 +865,249 @@ static void test_bad_inputs_are_refused_with_the_path(void)
     uwb_image_free(&img);
 }
 
+/* ---------- provenance, text chunks, what is not measured ---------- */
+
+#define MAX_TEXTS 16
+struct png_texts {
+    int n;
+    char key[MAX_TEXTS][80];
+    char text[MAX_TEXTS][2048];
+    int compression[MAX_TEXTS];   /* PNG_TEXT_COMPRESSION_NONE: tEXt; PNG_ITXT_COMPRESSION_NONE: iTXt */
+};
+
+static void read_texts(const char *path, struct png_texts *out)
+{
+    memset(out, 0, sizeof *out);
+    FILE *fp = fopen(path, "rb");
+    TEST_ASSERT_NOT_NULL_MESSAGE(fp, path);
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    TEST_ASSERT_EQUAL_INT(0, setjmp(png_jmpbuf(png)));
+    png_init_io(png, fp);
+    png_read_info(png, info);
+    png_textp texts;
+    int n = 0;
+    png_get_text(png, info, &texts, &n);
+    for (int i = 0; i < n && i < MAX_TEXTS; i++) {
+        snprintf(out->key[i], sizeof out->key[i], "%s", texts[i].key);
+        snprintf(out->text[i], sizeof out->text[i], "%s", texts[i].text);
+        out->compression[i] = texts[i].compression;
+    }
+    out->n = n < MAX_TEXTS ? n : MAX_TEXTS;
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+}
+
+/* The chunk's text, or NULL; *compression gets its kind. */
+static const char *text_of(const struct png_texts *t, const char *key, int *compression)
+{
+    for (int i = 0; i < t->n; i++)
+        if (!strcmp(t->key[i], key)) {
+            if (compression)
+                *compression = t->compression[i];
+            return t->text[i];
+        }
+    return NULL;
+}
+
+static int is_ascii_text(const char *s)
+{
+    for (; *s; s++)
+        if ((unsigned char)*s >= 0x80)
+            return 0;
+    return 1;
+}
+
+/* A replayed file without a scan id: every image names the scan by the
+ * file's stem (not "(unknown)") and carries the asset, the software
+ * version, the stack, eps_r and the SNR; UTF-8 text sits in iTXt chunks,
+ * ASCII in tEXt. */
+static void test_replayed_images_carry_the_file_stem_and_provenance(void)
+{
+    struct uwb_scan cur, base;
+    fixture_load_scan("tests/fixtures/fdtd2d-paper-up20mm.uwbscan", &cur);
+    fixture_load_scan("tests/fixtures/fdtd2d-paper-intact.uwbscan", &base);
+    free(cur.scan_id);
+    cur.scan_id = NULL;
+    if (cur.stack <= 0)
+        cur.stack = 64;   /* the fixture may not record it; the images must show what the scan says */
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    struct uwb_baseline_record rec = { .scan = &base };
+    struct uwb_verdict v;
+    struct uwb_analysis cur_a, base_a;
+    char err[512];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(&cur, &rec, &opt, &v, &cur_a, &base_a, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_STRING("", v.scan_id);
+    const char *asset = "Umspannwerk S\u00fcd, phase B";
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_write_images(dir, "site-recording-7", asset, &cur, &cur_a, &base_a, &v,
+                                                      err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(3, v.n_images);
+    char stack[32], eps[32];
+    snprintf(stack, sizeof stack, "%d", cur.stack);
+    snprintf(eps, sizeof eps, "%.3g", cur.eps_r);
+    for (int i = 0; i < v.n_images; i++) {
+        struct png_texts t;
+        read_texts(v.images[i], &t);
+        int kind = 0;
+        TEST_ASSERT_EQUAL_STRING_MESSAGE("site-recording-7", text_of(&t, "Scan", NULL), v.images[i]);
+        const char *d = text_of(&t, "Description", &kind);
+        TEST_ASSERT_NOT_NULL(d);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "scan site-recording-7 "), d);
+        TEST_ASSERT_NULL_MESSAGE(strstr(d, "scan (unknown)"), d);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "asset Umspannwerk S\u00fcd, phase B"), d);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "uwbd " UWBD_VERSION), d);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(PNG_ITXT_COMPRESSION_NONE, kind, "the description (with a \u00b1) is UTF-8 iTXt");
+        TEST_ASSERT_EQUAL_STRING(asset, text_of(&t, "Asset", &kind));
+        TEST_ASSERT_EQUAL_INT(PNG_ITXT_COMPRESSION_NONE, kind);
+        TEST_ASSERT_EQUAL_STRING("uwbd " UWBD_VERSION, text_of(&t, "Software", &kind));
+        TEST_ASSERT_EQUAL_INT_MESSAGE(PNG_TEXT_COMPRESSION_NONE, kind, "ASCII stays in tEXt");
+        TEST_ASSERT_EQUAL_STRING(stack, text_of(&t, "Stack", NULL));
+        TEST_ASSERT_EQUAL_STRING(eps, text_of(&t, "eps_r", NULL));
+        const char *snr = text_of(&t, "SNR dB", NULL);
+        TEST_ASSERT_NOT_NULL(snr);
+        TEST_ASSERT_DOUBLE_WITHIN(0.051, v.current.snr_db, strtod(snr, NULL));
+        /* No chunk says it is Latin-1 while holding UTF-8. */
+        for (int k = 0; k < t.n; k++) {
+            if (t.compression[k] == PNG_TEXT_COMPRESSION_NONE) {
+                TEST_ASSERT_TRUE_MESSAGE(is_ascii_text(t.text[k]), t.key[k]);
+            }
+        }
+        unlink(v.images[i]);
+    }
+    uwb_analysis_free(&cur_a);
+    uwb_analysis_free(&base_a);
+    uwb_scan_free(&cur);
+    uwb_scan_free(&base);
+}
+
+/* The caption names an id-less scan by the name it was given, and shows
+ * the source line; with neither it says "(unknown)". */
+static void test_caption_names_an_id_less_scan_by_its_given_name(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    v.scan_id[0] = '\0';
+    struct uwb_provenance prov = { .scan_name = "recording-7", .asset = "phase B", .stack = 64, .eps_r = 3.2 };
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    struct png_rgb a = render_migrated("anon.png", &img, &v, &o);
+    o.provenance = &prov;
+    struct png_rgb b = render_migrated("named.png", &img, &v, &o);
+    /* One caption line more: the source line holds the asset etc. */
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2), uwb_caption_height(&v, &prov, 960, 2));
+    int caption_h = uwb_caption_height(&v, &prov, a.w, 2), differ = 0;
+    for (int y = 0; y < caption_h; y++)
+        for (int x = 0; x < a.w; x++)
+            differ += !same(at(&a, x, y), at(&b, x, y));
+    TEST_ASSERT_TRUE_MESSAGE(differ > 200, "the name and the source line are drawn");
+    char line[512];
+    uwb_describe_provenance(&v, &prov, line, sizeof line);
+    TEST_ASSERT_EQUAL_STRING("asset phase B   stack 64 pulses/position   eps_r 3.20   SNR 0.0 dB   uwbd " UWBD_VERSION,
+                             line);
+    uwb_describe_provenance(NULL, NULL, line, sizeof line);
+    TEST_ASSERT_EQUAL_STRING("asset (not set)   uwbd " UWBD_VERSION, line);
+    char summary[2048];
+    uwb_verdict_summary(&v, NULL, summary, sizeof summary);
+    TEST_ASSERT_NOT_NULL(strstr(summary, "scan (unknown) "));
+    uwb_verdict_summary(&v, &prov, summary, sizeof summary);
+    TEST_ASSERT_NOT_NULL(strstr(summary, "scan recording-7 "));
+    free(a.px);
+    free(b.px);
+    uwb_image_free(&img);
+}
+
+/* Pixels of `colour` in the profile panel between the two centres' rows,
+ * in the column the displacement arrow is drawn in. */
+static int arrow_pixels(const struct png_rgb *png, const struct uwb_plot *pp, const struct uwb_verdict *v,
+                        struct uwb_rgb colour)
+{
+    int col = pp->x + pp->w * 82 / 100, n = 0;
+    int r0 = row_of(pp, v->baseline.center_m), r1 = row_of(pp, v->current.center_m);
+    for (int y = (r0 < r1 ? r0 : r1) + 2; y <= (r0 < r1 ? r1 : r0) - 2; y++)
+        for (int x = col - 1; x <= col + 1; x++)
+            n += same(at(png, x, y), colour);
+    return n;
+}
+
+static int colour_in_panel(const struct png_rgb *png, const struct uwb_plot *p, struct uwb_rgb colour)
+{
+    int n = 0;
+    for (int y = p->y; y < p->y + p->h; y++)
+        for (int x = p->x; x < p->x + p->w; x++)
+            n += same(at(png, x, y), colour);
+    return n;
+}
+
+/* An inconclusive or error verdict against a baseline draws no arrow even
+ * when both scans' edges were found: the gap is hatched grey and marked
+ * "not measured" with the reason; a watch verdict draws the arrow and no
+ * grey. */
+static void test_comparison_without_a_measured_displacement_draws_no_arrow(void)
+{
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
+    struct uwb_analysis base = make_analysis(BASE_LO, BASE_HI, BASE_LO, BASE_HI);
+    const enum uwb_status statuses[] = { UWB_STATUS_WATCH, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR };
+    for (int i = 0; i < 3; i++) {
+        struct uwb_verdict v = make_verdict();
+        v.status = statuses[i];
+        if (i > 0)
+            snprintf(v.reason, sizeof v.reason, "uncertainty 3.1 mm exceeds the 1.0 mm allowed");
+        char path[512], err[256];
+        path_in_dir(path, sizeof path, "cmp-status.png");
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, &base, &v, err, sizeof err), err);
+        struct png_rgb png = read_png(path);
+        struct uwb_plot pb, pc, pp;
+        int bar_x, bar_w;
+        uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+        int arrow = arrow_pixels(&png, &pp, &v, UWB_RGB_CURRENT_EDGE);
+        int grey = colour_in_panel(&png, &pp, UWB_RGB_NOT_MEASURED);
+        if (statuses[i] == UWB_STATUS_WATCH) {
+            TEST_ASSERT_TRUE_MESSAGE(arrow > 10, "a measured displacement has its arrow");
+            TEST_ASSERT_EQUAL_INT(0, grey);
+        } else {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, arrow, uwb_status_name(statuses[i]));
+            TEST_ASSERT_TRUE_MESSAGE(arrow_pixels(&png, &pp, &v, UWB_RGB_NOT_MEASURED) > 0, "gap hatched grey");
+            TEST_ASSERT_TRUE_MESSAGE(grey > 2000, "a grey 'not measured' box");
+        }
+        free(png.px);
+        unlink(path);
+    }
+    uwb_analysis_free(&cur);
+    uwb_analysis_free(&base);
+}
+
+/* The migrated image has as many mm per pixel across as up: a circle in
+ * the tank is a circle on the page. */
+static void test_migrated_image_has_equal_scales(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    struct uwb_plot p;
+    int bar_x, bar_w;
+    uwb_render_migrated_layout(&img, &v, NULL, &p, &bar_x, &bar_w);
+    double across = (p.x_max - p.x_min) / (p.w - 1), up = (p.y_max - p.y_min) / (p.h - 1);
+    TEST_ASSERT_DOUBLE_WITHIN(0.01 * up, up, across);
+    TEST_ASSERT_EQUAL_INT(p.x + p.w + 22, bar_x);
+    /* And on the page: the face (20 mm wide, 150 mm tall) spans that many
+     * mm in pixels each way. */
+    uwb_render_migrated_layout(&img, NULL, NULL, &p, &bar_x, &bar_w);   /* no overlays on the face */
+    up = (p.y_max - p.y_min) / (p.h - 1);
+    struct png_rgb png = render_migrated("aspect.png", &img, NULL, NULL);
+    struct uwb_rgb peak = uwb_colormap_perceptual(1.0);
+    int cols = 0, rows = 0, mid_row = row_of(&p, 0.5 * (FACE_LO + FACE_HI)), fc = col_of(&p, FACE_Z);
+    for (int x = p.x; x < p.x + p.w; x++)
+        cols += same(at(&png, x, mid_row), peak);
+    for (int y = p.y; y < p.y + p.h; y++)
+        rows += same(at(&png, fc, y), peak);
+    char msg[96];
+    snprintf(msg, sizeof msg, "%d columns, %d rows at %.3f mm/px", cols, rows, 1000.0 * up);
+    TEST_ASSERT_INT_WITHIN_MESSAGE(3, (int)lround(0.020 / up), cols, msg);
+    TEST_ASSERT_INT_WITHIN_MESSAGE(3, (int)lround(0.150 / up), rows, msg);
+    free(png.px);
+    uwb_image_free(&img);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -887,5 +1133,9 @@ int main(void)
     RUN_TEST(test_unwritable_path_fails_naming_it_and_leaves_nothing);
     RUN_TEST(test_libpng_failure_keeps_the_old_file_and_no_temporary);
     RUN_TEST(test_bad_inputs_are_refused_with_the_path);
+    RUN_TEST(test_replayed_images_carry_the_file_stem_and_provenance);
+    RUN_TEST(test_caption_names_an_id_less_scan_by_its_given_name);
+    RUN_TEST(test_comparison_without_a_measured_displacement_draws_no_arrow);
+    RUN_TEST(test_migrated_image_has_equal_scales);
     return UNITY_END();
 }

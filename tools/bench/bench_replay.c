@@ -178,7 +178,7 @@ static int run_in_process(const struct replay_files *f, double part[3], char *er
     if (uwb_evaluate(&cur, &rec, &opt, &v, &cur_a, &base_a, err, errlen) != 0)
         goto done;
     double t2 = uwb_monotonic_s();
-    rc = uwb_write_images(f->out_inproc, "current", &cur, &cur_a, &base_a, &v, err, errlen);
+    rc = uwb_write_images(f->out_inproc, "current", NULL, &cur, &cur_a, &base_a, &v, err, errlen);
     double t3 = uwb_monotonic_s();
     uwb_analysis_free(&cur_a);
     uwb_analysis_free(&base_a);
