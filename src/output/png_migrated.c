@@ -32,6 +32,8 @@ void uwb_render_migrated_layout(const struct uwb_image *intensity, const struct 
     if (zspan > 0.0 && yspan > 0.0) {
         double m_per_px = fmax(zspan / (plot->w - 1), yspan / (plot->h - 1));
         int w = (int)lround(zspan / m_per_px) + 1, h = (int)lround(yspan / m_per_px) + 1;
+        if (w < plot->w)
+            plot->x += (plot->w - w) / 2;    /* centred: the spare width either side */
         plot->w = w < plot->w ? w : plot->w;
         plot->h = h < plot->h ? h : plot->h;
         *colorbar_x = plot->x + plot->w + 22;
@@ -82,12 +84,15 @@ int uwb_render_migrated_png_opt(const char *path, const struct uwb_image *intens
         uwb_draw_edges(&c, &plot, &v->current, UWB_EDGE_CURRENT, v->current.face_z_m - half,
                        v->current.face_z_m + half, v->current.face_z_m, 1, s);
 
-    struct uwb_axis_style axes = { .x_label_scale = 1000.0, .y_label_scale = 1000.0, .font_scale = s, .x_ticks = 7, .y_ticks = 10,
+    /* As many range ticks as the (to-scale, maybe narrow) plot has room for. */
+    int x_ticks = plot.w / (4 * UWB_FONT_ADVANCE * s);
+    struct uwb_axis_style axes = { .x_label_scale = 1000.0, .y_label_scale = 1000.0, .font_scale = s,
+                                   .x_ticks = x_ticks < 2 ? 2 : x_ticks > 7 ? 7 : x_ticks, .y_ticks = 10,
                                    .x_labels = 1, .y_labels_left = 1,
                                    .x_title = "range z (mm), to scale with height", .y_title = "height y (mm)" };
     uwb_draw_axes(&c, &plot, &axes);
     uwb_draw_db_colorbar(&c, bar_x, plot.y, bar_w, plot.h, o.floor_db, s);
-    uwb_draw_edge_legend(&c, plot.x, uwb_layout_legend_y(&plot, s), v && v->current.found,
+    uwb_draw_edge_legend(&c, 12, uwb_layout_legend_y(&plot, s), v && v->current.found,
                          v && v->has_baseline && v->baseline.found, s);
 
     return uwb_canvas_save_with_verdict(&c, path, "uwbd migrated image", v, o.provenance, err, errlen);
