@@ -36,6 +36,7 @@ struct uwb_render_options {
     double bscan_floor_db;      /* raw B-scan: |amplitude| below this re the peak shows as zero (default -40) */
     int font_scale;             /* text size: 1 = 5x7 px capitals, 2 (default) = 10x14 */
     const struct uwb_provenance *provenance;   /* where the scan came from (NULL: the verdict alone) */
+    int bscan_conditioned;      /* the B-scan's traces are the conditioned ones the migration ran on (titles say so) */
 };
 
 void uwb_render_options_default(struct uwb_render_options *opt);
@@ -51,8 +52,10 @@ int uwb_render_migrated_png_opt(const char *path, const struct uwb_image *intens
                             const struct uwb_verdict *v, const struct uwb_render_options *opt,
                             char *err, size_t errlen);
 
-/* Raw traces: antenna y (mm) vertical, time (ns) across, signed amplitude in
- * a diverging map on a signed dB scale. */
+/* Traces: antenna y (mm) vertical, time (ns) across, signed amplitude in
+ * a diverging map on a signed dB scale. The title says "raw", or
+ * "conditioned" with opt->bscan_conditioned (uwb_write_images draws the
+ * analysis's conditioned traces, the ones that were migrated). */
 int uwb_render_bscan_png(const char *path, const struct uwb_scan *scan,
                      const struct uwb_verdict *v, char *err, size_t errlen);
 int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan,

@@ -1,4 +1,6 @@
-/* The raw B-scan: every trace as a band at its antenna height, time across.
+/* The B-scan: every trace as a band at its antenna height, time across;
+ * the raw traces, or the conditioned ones the migration ran on (direct
+ * coupling and clutter taken out: what the image is made of).
  * Signed amplitude on a signed dB scale (red positive, blue negative, white
  * below the floor) because the direct coupling is several times stronger
  * than the winding's echo: on a linear scale the echo, the thing to look
@@ -210,7 +212,11 @@ int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, cons
     int bar_x, bar_w;
     uwb_render_bscan_layout(scan, v, &o, &plot, &bar_x, &bar_w);
 
-    uwb_draw_caption(&c, "uwbd raw B-scan - signed amplitude, dB re |peak|", v, o.provenance, s);
+    const char *kind = o.bscan_conditioned ? "conditioned" : "raw";
+    char title[96], short_title[48];
+    snprintf(title, sizeof title, "uwbd %s B-scan - signed, dB re |peak|", kind);
+    snprintf(short_title, sizeof short_title, "uwbd %s B-scan", kind);
+    uwb_draw_caption(&c, title, v, o.provenance, s);
 
     double peak = 0;
     for (int k = 0; k < scan->positions; k++)
@@ -241,5 +247,5 @@ int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, cons
     uwb_draw_edge_legend(&c, plot.x, uwb_layout_legend_y(&plot, s), v && v->current.found,
                          v && v->has_baseline && v->baseline.found, s);
 
-    return uwb_canvas_save_with_verdict(&c, path, "uwbd raw B-scan", v, o.provenance, err, errlen);
+    return uwb_canvas_save_with_verdict(&c, path, short_title, v, o.provenance, err, errlen);
 }

@@ -10,6 +10,7 @@ void uwb_render_options_default(struct uwb_render_options *opt)
     opt->bscan_floor_db = -40.0;
     opt->font_scale = 2;
     opt->provenance = NULL;
+    opt->bscan_conditioned = 0;
 }
 
 /* Options as given, with nonsense replaced by the defaults, so a bad
@@ -30,4 +31,5 @@ void uwb_render_options_sane(const struct uwb_render_options *in, struct uwb_ren
     if (in->font_scale >= 1 && in->font_scale <= 4)
         out->font_scale = in->font_scale;
     out->provenance = in->provenance;
+    out->bscan_conditioned = in->bscan_conditioned != 0;
 }

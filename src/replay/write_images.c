@@ -31,7 +31,14 @@ int uwb_write_images(const char *dir, const char *stem, const char *asset, const
         if (i == 0)
             rc = uwb_render_migrated_png_opt(path, &cur_a->intensity, v, &opt, err, errlen);
         else if (i == 1)
-            rc = uwb_render_bscan_png_opt(path, current, v, &opt, err, errlen);
+        {
+            /* The traces the migration ran on, when the analysis got that
+             * far; the raw ones otherwise (titled so). */
+            int conditioned = cur_a->conditioned.data && cur_a->conditioned.positions > 0;
+            opt.bscan_conditioned = conditioned;
+            rc = uwb_render_bscan_png_opt(path, conditioned ? &cur_a->conditioned : current, v, &opt, err, errlen);
+            opt.bscan_conditioned = 0;
+        }
         else
             rc = uwb_render_comparison_png_opt(path, cur_a, base_a && base_a->intensity.pix ? base_a : NULL,
                                                v, &opt, err, errlen);

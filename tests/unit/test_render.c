@@ -943,6 +943,31 @@ static void test_replayed_images_carry_the_file_stem_and_provenance(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_write_images(dir, "site-recording-7", asset, &cur, &cur_a, &base_a, &v,
                                                       err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(3, v.n_images);
+    /* The B-scan shows the conditioned traces the migration ran on, not
+     * the raw ones (whose direct coupling and clutter were taken out). */
+    struct png_texts bt;
+    read_texts(v.images[1], &bt);
+    TEST_ASSERT_EQUAL_STRING("uwbd conditioned B-scan", text_of(&bt, "Title", NULL));
+    char raw_path[512];
+    path_in_dir(raw_path, sizeof raw_path, "raw-bscan.png");
+    struct uwb_provenance prov = { .scan_name = "site-recording-7", .asset = asset, .stack = cur.stack,
+                                   .eps_r = cur.eps_r };
+    struct uwb_render_options ro;
+    uwb_render_options_default(&ro);
+    ro.provenance = &prov;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_bscan_png_opt(raw_path, &cur, &v, &ro, err, sizeof err), err);
+    struct png_rgb conditioned_png = read_png(v.images[1]), raw_png = read_png(raw_path);
+    struct uwb_plot bp;
+    int bbx, bbw;
+    uwb_render_bscan_layout(&cur_a.conditioned, &v, &ro, &bp, &bbx, &bbw);
+    int differ = 0;
+    for (int y = bp.y; y < bp.y + bp.h; y++)
+        for (int x = bp.x; x < bp.x + bp.w; x++)
+            differ += !same(at(&conditioned_png, x, y), at(&raw_png, x, y));
+    TEST_ASSERT_TRUE_MESSAGE(differ > bp.w * bp.h / 20, "conditioned traces drawn, not the raw ones");
+    free(conditioned_png.px);
+    free(raw_png.px);
+    unlink(raw_path);
     char stack[32], eps[32];
     snprintf(stack, sizeof stack, "%d", cur.stack);
     snprintf(eps, sizeof eps, "%.3g", cur.eps_r);
