@@ -63,7 +63,7 @@ int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan,
                          char *err, size_t errlen);
 
 /* Baseline panel | current panel (both cropped to the face, same dB scale)
- * | face profiles along y, edges and the centre shift marked. It draws what
+ * | this minus baseline (each re its peak, linear) | face profiles along y, edges and the centre shift marked. It draws what
  * each analysis measured: its display image and the face profile its edges
  * were read from (nothing is measured again here). baseline may be NULL:
  * the baseline panel then says "no baseline" and only the current image and

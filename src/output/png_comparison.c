@@ -1,5 +1,5 @@
 /* Baseline against this scan, side by side so the shift shows at a glance:
- *   [baseline image] [this scan's image] [face profiles]
+ *   [baseline image] [this scan's image] [this - baseline] [face profiles]
  * The two image panels are cropped to the face, share the height axis and
  * the dB scale (each re its own peak: the scans may differ in gain); this
  * scan's panel also carries the baseline's edges dashed, so the gap between
@@ -9,6 +9,10 @@
  * out), not a profile of the display image; with the half-peak line the
  * edges are read at, and an arrow from the baseline centre to this
  * scan's centre labelled with the displacement.
+ * The difference panel subtracts the baseline's image from this scan's,
+ * each re its own peak, on a linear diverging scale (red: stronger now,
+ * blue: stronger in the baseline, white: unchanged): a moved winding shows
+ * as a red/blue pair at its ends.
  * Without a baseline the left panel says so and only this scan is drawn:
  * the archive keeps the same set of files for every scan. */
 #include "output/render_internal.h"
@@ -30,7 +34,7 @@ static const struct uwb_rgb baseline_ink = { 150, 20, 110 };
 const struct uwb_rgb UWB_RGB_NOT_MEASURED = { 150, 150, 150 };
 
 struct comparison_layout {
-    struct uwb_plot base, cur, prof;
+    struct uwb_plot base, cur, diff, prof;
     int bar_x, bar_w;
 };
 
@@ -49,8 +53,8 @@ static void layout(int width, int height, int s, int caption_height, struct comp
     L->bar_w = 10 + 6 * s;
     int right = 22 + L->bar_w + 12 + (3 * UWB_FONT_ADVANCE - 1) * s + 10;
     int bottom = 12 + UWB_FONT_CAP_HEIGHT * s + 10 + 9 * s + 14 + UWB_FONT_LINE_HEIGHT * s + 10;
-    int avail = width - left - right - right_labels - 2 * PANEL_GAP;
-    int panel = avail * 34 / 100;
+    int avail = width - left - right - right_labels - 3 * PANEL_GAP;
+    int panel = avail * 25 / 100;
     if (panel < 16)
         panel = 16;
     struct uwb_plot p = { 0 };
@@ -64,9 +68,12 @@ static void layout(int width, int height, int s, int caption_height, struct comp
     L->cur = p;
     L->cur.x = left + panel + PANEL_GAP;
     L->cur.w = panel;
+    L->diff = p;
+    L->diff.x = L->cur.x + panel + PANEL_GAP;
+    L->diff.w = panel;
     L->prof = p;
-    L->prof.x = L->cur.x + panel + PANEL_GAP;
-    L->prof.w = avail - 2 * panel > 16 ? avail - 2 * panel : 16;
+    L->prof.x = L->diff.x + panel + PANEL_GAP;
+    L->prof.w = avail - 3 * panel > 16 ? avail - 3 * panel : 16;
     L->bar_x = L->prof.x + L->prof.w + right_labels + 22;
 }
 
@@ -139,6 +146,52 @@ static void draw_shift_arrow(struct uwb_canvas *c, const struct uwb_plot *p, con
     uwb_draw_text(c, tx, ty, text, s, UWB_RGB_CURRENT_EDGE);
 }
 
+/* An image's value re its peak at (y, z), nearest sample; 0 outside. */
+static double value_re_peak(const struct uwb_image *img, double peak, double y, double z)
+{
+    long iy = lround((y - img->y0_m) / img->dy_m), iz = lround((z - img->z0_m) / img->dz_m);
+    if (iy < 0 || iz < 0 || iy >= img->ny || iz >= img->nz)
+        return 0.0;
+    float v = img->pix[iy * img->nz + iz];
+    return isfinite(v) && v > 0.0f ? v / peak : 0.0;
+}
+
+/* current/its peak - baseline/its peak on the diverging map, full colour
+ * at the largest |difference| in the panel (returned; 0: none, all white).
+ * The two images may lie on different grids: each is sampled where the
+ * pixel is. */
+double uwb_paint_difference(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *current,
+                            const struct uwb_image *baseline)
+{
+    double pc = uwb_image_peak(current), pb = uwb_image_peak(baseline);
+    if (!(pc > 0.0) || !(pb > 0.0) || p->w < 1 || p->h < 1) {
+        uwb_canvas_fill_rect(c, p->x, p->y, p->w, p->h, no_data);
+        return 0.0;
+    }
+    double dz = p->w > 1 ? (p->x_max - p->x_min) / (p->w - 1) : 0.0;
+    double dy = p->h > 1 ? (p->y_max - p->y_min) / (p->h - 1) : 0.0;
+    float *d = malloc(sizeof *d * (size_t)p->w * (size_t)p->h);
+    if (!d) {
+        uwb_canvas_fill_rect(c, p->x, p->y, p->w, p->h, no_data);
+        return 0.0;
+    }
+    double largest = 0.0;
+    for (int row = 0; row < p->h; row++)
+        for (int col = 0; col < p->w; col++) {
+            double y = p->y_max - row * dy, z = p->x_min + col * dz;
+            double v = value_re_peak(current, pc, y, z) - value_re_peak(baseline, pb, y, z);
+            d[(size_t)row * (size_t)p->w + (size_t)col] = (float)v;
+            largest = fmax(largest, fabs(v));
+        }
+    for (int row = 0; row < p->h; row++)
+        for (int col = 0; col < p->w; col++) {
+            double v = largest > 0.0 ? d[(size_t)row * (size_t)p->w + (size_t)col] / largest : 0.0;
+            uwb_canvas_put(c, p->x + col, p->y + row, uwb_colormap_diverging(0.5 + 0.5 * v));
+        }
+    free(d);
+    return largest;
+}
+
 /* A verdict that measured no displacement (inconclusive, error) against a
  * baseline: no arrow and no figure, but a grey hatched band between the two
  * centres (where both were found) and a grey box saying "not measured" and
@@ -179,7 +232,8 @@ static void draw_not_measured(struct uwb_canvas *c, const struct uwb_plot *p, co
 void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const struct uwb_analysis *baseline_scan,
                               const struct uwb_verdict *v, const struct uwb_render_options *opt,
                               struct uwb_plot *base_panel, struct uwb_plot *current_panel,
-                              struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w)
+                              struct uwb_plot *difference_panel, struct uwb_plot *profile_panel,
+                              int *colorbar_x, int *colorbar_w)
 {
     const struct uwb_image *current = &current_scan->intensity;
     const struct uwb_image *baseline = baseline_scan ? &baseline_scan->intensity : NULL;
@@ -203,8 +257,8 @@ void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const
     image_y_range(current, &ylo, &yhi);
     if (baseline)
         image_y_range(baseline, &ylo, &yhi);
-    struct uwb_plot *panels[2] = { &L.base, &L.cur };
-    for (int i = 0; i < 2; i++) {
+    struct uwb_plot *panels[3] = { &L.base, &L.cur, &L.diff };
+    for (int i = 0; i < 3; i++) {
         panels[i]->x_min = zc - CROP_HALF_WIDTH_M;
         panels[i]->x_max = zc + CROP_HALF_WIDTH_M;
         panels[i]->y_min = ylo;
@@ -216,6 +270,7 @@ void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const
     L.prof.y_max = yhi;
     *base_panel = L.base;
     *current_panel = L.cur;
+    *difference_panel = L.diff;
     *profile_panel = L.prof;
     *colorbar_x = L.bar_x;
     *colorbar_w = L.bar_w;
@@ -253,7 +308,8 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     if (uwb_canvas_init(&c, o.width, o.height, page, err, errlen) != 0)
         return -1;
     struct comparison_layout L;
-    uwb_render_comparison_layout(current_scan, baseline_scan, v, &o, &L.base, &L.cur, &L.prof, &L.bar_x, &L.bar_w);
+    uwb_render_comparison_layout(current_scan, baseline_scan, v, &o, &L.base, &L.cur, &L.diff, &L.prof, &L.bar_x,
+                                 &L.bar_w);
     const struct uwb_edges *ec = v && v->current.found ? &v->current : NULL;
     const struct uwb_edges *eb = v && v->has_baseline && v->baseline.found ? &v->baseline : NULL;
 
@@ -279,6 +335,25 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
         uwb_draw_edges(&c, &L.cur, ec, UWB_EDGE_CURRENT, L.cur.x_min, L.cur.x_max, ec->face_z_m, 0, s);
     panel_title(&c, &L.cur, "this scan", s, ink);
 
+    /* This scan minus the baseline. */
+    if (baseline) {
+        double largest = uwb_paint_difference(&c, &L.diff, current, baseline);
+        int ks = s > 1 ? s - 1 : 1;
+        char full[48];
+        snprintf(full, sizeof full, "full colour: %.0f%% of peak", 100.0 * largest);
+        const char *key[3] = { "red: stronger now", "blue: weaker now", full };
+        for (int i = 0; i < 3; i++) {
+            int w = uwb_text_width(key[i], ks), ky = L.diff.y + L.diff.h - (3 - i) * (UWB_FONT_LINE_HEIGHT * ks + 2) - 4;
+            uwb_canvas_fill_rect(&c, L.diff.x + 3, ky - 2, w + 4, UWB_FONT_CAP_HEIGHT * ks + 4, page);
+            uwb_draw_text(&c, L.diff.x + 5, ky, key[i], ks, ink);
+        }
+    } else {
+        uwb_canvas_fill_rect(&c, L.diff.x, L.diff.y, L.diff.w, L.diff.h, no_data);
+        int w = uwb_text_width("no baseline", s);
+        uwb_draw_text(&c, L.diff.x + (L.diff.w - w) / 2, L.diff.y + L.diff.h / 2, "no baseline", s, page);
+    }
+    panel_title(&c, &L.diff, "now - base", s, ink);
+
     /* Profiles. */
     uwb_canvas_fill_rect(&c, L.prof.x, L.prof.y, L.prof.w, L.prof.h, profile_background);
     int half_col = uwb_plot_col(&L.prof, 0.5);
@@ -303,6 +378,8 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     uwb_draw_axes(&c, &L.base, &img_axes);
     img_axes.y_labels_left = 0;
     uwb_draw_axes(&c, &L.cur, &img_axes);
+    img_axes.x_title = NULL;   /* the neighbours say it; the profile's title would run into it */
+    uwb_draw_axes(&c, &L.diff, &img_axes);
     struct uwb_axis_style prof_axes = { .x_label_scale = 1.0, .y_label_scale = 1000.0, .font_scale = s,
                                         .x_ticks = 2, .y_ticks = 10, .x_labels = 1, .y_labels_right = 1,
                                         .x_title = "intensity re peak", .panel_gap = PANEL_GAP };

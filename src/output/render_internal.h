@@ -215,12 +215,17 @@ void uwb_render_migrated_layout(const struct uwb_image *intensity, const struct 
 void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
                          const struct uwb_render_options *opt, struct uwb_plot *plot,
                          int *colorbar_x, int *colorbar_w);
-/* Likewise for the comparison's three panels (profile x: intensity re
- * peak, 0..1.05). */
+/* Likewise for the comparison's four panels (the difference panel like
+ * the image panels; profile x: intensity re peak, 0..1.05). */
 void uwb_render_comparison_layout(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                                   const struct uwb_verdict *v, const struct uwb_render_options *opt,
                                   struct uwb_plot *base_panel, struct uwb_plot *current_panel,
-                                  struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w);
+                                  struct uwb_plot *difference_panel, struct uwb_plot *profile_panel,
+                                  int *colorbar_x, int *colorbar_w);
+/* The comparison's difference panel: current/its peak - baseline/its
+ * peak, diverging map, full colour at the largest |difference| (returned). */
+double uwb_paint_difference(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *current,
+                            const struct uwb_image *baseline);
 /* The points of a face profile's curve in the comparison's profile panel:
  * one per profile sample inside the panel's heights, x = value / the
  * profile's peak. xs and ys hold profile->n entries; returns how many were

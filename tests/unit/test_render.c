@@ -702,9 +702,9 @@ static void test_comparison_shows_both_scans_and_the_shift(void)
     path_in_dir(path, sizeof path, "cmp.png");
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, &base, &v, err, sizeof err), err);
     struct png_rgb png = read_png(path);
-    struct uwb_plot pb, pc, pp;
+    struct uwb_plot pb, pc, pd, pp;
     int bar_x, bar_w;
-    uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
     TEST_ASSERT_TRUE(pb.x + pb.w < pc.x && pc.x + pc.w < pp.x);   /* baseline left, current right */
     struct uwb_rgb peak = uwb_colormap_perceptual(1.0);
     int fc_b = col_of(&pb, FACE_Z), fc_c = col_of(&pc, FACE_Z);
@@ -753,9 +753,9 @@ static void test_comparison_draws_the_analysis_profile_not_the_image(void)
     path_in_dir(path, sizeof path, "cmp-profile.png");
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, NULL, &v, err, sizeof err), err);
     struct png_rgb png = read_png(path);
-    struct uwb_plot pb, pc, pp;
+    struct uwb_plot pb, pc, pd, pp;
     int bar_x, bar_w;
-    uwb_render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    uwb_render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
     int at_profile = 0, at_image = 0;
     int r_profile = row_of(&pp, 0.40), r_image = row_of(&pp, 0.20);
     for (int x = col_of(&pp, 0.9); x < pp.x + pp.w; x++) {
@@ -790,9 +790,9 @@ static void test_comparison_without_baseline_draws_this_scan_only(void)
     path_in_dir(path, sizeof path, "cmp1.png");
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, NULL, &v, err, sizeof err), err);
     struct png_rgb png = read_png(path);
-    struct uwb_plot pb, pc, pp;
+    struct uwb_plot pb, pc, pd, pp;
     int bar_x, bar_w;
-    uwb_render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    uwb_render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
     int pink = 0;
     for (int y = pb.y; y < pb.y + pb.h; y++)
         for (int x = pb.x; x < pp.x + pp.w; x++)
@@ -1082,9 +1082,9 @@ static void test_comparison_without_a_measured_displacement_draws_no_arrow(void)
         path_in_dir(path, sizeof path, "cmp-status.png");
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, &base, &v, err, sizeof err), err);
         struct png_rgb png = read_png(path);
-        struct uwb_plot pb, pc, pp;
+        struct uwb_plot pb, pc, pd, pp;
         int bar_x, bar_w;
-        uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+        uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
         int arrow = arrow_pixels(&png, &pp, &v, UWB_RGB_CURRENT_EDGE);
         int grey = colour_in_panel(&png, &pp, UWB_RGB_NOT_MEASURED);
         if (statuses[i] == UWB_STATUS_WATCH) {
@@ -1133,6 +1133,47 @@ static void test_migrated_image_has_equal_scales(void)
     uwb_image_free(&img);
 }
 
+/* The difference panel: red where only this scan is bright (its face moved
+ * up to 230..250 mm), blue where only the baseline is (80..100 mm), white
+ * where both are; full colour at the largest difference. Without a
+ * baseline it is grey and says so. */
+static void test_comparison_difference_panel_shows_the_move(void)
+{
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
+    struct uwb_analysis base = make_analysis(BASE_LO, BASE_HI, BASE_LO, BASE_HI);
+    struct uwb_verdict v = make_verdict();
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "cmp-diff.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, &base, &v, err, sizeof err), err);
+    struct png_rgb png = read_png(path);
+    struct uwb_plot pb, pc, pd, pp;
+    int bar_x, bar_w;
+    uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
+    TEST_ASSERT_TRUE(pc.x + pc.w < pd.x && pd.x + pd.w < pp.x);   /* between this scan and the profiles */
+    int fc = col_of(&pd, FACE_Z);
+    TEST_ASSERT_TRUE(same(at(&png, fc, row_of(&pd, 0.240)), uwb_colormap_diverging(1.0)));
+    TEST_ASSERT_TRUE(same(at(&png, fc, row_of(&pd, 0.090)), uwb_colormap_diverging(0.0)));
+    TEST_ASSERT_TRUE(same(at(&png, fc, row_of(&pd, 0.175)), uwb_colormap_diverging(0.5)));
+    TEST_ASSERT_TRUE(same(at(&png, col_of(&pd, FACE_Z + 0.040), row_of(&pd, 0.240)), uwb_colormap_diverging(0.5)));
+    free(png.px);
+    unlink(path);
+
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, NULL, &v, err, sizeof err), err);
+    png = read_png(path);
+    uwb_render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
+    struct uwb_rgb grey = { 128, 128, 128 };
+    TEST_ASSERT_TRUE(same(at(&png, fc, row_of(&pd, 0.240)), grey));
+    int lettering = 0;   /* "no baseline" in white across the middle */
+    for (int y = pd.y + pd.h / 2 - 2; y <= pd.y + pd.h / 2 + 16; y++)
+        for (int x = pd.x + 2; x < pd.x + pd.w - 2; x++)
+            lettering += same(at(&png, x, y), (struct uwb_rgb){ 255, 255, 255 });
+    TEST_ASSERT_TRUE(lettering > 20);
+    free(png.px);
+    unlink(path);
+    uwb_analysis_free(&cur);
+    uwb_analysis_free(&base);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -1162,5 +1203,6 @@ int main(void)
     RUN_TEST(test_caption_names_an_id_less_scan_by_its_given_name);
     RUN_TEST(test_comparison_without_a_measured_displacement_draws_no_arrow);
     RUN_TEST(test_migrated_image_has_equal_scales);
+    RUN_TEST(test_comparison_difference_panel_shows_the_move);
     return UNITY_END();
 }
