@@ -16,6 +16,8 @@
 #                         it also rewrites the README's accuracy table
 #   make readme-verdict   rewrite the README's paper-pair figure and example verdict from a
 #                         run of the command it shows (make test checks they match)
+#   make readme-images    redraw the README's example images (tools/readme/images) with
+#                         the replay command it shows
 #   make soak             SOAK_CYCLES (1000) scan cycles of uwbd on the emulated board:
 #                         RSS, open fds and archive size must stay flat; then
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
@@ -113,13 +115,13 @@ ARM_PREFIX    := aarch64-linux-gnu-
 # flags are computed on a machine that has the libraries.
 SUBMAKE       := $(MAKE) --no-print-directory -f $(abspath $(firstword $(MAKEFILE_LIST)))
 
-ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy readme-verdict soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
+ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy readme-verdict readme-images soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
 ifneq ($(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --exists $(LIBS_PKG) 2>/dev/null && echo ok),ok)
 $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIPLET)); `make $(if $(TRIPLET),deps-arm,deps)` installs them)
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench accuracy readme-verdict soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy readme-verdict readme-images soak install deps deps-arm check-hw-headers clean
 # Programs whose main.c is not written yet are left out, so the library
 # and its tests build meanwhile.
 all: $(if $(wildcard src/main.c),$(BUILD)/uwbd) $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/uwbsim) \
@@ -317,6 +319,11 @@ accuracy: deps
 readme-verdict: deps
 	+@$(SUBMAKE) all $(BUILD)/e2e/state_check
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' bash tools/readme/readme-verdict.sh '$(BUILD)' --write README.md
+
+# The README's example images, drawn by the replay command it shows.
+readme-images: deps
+	+@$(SUBMAKE) all
+	UWB_EXEC_PREFIX='$(TEST_RUNNER)' bash tools/readme/readme-images.sh '$(BUILD)'
 
 bench: deps
 	@if [ -z "$(BENCH_SRC)" ]; then echo "make bench: no tools/bench/*.c yet" >&2; exit 1; fi

@@ -76,9 +76,9 @@ static void test_drawn_profiles_cross_half_peak_at_the_reported_edges(void)
     v.current = cur.edges;
     v.baseline = base.edges;
     v.has_baseline = 1;
-    struct uwb_plot pb, pc, pp;
+    struct uwb_plot pb, pc, pd, pp;
     int bar_x, bar_w;
-    uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
     check_curve_crosses_half_at_edges(&pp, &cur, "up 20 mm");
     check_curve_crosses_half_at_edges(&pp, &base, "intact");
     uwb_analysis_free(&cur);
