@@ -208,6 +208,17 @@ const struct config_key uwbd_config_keys[] = {
            "when a scan's uncertainty is over analysis.max_uncertainty_mm and more pulses would bring it under "
            "(its noise part falls as 1/sqrt(pulses)), acquire again and average, for at most this long per "
            "scan cycle, before the verdict says inconclusive; 0 = never"),
+
+    BOOLEAN("modbus.enabled", modbus.enabled, 0,
+            "serve the latest verdict, health and contact states as Modbus registers and take `ack` and `event` "
+            "as coils (README \"Modbus\" has the map); off: nothing is opened"),
+    STRING("modbus.endpoint", modbus.endpoint, "",
+           "serial:/dev/ttyX?baud=N: Modbus RTU on that line (RS-485; 8 data bits, no parity, 1 stop bit); "
+           "unix:PATH: RTU over a local socket uwbd connects to (the tests); tcp:HOST:PORT: Modbus TCP, "
+           "listening on that address (e.g. tcp:0.0.0.0:502, which needs CAP_NET_BIND_SERVICE); "
+           "required when modbus.enabled"),
+    INTEGER("modbus.unit_id", modbus.unit_id, "", 1, 247, 1,
+            "the RTU unit (slave) address this appliance answers on the bus; Modbus TCP answers any"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];
