@@ -215,7 +215,7 @@ const struct config_key uwbd_config_keys[] = {
     STRING("modbus.endpoint", modbus.endpoint, "",
            "serial:/dev/ttyX?baud=N: Modbus RTU on that line (RS-485; 8 data bits, no parity, 1 stop bit); "
            "unix:PATH: RTU over a local socket uwbd connects to (the tests); tcp:HOST:PORT: Modbus TCP, "
-           "listening on that address (e.g. tcp:0.0.0.0:502, which needs CAP_NET_BIND_SERVICE); "
+           "listening on that address (the substation LAN's, e.g. tcp:192.0.2.10:502; a port under 1024 needs CAP_NET_BIND_SERVICE); "
            "required when modbus.enabled"),
     INTEGER("modbus.unit_id", modbus.unit_id, "", 1, 247, 1,
             "the RTU unit (slave) address this appliance answers on the bus; Modbus TCP answers any"),

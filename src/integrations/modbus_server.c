@@ -124,7 +124,7 @@ int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd
         }
         uwbd_log(UWBD_LOG_INFO, "modbus: TCP listening on %s", endpoint);
     } else {
-        s->rtu = set_up(modbus_new_rtu(s->ep.path, s->ep.baud, 'N', 8, 1), unit_id);
+        s->rtu = set_up(modbus_new_rtu(s->ep.path, s->ep.baud > 0 ? s->ep.baud : UWB_SERIAL_DEFAULT_BAUD, 'N', 8, 1), unit_id);
         if (!s->rtu) {
             snprintf(err, errlen, "modbus: RTU context for %s: %s", endpoint, modbus_strerror(errno));
             uwbd_modbus_server_close(s);

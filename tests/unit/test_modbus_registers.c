@@ -2,10 +2,12 @@
  * 0.01 mm signed figures, 32-bit values high word first, "none" markers
  * for figures a verdict does not carry, clipping that never reads as
  * "none", and the health and contact bits. */
+#include "scratch_support.h"
 #include "unity.h"
 
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "integrations/modbus_registers.h"
@@ -123,6 +125,40 @@ static void test_fault_and_contact_bits(void)
     TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_CONTACT_ALARM | UWBD_MODBUS_CONTACT_FAULT, regs[UWBD_MODBUS_REG_CONTACTS]);
 }
 
+/* README's register table gives every address as the enum has it. */
+static void test_readme_documents_the_map(void)
+{
+    char *readme = scratch_slurp("README.md", NULL);
+    TEST_ASSERT_NOT_NULL_MESSAGE(readme, "README.md");
+    const struct {
+        int at, width;
+        const char *what;
+    } rows[] = {
+        {UWBD_MODBUS_REG_MAP_VERSION, 1, "map version"},
+        {UWBD_MODBUS_REG_STATUS, 1, "status"},
+        {UWBD_MODBUS_REG_DISPLACEMENT, 1, "axial displacement"},
+        {UWBD_MODBUS_REG_SIGMA, 1, "its uncertainty"},
+        {UWBD_MODBUS_REG_HEIGHT_CHANGE, 1, "height change"},
+        {UWBD_MODBUS_REG_LOWER_EDGE, 2, "lower edge"},
+        {UWBD_MODBUS_REG_UPPER_EDGE, 2, "upper edge"},
+        {UWBD_MODBUS_REG_SCAN_COUNT, 2, "scan counter"},
+        {UWBD_MODBUS_REG_SCAN_TIME, 2, "the verdict's time"},
+        {UWBD_MODBUS_REG_HEALTH, 1, "health bits"},
+        {UWBD_MODBUS_REG_CONTACTS, 1, "contact states"},
+    };
+    char row[128];
+    for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        if (rows[i].width == 1)
+            snprintf(row, sizeof row, "| %d | %s", rows[i].at, rows[i].what);
+        else
+            snprintf(row, sizeof row, "| %d\u2013%d | %s", rows[i].at, rows[i].at + 1, rows[i].what);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(readme, row), row);
+    }
+    snprintf(row, sizeof row, "coil %d `ack`, coil %d `event`", UWBD_MODBUS_COIL_ACK, UWBD_MODBUS_COIL_EVENT);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(readme, row), row);
+    free(readme);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -133,5 +169,6 @@ int main(void)
     RUN_TEST(test_large_figures_clip_and_never_read_as_none);
     RUN_TEST(test_time_without_zone_or_malformed_is_zero);
     RUN_TEST(test_fault_and_contact_bits);
+    RUN_TEST(test_readme_documents_the_map);
     return UNITY_END();
 }
