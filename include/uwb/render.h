@@ -11,6 +11,7 @@
 
 #include <stddef.h>
 
+#include "uwb/analysis.h"
 #include "uwb/image.h"
 #include "uwb/scan.h"
 #include "uwb/verdict.h"
@@ -48,14 +49,16 @@ int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan,
                          char *err, size_t errlen);
 
 /* Baseline panel | current panel (both cropped to the face, same dB scale)
- * | face intensity profiles along y, edges and the centre shift marked.
- * baseline may be NULL: the baseline panel then says "no baseline" and only
- * the current image and profile are drawn, so the file set stays the same. */
-int uwb_render_comparison_png(const char *path, const struct uwb_image *current,
-                          const struct uwb_image *baseline, const struct uwb_verdict *v,
-                          char *err, size_t errlen);
-int uwb_render_comparison_png_opt(const char *path, const struct uwb_image *current,
-                              const struct uwb_image *baseline, const struct uwb_verdict *v,
-                              const struct uwb_render_options *opt, char *err, size_t errlen);
+ * | face profiles along y, edges and the centre shift marked. It draws what
+ * each analysis measured: its display image and the face profile its edges
+ * were read from (nothing is measured again here). baseline may be NULL:
+ * the baseline panel then says "no baseline" and only the current image and
+ * profile are drawn, so the file set stays the same. */
+int uwb_render_comparison_png(const char *path, const struct uwb_analysis *current,
+                              const struct uwb_analysis *baseline, const struct uwb_verdict *v,
+                              char *err, size_t errlen);
+int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *current,
+                                  const struct uwb_analysis *baseline, const struct uwb_verdict *v,
+                                  const struct uwb_render_options *opt, char *err, size_t errlen);
 
 #endif

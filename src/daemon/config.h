@@ -43,6 +43,8 @@ struct uwbd_config {
     double direct_coupling_tolerance_s;
     int baseline_scans;                /* `baseline set` without N averages this many scans */
     double reacquire_budget_s;         /* time a cycle may spend acquiring again to be decisive; 0: never */
+    char site_phase[8];                /* site.phase: the phase as the site names it ("B", "L2"); "": none */
+    char site_label[64];               /* site.label: free text for people; "": none */
     struct uwbd_modbus_config modbus;
 };
 

@@ -192,6 +192,8 @@ const struct config_key uwbd_config_keys[] = {
            "calibration added to each scan's t0"),
     NUMBER_ABOVE("analysis.edge_fraction", evaluate.analysis.edge_fraction, "", 1, 0.05, 0.95, 0.5,
                  "an edge is where the face profile crosses this fraction of its peak"),
+    NUMBER_ABOVE("analysis.display_half_range_mm", evaluate.analysis.display_half_range_m, "mm", 1e-3, 10,
+                 2000, 250, "the migrated image (PNG) shows ranges this far either side of the winding's face"),
 
     NUMBER("direct_coupling.window_end_ns", direct_coupling_window_end_s, "ns", 1e-9, -1e3, 1e3, 2,
            "the direct Tx-to-Rx arrival is looked for from the first sample up to this time after "
@@ -208,6 +210,12 @@ const struct config_key uwbd_config_keys[] = {
            "when a scan's uncertainty is over analysis.max_uncertainty_mm and more pulses would bring it under "
            "(its noise part falls as 1/sqrt(pulses)), acquire again and average, for at most this long per "
            "scan cycle, before the verdict says inconclusive; 0 = never"),
+    STRING("site.phase", site_phase, "",
+           "the phase (or winding) this unit watches, as the site names it (e.g. B, L2, HV-B; at most 7 bytes); "
+           "shown in `status` and the trend image"),
+    STRING("site.label", site_label, "",
+           "a free label for people (e.g. Hillside GT2, north window; at most 63 bytes); shown in `status` and "
+           "the trend image"),
 
     BOOLEAN("modbus.enabled", modbus.enabled, 0,
             "serve the latest verdict, health and contact states as Modbus registers and take `ack` and `event` "

@@ -18,6 +18,7 @@
 #include "daemon/command.h"
 #include "daemon/log.h"
 #include "daemon/reply.h"
+#include "daemon/trend.h"
 #include "daemon/verdict_log.h"
 #include "uwb/monotonic.h"
 
@@ -223,8 +224,25 @@ static char *status_reply(struct daemon *d)
         .rig = d->scanning ? "scanning" : d->rig_state,
         .console = d->cfg.console_endpoint[0] ? d->cfg.console_endpoint : NULL,
         .progress = has_progress ? &progress : NULL,
+        .site_phase = d->cfg.site_phase,
+        .site_label = d->cfg.site_label,
     };
     return uwbd_reply_status(&st);
+}
+
+/* `trend N`: read from verdicts.jsonl, like `history`. */
+static char *trend_reply(struct daemon *d, int n)
+{
+    struct uwb_trend t;
+    char err[512], image[UWBD_PATH_MAX + 32];
+    if (uwbd_trend_read(&d->store, n, &t, err, sizeof err) != 0) {
+        uwbd_log(UWBD_LOG_ERR, "trend: %s", err);
+        return uwbd_reply_error(err);
+    }
+    int has_image = uwbd_trend_png_path(&d->store, image, sizeof image) == 0 && access(image, F_OK) == 0;
+    char *line = uwbd_reply_trend(&t, n, &d->cfg.evaluate.compare.thresholds, has_image ? image : NULL);
+    uwb_trend_free(&t);
+    return line;
 }
 
 static void run_command(struct daemon *d, struct peer *p, const struct uwb_command *cmd)
@@ -254,6 +272,9 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         uwbd_verdict_lines_free(lines, count);
         return;
     }
+    case UWB_COMMAND_TREND:
+        reply(d, p, trend_reply(d, cmd->count));
+        return;
     case UWB_COMMAND_BASELINE_SET:
         reply(d, p, uwbd_baseline_request(d, cmd->count, cmd->force));
         return;

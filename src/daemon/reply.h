@@ -31,6 +31,7 @@ struct uwbd_status {
     const char *console;           /* endpoint, or NULL when none */
     const char *fault;             /* a device fault (the baseline failed its check), or NULL */
     const struct uwbd_scan_progress *progress; /* while scanning, or NULL */
+    const char *site_phase, *site_label;       /* site.phase, site.label; "" or NULL: not set */
 };
 
 char *uwbd_reply_error(const char *message);

@@ -14,6 +14,7 @@
 #include "daemon_internal.h"
 #include "daemon/log.h"
 #include "daemon/test_hang.h"
+#include "daemon/trend.h"
 #include "uwb/monotonic.h"
 
 static volatile sig_atomic_t scan_stop;
@@ -127,6 +128,13 @@ static void *worker_main(void *arg)
     sigaddset(&usr1, SIGUSR1);
     pthread_sigmask(SIG_UNBLOCK, &usr1, NULL);
     uwbd_cycle_run(&d->cfg, &d->store, acquire_from_rig, d, &scan_stop, &d->job.request, &d->job.result);
+    if (d->job.result.outcome == UWBD_CYCLE_RECORDED) {
+        /* trend.png follows every verdict; here, off the main loop. */
+        char err[512], site[128];
+        uwbd_trend_site_text(&d->cfg, site, sizeof site);
+        if (uwbd_trend_png_update(&d->cfg, &d->store, site, err, sizeof err) != 0)
+            uwbd_log(UWBD_LOG_WARNING, "trend image not updated: %s", err);
+    }
     /* No signal may land after this thread stops looking. */
     pthread_sigmask(SIG_BLOCK, &usr1, NULL);
     uint64_t one = 1;

@@ -46,7 +46,7 @@ static inline size_t delay_table_row(const struct delay_table *t, int k, int iy)
 }
 
 /* Build the table for all traces (shared case) or prepare one for trace `k`
- * (per-trace case: call uwb_delay_table_fill_trace for each k). */
+ * (per-trace case: call delay_table_fill_trace for each k). */
 int uwb_delay_table_plan(struct delay_table *t, enum delay_format format, const struct uwb_scan *scan,
                      const struct uwb_geometry *g, const struct uwb_image *img,
                      char *err, size_t errlen);

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "migrate_plan.h"
 #include "uwb/envelope.h"
 
 /* The most pixels along either side of an imaging grid: 5 m of travel (the
@@ -60,6 +61,20 @@ int uwb_imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *c
                       char *err, size_t errlen)
 {
     if (uwb_migrate(kind, conditioned, g, img, err, errlen) != 0)
+        return -1;
+    return uwb_envelope_along_z(img, err, errlen);
+}
+
+int uwb_imaging_intensity_planned(struct uwb_migration_plan *plan, enum uwb_migration_kind kind,
+                              const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                              struct uwb_image *img, char *err, size_t errlen)
+{
+    if (!uwb_migration_plan_serves(plan, kind, img)) {
+        uwb_migration_plan_free(plan);
+        if (uwb_migration_plan_init(plan, kind, conditioned, g, img, err, errlen) != 0)
+            return -1;
+    }
+    if (uwb_migration_plan_run(plan, conditioned, g, img, err, errlen) != 0)
         return -1;
     return uwb_envelope_along_z(img, err, errlen);
 }

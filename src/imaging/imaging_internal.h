@@ -18,6 +18,13 @@ int uwb_imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *c
                       const struct uwb_geometry *g, struct uwb_image *img,
                       char *err, size_t errlen);
 
+/* The same with a migration plan kept by the caller: (re)built when it was
+ * made for another grid, reused otherwise (repeated images of one grid). */
+struct uwb_migration_plan;
+int uwb_imaging_intensity_planned(struct uwb_migration_plan *plan, enum uwb_migration_kind kind,
+                              const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                              struct uwb_image *img, char *err, size_t errlen);
+
 /* The brightest pixel of range column iz: its value, and its row in *row. */
 double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row);
 
@@ -59,26 +66,38 @@ double uwb_profile_symmetry_centre(const struct uwb_face_profile *p, double gues
 
 /* The shift d that best maps base onto cur: cur(y + d) against g * base(y)
  * on the squared envelope, y within +-half_span_m of base_centre_m, searched
- * within 5 mm of guess_m (profile_shift.c says why). */
+ * within 5 mm of guess_m (profile_shift.c says why). NAN when out of memory. */
 double uwb_profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                          double base_centre_m, double half_span_m, double guess_m);
 
 /* The displacement between a current and a baseline profile of these
- * analyses (uwb_profile_shift_fit over the baseline's winding). */
+ * analyses (profile_shift_fit over the baseline's winding). */
 double uwb_analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                       const struct uwb_analysis *base_analysis, double guess_m);
 
 /* The face profile of an analysis measured again on its kept traces plus
  * scale * added (weighted by the analysis' aperture weights): what the same
  * scan with that noise would have given, imaged between y_lo_m and y_hi_m
- * only (the whole aperture when y_lo_m >= y_hi_m). Returns 0, or -1 with err
- * filled. */
+ * only (the whole aperture when y_lo_m >= y_hi_m). plan: a migration plan
+ * the caller keeps across repeated calls (initialised to zeros, freed with
+ * uwb_migration_plan_free). Returns 0, or -1 with err filled. */
 int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
                            const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
-                           struct uwb_face_profile *p, char *err, size_t errlen);
+                           struct uwb_migration_plan *plan, struct uwb_face_profile *p, char *err,
+                           size_t errlen);
 
-/* Band-limit every trace as conditioning does (its pulse band). */
-int uwb_condition_band_limit(struct uwb_scan *s, const struct uwb_condition_options *opt,
-                         double dominant_hz, char *err, size_t errlen);
+/* uwb_condition in its two parts: what depends on the scan alone (band-pass,
+ * alignment on the direct coupling), done once per analysis, and what
+ * depends on where the winding is (static clutter removal, early gate). */
+int uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *g,
+                          const struct uwb_condition_options *opt, double dominant_hz,
+                          struct uwb_scan *out, char *err, size_t errlen);
+int uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geometry *g,
+                         const struct uwb_condition_options *opt, double dominant_hz,
+                         const struct uwb_target_window *winding, struct uwb_scan *out,
+                         char *err, size_t errlen);
+
+/* The gain conditioning's band-pass gives frequency f_hz (0..1). */
+double uwb_condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz);
 
 #endif

@@ -162,10 +162,6 @@ double uwb_db_to_t(double amplitude, double peak, double floor_db);
 /* Fill the plot rectangle with the image in dB re peak (plot x = z, y = y). */
 void uwb_paint_image_db(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *img,
                         double peak, double floor_db);
-/* Intensity at the face along y: per row the max over |z - face_z| <=
- * half_width, normalised to its peak. profile has img->ny entries.
- * Returns -1 if the window misses the image or it is all zero. */
-int uwb_face_profile(const struct uwb_image *img, double face_z_m, double half_width_m, double *profile);
 
 enum uwb_edge_kind { UWB_EDGE_CURRENT, UWB_EDGE_BASELINE };
 /* A horizontal edge line in its style (core on `row`, halo around). */
@@ -208,9 +204,15 @@ void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdi
                          int *colorbar_x, int *colorbar_w);
 /* Likewise for the comparison's three panels (profile x: intensity re
  * peak, 0..1.05). */
-void uwb_render_comparison_layout(const struct uwb_image *current, const struct uwb_image *baseline,
-                              const struct uwb_verdict *v, const struct uwb_render_options *opt,
-                              struct uwb_plot *base_panel, struct uwb_plot *current_panel,
-                              struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w);
+void uwb_render_comparison_layout(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                                  const struct uwb_verdict *v, const struct uwb_render_options *opt,
+                                  struct uwb_plot *base_panel, struct uwb_plot *current_panel,
+                                  struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w);
+/* The points of a face profile's curve in the comparison's profile panel:
+ * one per profile sample inside the panel's heights, x = value / the
+ * profile's peak. xs and ys hold profile->n entries; returns how many were
+ * filled (0 for an empty or all-zero profile). */
+int uwb_comparison_profile_polyline(const struct uwb_plot *profile_panel, const struct uwb_face_profile *profile,
+                                    int *xs, int *ys);
 
 #endif

@@ -27,8 +27,7 @@ int uwb_write_images(const char *dir, const char *stem, const struct uwb_scan *c
         else if (i == 1)
             rc = uwb_render_bscan_png(path, current, v, err, errlen);
         else
-            rc = uwb_render_comparison_png(path, &cur_a->intensity,
-                                       base_a && base_a->intensity.pix ? &base_a->intensity : NULL,
+            rc = uwb_render_comparison_png(path, cur_a, base_a && base_a->intensity.pix ? base_a : NULL,
                                        v, err, errlen);
         if (rc != 0)
             return -1;

@@ -44,6 +44,28 @@ static struct uwb_image make_image(double lo, double hi)
     return img;
 }
 
+/* An analysis as the comparison receives it: the display image with its
+ * face at image_lo..image_hi, and the face profile the edges were read
+ * from, bright (1.0, else BACKGROUND) over profile_lo..profile_hi on a
+ * 1 mm grid. In a real analysis the two agree; tests may part them. */
+static struct uwb_analysis make_analysis(double image_lo, double image_hi, double profile_lo,
+                                         double profile_hi)
+{
+    struct uwb_analysis a;
+    memset(&a, 0, sizeof a);
+    a.intensity = make_image(image_lo, image_hi);
+    a.profile.n = 601;
+    a.profile.y0_m = 0.0;
+    a.profile.dy_m = 0.001;
+    a.profile.value = malloc((size_t)a.profile.n * sizeof *a.profile.value);
+    TEST_ASSERT_NOT_NULL(a.profile.value);
+    for (int i = 0; i < a.profile.n; i++) {
+        double y = a.profile.y0_m + i * a.profile.dy_m;
+        a.profile.value[i] = y >= profile_lo - 1e-9 && y <= profile_hi + 1e-9 ? 1.0f : (float)BACKGROUND;
+    }
+    return a;
+}
+
 static void set_edges(struct uwb_edges *e, double lo, double hi)
 {
     memset(e, 0, sizeof *e);
@@ -670,7 +692,8 @@ static void test_bscan_traces_are_at_their_antenna_heights(void)
 
 static void test_comparison_shows_both_scans_and_the_shift(void)
 {
-    struct uwb_image cur = make_image(FACE_LO, FACE_HI), base = make_image(BASE_LO, BASE_HI);
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
+    struct uwb_analysis base = make_analysis(BASE_LO, BASE_HI, BASE_LO, BASE_HI);
     struct uwb_verdict v = make_verdict();
     char path[512], err[256];
     path_in_dir(path, sizeof path, "cmp.png");
@@ -709,13 +732,54 @@ static void test_comparison_shows_both_scans_and_the_shift(void)
     TEST_ASSERT_TRUE_MESSAGE(white_right > 0, "current profile at full intensity mid-face");
     TEST_ASSERT_TRUE_MESSAGE(pink_curve > 0, "baseline profile at full intensity where only it is bright");
     free(png.px);
-    uwb_image_free(&cur);
-    uwb_image_free(&base);
+    uwb_analysis_free(&cur);
+    uwb_analysis_free(&base);
+}
+
+/* The profile panel draws the profile the analysis read its edges from, not
+ * one taken again from the display image: here the two are made to differ
+ * (the profile bright at 350..450 mm, the image's face at 100..250 mm), and
+ * the curve follows the profile. */
+static void test_comparison_draws_the_analysis_profile_not_the_image(void)
+{
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, 0.35, 0.45);
+    struct uwb_verdict v = make_verdict();
+    v.has_baseline = 0;
+    v.status = UWB_STATUS_EDGES;
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "cmp-profile.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, NULL, &v, err, sizeof err), err);
+    struct png_rgb png = read_png(path);
+    struct uwb_plot pb, pc, pp;
+    int bar_x, bar_w;
+    uwb_render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    int at_profile = 0, at_image = 0;
+    int r_profile = row_of(&pp, 0.40), r_image = row_of(&pp, 0.20);
+    for (int x = col_of(&pp, 0.9); x < pp.x + pp.w; x++) {
+        at_profile += same(at(&png, x, r_profile), UWB_RGB_CURRENT_EDGE);
+        at_image += same(at(&png, x, r_image), UWB_RGB_CURRENT_EDGE);
+    }
+    TEST_ASSERT_TRUE_MESSAGE(at_profile > 0, "curve at full intensity where the analysis' profile is");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, at_image, "no curve at full intensity where only the image is bright");
+    /* The drawing's own points: value / peak on the x axis, one per sample. */
+    int xs[601], ys[601];
+    int n = uwb_comparison_profile_polyline(&pp, &cur.profile, xs, ys);
+    TEST_ASSERT_TRUE(n > 300);
+    for (int i = 0; i < n; i++) {
+        double y = pp.y_max - (ys[i] - pp.y) * (pp.y_max - pp.y_min) / (pp.h - 1);
+        int bright = y >= 0.35 + 0.002 && y <= 0.45 - 0.002, dark = y < 0.35 - 0.002 || y > 0.45 + 0.002;
+        if (bright)
+            TEST_ASSERT_INT_WITHIN(1, col_of(&pp, 1.0), xs[i]);
+        if (dark)
+            TEST_ASSERT_INT_WITHIN(1, col_of(&pp, BACKGROUND), xs[i]);
+    }
+    free(png.px);
+    uwb_analysis_free(&cur);
 }
 
 static void test_comparison_without_baseline_draws_this_scan_only(void)
 {
-    struct uwb_image cur = make_image(FACE_LO, FACE_HI);
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
     struct uwb_verdict v = make_verdict();
     v.has_baseline = 0;
     v.status = UWB_STATUS_EDGES;
@@ -736,7 +800,7 @@ static void test_comparison_without_baseline_draws_this_scan_only(void)
     struct uwb_rgb c = at(&png, pb.x + 5, pb.y + 5);
     TEST_ASSERT_TRUE(c.r == c.g && c.g == c.b);
     free(png.px);
-    uwb_image_free(&cur);
+    uwb_analysis_free(&cur);
 }
 
 /* ---------- failures ---------- */
@@ -784,10 +848,12 @@ static void test_bad_inputs_are_refused_with_the_path(void)
     struct uwb_image empty = { 0 };
     TEST_ASSERT_EQUAL_INT(-1, uwb_render_migrated_png(path, &empty, NULL, err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(err, path));
-    struct uwb_image img = make_image(FACE_LO, FACE_HI);
-    img.dy_m = 0.0;
-    TEST_ASSERT_EQUAL_INT(-1, uwb_render_comparison_png(path, &img, NULL, NULL, err, sizeof err));
+    struct uwb_analysis bad = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
+    bad.intensity.dy_m = 0.0;
+    TEST_ASSERT_EQUAL_INT(-1, uwb_render_comparison_png(path, &bad, NULL, NULL, err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(err, "spacing"));
+    uwb_analysis_free(&bad);
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
     struct uwb_scan scan;
     memset(&scan, 0, sizeof scan);
     TEST_ASSERT_EQUAL_INT(-1, uwb_render_bscan_png(path, &scan, NULL, err, sizeof err));
@@ -817,6 +883,7 @@ int main(void)
     RUN_TEST(test_bscan_traces_are_at_their_antenna_heights);
     RUN_TEST(test_comparison_shows_both_scans_and_the_shift);
     RUN_TEST(test_comparison_without_baseline_draws_this_scan_only);
+    RUN_TEST(test_comparison_draws_the_analysis_profile_not_the_image);
     RUN_TEST(test_unwritable_path_fails_naming_it_and_leaves_nothing);
     RUN_TEST(test_libpng_failure_keeps_the_old_file_and_no_temporary);
     RUN_TEST(test_bad_inputs_are_refused_with_the_path);
