@@ -23,9 +23,17 @@
 /* A lost RTU link (the peer of a unix: endpoint went away, the USB adapter
  * was unplugged) is opened again after this. */
 #define RETRY_S 5.0
-/* A master that starts a request must finish it within this; the loop
- * waits no longer for one (libmodbus's indication timeout). */
+/* RTU: a master that starts a request must finish it within this, and
+ * its bytes come at most this far apart (libmodbus's indication and byte
+ * timeouts; on a bus they are milliseconds apart). The loop waits for an
+ * RTU frame at most a few seconds, and only for someone on the bus. */
 #define REQUEST_TIMEOUT_US 500000
+#define BYTE_TIMEOUT_US 50000
+/* TCP: a request is gathered without blocking, frame by frame (its MBAP
+ * header gives its length); one not complete within this drops its
+ * connection. The loop never waits for a TCP master. */
+#define TCP_FRAME_S 2.0
+#define MBAP_HEADER 7
 
 /* Function codes that write registers: the map is read-only. */
 #define FC_WRITE_SINGLE_COIL 0x05
@@ -51,7 +59,12 @@ struct uwbd_modbus_server {
     /* TCP */
     modbus_t *tcp;
     int listen_fd;
-    int clients[UWBD_MODBUS_TCP_CLIENTS];
+    struct tcp_client {
+        int fd;                    /* -1: free */
+        uint8_t frame[MODBUS_TCP_MAX_ADU_LENGTH];
+        int len;                   /* bytes of the current request so far */
+        double started_s;          /* CLOCK_MONOTONIC of its first byte */
+    } clients[UWBD_MODBUS_TCP_CLIENTS];
 };
 
 static void rtu_try_open(struct uwbd_modbus_server *s)
@@ -85,6 +98,7 @@ static modbus_t *set_up(modbus_t *ctx, int unit_id)
         return NULL;
     modbus_set_slave(ctx, unit_id);
     modbus_set_indication_timeout(ctx, 0, REQUEST_TIMEOUT_US);
+    modbus_set_byte_timeout(ctx, 0, BYTE_TIMEOUT_US);
     return ctx;
 }
 
@@ -99,7 +113,7 @@ int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd
     }
     s->listen_fd = -1;
     for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
-        s->clients[i] = -1;
+        s->clients[i].fd = -1;
     s->unit_id = unit_id;
     s->h = *handlers;
     snprintf(s->endpoint, sizeof s->endpoint, "%s", endpoint);
@@ -144,17 +158,30 @@ int uwbd_modbus_server_poll_fds(struct uwbd_modbus_server *s, struct pollfd *fds
     if (s->listen_fd >= 0 && n < max)
         fds[n++] = (struct pollfd){.fd = s->listen_fd, .events = POLLIN};
     for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS && n < max; i++)
-        if (s->clients[i] >= 0)
-            fds[n++] = (struct pollfd){.fd = s->clients[i], .events = POLLIN};
+        if (s->clients[i].fd >= 0)
+            fds[n++] = (struct pollfd){.fd = s->clients[i].fd, .events = POLLIN};
     return n;
+}
+
+static int ms_until(double when_s)
+{
+    double left_s = when_s - uwb_monotonic_s();
+    return left_s <= 0 ? 0 : (int)(left_s * 1000.0) + 1;
 }
 
 int uwbd_modbus_server_timeout_ms(const struct uwbd_modbus_server *s)
 {
-    if (!s->rtu || s->link)
-        return -1;
-    double left_s = s->retry_at_s - uwb_monotonic_s();
-    return left_s <= 0 ? 0 : (int)(left_s * 1000.0) + 1;
+    int ms = -1;
+    if (s->rtu && !s->link)
+        ms = ms_until(s->retry_at_s);
+    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++) {
+        if (s->clients[i].fd < 0 || s->clients[i].len == 0)
+            continue;
+        int left = ms_until(s->clients[i].started_s + TCP_FRAME_S);
+        if (ms < 0 || left < ms)
+            ms = left;
+    }
+    return ms;
 }
 
 static int coil_wired(const struct uwbd_modbus_server *s, int first, int count)
@@ -195,19 +222,10 @@ static int run_coils(struct uwbd_modbus_server *s, const uint8_t *pdu, int pdu_l
     return 0;
 }
 
-/* One request on ctx (its socket set): -1 when the connection is gone. */
-static int serve_one(struct uwbd_modbus_server *s, modbus_t *ctx)
+/* Answers one whole request (query, len bytes, as libmodbus frames it)
+ * on ctx, its socket set: -1 when the connection is gone. */
+static int answer(struct uwbd_modbus_server *s, modbus_t *ctx, const uint8_t *query, int len)
 {
-    uint8_t query[MODBUS_TCP_MAX_ADU_LENGTH];
-    int len = modbus_receive(ctx, query);
-    if (len == 0)
-        return 0;   /* RTU: a request for another unit on the bus */
-    if (len < 0) {
-        if (errno == ECONNRESET || errno == EPIPE || errno == EBADF || errno == EIO || errno == ENOTCONN)
-            return -1;
-        modbus_flush(ctx);   /* a bad CRC or a half frame: wait for the next */
-        return 0;
-    }
     int header = modbus_get_header_length(ctx);
     if (len <= header)
         return 0;
@@ -231,9 +249,64 @@ static int serve_one(struct uwbd_modbus_server *s, modbus_t *ctx)
         rc = modbus_reply(ctx, query, len, s->map);
         memset(s->map->tab_bits, 0, UWBD_MODBUS_COIL_COUNT);   /* coils are momentary */
     }
+    if (rc < 0 && ctx == s->tcp)
+        return -1;   /* a master that does not take its reply (EAGAIN) or went away */
     if (rc < 0 && (errno == EPIPE || errno == ECONNRESET || errno == EBADF || errno == EIO))
         return -1;
     return 0;
+}
+
+/* One RTU request from the link: -1 when the link is gone. */
+static int serve_rtu(struct uwbd_modbus_server *s)
+{
+    uint8_t query[MODBUS_RTU_MAX_ADU_LENGTH];
+    int len = modbus_receive(s->rtu, query);
+    if (len == 0)
+        return 0;   /* a request for another unit on the bus */
+    if (len < 0) {
+        if (errno == ECONNRESET || errno == EPIPE || errno == EBADF || errno == EIO || errno == ENOTCONN)
+            return -1;
+        modbus_flush(s->rtu);   /* a bad CRC or a half frame: wait for the next */
+        return 0;
+    }
+    return answer(s, s->rtu, query, len);
+}
+
+/* What a TCP master sent, gathered without blocking; a whole request is
+ * answered. -1: drop the connection (closed, not Modbus, or an error). */
+static int serve_tcp(struct uwbd_modbus_server *s, struct tcp_client *c)
+{
+    int want = c->len < MBAP_HEADER ? MBAP_HEADER : 6 + ((c->frame[4] << 8) | c->frame[5]);
+    ssize_t n = recv(c->fd, c->frame + c->len, (size_t)(want - c->len), MSG_DONTWAIT);
+    if (n == 0)
+        return -1;
+    if (n < 0)
+        return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : -1;
+    if (c->len == 0)
+        c->started_s = uwb_monotonic_s();
+    c->len += (int)n;
+    if (c->len == MBAP_HEADER) {
+        int length = (c->frame[4] << 8) | c->frame[5];
+        /* protocol id 0; unit id and at least a function code; within an ADU */
+        if (c->frame[2] || c->frame[3] || length < 2 || 6 + length > MODBUS_TCP_MAX_ADU_LENGTH)
+            return -1;
+        want = 6 + length;
+    }
+    if (c->len < want || c->len < MBAP_HEADER)
+        return 0;
+    int len = c->len;
+    c->len = 0;
+    modbus_set_socket(s->tcp, c->fd);
+    int rc = answer(s, s->tcp, c->frame, len);
+    modbus_set_socket(s->tcp, -1);
+    return rc;
+}
+
+static void drop_client(struct tcp_client *c)
+{
+    close(c->fd);
+    c->fd = -1;
+    c->len = 0;
 }
 
 static void accept_client(struct uwbd_modbus_server *s)
@@ -242,9 +315,13 @@ static void accept_client(struct uwbd_modbus_server *s)
     if (fd < 0)
         return;
     fcntl(fd, F_SETFD, FD_CLOEXEC);   /* accept4 is a GNU extension */
+    /* Replies are sent without blocking too: a master that does not read
+     * them is dropped when its socket's buffer is full. */
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
     for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
-        if (s->clients[i] < 0) {
-            s->clients[i] = fd;
+        if (s->clients[i].fd < 0) {
+            s->clients[i].fd = fd;
+            s->clients[i].len = 0;
             return;
         }
     uwbd_log(UWBD_LOG_WARNING, "modbus: a TCP master refused: %d already connected", UWBD_MODBUS_TCP_CLIENTS);
@@ -257,7 +334,7 @@ void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd 
         if (!fds[i].revents)
             continue;
         if (s->link && fds[i].fd == uwb_link_fd(s->link)) {
-            if (serve_one(s, s->rtu) < 0)
+            if (serve_rtu(s) < 0)
                 rtu_lost(s, "the link closed");
             continue;
         }
@@ -265,17 +342,16 @@ void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd 
             accept_client(s);
             continue;
         }
-        for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++) {
-            if (s->clients[c] != fds[i].fd)
-                continue;
-            modbus_set_socket(s->tcp, s->clients[c]);
-            if (serve_one(s, s->tcp) < 0) {
-                close(s->clients[c]);
-                s->clients[c] = -1;
-            }
-            modbus_set_socket(s->tcp, -1);
-        }
+        for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++)
+            if (s->clients[c].fd == fds[i].fd && serve_tcp(s, &s->clients[c]) < 0)
+                drop_client(&s->clients[c]);
     }
+    double now_s = uwb_monotonic_s();
+    for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++)
+        if (s->clients[c].fd >= 0 && s->clients[c].len > 0 && now_s - s->clients[c].started_s >= TCP_FRAME_S) {
+            uwbd_log(UWBD_LOG_WARNING, "modbus: a TCP master dropped: no whole request within %.0f s", TCP_FRAME_S);
+            drop_client(&s->clients[c]);
+        }
     if (s->rtu && !s->link && uwb_monotonic_s() >= s->retry_at_s)
         rtu_try_open(s);
 }
@@ -296,8 +372,8 @@ void uwbd_modbus_server_close(struct uwbd_modbus_server *s)
     if (s->listen_fd >= 0)
         close(s->listen_fd);
     for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
-        if (s->clients[i] >= 0)
-            close(s->clients[i]);
+        if (s->clients[i].fd >= 0)
+            close(s->clients[i].fd);
     modbus_mapping_free(s->map);
     free(s);
 }

@@ -6,17 +6,22 @@
 #include "scratch_support.h"
 #include "unity.h"
 
+#include <arpa/inet.h>
 #include <errno.h>
+#include <netinet/in.h>
 #include <poll.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <modbus/modbus.h>
 
 #include "integrations/modbus_server.h"
 #include "uwb/link.h"
+#include "uwb/monotonic.h"
 
 static char dir[256], endpoint[300], err[512];
 static struct uwb_link_listener *listener;
@@ -25,6 +30,7 @@ static struct uwb_link *peer;
 static modbus_t *master;
 static pthread_t thread;
 static atomic_int stop, acks, events, fills, ack_result;
+static int started;
 
 static void fill(void *ctx, uint16_t regs[UWBD_MODBUS_REGISTER_COUNT])
 {
@@ -73,6 +79,7 @@ static void start(int wire_event)
     modbus_set_slave(master, 5);
     modbus_set_response_timeout(master, 2, 0);
     TEST_ASSERT_EQUAL_INT(0, pthread_create(&thread, NULL, serve, NULL));
+    started = 1;
 }
 
 void setUp(void)
@@ -89,12 +96,16 @@ void setUp(void)
 
 void tearDown(void)
 {
-    atomic_store(&stop, 1);
-    pthread_join(thread, NULL);
-    modbus_set_socket(master, -1);
-    modbus_free(master);
-    uwb_link_close(peer);
+    if (started) {
+        atomic_store(&stop, 1);
+        pthread_join(thread, NULL);
+        modbus_set_socket(master, -1);
+        modbus_free(master);
+        uwb_link_close(peer);
+        started = 0;
+    }
     uwbd_modbus_server_close(server);
+    server = NULL;
     uwb_link_listener_close(listener);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, scratch_remove_tree(dir), dir);
 }
@@ -184,8 +195,93 @@ static void test_bad_endpoint_and_unbindable_address_are_errors(void)
     TEST_ASSERT_EQUAL_INT(-1, uwbd_modbus_server_open("tcp:192.0.2.1:1502", 1, &h, &s, err, sizeof err));
     TEST_ASSERT_NULL(s);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "cannot listen on tcp:192.0.2.1:1502"), err);
-    /* tearDown's join needs a thread and a master: start one */
-    start(1);
+}
+
+static int free_port(void)
+{
+    int fd = socket(AF_INET, SOCK_STREAM, 0);
+    struct sockaddr_in a = {.sin_family = AF_INET, .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
+    socklen_t len = sizeof a;
+    TEST_ASSERT_EQUAL_INT(0, bind(fd, (struct sockaddr *)&a, sizeof a));
+    TEST_ASSERT_EQUAL_INT(0, getsockname(fd, (struct sockaddr *)&a, &len));
+    close(fd);
+    return ntohs(a.sin_port);
+}
+
+static int connect_to(int port)
+{
+    int fd = socket(AF_INET, SOCK_STREAM, 0);
+    struct sockaddr_in a = {.sin_family = AF_INET, .sin_port = htons((uint16_t)port),
+                            .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
+    TEST_ASSERT_EQUAL_INT(0, connect(fd, (struct sockaddr *)&a, sizeof a));
+    return fd;
+}
+
+/* Serves for `seconds`, in this thread; returns the longest single serve() in seconds. */
+static double serve_for(double seconds)
+{
+    double longest = 0, end = uwb_monotonic_s() + seconds;
+    while (uwb_monotonic_s() < end) {
+        struct pollfd fds[UWBD_MODBUS_POLL_FDS];
+        int n = uwbd_modbus_server_poll_fds(server, fds, UWBD_MODBUS_POLL_FDS);
+        poll(fds, (nfds_t)n, 10);
+        double t0 = uwb_monotonic_s();
+        uwbd_modbus_server_serve(server, fds, n);
+        if (uwb_monotonic_s() - t0 > longest)
+            longest = uwb_monotonic_s() - t0;
+    }
+    return longest;
+}
+
+/* A TCP master that sends half a request never holds up the loop (nor
+ * the masters behind it), and is dropped once it has had 2 s. */
+static void test_a_slow_tcp_master_never_blocks_the_loop(void)
+{
+    char tcp[64];
+    int port = free_port();
+    snprintf(tcp, sizeof tcp, "tcp:127.0.0.1:%d", port);
+    struct uwbd_modbus_handlers h = {.fill = fill};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_modbus_server_open(tcp, 1, &h, &server, err, sizeof err), err);
+    int slow = connect_to(port);
+    const uint8_t half[3] = {0x00, 0x01, 0x00};
+    TEST_ASSERT_EQUAL_INT(3, (int)send(slow, half, sizeof half, 0));
+    TEST_ASSERT_TRUE(serve_for(0.3) < 0.1);
+    TEST_ASSERT_TRUE(uwbd_modbus_server_timeout_ms(server) > 0);   /* its deadline is in poll's timeout */
+    int quick = connect_to(port);
+    /* read input registers 0..1: MBAP (tid 7, protocol 0, length 6, unit 1), function 4 */
+    const uint8_t request[12] = {0x00, 0x07, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x00, 0x00, 0x02};
+    TEST_ASSERT_EQUAL_INT(12, (int)send(quick, request, sizeof request, 0));
+    TEST_ASSERT_TRUE(serve_for(0.3) < 0.1);
+    uint8_t reply[64];
+    ssize_t n = recv(quick, reply, sizeof reply, MSG_DONTWAIT);
+    TEST_ASSERT_EQUAL_INT(13, (int)n);
+    const uint8_t expected[13] = {0x00, 0x07, 0x00, 0x00, 0x00, 0x07, 0x01, 0x04, 0x04, 0x00, 100, 0x00, 101};
+    TEST_ASSERT_EQUAL_UINT8_ARRAY(expected, reply, 13);
+    TEST_ASSERT_TRUE(serve_for(2.0) < 0.1);
+    TEST_ASSERT_EQUAL_INT(0, (int)recv(slow, reply, sizeof reply, MSG_DONTWAIT));   /* dropped: EOF */
+    close(slow);
+    close(quick);
+}
+
+/* Not Modbus (an HTTP request) on the TCP port: the connection is dropped. */
+static void test_a_tcp_peer_that_speaks_no_modbus_is_dropped(void)
+{
+    char tcp[64];
+    int port = free_port();
+    snprintf(tcp, sizeof tcp, "tcp:127.0.0.1:%d", port);
+    struct uwbd_modbus_handlers h = {.fill = fill};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_modbus_server_open(tcp, 1, &h, &server, err, sizeof err), err);
+    int fd = connect_to(port);
+    const char get[] = "GET / HTTP/1.0\r\n\r\n";
+    TEST_ASSERT_EQUAL_INT((int)strlen(get), (int)send(fd, get, strlen(get), 0));
+    serve_for(0.3);
+    char reply[64];
+    /* closed with the rest of the request unread: a reset rather than an EOF */
+    ssize_t n = recv(fd, reply, sizeof reply, MSG_DONTWAIT);
+    int dropped = n == 0 || (n < 0 && errno == ECONNRESET);
+    TEST_ASSERT_TRUE_MESSAGE(dropped, n < 0 ? strerror(errno) : "a reply");
+    TEST_ASSERT_EQUAL_INT(0, atomic_load(&fills));
+    close(fd);
 }
 
 int main(void)
@@ -197,5 +293,7 @@ int main(void)
     RUN_TEST(test_an_unwired_coil_is_illegal_address);
     RUN_TEST(test_registers_cannot_be_written);
     RUN_TEST(test_bad_endpoint_and_unbindable_address_are_errors);
+    RUN_TEST(test_a_slow_tcp_master_never_blocks_the_loop);
+    RUN_TEST(test_a_tcp_peer_that_speaks_no_modbus_is_dropped);
     return UNITY_END();
 }
