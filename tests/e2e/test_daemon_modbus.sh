@@ -18,6 +18,17 @@ json_edit "$config" "$config" 'baseline={"scans":1}'
 ctl() { uwbd ctl --socket run/control.sock "$@"; }
 emu() { uwbemu --ctl unix:run/emu.sock "$@"; }
 mbc() { $HOST_PREFIX "$HOST_BUILD/e2e/modbus_client" "$@"; }
+# The TCP sockets uwbd holds: its socket inodes found in /proc/net/tcp*.
+tcp_sockets() {
+    local inode count=0 tables=(/proc/net/tcp)
+    [[ -r /proc/net/tcp6 ]] && tables+=(/proc/net/tcp6)
+    for inode in $(ls -l /proc/"$daemon_pid"/fd 2>/dev/null | sed -n 's/.*socket:\[\([0-9]*\)\].*/\1/p'); do
+        if awk -v i="$inode" 'NR > 1 && $10 == i { found = 1 } END { exit !found }' "${tables[@]}"; then
+            count=$((count + 1))
+        fi
+    done
+    echo "$count"
+}
 
 # ---- --check-config names the key --------------------------------------------
 json_edit "$config" no-endpoint.json 'modbus={"enabled":true}'
@@ -122,6 +133,7 @@ last=$(sed -n 3p tcp.out)
 why=$(verdict_matches "$last" event.json) || fail "TCP after the event scan: $why: $last / $(cat event.json)"
 [[ $(sed -n 4p tcp.out) == "coil 0=1: Illegal data address" && $(sed -n 5p tcp.out) == "write-register: Illegal function" ]] ||
     fail "TCP refusals: $(cat tcp.out)"
+[[ $(tcp_sockets) -ge 1 ]] || fail "no TCP socket held while Modbus TCP is on (the check below would prove nothing)"
 pass "Modbus TCP on 127.0.0.1:$port after SIGHUP: a 4 mm verdict in the registers ($first); event coil scanned"
 
 # ---- disabled: nothing listens --------------------------------------------------
@@ -129,7 +141,9 @@ json_edit "$config" "$config" 'modbus.enabled=false'
 kill -HUP "$daemon_pid"
 closed() { ! mbc tcp 127.0.0.1 "$port" probe > /dev/null 2>&1; }
 wait_for closed || fail "port $port still answers with modbus.enabled false"
+# ...and the daemon holds no TCP socket at all.
+[[ $(tcp_sockets) == 0 ]] || fail "uwbd holds $(tcp_sockets) TCP socket(s) with modbus.enabled false"
 kill -TERM "$daemon_pid"
 wait "$daemon_pid" || fail "uwbd exit $? at SIGTERM"
-pass "modbus.enabled false on reload: port $port closed"
+pass "modbus.enabled false on reload: port $port closed, no TCP socket held (one or more while on)"
 echo "$passed passed"
