@@ -239,9 +239,9 @@ static void profile_adjoint(const struct uwb_image *real, const double *grad, in
         for (int iz = lo; iz <= hi; iz++) {
             const double *hz = h + iz + nz - 1;   /* hz[-s] = h(iz - s) */
             double im = 0.0;
-            for (int s = 0; s < nz; s++)
+            for (int s = (iz + 1) % 2; s < nz; s += 2)   /* h is 0 at even lags */
                 im += hz[-s] * r[s];
-            double e = hypot(r[iz], im);
+            double e = sqrt((double)r[iz] * r[iz] + im * im);
             if (e > best) {
                 best = e;
                 bz = iz;
@@ -254,7 +254,7 @@ static void profile_adjoint(const struct uwb_image *real, const double *grad, in
         double *w = weight + (size_t)iy * nz;
         const double *hz = h + bz + nz - 1;
         w[bz] += grad[iy] * br / best;
-        for (int s = 0; s < nz; s++)
+        for (int s = (bz + 1) % 2; s < nz; s += 2)
             w[s] += grad[iy] * (bi / best) * hz[-s];
     }
 }
