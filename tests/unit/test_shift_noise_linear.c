@@ -41,7 +41,8 @@ static void compare_on(const char *name, const struct uwb_scan *cur, const struc
     struct uwb_analysis ca, ba;
     struct uwb_verdict v;
     char err[256];
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(cur, base, &opt, &v, &ca, &ba, err, sizeof err), err);
+    struct uwb_baseline_record rec = {.scan = base};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(cur, &rec, &opt, &v, &ca, &ba, err, sizeof err), err);
     TEST_ASSERT_TRUE_MESSAGE(ca.edges.found && ba.edges.found, name);
     double shift;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_measure_shift(&ca, &ba, &shift, err, sizeof err), err);
