@@ -23,6 +23,7 @@ static void table_defaults(struct uwb_rig_config *cfg)
             continue;
         char *p = (char *)cfg + at;
         if (k->type == KEY_NUMBER)
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
             *(double *)p = k->default_number * k->scale;
         else if (k->type == KEY_INT || k->type == KEY_BOOL)
             *(int *)p = (int)k->default_number;
@@ -70,11 +71,14 @@ static int check_table_ranges(const struct uwb_rig_config *cfg, char *err, size_
         if (k->type == KEY_INT) {
             values[0] = *(const int *)p;
         } else if (k->type == KEY_NUMBER) {
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
             values[0] = *(const double *)p / k->scale;
         } else if (k->type == KEY_PAIR) {
             if (flag_at && !*(const int *)((const char *)cfg + flag_at))
                 continue;   /* an optional pair not given */
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
             values[0] = ((const double *)p)[0] / k->scale;
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
             values[1] = ((const double *)p)[1] / k->scale;
             n = 2;
         } else {
