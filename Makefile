@@ -423,12 +423,17 @@ COVERAGE_BUILD := build-coverage
 COVERAGE_CFLAGS := -O0 -g --coverage -Wno-format-truncation
 coverage: dev-deps
 	@find $(COVERAGE_BUILD) -name '*.gcda' -delete 2>/dev/null || true
-	+@$(SUBMAKE) BUILD=$(COVERAGE_BUILD) SAN= CFLAGS='$(COVERAGE_CFLAGS)' LDFLAGS='--coverage' test
+	+@$(SUBMAKE) BUILD=$(COVERAGE_BUILD) SAN= CFLAGS='$(COVERAGE_CFLAGS)' LDFLAGS='--coverage' test; \
+	    echo $$? >$(COVERAGE_BUILD)/test-status
 	@mkdir -p $(COVERAGE_BUILD)/coverage
 	gcovr --root . --object-directory $(COVERAGE_BUILD)/obj --filter 'src/' --exclude-unreachable-branches \
 	    --html-details $(COVERAGE_BUILD)/coverage/index.html --csv $(COVERAGE_BUILD)/coverage/files.csv
-	@bash tools/coverage/summary.sh $(COVERAGE_BUILD)/coverage/files.csv README.md
+	@# The README gets the table only from a passing run.
+	@bash tools/coverage/summary.sh $(COVERAGE_BUILD)/coverage/files.csv \
+	    $$(test "$$(cat $(COVERAGE_BUILD)/test-status)" = 0 && echo README.md)
 	@echo "coverage: HTML report in $(COVERAGE_BUILD)/coverage/index.html"
+	@status=$$(cat $(COVERAGE_BUILD)/test-status); [ "$$status" = 0 ] || \
+	    { echo "coverage: make test failed (status $$status): the figures above are from a failing run" >&2; exit 1; }
 
 # ---- manual pages and install ----------------------------------------------
 # uwbd.json(5) is printed by uwbd from its key table (--config-keys=man), so
