@@ -421,9 +421,12 @@ COVERAGE_BUILD := build-coverage
 # -O0 keeps lines and branches as written; gcc's format-truncation analysis
 # needs the optimiser's ranges, so at -O0 it warns wrongly: the -O2 build keeps it.
 COVERAGE_CFLAGS := -O0 -g --coverage -Wno-format-truncation
+# -O0 with gcov makes the accuracy tests several times slower: give each
+# test binary 25 min instead of make test's 5 (tests/run-tests.sh).
+COVERAGE_TEST_TIMEOUT ?= 1500
 coverage: dev-deps
 	@find $(COVERAGE_BUILD) -name '*.gcda' -delete 2>/dev/null || true
-	+@$(SUBMAKE) BUILD=$(COVERAGE_BUILD) SAN= CFLAGS='$(COVERAGE_CFLAGS)' LDFLAGS='--coverage' test; \
+	+@UWB_TEST_TIMEOUT=$(COVERAGE_TEST_TIMEOUT) $(SUBMAKE) BUILD=$(COVERAGE_BUILD) SAN= CFLAGS='$(COVERAGE_CFLAGS)' LDFLAGS='--coverage' test; \
 	    echo $$? >$(COVERAGE_BUILD)/test-status
 	@mkdir -p $(COVERAGE_BUILD)/coverage
 	gcovr --root . --object-directory $(COVERAGE_BUILD)/obj --filter 'src/' --exclude-unreachable-branches \

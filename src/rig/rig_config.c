@@ -178,7 +178,9 @@ int uwb_rig_config_check(const struct uwb_rig_config *cfg, char *err, size_t err
      * inside the travel. */
     const struct uwb_carriage_config *c = &cfg->carriage;
     double lowest = fmax(c->backlash_mm, 1.0 / c->steps_per_mm);
-    for (int k = 0; k < cfg->positions; k += cfg->positions - 1 > 0 ? cfg->positions - 1 : 1) {
+    /* The first and the last position bound all the others. */
+    int ends_step = cfg->positions > 1 ? cfg->positions - 1 : 1;
+    for (int k = 0; k < cfg->positions; k += ends_step) {
         double y = cfg->first_position_mm + k * cfg->step_mm;
         double above_home = y - c->home_offset_mm;
         if (above_home < lowest - 1e-9 || above_home > c->travel_mm + 1e-9) {
