@@ -19,6 +19,13 @@
 #define UWBD_DEFAULT_CONFIG "/etc/uwbd/uwbd.json"
 #define UWBD_DEFAULT_CONTROL_SOCKET "/run/uwbd/control.sock"
 
+/* Modbus (src/integrations/modbus_server.c): off by default. */
+struct uwbd_modbus_config {
+    int enabled;
+    char endpoint[UWB_ENDPOINT_MAX];   /* serial:|unix: RTU, tcp: listening; required when enabled */
+    int unit_id;                       /* RTU address, 1-247 */
+};
+
 struct uwbd_config {
     struct uwb_rig_config rig;
     struct uwb_evaluate_options evaluate;
@@ -36,6 +43,7 @@ struct uwbd_config {
     double reacquire_budget_s;         /* time a cycle may spend acquiring again to be decisive; 0: never */
     char site_phase[8];                /* site.phase: the phase as the site names it ("B", "L2"); "": none */
     char site_label[64];               /* site.label: free text for people; "": none */
+    struct uwbd_modbus_config modbus;
 };
 
 /* A command-line override: KEY=VALUE, VALUE as JSON (a bare word is taken

@@ -220,6 +220,17 @@ const struct config_key uwbd_config_keys[] = {
     STRING("site.label", site_label, "",
            "a free label for people (e.g. Hillside GT2, north window; at most 63 bytes); shown in `status` and "
            "the trend image"),
+
+    BOOLEAN("modbus.enabled", modbus.enabled, 0,
+            "serve the latest verdict, health and contact states as Modbus registers and take `ack` and `event` "
+            "as coils (README \"Modbus\" has the map); off: nothing is opened"),
+    STRING("modbus.endpoint", modbus.endpoint, "",
+           "serial:/dev/ttyX?baud=N: Modbus RTU on that line (RS-485; 8 data bits, no parity, 1 stop bit); "
+           "unix:PATH: RTU over a local socket uwbd connects to (the tests); tcp:HOST:PORT: Modbus TCP, "
+           "listening on that address (the substation LAN's, e.g. tcp:192.0.2.10:502; a port under 1024 needs CAP_NET_BIND_SERVICE); "
+           "required when modbus.enabled"),
+    INTEGER("modbus.unit_id", modbus.unit_id, "", 1, 247, 1,
+            "the RTU unit (slave) address this appliance answers on the bus; Modbus TCP answers any"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];

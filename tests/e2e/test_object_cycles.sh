@@ -22,6 +22,8 @@ link src/link/link.o src/link/link_socket.o
 # (src/daemon/daemon_internal.h): peers, worker thread, lock watch, baseline requests.
 daemon-loop src/daemon/daemon.o src/daemon/peers.o src/daemon/worker.o src/daemon/lock_watch.o
 daemon-loop src/daemon/baseline_requests.o
+# The Modbus server's side in the loop: the registers from the daemon's state, coils to its commands.
+daemon-loop src/daemon/modbus_hook.o
 EOF
 )
 

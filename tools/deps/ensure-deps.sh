@@ -37,9 +37,9 @@ set -euo pipefail
 
 REPO_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 readonly REPO_ROOT
-readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib libsystemd)
+readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmodbus)
 readonly NATIVE_PACKAGES=(gcc make libc6-dev pkg-config
-    libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev)
+    libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev libmodbus-dev)
 readonly UNITY_FILES=(unity.c unity.h unity_internals.h)
 readonly UNITY_EXPECTED_VERSION="2.4.3"
 # Unity comes from the cJSON source package of one fixed Debian release so
@@ -170,7 +170,7 @@ ensure_cross() {
     local cross_packages=("gcc-$triplet" "libc6-dev-$debian_arch-cross" qemu-user make pkg-config
         "libc6:$debian_arch")
     local package
-    for package in libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev; do
+    for package in libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev libmodbus-dev; do
         cross_packages+=("$package:$debian_arch")
     done
 
