@@ -131,16 +131,20 @@ tests: $(TEST_BIN) $(E2E_HELPER_BIN)
 
 # ---- compiling and linking -------------------------------------------------
 
+# Per-folder include paths (also written into compile_commands.json).
+SRC_EXTRA_CFLAGS   := -Isrc
+TOOLS_EXTRA_CFLAGS := -Itools
+TESTS_EXTRA_CFLAGS := -I$(UNITY_DIR) -Itools -Itests/unit -Isrc $(UNITY_DEFS) -DUWB_BUILD_DIR='"$(BUILD)"'
+
 # The library's private headers live beside their code (src/daemon/*.h,
 # src/output/render_internal.h, ...) and are included as "daemon/config.h";
 # include/uwb/ holds only what a program linking libuwb.a needs. Tests may
 # include the private ones too.
-$(BUILD)/obj/src/%.o: EXTRA_CFLAGS := -Isrc
+$(BUILD)/obj/src/%.o: EXTRA_CFLAGS := $(SRC_EXTRA_CFLAGS)
 # Tools may include each other's headers (e.g. tools/uwbsim/...); the
 # library in src/ may not.
-$(BUILD)/obj/tools/%.o: EXTRA_CFLAGS := -Itools
-$(BUILD)/obj/tests/%.o: EXTRA_CFLAGS := -I$(UNITY_DIR) -Itools -Itests/unit -Isrc \
-                                        $(UNITY_DEFS) -DUWB_BUILD_DIR='"$(BUILD)"'
+$(BUILD)/obj/tools/%.o: EXTRA_CFLAGS := $(TOOLS_EXTRA_CFLAGS)
+$(BUILD)/obj/tests/%.o: EXTRA_CFLAGS := $(TESTS_EXTRA_CFLAGS)
 
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -347,6 +351,99 @@ soak:
 	$(if $(TEST_RUNNER)$(filter 0,$(SOAK_VALGRIND_CYCLES)),@echo "make soak: no valgrind run", \
 	    bash tools/soak/run-soak.sh --build '$(BUILD)' --cycles $(SOAK_VALGRIND_CYCLES) --max-scans 5 \
 	    --every 5 --daemon-wrapper '$(SOAK_VALGRIND)')
+
+# ---- habits: format, lint, coverage, compile_commands.json -----------------
+# Developer tools, not needed by make test: `bash tools/deps/ensure-deps.sh
+# --dev` installs clang-format, clang-tidy, cppcheck and gcovr.
+#   make format           rewrite every C file in src, include, tests, tools with .clang-format
+#   make format-check     list the C files whose layout differs from .clang-format; fail if any
+#   make lint             clang-tidy (.clang-tidy, the real flags from compile_commands.json)
+#                         over src/ and tools/, then cppcheck over the same; any finding fails
+#   make coverage         gcov build in build-coverage/, make test there, HTML report in
+#                         build-coverage/coverage/index.html, line and branch % per folder
+#                         (also written into the README between its "make coverage" markers)
+#   make compile_commands.json   every C file with the flags the Makefile compiles it with
+# The C files we own: third_party/ (Unity, fetched) and build*/ are not ours.
+FORMAT_SRC    := $(sort $(shell find src include tests tools -name '*.[ch]' 2>/dev/null))
+COMPDB_SRC    := $(filter %.c,$(FORMAT_SRC))
+# The include paths and defines the pattern rules above give each folder.
+compdb_flags   = $(if $(filter src/%,$1),$(SRC_EXTRA_CFLAGS),$(if $(filter tools/%,$1),$(TOOLS_EXTRA_CFLAGS),$(TESTS_EXTRA_CFLAGS)))
+compdb_entry   = {"directory": "$(CURDIR)", "file": "$1", "command": "$(subst ",\",$(CC) $(UWB_CFLAGS) $(call compdb_flags,$1) $(CFLAGS) -c $1 -o $(BUILD)/obj/$(1:.c=.o))"}
+.PHONY: format format-check lint lint-tidy lint-cppcheck coverage dev-deps
+dev-deps:
+	@bash $(DEPS_SCRIPT) --dev
+
+# Written with make's own $(file): no interpreter needed. Rewritten when the
+# Makefile or the list of files changes (the flags live in the Makefile).
+compile_commands.json: Makefile $(COMPDB_SRC)
+	$(file >$@.tmp,[$(call compdb_entry,$(firstword $(COMPDB_SRC))))
+	$(foreach f,$(wordlist 2,$(words $(COMPDB_SRC)),$(COMPDB_SRC)),$(file >>$@.tmp,,$(call compdb_entry,$f)))
+	$(file >>$@.tmp,])
+	@mv $@.tmp $@
+	@echo "compile_commands.json: $(words $(COMPDB_SRC)) files"
+
+format: dev-deps
+	@clang-format -i $(FORMAT_SRC)
+
+format-check: dev-deps
+	@bad=$$(for f in $(FORMAT_SRC); do clang-format "$$f" | cmp -s "$$f" - || echo "$$f"; done); \
+	if [ -n "$$bad" ]; then \
+	    echo "format-check: these files differ from .clang-format (make format rewrites them):" >&2; \
+	    echo "$$bad" | sed 's/^/    /' >&2; exit 1; \
+	fi; echo "format-check: $(words $(FORMAT_SRC)) files match .clang-format"
+
+# clang-tidy is slow (minutes a file on a loaded 2-core machine): each file
+# gets a stamp in build-lint/, redone when the file, .clang-tidy or the flags
+# change (not its headers: `rm -rf build-lint` after a header-only change).
+LINT_BUILD    := build-lint
+LINT_SRC      := $(sort $(shell find src tools -name '*.c' 2>/dev/null))
+# Files whose findings wait for another branch's rework: tools/lint/tidy-baseline.
+LINT_BASELINE := $(shell sed -e 's/\#.*//' tools/lint/tidy-baseline 2>/dev/null)
+TIDY_STAMPS   := $(patsubst %.c,$(LINT_BUILD)/tidy/%.ok,$(filter-out $(LINT_BASELINE),$(LINT_SRC)))
+lint: dev-deps
+	+@$(SUBMAKE) compile_commands.json
+	+@nice $(SUBMAKE) lint-tidy
+	+@nice $(SUBMAKE) lint-cppcheck
+	@echo "lint: clang-tidy and cppcheck clean on $(words $(TIDY_STAMPS)) files$(if $(LINT_BASELINE), ($(words $(LINT_BASELINE)) in tools/lint/tidy-baseline left out))"
+
+lint-tidy: $(TIDY_STAMPS)
+
+$(LINT_BUILD)/tidy/%.ok: %.c .clang-tidy compile_commands.json
+	@mkdir -p $(dir $@)
+	@echo "clang-tidy $<"
+	@clang-tidy -p . --quiet --warnings-as-errors='*' $< >$@.log 2>&1 || { cat $@.log >&2; exit 1; }
+	@touch $@
+
+# cppcheck: its "warning", "portability" and "performance" findings (style is
+# clang-tidy's job); inline suppressions "// cppcheck-suppress id  why".
+lint-cppcheck:
+	cppcheck --quiet --error-exitcode=1 --enable=warning,portability,performance --inline-suppr \
+	    --std=c11 --suppress=missingIncludeSystem $(if $(LINT_BASELINE),$(LINT_BASELINE:%=--suppress=*:%)) \
+	    -j2 -D__GNUC__ -Iinclude -Isrc -Itools --library=tools/lint/cjson.cfg src tools
+
+# Coverage: the whole make test with gcov in its own build directory, then
+# gcovr's HTML report and the per-folder summary (tools/coverage/summary.sh),
+# which also replaces the README's block between its "make coverage" markers.
+COVERAGE_BUILD := build-coverage
+# -O0 keeps lines and branches as written; gcc's format-truncation analysis
+# needs the optimiser's ranges, so at -O0 it warns wrongly: the -O2 build keeps it.
+COVERAGE_CFLAGS := -O0 -g --coverage -Wno-format-truncation
+# -O0 with gcov makes the accuracy tests several times slower: give each
+# test binary 25 min instead of make test's 5 (tests/run-tests.sh).
+COVERAGE_TEST_TIMEOUT ?= 1500
+coverage: dev-deps
+	@find $(COVERAGE_BUILD) -name '*.gcda' -delete 2>/dev/null || true
+	+@UWB_TEST_TIMEOUT=$(COVERAGE_TEST_TIMEOUT) $(SUBMAKE) BUILD=$(COVERAGE_BUILD) SAN= CFLAGS='$(COVERAGE_CFLAGS)' LDFLAGS='--coverage' test; \
+	    echo $$? >$(COVERAGE_BUILD)/test-status
+	@mkdir -p $(COVERAGE_BUILD)/coverage
+	gcovr --root . --object-directory $(COVERAGE_BUILD)/obj --filter 'src/' --exclude-unreachable-branches \
+	    --html-details $(COVERAGE_BUILD)/coverage/index.html --csv $(COVERAGE_BUILD)/coverage/files.csv
+	@# The README gets the table only from a passing run.
+	@bash tools/coverage/summary.sh $(COVERAGE_BUILD)/coverage/files.csv \
+	    $$(test "$$(cat $(COVERAGE_BUILD)/test-status)" = 0 && echo README.md)
+	@echo "coverage: HTML report in $(COVERAGE_BUILD)/coverage/index.html"
+	@status=$$(cat $(COVERAGE_BUILD)/test-status); [ "$$status" = 0 ] || \
+	    { echo "coverage: make test failed (status $$status): the figures above are from a failing run" >&2; exit 1; }
 
 # ---- manual pages and install ----------------------------------------------
 # uwbd.json(5) is printed by uwbd from its key table (--config-keys=man), so

@@ -9,7 +9,7 @@
 #define UWBSCAN_FORMAT "uwbscan/1"
 #define UWBSCAN_MAX_POSITIONS 4096
 #define UWBSCAN_MAX_SAMPLES 1048576
-#define UWBSCAN_MAX_HEADER_BYTES (1024u * 1024u)
+#define UWBSCAN_MAX_HEADER_BYTES ((size_t)1024 * 1024)
 
 /* What this rig can record, so that every accepted scan is bounded work
  * (the imaging grids scale with travel / step and range / pixel):

@@ -22,7 +22,7 @@
 #define SCAN_TIMEOUT_S 900
 #define OTHER_TIMEOUT_S 10
 /* HISTORY 100 is the longest reply; leave room. */
-#define MAX_REPLY (4 * 1024 * 1024)
+#define MAX_REPLY ((size_t)4 * 1024 * 1024)
 
 void uwbd_ctl_usage(FILE *f)
 {
@@ -97,7 +97,7 @@ static int read_line(struct reply_reader *r, double timeout_s, char **out)
         }
         if (r->len + 1 >= r->cap) {
             if (r->cap >= MAX_REPLY) {
-                fprintf(stderr, "uwbd ctl: reply longer than %d bytes\n", MAX_REPLY);
+                fprintf(stderr, "uwbd ctl: reply longer than %zu bytes\n", MAX_REPLY);
                 return UWBD_CTL_NO_DAEMON;
             }
             size_t cap = r->cap ? r->cap * 2 : 4096;

@@ -19,7 +19,7 @@
 
 #define PATH_TEXT_MAX 160
 /* A config file is a few kilobytes; this bounds what a typo can make us read. */
-#define CONFIG_FILE_MAX (1024 * 1024)
+#define CONFIG_FILE_MAX ((size_t)1024 * 1024)
 
 struct load_context {
     const char *name;
@@ -676,6 +676,7 @@ static const char *type_text(const struct config_key *k)
     case KEY_BOOL: return "boolean";
     case KEY_PAIR: return "[number, number]";
     case KEY_GPIO_LINE: return "integer or string";
+    // NOLINTNEXTLINE(bugprone-branch-clone): two key types that both read as a string
     case KEY_CHOICE: return "string";
     case KEY_MIGRATION: return "string";
     case KEY_FILE_MODE: return "octal string";

@@ -13,6 +13,9 @@
 #include "uwb/frame.h"
 #include "uwb/scan.h"
 
+/* The table macros take member names and designated-initializer values: a member name
+ * cannot be parenthesized, and every value lands alone after "= ", so none needs it. */
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define AT(member) offsetof(struct uwbd_config, member)
 #define SIZE(member) sizeof(((struct uwbd_config *)0)->member)
 
@@ -53,6 +56,7 @@
 #define OPTIONAL_PAIR(p, m, flag, u, sc, lo, hi, text) \
     { .path = p, .type = KEY_PAIR, .offset = AT(m), .flag_offset = AT(flag), .scale = sc, \
       .min = lo, .max = hi, .unit = u, .doc = text }
+// NOLINTEND(bugprone-macro-parentheses)
 
 static const char *const gpio_backends[] = {"libgpiod", "emulated", NULL};
 

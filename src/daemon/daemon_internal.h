@@ -40,7 +40,7 @@
 #define CLIENT_IDLE_EVICT_S 2.0
 /* Replies queued for one control client that does not read: beyond this it
  * is dropped (the loop never blocks on a client). */
-#define CLIENT_QUEUE_MAX (1024 * 1024)
+#define CLIENT_QUEUE_MAX ((size_t)1024 * 1024)
 #define CONSOLE_RETRY_S 5
 
 enum peer_kind { PEER_CONTROL, PEER_CONSOLE };

@@ -17,7 +17,7 @@
 
 #define TAIL_BLOCK 65536
 /* A verdict line is a few kilobytes; a "line" longer than this is damage. */
-#define MAX_LINE (256 * 1024)
+#define MAX_LINE ((size_t)256 * 1024)
 
 /* Every file of the state directory is opened with O_NOFOLLOW: a symlink
  * put in place of verdicts.jsonl or latest.json is refused, never written
@@ -261,6 +261,7 @@ static int line_created(const char *text, size_t len, time_t *created)
     cJSON *o = cJSON_ParseWithLength(text, len);
     const cJSON *c = cJSON_GetObjectItemCaseSensitive(o, "created");
     struct tm tm = {0};
+    // NOLINTNEXTLINE(cert-err34-c): uwbd writes this field; a bad one only misdates a line for trimming
     int ok = cJSON_IsString(c) && sscanf(c->valuestring, "%d-%d-%dT%d:%d:%d", &tm.tm_year, &tm.tm_mon,
                                          &tm.tm_mday, &tm.tm_hour, &tm.tm_min, &tm.tm_sec) == 6;
     cJSON_Delete(o);
@@ -347,7 +348,7 @@ int uwbd_verdict_log_trim(const struct uwbd_store *store, int max_lines, double 
     ssize_t r = text ? pread(fd, text, (size_t)size, 0) : -1;
     int e = errno;
     close(fd);
-    if (r != (ssize_t)size) {
+    if (!text || r != (ssize_t)size) {
         snprintf(err, errlen, "%s: cannot read for trimming: %s", store->verdict_log,
                  !text ? "out of memory" : r < 0 ? strerror(e) : "short read");
         free(text);

@@ -197,7 +197,7 @@ size_t uwb_trace_payload_encode(const int16_t *codes, uint32_t samples, float vo
     put_u32(out, samples);
     put_u32(out + 4, bits);
     for (uint32_t i = 0; i < samples; i++)
-        put_u16(out + UWB_FRAME_TRACE_HEADER_BYTES + 2 * i, (uint16_t)codes[i]);
+        put_u16(out + UWB_FRAME_TRACE_HEADER_BYTES + 2 * (size_t)i, (uint16_t)codes[i]);
     return size;
 }
 
@@ -257,6 +257,7 @@ size_t uwb_error_payload_encode(uint16_t code, const char *text, uint8_t *out, s
     if (n > outlen - 2)
         n = outlen - 2;
     put_u16(out, code);
+    // NOLINTNEXTLINE(bugprone-not-null-terminated-result): a frame payload, not a C string
     memcpy(out + 2, text, n);
     return 2 + n;
 }

@@ -26,11 +26,11 @@ void uwb_migrate_fill_pairs(const float *trace, int samples, float scale, int16_
     int16_t here = samples > 0 ? to_q15(trace[0], scale) : 0;
     for (int s = 0; s < samples; s++) {
         int16_t next = s + 1 < samples ? to_q15(trace[s + 1], scale) : 0;
-        pairs[2 * s] = (int16_t)-here;
+        pairs[2 * (size_t)s] = (int16_t)-here;
         pairs[2 * s + 1] = next;
         here = next;
     }
-    pairs[2 * samples] = 0;
+    pairs[2 * (size_t)samples] = 0;
     pairs[2 * samples + 1] = 0;
 }
 

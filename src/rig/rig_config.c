@@ -23,6 +23,7 @@ static void table_defaults(struct uwb_rig_config *cfg)
             continue;
         char *p = (char *)cfg + at;
         if (k->type == KEY_NUMBER)
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
             *(double *)p = k->default_number * k->scale;
         else if (k->type == KEY_INT || k->type == KEY_BOOL)
             *(int *)p = (int)k->default_number;
@@ -70,11 +71,14 @@ static int check_table_ranges(const struct uwb_rig_config *cfg, char *err, size_
         if (k->type == KEY_INT) {
             values[0] = *(const int *)p;
         } else if (k->type == KEY_NUMBER) {
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
             values[0] = *(const double *)p / k->scale;
         } else if (k->type == KEY_PAIR) {
             if (flag_at && !*(const int *)((const char *)cfg + flag_at))
                 continue;   /* an optional pair not given */
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
             values[0] = ((const double *)p)[0] / k->scale;
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
             values[1] = ((const double *)p)[1] / k->scale;
             n = 2;
         } else {
@@ -174,7 +178,9 @@ int uwb_rig_config_check(const struct uwb_rig_config *cfg, char *err, size_t err
      * inside the travel. */
     const struct uwb_carriage_config *c = &cfg->carriage;
     double lowest = fmax(c->backlash_mm, 1.0 / c->steps_per_mm);
-    for (int k = 0; k < cfg->positions; k += cfg->positions - 1 > 0 ? cfg->positions - 1 : 1) {
+    /* The first and the last position bound all the others. */
+    int ends_step = cfg->positions > 1 ? cfg->positions - 1 : 1;
+    for (int k = 0; k < cfg->positions; k += ends_step) {
         double y = cfg->first_position_mm + k * cfg->step_mm;
         double above_home = y - c->home_offset_mm;
         if (above_home < lowest - 1e-9 || above_home > c->travel_mm + 1e-9) {

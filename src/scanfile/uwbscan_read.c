@@ -128,6 +128,7 @@ static int read_antenna_heights(const struct reader *rd, const cJSON *root,
              count == 1 ? "" : "s", scan->positions);
         return -1;
     }
+    // NOLINTNEXTLINE(clang-analyzer-optin.portability.UnixAPI): count == positions >= 1 (read_integer above)
     scan->antenna_y_m = calloc(count, sizeof *scan->antenna_y_m);
     if (scan->antenna_y_m == NULL) {
         FAIL(rd, "out of memory");
@@ -258,7 +259,7 @@ static int read_header(const struct reader *rd, const unsigned char *buf, size_t
     const unsigned char *newline = memchr(buf, '\n', window);
     if (newline == NULL) {
         if (len > UWBSCAN_MAX_HEADER_BYTES)
-            FAIL(rd, "header line is longer than the limit of %u bytes (no newline within it)",
+            FAIL(rd, "header line is longer than the limit of %zu bytes (no newline within it)",
                  UWBSCAN_MAX_HEADER_BYTES);
         else
             FAIL(rd, "header line has no terminating newline (truncated, or not a uwbscan/1 "

@@ -149,7 +149,7 @@ static char *checked_header(const struct uwb_scan *scan, const char *name,
     }
     size_t len = strlen(text);
     if (len > UWBSCAN_MAX_HEADER_BYTES) {
-        uwbscan_fail(err, errlen, name, "header would be %zu bytes, over the limit of %u",
+        uwbscan_fail(err, errlen, name, "header would be %zu bytes, over the limit of %zu",
                      len, UWBSCAN_MAX_HEADER_BYTES);
         free(text);
         return NULL;
@@ -199,6 +199,7 @@ int uwbscan_serialise(const struct uwb_scan *scan, unsigned char **buf, size_t *
                      strerror(ENOMEM));
         return -1;
     }
+    // NOLINTNEXTLINE(bugprone-not-null-terminated-result): bytes of a file, not a C string
     memcpy(out, header, header_len);
     out[header_len] = '\n';
     free(header);

@@ -4,7 +4,7 @@
 # nothing run before them.  It runs on every `make test`, so the common case
 # (everything present) only asks pkg-config and returns.
 #
-# Usage: tools/deps/ensure-deps.sh [--cross ARCH] [--board] [--fuzz] [--soak] [--deb] [--unity-only]
+# Usage: tools/deps/ensure-deps.sh [--cross ARCH] [--board] [--fuzz] [--soak] [--dev] [--deb] [--unity-only]
 #   (no option)    native toolchain + -dev packages, then Unity
 #   --cross ARCH   cross toolchain, qemu-user and the ARCH multiarch -dev
 #                  packages (ARCH: aarch64), then Unity
@@ -15,6 +15,9 @@
 #                  runtime (Debian 12: clang-14, libclang-rt-14-dev, which
 #                  clang only recommends)
 #   --soak         make soak: native as above, plus valgrind (its leak-checked run)
+#   --dev          make format / format-check / lint / coverage: native as above,
+#                  plus clang-format, clang-tidy, cppcheck and gcovr (not needed
+#                  by make test, so a fresh machine's make test does not fetch them)
 #   --deb          make deb / make test-deb: native as above, plus dpkg-dev,
 #                  debhelper, lintian, fakeroot and debootstrap
 #   --unity-only   only fetch Unity if it is absent
@@ -192,6 +195,8 @@ ensure_cross() {
 # What make test-board and make soak run beside the build, as command:package pairs.
 readonly BOARD_COMMANDS=(qemu-system-aarch64:qemu-system-arm cpio:cpio)
 readonly SOAK_COMMANDS=(valgrind:valgrind)
+# make format, lint, coverage: the developer's tools.
+readonly DEV_COMMANDS=(clang-format:clang-format clang-tidy:clang-tidy cppcheck:cppcheck gcovr:gcovr)
 # make deb / make test-deb: building, checking and trying the Debian package.
 readonly DEB_COMMANDS=(dpkg-buildpackage:dpkg-dev dh:debhelper lintian:lintian fakeroot:fakeroot
     debootstrap:debootstrap)
@@ -376,6 +381,7 @@ main() {
             --board) mode=board; shift ;;
             --fuzz) mode=fuzz; shift ;;
             --soak) mode=soak; shift ;;
+            --dev) mode=dev; shift ;;
             --deb) mode=deb; shift ;;
             --unity-only) mode=unity; shift ;;
             -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; return 0 ;;
@@ -388,6 +394,7 @@ main() {
         board) ensure_native; ensure_cross aarch64; ensure_commands "the emulated board" "${BOARD_COMMANDS[@]}" ;;
         fuzz) ensure_native; ensure_fuzz ;;
         soak) ensure_native; ensure_commands "make soak" "${SOAK_COMMANDS[@]}" ;;
+        dev) ensure_native; ensure_commands "make format, lint, coverage" "${DEV_COMMANDS[@]}" ;;
         deb) ensure_native; ensure_commands "make deb" "${DEB_COMMANDS[@]}" ;;
         unity) ;;
     esac

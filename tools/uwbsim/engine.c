@@ -86,7 +86,7 @@ double sim_engine_peak_echo(struct sim_engine *e)
         return e->peak_echo;
     /* The SNR's reference: the noiseless winding echo's peak over the scan. */
     const struct sim_scene *s = &e->scene;
-    double *trace = malloc((size_t)s->samples * sizeof *trace);
+    double *trace = calloc((size_t)s->samples, sizeof *trace);   /* zeroed for the analyzer */
     if (!trace)
         return -1.0;
     double peak = 0.0;
@@ -222,8 +222,8 @@ int sim_engine_create(const struct sim_scene *scene, struct sim_engine **out, ch
     if (!e->acc || !e->acc_edge || !e->spec || !e->edge_kernel || !e->rbuf || !e->cbuf || !e->surface_kernel || !e->static_direct ||
         !e->static_clutter || !F) {
         free(F);
-        sim_engine_free(e);
         snprintf(err, errlen, "engine: out of memory for a %d-point FFT", e->nfft);
+        sim_engine_free(e);
         return -1;
     }
     /* FFTW's planner is not thread-safe: engines must be created from one thread. */
@@ -231,8 +231,8 @@ int sim_engine_create(const struct sim_scene *scene, struct sim_engine **out, ch
     e->c2r = fftwf_plan_dft_c2r_1d(e->nfft, e->cbuf, e->rbuf, FFTW_ESTIMATE);
     if (!e->r2c || !e->c2r) {
         free(F);
-        sim_engine_free(e);
         snprintf(err, errlen, "engine: FFTW could not plan a %d-point transform", e->nfft);
+        sim_engine_free(e);
         return -1;
     }
     if (pulse_spectrum(e, F, err, errlen) != 0) {

@@ -133,6 +133,7 @@ int sim_scene_to_json(const struct sim_scene *scene, char **json)
         switch (p->type) {
         case SIM_PARAM_NUMBER:
         case SIM_PARAM_OPTNUMBER: {
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
             double d = *(const double *)base;
             v = isnan(d) ? cJSON_CreateNull() : cJSON_CreateNumber(d);
             break;
