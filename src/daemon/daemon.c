@@ -99,6 +99,31 @@ void scan_now(struct daemon *d)
     uwbd_test_hang_point("loop");
 }
 
+void scan_request(struct daemon *d, enum scan_trigger why)
+{
+    if (why > d->pending_trigger)
+        d->pending_trigger = why;
+    scan_now(d);
+}
+
+const char *scan_trigger_name(enum scan_trigger why)
+{
+    switch (why) {
+    case TRIGGER_EVENT: return "event";
+    case TRIGGER_COMMAND: return "command";
+    case TRIGGER_SCHEDULE:
+    case TRIGGER_NONE: break;
+    }
+    return "schedule";
+}
+
+/* The site's timer: the event input read, a lost line opened again. */
+static void site_tick(struct daemon *d)
+{
+    if (uwbd_site_tick(d->site) && !d->stopping)
+        scan_request(d, TRIGGER_EVENT);
+}
+
 /* After a restart the schedule carries on from the latest verdict's time. */
 static void schedule_first(struct daemon *d)
 {
@@ -195,6 +220,7 @@ static void reload(struct daemon *d)
 
     int rig_changed = memcmp(&next.rig, &d->cfg.rig, sizeof next.rig) != 0;
     int console_changed = strcmp(next.console_endpoint, d->cfg.console_endpoint) != 0;
+    int site_changed = memcmp(&next.site, &d->cfg.site, sizeof next.site) != 0;
     static struct uwbd_config previous;   /* static: a configuration is large */
     previous = d->cfg;
     d->cfg = next;
@@ -219,6 +245,13 @@ static void reload(struct daemon *d)
         struct itimerspec off = {0};
         timerfd_settime(d->console_retry_fd, 0, &off, NULL);
         console_open(d);
+    }
+    if (site_changed) {
+        uwbd_site_close(d->site);
+        d->site = NULL;
+        if (uwbd_site_open(&d->site, &d->cfg, d->latest_verdict, err, sizeof err) != UWB_GPIO_OK)
+            uwbd_log(UWBD_LOG_ERR, "reload: the site's lines: %s; alarm contacts and event input are off until "
+                                   "the next reload", err);
     }
     schedule_arm(d, &d->last_cycle_start);
     uwbd_log(UWBD_LOG_NOTICE, "configuration reloaded from %s%s%s", d->options->config_path,
@@ -279,7 +312,7 @@ static void drain(int fd)
 }
 
 enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_LOCK_WATCH, SLOT_WATCHDOG, SLOT_PROGRESS,
-       SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
+       SLOT_SITE, SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
 
 /* How long a healthy scan worker may go without a sign of life (a rig
  * message: at least one a position): homing at its slowest, one position
@@ -373,6 +406,7 @@ static void loop(struct daemon *d)
         fds[SLOT_LOCK_WATCH] = (struct pollfd){.fd = d->lock_watch_fd, .events = POLLIN};
         fds[SLOT_WATCHDOG] = (struct pollfd){.fd = d->watchdog_fd, .events = POLLIN};
         fds[SLOT_PROGRESS] = (struct pollfd){.fd = d->progress_fd, .events = POLLIN};
+        fds[SLOT_SITE] = (struct pollfd){.fd = uwbd_site_timer_fd(d->site), .events = POLLIN};
         /* A negative fd is skipped by poll(). */
         fds[SLOT_CONTROL] = (struct pollfd){.fd = d->stopping ? -1 : d->control.fd, .events = POLLIN};
         fds[SLOT_CONSOLE] = (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1,
@@ -405,7 +439,7 @@ static void loop(struct daemon *d)
             d->has_next_scan = 0;
             if (!d->stopping && !d->scanning) {
                 uwbd_log(UWBD_LOG_INFO, "scheduled scan");
-                scan_now(d);
+                scan_request(d, TRIGGER_SCHEDULE);
             }
         }
         if (fds[SLOT_CONSOLE_RETRY].revents) {
@@ -418,6 +452,8 @@ static void loop(struct daemon *d)
             drain(d->progress_fd);
             peers_send_progress(d);
         }
+        if (fds[SLOT_SITE].revents)
+            site_tick(d);
         if (fds[SLOT_CONTROL].revents)
             peer_accept(d);
         for (nfds_t i = SLOT_CONSOLE; i < n; i++) {
@@ -467,6 +503,8 @@ static void close_fd(int *fd)
 
 static void teardown(struct daemon *d)
 {
+    uwbd_site_close(d->site);   /* contacts de-energised: the fault contact opens */
+    d->site = NULL;
     if (d->rig) {
         uwb_rig_close(d->rig);   /* outputs low: pulser idle, motor disabled */
         d->rig = NULL;
@@ -593,6 +631,12 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
     load_baseline_info(d);
     baseline_requests_restore(d);
     load_latest_verdict(d);
+    rc = uwbd_site_open(&d->site, &d->cfg, d->latest_verdict, err, sizeof err);
+    if (rc != UWB_GPIO_OK) {
+        int code = uwbd_exit_for_rig_open(UWB_RIG_ERR_GPIO, rc);
+        uwbd_log(UWBD_LOG_ERR, "%s (exit %d)", err, code);
+        return code;
+    }
     console_open(d);
     schedule_first(d);
     if (d->cfg.interval_s > 0)

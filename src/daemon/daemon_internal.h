@@ -18,6 +18,7 @@
 #include "uwb/daemon/line_buffer.h"
 #include "uwb/daemon/scan_cycle.h"
 #include "uwb/daemon/scan_progress.h"
+#include "uwb/daemon/site.h"
 #include "uwb/daemon/store.h"
 #include "uwb/link.h"
 #include "uwb/rig.h"
@@ -42,6 +43,9 @@
 #define CONSOLE_RETRY_S 5
 
 enum peer_kind { PEER_CONTROL, PEER_CONSOLE };
+/* What started a scan, for its verdict; ranked, so that requests merged
+ * into one scan name the strongest. */
+enum scan_trigger { TRIGGER_NONE, TRIGGER_SCHEDULE, TRIGGER_COMMAND, TRIGGER_EVENT };
 enum { WATCH_ALL = 1, WATCH_PROGRESS = 2 };
 
 struct peer {
@@ -115,6 +119,8 @@ struct daemon {
     _Atomic long long progress_start_ms, progress_first_ms, progress_last_ms;
 
     char *latest_verdict;            /* VERDICT line or NULL */
+    struct uwbd_site *site;          /* alarm contacts, event input (src/integrations/) */
+    enum scan_trigger pending_trigger; /* what asked for the next scan */
     int has_baseline;
     struct uwbd_baseline_info baseline;
 };
@@ -157,5 +163,7 @@ void lock_watch_check(struct daemon *d);                  /* stops the daemon wh
 /* daemon.c */
 void schedule_arm(struct daemon *d, const struct timespec *from);
 void scan_now(struct daemon *d);               /* start a cycle, or queue one */
+void scan_request(struct daemon *d, enum scan_trigger why); /* scan_now, saying why */
+const char *scan_trigger_name(enum scan_trigger why);
 
 #endif

@@ -42,6 +42,8 @@ struct verdict_extras {
     int has_repeatability;
     double repeatability_m;      /* ...whose centres spread this much */
     const char *clock_note;      /* this scan is dated before the newest recorded one */
+    const char *asset_id;        /* site.asset_id, NULL when not set */
+    const char *trigger;         /* what started the scan: "schedule", "command", "event" */
 };
 
 struct cycle {
@@ -100,6 +102,10 @@ static char *verdict_text(const struct uwb_verdict *v, const struct verdict_extr
     free(core);
     if (!o)
         return NULL;
+    if (x->asset_id)
+        cJSON_AddStringToObject(o, "asset_id", x->asset_id);
+    if (x->trigger)
+        cJSON_AddStringToObject(o, "trigger", x->trigger);
     if (x->scan_file)
         cJSON_AddStringToObject(o, "scan_file", x->scan_file);
     if (x->has_direct_coupling)
@@ -184,6 +190,8 @@ static void record(struct cycle *c, const struct uwb_verdict *v, const struct ve
     res->baseline_set = x.baseline_set;
     x.archive_error = c->archive_error[0] ? c->archive_error : NULL;
     x.clock_note = c->clock_note[0] ? c->clock_note : NULL;
+    x.asset_id = c->cfg->site.asset_id[0] ? c->cfg->site.asset_id : NULL;
+    x.trigger = c->req->trigger;
     if (retext(c, v, &x) != 0) {
         problem(c, "verdict", "out of memory");
         return;

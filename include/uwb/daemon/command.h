@@ -21,7 +21,9 @@ enum uwb_command_kind {
     UWB_COMMAND_BASELINE_SET,  /* baseline set   the next good scan becomes the baseline */
     UWB_COMMAND_HELP,          /* help           the commands */
     UWB_COMMAND_WATCH,         /* watch [off|progress], ?WATCH={"enable":true}  stream PROGRESS and VERDICT lines */
-    /* WATCH is the last kind: tests/fuzz/fuzz_command.c checks kinds against it. */
+    UWB_COMMAND_ACK,           /* ack            latched alarm contacts fall back to the latest verdict */
+    UWB_COMMAND_EVENT,         /* event          a through-fault happened: scan as soon as the running one ends */
+    /* EVENT is the last kind: tests/fuzz/fuzz_command.c checks kinds against it. */
 };
 
 struct uwb_command {

@@ -11,6 +11,7 @@
 
 #include "uwb/evaluate.h"
 #include "uwb/rig.h"
+#include "uwb/daemon/site_config.h"
 
 #define UWBD_PATH_MAX 1024
 /* sun_path holds 108 bytes including the terminator. */
@@ -36,6 +37,7 @@ struct uwbd_config {
     double direct_coupling_tolerance_s;
     int baseline_scans;                /* `baseline set` without N averages this many scans */
     double reacquire_budget_s;         /* time a cycle may spend acquiring again to be decisive; 0: never */
+    struct uwbd_site_config site;      /* the site: asset id, alarm contacts, event input, ... */
 };
 
 /* A command-line override: KEY=VALUE, VALUE as JSON (a bare word is taken
