@@ -250,6 +250,12 @@ const struct config_key uwbd_config_keys[] = {
            "carriage running; events inside it are logged and dropped"),
     NUMBER_ABOVE("event.poll_ms", site.event_poll_s, "ms", 1e-3, 0, 10000, 10,
                  "how often the event input is read; at most event.debounce_ms where that is above 0"),
+
+    BOOLEAN("prometheus.enabled", site.prometheus_enabled, 0,
+            "write the Prometheus textfile (README: Prometheus textfile) after every verdict"),
+    STRING("prometheus.textfile", site.prometheus_textfile, "",
+           "where: a NAME.prom in node_exporter's --collector.textfile.directory (Debian: "
+           "/var/lib/prometheus/node-exporter/uwbd.prom); replaced atomically; required when prometheus.enabled"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];

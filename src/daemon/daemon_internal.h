@@ -68,6 +68,7 @@ struct peer {
 struct scan_job {
     pthread_t thread;
     unsigned long cycle;
+    double started_s;                /* CLOCK_MONOTONIC when the cycle started */
     unsigned long baseline_request;  /* the `baseline set` this job carries, 0 = none */
     struct uwbd_cycle_request request;
     struct uwbd_cycle_result result;

@@ -140,6 +140,7 @@ int worker_start(struct daemon *d)
     memset(&d->job, 0, sizeof d->job);
     d->job.cycle = ++d->cycles_started;
     d->job.request.now = time(NULL);
+    d->job.started_s = uwb_monotonic_s();
     d->job.request.trigger = scan_trigger_name(d->pending_trigger);
     d->pending_trigger = TRIGGER_NONE;
     baseline_request_fill(d, &d->job.request);
@@ -191,7 +192,8 @@ void worker_collect(struct daemon *d)
         d->latest_verdict = strdup(res->verdict_json);
     }
     baseline_request_finished(d, d->job.baseline_request, res);
-    uwbd_site_verdict(d->site, res->verdict_json);   /* the one place the site hears of a verdict */
+    /* the one place the site hears of a verdict */
+    uwbd_site_verdict(d->site, res->verdict_json, uwb_monotonic_s() - d->job.started_s);
     peers_send_verdict(d, d->job.cycle, res->verdict_json, "out of memory for the verdict");
     uwbd_cycle_result_free(res);
 }

@@ -11,11 +11,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/timerfd.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "uwb/daemon/alarm_contacts.h"
 #include "uwb/daemon/event_trigger.h"
 #include "uwb/daemon/log.h"
+#include "uwb/daemon/prometheus_textfile.h"
 #include "uwb/gpio.h"
 #include "uwb/monotonic.h"
 
@@ -28,6 +30,8 @@ struct uwbd_site {
     int failing;                   /* log a lost handle once, not every retry */
     struct uwbd_contacts contacts;
     struct uwbd_event_trigger event;
+    struct uwbd_prometheus_metrics prom;
+    int prom_failing;              /* log a failing textfile once, not every verdict */
     int timer_fd;
 };
 
@@ -72,6 +76,61 @@ static int open_lines(struct uwbd_site *s, char *err, size_t errlen)
     return UWB_GPIO_OK;
 }
 
+/* The figures a verdict gives the textfile. */
+static void prom_from_verdict(struct uwbd_prometheus_metrics *m, const cJSON *v)
+{
+    const cJSON *status = cJSON_GetObjectItemCaseSensitive(v, "status");
+    int index = cJSON_IsString(status) ? uwbd_prometheus_status_index(status->valuestring) : -1;
+    if (index < 0)
+        return;
+    m->has_verdict = 1;
+    m->status = index;
+    const cJSON *d = cJSON_GetObjectItemCaseSensitive(v, "axial_displacement_mm");
+    const cJSON *u = cJSON_GetObjectItemCaseSensitive(v, "uncertainty_mm");
+    m->has_displacement = cJSON_IsNumber(d) && cJSON_IsNumber(u);
+    m->displacement_m = m->has_displacement ? d->valuedouble / 1e3 : 0;
+    m->uncertainty_m = m->has_displacement ? u->valuedouble / 1e3 : 0;
+    const cJSON *lo = cJSON_GetObjectItemCaseSensitive(v, "lower_edge_mm");
+    const cJSON *hi = cJSON_GetObjectItemCaseSensitive(v, "upper_edge_mm");
+    m->has_edges = cJSON_IsNumber(lo) && cJSON_IsNumber(hi);
+    m->lower_edge_m = m->has_edges ? lo->valuedouble / 1e3 : 0;
+    m->upper_edge_m = m->has_edges ? hi->valuedouble / 1e3 : 0;
+    const cJSON *h = cJSON_GetObjectItemCaseSensitive(v, "height_change_mm");
+    m->has_height_change = cJSON_IsNumber(h);
+    m->height_change_m = m->has_height_change ? h->valuedouble / 1e3 : 0;
+    const cJSON *created = cJSON_GetObjectItemCaseSensitive(v, "created");
+    struct tm tm = {0};
+    m->created_s = 0;
+    if (cJSON_IsString(created) && sscanf(created->valuestring, "%d-%d-%dT%d:%d:%dZ", &tm.tm_year, &tm.tm_mon,
+                                          &tm.tm_mday, &tm.tm_hour, &tm.tm_min, &tm.tm_sec) == 6) {
+        tm.tm_year -= 1900;
+        tm.tm_mon -= 1;
+        m->created_s = (double)timegm(&tm);
+    }
+}
+
+static void write_textfile(struct uwbd_site *s)
+{
+    if (!s->cfg.prometheus_enabled)
+        return;
+    struct uwbd_contact_states st;
+    uwbd_site_contact_states(s, &st);
+    s->prom.has_contacts = s->cfg.contacts_enabled;
+    s->prom.contact[0] = st.watch;
+    s->prom.contact[1] = st.alarm;
+    s->prom.contact[2] = st.fault;
+    char err[512];
+    if (uwbd_prometheus_write(s->cfg.prometheus_textfile, &s->prom, err, sizeof err) != 0) {
+        if (!s->prom_failing)
+            uwbd_log(UWBD_LOG_ERR, "prometheus textfile: %s (tried again at every verdict)", err);
+        s->prom_failing = 1;
+        return;
+    }
+    if (s->prom_failing)
+        uwbd_log(UWBD_LOG_NOTICE, "prometheus textfile written again");
+    s->prom_failing = 0;
+}
+
 static void reopen(struct uwbd_site *s)
 {
     char err[512];
@@ -109,11 +168,13 @@ int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const
     s->timer_fd = -1;
     uwbd_contacts_init(&s->contacts, s->cfg.watch_latch, s->cfg.alarm_latch);
     uwbd_event_trigger_init(&s->event, s->cfg.event_debounce_s, s->cfg.event_min_interval_s);
+    s->prom.asset_id = s->cfg.asset_id;
     cJSON *latest = latest_verdict ? cJSON_Parse(latest_verdict) : NULL;
     int fault;
     const char *status = verdict_status(latest, &fault);
     if (status)
         uwbd_contacts_restore(&s->contacts, status);
+    prom_from_verdict(&s->prom, latest);
     cJSON_Delete(latest);
     int rc = open_lines(s, err, errlen);
     if (rc != UWB_GPIO_OK) {
@@ -135,24 +196,38 @@ int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const
                  uwbd_contacts_energised(&s->contacts, UWBD_CONTACT_WATCH),
                  uwbd_contacts_energised(&s->contacts, UWBD_CONTACT_ALARM),
                  uwbd_contacts_energised(&s->contacts, UWBD_CONTACT_FAULT));
+    write_textfile(s);
     *site = s;
     return UWB_GPIO_OK;
 }
 
-void uwbd_site_verdict(struct uwbd_site *s, const char *verdict_json)
+void uwbd_site_verdict(struct uwbd_site *s, const char *verdict_json, double duration_s)
 {
-    if (!s || !s->cfg.contacts_enabled)
+    if (!s)
         return;
     cJSON *v = verdict_json ? cJSON_Parse(verdict_json) : NULL;
     int fault;
     const char *status = verdict_status(v, &fault);
-    if (status)
+    if (status) {
         uwbd_contacts_verdict(&s->contacts, status, fault);
+        prom_from_verdict(&s->prom, v);
+        s->prom.has_duration = 1;
+        s->prom.scan_duration_s = duration_s;
+        int index = uwbd_prometheus_status_index(status);
+        if (index >= 0)
+            s->prom.verdicts[index]++;
+        const cJSON *trigger = cJSON_GetObjectItemCaseSensitive(v, "trigger");
+        if (cJSON_IsString(trigger) && strcmp(trigger->valuestring, "event") == 0)
+            s->prom.event_scans++;
+    }
     cJSON_Delete(v);
     if (!status)
         return;
-    reopen(s);
-    drive_contacts(s);
+    if (s->cfg.contacts_enabled) {
+        reopen(s);
+        drive_contacts(s);
+    }
+    write_textfile(s);
 }
 
 int uwbd_site_ack(struct uwbd_site *s, char *err, size_t errlen)
@@ -167,6 +242,7 @@ int uwbd_site_ack(struct uwbd_site *s, char *err, size_t errlen)
     uwbd_log(UWBD_LOG_NOTICE, "alarm contacts acknowledged: watch %d, alarm %d",
              uwbd_contacts_energised(&s->contacts, UWBD_CONTACT_WATCH),
              uwbd_contacts_energised(&s->contacts, UWBD_CONTACT_ALARM));
+    write_textfile(s);
     return 0;
 }
 

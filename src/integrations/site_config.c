@@ -11,7 +11,7 @@
 
 int uwbd_site_any_enabled(const struct uwbd_config *cfg)
 {
-    return cfg->site.contacts_enabled || cfg->site.event_enabled;
+    return cfg->site.contacts_enabled || cfg->site.event_enabled || cfg->site.prometheus_enabled;
 }
 
 static int line_configured(const struct uwb_gpio_config *io, int line)
@@ -72,6 +72,28 @@ static int check_lines(const struct uwbd_config *cfg, int enabled, const int *li
     return 0;
 }
 
+/* node_exporter's textfile collector reads *.prom files only. */
+static int check_textfile(const struct uwbd_site_config *s, const char **key, char *why, size_t whylen)
+{
+    if (!s->prometheus_enabled)
+        return 0;
+    *key = "prometheus.textfile";
+    size_t n = strlen(s->prometheus_textfile);
+    if (n == 0) {
+        snprintf(why, whylen, "missing: required when prometheus.enabled is true (e.g. "
+                              "/var/lib/prometheus/node-exporter/uwbd.prom)");
+        return -1;
+    }
+    const char *slash = strrchr(s->prometheus_textfile, '/');
+    const char *name = slash ? slash + 1 : s->prometheus_textfile;
+    if (strlen(name) <= 5 || strcmp(s->prometheus_textfile + n - 5, ".prom") != 0) {
+        snprintf(why, whylen, "\"%s\": the name must end in .prom (node_exporter's textfile collector reads "
+                              "no other)", s->prometheus_textfile);
+        return -1;
+    }
+    return 0;
+}
+
 int uwbd_site_config_check(const struct uwbd_config *cfg, const char **key, char *why, size_t whylen)
 {
     const struct uwbd_site_config *s = &cfg->site;
@@ -84,7 +106,7 @@ int uwbd_site_config_check(const struct uwbd_config *cfg, const char **key, char
     if (uwbd_site_any_enabled(cfg) && !s->asset_id[0]) {
         *key = "site.asset_id";
         snprintf(why, whylen, "missing: required once an integration is on (%s)",
-                 s->contacts_enabled ? "contacts.enabled" : "event.enabled");
+                 s->contacts_enabled ? "contacts.enabled" : s->event_enabled ? "event.enabled" : "prometheus.enabled");
         return -1;
     }
     static const int contact_lines[] = {UWB_LINE_WATCH, UWB_LINE_ALARM, UWB_LINE_FAULT};
@@ -102,6 +124,8 @@ int uwbd_site_config_check(const struct uwbd_config *cfg, const char **key, char
                  s->event_poll_s * 1e3, s->event_debounce_s * 1e3);
         return -1;
     }
+    if (check_textfile(s, key, why, whylen) != 0)
+        return -1;
     if (!s->io.endpoint[0] || strcmp(cfg->rig.gpio.backend, "emulated") == 0)
         return 0;
     *key = "gpio.site_endpoint";

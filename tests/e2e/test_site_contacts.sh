@@ -23,7 +23,12 @@ expect_contacts() {
 }
 site=(--set site.asset_id=T3-north --set contacts.enabled=true --set gpio.site_endpoint=unix:run/site.sock
       --set contacts.watch.latch=false --set event.enabled=true --set event.debounce_ms=20
-      --set event.min_interval_s=3600)
+      --set event.min_interval_s=3600 --set prometheus.enabled=true --set prometheus.textfile=run/metrics/uwbd.prom)
+# One sample's value from the Prometheus textfile: prom METRIC [LABELS], e.g. prom uwbd_status 'status="alarm"'.
+prom() {
+    local labels="asset_id=\"T3-north\"${2:+,$2}"
+    grep -F "$1{$labels} " run/metrics/uwbd.prom | awk '{print $2}'
+}
 
 # ---- refused before anything opens ------------------------------------------
 check() { uwbd --check-config "$config" "$@" > check.out 2>&1 && echo 0 || echo $?; }
@@ -35,6 +40,7 @@ check() { uwbd --check-config "$config" "$@" > check.out 2>&1 && echo 0 || echo 
 [[ $(check "${site[@]}") == 0 ]] || fail "the site's config refused: $(cat check.out)"
 pass "--check-config: an integration without the asset id or its endpoint refused (exit 78) naming the key"
 
+mkdir run/metrics
 uwbemu --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock --control unix:run/emu.sock \
     --site-io unix:run/site.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7 \
     > emu.log 2>&1 &
@@ -70,10 +76,26 @@ scan_expect 0.008 alarm "1 1 1" alarm.json
 scan_expect 0 ok "0 1 1" ok.json
 pass "after watch 1 0 1, alarm 1 1 1, ok 0 1 1 (alarm latched, watch set not to latch); verdicts carry asset_id and trigger"
 
+# The textfile after those four verdicts (baseline edges, watch, alarm, ok).
+[[ $(prom uwbd_status 'status="ok"') == 1 && $(prom uwbd_status 'status="alarm"') == 0 ]] ||
+    fail "textfile status: $(cat run/metrics/uwbd.prom)"
+[[ $(prom uwbd_verdicts_total 'status="watch"') == 1 && $(prom uwbd_verdicts_total 'status="alarm"') == 1 &&
+   $(prom uwbd_verdicts_total 'status="edges"') == 1 ]] || fail "textfile counters: $(cat run/metrics/uwbd.prom)"
+want_m=$(awk -v mm="$(json_get axial_displacement_mm < ok.json)" 'BEGIN {printf "%.9g", mm / 1000}')
+[[ $(prom uwbd_axial_displacement_meters) == "$want_m" ]] ||
+    fail "textfile displacement $(prom uwbd_axial_displacement_meters), verdict $want_m m"
+[[ $(prom uwbd_scan_duration_seconds | awk '$1 > 0 {print "yes"}') == yes ]] ||
+    fail "no scan duration in the textfile: $(cat run/metrics/uwbd.prom)"
+[[ $(prom uwbd_contact_energised 'contact="alarm"') == 1 ]] || fail "textfile contacts: $(cat run/metrics/uwbd.prom)"
+[[ $(stat -c %a run/metrics/uwbd.prom) == 644 ]] || fail "textfile mode $(stat -c %a run/metrics/uwbd.prom)"
+ls -a run/metrics | grep -q uwbd-tmp && fail "a temporary left in the textfile directory"
+pass "prometheus textfile: status, counters by status, displacement in metres ($want_m), scan duration, contacts; mode 644"
+
 ctl ack > ack.json || fail "ack: $(cat ack.json)"
 json_check ack.json 'class == ACK' 'contacts.alarm = false' 'contacts.watch = false' 'contacts.fault = true' ||
     fail "ack: $(cat ack.json)"
 expect_contacts "0 0 1" "after ack"
+[[ $(prom uwbd_contact_energised 'contact="alarm"') == 0 ]] || fail "the textfile after ack: $(cat run/metrics/uwbd.prom)"
 printf 'ack\n' | unix_peer ask run/control.sock 1 > ack2.out
 json_check ack2.out 'class == ACK' || fail "a second ack: $(cat ack2.out)"
 pass "ack: the latched alarm contact released (0 0 1)"
@@ -96,10 +118,14 @@ emu input event 1 > /dev/null || fail "uwbemu: input event 1"
 wait_for new_verdict || fail "no scan after the event input: $(grep -i event uwbd.log | tail -3)"
 json_check latest.json 'trigger == event' 'asset_id == T3-north' || fail "event verdict: $(cut -c1-300 latest.json)"
 grep -q 'event input: active for 20 ms' uwbd.log || fail "the event is not logged"
-emu input event 0 > /dev/null
 last_id=$(json_get scan_id < latest.json)
-emu input event 1 > /dev/null
-wait_for grep -q 'within event.min_interval_s' uwbd.log || fail "a second event inside the interval was not dropped"
+# A reclose: open, then closed again. The daemon reads the input every 10 ms;
+# each round leaves it open long enough to be seen, a few rounds at most.
+reclose() {
+    emu input event 0 > /dev/null && sleep 0.1 && emu input event 1 > /dev/null && sleep 0.1 &&
+        grep -q 'within event.min_interval_s' uwbd.log
+}
+E2E_WAIT_TRIES=20 wait_for reclose || fail "a second event inside the interval was not dropped"
 emu input event 0 > /dev/null
 ctl status > idle.json
 json_check idle.json 'state == idle' || fail "a scan runs after a dropped event: $(cat idle.json)"
@@ -110,6 +136,7 @@ ctl event > event.json || fail "event: $(cat event.json)"
 json_check event.json 'class == EVENT' 'scan == started' || fail "event: $(cat event.json)"
 wait_for new_verdict || fail "no scan after the event command"
 json_check latest.json 'trigger == event' || fail "event command verdict: $(cut -c1-300 latest.json)"
+[[ $(prom uwbd_event_scans_total) == 2 ]] || fail "event scans in the textfile: $(prom uwbd_event_scans_total)"
 pass "the event command: EVENT reply, a scan whose verdict says \"trigger\": \"event\""
 
 # ---- the daemon killed, then started again -------------------------------------

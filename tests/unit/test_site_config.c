@@ -45,6 +45,7 @@ static void test_every_integration_is_off_by_default(void)
     TEST_ASSERT_EQUAL_STRING("", cfg.site.asset_id);
     TEST_ASSERT_FALSE(cfg.site.contacts_enabled);
     TEST_ASSERT_FALSE(cfg.site.event_enabled);
+    TEST_ASSERT_FALSE(cfg.site.prometheus_enabled);
     TEST_ASSERT_EQUAL_UINT(0, cfg.site.io.lines);   /* the site opens no line */
     TEST_ASSERT_TRUE(cfg.site.watch_latch);
     TEST_ASSERT_TRUE(cfg.site.alarm_latch);
@@ -156,6 +157,25 @@ static void test_event_keys(void)
     expect_refused(negative, 1, "key `event.debounce_ms`");
 }
 
+static void test_prometheus_needs_a_prom_file(void)
+{
+    struct uwbd_override no_id[] = {{"prometheus.enabled", "true"}, {"prometheus.textfile", "\"/tmp/uwbd.prom\""}};
+    expect_refused(no_id, 2, "key `site.asset_id`: missing: required once an integration is on (prometheus.enabled)");
+    struct uwbd_override none[] = {{"site.asset_id", "T1"}, {"prometheus.enabled", "true"}};
+    expect_refused(none, 2, "key `prometheus.textfile`: missing: required when prometheus.enabled is true");
+    struct uwbd_override txt[] = {{"site.asset_id", "T1"}, {"prometheus.enabled", "true"},
+                                  {"prometheus.textfile", "\"/var/lib/prometheus/node-exporter/uwbd.txt\""}};
+    expect_refused(txt, 3, "key `prometheus.textfile`: \"/var/lib/prometheus/node-exporter/uwbd.txt\": the name must end in .prom");
+    struct uwbd_override bare[] = {{"site.asset_id", "T1"}, {"prometheus.enabled", "true"},
+                                   {"prometheus.textfile", "\"/x/.prom\""}};
+    expect_refused(bare, 3, "key `prometheus.textfile`");
+    struct uwbd_override ok[] = {{"site.asset_id", "T1"}, {"prometheus.enabled", "true"},
+                                 {"prometheus.textfile", "\"run/uwbd.prom\""}};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_with(ok, 3), err);
+    TEST_ASSERT_EQUAL_STRING("run/uwbd.prom", cfg.site.prometheus_textfile);
+    TEST_ASSERT_EQUAL_UINT_MESSAGE(0, cfg.site.io.lines, "the textfile opens no line");
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -165,5 +185,6 @@ int main(void)
     RUN_TEST(test_emulated_contacts_need_the_site_endpoint);
     RUN_TEST(test_libgpiod_contacts_and_event_need_their_lines);
     RUN_TEST(test_event_keys);
+    RUN_TEST(test_prometheus_needs_a_prom_file);
     return UNITY_END();
 }

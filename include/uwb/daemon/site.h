@@ -1,5 +1,5 @@
 /* The site's integrations as the daemon sees them (src/integrations/site.c):
- * one object, opened at start, told of every recorded verdict, asked to
+ * the alarm contacts, the event input and the Prometheus textfile as one object, opened at start, told of every recorded verdict, asked to
  * `ack`, ticking on a timer of its own while it reads the event input. It
  * reaches hardware only through the GPIO driver table, on a handle of its
  * own (the rig's belongs to the scan thread while it runs). */
@@ -23,8 +23,9 @@ struct uwbd_contact_states {
  * Returns 0, or an enum uwb_gpio_error with err saying which line. */
 int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const char *latest_verdict, char *err,
                    size_t errlen);
-/* A verdict was recorded: set the contacts from its status and fault. */
-void uwbd_site_verdict(struct uwbd_site *site, const char *verdict_json);
+/* A verdict was recorded, its scan cycle having taken duration_s: the
+ * contacts follow its status and fault, the textfile its figures. */
+void uwbd_site_verdict(struct uwbd_site *site, const char *verdict_json, double duration_s);
 /* `ack`: latched contacts fall back to what the latest verdict calls for.
  * Returns -1 (err says why) when there are no contacts. */
 int uwbd_site_ack(struct uwbd_site *site, char *err, size_t errlen);

@@ -28,6 +28,9 @@ struct uwbd_site_config {
     double event_debounce_s;            /* the input must read active this long */
     double event_min_interval_s;        /* at most one event scan per this long */
     double event_poll_s;                /* how often the input is read */
+
+    int prometheus_enabled;
+    char prometheus_textfile[UWBD_SITE_PATH_MAX];  /* node_exporter's textfile directory/NAME.prom */
 };
 
 struct uwbd_config;
