@@ -44,6 +44,16 @@ show() {   # label: the latest verdict as text, from uwbd ctl --text
     echo "\$ uwbd ctl --text verdict"
     ctl --text verdict | sed "s/^/   /" || die "uwbd ctl --text verdict"
 }
+# The alarm contacts as the emulated board's relays see them (1 = energised).
+contacts() {
+    local status
+    status=$("$BUILD/uwbemu" --ctl unix:run/emu.sock status) || die "uwbemu status"
+    line() { printf '%s\n' "$status" | sed -n "s/.*\"lines\":{[^}]*\"$1\":\([01]\).*/\1/p"; }
+    echo "   alarm contacts (uwbemu status, 1 = energised): watch $(line watch), alarm $(line alarm), fault $(line fault)  ${1:-}"
+}
+# The site's integrations, on (all are off in the shipped sample): the contacts
+# on their own emulated lines.
+site=(--set site.asset_id=demo-T1 --set contacts.enabled=true --set gpio.site_endpoint=unix:run/site.sock)
 
 root_flag=()
 if [[ $(id -u) == 0 ]]; then
@@ -51,14 +61,15 @@ if [[ $(id -u) == 0 ]]; then
 fi
 
 echo "uwbd demo: the emulated board and the daemon as two processes, talking over unix sockets in $OUT/run"
-"$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock --control unix:run/emu.sock \
+"$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock --control unix:run/emu.sock --site-io unix:run/site.sock \
     --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --seed 1 > emu.log 2>&1 &
 emu_pid=$!
 wait_for "$BUILD/uwbemu" --ctl unix:run/emu.sock status || die "the emulated board did not start"
-"$BUILD/uwbd" --config "$CONFIG" "${root_flag[@]}" "${stack_override[@]}" > uwbd.log 2>&1 &
+"$BUILD/uwbd" --config "$CONFIG" "${root_flag[@]}" "${stack_override[@]}" "${site[@]}" > uwbd.log 2>&1 &
 daemon_pid=$!
 wait_for ctl status || die "uwbd did not start"
 echo "   started: uwbemu (pid $emu_pid), uwbd --config board/emulated/uwbd.json (pid $daemon_pid)"
+contacts "(fault energised: healthy)"
 
 echo "\$ uwbd ctl baseline set"
 ctl baseline set
@@ -66,6 +77,7 @@ echo "\$ uwbd ctl scan"
 line=$(ctl scan) || die "commissioning scan: $line"
 echo "$line"
 show "commissioning scan of the intact winding (it becomes the baseline)"
+contacts
 
 echo "\$ uwbemu --ctl unix:run/emu.sock 'set displacement_m 0.012'     # the winding moves up 12 mm"
 "$BUILD/uwbemu" --ctl unix:run/emu.sock 'set displacement_m 0.012' > /dev/null || die "cannot move the emulated winding"
@@ -73,7 +85,15 @@ echo "\$ uwbd ctl scan"
 line=$(ctl scan) || die "second scan: $line"
 echo "$line"
 show "scan after the emulated winding moved up 12 mm"
+contacts "(watch and alarm latch until ack)"
+echo "\$ uwbd ctl ack"
+ctl ack || die "ack"
+contacts "(the alarm holds while the latest verdict is an alarm)"
 
+kill -TERM "$daemon_pid" 2>/dev/null; wait "$daemon_pid" 2>/dev/null || true
+daemon_pid=
+contacts "(uwbd stopped: every contact open, the fault contact too)"
+stop_all
 stop_all
 echo "== stopped uwbemu and uwbd; the state directory is $OUT/run/state:"
 echo "   verdicts: $OUT/run/state/verdicts.jsonl ($(wc -l < run/state/verdicts.jsonl) lines), latest: $OUT/run/state/latest.json"
