@@ -37,7 +37,7 @@ CROSS_COMPILE ?=
 CC            := $(CROSS_COMPILE)gcc
 AR            := $(CROSS_COMPILE)ar
 PKG_CONFIG    ?= pkg-config
-LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport zlib libsystemd
+LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto
 PREFIX        ?= /usr/local
 DESTDIR       ?=
 

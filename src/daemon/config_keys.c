@@ -62,7 +62,7 @@ static const char *const gpio_backends[] = {"libgpiod", "emulated", NULL};
 const struct config_key uwbd_config_keys[] = {
     STRING("site.asset_id", site.asset_id, "",
            "the transformer's name in the utility's asset register (letters, digits, . _ - ; at most 63); in "
-           "every verdict as asset_id when set; required once any integration (contacts, event, prometheus) is on"),
+           "every verdict as asset_id when set; required once any integration (contacts, event, prometheus, mqtt) is on"),
     STRING("state_dir", state_dir, "/var/lib/uwbd",
            "directory of the archive, verdicts.jsonl, latest.json and the baseline (board/state-dir.md); "
            "created if missing; a relative path is taken from the daemon's working directory; a directory of its "
@@ -256,6 +256,26 @@ const struct config_key uwbd_config_keys[] = {
     STRING("prometheus.textfile", site.prometheus_textfile, "",
            "where: a NAME.prom in node_exporter's --collector.textfile.directory (Debian: "
            "/var/lib/prometheus/node-exporter/uwbd.prom); replaced atomically; required when prometheus.enabled"),
+
+    BOOLEAN("mqtt.enabled", site.mqtt_enabled, 0,
+            "publish verdicts and status to an MQTT broker (README: MQTT); needs mqtt.endpoint and site.asset_id"),
+    STRING("mqtt.endpoint", site.mqtt_endpoint, "",
+           "the broker: tcp:HOST:PORT (8883 with TLS); required when mqtt.enabled"),
+    STRING("mqtt.username", site.mqtt_username, "", "user name at the broker; empty = anonymous"),
+    STRING("mqtt.password_file", site.mqtt_password_file, "",
+           "file whose first line is the password, readable by the service only (mode 0600 or 0400); "
+           "required with mqtt.username"),
+    STRING("mqtt.ca_file", site.mqtt_ca_file, "",
+           "CA certificate (PEM) the broker's is checked against; set = TLS, empty = plain TCP"),
+    STRING("mqtt.cert_file", site.mqtt_cert_file, "", "client certificate (PEM) for TLS, with mqtt.key_file"),
+    STRING("mqtt.key_file", site.mqtt_key_file, "", "the client certificate's key (PEM), readable by the service only"),
+    STRING("mqtt.topic_prefix", site.mqtt_topic_prefix, "uwbd",
+           "topics are PREFIX/ASSET_ID/verdict and PREFIX/ASSET_ID/status"),
+    INTEGER("mqtt.queue_max", site.mqtt_queue_max, "", 1, 100000, 1000,
+            "verdicts kept in STATE_DIR/mqtt-queue while the broker is away, sent in order when it is back; "
+            "beyond this the oldest is dropped (logged)"),
+    NUMBER_ABOVE("mqtt.reconnect_max_s", site.mqtt_reconnect_max_s, "s", 1, 0, 3600, 60,
+                 "reconnecting backs off from 1 s, doubling, up to this"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];

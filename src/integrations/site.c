@@ -17,6 +17,7 @@
 #include "uwb/daemon/alarm_contacts.h"
 #include "uwb/daemon/event_trigger.h"
 #include "uwb/daemon/log.h"
+#include "uwb/daemon/mqtt_publisher.h"
 #include "uwb/daemon/prometheus_textfile.h"
 #include "uwb/gpio.h"
 #include "uwb/monotonic.h"
@@ -32,6 +33,7 @@ struct uwbd_site {
     struct uwbd_event_trigger event;
     struct uwbd_prometheus_metrics prom;
     int prom_failing;              /* log a failing textfile once, not every verdict */
+    struct uwbd_mqtt *mqtt;        /* NULL: MQTT off */
     int timer_fd;
 };
 
@@ -181,10 +183,16 @@ int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const
         free(s);
         return rc;
     }
+    if (s->cfg.mqtt_enabled && uwbd_mqtt_open(&s->mqtt, &s->cfg, cfg->state_dir, err, errlen) != 0) {
+        uwb_gpio_close(s->gpio);
+        free(s);
+        return UWB_GPIO_ERR_CONFIG;
+    }
     if (s->cfg.io.lines) {
         s->timer_fd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
         if (s->timer_fd < 0) {
             snprintf(err, errlen, "site: timerfd: out of resources");
+            uwbd_mqtt_close(s->mqtt);
             uwb_gpio_close(s->gpio);
             free(s);
             return UWB_GPIO_ERR_CONFIG;
@@ -223,6 +231,7 @@ void uwbd_site_verdict(struct uwbd_site *s, const char *verdict_json, double dur
     cJSON_Delete(v);
     if (!status)
         return;
+    uwbd_mqtt_verdict(s->mqtt, verdict_json);
     if (s->cfg.contacts_enabled) {
         reopen(s);
         drive_contacts(s);
@@ -298,5 +307,6 @@ void uwbd_site_close(struct uwbd_site *s)
     uwb_gpio_close(s->gpio);
     if (s->timer_fd >= 0)
         close(s->timer_fd);
+    uwbd_mqtt_close(s->mqtt);
     free(s);
 }

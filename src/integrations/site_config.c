@@ -3,15 +3,18 @@
  * that `uwbd --check-config` refuses it before anything opens. */
 #include "uwb/daemon/site_config.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "uwb/daemon/config.h"
 #include "uwb/link.h"
 
 int uwbd_site_any_enabled(const struct uwbd_config *cfg)
 {
-    return cfg->site.contacts_enabled || cfg->site.event_enabled || cfg->site.prometheus_enabled;
+    return cfg->site.contacts_enabled || cfg->site.event_enabled || cfg->site.prometheus_enabled ||
+           cfg->site.mqtt_enabled;
 }
 
 static int line_configured(const struct uwb_gpio_config *io, int line)
@@ -94,6 +97,75 @@ static int check_textfile(const struct uwbd_site_config *s, const char **key, ch
     return 0;
 }
 
+/* A file only the service may read: the broker's password, a TLS key. */
+static int check_secret_file(const char *path, const char *name, const char **key, char *why, size_t whylen)
+{
+    struct stat st;
+    *key = name;
+    if (stat(path, &st) != 0) {
+        snprintf(why, whylen, "\"%s\": %s", path, strerror(errno));
+        return -1;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        snprintf(why, whylen, "\"%s\" is not a file", path);
+        return -1;
+    }
+    if (st.st_mode & 077) {
+        snprintf(why, whylen, "\"%s\" is readable by others (mode %04o): make it the service's only "
+                              "(chmod 0600)", path, (unsigned)(st.st_mode & 07777));
+        return -1;
+    }
+    return 0;
+}
+
+static int check_mqtt(const struct uwbd_site_config *s, const char **key, char *why, size_t whylen)
+{
+    if (!s->mqtt_enabled)
+        return 0;
+    *key = "mqtt.endpoint";
+    if (!s->mqtt_endpoint[0]) {
+        snprintf(why, whylen, "missing: required when mqtt.enabled is true (tcp:HOST:PORT of the broker)");
+        return -1;
+    }
+    struct uwb_endpoint ep;
+    char inner[256];
+    if (uwb_endpoint_parse(s->mqtt_endpoint, &ep, inner, sizeof inner) != UWB_LINK_OK || ep.kind != UWB_ENDPOINT_TCP) {
+        snprintf(why, whylen, "\"%s\": the broker is tcp:HOST:PORT", s->mqtt_endpoint);
+        return -1;
+    }
+    if (s->mqtt_username[0] && !s->mqtt_password_file[0]) {
+        *key = "mqtt.password_file";
+        snprintf(why, whylen, "missing: required with mqtt.username (a file readable by the service only)");
+        return -1;
+    }
+    if (s->mqtt_password_file[0] && !s->mqtt_username[0]) {
+        *key = "mqtt.username";
+        snprintf(why, whylen, "missing: mqtt.password_file is set, for which user?");
+        return -1;
+    }
+    if (s->mqtt_password_file[0] && check_secret_file(s->mqtt_password_file, "mqtt.password_file", key, why, whylen))
+        return -1;
+    if (!s->mqtt_cert_file[0] != !s->mqtt_key_file[0]) {
+        *key = s->mqtt_cert_file[0] ? "mqtt.key_file" : "mqtt.cert_file";
+        snprintf(why, whylen, "missing: a client certificate needs both mqtt.cert_file and mqtt.key_file");
+        return -1;
+    }
+    if (s->mqtt_cert_file[0] && !s->mqtt_ca_file[0]) {
+        *key = "mqtt.ca_file";
+        snprintf(why, whylen, "missing: a client certificate is for TLS, which mqtt.ca_file turns on");
+        return -1;
+    }
+    if (s->mqtt_key_file[0] && check_secret_file(s->mqtt_key_file, "mqtt.key_file", key, why, whylen))
+        return -1;
+    const char *prefix = s->mqtt_topic_prefix;
+    *key = "mqtt.topic_prefix";
+    if (!prefix[0] || strpbrk(prefix, "+#") || prefix[0] == '/' || prefix[strlen(prefix) - 1] == '/') {
+        snprintf(why, whylen, "\"%s\": a topic without wildcards (+ #) nor a leading or trailing /", prefix);
+        return -1;
+    }
+    return 0;
+}
+
 int uwbd_site_config_check(const struct uwbd_config *cfg, const char **key, char *why, size_t whylen)
 {
     const struct uwbd_site_config *s = &cfg->site;
@@ -106,7 +178,10 @@ int uwbd_site_config_check(const struct uwbd_config *cfg, const char **key, char
     if (uwbd_site_any_enabled(cfg) && !s->asset_id[0]) {
         *key = "site.asset_id";
         snprintf(why, whylen, "missing: required once an integration is on (%s)",
-                 s->contacts_enabled ? "contacts.enabled" : s->event_enabled ? "event.enabled" : "prometheus.enabled");
+                 s->contacts_enabled     ? "contacts.enabled"
+                 : s->event_enabled      ? "event.enabled"
+                 : s->prometheus_enabled ? "prometheus.enabled"
+                                         : "mqtt.enabled");
         return -1;
     }
     static const int contact_lines[] = {UWB_LINE_WATCH, UWB_LINE_ALARM, UWB_LINE_FAULT};
@@ -125,6 +200,8 @@ int uwbd_site_config_check(const struct uwbd_config *cfg, const char **key, char
         return -1;
     }
     if (check_textfile(s, key, why, whylen) != 0)
+        return -1;
+    if (check_mqtt(s, key, why, whylen) != 0)
         return -1;
     if (!s->io.endpoint[0] || strcmp(cfg->rig.gpio.backend, "emulated") == 0)
         return 0;

@@ -5,6 +5,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "scratch_support.h"
 #include "uwb/daemon/config.h"
@@ -176,6 +177,50 @@ static void test_prometheus_needs_a_prom_file(void)
     TEST_ASSERT_EQUAL_UINT_MESSAGE(0, cfg.site.io.lines, "the textfile opens no line");
 }
 
+static void test_mqtt_needs_endpoint_and_a_private_password(void)
+{
+    struct uwbd_override none[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"}};
+    expect_refused(none, 2, "key `mqtt.endpoint`: missing: required when mqtt.enabled is true");
+    struct uwbd_override unix_ep[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
+                                      {"mqtt.endpoint", "\"unix:/run/broker.sock\""}};
+    expect_refused(unix_ep, 3, "key `mqtt.endpoint`: \"unix:/run/broker.sock\": the broker is tcp:HOST:PORT");
+    struct uwbd_override no_id[] = {{"mqtt.enabled", "true"}, {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""}};
+    expect_refused(no_id, 2, "key `site.asset_id`: missing: required once an integration is on (mqtt.enabled)");
+    struct uwbd_override user[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
+                                   {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""}, {"mqtt.username", "uwbd"}};
+    expect_refused(user, 4, "key `mqtt.password_file`: missing: required with mqtt.username");
+
+    char dir[256], secret[300], open_file[300];
+    scratch_scratch_dir(dir, sizeof dir, "mqtt-pw");
+    snprintf(secret, sizeof secret, "\"%s/secret\"", dir);
+    snprintf(open_file, sizeof open_file, "\"%s/open\"", dir);
+    char path[300];
+    snprintf(path, sizeof path, "%s/secret", dir);
+    scratch_spit(path, "pw\n");
+    chmod(path, 0600);
+    snprintf(path, sizeof path, "%s/open", dir);
+    scratch_spit(path, "pw\n");
+    chmod(path, 0644);
+    struct uwbd_override open_pw[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
+                                      {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""}, {"mqtt.username", "uwbd"},
+                                      {"mqtt.password_file", open_file}};
+    expect_refused(open_pw, 5, "is readable by others (mode 0644)");
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `mqtt.password_file`"), err);
+    struct uwbd_override ok[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
+                                 {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""}, {"mqtt.username", "uwbd"},
+                                 {"mqtt.password_file", secret}};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_with(ok, 5), err);
+    TEST_ASSERT_EQUAL_STRING("uwbd", cfg.site.mqtt_topic_prefix);
+    TEST_ASSERT_EQUAL_INT(1000, cfg.site.mqtt_queue_max);
+    struct uwbd_override cert[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
+                                   {"mqtt.endpoint", "\"tcp:127.0.0.1:8883\""}, {"mqtt.cert_file", "\"/x.pem\""}};
+    expect_refused(cert, 4, "key `mqtt.key_file`: missing: a client certificate needs both");
+    struct uwbd_override wild[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
+                                   {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""}, {"mqtt.topic_prefix", "\"plant/#\""}};
+    expect_refused(wild, 4, "key `mqtt.topic_prefix`");
+    scratch_remove_tree(dir);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -186,5 +231,6 @@ int main(void)
     RUN_TEST(test_libgpiod_contacts_and_event_need_their_lines);
     RUN_TEST(test_event_keys);
     RUN_TEST(test_prometheus_needs_a_prom_file);
+    RUN_TEST(test_mqtt_needs_endpoint_and_a_private_password);
     return UNITY_END();
 }

@@ -31,6 +31,17 @@ struct uwbd_site_config {
 
     int prometheus_enabled;
     char prometheus_textfile[UWBD_SITE_PATH_MAX];  /* node_exporter's textfile directory/NAME.prom */
+
+    int mqtt_enabled;
+    char mqtt_endpoint[UWB_ENDPOINT_MAX];          /* tcp:HOST:PORT of the broker */
+    char mqtt_username[64];                        /* "": anonymous */
+    char mqtt_password_file[UWBD_SITE_PATH_MAX];   /* the password, one line, readable by the service only */
+    char mqtt_ca_file[UWBD_SITE_PATH_MAX];         /* "": no TLS */
+    char mqtt_cert_file[UWBD_SITE_PATH_MAX];       /* client certificate, with mqtt_key_file */
+    char mqtt_key_file[UWBD_SITE_PATH_MAX];
+    char mqtt_topic_prefix[64];
+    int mqtt_queue_max;                            /* verdicts kept on disk while the broker is away */
+    double mqtt_reconnect_max_s;                   /* the back-off's ceiling */
 };
 
 struct uwbd_config;

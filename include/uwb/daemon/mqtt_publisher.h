@@ -1,0 +1,31 @@
+/* Verdicts and status to an MQTT broker (src/integrations/mqtt_publisher.c,
+ * libmosquitto): PREFIX/ASSET/verdict carries each verdict line as `uwbd
+ * ctl verdict` prints it, QoS 1, retained; PREFIX/ASSET/status is
+ * "online" while connected, retained, and "offline" as the last will and
+ * on a clean stop. Every verdict goes to an on-disk queue first
+ * (STATE_DIR/mqtt-queue, bounded) and leaves it when the broker has
+ * acknowledged it, one at a time and in order, so none is lost while the
+ * broker is away or the daemon restarts. Reconnecting backs off from 1 s. */
+#ifndef UWB_DAEMON_MQTT_PUBLISHER_H
+#define UWB_DAEMON_MQTT_PUBLISHER_H
+
+#include <stddef.h>
+
+#include "uwb/daemon/site_config.h"
+
+struct uwbd_mqtt;
+
+/* Starts connecting (in libmosquitto's thread); a broker that is not there
+ * yet is no error. Returns 0, or -1 with err (the queue directory, the
+ * password file, TLS files, out of memory). */
+int uwbd_mqtt_open(struct uwbd_mqtt **mqtt, const struct uwbd_site_config *cfg, const char *state_dir, char *err,
+                   size_t errlen);
+/* Queues one verdict line and sends what the queue holds when it can. */
+void uwbd_mqtt_verdict(struct uwbd_mqtt *mqtt, const char *verdict_json);
+/* Verdicts waiting for the broker. */
+size_t uwbd_mqtt_queued(struct uwbd_mqtt *mqtt);
+/* Says "offline" (briefly waiting for the broker's acknowledgement) and
+ * disconnects; what is queued stays on disk for the next start. NULL is a no-op. */
+void uwbd_mqtt_close(struct uwbd_mqtt *mqtt);
+
+#endif
