@@ -276,6 +276,9 @@ const struct config_key uwbd_config_keys[] = {
             "beyond this the oldest is dropped (logged)"),
     NUMBER_ABOVE("mqtt.reconnect_max_s", site.mqtt_reconnect_max_s, "s", 1, 0, 3600, 60,
                  "reconnecting backs off from 1 s, doubling, up to this"),
+    BOOLEAN("mqtt.commands", site.mqtt_commands, 0,
+            "take the commands scan, event, ack and baseline set [N|force] from PREFIX/ASSET_ID/cmd (one a "
+            "message) and answer each on PREFIX/ASSET_ID/reply; the broker's ACL decides who may publish there"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];

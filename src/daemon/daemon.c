@@ -99,14 +99,14 @@ void scan_now(struct daemon *d)
     uwbd_test_hang_point("loop");
 }
 
-void scan_request(struct daemon *d, enum scan_trigger why)
+void uwbd_scan_request(struct daemon *d, enum scan_trigger why)
 {
     if (why > d->pending_trigger)
         d->pending_trigger = why;
     scan_now(d);
 }
 
-const char *scan_trigger_name(enum scan_trigger why)
+const char *uwbd_scan_trigger_name(enum scan_trigger why)
 {
     switch (why) {
     case TRIGGER_EVENT: return "event";
@@ -121,7 +121,7 @@ const char *scan_trigger_name(enum scan_trigger why)
 static void site_tick(struct daemon *d)
 {
     if (uwbd_site_tick(d->site) && !d->stopping)
-        scan_request(d, TRIGGER_EVENT);
+        uwbd_scan_request(d, TRIGGER_EVENT);
 }
 
 /* After a restart the schedule carries on from the latest verdict's time. */
@@ -312,7 +312,7 @@ static void drain(int fd)
 }
 
 enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_LOCK_WATCH, SLOT_WATCHDOG, SLOT_PROGRESS,
-       SLOT_SITE, SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
+       SLOT_SITE, SLOT_SITE_COMMANDS, SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
 
 /* How long a healthy scan worker may go without a sign of life (a rig
  * message: at least one a position): homing at its slowest, one position
@@ -407,6 +407,8 @@ static void loop(struct daemon *d)
         fds[SLOT_WATCHDOG] = (struct pollfd){.fd = d->watchdog_fd, .events = POLLIN};
         fds[SLOT_PROGRESS] = (struct pollfd){.fd = d->progress_fd, .events = POLLIN};
         fds[SLOT_SITE] = (struct pollfd){.fd = uwbd_site_timer_fd(d->site), .events = POLLIN};
+        fds[SLOT_SITE_COMMANDS] = (struct pollfd){.fd = d->stopping ? -1 : uwbd_site_command_fd(d->site),
+                                                  .events = POLLIN};
         /* A negative fd is skipped by poll(). */
         fds[SLOT_CONTROL] = (struct pollfd){.fd = d->stopping ? -1 : d->control.fd, .events = POLLIN};
         fds[SLOT_CONSOLE] = (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1,
@@ -439,7 +441,7 @@ static void loop(struct daemon *d)
             d->has_next_scan = 0;
             if (!d->stopping && !d->scanning) {
                 uwbd_log(UWBD_LOG_INFO, "scheduled scan");
-                scan_request(d, TRIGGER_SCHEDULE);
+                uwbd_scan_request(d, TRIGGER_SCHEDULE);
             }
         }
         if (fds[SLOT_CONSOLE_RETRY].revents) {
@@ -454,6 +456,8 @@ static void loop(struct daemon *d)
         }
         if (fds[SLOT_SITE].revents)
             site_tick(d);
+        if (fds[SLOT_SITE_COMMANDS].revents)
+            uwbd_run_site_commands(d);
         if (fds[SLOT_CONTROL].revents)
             peer_accept(d);
         for (nfds_t i = SLOT_CONSOLE; i < n; i++) {

@@ -164,7 +164,10 @@ void lock_watch_check(struct daemon *d);                  /* stops the daemon wh
 /* daemon.c */
 void schedule_arm(struct daemon *d, const struct timespec *from);
 void scan_now(struct daemon *d);               /* start a cycle, or queue one */
-void scan_request(struct daemon *d, enum scan_trigger why); /* scan_now, saying why */
-const char *scan_trigger_name(enum scan_trigger why);
+void uwbd_scan_request(struct daemon *d, enum scan_trigger why); /* scan_now, saying why */
+
+/* site_commands.c: run the commands MQTT received */
+void uwbd_run_site_commands(struct daemon *d);
+const char *uwbd_scan_trigger_name(enum scan_trigger why);
 
 #endif

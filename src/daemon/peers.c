@@ -274,7 +274,7 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         }
         /* The peer waits for the cycle that starts now, or the one queued after the running one. */
         p->waiting_for = d->cycles_started + 1;
-        scan_request(d, TRIGGER_COMMAND);
+        uwbd_scan_request(d, TRIGGER_COMMAND);
         return;
     case UWB_COMMAND_ACK: {
         char err[160];
@@ -295,7 +295,7 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         uwbd_log(UWBD_LOG_NOTICE, "%s: event: a scan follows as soon as possible",
                  p->kind == PEER_CONSOLE ? "console" : "control");
         reply(d, p, uwbd_reply_event(d->scanning));
-        scan_request(d, TRIGGER_EVENT);
+        uwbd_scan_request(d, TRIGGER_EVENT);
         return;
     }
 }

@@ -197,3 +197,12 @@ char *uwbd_reply_event(int queued)
     cJSON_AddStringToObject(o, "scan", queued ? "queued" : "started");
     return finish(o);
 }
+
+char *uwbd_reply_scan_requested(int queued)
+{
+    cJSON *o = start("SCAN");
+    if (!o)
+        return NULL;
+    cJSON_AddStringToObject(o, "scan", queued ? "queued" : "started");
+    return finish(o);
+}

@@ -141,7 +141,7 @@ int worker_start(struct daemon *d)
     d->job.cycle = ++d->cycles_started;
     d->job.request.now = time(NULL);
     d->job.started_s = uwb_monotonic_s();
-    d->job.request.trigger = scan_trigger_name(d->pending_trigger);
+    d->job.request.trigger = uwbd_scan_trigger_name(d->pending_trigger);
     d->pending_trigger = TRIGGER_NONE;
     baseline_request_fill(d, &d->job.request);
     int pending = d->job.request.make_baseline;

@@ -10,6 +10,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stdint.h>
+#include <sys/eventfd.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -24,6 +26,8 @@
 #define CLOSE_WAIT_MS 2000
 #define QUEUE_DIR "mqtt-queue"
 #define VERDICT_MAX (1024 * 1024)
+/* Commands waiting for the main loop; more are refused, not queued. */
+#define COMMANDS_MAX 8
 
 struct uwbd_mqtt {
     struct mosquitto *mosq;
@@ -38,6 +42,10 @@ struct uwbd_mqtt {
     int inflight_mid;            /* the queue head's publish, 0 = none */
     int offline_mid, offline_acked;
     int was_connected;           /* log a lost broker once */
+    char cmd_topic[256], reply_topic[256];
+    int command_fd;              /* eventfd: commands wait; -1 without mqtt.commands */
+    char *commands[COMMANDS_MAX];/* received, not yet taken by the main loop */
+    size_t n_commands;
 };
 
 static void file_of(const struct uwbd_mqtt *m, unsigned long long seq, char *path, size_t n)
@@ -83,6 +91,8 @@ static void on_connect(struct mosquitto *mosq, void *ctx, int rc)
     m->was_connected = 1;
     m->inflight_mid = 0;   /* a publish cut off by the disconnection is sent again: at least once */
     mosquitto_publish(mosq, NULL, m->status_topic, 6, "online", QOS, true);
+    if (m->command_fd >= 0)
+        mosquitto_subscribe(mosq, NULL, m->cmd_topic, QOS);
     uwbd_log(UWBD_LOG_NOTICE, "mqtt: connected; %zu verdict(s) queued", m->queued);
     send_next(m);
     pthread_mutex_unlock(&m->lock);
@@ -115,6 +125,29 @@ static void on_publish(struct mosquitto *mosq, void *ctx, int mid)
         m->queued--;
         m->inflight_mid = 0;
         send_next(m);
+    }
+    pthread_mutex_unlock(&m->lock);
+}
+
+static void on_message(struct mosquitto *mosq, void *ctx, const struct mosquitto_message *msg)
+{
+    struct uwbd_mqtt *m = ctx;
+    if (msg->retain)
+        return;   /* a command left on the broker is stale by the time it is read */
+    pthread_mutex_lock(&m->lock);
+    char *text = NULL;
+    if (m->n_commands < COMMANDS_MAX && msg->payloadlen >= 0 && msg->payloadlen <= 256 &&
+        (text = malloc((size_t)msg->payloadlen + 1))) {
+        memcpy(text, msg->payload, (size_t)msg->payloadlen);
+        text[msg->payloadlen] = '\0';
+        m->commands[m->n_commands++] = text;
+        uint64_t one = 1;
+        if (write(m->command_fd, &one, sizeof one) != sizeof one) {
+            /* the counter is full: the loop has a wake-up pending anyway */
+        }
+    } else {
+        const char *busy = "{\"class\":\"ERROR\",\"message\":\"too many commands waiting, or one over 256 bytes\"}";
+        mosquitto_publish(mosq, NULL, m->reply_topic, (int)strlen(busy), busy, QOS, false);
     }
     pthread_mutex_unlock(&m->lock);
 }
@@ -189,6 +222,7 @@ static int configure(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, ch
     mosquitto_connect_callback_set(m->mosq, on_connect);
     mosquitto_disconnect_callback_set(m->mosq, on_disconnect);
     mosquitto_publish_callback_set(m->mosq, on_publish);
+    mosquitto_message_callback_set(m->mosq, on_message);
     int rc = mosquitto_will_set(m->mosq, m->status_topic, 7, "offline", QOS, true);
     if (rc == MOSQ_ERR_SUCCESS && cfg->mqtt_username[0]) {
         char password[512];
@@ -229,6 +263,15 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
     snprintf(m->verdict_topic, sizeof m->verdict_topic, "%s/%s/verdict", cfg->mqtt_topic_prefix, cfg->asset_id);
     snprintf(m->status_topic, sizeof m->status_topic, "%s/%s/status", cfg->mqtt_topic_prefix, cfg->asset_id);
     m->queue_max = cfg->mqtt_queue_max;
+    snprintf(m->cmd_topic, sizeof m->cmd_topic, "%s/%s/cmd", cfg->mqtt_topic_prefix, cfg->asset_id);
+    snprintf(m->reply_topic, sizeof m->reply_topic, "%s/%s/reply", cfg->mqtt_topic_prefix, cfg->asset_id);
+    m->command_fd = cfg->mqtt_commands ? eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK) : -1;
+    if (cfg->mqtt_commands && m->command_fd < 0) {
+        snprintf(err, errlen, "mqtt: eventfd: %s", strerror(errno));
+        pthread_mutex_destroy(&m->lock);
+        free(m);
+        return -1;
+    }
     mosquitto_lib_init();
     char client_id[128];
     snprintf(client_id, sizeof client_id, "uwbd-%s", cfg->asset_id);
@@ -283,6 +326,38 @@ void uwbd_mqtt_verdict(struct uwbd_mqtt *m, const char *verdict_json)
     pthread_mutex_unlock(&m->lock);
 }
 
+int uwbd_mqtt_command_fd(const struct uwbd_mqtt *m)
+{
+    return m ? m->command_fd : -1;
+}
+
+char *uwbd_mqtt_next_command(struct uwbd_mqtt *m)
+{
+    if (!m || m->command_fd < 0)
+        return NULL;
+    pthread_mutex_lock(&m->lock);
+    char *text = NULL;
+    if (m->n_commands) {
+        text = m->commands[0];
+        memmove(m->commands, m->commands + 1, (m->n_commands - 1) * sizeof *m->commands);
+        m->n_commands--;
+    }
+    if (!m->n_commands) {
+        uint64_t count;
+        if (read(m->command_fd, &count, sizeof count) < 0) {
+            /* nothing to drain */
+        }
+    }
+    pthread_mutex_unlock(&m->lock);
+    return text;
+}
+
+void uwbd_mqtt_reply(struct uwbd_mqtt *m, const char *reply_json)
+{
+    if (m && reply_json)
+        mosquitto_publish(m->mosq, NULL, m->reply_topic, (int)strlen(reply_json), reply_json, QOS, false);
+}
+
 size_t uwbd_mqtt_queued(struct uwbd_mqtt *m)
 {
     pthread_mutex_lock(&m->lock);
@@ -315,6 +390,10 @@ void uwbd_mqtt_close(struct uwbd_mqtt *m)
     }
     mosquitto_lib_cleanup();
     pthread_mutex_destroy(&m->lock);
+    for (size_t i = 0; i < m->n_commands; i++)
+        free(m->commands[i]);
+    if (m->command_fd >= 0)
+        close(m->command_fd);
     free(m->queue);
     free(m);
 }

@@ -310,3 +310,19 @@ void uwbd_site_close(struct uwbd_site *s)
     uwbd_mqtt_close(s->mqtt);
     free(s);
 }
+
+int uwbd_site_command_fd(const struct uwbd_site *s)
+{
+    return s ? uwbd_mqtt_command_fd(s->mqtt) : -1;
+}
+
+char *uwbd_site_next_command(struct uwbd_site *s)
+{
+    return s ? uwbd_mqtt_next_command(s->mqtt) : NULL;
+}
+
+void uwbd_site_reply(struct uwbd_site *s, const char *reply_json)
+{
+    if (s)
+        uwbd_mqtt_reply(s->mqtt, reply_json);
+}

@@ -55,7 +55,8 @@ stop_broker() { kill -9 "$broker_pid"; wait "$broker_pid" 2>/dev/null || true; }
 
 start_broker broker.pw
 mqtt=(--set site.asset_id=T7 --set mqtt.enabled=true --set "mqtt.endpoint=tcp:127.0.0.1:$port"
-      --set mqtt.username=uwbd --set mqtt.password_file=run/mqtt.pw --set mqtt.reconnect_max_s=1)
+      --set mqtt.username=uwbd --set mqtt.password_file=run/mqtt.pw --set mqtt.reconnect_max_s=1
+      --set mqtt.commands=true)
 
 # ---- refused before anything connects ------------------------------------------
 check() { uwbd --check-config "$config" "$@" > check.out 2>&1 && echo 0 || echo $?; }
@@ -139,6 +140,30 @@ got=$(awk '{print $3}' back.out | while read -r line; do printf '%s\n' "$line" |
 wait_for test -z "$(ls run/state/mqtt-queue)" || fail "the queue is not empty: $(ls run/state/mqtt-queue)"
 pass "broker away: ${#ids[@]} verdicts queued on disk, sent in order once it was back; queue empty"
 
+
+# ---- commands from the cmd topic -------------------------------------------------
+mqtt_pub() { $HOST_PREFIX "$HOST_BUILD/e2e/mqtt_pub" "$@"; }
+ask_mqtt() {   # COMMAND OUT: publish COMMAND on the cmd topic, the reply into OUT
+    mqtt_sub "$port" tester tester-secret uwbd/T7/reply 1 20 > "$2" 2> "$2.err" &
+    local sub=$!
+    pids+=($sub)
+    wait_for grep -q subscribed "$2.err" || fail "the reply subscriber did not subscribe"
+    mqtt_pub "$port" tester tester-secret uwbd/T7/cmd "$1" || fail "cannot publish $1"
+    wait "$sub" || fail "no reply to $1: $(tail -3 uwbd2.log)"
+    cut -d' ' -f3- "$2" > "$2.json"
+}
+last_id=$(ctl verdict | json_get scan_id)
+ask_mqtt event event-reply
+json_check event-reply.json 'class == EVENT' || fail "event over MQTT: $(cat event-reply)"
+new_verdict() { ctl verdict > latest.json && ! json_check latest.json "scan_id == $last_id" 2>/dev/null; }
+wait_for new_verdict || fail "no scan after the event command over MQTT"
+json_check latest.json 'trigger == event' || fail "MQTT event verdict: $(cut -c1-300 latest.json)"
+ask_mqtt status status-reply
+json_check status-reply.json 'class == ERROR' 'message contains only scan, event, ack and baseline set' ||
+    fail "status over MQTT: $(cat status-reply)"
+ask_mqtt 'baseline set 2' baseline-reply
+json_check baseline-reply.json 'class == BASELINE' 'pending = true' || fail "baseline set over MQTT: $(cat baseline-reply)"
+pass "mqtt.commands: event (a scan with \"trigger\": \"event\"), baseline set answered on uwbd/T7/reply; status refused"
 kill "$daemon_pid"
 wait "$daemon_pid" 2>/dev/null || true
 mqtt_sub "$port" tester tester-secret uwbd/T7/status 1 20 > stopped.out

@@ -53,10 +53,11 @@ static void expect_line(const char *text, const char *line)
 {
     char want[256];
     snprintf(want, sizeof want, "\n%s\n", line);
-    char *framed = malloc(strlen(text) + 2);
+    size_t n = strlen(text);
+    char *framed = malloc(n + 2);
     TEST_ASSERT_NOT_NULL(framed);
     framed[0] = '\n';
-    strcpy(framed + 1, text);
+    memcpy(framed + 1, text, n + 1);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(framed, want), line);
     free(framed);
 }

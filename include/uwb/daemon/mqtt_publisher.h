@@ -22,6 +22,12 @@ int uwbd_mqtt_open(struct uwbd_mqtt **mqtt, const struct uwbd_site_config *cfg, 
                    size_t errlen);
 /* Queues one verdict line and sends what the queue holds when it can. */
 void uwbd_mqtt_verdict(struct uwbd_mqtt *mqtt, const char *verdict_json);
+/* With mqtt.commands: an eventfd that is readable while commands from
+ * PREFIX/ASSET/cmd wait (-1 without), the next of them (malloc'd text, NULL
+ * when none), and the answer to one, published on PREFIX/ASSET/reply. */
+int uwbd_mqtt_command_fd(const struct uwbd_mqtt *mqtt);
+char *uwbd_mqtt_next_command(struct uwbd_mqtt *mqtt);
+void uwbd_mqtt_reply(struct uwbd_mqtt *mqtt, const char *reply_json);
 /* Verdicts waiting for the broker. */
 size_t uwbd_mqtt_queued(struct uwbd_mqtt *mqtt);
 /* Says "offline" (briefly waiting for the broker's acknowledgement) and

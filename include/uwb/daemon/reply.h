@@ -46,5 +46,7 @@ char *uwbd_reply_watch(int watch);
 char *uwbd_reply_ack(int watch, int alarm, int fault);
 /* The answer to `event`: the scan it asked for started, or queued behind the running one. */
 char *uwbd_reply_event(int queued);
+/* The answer to `scan` where no one waits for its verdict (MQTT): it started, or queued. */
+char *uwbd_reply_scan_requested(int queued);
 
 #endif

@@ -34,6 +34,11 @@ void uwbd_site_contact_states(const struct uwbd_site *site, struct uwbd_contact_
  * it fires: returns 1 when the event input asks for a scan. */
 int uwbd_site_timer_fd(const struct uwbd_site *site);
 int uwbd_site_tick(struct uwbd_site *site);
+/* Commands from MQTT (mqtt.commands): an fd readable while some wait
+ * (-1: none), the next (malloc'd, NULL when none), and the answer to one. */
+int uwbd_site_command_fd(const struct uwbd_site *site);
+char *uwbd_site_next_command(struct uwbd_site *site);
+void uwbd_site_reply(struct uwbd_site *site, const char *reply_json);
 /* Drives the contacts de-energised (the fault contact opens: the monitor
  * is stopping) and releases the lines. NULL is a no-op. */
 void uwbd_site_close(struct uwbd_site *site);

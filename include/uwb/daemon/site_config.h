@@ -42,6 +42,7 @@ struct uwbd_site_config {
     char mqtt_topic_prefix[64];
     int mqtt_queue_max;                            /* verdicts kept on disk while the broker is away */
     double mqtt_reconnect_max_s;                   /* the back-off's ceiling */
+    int mqtt_commands;                             /* take scan, event, ack, baseline set from PREFIX/ASSET/cmd */
 };
 
 struct uwbd_config;
