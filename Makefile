@@ -291,7 +291,7 @@ test-board:
 	@bash tools/board-in-loop/test-board.sh '$(BUILD)' '$(BOARD_ARM_BUILD)'
 
 demo: deps
-	+@$(SUBMAKE) all
+	+@$(SUBMAKE) all $(BUILD)/e2e/mqtt_sub
 	@if [ ! -f tools/demo/run-demo.sh ]; then \
 	    echo "make demo: tools/demo/run-demo.sh does not exist yet" >&2; exit 1; fi
 	UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh
