@@ -192,7 +192,8 @@ static int load_queue(struct uwbd_mqtt *m, char *err, size_t errlen)
                 break;
     }
     closedir(d);
-    qsort(m->queue, m->queued, sizeof *m->queue, compare_seq);
+    if (m->queued)   /* qsort may not be given NULL, even for none */
+        qsort(m->queue, m->queued, sizeof *m->queue, compare_seq);
     m->next_seq = m->queued ? m->queue[m->queued - 1] + 1 : 1;
     return 0;
 }
