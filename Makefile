@@ -17,8 +17,8 @@
 #   make soak             SOAK_CYCLES (1000) scan cycles of uwbd on the emulated board:
 #                         RSS, open fds and archive size must stay flat; then
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
-#   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}, the systemd unit, udev
-#                         rules, the Pi sample config (share/uwbd), board docs (share/doc/uwbd)
+#   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}, the systemd unit (and the
+#                         drop-in bounding systemd-time-wait-sync to 5 min), udev rules, the Pi sample config (share/uwbd), board docs (share/doc/uwbd)
 #                         and manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1)
 #   make man              the manual pages into $(BUILD)/man (uwbd.json.5 from the key table)
 #   make deb              board/debian -> $(BUILD)/deb/uwbd_VERSION_ARCH.deb (dpkg-buildpackage,
@@ -127,10 +127,15 @@ tests: $(TEST_BIN) $(E2E_HELPER_BIN)
 
 # ---- compiling and linking -------------------------------------------------
 
+# The library's private headers live beside their code (src/daemon/*.h,
+# src/output/render_internal.h, ...) and are included as "daemon/config.h";
+# include/uwb/ holds only what a program linking libuwb.a needs. Tests may
+# include the private ones too.
+$(BUILD)/obj/src/%.o: EXTRA_CFLAGS := -Isrc
 # Tools may include each other's headers (e.g. tools/uwbsim/...); the
 # library in src/ may not.
 $(BUILD)/obj/tools/%.o: EXTRA_CFLAGS := -Itools
-$(BUILD)/obj/tests/%.o: EXTRA_CFLAGS := -I$(UNITY_DIR) -Itools -Itests/unit \
+$(BUILD)/obj/tests/%.o: EXTRA_CFLAGS := -I$(UNITY_DIR) -Itools -Itests/unit -Isrc \
                                         $(UNITY_DEFS) -DUWB_BUILD_DIR='"$(BUILD)"'
 
 $(BUILD)/obj/%.o: %.c
@@ -172,8 +177,8 @@ $(BUILD)/uwbemu: $(EMU_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 
 # The bench times these library entry points from outside the library
 # (tools/bench/bench_stage_timers.c) by wrapping them at link time.
-BENCH_WRAPS   := uwb_condition uwb_dominant_frequency uwb_migrate uwb_envelope_along_z \
-                 uwb_canvas_write_png
+BENCH_WRAPS   := uwb_condition_prepare uwb_condition_finish uwb_dominant_frequency uwb_migrate \
+                 uwb_migration_plan_run uwb_envelope_along_z uwb_canvas_write_png
 
 $(BUILD)/uwbbench: $(BENCH_OBJ) $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 	$(CC) $(LDFLAGS) $(SAN_FLAGS) $(BENCH_WRAPS:%=-Wl,--wrap=%) -o $@ $^ $(UWB_LDLIBS)
@@ -308,6 +313,8 @@ bench: deps
 	@if [ -z "$(BENCH_SRC)" ]; then echo "make bench: no tools/bench/*.c yet" >&2; exit 1; fi
 	+@$(SUBMAKE) all $(BUILD)/uwbbench
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench $(BENCH_ARGS)
+	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench --replay-only $(BENCH_ARGS) \
+	    --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan tests/fixtures/fdtd2d-paper-intact.uwbscan
 
 # Long runs (tools/soak/run-soak.sh): back-to-back scan cycles against the
 # emulated board, judging the daemon's RSS, open descriptors and state
@@ -362,6 +369,8 @@ install: all $(MAN_PAGES)
 	    '$(DESTDIR)$(MANDIR)/man1' '$(DESTDIR)$(MANDIR)/man5' '$(DESTDIR)$(MANDIR)/man8'
 	sed -e 's|@bindir@|$(PREFIX)/bin|g' -e 's|@docdir@|$(DOCDIR)|g' board/uwbd.service \
 	    > '$(DESTDIR)$(UNITDIR)/uwbd.service'
+	install -D -m 0644 board/systemd-time-wait-sync-uwbd.conf \
+	    '$(DESTDIR)$(UNITDIR)/systemd-time-wait-sync.service.d/uwbd.conf'
 	install -m 0644 board/99-uwbd-digitiser.rules board/99-uwbd-gpio.rules '$(DESTDIR)$(UDEVRULESDIR)/'
 	install -m 0644 board/raspberry-pi-4/uwbd.json '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4/'
 	for f in $(DOC_FILES); do install -m 0644 "board/$$f" "$(DESTDIR)$(DOCDIR)/$$f" || exit 1; done

@@ -22,6 +22,7 @@ struct uwb_analysis_options {
     double min_snr_db;             /* below this the winding is "not established" */
     double systematic_edge_m;      /* 1-sigma floor of an edge's position */
     int remove_side_reflector;     /* take a compact reflector beside the winding out (clamping plate) */
+    double display_half_range_m;   /* the display image (migrated PNG) spans the face's range +- this (0.25) */
     struct uwb_condition_options condition;
 };
 
@@ -33,10 +34,12 @@ struct uwb_face_profile {
     float *value;                  /* envelope along y at the face range */
 };
 
+/* What was measured, for the verdict and for the images to draw as it is
+ * (src/output draws these; it measures nothing again). */
 struct uwb_analysis {
-    struct uwb_edges edges;
+    struct uwb_edges edges;        /* incl. the side reflector taken out (side_reflector, _y_m) */
     struct uwb_image intensity;    /* display image: envelope around the face (or the search area) */
-    struct uwb_face_profile profile;
+    struct uwb_face_profile profile;   /* the profile the edges were read from (tapered, reflector out) */
     double dominant_hz;
     double noise_sigma;            /* per-sample noise of the conditioned traces */
     double aperture_lo_m, aperture_hi_m;  /* antenna travel */
@@ -46,11 +49,12 @@ struct uwb_analysis {
      * the profile was measured on (weighted, a side reflector taken out). */
     struct uwb_scan conditioned;
     struct uwb_scan measured;
-    double *weight;
+    double *weight;                /* per position, 0..1 (1 everywhere before any taper pass) */
 };
 
 /* Returns 0 when the analysis ran (edges.found tells whether the winding
- * was established, with edges.reason otherwise), -1 on a hard error. */
+ * was established, with edges.reason otherwise), -1 on a hard error (out
+ * then holds nothing to free). */
 int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_options *opt,
                      struct uwb_analysis *out, char *err, size_t errlen);
 /* The displacement between two analysed scans of one installation: the

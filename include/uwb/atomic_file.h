@@ -19,17 +19,17 @@ struct atomic_file {
 #define ATOMIC_FILE_TEMP_SUFFIX ".part"
 
 /* 1 when `name` (no directory) is one of our temporaries. */
-int atomic_file_is_temporary_name(const char *name);
+int uwb_atomic_file_is_temporary_name(const char *name);
 
 /* Open a temporary file beside `path`. Returns 0, or -1 with err filled. */
-int atomic_file_open(struct atomic_file *af, const char *path, char *err, size_t errlen);
+int uwb_atomic_file_open(struct atomic_file *af, const char *path, char *err, size_t errlen);
 /* Flush, fsync, rename over the final path, fsync the directory. On any
  * failure the temporary is removed and the old target is untouched. */
-int atomic_file_commit(struct atomic_file *af, char *err, size_t errlen);
+int uwb_atomic_file_commit(struct atomic_file *af, char *err, size_t errlen);
 /* Discard the temporary; the target is untouched. */
-void atomic_file_abort(struct atomic_file *af);
+void uwb_atomic_file_abort(struct atomic_file *af);
 
 /* One-shot convenience. */
-int atomic_write_file(const char *path, const void *data, size_t len, char *err, size_t errlen);
+int uwb_atomic_write_file(const char *path, const void *data, size_t len, char *err, size_t errlen);
 
 #endif

@@ -34,4 +34,9 @@ void uwb_cli_option_error(const char *prog, const char *help, char *const argv[]
  * then "image: PATH" lines. -1, nothing printed, for any other reply. */
 int uwbd_verdict_text(const char *reply, FILE *out);
 
+/* A TREND reply as a table: time, status, displacement ± 1 sigma, height
+ * change and scan per verdict ("*" at a baseline change), then the rate and
+ * the image. -1, nothing printed, for any other reply. */
+int uwbd_trend_text(const char *reply, FILE *out);
+
 #endif

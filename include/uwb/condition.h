@@ -21,8 +21,10 @@ struct uwb_condition_options {
 
 void uwb_condition_defaults(struct uwb_condition_options *opt);
 
-/* Dominant frequency (Hz) of the scan: the peak of its mean power spectrum. */
-double uwb_dominant_frequency(const struct uwb_scan *scan);
+/* Dominant frequency (Hz) of the scan: the peak of its mean power spectrum.
+ * Returns 0 with *hz > 0, or -1 with err filled (no memory for the
+ * transform, or a scan with no spectrum) and *hz = 0. */
+int uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, size_t errlen);
 
 /* Where the winding can be: a box in y and z. Each position hears it only
  * between the delays to the box's nearest and farthest points. */

@@ -74,9 +74,12 @@ enum uwb_rig_error {
 
 struct uwb_rig;
 
+/* The configuration key table's defaults (src/daemon/config_keys.c); keys
+ * the table requires get the emulated board's values. */
 void uwb_rig_config_defaults(struct uwb_rig_config *cfg);
 /* Checks the config without touching hardware (for --check-config too):
- * UWB_RIG_OK or UWB_RIG_ERR_CONFIG with err naming the field. */
+ * each value against its key's range in the same table, then the rules
+ * between fields. UWB_RIG_OK or UWB_RIG_ERR_CONFIG with err naming the key. */
 int uwb_rig_config_check(const struct uwb_rig_config *cfg, char *err, size_t errlen);
 /* Open the GPIO backend and the digitiser link. On failure returns an enum
  * uwb_rig_error (the underlying gpio/link error in *detail if not NULL). */

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "uwb/cli.h"
-#include "uwb/daemon/daemon.h"
+#include "daemon/daemon.h"
 
 /* Text for roff: backslashes escaped, `code` in bold, a leading '.' or '\''
  * kept from being read as a request. */

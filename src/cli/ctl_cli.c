@@ -12,10 +12,10 @@
 #include <cjson/cJSON.h>
 
 #include "uwb/cli.h"
-#include "uwb/daemon/command.h"
-#include "uwb/daemon/config.h"
-#include "uwb/daemon/control_socket.h"
-#include "uwb/daemon/exit_codes.h"
+#include "daemon/command.h"
+#include "daemon/config.h"
+#include "daemon/control_socket.h"
+#include "daemon/exit_codes.h"
 #include "uwb/monotonic.h"
 
 /* A scan takes as long as the carriage needs; everything else is instant. */
@@ -30,7 +30,7 @@ void uwbd_ctl_usage(FILE *f)
         "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text] COMMAND...\n"
         "\n"
         "Sends COMMAND to the running daemon and prints its reply (one JSON line).\n"
-        "Commands: status, scan, verdict, history [N], baseline set [N], watch, watch off, help.\n"
+        "Commands: status, scan, verdict, history [N], trend [N], baseline set [N], watch, watch off, help.\n"
         "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
         "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
         "closes the connection or --timeout S passes (then exit 0).\n"
@@ -39,7 +39,9 @@ void uwbd_ctl_usage(FILE *f)
         "  --config FILE    take the socket's path from this configuration\n"
         "  --timeout S      wait at most S seconds for the reply (default %d for scan, %d otherwise)\n"
         "  --text           print a verdict as lines for people (status, displacement or\n"
-        "                   edges or reason, images) instead of its JSON line\n"
+        "                   edges or reason, images), and a trend as a table (time, status,\n"
+        "                   displacement \u00b1 1 sigma, height change, rate, image), instead\n"
+        "                   of its JSON line\n"
         "\n"
         "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
         "69 no daemon on the socket; 75 no reply in time.\n",
@@ -300,7 +302,7 @@ int uwbd_ctl_main(int argc, char **argv)
     free(reader.buf);
     if (rc != 0)
         return rc;
-    if (!as_text || uwbd_verdict_text(reply, stdout) != 0)
+    if (!as_text || (uwbd_verdict_text(reply, stdout) != 0 && uwbd_trend_text(reply, stdout) != 0))
         puts(reply);
     return is_error_reply(reply) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
 }

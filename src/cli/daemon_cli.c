@@ -7,9 +7,9 @@
 #include <cjson/cJSON.h>
 
 #include "uwb/cli.h"
-#include "uwb/daemon/daemon.h"
-#include "uwb/daemon/exit_codes.h"
-#include "uwb/daemon/log.h"
+#include "daemon/daemon.h"
+#include "daemon/exit_codes.h"
+#include "daemon/log.h"
 
 void uwbd_daemon_usage(FILE *f)
 {

@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "uwb/cli.h"
-#include "uwb/daemon/daemon.h"
+#include "daemon/daemon.h"
 #include "uwb/evaluate.h"
 #include "uwb/scan.h"
 #include "uwb/verdict_json.h"

@@ -1,5 +1,5 @@
 /* Averaging acquisitions within a cycle (see the header). */
-#include "uwb/daemon/acquire_more.h"
+#include "daemon/acquire_more.h"
 
 #include <math.h>
 #include <stdio.h>

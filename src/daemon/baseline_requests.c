@@ -7,10 +7,10 @@
 #include <time.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/reply.h"
+#include "daemon/log.h"
+#include "daemon/reply.h"
 
-char *baseline_request(struct daemon *d, int scans, int force)
+char *uwbd_baseline_request(struct daemon *d, int scans, int force)
 {
     d->baseline_requests++;
     d->baseline_scans = scans > 0 ? scans : d->cfg.baseline_scans;
@@ -25,7 +25,7 @@ char *baseline_request(struct daemon *d, int scans, int force)
     return uwbd_reply_baseline(1, d->has_baseline, &d->baseline);
 }
 
-void baseline_requests_restore(struct daemon *d)
+void uwbd_baseline_requests_restore(struct daemon *d)
 {
     char err[1024];
     int scans = 0, force = 0;
@@ -43,7 +43,7 @@ void baseline_requests_restore(struct daemon *d)
                               "becomes the baseline", scans, scans == 1 ? "" : "s");
 }
 
-void baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req)
+void uwbd_baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req)
 {
     req->make_baseline = d->baseline_requests > d->baseline_done;
     req->baseline_scans = req->make_baseline ? d->baseline_scans : 1;
@@ -53,7 +53,7 @@ void baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req)
         req->expected = d->baseline;
 }
 
-void baseline_request_finished(struct daemon *d, unsigned long request, const struct uwbd_cycle_result *res)
+void uwbd_baseline_request_finished(struct daemon *d, unsigned long request, const struct uwbd_cycle_result *res)
 {
     if (res->baseline_checked) {
         if (res->fault[0] && strcmp(res->fault, d->fault) != 0)

@@ -3,7 +3,7 @@
  * and the json can be rebuilt from it. current.json records the scan's
  * CRC-32 at commissioning, so a baseline damaged or replaced later is
  * noticed at the next scan instead of trusted. */
-#include "uwb/daemon/baseline_store.h"
+#include "daemon/baseline_store.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -15,7 +15,7 @@
 #include <zlib.h>
 
 #include "uwb/daemon/direct_coupling.h"
-#include "uwb/daemon/log.h"
+#include "daemon/log.h"
 #include "uwb/read_file.h"
 
 #define INFO_MAX 65536

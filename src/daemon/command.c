@@ -1,7 +1,7 @@
 /* Parsing console and control-socket command lines. Everything is checked
  * against fixed bounds before it is looked at: the length, the bytes, the
  * number of words and each word's length. */
-#include "uwb/daemon/command.h"
+#include "daemon/command.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -14,6 +14,9 @@ const struct uwb_command_help uwb_command_help[] = {
     {"scan", "scan now; the reply is that scan's verdict"},
     {"verdict", "the latest verdict"},
     {"history [N]", "the last N verdicts, oldest first (N 1..100, default 10)"},
+    {"trend [N]", "the last N verdicts (N 1..100, default 20) as a series: time, status, displacement +/- 1 sigma, "
+                  "height change, baseline changes, the rate of change since the last baseline change, and the "
+                  "trend image"},
     {"baseline set [N]", "the next good scan, averaged over N acquisitions (1..16; default baseline.scans), becomes "
                          "the baseline (the old one is kept in baseline/history)"},
     {"baseline set force", "the same, also when the scan is an alarm against the current baseline (after a repair "
@@ -40,6 +43,7 @@ const char *uwb_command_name(enum uwb_command_kind kind)
     case UWB_COMMAND_BASELINE_SET: return "baseline set";
     case UWB_COMMAND_HELP: return "help";
     case UWB_COMMAND_WATCH: return "watch";
+    case UWB_COMMAND_TREND: return "trend";
     case UWB_COMMAND_ACK: return "ack";
     case UWB_COMMAND_EVENT: return "event";
     }
@@ -186,6 +190,14 @@ int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, cha
         max_args = 1;
         if (n_words == 2 && parse_count(words[1], &cmd.count) != 0) {
             set_error(err, errlen, "history: N must be a whole number from 1 to 100, not", words[1]);
+            return UWB_COMMAND_INVALID;
+        }
+    } else if (strcmp(verb, "trend") == 0) {
+        cmd.kind = UWB_COMMAND_TREND;
+        cmd.count = UWB_TREND_DEFAULT;
+        max_args = 1;
+        if (n_words == 2 && parse_count(words[1], &cmd.count) != 0) {
+            set_error(err, errlen, "trend: N must be a whole number from 1 to 100, not", words[1]);
             return UWB_COMMAND_INVALID;
         }
     } else if (strcmp(verb, "baseline") == 0) {

@@ -1,7 +1,7 @@
 /* Loading the daemon's JSON configuration: defaults from the key table,
  * then the file, then command-line overrides, then checks that involve
  * more than one key. Every message names the key. */
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 
 #include <cjson/cJSON.h>
 #include <grp.h>
@@ -47,13 +47,10 @@ static void fail(struct load_context *ctx, const char *key, const char *fmt, ...
 
 static const struct config_key *find_key(const char *path, size_t *index)
 {
-    for (size_t i = 0; i < uwbd_config_key_total; i++)
-        if (strcmp(uwbd_config_keys[i].path, path) == 0) {
-            if (index)
-                *index = i;
-            return &uwbd_config_keys[i];
-        }
-    return NULL;
+    const struct config_key *k = uwbd_config_key_find(path);
+    if (k && index)
+        *index = (size_t)(k - uwbd_config_keys);
+    return k;
 }
 
 /* A section is any proper prefix of a key's path ("gpio", "gpio.lines"). */
@@ -121,17 +118,14 @@ static int check_text(struct load_context *ctx, const struct config_key *k, cons
 
 static void describe_range(const struct config_key *k, char *buf, size_t n)
 {
-    snprintf(buf, n, "%s%.10g, %.10g]%s%s", k->min_exclusive ? "(" : "[", k->min, k->max,
-             k->unit[0] ? " " : "", k->unit);
+    uwbd_config_key_describe_range(k, buf, n);
 }
 
 static int number_in_range(struct load_context *ctx, const struct config_key *k, double v)
 {
-    int low = k->min_exclusive ? !(v > k->min) : !(v >= k->min);
-    if (low || !(v <= k->max)) {
-        char range[96];
-        describe_range(k, range, sizeof range);
-        fail(ctx, k->path, "%g is out of range %s", v, range);
+    char problem[160];
+    if (uwbd_config_key_check_range(k, v, problem, sizeof problem) != 0) {
+        fail(ctx, k->path, "%s", problem);
         return -1;
     }
     return 0;
@@ -532,11 +526,6 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
         fail(ctx, "scan.first_position_mm",
              "%g mm minus the backlash overshoot (%g mm) lies below home (carriage.home_offset_mm = %g mm)",
              first, c->backlash_mm, lowest);
-        return -1;
-    }
-    if (r->step_mm < UWBSCAN_MIN_STEP_M * 1e3) {
-        fail(ctx, "scan.step_mm", "%g mm is under the smallest step a scan file may hold (%g mm, uwb/scan.h)",
-             r->step_mm, UWBSCAN_MIN_STEP_M * 1e3);
         return -1;
     }
     if ((r->positions - 1) * r->step_mm > UWBSCAN_MAX_TRAVEL_M * 1e3) {

@@ -6,8 +6,10 @@
 #include <float.h>
 #include <limits.h>
 #include <stddef.h>
+#include <stdio.h>
+#include <string.h>
 
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 #include "uwb/frame.h"
 #include "uwb/scan.h"
 
@@ -136,8 +138,10 @@ const struct config_key uwbd_config_keys[] = {
     INTEGER("digitiser.frame_retries", rig.digitiser.frame_retries, "", 0, 100, 3,
             "a bad or missing frame is retried (with a fresh trigger) this many times per pulse"),
 
-    REQUIRED_NUMBER_ABOVE("carriage.steps_per_mm", rig.carriage.steps_per_mm, "steps/mm", 1, 0, 1e6,
-                          "microsteps per millimetre of carriage travel"),
+    REQUIRED_NUMBER("carriage.steps_per_mm", rig.carriage.steps_per_mm, "steps/mm", 1, 1, 1e6,
+                    "microsteps per millimetre of carriage travel; at least 1, as a coarser step could not "
+                    "place the antennas to the millimetre"),
+    /* At most 1e5 Hz: the STEP pulse (UWB_STEP_PULSE_S, 5 us) and the gap after it fit one period. */
     NUMBER_ABOVE("carriage.max_rate_hz", rig.carriage.max_rate_hz, "Hz", 1, 0, 1e5, 4000, "top step rate"),
     NUMBER_ABOVE("carriage.accel_hz_per_s", rig.carriage.accel_hz_per_s, "Hz/s", 1, 0, 1e9, 8000,
                  "linear ramp of the step rate at the start and end of a move"),
@@ -166,9 +170,11 @@ const struct config_key uwbd_config_keys[] = {
                      "antenna positions per scan (K)"),
     REQUIRED_NUMBER("scan.first_position_mm", rig.first_position_mm, "mm", 1, -1e5, 1e5,
                     "height of position 0 in scan coordinates"),
-    REQUIRED_NUMBER_ABOVE("scan.step_mm", rig.step_mm, "mm", 1, 0, 1e4,
-                          "spacing between positions; at least 1 mm, and (positions - 1) x step at most "
-                          "5000 mm (what a scan file may hold)"),
+    { .path = "scan.step_mm", .type = KEY_NUMBER, .offset = AT(rig.step_mm), .scale = 1,
+      .min = UWBSCAN_MIN_STEP_M * 1e3, .max = UWBSCAN_MAX_TRAVEL_M * 1e3, .required = 1, .unit = "mm",
+      .below_min_why = "under the smallest step a scan file may hold (1 mm, uwb/scan.h)",
+      .doc = "spacing between positions; at least 1 mm, and (positions - 1) x step at most 5000 mm (what a "
+             "scan file may hold)" },
     NUMBER_ABOVE("scan.trigger_pulse_us", rig.trigger_pulse_us, "us", 1, 0, 1e6, 10,
                  "how long the trigger line is held high"),
     NUMBER("scan.time_scale", rig.time_scale, "", 1, 0, 100, 1,
@@ -198,6 +204,8 @@ const struct config_key uwbd_config_keys[] = {
            "calibration added to each scan's t0"),
     NUMBER_ABOVE("analysis.edge_fraction", evaluate.analysis.edge_fraction, "", 1, 0.05, 0.95, 0.5,
                  "an edge is where the face profile crosses this fraction of its peak"),
+    NUMBER_ABOVE("analysis.display_half_range_mm", evaluate.analysis.display_half_range_m, "mm", 1e-3, 10,
+                 2000, 250, "the migrated image (PNG) shows ranges this far either side of the winding's face"),
 
     NUMBER("direct_coupling.window_end_ns", direct_coupling_window_end_s, "ns", 1e-9, -1e3, 1e3, 2,
            "the direct Tx-to-Rx arrival is looked for from the first sample up to this time after "
@@ -214,6 +222,12 @@ const struct config_key uwbd_config_keys[] = {
            "when a scan's uncertainty is over analysis.max_uncertainty_mm and more pulses would bring it under "
            "(its noise part falls as 1/sqrt(pulses)), acquire again and average, for at most this long per "
            "scan cycle, before the verdict says inconclusive; 0 = never"),
+    STRING("site.phase", site_phase, "",
+           "the phase (or winding) this unit watches, as the site names it (e.g. B, L2, HV-B; at most 7 bytes); "
+           "shown in `status` and the trend image"),
+    STRING("site.label", site_label, "",
+           "a free label for people (e.g. Hillside GT2, north window; at most 63 bytes); shown in `status` and "
+           "the trend image"),
 
     BOOLEAN("contacts.enabled", site.contacts_enabled, 0,
             "drive the alarm contacts (README: Alarm contacts): watch and alarm energised by those verdicts, "
@@ -282,3 +296,42 @@ const struct config_key uwbd_config_keys[] = {
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];
+
+const struct config_key *uwbd_config_key_find(const char *path)
+{
+    for (size_t i = 0; i < uwbd_config_key_total; i++)
+        if (strcmp(uwbd_config_keys[i].path, path) == 0)
+            return &uwbd_config_keys[i];
+    return NULL;
+}
+
+void uwbd_config_key_describe_range(const struct config_key *k, char *buf, size_t n)
+{
+    snprintf(buf, n, "%s%.10g, %.10g]%s%s", k->min_exclusive ? "(" : "[", k->min, k->max,
+             k->unit[0] ? " " : "", k->unit);
+}
+
+int uwbd_config_key_check_range(const struct config_key *k, double written, char *problem, size_t n)
+{
+    int low = k->min_exclusive ? !(written > k->min) : !(written >= k->min);
+    if (!low && written <= k->max)
+        return 0;
+    char range[96];
+    uwbd_config_key_describe_range(k, range, sizeof range);
+    if (low && k->below_min_why)
+        snprintf(problem, n, "%g is out of range %s: %s", written, range, k->below_min_why);
+    else
+        snprintf(problem, n, "%g is out of range %s", written, range);
+    return -1;
+}
+
+int uwbd_config_key_in_rig(const struct config_key *k, size_t *offset, size_t *flag_offset)
+{
+    size_t rig = offsetof(struct uwbd_config, rig);
+    /* A GPIO line row has no offset: its `size` is the line's index. */
+    if (k->type == KEY_GPIO_LINE || k->offset < rig || k->offset >= rig + sizeof(struct uwb_rig_config))
+        return 0;
+    *offset = k->offset - rig;
+    *flag_offset = k->flag_offset ? k->flag_offset - rig : 0;
+    return 1;
+}

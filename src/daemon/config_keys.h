@@ -25,6 +25,7 @@ struct config_key {
     double scale;              /* written unit -> stored unit */
     double min, max;           /* allowed range in written units */
     int min_exclusive;         /* value must be > min rather than >= */
+    const char *below_min_why; /* said after "out of range" when a value is under min; NULL: nothing */
     int required;
     double default_number;     /* when not required (numbers, ints, bools) */
     const char *default_text;  /* when not required (strings, choices, modes) */
@@ -35,5 +36,19 @@ struct config_key {
 
 extern const struct config_key uwbd_config_keys[];
 extern const size_t uwbd_config_key_total;
+
+/* The key at dotted `path`, or NULL. */
+const struct config_key *uwbd_config_key_find(const char *path);
+/* 0 when `written` (in the key's unit) lies in its range; else -1 with
+ * problem = "V is out of range [lo, hi] unit". The loader and the rig's
+ * checks both judge a value by this, so they cannot disagree. */
+int uwbd_config_key_check_range(const struct config_key *k, double written, char *problem, size_t n);
+/* "[lo, hi] unit" or "(lo, hi] unit", as the messages and the key listing write it. */
+void uwbd_config_key_describe_range(const struct config_key *k, char *buf, size_t n);
+/* 1 when the key lands in struct uwb_rig_config (gpio, digitiser, carriage,
+ * scan, geometry), with *offset its place there and *flag_offset that of
+ * its "given" flag (0: none); 0 for the daemon's own keys. The rig takes
+ * its defaults and ranges from these rows. */
+int uwbd_config_key_in_rig(const struct config_key *k, size_t *offset, size_t *flag_offset);
 
 #endif

@@ -1,5 +1,5 @@
 /* Line editing for the serial console (see console_line.h). */
-#include "uwb/daemon/console_line.h"
+#include "daemon/console_line.h"
 
 #include <string.h>
 

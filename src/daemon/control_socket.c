@@ -1,5 +1,5 @@
 /* Creating, removing and connecting to the control socket. */
-#include "uwb/daemon/control_socket.h"
+#include "daemon/control_socket.h"
 
 #include <errno.h>
 #include <grp.h>

@@ -1,7 +1,7 @@
 /* The daemon's main loop and its life: start-up checks in the order an
  * installer fixes them (config, user, state directory, control socket,
  * hardware), then poll() until SIGTERM/SIGINT, then a safe shutdown. */
-#include "uwb/daemon/daemon.h"
+#include "daemon/daemon.h"
 
 #include <errno.h>
 #include <poll.h>
@@ -21,11 +21,12 @@
 #include <cjson/cJSON.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/exit_codes.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/service_notify.h"
-#include "uwb/daemon/test_hang.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/exit_codes.h"
+#include "daemon/log.h"
+#include "daemon/service_notify.h"
+#include "daemon/state_open.h"
+#include "daemon/test_hang.h"
+#include "daemon/verdict_log.h"
 #include "uwb/monotonic.h"
 
 static void worker_beat(struct daemon *d);
@@ -68,7 +69,7 @@ static void arm_at(struct daemon *d, struct timespec when)
 }
 
 /* The next scheduled scan one interval after `from` (a past time fires at once). */
-void schedule_arm(struct daemon *d, const struct timespec *from)
+void uwbd_schedule_arm(struct daemon *d, const struct timespec *from)
 {
     if (d->cfg.interval_s <= 0)
         schedule_off(d);
@@ -76,23 +77,23 @@ void schedule_arm(struct daemon *d, const struct timespec *from)
         arm_at(d, add_seconds(*from, d->cfg.interval_s));
 }
 
-void scan_now(struct daemon *d)
+void uwbd_scan_now(struct daemon *d)
 {
     if (d->scanning) {
         d->scan_queued = 1;
         return;
     }
-    lock_watch_check(d);   /* also when inotify is unavailable */
+    uwbd_lock_watch_check(d);   /* also when inotify is unavailable */
     if (d->exit_code) {
-        peers_send_verdict(d, d->cycles_started + 1, NULL, "the state directory was deleted or replaced; uwbd is stopping");
+        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL, "the state directory was deleted or replaced; uwbd is stopping");
         return;
     }
     schedule_off(d);
     d->last_cycle_start = monotonic_now();
     worker_beat(d);
-    if (worker_start(d) != 0) {
-        peers_send_verdict(d, d->cycles_started + 1, NULL, "cannot start a scan (see the daemon's log)");
-        schedule_arm(d, &d->last_cycle_start);
+    if (uwbd_worker_start(d) != 0) {
+        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL, "cannot start a scan (see the daemon's log)");
+        uwbd_schedule_arm(d, &d->last_cycle_start);
         return;
     }
     report_status(d);
@@ -103,7 +104,7 @@ void uwbd_scan_request(struct daemon *d, enum scan_trigger why)
 {
     if (why > d->pending_trigger)
         d->pending_trigger = why;
-    scan_now(d);
+    uwbd_scan_now(d);
 }
 
 const char *uwbd_scan_trigger_name(enum scan_trigger why)
@@ -229,22 +230,22 @@ static void reload(struct daemon *d)
             uwb_rig_close(d->rig);
         d->rig = NULL;
         int detail = 0;
-        if (rig_open_logged(d, &detail, err, sizeof err) != UWB_RIG_OK) {
+        if (uwbd_rig_open_logged(d, &detail, err, sizeof err) != UWB_RIG_OK) {
             /* A reload is whole or not at all: the log never says both that
              * the new rig cannot be reached and that the reload happened. */
             d->cfg = previous;
             char old_err[512];
-            if (rig_open_logged(d, &detail, old_err, sizeof old_err) != UWB_RIG_OK)
+            if (uwbd_rig_open_logged(d, &detail, old_err, sizeof old_err) != UWB_RIG_OK)
                 uwbd_log(UWBD_LOG_WARNING, "rig: %s (tried again at the next scan)", old_err);
             uwbd_log(UWBD_LOG_ERR, "reload refused, the running configuration stays: the new rig: %s", err);
             return;
         }
     }
     if (console_changed) {
-        peer_close(&d->console);
+        uwbd_peer_close(&d->console);
         struct itimerspec off = {0};
         timerfd_settime(d->console_retry_fd, 0, &off, NULL);
-        console_open(d);
+        uwbd_console_open(d);
     }
     if (site_changed) {
         uwbd_site_close(d->site);
@@ -253,7 +254,7 @@ static void reload(struct daemon *d)
             uwbd_log(UWBD_LOG_ERR, "reload: the site's lines: %s; alarm contacts and event input are off until "
                                    "the next reload", err);
     }
-    schedule_arm(d, &d->last_cycle_start);
+    uwbd_schedule_arm(d, &d->last_cycle_start);
     uwbd_log(UWBD_LOG_NOTICE, "configuration reloaded from %s%s%s", d->options->config_path,
              rig_changed ? " (rig reopened)" : "", console_changed ? " (console reopened)" : "");
 }
@@ -276,7 +277,7 @@ static void handle_signals(struct daemon *d)
         if (d->scanning) {
             uwbd_log(UWBD_LOG_NOTICE, "%s: stopping the running scan safely, then exiting",
                      si.ssi_signo == SIGTERM ? "SIGTERM" : "SIGINT");
-            worker_request_stop(d);
+            uwbd_worker_request_stop(d);
         } else {
             uwbd_log(UWBD_LOG_NOTICE, "%s: exiting", si.ssi_signo == SIGTERM ? "SIGTERM" : "SIGINT");
         }
@@ -285,21 +286,21 @@ static void handle_signals(struct daemon *d)
 
 static void cycle_finished(struct daemon *d)
 {
-    worker_collect(d);
+    uwbd_worker_collect(d);
     if (d->scanning)
         return;
     report_status(d);
     if (d->reload_pending)
         reload(d);
     if (d->stopping) {
-        peers_send_verdict(d, d->cycles_started + 1, NULL, "the daemon is stopping; the queued scan will not run");
+        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL, "the daemon is stopping; the queued scan will not run");
         return;
     }
     if (d->scan_queued) {
         d->scan_queued = 0;
-        scan_now(d);
+        uwbd_scan_now(d);
     } else {
-        schedule_arm(d, &d->last_cycle_start);
+        uwbd_schedule_arm(d, &d->last_cycle_start);
     }
 }
 
@@ -398,7 +399,7 @@ static void loop(struct daemon *d)
     struct pollfd fds[SLOT_CLIENTS + MAX_CLIENTS];
     struct peer *owner[SLOT_CLIENTS + MAX_CLIENTS];
     while (!(d->stopping && !d->scanning)) {
-        int timeout_ms = peers_expire(d);   /* drops clients past their deadlines first */
+        int timeout_ms = uwbd_peers_expire(d);   /* drops clients past their deadlines first */
         fds[SLOT_SIGNAL] = (struct pollfd){.fd = d->signal_fd, .events = POLLIN};
         fds[SLOT_SCHEDULE] = (struct pollfd){.fd = d->schedule_fd, .events = POLLIN};
         fds[SLOT_DONE] = (struct pollfd){.fd = d->done_fd, .events = POLLIN};
@@ -427,13 +428,13 @@ static void loop(struct daemon *d)
                 continue;
             uwbd_log(UWBD_LOG_ERR, "poll: %s; stopping", strerror(errno));
             d->stopping = 1;
-            worker_request_stop(d);
+            uwbd_worker_request_stop(d);
             continue;
         }
         if (fds[SLOT_SIGNAL].revents)
             handle_signals(d);
         if (fds[SLOT_LOCK_WATCH].revents)
-            lock_watch_check(d);
+            uwbd_lock_watch_check(d);
         if (fds[SLOT_DONE].revents)
             cycle_finished(d);
         if (fds[SLOT_SCHEDULE].revents) {
@@ -446,25 +447,25 @@ static void loop(struct daemon *d)
         }
         if (fds[SLOT_CONSOLE_RETRY].revents) {
             drain(d->console_retry_fd);
-            console_open(d);
+            uwbd_console_open(d);
         }
         if (fds[SLOT_WATCHDOG].revents)
             watchdog_tick(d);
         if (fds[SLOT_PROGRESS].revents) {
             drain(d->progress_fd);
-            peers_send_progress(d);
+            uwbd_peers_send_progress(d);
         }
         if (fds[SLOT_SITE].revents)
             site_tick(d);
         if (fds[SLOT_SITE_COMMANDS].revents)
             uwbd_run_site_commands(d);
         if (fds[SLOT_CONTROL].revents)
-            peer_accept(d);
+            uwbd_peer_accept(d);
         for (nfds_t i = SLOT_CONSOLE; i < n; i++) {
             if ((fds[i].revents & POLLOUT) && owner[i]->in_use)
-                peer_writable(d, owner[i]);
+                uwbd_peer_writable(d, owner[i]);
             if ((fds[i].revents & ~POLLOUT) && owner[i]->in_use)
-                peer_readable(d, owner[i]);
+                uwbd_peer_readable(d, owner[i]);
         }
     }
 }
@@ -483,7 +484,7 @@ static int setup_event_fds(struct daemon *d, char *err, size_t errlen)
         return -1;
     }
     sigdelset(&mask, SIGUSR1);
-    worker_install_stop_handler();
+    uwbd_worker_install_stop_handler();
     signal(SIGPIPE, SIG_IGN);
     d->signal_fd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
     d->schedule_fd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
@@ -515,9 +516,9 @@ static void teardown(struct daemon *d)
     }
     for (int i = 0; i < MAX_CLIENTS; i++)
         if (d->clients[i].in_use)
-            peer_close(&d->clients[i]);
+            uwbd_peer_close(&d->clients[i]);
     if (d->console.in_use)
-        peer_close(&d->console);
+        uwbd_peer_close(&d->console);
     uwbd_control_close(&d->control);
     close_fd(&d->signal_fd);
     close_fd(&d->schedule_fd);
@@ -606,13 +607,13 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         return UWBD_EXIT_CANT_CREATE;
     }
     int repairs = 0;
-    if (uwbd_store_open(&d->store, d->cfg.state_dir, &repairs, err, sizeof err) != 0) {
+    if (uwbd_state_open(&d->store, d->cfg.state_dir, &repairs, err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_ERR, "state directory: %s", err);
         return UWBD_EXIT_CANT_CREATE;
     }
     if (repairs)
         uwbd_log(UWBD_LOG_WARNING, "state directory: removed %d leftover(s) of an interrupted write", repairs);
-    lock_watch_open(d);
+    uwbd_lock_watch_open(d);
     if (setup_event_fds(d, err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_ERR, "%s", err);
         return UWBD_EXIT_OS;
@@ -625,7 +626,7 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         return rc == UWBD_CONTROL_ERR_CONFIG ? UWBD_EXIT_CONFIG : UWBD_EXIT_CANT_CREATE;
     }
     int detail = 0;
-    rc = rig_open_logged(d, &detail, err, sizeof err);
+    rc = uwbd_rig_open_logged(d, &detail, err, sizeof err);
     if (rc != UWB_RIG_OK) {
         int code = uwbd_exit_for_rig_open(rc, detail);
         uwbd_log(UWBD_LOG_ERR, "%s (exit %d)", err, code);
@@ -633,7 +634,7 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         return code;
     }
     load_baseline_info(d);
-    baseline_requests_restore(d);
+    uwbd_baseline_requests_restore(d);
     load_latest_verdict(d);
     rc = uwbd_site_open(&d->site, &d->cfg, d->latest_verdict, err, sizeof err);
     if (rc != UWB_GPIO_OK) {
@@ -641,7 +642,7 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         uwbd_log(UWBD_LOG_ERR, "%s (exit %d)", err, code);
         return code;
     }
-    console_open(d);
+    uwbd_console_open(d);
     schedule_first(d);
     if (d->cfg.interval_s > 0)
         uwbd_log(UWBD_LOG_NOTICE, "uwbd %s running: state %s, control %s, a scan every %.0f s", UWBD_VERSION,
@@ -661,7 +662,7 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     d.lock_fd = d.lock_watch_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = d.watchdog_fd =
         d.progress_fd = -1;
     d.control.fd = -1;
-    peers_init(&d);
+    uwbd_peers_init(&d);
     d.last_cycle_start = monotonic_now();
     uwbd_log_setup(opt->log_level, opt->use_syslog);
     static char created_dir[UWBD_PATH_MAX];

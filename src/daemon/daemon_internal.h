@@ -10,16 +10,16 @@
 #include <signal.h>
 #include <time.h>
 
-#include "uwb/daemon/baseline_store.h"
-#include "uwb/daemon/config.h"
-#include "uwb/daemon/control_socket.h"
-#include "uwb/daemon/daemon.h"
-#include "uwb/daemon/console_line.h"
-#include "uwb/daemon/line_buffer.h"
-#include "uwb/daemon/scan_cycle.h"
-#include "uwb/daemon/scan_progress.h"
-#include "uwb/daemon/site.h"
-#include "uwb/daemon/store.h"
+#include "daemon/baseline_store.h"
+#include "daemon/config.h"
+#include "daemon/control_socket.h"
+#include "daemon/daemon.h"
+#include "daemon/console_line.h"
+#include "daemon/line_buffer.h"
+#include "daemon/scan_cycle.h"
+#include "daemon/scan_progress.h"
+#include "daemon/store.h"
+#include "integrations/site.h"
 #include "uwb/link.h"
 #include "uwb/rig.h"
 
@@ -127,47 +127,47 @@ struct daemon {
 };
 
 /* worker.c */
-int worker_start(struct daemon *d);            /* 0, or -1 (logged) */
-void worker_request_stop(struct daemon *d);
-void worker_collect(struct daemon *d);         /* after done_fd fired */
-void worker_install_stop_handler(void);
-int rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen);
+int uwbd_worker_start(struct daemon *d);            /* 0, or -1 (logged) */
+void uwbd_worker_request_stop(struct daemon *d);
+void uwbd_worker_collect(struct daemon *d);         /* after done_fd fired */
+void uwbd_worker_install_stop_handler(void);
+int uwbd_rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen);
 
 /* peers.c */
-void peers_init(struct daemon *d);
-void peer_accept(struct daemon *d);
-void peer_readable(struct daemon *d, struct peer *p);
-void peer_close(struct peer *p);
+void uwbd_peers_init(struct daemon *d);
+void uwbd_peer_accept(struct daemon *d);
+void uwbd_peer_readable(struct daemon *d, struct peer *p);
+void uwbd_peer_close(struct peer *p);
 /* Send what a control client's queue holds, as far as its socket takes it. */
-void peer_writable(struct daemon *d, struct peer *p);
+void uwbd_peer_writable(struct daemon *d, struct peer *p);
 /* Drop control clients past their deadlines; returns the milliseconds until
  * the next deadline (-1: none), for poll(). */
-int peers_expire(struct daemon *d);
+int uwbd_peers_expire(struct daemon *d);
 /* The verdict line to the peers waiting for `cycle`, or ERROR with `error` when line is NULL. */
-void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error);
+void uwbd_peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error);
 /* A PROGRESS line to the peers that asked to `watch`. */
-void peers_send_progress(struct daemon *d);
+void uwbd_peers_send_progress(struct daemon *d);
 /* The running scan's progress now (0 when no scan runs). */
-int scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out);
-void console_open(struct daemon *d);
+int uwbd_scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out);
+void uwbd_console_open(struct daemon *d);
 
 /* baseline_requests.c */
-char *baseline_request(struct daemon *d, int scans, int force); /* `baseline set [N|force]`: the reply */
-void baseline_requests_restore(struct daemon *d);         /* a request pending at the last stop */
-void baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req);
-void baseline_request_finished(struct daemon *d, unsigned long request, const struct uwbd_cycle_result *res);
+char *uwbd_baseline_request(struct daemon *d, int scans, int force); /* `baseline set [N|force]`: the reply */
+void uwbd_baseline_requests_restore(struct daemon *d);         /* a request pending at the last stop */
+void uwbd_baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req);
+void uwbd_baseline_request_finished(struct daemon *d, unsigned long request, const struct uwbd_cycle_result *res);
 
 /* lock_watch.c */
-int lock_watch_open(struct daemon *d);                    /* 0, or -1 (logged; the daemon runs unwatched) */
-void lock_watch_check(struct daemon *d);                  /* stops the daemon when the lock is no longer ours */
+int uwbd_lock_watch_open(struct daemon *d);                    /* 0, or -1 (logged; the daemon runs unwatched) */
+void uwbd_lock_watch_check(struct daemon *d);                  /* stops the daemon when the lock is no longer ours */
 
 /* daemon.c */
-void schedule_arm(struct daemon *d, const struct timespec *from);
-void scan_now(struct daemon *d);               /* start a cycle, or queue one */
-void uwbd_scan_request(struct daemon *d, enum scan_trigger why); /* scan_now, saying why */
+void uwbd_schedule_arm(struct daemon *d, const struct timespec *from);
+void uwbd_scan_now(struct daemon *d);               /* start a cycle, or queue one */
+void uwbd_scan_request(struct daemon *d, enum scan_trigger why); /* uwbd_scan_now, saying why */
+const char *uwbd_scan_trigger_name(enum scan_trigger why);
 
 /* site_commands.c: run the commands MQTT received */
 void uwbd_run_site_commands(struct daemon *d);
-const char *uwbd_scan_trigger_name(enum scan_trigger why);
 
 #endif

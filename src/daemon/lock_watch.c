@@ -12,15 +12,15 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/exit_codes.h"
-#include "uwb/daemon/log.h"
+#include "daemon/exit_codes.h"
+#include "daemon/log.h"
 
 static void lock_path(const struct daemon *d, char *path, size_t n)
 {
     uwbd_path_join(path, n, d->store.root, "uwbd.lock");
 }
 
-int lock_watch_open(struct daemon *d)
+int uwbd_lock_watch_open(struct daemon *d)
 {
     char path[UWBD_PATH_MAX + 16];
     lock_path(d, path, sizeof path);
@@ -38,7 +38,7 @@ int lock_watch_open(struct daemon *d)
     return 0;
 }
 
-void lock_watch_check(struct daemon *d)
+void uwbd_lock_watch_check(struct daemon *d)
 {
     char events[4096];
     while (d->lock_watch_fd >= 0 && read(d->lock_watch_fd, events, sizeof events) > 0) {
@@ -61,6 +61,6 @@ void lock_watch_check(struct daemon *d)
     d->exit_code = UWBD_EXIT_CANT_CREATE;
     if (!d->stopping) {
         d->stopping = 1;
-        worker_request_stop(d);
+        uwbd_worker_request_stop(d);
     }
 }

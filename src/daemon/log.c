@@ -1,5 +1,5 @@
 /* Levelled log lines to stderr and, when asked, syslog. */
-#include "uwb/daemon/log.h"
+#include "daemon/log.h"
 
 #include <stdarg.h>
 #include <stdio.h>

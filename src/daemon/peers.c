@@ -15,13 +15,14 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/command.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/reply.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/command.h"
+#include "daemon/log.h"
+#include "daemon/reply.h"
+#include "daemon/trend.h"
+#include "daemon/verdict_log.h"
 #include "uwb/monotonic.h"
 
-void peers_init(struct daemon *d)
+void uwbd_peers_init(struct daemon *d)
 {
     for (int i = 0; i < MAX_CLIENTS; i++) {
         memset(&d->clients[i], 0, sizeof d->clients[i]);
@@ -33,7 +34,7 @@ void peers_init(struct daemon *d)
     d->console.fd = -1;
 }
 
-void peer_close(struct peer *p)
+void uwbd_peer_close(struct peer *p)
 {
     if (p->kind == PEER_CONTROL && p->fd >= 0)
         close(p->fd);
@@ -54,7 +55,7 @@ void peer_close(struct peer *p)
 static void drop_client(struct peer *p, const char *why)
 {
     uwbd_log(UWBD_LOG_INFO, "control client dropped: %s", why);
-    peer_close(p);
+    uwbd_peer_close(p);
 }
 
 /* Send as much of the queue as the socket takes now, never waiting. */
@@ -108,14 +109,14 @@ static void queue_line(struct peer *p, const char *text, size_t n)
     flush_queue(p);
 }
 
-void peer_writable(struct daemon *d, struct peer *p)
+void uwbd_peer_writable(struct daemon *d, struct peer *p)
 {
     (void)d;
     if (p->in_use && p->kind == PEER_CONTROL && p->out_len)
         flush_queue(p);
 }
 
-int peers_expire(struct daemon *d)
+int uwbd_peers_expire(struct daemon *d)
 {
     double now = uwb_monotonic_s(), next = -1;
     for (int i = 0; i < MAX_CLIENTS; i++) {
@@ -203,7 +204,7 @@ static long seconds_until(const struct timespec *t)
 static char *status_reply(struct daemon *d)
 {
     struct uwbd_scan_progress progress;
-    int has_progress = scan_progress_now(d, &progress);
+    int has_progress = uwbd_scan_progress_now(d, &progress);
     struct uwbd_status st = {
         .version = UWBD_VERSION,
         .state = d->stopping ? "stopping" : d->scanning ? "scanning" : "idle",
@@ -223,8 +224,25 @@ static char *status_reply(struct daemon *d)
         .rig = d->scanning ? "scanning" : d->rig_state,
         .console = d->cfg.console_endpoint[0] ? d->cfg.console_endpoint : NULL,
         .progress = has_progress ? &progress : NULL,
+        .site_phase = d->cfg.site_phase,
+        .site_label = d->cfg.site_label,
     };
     return uwbd_reply_status(&st);
+}
+
+/* `trend N`: read from verdicts.jsonl, like `history`. */
+static char *trend_reply(struct daemon *d, int n)
+{
+    struct uwb_trend t;
+    char err[512], image[UWBD_PATH_MAX + 32];
+    if (uwbd_trend_read(&d->store, n, &t, err, sizeof err) != 0) {
+        uwbd_log(UWBD_LOG_ERR, "trend: %s", err);
+        return uwbd_reply_error(err);
+    }
+    int has_image = uwbd_trend_png_path(&d->store, image, sizeof image) == 0 && access(image, F_OK) == 0;
+    char *line = uwbd_reply_trend(&t, n, &d->cfg.evaluate.compare.thresholds, has_image ? image : NULL);
+    uwb_trend_free(&t);
+    return line;
 }
 
 static void run_command(struct daemon *d, struct peer *p, const struct uwb_command *cmd)
@@ -254,8 +272,11 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         uwbd_verdict_lines_free(lines, count);
         return;
     }
+    case UWB_COMMAND_TREND:
+        reply(d, p, trend_reply(d, cmd->count));
+        return;
     case UWB_COMMAND_BASELINE_SET:
-        reply(d, p, baseline_request(d, cmd->count, cmd->force));
+        reply(d, p, uwbd_baseline_request(d, cmd->count, cmd->force));
         return;
     case UWB_COMMAND_WATCH:
         p->watching = cmd->watch;
@@ -394,7 +415,7 @@ static int peer_is_privileged(int fd)
     return cred.uid == 0 || cred.uid == geteuid();
 }
 
-void peer_accept(struct daemon *d)
+void uwbd_peer_accept(struct daemon *d)
 {
     int fd = accept(d->control.fd, NULL, NULL);
     if (fd < 0) {
@@ -421,7 +442,7 @@ void peer_accept(struct daemon *d)
     if (!slot && (slot = client_to_drop(d, now, ordinary_full)) != NULL) {
         uwbd_log(UWBD_LOG_NOTICE, "control: %d clients connected; dropping one idle for %.1f s (no complete command line) to make room",
                  ordinary_full ? MAX_ORDINARY_CLIENTS : MAX_CLIENTS, now - slot->line_since_s);
-        peer_close(slot);
+        uwbd_peer_close(slot);
     }
     if (slot) {
         slot->in_use = 1;
@@ -439,7 +460,7 @@ void peer_accept(struct daemon *d)
     uwbd_log(UWBD_LOG_INFO, "control: a client was turned away: %s", why);
     struct peer turned_away = {.kind = PEER_CONTROL, .in_use = 1, .fd = fd};
     reply(d, &turned_away, uwbd_reply_error(why));
-    peer_close(&turned_away);
+    uwbd_peer_close(&turned_away);
 }
 
 static void console_lost(struct daemon *d, const char *why)
@@ -447,12 +468,12 @@ static void console_lost(struct daemon *d, const char *why)
     uwbd_log(d->console_failing ? UWBD_LOG_DEBUG : UWBD_LOG_WARNING, "console %s: %s; retrying every %d s",
              d->cfg.console_endpoint, why, CONSOLE_RETRY_S);
     d->console_failing = 1;
-    peer_close(&d->console);
+    uwbd_peer_close(&d->console);
     struct itimerspec its = {.it_value = {.tv_sec = CONSOLE_RETRY_S}, .it_interval = {.tv_sec = CONSOLE_RETRY_S}};
     timerfd_settime(d->console_retry_fd, 0, &its, NULL);
 }
 
-void console_open(struct daemon *d)
+void uwbd_console_open(struct daemon *d)
 {
     if (!d->cfg.console_endpoint[0] || d->console.in_use)
         return;
@@ -471,7 +492,7 @@ void console_open(struct daemon *d)
     console_write(d, &d->console, UWBD_CONSOLE_PROMPT, strlen(UWBD_CONSOLE_PROMPT));
 }
 
-void peer_readable(struct daemon *d, struct peer *p)
+void uwbd_peer_readable(struct daemon *d, struct peer *p)
 {
     char buf[512];
     if (p->kind == PEER_CONTROL) {
@@ -481,7 +502,7 @@ void peer_readable(struct daemon *d, struct peer *p)
             feed(d, p, buf, (size_t)r);
         }
         else if (r == 0 || (errno != EAGAIN && errno != EINTR))
-            peer_close(p);
+            uwbd_peer_close(p);
         return;
     }
     char err[256];
@@ -503,7 +524,7 @@ static int every_peer(struct daemon *d, struct peer *all[MAX_CLIENTS + 1])
     return n;
 }
 
-void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error)
+void uwbd_peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line, const char *error)
 {
     struct peer *all[MAX_CLIENTS + 1];
     int n = every_peer(d, all);
@@ -521,10 +542,10 @@ void peers_send_verdict(struct daemon *d, unsigned long cycle, const char *line,
     }
 }
 
-void peers_send_progress(struct daemon *d)
+void uwbd_peers_send_progress(struct daemon *d)
 {
     struct uwbd_scan_progress progress;
-    if (!scan_progress_now(d, &progress))
+    if (!uwbd_scan_progress_now(d, &progress))
         return;
     char *line = NULL;
     struct peer *all[MAX_CLIENTS + 1];

@@ -1,11 +1,11 @@
 /* Building the JSON reply lines (see the header). */
-#include "uwb/daemon/reply.h"
+#include "daemon/reply.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
 
-#include "uwb/daemon/command.h"
+#include "daemon/command.h"
 
 static char *finish(cJSON *o)
 {
@@ -128,6 +128,12 @@ char *uwbd_reply_status(const struct uwbd_status *st)
         if (latest)
             cJSON_AddItemToObject(o, "latest", latest);
     }
+    int has_phase = st->site_phase && st->site_phase[0], has_label = st->site_label && st->site_label[0];
+    cJSON *site = has_phase || has_label ? cJSON_AddObjectToObject(o, "site") : NULL;
+    if (site && has_phase)
+        cJSON_AddStringToObject(site, "phase", st->site_phase);
+    if (site && has_label)
+        cJSON_AddStringToObject(site, "label", st->site_label);
     cJSON_AddStringToObject(o, "state_dir", st->state_dir);
     cJSON_AddStringToObject(o, "rig", st->rig);
     if (st->console)

@@ -2,7 +2,7 @@
  * header). The order of writes matters: the raw scan first (the data is
  * never lost once acquired), then images, the baseline, and last the
  * verdict records, so a verdict never names files that are not there. */
-#include "uwb/daemon/scan_cycle.h"
+#include "daemon/scan_cycle.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -12,12 +12,12 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "uwb/daemon/acquire_more.h"
-#include "uwb/daemon/baseline_store.h"
+#include "daemon/acquire_more.h"
+#include "daemon/baseline_store.h"
 #include "uwb/daemon/direct_coupling.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/retention.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/log.h"
+#include "daemon/retention.h"
+#include "daemon/verdict_log.h"
 #include "uwb/evaluate.h"
 #include "uwb/monotonic.h"
 #include "uwb/verdict_json.h"

@@ -1,5 +1,5 @@
 /* Scan progress and time left (see the header). */
-#include "uwb/daemon/scan_progress.h"
+#include "daemon/scan_progress.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>

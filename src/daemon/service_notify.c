@@ -1,5 +1,5 @@
 /* sd_notify through libsystemd (see service_notify.h). */
-#include "uwb/daemon/service_notify.h"
+#include "daemon/service_notify.h"
 
 #include <stdarg.h>
 #include <stdint.h>

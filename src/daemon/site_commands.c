@@ -5,9 +5,9 @@
 #include <string.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/command.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/reply.h"
+#include "daemon/command.h"
+#include "daemon/log.h"
+#include "daemon/reply.h"
 
 static char *site_command(struct daemon *d, const char *text)
 {
@@ -35,7 +35,7 @@ static char *site_command(struct daemon *d, const char *text)
         return uwbd_reply_ack(st.watch, st.alarm, st.fault);
     }
     case UWB_COMMAND_BASELINE_SET:
-        return baseline_request(d, cmd.count, cmd.force);
+        return uwbd_baseline_request(d, cmd.count, cmd.force);
     default:
         return uwbd_reply_error("over MQTT only scan, event, ack and baseline set are taken (the verdict and "
                                 "status topics carry the rest)");

@@ -1,6 +1,6 @@
 /* The state directory: creating its rooms, tidying what a crash left, and
  * naming files inside it. */
-#include "uwb/daemon/store.h"
+#include "daemon/store.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -14,8 +14,7 @@
 #include <unistd.h>
 
 #include "uwb/atomic_file.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/log.h"
 
 int uwbd_path_join(char *out, size_t n, const char *dir, const char *name)
 {
@@ -80,7 +79,7 @@ static void note_foreign(struct cleanup *c, const char *where, const char *name,
         uwbd_log(UWBD_LOG_WARNING, "state directory: %s/%s is %s, not uwbd's: left alone", where, name, what);
 }
 
-/* Remove our temporaries (atomic_file_is_temporary_name) from one directory
+/* Remove our temporaries (uwb_atomic_file_is_temporary_name) from one directory
  * uwbd writes, given as an fd opened without following a symlink. Anything
  * else hidden, and any symlink, is named and left alone. `levels` are the
  * digit-widths of the subdirectories to descend into (archive/YYYY/MM/DD),
@@ -114,7 +113,7 @@ static void clean_directory(int dfd, const char *where, const int *levels, struc
             snprintf(sub_where, sizeof sub_where, "%s/%s", where, name);
             clean_directory(sub, sub_where, levels + 1, c);
             close(sub);
-        } else if (S_ISREG(st.st_mode) && atomic_file_is_temporary_name(name)) {
+        } else if (S_ISREG(st.st_mode) && uwb_atomic_file_is_temporary_name(name)) {
             if (unlinkat(dfd, name, 0) == 0)
                 ++c->removed;
         } else if (name[0] == '.') {
@@ -186,12 +185,8 @@ int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repair
     }
     struct cleanup cleanup = {0, 0};
     remove_stale_temporaries(store, &cleanup);
-    int removed = cleanup.removed;
-    long dropped = 0;
-    if (uwbd_verdict_log_repair(store, &dropped, err, errlen) != 0)
-        return -1;
     if (repairs)
-        *repairs = removed + (dropped > 0);
+        *repairs = cleanup.removed;
     return 0;
 }
 
@@ -251,10 +246,10 @@ void uwbd_safe_scan_id(const char *in, char *out, size_t n)
 int uwbd_write_json_file(const char *path, const char *json, char *err, size_t errlen)
 {
     struct atomic_file af;
-    if (atomic_file_open(&af, path, err, errlen) != 0)
+    if (uwb_atomic_file_open(&af, path, err, errlen) != 0)
         return -1;
     fprintf(af.fp, "%s\n", json);   /* a failed write shows at the commit's flush */
-    return atomic_file_commit(&af, err, errlen);
+    return uwb_atomic_file_commit(&af, err, errlen);
 }
 
 void uwbd_utc_text(time_t t, char *buf, size_t n)

@@ -1,11 +1,11 @@
 /* The UWBD_TEST_HANG hook (see test_hang.h). */
-#include "uwb/daemon/test_hang.h"
+#include "daemon/test_hang.h"
 
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "uwb/daemon/log.h"
+#include "daemon/log.h"
 
 void uwbd_test_hang_point(const char *where)
 {

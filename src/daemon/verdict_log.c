@@ -1,6 +1,6 @@
 /* verdicts.jsonl (grows by whole lines, trimmed by retention) and
  * latest.json (atomic). */
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/verdict_log.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -317,18 +317,18 @@ static int write_kept(const struct uwbd_store *store, const char *text, const st
                       const unsigned char *keep, size_t count, char *err, size_t errlen)
 {
     struct atomic_file af;
-    if (atomic_file_open(&af, store->verdict_log, err, errlen) != 0)
+    if (uwb_atomic_file_open(&af, store->verdict_log, err, errlen) != 0)
         return -1;
     for (size_t i = 0; i < count; i++) {
         if (!keep[i])
             continue;
         if (fwrite(text + lines[i].start, 1, lines[i].len, af.fp) != lines[i].len || fputc('\n', af.fp) == EOF) {
             snprintf(err, errlen, "%s: cannot write the trimmed log: %s", store->verdict_log, strerror(errno));
-            atomic_file_abort(&af);
+            uwb_atomic_file_abort(&af);
             return -1;
         }
     }
-    return atomic_file_commit(&af, err, errlen);
+    return uwb_atomic_file_commit(&af, err, errlen);
 }
 
 int uwbd_verdict_log_trim(const struct uwbd_store *store, int max_lines, double max_age_days, time_t now,

@@ -12,8 +12,9 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/test_hang.h"
+#include "daemon/log.h"
+#include "daemon/test_hang.h"
+#include "daemon/trend.h"
 #include "uwb/monotonic.h"
 
 static volatile sig_atomic_t scan_stop;
@@ -24,7 +25,7 @@ static void on_stop_signal(int sig)
     scan_stop = 1;
 }
 
-void worker_install_stop_handler(void)
+void uwbd_worker_install_stop_handler(void)
 {
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
@@ -68,7 +69,7 @@ static void rig_progress(void *ctx, int done, int total)
     progress_signal(d);
 }
 
-int scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out)
+int uwbd_scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out)
 {
     if (!d->scanning)
         return 0;
@@ -79,7 +80,7 @@ int scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out)
     return 1;
 }
 
-int rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen)
+int uwbd_rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen)
 {
     int rc = uwb_rig_open(&d->cfg.rig, &d->rig, detail, err, errlen);
     if (rc != UWB_RIG_OK) {
@@ -103,7 +104,7 @@ static int acquire_from_rig(void *ctx, const volatile sig_atomic_t *stop, struct
     uwbd_test_hang_point("worker");
     if (!d->rig) {
         int detail = 0;
-        if (rig_open_logged(d, &detail, err, errlen) != UWB_RIG_OK)
+        if (uwbd_rig_open_logged(d, &detail, err, errlen) != UWB_RIG_OK)
             return *stop ? UWBD_ACQUIRE_STOPPED : UWBD_ACQUIRE_FAILED;
         uwbd_log(UWBD_LOG_NOTICE, "rig opened again");
     }
@@ -127,6 +128,13 @@ static void *worker_main(void *arg)
     sigaddset(&usr1, SIGUSR1);
     pthread_sigmask(SIG_UNBLOCK, &usr1, NULL);
     uwbd_cycle_run(&d->cfg, &d->store, acquire_from_rig, d, &scan_stop, &d->job.request, &d->job.result);
+    if (d->job.result.outcome == UWBD_CYCLE_RECORDED) {
+        /* trend.png follows every verdict; here, off the main loop. */
+        char err[512], site[128];
+        uwbd_trend_site_text(&d->cfg, site, sizeof site);
+        if (uwbd_trend_png_update(&d->cfg, &d->store, site, err, sizeof err) != 0)
+            uwbd_log(UWBD_LOG_WARNING, "trend image not updated: %s", err);
+    }
     /* No signal may land after this thread stops looking. */
     pthread_sigmask(SIG_BLOCK, &usr1, NULL);
     uint64_t one = 1;
@@ -135,7 +143,7 @@ static void *worker_main(void *arg)
     return NULL;
 }
 
-int worker_start(struct daemon *d)
+int uwbd_worker_start(struct daemon *d)
 {
     memset(&d->job, 0, sizeof d->job);
     d->job.cycle = ++d->cycles_started;
@@ -143,7 +151,7 @@ int worker_start(struct daemon *d)
     d->job.started_s = uwb_monotonic_s();
     d->job.request.trigger = uwbd_scan_trigger_name(d->pending_trigger);
     d->pending_trigger = TRIGGER_NONE;
-    baseline_request_fill(d, &d->job.request);
+    uwbd_baseline_request_fill(d, &d->job.request);
     int pending = d->job.request.make_baseline;
     d->job.baseline_request = pending ? d->baseline_requests : 0;
     long long now_ms = (long long)(uwb_monotonic_s() * 1000.0);
@@ -163,13 +171,13 @@ int worker_start(struct daemon *d)
     return 0;
 }
 
-void worker_request_stop(struct daemon *d)
+void uwbd_worker_request_stop(struct daemon *d)
 {
     if (d->scanning)
         pthread_kill(d->job.thread, SIGUSR1);
 }
 
-void worker_collect(struct daemon *d)
+void uwbd_worker_collect(struct daemon *d)
 {
     uint64_t count;
     if (read(d->done_fd, &count, sizeof count) != sizeof count)
@@ -182,7 +190,7 @@ void worker_collect(struct daemon *d)
     if (res->outcome == UWBD_CYCLE_STOPPED) {
         uwbd_log(UWBD_LOG_NOTICE, "scan cycle %lu stopped before its end; nothing recorded, hardware safe",
                  d->job.cycle);
-        peers_send_verdict(d, d->job.cycle, NULL, "the scan was stopped (the daemon is shutting down); nothing recorded");
+        uwbd_peers_send_verdict(d, d->job.cycle, NULL, "the scan was stopped (the daemon is shutting down); nothing recorded");
         uwbd_cycle_result_free(res);
         return;
     }
@@ -191,9 +199,9 @@ void worker_collect(struct daemon *d)
         free(d->latest_verdict);
         d->latest_verdict = strdup(res->verdict_json);
     }
-    baseline_request_finished(d, d->job.baseline_request, res);
+    uwbd_baseline_request_finished(d, d->job.baseline_request, res);
     /* the one place the site hears of a verdict */
     uwbd_site_verdict(d->site, res->verdict_json, uwb_monotonic_s() - d->job.started_s);
-    peers_send_verdict(d, d->job.cycle, res->verdict_json, "out of memory for the verdict");
+    uwbd_peers_send_verdict(d, d->job.cycle, res->verdict_json, "out of memory for the verdict");
     uwbd_cycle_result_free(res);
 }

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "uwb/gpio_backend.h"
+#include "gpio/gpio_backend.h"
 
 static const struct uwb_gpio_ops *const backends[] = {&uwb_gpio_libgpiod_ops, &uwb_gpio_emulated_ops};
 

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "uwb/gpio_backend.h"
+#include "gpio/gpio_backend.h"
 
 #define CONSUMER "uwbd"
 

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "uwb/link_backend.h"
+#include "link/link_backend.h"
 
 /* libserialport's message for the last SP_ERR_FAIL, else a fixed text. */
 static void describe(enum sp_return rc, char *buf, size_t buflen)

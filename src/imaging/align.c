@@ -170,7 +170,7 @@ int uwb_align_to_coupling(struct uwb_scan *s, double window_end_s, double t0_s, 
             report->aligned++;
         }
         struct correction corr = {lag, gain};
-        rc = filter_traces_in_spectrum(s, uncorrected, shift_and_scale, &corr, "alignment", err,
+        rc = uwb_filter_traces_in_spectrum(s, uncorrected, shift_and_scale, &corr, "alignment", err,
                                        errlen);
         if (pass == 0)
             for (int k = 0; k < s->positions; k++) {

@@ -1,4 +1,18 @@
-/* One scan, raw traces to edges. */
+/* One scan, raw traces to edges: the method's steps in order, each a
+ * function over one run context (struct analysis_run), one cleanup path.
+ *
+ *   1. read_scan_basics         geometry, aperture, dominant frequency
+ *   2. choose_search_range      the ranges searched for the winding
+ *   3. search_for_face          conditioning against the travel's ends,
+ *                               coarse image, the strongest falling-off face
+ *   4. condition_around_face    conditioning against positions that cannot
+ *                               hear the winding where the search put it
+ *   5. measure_face             fine image and face profile, the aperture
+ *                               made symmetric about the winding (taper
+ *                               passes), then a side reflector taken out
+ *   6. image_for_display        the envelope image the PNGs draw
+ *   7. judge_edges              SNR, edges inside the travel, uncertainties
+ */
 #include "uwb/analysis.h"
 
 #include <math.h>
@@ -9,18 +23,71 @@
 #include "imaging_internal.h"
 #include "side_reflector.h"
 
-#define COARSE_DY_M 0.005
-#define COARSE_DZ_M 0.002
+/* ---- tuning constants, each with why it has its value ------------------ */
+
+/* The search image: 5 mm rows and 2 mm range pixels. A winding is at
+ * least a few tens of millimetres tall, so it spans many rows, and the
+ * search only needs the face's range and rough ends (rough_window widens
+ * them by a wavelength): 10 times fewer pixels than the fine grid. */
+#define SEARCH_DY_M 0.005
+#define SEARCH_DZ_M 0.002
+/* Fine image: 1 mm pixels; edges are interpolated to a fraction of this. */
 #define FINE_DY_M 0.001
 #define FINE_DZ_M 0.001
+/* Heights imaged beyond the antenna travel. The face's image fades past
+ * the travel's ends, so the profile must run on past them for an edge
+ * near an end to be seen falling: 0.1 m for the search and display, 0.15 m
+ * for the fine image whose profile the edges are read from. */
+#define SEARCH_Y_MARGIN_M 0.1
+#define FINE_Y_MARGIN_M 0.15
+#define DISPLAY_Y_MARGIN_M 0.1
+/* The fine image's range window about the face: +-0.6 wavelength (at least
+ * 60 mm) holds about two range cycles of the pulse, so the envelope (a
+ * Hilbert transform along range) sees the echo's whole cycle on both sides
+ * of the face rather than a cut one. */
+#define FACE_WINDOW_WAVELENGTHS 0.6
+#define FACE_WINDOW_MIN_M 0.06
+/* No image starts nearer than 10 mm: inside the window's own thickness
+ * nothing but the direct coupling replies. */
+#define NEAREST_RANGE_M 0.01
 #define DISPLAY_DY_M 0.001
 #define DISPLAY_DZ_M 0.001
-#define DISPLAY_HALF_RANGE_M 0.25
-#define TAPER_ITERATIONS 3
-#define TAPER_FLAT 0.2          /* flat fraction of the aperture taper */
-#define SIDE_ITERATIONS 8     /* at most, after the taper's own */
+/* The search must span at least 20 mm of range (ten search pixels) to
+ * have a face to find. */
+#define MIN_SEARCH_SPAN_M 0.02
+/* The aperture taper: passes of the taper alone (each re-centres it on the
+ * profile the last one gave; the centre's lean shrinks each pass), then at
+ * most SIDE_PASSES with a side reflector taken out, stopping once the
+ * centre moves less than SIDE_SETTLED_M (20 um, a fiftieth of a pixel). A
+ * fixed number of passes bounds the work per scan. */
+#define TAPER_PASSES 3
+#define SIDE_PASSES 8
 #define SIDE_SETTLED_M 0.00002
+/* Flat part of the Tukey taper, as a fraction of its half width: positions
+ * near the winding's centre keep full weight (the face's echo is strongest
+ * there), and the cosine shoulders over the remaining 80 % make the weights
+ * move smoothly as the winding moves. */
+#define TAPER_FLAT 0.2
+/* The symmetry centre compares the profile with its mirror out to 1.5
+ * half heights (both shoulders and some of the floor beyond them),
+ * searching 20 mm either side of the crossings' midpoint. */
+#define SYMMETRY_SPAN 1.5
+#define SYMMETRY_SEARCH_M 0.02
+/* The point model of a plate leaves up to about half a millimetre when the
+ * plate is within 50 mm of an end (measured on the simulator's flush
+ * plate, README); unlike blur, that does not cancel between two scans. */
 #define SIDE_REFLECTOR_SYSTEMATIC_M 0.00025
+/* The passes before the last read the profile only around the winding:
+ * its crossings and its mirror symmetry out to SYMMETRY_SPAN half heights
+ * plus SYMMETRY_SEARCH_M. They image those rows only (row by row the
+ * pixels are the same as in the full image), with 30 mm to spare for the
+ * winding's move between passes and the interpolation's neighbours; the
+ * last pass is measured again on every row. */
+#define PASS_ROWS_MARGIN_M 0.03
+/* SNR reported when the noise reads exactly 0 (a noiseless simulated
+ * scan): far above any real scan's and still a finite number for the
+ * verdict's JSON. */
+#define NOISELESS_SNR_DB 200.0
 
 void uwb_analysis_defaults(struct uwb_analysis_options *opt)
 {
@@ -32,17 +99,20 @@ void uwb_analysis_defaults(struct uwb_analysis_options *opt)
     opt->min_snr_db = 12.0;
     opt->systematic_edge_m = 0.0005;
     opt->remove_side_reflector = 1;
+    opt->display_half_range_m = 0.25;
     uwb_condition_defaults(&opt->condition);
 }
 
-/* The largest pixel size not above `target` that divides the antenna step,
- * so rows fall on antenna heights (one shared delay table). */
+/* ---- grids and the face measurement -------------------------------------- */
+
 /* Spacing of the antenna positions (the first two; 0 for a single one). */
 static double antenna_step(const struct uwb_scan *scan)
 {
     return scan->positions < 2 ? 0.0 : fabs(scan->antenna_y_m[1] - scan->antenna_y_m[0]);
 }
 
+/* The largest pixel size not above `target` that divides the antenna step,
+ * so rows fall on antenna heights (one shared delay table). */
 static double aligned_dy(const struct uwb_scan *scan, double target)
 {
     double step = antenna_step(scan);
@@ -64,19 +134,21 @@ static void aperture(const struct uwb_scan *scan, double *lo, double *hi)
 }
 
 /* Measure a scan's face: fine image around z_face, profile, edges. The
- * image spans the aperture and 0.15 m beyond, or, when y_lo_m < y_hi_m,
- * only those heights (rows still on the antenna-aligned grid). */
+ * image spans the aperture and FINE_Y_MARGIN_M beyond, or, when
+ * y_lo_m < y_hi_m, only those heights (rows still on the antenna-aligned
+ * grid). plan: a migration plan kept across calls on one grid, or NULL. */
 static int measure_face_rows(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
                              const struct uwb_analysis_options *opt, double z_centre,
-                             double dominant_hz, double y_lo_m, double y_hi_m, double *z_face,
+                             double dominant_hz, double y_lo_m, double y_hi_m,
+                             struct uwb_migration_plan *plan, double *z_face,
                              struct uwb_face_profile *profile, struct profile_edges *edges,
                              char *err, size_t errlen)
 {
     double wavelength = g->velocity_m_s / dominant_hz;
-    double half = 0.6 * wavelength > 0.06 ? 0.6 * wavelength : 0.06;   /* two range cycles for the envelope */
-    double z_lo = z_centre - half > 0.01 ? z_centre - half : 0.01;
+    double half = fmax(FACE_WINDOW_WAVELENGTHS * wavelength, FACE_WINDOW_MIN_M);
+    double z_lo = fmax(z_centre - half, NEAREST_RANGE_M);
     struct uwb_image fine = {0};
-    if (imaging_grid(&fine, conditioned, 0.15, aligned_dy(conditioned, FINE_DY_M), z_lo,
+    if (uwb_imaging_grid(&fine, conditioned, FINE_Y_MARGIN_M, aligned_dy(conditioned, FINE_DY_M), z_lo,
                      z_centre + half, FINE_DZ_M, err, errlen) != 0)
         return -1;
     if (y_lo_m < y_hi_m) {
@@ -90,7 +162,9 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
             fine.ny = last - first + 1;
         }
     }
-    if (imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen) != 0) {
+    int rc = plan ? uwb_imaging_intensity_planned(plan, opt->migration, conditioned, g, &fine, err, errlen)
+                  : uwb_imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen);
+    if (rc != 0) {
         uwb_image_free(&fine);
         return -1;
     }
@@ -104,7 +178,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     int best = lo, row;
     double best_v = -1.0;
     for (int iz = lo; iz <= hi; iz++) {
-        double v = image_column_peak(&fine, iz, &row);
+        double v = uwb_image_column_peak(&fine, iz, &row);
         if (v > best_v) {
             best_v = v;
             best = iz;
@@ -115,8 +189,8 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
      * between two scans would move the model. */
     double offset = 0.0;
     if (best > 0 && best < fine.nz - 1) {
-        double before = image_column_peak(&fine, best - 1, &row);
-        double after = image_column_peak(&fine, best + 1, &row);
+        double before = uwb_image_column_peak(&fine, best - 1, &row);
+        double after = uwb_image_column_peak(&fine, best + 1, &row);
         double den = before - 2.0 * best_v + after;
         if (den < 0.0)
             offset = 0.5 * (before - after) / den;
@@ -126,30 +200,18 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     *z_face = fine.z0_m + (best + offset) * fine.dz_m;
     /* The ridge within a quarter wavelength: the face's range cell, wide
      * enough that which 1 mm row the peak fell on does not matter. */
-    int rc = face_profile(&fine, *z_face, wavelength / 4, profile, err, errlen);
+    rc = uwb_face_profile_measure(&fine, *z_face, wavelength / 4, profile, err, errlen);
     uwb_image_free(&fine);
     if (rc != 0)
         return -1;
-    profile_edges(profile, opt->edge_fraction, edges);
+    uwb_profile_edges(profile, opt->edge_fraction, edges);
     return 0;
 }
-
-static int measure_face(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
-                        const struct uwb_analysis_options *opt, double z_centre, double dominant_hz,
-                        double *z_face, struct uwb_face_profile *profile, struct profile_edges *edges,
-                        char *err, size_t errlen)
-{
-    return measure_face_rows(conditioned, g, opt, z_centre, dominant_hz, 0.0, 0.0, z_face, profile,
-                             edges, err, errlen);
-}
-
-#define SYMMETRY_SPAN 1.5         /* mirror comparison out to this times the half height */
-#define SYMMETRY_SEARCH_M 0.02
 
 static double symmetric_centre(const struct uwb_face_profile *p, const struct profile_edges *e)
 {
     double mid = 0.5 * (e->lower_m + e->upper_m);
-    return profile_symmetry_centre(p, mid, SYMMETRY_SPAN * 0.5 * (e->upper_m - e->lower_m),
+    return uwb_profile_symmetry_centre(p, mid, SYMMETRY_SPAN * 0.5 * (e->upper_m - e->lower_m),
                                    SYMMETRY_SEARCH_M);
 }
 
@@ -162,7 +224,7 @@ static void taper_weights(const struct uwb_scan *in, double y_centre, double lo,
                           double *weight)
 {
     double half = fmin(y_centre - lo, hi - y_centre);
-    double step = in->positions > 1 ? fabs(in->antenna_y_m[1] - in->antenna_y_m[0]) : 0.0;
+    double step = antenna_step(in);
     if (half < step)
         half = step;
     for (int k = 0; k < in->positions; k++) {
@@ -187,16 +249,6 @@ static void apply_weights(struct uwb_scan *s, const double *weight)
     }
 }
 
-static int display_image(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
-                         const struct uwb_analysis_options *opt, double z_lo, double z_hi,
-                         struct uwb_image *img, char *err, size_t errlen)
-{
-    if (imaging_grid(img, conditioned, 0.1, aligned_dy(conditioned, DISPLAY_DY_M), z_lo, z_hi,
-                     DISPLAY_DZ_M, err, errlen) != 0)
-        return -1;
-    return imaging_intensity(opt->migration, conditioned, g, img, err, errlen);
-}
-
 /* Where the search says the winding is: its range and rough ends, widened
  * by a wavelength, so conditioning can keep its echoes out of the static
  * reference. */
@@ -208,8 +260,8 @@ static void rough_window(const struct uwb_image *coarse, double z_face, double w
     char err[128];
     w->y_lo_m = ap_lo;
     w->y_hi_m = ap_hi;
-    if (face_profile(coarse, z_face, 0.0, &p, err, sizeof err) == 0) {
-        profile_edges(&p, 0.5, &e);
+    if (uwb_face_profile_measure(coarse, z_face, 0.0, &p, err, sizeof err) == 0) {
+        uwb_profile_edges(&p, 0.5, &e);
         if (e.ok) {
             w->y_lo_m = e.lower_m - wavelength;
             w->y_hi_m = e.upper_m + wavelength;
@@ -220,197 +272,346 @@ static void rough_window(const struct uwb_image *coarse, double z_face, double w
     w->z_far_m = z_face + wavelength;
 }
 
-static void finish_free(struct uwb_scan *a, struct uwb_scan *b, struct uwb_image *c)
+/* ---- the run ------------------------------------------------------------- */
+
+/* A step's outcome: go on, stop with the analysis done (the winding not
+ * established, edges.reason says why), or a hard error (err filled). */
+enum step { STEP_NEXT, STEP_DONE, STEP_FAILED };
+
+struct analysis_run {
+    const struct uwb_scan *scan;
+    const struct uwb_analysis_options *opt;
+    struct uwb_analysis *out;
+    char *err;
+    size_t errlen;
+    struct uwb_geometry g;
+    double wavelength;
+    double z_lo_m, z_hi_m;          /* ranges searched */
+    struct uwb_scan prepared;       /* band-passed and aligned: both conditionings start here */
+    struct face_candidate face;     /* what the search found */
+    struct uwb_scan quadrature;     /* Hilbert partner of out->conditioned (side reflector fit) */
+    struct profile_edges pe;        /* crossings of out->profile */
+    double z_face_m;                /* the face's range, sub-pixel */
+    /* The last taper pass: the range it was centred on and the reflector
+     * it took out, to measure it again on every row (measure_face). */
+    int passes;
+    double pass_z_centre_m;
+    struct side_reflector pass_side;
+};
+
+static enum step read_scan_basics(struct analysis_run *r)
 {
-    if (a)
-        uwb_scan_free(a);
-    if (b)
-        uwb_scan_free(b);
-    if (c)
-        uwb_image_free(c);
+    struct uwb_analysis *out = r->out;
+    uwb_geometry_from_scan(&r->g, r->scan, r->opt->time_zero_offset_s);
+    aperture(r->scan, &out->aperture_lo_m, &out->aperture_hi_m);
+    if (uwb_dominant_frequency(r->scan, &out->dominant_hz, r->err, r->errlen) != 0)
+        return STEP_FAILED;
+    r->wavelength = r->g.velocity_m_s / out->dominant_hz;
+    return STEP_NEXT;
+}
+
+/* The options' target range, else the scan header's, else the options'
+ * search range; never past the record's end. */
+static enum step choose_search_range(struct analysis_run *r)
+{
+    const struct uwb_analysis_options *opt = r->opt;
+    r->z_lo_m = opt->search_z_min_m;
+    r->z_hi_m = opt->search_z_max_m;
+    if (opt->has_target_z) {
+        r->z_lo_m = opt->target_z_m[0];
+        r->z_hi_m = opt->target_z_m[1];
+    } else if (r->scan->has_target_z) {
+        r->z_lo_m = r->scan->target_z_m[0];
+        r->z_hi_m = r->scan->target_z_m[1];
+    }
+    double t_end = r->g.t0_s + (r->scan->samples - 1) * r->g.dt_s;
+    double z_record = 0.5 * r->g.velocity_m_s * t_end;
+    if (r->z_hi_m > z_record)
+        r->z_hi_m = z_record;
+    if (r->z_hi_m - r->z_lo_m < MIN_SEARCH_SPAN_M) {
+        snprintf(r->out->edges.reason, sizeof r->out->edges.reason,
+                 "record too short: it ends at %.3f m range, the search starts at %.3f m", z_record,
+                 r->z_lo_m);
+        return STEP_DONE;
+    }
+    return STEP_NEXT;
+}
+
+/* Stage 1: find the winding, static clutter estimated at the travel's ends.
+ * The coarse image stays in r->out->intensity until the display image
+ * replaces it, so a failed search still shows what was searched. */
+static enum step search_for_face(struct analysis_run *r)
+{
+    const struct uwb_analysis_options *opt = r->opt;
+    struct uwb_analysis *out = r->out;
+    if (uwb_condition_prepare(r->scan, &r->g, &opt->condition, out->dominant_hz, &r->prepared, r->err,
+                              r->errlen) != 0)
+        return STEP_FAILED;
+    struct uwb_scan searched = {0};
+    if (uwb_condition_finish(&r->prepared, &r->g, &opt->condition, out->dominant_hz, NULL, &searched,
+                             r->err, r->errlen) != 0)
+        return STEP_FAILED;
+    int rc = uwb_imaging_grid(&out->intensity, &searched, SEARCH_Y_MARGIN_M, aligned_dy(r->scan, SEARCH_DY_M),
+                          r->z_lo_m, r->z_hi_m, SEARCH_DZ_M, r->err, r->errlen);
+    if (rc == 0)
+        rc = uwb_imaging_intensity(opt->migration, &searched, &r->g, &out->intensity, r->err, r->errlen);
+    if (rc == 0)
+        out->noise_sigma = uwb_noise_sigma(
+            &searched, uwb_condition_first_open_sample(&searched, &r->g, &opt->condition, out->dominant_hz));
+    uwb_scan_free(&searched);
+    if (rc != 0)
+        return STEP_FAILED;
+    if (uwb_face_search(&out->intensity, out->aperture_lo_m, out->aperture_hi_m, antenna_step(r->scan),
+                    &r->face, out->edges.reason, sizeof out->edges.reason) != 0)
+        return STEP_DONE;
+    return STEP_NEXT;
+}
+
+/* Stage 2: clutter estimated where the winding cannot be heard. */
+static enum step condition_around_face(struct analysis_run *r)
+{
+    struct uwb_analysis *out = r->out;
+    struct uwb_target_window window;
+    rough_window(&out->intensity, r->face.z_m, r->wavelength, out->aperture_lo_m, out->aperture_hi_m,
+                 &window);
+    if (uwb_condition_finish(&r->prepared, &r->g, &r->opt->condition, out->dominant_hz, &window,
+                             &out->conditioned, r->err, r->errlen) != 0)
+        return STEP_FAILED;
+    return STEP_NEXT;
+}
+
+/* Measure the face on the conditioned traces as they are (no taper yet). */
+static enum step measure_face_plain(struct analysis_run *r)
+{
+    struct uwb_analysis *out = r->out;
+    r->z_face_m = r->face.z_m;
+    if (measure_face_rows(&out->conditioned, &r->g, r->opt, r->face.z_m, out->dominant_hz, 0.0, 0.0, NULL,
+                          &r->z_face_m, &out->profile, &r->pe, r->err, r->errlen) != 0)
+        return STEP_FAILED;
+    out->weight = malloc((size_t)r->scan->positions * sizeof *out->weight);
+    if (!out->weight) {
+        snprintf(r->err, r->errlen, "out of memory for the aperture taper");
+        return STEP_FAILED;
+    }
+    for (int k = 0; k < r->scan->positions; k++)
+        out->weight[k] = 1.0;
+    return STEP_NEXT;
+}
+
+/* The winding's centre on the current profile, if the taper can be built
+ * on it (edges found, centre inside the travel). */
+static int usable_centre(const struct analysis_run *r, double *centre)
+{
+    if (!r->pe.ok)
+        return 0;
+    *centre = symmetric_centre(&r->out->profile, &r->pe);
+    return *centre > r->out->aperture_lo_m && *centre < r->out->aperture_hi_m;
+}
+
+/* Whether the rows of out->profile hold all the next pass reads: both
+ * crossings found inside them, and the mirror comparison's span about them
+ * with room for the interpolation's neighbours. */
+static int reads_within(const struct analysis_run *r)
+{
+    const struct uwb_face_profile *p = &r->out->profile;
+    if (!r->pe.ok)
+        return 0;
+    double mid = 0.5 * (r->pe.lower_m + r->pe.upper_m);
+    double span = SYMMETRY_SPAN * 0.5 * (r->pe.upper_m - r->pe.lower_m) + SYMMETRY_SEARCH_M + 3.0 * p->dy_m;
+    return mid - span > p->y0_m && mid + span < p->y0_m + (p->n - 1) * p->dy_m;
+}
+
+/* Measure again on the conditioned traces with `side` taken out (when found)
+ * and out->weight applied: out->measured, out->profile, r->pe, r->z_face_m.
+ * A pass (every_row 0) images only the rows about the winding that the next
+ * pass reads (PASS_ROWS_MARGIN_M); it takes over `side`. */
+static enum step measure_weighted(struct analysis_run *r, struct side_reflector *side, int every_row)
+{
+    struct uwb_analysis *out = r->out;
+    double y_lo = 0.0, y_hi = 0.0, z_centre = r->z_face_m;
+    if (every_row) {
+        z_centre = r->pass_z_centre_m;
+    } else {
+        double mid = 0.5 * (r->pe.lower_m + r->pe.upper_m);
+        double span = SYMMETRY_SPAN * 0.5 * (r->pe.upper_m - r->pe.lower_m) + SYMMETRY_SEARCH_M +
+                      PASS_ROWS_MARGIN_M;
+        y_lo = mid - span;
+        y_hi = mid + span;
+        uwb_side_reflector_free(&r->pass_side);
+        r->pass_side = *side;
+        memset(side, 0, sizeof *side);
+        r->pass_z_centre_m = z_centre;
+        r->passes++;
+    }
+    uwb_scan_free(&out->measured);
+    free(out->profile.value);
+    out->profile.value = NULL;
+    if (uwb_scan_copy(&out->measured, &out->conditioned, r->err, r->errlen) != 0)
+        return STEP_FAILED;
+    uwb_side_reflector_remove(&r->pass_side, &r->g, &out->measured);
+    apply_weights(&out->measured, out->weight);
+    double z_face_before = r->z_face_m;
+    if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, y_lo, y_hi, NULL,
+                          &r->z_face_m, &out->profile, &r->pe, r->err, r->errlen) != 0)
+        return STEP_FAILED;
+    if (every_row || reads_within(r))
+        return STEP_NEXT;
+    /* What the next pass reads runs past the rows imaged (the face does not
+     * fall off inside them): this pass on every row after all. */
+    free(out->profile.value);
+    out->profile.value = NULL;
+    r->z_face_m = z_face_before;
+    if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, 0.0, 0.0, NULL,
+                          &r->z_face_m, &out->profile, &r->pe, r->err, r->errlen) != 0)
+        return STEP_FAILED;
+    return STEP_NEXT;
+}
+
+/* The taper alone, TAPER_PASSES times, each centred on the last profile.
+ * Returns STEP_DONE when the profile gave no usable centre (no further
+ * passes then). */
+static enum step taper_passes(struct analysis_run *r)
+{
+    for (int pass = 0; pass < TAPER_PASSES; pass++) {
+        double centre;
+        if (!usable_centre(r, &centre))
+            return STEP_DONE;
+        taper_weights(&r->out->conditioned, centre, r->out->aperture_lo_m, r->out->aperture_hi_m,
+                      r->out->weight);
+        struct side_reflector none = {0};
+        if (measure_weighted(r, &none, 0) != STEP_NEXT)
+            return STEP_FAILED;
+    }
+    return STEP_NEXT;
+}
+
+/* Then with a side reflector taken out: its fit reads the row's asymmetry,
+ * and a centre still off by the aperture's lean would pass for a
+ * reflector, hence after the taper's passes. Each pass's fit absorbs a
+ * little of the remaining error, so the centre creeps in: stop once it
+ * moves less than SIDE_SETTLED_M, or when no reflector is found. */
+static enum step side_reflector_passes(struct analysis_run *r)
+{
+    struct uwb_analysis *out = r->out;
+    if (uwb_quadrature_scan(&out->conditioned, &r->quadrature, r->err, r->errlen) != 0)
+        return STEP_FAILED;
+    double last_centre = NAN, side_y = NAN;
+    for (int pass = 0; pass < SIDE_PASSES; pass++) {
+        double centre;
+        if (!usable_centre(r, &centre))
+            break;
+        if (pass > 0 && (isnan(side_y) || fabs(centre - last_centre) < SIDE_SETTLED_M))
+            break;
+        last_centre = centre;
+        taper_weights(&out->conditioned, centre, out->aperture_lo_m, out->aperture_hi_m, out->weight);
+        struct side_reflector side = {0};
+        if (uwb_side_reflector_find(&out->conditioned, &r->quadrature, out->weight, &r->g, r->z_face_m, centre,
+                                0.5 * (r->pe.upper_m - r->pe.lower_m), out->dominant_hz, side_y, &side,
+                                r->err, r->errlen) != 0)
+            return STEP_FAILED;
+        side_y = side.found ? side.y_m : NAN;
+        out->edges.side_reflector = side.found;
+        out->edges.side_reflector_y_m = side.found ? side.y_m : 0.0;
+        if (measure_weighted(r, &side, 0) != STEP_NEXT)
+            return STEP_FAILED;
+    }
+    return STEP_NEXT;
+}
+
+/* Stage 3: the face measured with the aperture made symmetric about it. */
+static enum step measure_face(struct analysis_run *r)
+{
+    if (measure_face_plain(r) != STEP_NEXT)
+        return STEP_FAILED;
+    enum step rc = taper_passes(r);
+    if (rc == STEP_FAILED)
+        return STEP_FAILED;
+    if (rc == STEP_NEXT && r->opt->remove_side_reflector && side_reflector_passes(r) != STEP_NEXT)
+        return STEP_FAILED;
+    /* The last pass again, on every row: the profile the edges are read from. */
+    if (r->passes > 0 && measure_weighted(r, &r->pass_side, 1) != STEP_NEXT)
+        return STEP_FAILED;
+    r->out->edges.face_z_m = r->z_face_m;
+    return STEP_NEXT;
+}
+
+/* The envelope around the face for the PNGs: the conditioned traces, no
+ * taper, over the options' range either side of the face. */
+static enum step image_for_display(struct analysis_run *r)
+{
+    const struct uwb_analysis_options *opt = r->opt;
+    struct uwb_analysis *out = r->out;
+    uwb_image_free(&out->intensity);
+    double z_lo = fmax(r->z_face_m - opt->display_half_range_m, NEAREST_RANGE_M);
+    if (uwb_imaging_grid(&out->intensity, &out->conditioned, DISPLAY_Y_MARGIN_M,
+                     aligned_dy(&out->conditioned, DISPLAY_DY_M), z_lo,
+                     r->z_face_m + opt->display_half_range_m, DISPLAY_DZ_M, r->err, r->errlen) != 0 ||
+        uwb_imaging_intensity(opt->migration, &out->conditioned, &r->g, &out->intensity, r->err, r->errlen) != 0)
+        return STEP_FAILED;
+    return STEP_NEXT;
+}
+
+static enum step judge_edges(struct analysis_run *r)
+{
+    const struct uwb_analysis_options *opt = r->opt;
+    struct uwb_analysis *out = r->out;
+    struct uwb_edges *edges = &out->edges;
+    const struct profile_edges *pe = &r->pe;
+    double ap_lo = out->aperture_lo_m, ap_hi = out->aperture_hi_m;
+    double image_noise = out->noise_sigma * sqrt((double)r->scan->positions);
+    edges->snr_db = image_noise > 0.0 ? 20.0 * log10(pe->peak / image_noise) : NOISELESS_SNR_DB;
+    if (!pe->ok || pe->lower_m < ap_lo || pe->upper_m > ap_hi) {
+        snprintf(edges->reason, sizeof edges->reason,
+                 "edge outside the seen aperture: the face at %.3f m does not fall off inside the "
+                 "antenna travel %.3f..%.3f m", r->z_face_m, ap_lo, ap_hi);
+        return STEP_DONE;
+    }
+    if (edges->snr_db < opt->min_snr_db) {
+        snprintf(edges->reason, sizeof edges->reason,
+                 "too little SNR: face echo %.1f dB over the noise, at least %.1f dB needed",
+                 edges->snr_db, opt->min_snr_db);
+        return STEP_DONE;
+    }
+    /* Noise moves a crossing by noise / slope. An absolute edge also carries
+     * a floor for how the imaging blurs it; between two scans of the same
+     * installation that blur is common and cancels (see compare.c). */
+    double sn_lo = image_noise / fmax(fabs(pe->slope_lower), 1e-30);   /* slopes are > 0 at a crossing */
+    double sn_hi = image_noise / fmax(fabs(pe->slope_upper), 1e-30);
+    double height = pe->upper_m - pe->lower_m;
+    edges->found = 1;
+    edges->center_m = symmetric_centre(&out->profile, pe);
+    edges->lower_m = edges->center_m - 0.5 * height;
+    edges->upper_m = edges->center_m + 0.5 * height;
+    edges->height_m = height;
+    edges->sigma_lower_m = hypot(sn_lo, opt->systematic_edge_m);
+    edges->sigma_upper_m = hypot(sn_hi, opt->systematic_edge_m);
+    edges->sigma_center_m = 0.5 * hypot(edges->sigma_lower_m, edges->sigma_upper_m);
+    edges->sigma_center_noise_m = 0.5 * hypot(sn_lo, sn_hi);
+    if (edges->side_reflector) {
+        edges->sigma_center_clutter_m = SIDE_REFLECTOR_SYSTEMATIC_M;
+        edges->sigma_center_m = hypot(edges->sigma_center_m, SIDE_REFLECTOR_SYSTEMATIC_M);
+    }
+    return STEP_DONE;
 }
 
 int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_options *opt,
                      struct uwb_analysis *out, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
-    struct uwb_edges *edges = &out->edges;
-    struct uwb_geometry g;
-    uwb_geometry_from_scan(&g, scan, opt->time_zero_offset_s);
-    aperture(scan, &out->aperture_lo_m, &out->aperture_hi_m);
-    double ap_lo = out->aperture_lo_m, ap_hi = out->aperture_hi_m;
-
-    out->dominant_hz = uwb_dominant_frequency(scan);
-    double wavelength = g.velocity_m_s / out->dominant_hz;
-
-    double z_lo = opt->search_z_min_m, z_hi = opt->search_z_max_m;
-    if (opt->has_target_z) {
-        z_lo = opt->target_z_m[0];
-        z_hi = opt->target_z_m[1];
-    } else if (scan->has_target_z) {
-        z_lo = scan->target_z_m[0];
-        z_hi = scan->target_z_m[1];
-    }
-    double t_end = g.t0_s + (scan->samples - 1) * g.dt_s;
-    double z_record = 0.5 * g.velocity_m_s * t_end;
-    if (z_hi > z_record)
-        z_hi = z_record;
-    if (z_hi - z_lo < 0.02) {
-        snprintf(edges->reason, sizeof edges->reason,
-                 "record too short: it ends at %.3f m range, the search starts at %.3f m", z_record, z_lo);
-        return 0;
-    }
-
-    /* Stage 1: find the winding, static clutter estimated at the travel's ends. */
-    struct uwb_scan searched = {0};
-    if (uwb_condition(scan, &g, &opt->condition, out->dominant_hz, NULL, &searched, err, errlen) != 0)
+    struct analysis_run run = {.scan = scan, .opt = opt, .out = out, .err = err, .errlen = errlen};
+    static enum step (*const steps[])(struct analysis_run *) = {
+        read_scan_basics, choose_search_range, search_for_face, condition_around_face,
+        measure_face,     image_for_display,   judge_edges,
+    };
+    enum step rc = STEP_NEXT;
+    for (size_t i = 0; i < sizeof steps / sizeof steps[0] && rc == STEP_NEXT; i++)
+        rc = steps[i](&run);
+    uwb_scan_free(&run.prepared);
+    uwb_scan_free(&run.quadrature);
+    uwb_side_reflector_free(&run.pass_side);
+    if (rc == STEP_FAILED) {
+        uwb_analysis_free(out);
         return -1;
-    struct uwb_image coarse = {0};
-    if (imaging_grid(&coarse, &searched, 0.1, aligned_dy(scan, COARSE_DY_M), z_lo, z_hi,
-                     COARSE_DZ_M, err, errlen) != 0 ||
-        imaging_intensity(opt->migration, &searched, &g, &coarse, err, errlen) != 0) {
-        finish_free(&searched, NULL, &coarse);
-        return -1;
-    }
-    out->noise_sigma = uwb_noise_sigma(
-        &searched, uwb_condition_first_open_sample(&searched, &g, &opt->condition, out->dominant_hz));
-    uwb_scan_free(&searched);
-    struct face_candidate face;
-    if (face_search(&coarse, ap_lo, ap_hi, antenna_step(scan), &face, edges->reason,
-                    sizeof edges->reason) != 0) {
-        out->intensity = coarse;   /* show what was searched */
-        return 0;
-    }
-
-    /* Stage 2: clutter estimated where the winding cannot be heard. */
-    struct uwb_target_window window;
-    rough_window(&coarse, face.z_m, wavelength, ap_lo, ap_hi, &window);
-    uwb_image_free(&coarse);
-    struct uwb_scan conditioned = {0};
-    if (uwb_condition(scan, &g, &opt->condition, out->dominant_hz, &window, &conditioned, err,
-                      errlen) != 0)
-        return -1;
-
-    /* Stage 3: measure the face with the aperture made symmetric about it. */
-    struct profile_edges pe;
-    double z_face = face.z_m;
-    struct uwb_face_profile profile = {0};
-    if (measure_face(&conditioned, &g, opt, face.z_m, out->dominant_hz, &z_face, &profile, &pe,
-                     err, errlen) != 0) {
-        finish_free(&conditioned, NULL, NULL);
-        return -1;
-    }
-    double *weight = malloc((size_t)scan->positions * sizeof *weight);
-    struct uwb_scan quadrature = {0};
-    if (!weight || (opt->remove_side_reflector &&
-                    quadrature_scan(&conditioned, &quadrature, err, errlen) != 0)) {
-        if (!weight)
-            snprintf(err, errlen, "out of memory for the aperture taper");
-        free(weight);
-        free(profile.value);
-        finish_free(&conditioned, NULL, NULL);
-        return -1;
-    }
-    /* First the taper alone, until the centre settles; then with a side
-     * reflector taken out: its fit reads the row's asymmetry, and a centre
-     * still off by the aperture's lean would pass for a reflector. Each
-     * pass's fit absorbs a little of the remaining error, so the centre
-     * creeps in: stop once it moves less than SIDE_SETTLED_M. */
-    int iterations = TAPER_ITERATIONS + (opt->remove_side_reflector ? SIDE_ITERATIONS : 0);
-    double last_centre = NAN, side_y = NAN;
-    for (int it = 0; it < iterations && pe.ok; it++) {
-        double centre = symmetric_centre(&profile, &pe);
-        if (centre <= ap_lo || centre >= ap_hi)
-            break;
-        int side_pass = it >= TAPER_ITERATIONS;
-        if (side_pass && it > TAPER_ITERATIONS && (isnan(side_y) ||
-                                                   fabs(centre - last_centre) < SIDE_SETTLED_M))
-            break;
-        last_centre = centre;
-        taper_weights(&conditioned, centre, ap_lo, ap_hi, weight);
-        struct side_reflector side = {0};
-        if (side_pass) {
-            if (side_reflector_find(&conditioned, &quadrature, weight, &g, z_face, centre,
-                                    0.5 * (pe.upper_m - pe.lower_m), out->dominant_hz, side_y,
-                                    &side, err, errlen) != 0) {
-                free(weight);
-                free(profile.value);
-                finish_free(&conditioned, &quadrature, NULL);
-                return -1;
-            }
-            side_y = side.found ? side.y_m : NAN;
-            edges->side_reflector = side.found;
-            edges->side_reflector_y_m = side.found ? side.y_m : 0.0;
-        }
-        struct uwb_scan tapered = {0};
-        free(profile.value);
-        profile.value = NULL;
-        int rc = uwb_scan_copy(&tapered, &conditioned, err, errlen);
-        if (rc == 0) {
-            side_reflector_remove(&side, &g, &tapered);
-            apply_weights(&tapered, weight);
-            rc = measure_face(&tapered, &g, opt, z_face, out->dominant_hz, &z_face, &profile, &pe,
-                              err, errlen);
-        }
-        side_reflector_free(&side);
-        uwb_scan_free(&out->measured);
-        out->measured = tapered;
-        if (rc != 0) {
-            uwb_scan_free(&out->measured);
-            free(weight);
-            free(profile.value);
-            finish_free(&conditioned, &quadrature, NULL);
-            return -1;
-        }
-    }
-    out->weight = weight;
-    uwb_scan_free(&quadrature);
-    out->profile = profile;
-    edges->face_z_m = z_face;
-    double dlo = z_face - DISPLAY_HALF_RANGE_M > 0.01 ? z_face - DISPLAY_HALF_RANGE_M : 0.01;
-    int rc = display_image(&conditioned, &g, opt, dlo, z_face + DISPLAY_HALF_RANGE_M,
-                           &out->intensity, err, errlen);
-    out->conditioned = conditioned;
-    if (rc != 0)
-        return -1;
-
-    double image_noise = out->noise_sigma * sqrt((double)scan->positions);
-    edges->snr_db = image_noise > 0.0 ? 20.0 * log10(pe.peak / image_noise) : 200.0;
-    if (!pe.ok || pe.lower_m < ap_lo || pe.upper_m > ap_hi) {
-        snprintf(edges->reason, sizeof edges->reason,
-                 "edge outside the seen aperture: the face at %.3f m does not fall off inside the "
-                 "antenna travel %.3f..%.3f m", z_face, ap_lo, ap_hi);
-        return 0;
-    }
-    if (edges->snr_db < opt->min_snr_db) {
-        snprintf(edges->reason, sizeof edges->reason,
-                 "too little SNR: face echo %.1f dB over the noise, at least %.1f dB needed",
-                 edges->snr_db, opt->min_snr_db);
-        return 0;
-    }
-
-    /* Noise moves a crossing by noise / slope. An absolute edge also carries
-     * a floor for how the imaging blurs it; between two scans of the same
-     * installation that blur is common and cancels (see compare.c). */
-    double sn_lo = image_noise / fmax(fabs(pe.slope_lower), 1e-30);   /* slopes are > 0 at a crossing */
-    double sn_hi = image_noise / fmax(fabs(pe.slope_upper), 1e-30);
-    edges->found = 1;
-    edges->lower_m = pe.lower_m;
-    edges->upper_m = pe.upper_m;
-    edges->center_m = symmetric_centre(&profile, &pe);
-    edges->lower_m = edges->center_m - 0.5 * (pe.upper_m - pe.lower_m);
-    edges->upper_m = edges->center_m + 0.5 * (pe.upper_m - pe.lower_m);
-    edges->height_m = pe.upper_m - pe.lower_m;
-    edges->sigma_lower_m = hypot(sn_lo, opt->systematic_edge_m);
-    edges->sigma_upper_m = hypot(sn_hi, opt->systematic_edge_m);
-    edges->sigma_center_m = 0.5 * hypot(edges->sigma_lower_m, edges->sigma_upper_m);
-    edges->sigma_center_noise_m = 0.5 * hypot(sn_lo, sn_hi);
-    /* The point model of a plate leaves up to about half a millimetre when
-     * the plate is within 50 mm of an end (measured on the simulator's flush
-     * plate, README); unlike blur, that does not cancel between two scans. */
-    if (edges->side_reflector) {
-        edges->sigma_center_clutter_m = SIDE_REFLECTOR_SYSTEMATIC_M;
-        edges->sigma_center_m = hypot(edges->sigma_center_m, SIDE_REFLECTOR_SYSTEMATIC_M);
     }
     return 0;
 }
@@ -425,9 +626,10 @@ void uwb_analysis_free(struct uwb_analysis *a)
     memset(a, 0, sizeof *a);
 }
 
-int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
+int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
                            const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
-                           struct uwb_face_profile *p, char *err, size_t errlen)
+                           struct uwb_migration_plan *plan, struct uwb_face_profile *p, char *err,
+                           size_t errlen)
 {
     memset(p, 0, sizeof *p);
     if (!a->measured.data || !a->weight || added->positions != a->measured.positions ||
@@ -449,8 +651,8 @@ int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analys
     }
     double z_face = a->edges.face_z_m;
     struct profile_edges pe;
-    int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, &z_face,
-                               p, &pe, err, errlen);
+    int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, plan,
+                               &z_face, p, &pe, err, errlen);
     uwb_scan_free(&s);
     return rc;
 }

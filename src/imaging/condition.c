@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fft_plans.h"
 #include "imaging_internal.h"
 #include "select.h"
 #include "trace_spectrum.h"
@@ -20,38 +21,55 @@ void uwb_condition_defaults(struct uwb_condition_options *opt)
     opt->align_coupling = 1;
 }
 
-double uwb_dominant_frequency(const struct uwb_scan *scan)
+int uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, size_t errlen)
 {
     int S = scan->samples, nh = S / 2 + 1;
+    *hz = 0.0;
+    if (S < 2 || scan->positions < 1 || !(scan->sample_interval_s > 0.0)) {
+        snprintf(err, errlen, "dominant frequency: a scan of %d positions x %d samples has no spectrum",
+                 scan->positions, S);
+        return -1;
+    }
     float *in = fftwf_alloc_real((size_t)S);
     fftwf_complex *spec = fftwf_alloc_complex((size_t)nh);
     double *power = calloc((size_t)nh, sizeof *power);
-    double f_best = 0.0;
-    if (in && spec && power) {
-        fftwf_plan p = fftwf_plan_dft_r2c_1d(S, in, spec, FFTW_ESTIMATE);
-        for (int k = 0; k < scan->positions; k++) {
-            const float *tr = scan->data + (size_t)k * S;
-            double mean = 0.0;
-            for (int s = 0; s < S; s++)
-                mean += tr[s];
-            mean /= S;
-            for (int s = 0; s < S; s++)
-                in[s] = (float)(tr[s] - mean);
-            fftwf_execute(p);
-            for (int i = 0; i < nh; i++)
-                power[i] += (double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1];
-        }
-        fftwf_destroy_plan(p);
-        int best = 1;
-        for (int i = 1; i < nh; i++)
-            if (power[i] > power[best])
-                best = i;
-        f_best = best / (S * scan->sample_interval_s);
+    if (!in || !spec || !power) {
+        fftwf_free(in);
+        fftwf_free(spec);
+        free(power);
+        snprintf(err, errlen, "dominant frequency: out of memory for traces of %d samples", S);
+        return -1;
     }
+    fftwf_plan p = uwb_fft_plan_acquire(FFT_R2C, S);
+    if (!p) {
+        fftwf_free(in);
+        fftwf_free(spec);
+        free(power);
+        snprintf(err, errlen, "dominant frequency: out of memory for a transform of %d samples", S);
+        return -1;
+    }
+    for (int k = 0; k < scan->positions; k++) {
+        const float *tr = scan->data + (size_t)k * S;
+        double mean = 0.0;
+        for (int s = 0; s < S; s++)
+            mean += tr[s];
+        mean /= S;
+        for (int s = 0; s < S; s++)
+            in[s] = (float)(tr[s] - mean);
+        fftwf_execute_dft_r2c(p, in, spec);
+        for (int i = 0; i < nh; i++)
+            power[i] += (double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1];
+    }
+    uwb_fft_plan_release(p);
+    int best = 1;
+    for (int i = 1; i < nh; i++)
+        if (power[i] > power[best])
+            best = i;
+    *hz = best / (S * scan->sample_interval_s);
     fftwf_free(in);
     fftwf_free(spec);
     free(power);
-    return f_best;
+    return 0;
 }
 
 /* Keep the pulse's band only: a raised-cosine high-pass removes DC and
@@ -92,7 +110,7 @@ static void apply_band(void *ctx, int k, fftwf_complex *spec, int n, double df_h
 static int bandpass(struct uwb_scan *s, double low_hz, double high_hz, char *err, size_t errlen)
 {
     struct band b = {low_hz, high_hz};
-    return filter_traces_in_spectrum(s, NULL, apply_band, &b, "conditioning", err, errlen);
+    return uwb_filter_traces_in_spectrum(s, NULL, apply_band, &b, "conditioning", err, errlen);
 }
 
 /* Static clutter (direct coupling, tank wall, barriers and core legs that
@@ -132,10 +150,9 @@ static int positions_quiet_at(const struct uwb_scan *s, const struct uwb_geometr
     return n;
 }
 
-int condition_band_limit(struct uwb_scan *s, const struct uwb_condition_options *opt,
-                         double dominant_hz, char *err, size_t errlen)
+double uwb_condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz)
 {
-    return bandpass(s, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz, err, errlen);
+    return band_gain(f_hz, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz);
 }
 
 static int remove_static(struct uwb_scan *s, const struct uwb_geometry *g,
@@ -190,10 +207,9 @@ static void gate_early(struct uwb_scan *s, const struct uwb_geometry *g,
     }
 }
 
-int uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g,
-                  const struct uwb_condition_options *opt, double dominant_hz,
-                  const struct uwb_target_window *winding, struct uwb_scan *out,
-                  char *err, size_t errlen)
+int uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *g,
+                          const struct uwb_condition_options *opt, double dominant_hz,
+                          struct uwb_scan *out, char *err, size_t errlen)
 {
     if (uwb_scan_copy(out, in, err, errlen) != 0)
         return -1;
@@ -211,14 +227,40 @@ int uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g,
     if (bandpass(out, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz, err,
                  errlen) != 0 ||
         (opt->align_coupling &&
-         uwb_align_to_coupling(out, coupling_end, g->t0_s, period, &alignment, err, errlen) != 0) ||
-        (opt->remove_static && remove_static(out, g, winding, opt->static_end_fraction,
-                                             1.0 / dominant_hz, err, errlen) != 0)) {
+         uwb_align_to_coupling(out, coupling_end, g->t0_s, period, &alignment, err, errlen) != 0)) {
+        uwb_scan_free(out);
+        return -1;
+    }
+    return 0;
+}
+
+int uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geometry *g,
+                         const struct uwb_condition_options *opt, double dominant_hz,
+                         const struct uwb_target_window *winding, struct uwb_scan *out,
+                         char *err, size_t errlen)
+{
+    if (uwb_scan_copy(out, prepared, err, errlen) != 0)
+        return -1;
+    if (opt->remove_static && remove_static(out, g, winding, opt->static_end_fraction,
+                                            1.0 / dominant_hz, err, errlen) != 0) {
         uwb_scan_free(out);
         return -1;
     }
     gate_early(out, g, opt->gate_range_m, 1.0 / dominant_hz);
     return 0;
+}
+
+int uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g,
+                  const struct uwb_condition_options *opt, double dominant_hz,
+                  const struct uwb_target_window *winding, struct uwb_scan *out,
+                  char *err, size_t errlen)
+{
+    struct uwb_scan prepared = {0};
+    if (uwb_condition_prepare(in, g, opt, dominant_hz, &prepared, err, errlen) != 0)
+        return -1;
+    int rc = uwb_condition_finish(&prepared, g, opt, dominant_hz, winding, out, err, errlen);
+    uwb_scan_free(&prepared);
+    return rc;
 }
 
 double uwb_noise_sigma(const struct uwb_scan *scan, int first_sample)

@@ -92,7 +92,7 @@ static int mirror_sum(const struct uwb_geometry *g, double first_row_dy, double 
     return 0;
 }
 
-int delay_table_plan(struct delay_table *t, enum delay_format format, const struct uwb_scan *scan,
+int uwb_delay_table_plan(struct delay_table *t, enum delay_format format, const struct uwb_scan *scan,
                      const struct uwb_geometry *g, const struct uwb_image *img,
                      char *err, size_t errlen)
 {
@@ -160,11 +160,11 @@ int delay_table_plan(struct delay_table *t, enum delay_format format, const stru
     return 0;
 oom:
     snprintf(err, errlen, "migration: out of memory for a %d x %d delay table", img->ny, img->nz);
-    delay_table_free(t);
+    uwb_delay_table_free(t);
     return -1;
 }
 
-void delay_table_fill_trace(struct delay_table *t, const struct uwb_scan *scan,
+void uwb_delay_table_fill_trace(struct delay_table *t, const struct uwb_scan *scan,
                             const struct uwb_geometry *g, const struct uwb_image *img, int k)
 {
     if (t->shared)
@@ -175,7 +175,7 @@ void delay_table_fill_trace(struct delay_table *t, const struct uwb_scan *scan,
                  img);
 }
 
-void delay_table_free(struct delay_table *t)
+void uwb_delay_table_free(struct delay_table *t)
 {
     free(t->row_of_trace);
     free(t->row_start);

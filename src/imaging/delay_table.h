@@ -47,11 +47,11 @@ static inline size_t delay_table_row(const struct delay_table *t, int k, int iy)
 
 /* Build the table for all traces (shared case) or prepare one for trace `k`
  * (per-trace case: call delay_table_fill_trace for each k). */
-int delay_table_plan(struct delay_table *t, enum delay_format format, const struct uwb_scan *scan,
+int uwb_delay_table_plan(struct delay_table *t, enum delay_format format, const struct uwb_scan *scan,
                      const struct uwb_geometry *g, const struct uwb_image *img,
                      char *err, size_t errlen);
-void delay_table_fill_trace(struct delay_table *t, const struct uwb_scan *scan,
+void uwb_delay_table_fill_trace(struct delay_table *t, const struct uwb_scan *scan,
                             const struct uwb_geometry *g, const struct uwb_image *img, int k);
-void delay_table_free(struct delay_table *t);
+void uwb_delay_table_free(struct delay_table *t);
 
 #endif

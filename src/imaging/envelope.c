@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "fft_plans.h"
+
 int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
 {
     /* Pad to at least twice the row so the circular transform does not fold
@@ -25,15 +27,23 @@ int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
         snprintf(err, errlen, "envelope: out of memory for rows of %d", img->nz);
         return -1;
     }
-    fftwf_plan fwd = fftwf_plan_dft_r2c_1d(n, row, half, FFTW_ESTIMATE);
-    fftwf_plan inv = fftwf_plan_dft_1d(n, full, full, FFTW_BACKWARD, FFTW_ESTIMATE);
+    fftwf_plan fwd = uwb_fft_plan_acquire(FFT_R2C, n), inv = uwb_fft_plan_acquire(FFT_C2C_BACKWARD_IN_PLACE, n);
+    if (!fwd || !inv) {
+        uwb_fft_plan_release(fwd);
+        uwb_fft_plan_release(inv);
+        fftwf_free(row);
+        fftwf_free(half);
+        fftwf_free(full);
+        snprintf(err, errlen, "envelope: out of memory for transforms of %d", n);
+        return -1;
+    }
     for (int iy = 0; iy < img->ny; iy++) {
         float *pix = img->pix + (size_t)iy * img->nz;
         memcpy(row, pix, (size_t)img->nz * sizeof *row);
         memset(row + img->nz, 0, (size_t)(n - img->nz) * sizeof *row);
-        fftwf_execute(fwd);
+        fftwf_execute_dft_r2c(fwd, row, half);
         /* Analytic signal: keep DC and Nyquist, double positive, drop negative. */
-        memset(full, 0, (size_t)n * sizeof *full);
+        memset(full + nh, 0, (size_t)(n - nh) * sizeof *full);
         full[0][0] = half[0][0];
         full[0][1] = half[0][1];
         for (int i = 1; i < nh - 1; i++) {
@@ -42,12 +52,12 @@ int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
         }
         full[nh - 1][0] = half[nh - 1][0];
         full[nh - 1][1] = half[nh - 1][1];
-        fftwf_execute(inv);
+        fftwf_execute_dft(inv, full, full);
         for (int iz = 0; iz < img->nz; iz++)
             pix[iz] = hypotf(full[iz][0], full[iz][1]) / (float)n;
     }
-    fftwf_destroy_plan(fwd);
-    fftwf_destroy_plan(inv);
+    uwb_fft_plan_release(fwd);
+    uwb_fft_plan_release(inv);
     fftwf_free(row);
     fftwf_free(half);
     fftwf_free(full);

@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-int face_profile(const struct uwb_image *img, double z_face_m, double half_width_m,
+int uwb_face_profile_measure(const struct uwb_image *img, double z_face_m, double half_width_m,
                  struct uwb_face_profile *p, char *err, size_t errlen)
 {
     int lo = (int)floor((z_face_m - half_width_m - img->z0_m) / img->dz_m);
@@ -38,7 +38,7 @@ int face_profile(const struct uwb_image *img, double z_face_m, double half_width
     return 0;
 }
 
-void profile_edges(const struct uwb_face_profile *p, double fraction, struct profile_edges *e)
+void uwb_profile_edges(const struct uwb_face_profile *p, double fraction, struct profile_edges *e)
 {
     int ip = 0;
     for (int i = 1; i < p->n; i++)
@@ -95,7 +95,7 @@ static double asymmetry(const struct uwb_face_profile *p, double c, double half_
     return sum;
 }
 
-double profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
+double uwb_profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
                                double search_m)
 {
     double step = 0.25 * p->dy_m;

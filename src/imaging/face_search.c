@@ -17,7 +17,7 @@
 #define END_MARGIN_STEPS 2.0
 #define SHADOW_MARGIN 0.316      /* -10 dB */
 
-double image_column_peak(const struct uwb_image *img, int iz, int *row)
+double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row)
 {
     double best = -1.0;
     for (int iy = 0; iy < img->ny; iy++) {
@@ -46,7 +46,7 @@ static int ends_seen(const struct uwb_image *img, int iz, int peak_row, double p
     return lower_ok && upper_ok;
 }
 
-int face_search(const struct uwb_image *img, double aperture_lo_m, double aperture_hi_m,
+int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double aperture_hi_m,
                 double step_m, struct face_candidate *face, char *reason, size_t reasonlen)
 {
     double inner_lo = aperture_lo_m + END_MARGIN_STEPS * step_m;
@@ -63,7 +63,7 @@ int face_search(const struct uwb_image *img, double aperture_lo_m, double apertu
     }
     double strongest = 0.0;
     for (int iz = 0; iz < img->nz; iz++) {
-        peak[iz] = image_column_peak(img, iz, &row[iz]);
+        peak[iz] = uwb_image_column_peak(img, iz, &row[iz]);
         if (peak[iz] > strongest)
             strongest = peak[iz];
     }

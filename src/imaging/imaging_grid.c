@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "migrate_plan.h"
 #include "uwb/envelope.h"
 
 /* The most pixels along either side of an imaging grid: 5 m of travel (the
@@ -24,7 +25,7 @@ static int grid_side(double span_m, double pixel_m, int *n)
     return 0;
 }
 
-int imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m,
+int uwb_imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m,
                  double dy_m, double z_lo_m, double z_hi_m, double dz_m,
                  char *err, size_t errlen)
 {
@@ -55,11 +56,25 @@ int imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_ma
     return 0;
 }
 
-int imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *conditioned,
+int uwb_imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *conditioned,
                       const struct uwb_geometry *g, struct uwb_image *img,
                       char *err, size_t errlen)
 {
     if (uwb_migrate(kind, conditioned, g, img, err, errlen) != 0)
+        return -1;
+    return uwb_envelope_along_z(img, err, errlen);
+}
+
+int uwb_imaging_intensity_planned(struct uwb_migration_plan *plan, enum uwb_migration_kind kind,
+                              const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                              struct uwb_image *img, char *err, size_t errlen)
+{
+    if (!uwb_migration_plan_serves(plan, kind, img)) {
+        uwb_migration_plan_free(plan);
+        if (uwb_migration_plan_init(plan, kind, conditioned, g, img, err, errlen) != 0)
+            return -1;
+    }
+    if (uwb_migration_plan_run(plan, conditioned, g, img, err, errlen) != 0)
         return -1;
     return uwb_envelope_along_z(img, err, errlen);
 }

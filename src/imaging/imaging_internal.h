@@ -9,17 +9,24 @@
 
 /* A grid over y whose rows fall on the antenna heights when the antenna
  * step is a multiple of dy (so migration can share one delay table). */
-int imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m,
+int uwb_imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m,
                  double dy_m, double z_lo_m, double z_hi_m, double dz_m,
                  char *err, size_t errlen);
 
 /* Migrate onto img and take the envelope along range. */
-int imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *conditioned,
+int uwb_imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *conditioned,
                       const struct uwb_geometry *g, struct uwb_image *img,
                       char *err, size_t errlen);
 
+/* The same with a migration plan kept by the caller: (re)built when it was
+ * made for another grid, reused otherwise (repeated images of one grid). */
+struct uwb_migration_plan;
+int uwb_imaging_intensity_planned(struct uwb_migration_plan *plan, enum uwb_migration_kind kind,
+                              const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                              struct uwb_image *img, char *err, size_t errlen);
+
 /* The brightest pixel of range column iz: its value, and its row in *row. */
-double image_column_peak(const struct uwb_image *img, int iz, int *row);
+double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row);
 
 struct face_candidate {
     double z_m;
@@ -30,11 +37,11 @@ struct face_candidate {
  * profile along y falls off before both ends of the antenna travel (at
  * least two antenna steps inside them).
  * Returns 0 and fills *face, or 1 with reason filled when none qualifies. */
-int face_search(const struct uwb_image *intensity, double aperture_lo_m, double aperture_hi_m,
+int uwb_face_search(const struct uwb_image *intensity, double aperture_lo_m, double aperture_hi_m,
                 double step_m, struct face_candidate *face, char *reason, size_t reasonlen);
 
 /* Profile along y at the face: the largest envelope within +-half_width_m of z_face. */
-int face_profile(const struct uwb_image *intensity, double z_face_m, double half_width_m,
+int uwb_face_profile_measure(const struct uwb_image *intensity, double z_face_m, double half_width_m,
                  struct uwb_face_profile *p, char *err, size_t errlen);
 
 struct profile_edges {
@@ -46,7 +53,7 @@ struct profile_edges {
 
 /* Lower and upper crossings of fraction*peak, walking out from the peak,
  * interpolated between samples. ok = 0 when a side never drops below it. */
-void profile_edges(const struct uwb_face_profile *p, double fraction, struct profile_edges *e);
+void uwb_profile_edges(const struct uwb_face_profile *p, double fraction, struct profile_edges *e);
 
 /* The profile's centre of mirror symmetry: the c that minimises
  * sum over u in (0, half_span] of (P(c+u) - P(c-u))^2, searched within
@@ -54,31 +61,43 @@ void profile_edges(const struct uwb_face_profile *p, double fraction, struct pro
  * threshold crossing uses one point each, so noise moves it less; and a
  * change of the bump's height or width that keeps it symmetric (pulse
  * timing jitter decorrelating the sum) does not move it at all. */
-double profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
+double uwb_profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
                                double search_m);
 
 /* The shift d that best maps base onto cur: cur(y + d) against g * base(y)
  * on the squared envelope, y within +-half_span_m of base_centre_m, searched
- * within 5 mm of guess_m (profile_shift.c says why). */
-double profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+ * within 5 mm of guess_m (profile_shift.c says why). NAN when out of memory. */
+double uwb_profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                          double base_centre_m, double half_span_m, double guess_m);
 
 /* The displacement between a current and a baseline profile of these
  * analyses (profile_shift_fit over the baseline's winding). */
-double analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+double uwb_analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                       const struct uwb_analysis *base_analysis, double guess_m);
 
 /* The face profile of an analysis measured again on its kept traces plus
  * scale * added (weighted by the analysis' aperture weights): what the same
  * scan with that noise would have given, imaged between y_lo_m and y_hi_m
- * only (the whole aperture when y_lo_m >= y_hi_m). Returns 0, or -1 with err
- * filled. */
-int analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
+ * only (the whole aperture when y_lo_m >= y_hi_m). plan: a migration plan
+ * the caller keeps across repeated calls (initialised to zeros, freed with
+ * uwb_migration_plan_free). Returns 0, or -1 with err filled. */
+int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
                            const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
-                           struct uwb_face_profile *p, char *err, size_t errlen);
+                           struct uwb_migration_plan *plan, struct uwb_face_profile *p, char *err,
+                           size_t errlen);
 
-/* Band-limit every trace as conditioning does (its pulse band). */
-int condition_band_limit(struct uwb_scan *s, const struct uwb_condition_options *opt,
-                         double dominant_hz, char *err, size_t errlen);
+/* uwb_condition in its two parts: what depends on the scan alone (band-pass,
+ * alignment on the direct coupling), done once per analysis, and what
+ * depends on where the winding is (static clutter removal, early gate). */
+int uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *g,
+                          const struct uwb_condition_options *opt, double dominant_hz,
+                          struct uwb_scan *out, char *err, size_t errlen);
+int uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geometry *g,
+                         const struct uwb_condition_options *opt, double dominant_hz,
+                         const struct uwb_target_window *winding, struct uwb_scan *out,
+                         char *err, size_t errlen);
+
+/* The gain conditioning's band-pass gives frequency f_hz (0..1). */
+double uwb_condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz);
 
 #endif

@@ -21,7 +21,7 @@ static int16_t to_q15(float x, float scale)
     return (int16_t)(q > 32767 ? 32767 : q < -32767 ? -32767 : q);
 }
 
-void migrate_fill_pairs(const float *trace, int samples, float scale, int16_t *pairs)
+void uwb_migrate_fill_pairs(const float *trace, int samples, float scale, int16_t *pairs)
 {
     int16_t here = samples > 0 ? to_q15(trace[0], scale) : 0;
     for (int s = 0; s < samples; s++) {
@@ -38,7 +38,7 @@ void migrate_fill_pairs(const float *trace, int samples, float scale, int16_t *p
  * whole multiple of the divisor, so this is the same integer the SIMD loops
  * get. |b - a| <= 65534 and w <= 32767 keep the product inside int32. The
  * right shift of a negative value is arithmetic on gcc and clang. */
-void migrate_row_fixed_portable(const int32_t *restrict index, const int16_t *restrict weight,
+void uwb_migrate_row_fixed_portable(const int32_t *restrict index, const int16_t *restrict weight,
                                 const int16_t *restrict pairs, int32_t *restrict out, int n)
 {
     for (int i = 0; i < n; i++) {
@@ -72,7 +72,7 @@ static inline __m128i gather4(const int16_t *pairs, const int32_t *index)
     return _mm_unpacklo_epi64(_mm_unpacklo_epi32(p0, p1), _mm_unpacklo_epi32(p2, p3));
 }
 
-void migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
+void uwb_migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
                             const int16_t *restrict pairs, int32_t *restrict out, int n)
 {
     const __m128i half = _mm_set1_epi32(16384);
@@ -90,10 +90,10 @@ void migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restri
         _mm_storeu_si128(o, _mm_add_epi32(_mm_loadu_si128(o), sum_lo));
         _mm_storeu_si128(o + 1, _mm_add_epi32(_mm_loadu_si128(o + 1), sum_hi));
     }
-    migrate_row_fixed_portable(index + i, weight + i, pairs, out + i, n - i);
+    uwb_migrate_row_fixed_portable(index + i, weight + i, pairs, out + i, n - i);
 }
 
-const char *migrate_simd_name(void)
+const char *uwb_migrate_simd_name(void)
 {
     return "SSE2";
 }
@@ -119,7 +119,7 @@ static inline int32x4_t interpolate4(int16x8_t samples, int16x8_t weights)
     return vrshrq_n_s32(vpaddq_s32(first, second), 15);
 }
 
-void migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
+void uwb_migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
                             const int16_t *restrict pairs, int32_t *restrict out, int n)
 {
     const int16x8_t sign = vdupq_n_s16(INT16_MIN);
@@ -132,22 +132,22 @@ void migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restri
         vst1q_s32(out + i, vaddq_s32(vld1q_s32(out + i), lo));
         vst1q_s32(out + i + 4, vaddq_s32(vld1q_s32(out + i + 4), hi));
     }
-    migrate_row_fixed_portable(index + i, weight + i, pairs, out + i, n - i);
+    uwb_migrate_row_fixed_portable(index + i, weight + i, pairs, out + i, n - i);
 }
 
-const char *migrate_simd_name(void)
+const char *uwb_migrate_simd_name(void)
 {
     return "NEON";
 }
 
 #else
-void migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
+void uwb_migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
                             const int16_t *restrict pairs, int32_t *restrict out, int n)
 {
-    migrate_row_fixed_portable(index, weight, pairs, out, n);
+    uwb_migrate_row_fixed_portable(index, weight, pairs, out, n);
 }
 
-const char *migrate_simd_name(void)
+const char *uwb_migrate_simd_name(void)
 {
     return "none";
 }

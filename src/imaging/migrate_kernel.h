@@ -13,17 +13,17 @@
  * and its neighbour sit in one 32-bit word, so SIMD gathers one word per
  * pixel and multiplies both by their weights (-a * (w - 32768) + b * w) in
  * one multiply-add. Samples never reach -32768, so -q[s] fits int16. */
-void migrate_fill_pairs(const float *trace, int samples, float scale, int16_t *pairs);
+void uwb_migrate_fill_pairs(const float *trace, int samples, float scale, int16_t *pairs);
 
 /* out[i] += round(q[s] + (q[s+1] - q[s]) * w / 32768) with s = index[i],
  * w = weight[i] in [0, 32767], for i < n. The rounding is floor(x + 1/2),
  * as (x * 32768 + 16384) >> 15. */
-void migrate_row_fixed_portable(const int32_t *restrict index, const int16_t *restrict weight,
+void uwb_migrate_row_fixed_portable(const int32_t *restrict index, const int16_t *restrict weight,
                                 const int16_t *restrict pairs, int32_t *restrict out, int n);
 /* The same with SIMD; the portable loop where the target has none. */
-void migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
+void uwb_migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
                             const int16_t *restrict pairs, int32_t *restrict out, int n);
 /* "SSE2", "NEON" or "none". */
-const char *migrate_simd_name(void);
+const char *uwb_migrate_simd_name(void);
 
 #endif

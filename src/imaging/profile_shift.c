@@ -16,50 +16,110 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 #define FIT_STEP_M 0.001          /* the profiles' own pixel */
 #define COARSE_STEP_M 0.0001
 #define FINE_STEP_M 0.00001
 #define FIT_SEARCH_M 0.005        /* around the centres' difference */
 
+/* A profile's squared envelope, computed once per fit: the search below
+ * evaluates it at some 40 000 points. */
+struct energy {
+    int n;
+    double y0_m, dy_m;
+    double *value;
+};
+
+static int energy_of(const struct uwb_face_profile *p, struct energy *e)
+{
+    e->n = p->n;
+    e->y0_m = p->y0_m;
+    e->dy_m = p->dy_m;
+    e->value = malloc((size_t)(p->n > 0 ? p->n : 1) * sizeof *e->value);
+    if (!e->value)
+        return -1;
+    for (int i = 0; i < p->n; i++)
+        e->value[i] = (double)p->value[i] * p->value[i];
+    return 0;
+}
+
 /* The squared envelope at y (Catmull-Rom between pixels, 0 outside). */
-static double energy_at(const struct uwb_face_profile *p, double y)
+static double energy_at(const struct energy *p, double y)
 {
     double x = (y - p->y0_m) / p->dy_m;
     int i = (int)floor(x);
     if (i < 1 || i > p->n - 3)
         return 0.0;
-    double t = x - i, v[4];
-    for (int j = 0; j < 4; j++) {
-        double e = p->value[i - 1 + j];
-        v[j] = e * e;
-    }
+    double t = x - i;
+    const double *v = p->value + i - 1;
     return v[1] + 0.5 * t * (v[2] - v[0] +
                              t * (2.0 * v[0] - 5.0 * v[1] + 4.0 * v[2] - v[3] +
                                   t * (3.0 * (v[1] - v[2]) + v[3] - v[0])));
 }
 
-/* Residual of cur(y + d) against g * base(y) over the span, g by least squares. */
-static double misfit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
-                     double centre_m, double half_span_m, double d)
+/* The baseline's side of the fit does not move with the shift tried: its
+ * energies over the span, and their sum of squares, once per fit. */
+struct span {
+    int n;
+    double centre_m, half_m;
+    double *base;                  /* g * base(y) is fitted to these */
+    double bb;
+};
+
+static int span_of(const struct energy *base, double centre_m, double half_span_m, struct span *s)
 {
-    double cc = 0.0, cb = 0.0, bb = 0.0;
+    s->n = 0;
+    s->centre_m = centre_m;
+    s->half_m = half_span_m;
+    s->bb = 0.0;
+    for (double u = -half_span_m; u <= half_span_m + 1e-12; u += FIT_STEP_M)
+        s->n++;
+    s->base = malloc((size_t)(s->n > 0 ? s->n : 1) * sizeof *s->base);
+    if (!s->base)
+        return -1;
+    int k = 0;
     for (double u = -half_span_m; u <= half_span_m + 1e-12; u += FIT_STEP_M) {
-        double c = energy_at(cur, centre_m + d + u), b = energy_at(base, centre_m + u);
-        cc += c * c;
-        cb += c * b;
-        bb += b * b;
+        double b = energy_at(base, centre_m + u);
+        s->base[k++] = b;
+        s->bb += b * b;
     }
-    return bb > 0.0 ? cc - cb * cb / bb : cc;
+    return 0;
 }
 
-double profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+/* Residual of cur(y + d) against g * base(y) over the span, g by least squares. */
+static double misfit(const struct energy *cur, const struct span *s, double d)
+{
+    double cc = 0.0, cb = 0.0;
+    int k = 0;
+    for (double u = -s->half_m; u <= s->half_m + 1e-12; u += FIT_STEP_M) {
+        double c = energy_at(cur, s->centre_m + d + u), b = s->base[k++];
+        cc += c * c;
+        cb += c * b;
+    }
+    return s->bb > 0.0 ? cc - cb * cb / s->bb : cc;
+}
+
+double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile, const struct uwb_face_profile *base_profile,
                          double base_centre_m, double half_span_m, double guess_m)
 {
+    struct energy cur, base;
+    struct span span = {0};
+    if (energy_of(cur_profile, &cur) != 0)
+        return NAN;
+    if (energy_of(base_profile, &base) != 0) {
+        free(cur.value);
+        return NAN;
+    }
+    if (span_of(&base, base_centre_m, half_span_m, &span) != 0) {
+        free(cur.value);
+        free(base.value);
+        return NAN;
+    }
     double best_d = guess_m, best = INFINITY;
     int n = (int)ceil(FIT_SEARCH_M / COARSE_STEP_M);
     for (int i = -n; i <= n; i++) {
-        double d = guess_m + i * COARSE_STEP_M, r = misfit(cur, base, base_centre_m, half_span_m, d);
+        double d = guess_m + i * COARSE_STEP_M, r = misfit(&cur, &span, d);
         if (r < best) {
             best = r;
             best_d = d;
@@ -67,30 +127,33 @@ double profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_fa
     }
     double centre = best_d;
     for (int i = -10; i <= 10; i++) {
-        double d = centre + i * FINE_STEP_M, r = misfit(cur, base, base_centre_m, half_span_m, d);
+        double d = centre + i * FINE_STEP_M, r = misfit(&cur, &span, d);
         if (r < best) {
             best = r;
             best_d = d;
         }
     }
-    double prev = misfit(cur, base, base_centre_m, half_span_m, best_d - FINE_STEP_M);
-    double next = misfit(cur, base, base_centre_m, half_span_m, best_d + FINE_STEP_M);
+    double prev = misfit(&cur, &span, best_d - FINE_STEP_M);
+    double next = misfit(&cur, &span, best_d + FINE_STEP_M);
     double den = prev - 2.0 * best + next;
     if (den > 0.0) {
         double off = 0.5 * (prev - next) / den;
         if (fabs(off) <= 1.0)
             best_d += off * FINE_STEP_M;
     }
+    free(cur.value);
+    free(base.value);
+    free(span.base);
     return best_d;
 }
 
 /* The fit compares the profiles over the baseline's winding, edge to edge
  * at half its peak: beyond, the winding's image falls off and the static
  * scene's share of the row grows. */
-double analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+double uwb_analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                       const struct uwb_analysis *base_analysis, double guess_m)
 {
-    return profile_shift_fit(cur, base, base_analysis->edges.center_m,
+    return uwb_profile_shift_fit(cur, base, base_analysis->edges.center_m,
                              0.5 * base_analysis->edges.height_m, guess_m);
 }
 
@@ -101,7 +164,11 @@ int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis 
         snprintf(err, errlen, "shift: the winding is not established in both scans");
         return -1;
     }
-    *shift_m = analysis_shift(&cur->profile, &base->profile, base,
+    *shift_m = uwb_analysis_shift(&cur->profile, &base->profile, base,
                               cur->edges.center_m - base->edges.center_m);
+    if (isnan(*shift_m)) {
+        snprintf(err, errlen, "shift: out of memory for the profiles' fit");
+        return -1;
+    }
     return 0;
 }

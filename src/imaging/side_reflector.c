@@ -44,11 +44,11 @@ static void hilbert_spectrum(void *ctx, int k, fftwf_complex *spec, int n, doubl
     }
 }
 
-int quadrature_scan(const struct uwb_scan *in, struct uwb_scan *out, char *err, size_t errlen)
+int uwb_quadrature_scan(const struct uwb_scan *in, struct uwb_scan *out, char *err, size_t errlen)
 {
     if (uwb_scan_copy(out, in, err, errlen) != 0)
         return -1;
-    if (filter_traces_in_spectrum(out, NULL, hilbert_spectrum, NULL, "quadrature", err, errlen) != 0) {
+    if (uwb_filter_traces_in_spectrum(out, NULL, hilbert_spectrum, NULL, "quadrature", err, errlen) != 0) {
         uwb_scan_free(out);
         return -1;
     }
@@ -157,7 +157,7 @@ static void try_position(const struct side_reflector *r, const struct uwb_scan *
     }
 }
 
-int side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, const double *weight,
+int uwb_side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, const double *weight,
                         const struct uwb_geometry *g, double z_face, double centre,
                         double half_height, double dominant_hz, double near_y_m,
                         struct side_reflector *r, char *err, size_t errlen)
@@ -178,7 +178,7 @@ int side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, cons
         free(b);
         free(row_up);
         free(row_down);
-        side_reflector_free(r);
+        uwb_side_reflector_free(r);
         snprintf(err, errlen, "side reflector: out of memory");
         return -1;
     }
@@ -262,7 +262,7 @@ int side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, cons
     return 0;
 }
 
-void side_reflector_remove(const struct side_reflector *r, const struct uwb_geometry *g,
+void uwb_side_reflector_remove(const struct side_reflector *r, const struct uwb_geometry *g,
                            struct uwb_scan *s)
 {
     if (!r->found)
@@ -286,7 +286,7 @@ void side_reflector_remove(const struct side_reflector *r, const struct uwb_geom
     }
 }
 
-void side_reflector_free(struct side_reflector *r)
+void uwb_side_reflector_free(struct side_reflector *r)
 {
     free(r->echo);
     free(r->quadrature);

@@ -30,18 +30,18 @@ struct side_reflector {
  * earlier pass found the reflector, to look only near there. Fills *r
  * (r->found = 0 when nothing beside the winding explains the row's
  * asymmetry). Returns 0, or -1 with err filled. */
-int side_reflector_find(const struct uwb_scan *conditioned, const struct uwb_scan *quadrature,
+int uwb_side_reflector_find(const struct uwb_scan *conditioned, const struct uwb_scan *quadrature,
                         const double *weight, const struct uwb_geometry *g, double z_face_m,
                         double centre_m, double half_height_m, double dominant_hz,
                         double near_y_m, struct side_reflector *r, char *err, size_t errlen);
 
 /* Subtract the found reflector's echo from every trace of scan. */
-void side_reflector_remove(const struct side_reflector *r, const struct uwb_geometry *g,
+void uwb_side_reflector_remove(const struct side_reflector *r, const struct uwb_geometry *g,
                            struct uwb_scan *scan);
 
-void side_reflector_free(struct side_reflector *r);
+void uwb_side_reflector_free(struct side_reflector *r);
 
 /* The Hilbert partner of every trace (for the complex face row). */
-int quadrature_scan(const struct uwb_scan *in, struct uwb_scan *out, char *err, size_t errlen);
+int uwb_quadrature_scan(const struct uwb_scan *in, struct uwb_scan *out, char *err, size_t errlen);
 
 #endif

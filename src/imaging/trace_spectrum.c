@@ -1,9 +1,11 @@
 #include "trace_spectrum.h"
 
+#include "fft_plans.h"
+
 #include <stdio.h>
 #include <string.h>
 
-int filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int k),
+int uwb_filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int k),
                               trace_spectrum_fn filter, void *ctx, const char *what,
                               char *err, size_t errlen)
 {
@@ -16,21 +18,28 @@ int filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int k),
         snprintf(err, errlen, "%s: out of memory", what);
         return -1;
     }
-    fftwf_plan fwd = fftwf_plan_dft_r2c_1d(S, buf, spec, FFTW_ESTIMATE);
-    fftwf_plan inv = fftwf_plan_dft_c2r_1d(S, spec, buf, FFTW_ESTIMATE);
+    fftwf_plan fwd = uwb_fft_plan_acquire(FFT_R2C, S), inv = uwb_fft_plan_acquire(FFT_C2R, S);
+    if (!fwd || !inv) {
+        uwb_fft_plan_release(fwd);
+        uwb_fft_plan_release(inv);
+        fftwf_free(buf);
+        fftwf_free(spec);
+        snprintf(err, errlen, "%s: out of memory for a transform of %d samples", what, S);
+        return -1;
+    }
     double df = 1.0 / (S * s->sample_interval_s);
     for (int k = 0; k < s->positions; k++) {
         if (skip && skip(ctx, k))
             continue;
         float *tr = s->data + (size_t)k * S;
         memcpy(buf, tr, (size_t)S * sizeof *buf);
-        fftwf_execute(fwd);
+        fftwf_execute_dft_r2c(fwd, buf, spec);
         filter(ctx, k, spec, S, df);
-        fftwf_execute(inv);
+        fftwf_execute_dft_c2r(inv, spec, buf);
         memcpy(tr, buf, (size_t)S * sizeof *buf);
     }
-    fftwf_destroy_plan(fwd);
-    fftwf_destroy_plan(inv);
+    uwb_fft_plan_release(fwd);
+    uwb_fft_plan_release(inv);
     fftwf_free(buf);
     fftwf_free(spec);
     return 0;

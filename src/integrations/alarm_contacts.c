@@ -1,7 +1,7 @@
 /* The alarm contacts' states (see the header): plain logic, so that the
  * sequence is tested without lines; src/integrations/site.c drives the
  * GPIO outputs from it. */
-#include "uwb/daemon/alarm_contacts.h"
+#include "integrations/alarm_contacts.h"
 
 #include <string.h>
 

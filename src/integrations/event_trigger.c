@@ -1,5 +1,5 @@
 /* Debounce and rate limit of the event input (see the header). */
-#include "uwb/daemon/event_trigger.h"
+#include "integrations/event_trigger.h"
 
 #include <string.h>
 

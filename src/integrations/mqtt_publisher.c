@@ -1,7 +1,7 @@
 /* MQTT publishing through libmosquitto's own network thread (see the
  * header). The queue is shared with that thread's callbacks: one mutex
  * guards it; the callbacks only publish and unlink, never block. */
-#include "uwb/daemon/mqtt_publisher.h"
+#include "integrations/mqtt_publisher.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -17,7 +17,7 @@
 #include <unistd.h>
 
 #include "uwb/atomic_file.h"
-#include "uwb/daemon/log.h"
+#include "daemon/log.h"
 #include "uwb/link.h"
 #include "uwb/read_file.h"
 
@@ -307,7 +307,7 @@ void uwbd_mqtt_verdict(struct uwbd_mqtt *m, const char *verdict_json)
     char path[sizeof m->dir + 32], err[512];
     unsigned long long seq = m->next_seq++;
     file_of(m, seq, path, sizeof path);
-    if (atomic_write_file(path, verdict_json, strlen(verdict_json), err, sizeof err) != 0) {
+    if (uwb_atomic_write_file(path, verdict_json, strlen(verdict_json), err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_ERR, "mqtt: cannot queue the verdict: %s", err);
     } else if (push_seq(m, seq) != 0) {
         unlink(path);

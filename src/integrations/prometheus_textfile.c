@@ -1,6 +1,6 @@
 /* The Prometheus textfile (see the header): one file, replaced whole
  * after each verdict, so node_exporter never reads half of it. */
-#include "uwb/daemon/prometheus_textfile.h"
+#include "integrations/prometheus_textfile.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -120,7 +120,7 @@ int uwbd_prometheus_write(const char *path, const struct uwbd_prometheus_metrics
     }
     /* 0644 for a new file (node_exporter runs as a user of its own; the
      * figures are no secret), a replaced file's mode kept (atomic_file.c). */
-    int rc = atomic_write_file(path, text, strlen(text), err, errlen);
+    int rc = uwb_atomic_write_file(path, text, strlen(text), err, errlen);
     free(text);
     return rc;
 }

@@ -3,7 +3,7 @@
  * fails (the emulated board's link went away) closes the handle, which is
  * opened again on the next tick or verdict; the contacts are then set
  * afresh from their state, so nothing is lost but time. */
-#include "uwb/daemon/site.h"
+#include "integrations/site.h"
 
 #include <cjson/cJSON.h>
 #include <stdint.h>
@@ -14,11 +14,11 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "uwb/daemon/alarm_contacts.h"
-#include "uwb/daemon/event_trigger.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/mqtt_publisher.h"
-#include "uwb/daemon/prometheus_textfile.h"
+#include "integrations/alarm_contacts.h"
+#include "integrations/event_trigger.h"
+#include "daemon/log.h"
+#include "integrations/mqtt_publisher.h"
+#include "integrations/prometheus_textfile.h"
 #include "uwb/gpio.h"
 #include "uwb/monotonic.h"
 

@@ -1,14 +1,14 @@
 /* The site's configuration checks: an integration that is on must have
  * what it needs (its lines or endpoint, the asset id), named by key, so
  * that `uwbd --check-config` refuses it before anything opens. */
-#include "uwb/daemon/site_config.h"
+#include "integrations/site_config.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
 
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 #include "uwb/link.h"
 
 int uwbd_site_any_enabled(const struct uwbd_config *cfg)

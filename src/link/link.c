@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "uwb/link_backend.h"
+#include "link/link_backend.h"
 #include "uwb/monotonic.h"
 
 static const struct uwb_link_ops *ops_for(enum uwb_endpoint_kind kind)

@@ -15,7 +15,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include "uwb/link_backend.h"
+#include "link/link_backend.h"
 
 struct uwb_link_listener {
     int fd;

@@ -14,7 +14,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include "uwb/link_backend.h"
+#include "link/link_backend.h"
 #include "uwb/monotonic.h"
 
 #define CONNECT_TIMEOUT_MS 5000

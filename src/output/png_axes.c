@@ -1,6 +1,6 @@
 /* Data-to-pixel mapping, "nice" tick values, framed axes with labelled
  * ticks on both axes, and vertical colour bars. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>

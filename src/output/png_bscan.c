@@ -4,7 +4,7 @@
  * than the winding's echo: on a linear scale the echo, the thing to look
  * at, would be a faint smudge. The face's expected arrival and the edges
  * are overlaid like in the migrated image. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -80,43 +80,61 @@ static int nearest_trace(const struct uwb_scan *scan, double y)
     return best;
 }
 
+/* One trace's colours across the plot. */
+static void trace_colours(const struct uwb_plot *p, const struct uwb_scan *scan, int k, double peak,
+                          double floor_db, struct uwb_rgb *colours)
+{
+    double dt = scan->sample_interval_s;
+    for (int col = 0; col < p->w; col++) {
+        /* The column spans [ta, tb); with many samples per column take
+         * the strongest, so a short echo cannot fall between pixels. */
+        double ta = p->x_min + (p->x_max - p->x_min) * (col - 0.5) / (p->w - 1);
+        double tb = p->x_min + (p->x_max - p->x_min) * (col + 0.5) / (p->w - 1);
+        double fa = (ta - scan->t0_s) / dt, fb = (tb - scan->t0_s) / dt;
+        int sa = (int)ceil(fa), sb = (int)floor(fb);
+        double value;
+        if (sb - sa >= 1) {
+            sa = sa < 0 ? 0 : sa;
+            sb = sb > scan->samples - 1 ? scan->samples - 1 : sb;
+            value = 0;
+            for (int s = sa; s <= sb; s++) {
+                double v = sample_value(scan, k, s);
+                if (fabs(v) > fabs(value))
+                    value = v;
+            }
+        } else {
+            double f = 0.5 * (fa + fb);
+            f = f < 0 ? 0 : f > scan->samples - 1 ? scan->samples - 1 : f;
+            int s = (int)f;
+            if (s > scan->samples - 2)
+                s = scan->samples - 2;
+            double a = f - s;
+            value = (1 - a) * sample_value(scan, k, s) + a * sample_value(scan, k, s + 1);
+        }
+        colours[col] = uwb_colormap_diverging(uwb_signed_db_to_t(value, peak, floor_db));
+    }
+}
+
+/* Each plot row shows the trace nearest its height: a trace's colours are
+ * worked out once and copied to every row it covers (tens of rows each). */
 static void paint_traces(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_scan *scan,
                          double peak, double floor_db)
 {
-    double dt = scan->sample_interval_s;
+    struct uwb_rgb *colours = malloc(sizeof *colours * (size_t)p->w);
+    if (!colours)
+        return;
+    int painted = -1;
     for (int row = 0; row < p->h; row++) {
         double y = p->y_max - (p->y_max - p->y_min) * row / (p->h > 1 ? p->h - 1 : 1);
         int k = nearest_trace(scan, y);
-        for (int col = 0; col < p->w; col++) {
-            /* The column spans [ta, tb); with many samples per column take
-             * the strongest, so a short echo cannot fall between pixels. */
-            double ta = p->x_min + (p->x_max - p->x_min) * (col - 0.5) / (p->w - 1);
-            double tb = p->x_min + (p->x_max - p->x_min) * (col + 0.5) / (p->w - 1);
-            double fa = (ta - scan->t0_s) / dt, fb = (tb - scan->t0_s) / dt;
-            int sa = (int)ceil(fa), sb = (int)floor(fb);
-            double value;
-            if (sb - sa >= 1) {
-                sa = sa < 0 ? 0 : sa;
-                sb = sb > scan->samples - 1 ? scan->samples - 1 : sb;
-                value = 0;
-                for (int s = sa; s <= sb; s++) {
-                    double v = sample_value(scan, k, s);
-                    if (fabs(v) > fabs(value))
-                        value = v;
-                }
-            } else {
-                double f = 0.5 * (fa + fb);
-                f = f < 0 ? 0 : f > scan->samples - 1 ? scan->samples - 1 : f;
-                int s = (int)f;
-                if (s > scan->samples - 2)
-                    s = scan->samples - 2;
-                double a = f - s;
-                value = (1 - a) * sample_value(scan, k, s) + a * sample_value(scan, k, s + 1);
-            }
-            uwb_canvas_put(c, p->x + col, p->y + row,
-                           uwb_colormap_diverging(uwb_signed_db_to_t(value, peak, floor_db)));
+        if (k != painted) {
+            trace_colours(p, scan, k, peak, floor_db, colours);
+            painted = k;
         }
+        for (int col = 0; col < p->w; col++)
+            uwb_canvas_put(c, p->x + col, p->y + row, colours[col]);
     }
+    free(colours);
 }
 
 static void draw_signed_colorbar(struct uwb_canvas *c, int x, int y, int w, int h, double floor_db, int s)
@@ -142,7 +160,7 @@ static void draw_signed_colorbar(struct uwb_canvas *c, int x, int y, int w, int 
     uwb_draw_text(c, x + w / 2 - tw / 2, y + h + 8, "- dB", s, ink);
 }
 
-void render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
+void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
                          const struct uwb_render_options *opt, struct uwb_plot *plot,
                          int *colorbar_x, int *colorbar_w)
 {
@@ -166,13 +184,13 @@ void render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *
     plot->y_max = hi + margin;
 }
 
-int render_bscan_png(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
+int uwb_render_bscan_png(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
                      char *err, size_t errlen)
 {
-    return render_bscan_png_opt(path, scan, v, NULL, err, errlen);
+    return uwb_render_bscan_png_opt(path, scan, v, NULL, err, errlen);
 }
 
-int render_bscan_png_opt(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
+int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
                          const struct uwb_render_options *opt, char *err, size_t errlen)
 {
     if (!path || !*path) {
@@ -190,7 +208,7 @@ int render_bscan_png_opt(const char *path, const struct uwb_scan *scan, const st
         return -1;
     struct uwb_plot plot;
     int bar_x, bar_w;
-    render_bscan_layout(scan, v, &o, &plot, &bar_x, &bar_w);
+    uwb_render_bscan_layout(scan, v, &o, &plot, &bar_x, &bar_w);
 
     uwb_draw_caption(&c, "uwbd raw B-scan - signed amplitude, dB re |peak|", v, s);
 

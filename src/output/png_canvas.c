@@ -1,7 +1,7 @@
 /* An RGB raster and the few shapes the images need: rectangles and
  * (optionally dashed, thick) lines. Everything clips to the canvas so
  * callers can draw overlays without bounds arithmetic. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <stdio.h>
 #include <stdlib.h>

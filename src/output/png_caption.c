@@ -1,7 +1,7 @@
 /* The caption every PNG carries, so the picture alone says which scan,
  * when, and what uwbd concluded: title, scan id and time, baseline id,
  * the verdict with displacement +/- uncertainty, and the edges in mm. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <stdio.h>
 #include <string.h>

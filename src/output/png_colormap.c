@@ -9,7 +9,7 @@
  * map, by contrast, invents bands (bright yellow in the middle) that look
  * like edges. The anchors were chosen by eye for us and checked for L*;
  * test_render asserts the monotonic lightness on a fine sampling. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <math.h>
 

@@ -4,12 +4,14 @@
  * the dB scale (each re its own peak: the scans may differ in gain); this
  * scan's panel also carries the baseline's edges dashed, so the gap between
  * solid and dashed lines IS the displacement. The profile panel overlays
- * the normalised face intensity along y of both scans, with the half-peak
- * line the edges are read at, and an arrow from the baseline centre to this
+ * both scans' face profiles, each normalised to its peak: the very curves
+ * the analysis read the edges from (tapered aperture, side reflector taken
+ * out), not a profile of the display image; with the half-peak line the
+ * edges are read at, and an arrow from the baseline centre to this
  * scan's centre labelled with the displacement.
  * Without a baseline the left panel says so and only this scan is drawn:
  * the archive keeps the same set of files for every scan. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -73,29 +75,40 @@ static void panel_title(struct uwb_canvas *c, const struct uwb_plot *p, const ch
     uwb_draw_text(c, p->x + (p->w - w) / 2, p->y - 10 - UWB_FONT_CAP_HEIGHT * s, title, s, colour);
 }
 
-/* The face profile of one image as a curve in the profile panel. */
-static void draw_profile(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *img,
-                         double face_z, enum uwb_edge_kind kind)
+int uwb_comparison_profile_polyline(const struct uwb_plot *p, const struct uwb_face_profile *profile, int *xs, int *ys)
 {
-    double half = fmax(0.005, 1.5 * img->dz_m);
-    double *profile = malloc(sizeof *profile * (size_t)img->ny);
-    int *xs = malloc(sizeof *xs * (size_t)img->ny), *ys = malloc(sizeof *ys * (size_t)img->ny);
-    if (profile && xs && ys && uwb_face_profile(img, face_z, half, profile) == 0) {
-        int n = 0;
-        for (int iy = 0; iy < img->ny; iy++) {
-            double y = img->y0_m + iy * img->dy_m;
-            if (y < p->y_min || y > p->y_max)
-                continue;
-            xs[n] = uwb_plot_col(p, profile[iy]);
-            ys[n] = uwb_plot_row(p, y);
-            n++;
-        }
-        if (kind == UWB_EDGE_BASELINE)
-            uwb_canvas_polyline(c, xs, ys, n, UWB_RGB_BASELINE_EDGE, 2, 7, 5);
-        else
-            uwb_canvas_polyline(c, xs, ys, n, UWB_RGB_CURRENT_EDGE, 2, 0, 0);
+    if (!profile || !profile->value || profile->n < 2)
+        return 0;
+    double peak = 0.0;
+    for (int i = 0; i < profile->n; i++)
+        if (isfinite(profile->value[i]) && profile->value[i] > peak)
+            peak = profile->value[i];
+    if (!(peak > 0.0))
+        return 0;
+    int n = 0;
+    for (int i = 0; i < profile->n; i++) {
+        double y = profile->y0_m + i * profile->dy_m, v = profile->value[i];
+        if (y < p->y_min || y > p->y_max)
+            continue;
+        xs[n] = uwb_plot_col(p, isfinite(v) && v > 0.0 ? v / peak : 0.0);
+        ys[n] = uwb_plot_row(p, y);
+        n++;
     }
-    free(profile);
+    return n;
+}
+
+/* The face profile the edges were read from, as a curve in the profile panel. */
+static void draw_profile(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_face_profile *profile,
+                         enum uwb_edge_kind kind)
+{
+    if (!profile || profile->n < 2)
+        return;
+    int *xs = malloc(sizeof *xs * (size_t)profile->n), *ys = malloc(sizeof *ys * (size_t)profile->n);
+    int n = xs && ys ? uwb_comparison_profile_polyline(p, profile, xs, ys) : 0;
+    if (kind == UWB_EDGE_BASELINE)
+        uwb_canvas_polyline(c, xs, ys, n, UWB_RGB_BASELINE_EDGE, 2, 7, 5);
+    else
+        uwb_canvas_polyline(c, xs, ys, n, UWB_RGB_CURRENT_EDGE, 2, 0, 0);
     free(xs);
     free(ys);
 }
@@ -124,11 +137,13 @@ static void draw_shift_arrow(struct uwb_canvas *c, const struct uwb_plot *p, con
     uwb_draw_text(c, tx, ty, text, s, UWB_RGB_CURRENT_EDGE);
 }
 
-void render_comparison_layout(const struct uwb_image *current, const struct uwb_image *baseline,
+void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const struct uwb_analysis *baseline_scan,
                               const struct uwb_verdict *v, const struct uwb_render_options *opt,
                               struct uwb_plot *base_panel, struct uwb_plot *current_panel,
                               struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w)
 {
+    const struct uwb_image *current = &current_scan->intensity;
+    const struct uwb_image *baseline = baseline_scan ? &baseline_scan->intensity : NULL;
     struct uwb_render_options o;
     uwb_render_options_sane(opt, &o);
     struct comparison_layout L;
@@ -167,16 +182,22 @@ void render_comparison_layout(const struct uwb_image *current, const struct uwb_
     *colorbar_w = L.bar_w;
 }
 
-int render_comparison_png(const char *path, const struct uwb_image *current, const struct uwb_image *baseline,
+int uwb_render_comparison_png(const char *path, const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                           const struct uwb_verdict *v, char *err, size_t errlen)
 {
-    return render_comparison_png_opt(path, current, baseline, v, NULL, err, errlen);
+    return uwb_render_comparison_png_opt(path, current, baseline, v, NULL, err, errlen);
 }
 
-int render_comparison_png_opt(const char *path, const struct uwb_image *current,
-                              const struct uwb_image *baseline, const struct uwb_verdict *v,
+int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *current_scan,
+                              const struct uwb_analysis *baseline_scan, const struct uwb_verdict *v,
                               const struct uwb_render_options *opt, char *err, size_t errlen)
 {
+    if (!current_scan) {
+        snprintf(err, errlen, "%s: no analysis to draw", path ? path : "comparison image");
+        return -1;
+    }
+    const struct uwb_image *current = &current_scan->intensity;
+    const struct uwb_image *baseline = baseline_scan ? &baseline_scan->intensity : NULL;
     if (!path || !*path) {
         snprintf(err, errlen, "comparison image: no output path");
         return -1;
@@ -193,10 +214,9 @@ int render_comparison_png_opt(const char *path, const struct uwb_image *current,
     if (uwb_canvas_init(&c, o.width, o.height, page, err, errlen) != 0)
         return -1;
     struct comparison_layout L;
-    render_comparison_layout(current, baseline, v, &o, &L.base, &L.cur, &L.prof, &L.bar_x, &L.bar_w);
+    uwb_render_comparison_layout(current_scan, baseline_scan, v, &o, &L.base, &L.cur, &L.prof, &L.bar_x, &L.bar_w);
     const struct uwb_edges *ec = v && v->current.found ? &v->current : NULL;
     const struct uwb_edges *eb = v && v->has_baseline && v->baseline.found ? &v->baseline : NULL;
-    double zc = 0.5 * (L.cur.x_min + L.cur.x_max);
 
     uwb_draw_caption(&c, "uwbd comparison - baseline vs this scan", v, s);
 
@@ -224,9 +244,9 @@ int render_comparison_png_opt(const char *path, const struct uwb_image *current,
     uwb_canvas_fill_rect(&c, L.prof.x, L.prof.y, L.prof.w, L.prof.h, profile_background);
     int half_col = uwb_plot_col(&L.prof, 0.5);
     uwb_canvas_line(&c, half_col, L.prof.y, half_col, L.prof.y + L.prof.h - 1, profile_grid, 1, 2, 3);
-    if (baseline)
-        draw_profile(&c, &L.prof, baseline, eb ? eb->face_z_m : zc, UWB_EDGE_BASELINE);
-    draw_profile(&c, &L.prof, current, ec ? ec->face_z_m : zc, UWB_EDGE_CURRENT);
+    if (baseline_scan)
+        draw_profile(&c, &L.prof, &baseline_scan->profile, UWB_EDGE_BASELINE);
+    draw_profile(&c, &L.prof, &current_scan->profile, UWB_EDGE_CURRENT);
     if (eb)
         uwb_draw_edges(&c, &L.prof, eb, UWB_EDGE_BASELINE, 0.0, L.prof.x_max, NAN, 0, s);
     if (ec)

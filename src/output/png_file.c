@@ -1,6 +1,6 @@
 /* Canvas -> PNG file through libpng, written into an atomic_file so a
  * reader never sees half an image and a failure leaves the old file. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 #include "uwb/atomic_file.h"
 
 #include <errno.h>
@@ -106,7 +106,7 @@ int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
         return -1;
     }
     struct atomic_file af;
-    if (atomic_file_open(&af, path, err, errlen) != 0) {
+    if (uwb_atomic_file_open(&af, path, err, errlen) != 0) {
         name_path_in_error(path, err, errlen);
         return -1;
     }
@@ -115,14 +115,14 @@ int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
         /* libpng says only "Write Error" when the file refused the bytes:
          * name the system's reason (a full or read-only disk) instead. */
         int write_failed = ferror(af.fp) && failure.write_errno != 0;
-        atomic_file_abort(&af);
+        uwb_atomic_file_abort(&af);
         if (write_failed)
             snprintf(err, errlen, "%s: cannot write temporary file: %s", path, strerror(failure.write_errno));
         else
             snprintf(err, errlen, "%s: PNG encoding failed: %s", path, failure.message);
         return -1;
     }
-    if (atomic_file_commit(&af, err, errlen) != 0) {
+    if (uwb_atomic_file_commit(&af, err, errlen) != 0) {
         name_path_in_error(path, err, errlen);
         return -1;
     }

@@ -5,7 +5,7 @@
  * Each glyph is 9 rows of 5 columns, '#' = ink; rows 0..6 stand on the
  * baseline (row 6 is its lowest row above it), rows 7..8 are descenders.
  * Missing trailing rows are blank. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <stddef.h>
 

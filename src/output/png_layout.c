@@ -1,7 +1,7 @@
 /* Page layout shared by the single-plot images (migrated image, B-scan):
  * caption on top, y axis labels and title left, colour bar right, x axis
  * labels, title and legend below. Margins follow the font scale. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 void uwb_layout_single_plot(int width, int height, int s, int caption_height, struct uwb_plot *plot,
                             int *colorbar_x, int *colorbar_w)

@@ -1,7 +1,7 @@
 /* The migrated image as an engineer reads it: envelope in dB re its peak
  * (perceptual map, colour bar), height y up the page as in the tank, range
  * z across, both in mm; this scan's edges solid, the baseline's dashed. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <stdio.h>
 
@@ -11,7 +11,7 @@ static const struct uwb_rgb page = { 255, 255, 255 };
  * long enough to catch the eye, short enough not to hide the face region. */
 #define FACE_REGION_FRACTION 0.12
 
-void render_migrated_layout(const struct uwb_image *intensity, const struct uwb_verdict *v,
+void uwb_render_migrated_layout(const struct uwb_image *intensity, const struct uwb_verdict *v,
                             const struct uwb_render_options *opt, struct uwb_plot *plot,
                             int *colorbar_x, int *colorbar_w)
 {
@@ -25,13 +25,13 @@ void render_migrated_layout(const struct uwb_image *intensity, const struct uwb_
     plot->y_max = intensity->y0_m + (intensity->ny - 1) * intensity->dy_m;
 }
 
-int render_migrated_png(const char *path, const struct uwb_image *intensity, const struct uwb_verdict *v,
+int uwb_render_migrated_png(const char *path, const struct uwb_image *intensity, const struct uwb_verdict *v,
                         char *err, size_t errlen)
 {
-    return render_migrated_png_opt(path, intensity, v, NULL, err, errlen);
+    return uwb_render_migrated_png_opt(path, intensity, v, NULL, err, errlen);
 }
 
-int render_migrated_png_opt(const char *path, const struct uwb_image *intensity, const struct uwb_verdict *v,
+int uwb_render_migrated_png_opt(const char *path, const struct uwb_image *intensity, const struct uwb_verdict *v,
                             const struct uwb_render_options *opt, char *err, size_t errlen)
 {
     if (!path || !*path) {
@@ -49,7 +49,7 @@ int render_migrated_png_opt(const char *path, const struct uwb_image *intensity,
         return -1;
     struct uwb_plot plot;
     int bar_x, bar_w;
-    render_migrated_layout(intensity, v, &o, &plot, &bar_x, &bar_w);
+    uwb_render_migrated_layout(intensity, v, &o, &plot, &bar_x, &bar_w);
 
     char title[160];
     snprintf(title, sizeof title, "uwbd migrated image - envelope, dB re its peak");

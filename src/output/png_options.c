@@ -1,6 +1,6 @@
 /* Defaults for the images: a size that reads on a laptop screen and
  * prints on A4, the dB floors an engineer expects. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 void uwb_render_options_default(struct uwb_render_options *opt)
 {

@@ -3,7 +3,7 @@
  * they stay visible on any colour; a diamond at the centre (filled: this
  * scan, hollow: baseline); the edge heights written at the line ends; and
  * the legend that says which is which. */
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>

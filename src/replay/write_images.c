@@ -23,12 +23,11 @@ int uwb_write_images(const char *dir, const char *stem, const struct uwb_scan *c
             continue;
         int rc;
         if (i == 0)
-            rc = render_migrated_png(path, &cur_a->intensity, v, err, errlen);
+            rc = uwb_render_migrated_png(path, &cur_a->intensity, v, err, errlen);
         else if (i == 1)
-            rc = render_bscan_png(path, current, v, err, errlen);
+            rc = uwb_render_bscan_png(path, current, v, err, errlen);
         else
-            rc = render_comparison_png(path, &cur_a->intensity,
-                                       base_a && base_a->intensity.pix ? &base_a->intensity : NULL,
+            rc = uwb_render_comparison_png(path, cur_a, base_a && base_a->intensity.pix ? base_a : NULL,
                                        v, err, errlen);
         if (rc != 0)
             return -1;

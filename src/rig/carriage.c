@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "uwb/carriage.h"
+#include "rig/carriage.h"
 
 /* How many readings make up one debounce window. */
 #define DEBOUNCE_SAMPLES 4

@@ -5,7 +5,7 @@
 #include <math.h>
 #include <time.h>
 
-#include "uwb/carriage.h"
+#include "rig/carriage.h"
 
 void uwb_pacer_start(struct uwb_pacer *p, double time_scale)
 {

@@ -2,7 +2,7 @@
  * trapezoidal move happens, and how a target is approached from below. */
 #include <math.h>
 
-#include "uwb/carriage.h"
+#include "rig/carriage.h"
 
 void uwb_ramp_init(struct uwb_ramp *r, long steps, double max_hz, double accel)
 {

@@ -10,7 +10,7 @@
 #include <syslog.h>
 #include <time.h>
 
-#include "uwb/carriage.h"
+#include "rig/carriage.h"
 #include "uwb/digitiser.h"
 #include "uwb/rig.h"
 

@@ -1,43 +1,52 @@
-/* The rig's configuration: defaults that match the emulated board's
- * defaults (so `uwbemu` + defaults scans out of the box), and the checks
- * that keep a bad value from ever reaching the hardware. */
+/* The rig's configuration: defaults and the checks that keep a bad value
+ * from ever reaching the hardware. Every single-key limit and default comes
+ * from the configuration key table (src/daemon/config_keys.c), the one the
+ * loader, `uwbd --config-keys` and the manual pages use; what is left here
+ * is what involves several fields or the hardware's own rules. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "uwb/carriage.h"
+#include "daemon/config_keys.h"
+#include "rig/carriage.h"
 #include "uwb/frame.h"
 #include "uwb/rig.h"
 #include "uwb/scan.h"
+
+/* The table's default for every key that has one. */
+static void table_defaults(struct uwb_rig_config *cfg)
+{
+    for (size_t i = 0; i < uwbd_config_key_total; i++) {
+        const struct config_key *k = &uwbd_config_keys[i];
+        size_t at, flag_at;
+        if (k->required || !uwbd_config_key_in_rig(k, &at, &flag_at))
+            continue;
+        char *p = (char *)cfg + at;
+        if (k->type == KEY_NUMBER)
+            *(double *)p = k->default_number * k->scale;
+        else if (k->type == KEY_INT || k->type == KEY_BOOL)
+            *(int *)p = (int)k->default_number;
+    }
+}
 
 void uwb_rig_config_defaults(struct uwb_rig_config *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     uwb_gpio_config_defaults(&cfg->gpio);
+    table_defaults(cfg);
 
+    /* Keys the table requires have no default there; these match the
+     * emulated board's (so `uwbemu` + defaults scans out of the box). */
     struct uwb_digitiser_config *d = &cfg->digitiser;
     d->samples = 2048;
     d->sample_interval_s = 1e-11;
-    d->t0_s = -1e-9;
-    d->stack = UWB_DEFAULT_STACK;
-    d->frame_timeout_ms = 1000;
-    d->frame_retries = 3;
 
     /* A T8x2 lead screw (2 mm per turn, self-locking), 200-step motor at
      * full step: board/raspberry-pi-4/pinmap.md. */
     struct uwb_carriage_config *c = &cfg->carriage;
     c->steps_per_mm = 100;
-    c->max_rate_hz = 4000;
-    c->accel_hz_per_s = 8000;
     c->travel_mm = 650;
-    c->park_mm = 5;
-    c->backlash_mm = 0.5;
-    c->settle_ms = 50;
-    c->home_timeout_s = 60;
-    c->home_debounce_ms = 5;
     c->home_offset_mm = -20;
-    c->home_rate_hz = 1500;
-    c->home_backoff_mm = 5;
 
     cfg->positions = 21;
     cfg->first_position_mm = 0;
@@ -45,8 +54,41 @@ void uwb_rig_config_defaults(struct uwb_rig_config *cfg)
     cfg->tx_m[0] = -0.02;
     cfg->rx_m[0] = 0.02;
     cfg->eps_r = 2.2;
-    cfg->trigger_pulse_us = 10;
-    cfg->time_scale = 1;
+}
+
+/* Every number the table gives a range, read back into the key's unit. */
+static int check_table_ranges(const struct uwb_rig_config *cfg, char *err, size_t errlen)
+{
+    for (size_t i = 0; i < uwbd_config_key_total; i++) {
+        const struct config_key *k = &uwbd_config_keys[i];
+        size_t at, flag_at;
+        if (!uwbd_config_key_in_rig(k, &at, &flag_at))
+            continue;
+        const char *p = (const char *)cfg + at;
+        double values[2];
+        int n = 1;
+        if (k->type == KEY_INT) {
+            values[0] = *(const int *)p;
+        } else if (k->type == KEY_NUMBER) {
+            values[0] = *(const double *)p / k->scale;
+        } else if (k->type == KEY_PAIR) {
+            if (flag_at && !*(const int *)((const char *)cfg + flag_at))
+                continue;   /* an optional pair not given */
+            values[0] = ((const double *)p)[0] / k->scale;
+            values[1] = ((const double *)p)[1] / k->scale;
+            n = 2;
+        } else {
+            continue;
+        }
+        for (int j = 0; j < n; j++) {
+            char problem[160];
+            if (uwbd_config_key_check_range(k, values[j], problem, sizeof problem) != 0) {
+                snprintf(err, errlen, "rig config: key `%s`: %s", k->path, problem);
+                return UWB_RIG_ERR_CONFIG;
+            }
+        }
+    }
+    return UWB_RIG_OK;
 }
 
 static int bad(char *err, size_t errlen, const char *field, double value, const char *rule)
@@ -63,28 +105,11 @@ static int bad(char *err, size_t errlen, const char *field, double value, const 
 
 static int check_carriage(const struct uwb_carriage_config *c, char *err, size_t errlen)
 {
-    REQUIRE(isfinite(c->steps_per_mm) && c->steps_per_mm > 0 && c->steps_per_mm <= 1e5, "carriage.steps_per_mm",
-            c->steps_per_mm, "must be above 0 and at most 100000");
-    /* The STEP pulse and the gap after it must both fit one period. */
-    REQUIRE(c->max_rate_hz > 0 && c->max_rate_hz <= 0.5 / UWB_STEP_PULSE_S, "carriage.max_rate_hz", c->max_rate_hz,
-            "must be above 0 and at most 100000");
-    REQUIRE(c->accel_hz_per_s > 0 && isfinite(c->accel_hz_per_s), "carriage.accel_hz_per_s", c->accel_hz_per_s,
-            "must be above 0");
-    REQUIRE(c->travel_mm > 0 && isfinite(c->travel_mm), "carriage.travel_mm", c->travel_mm, "must be above 0");
-    REQUIRE(c->park_mm >= 0 && c->park_mm <= c->travel_mm, "carriage.park_mm", c->park_mm,
-            "must lie inside the travel (0..travel_mm)");
-    REQUIRE(c->backlash_mm >= 0 && c->backlash_mm < c->travel_mm, "carriage.backlash_mm", c->backlash_mm,
-            "must be 0 or more and less than the travel");
-    REQUIRE(c->settle_ms >= 0 && c->settle_ms <= 60000, "carriage.settle_ms", c->settle_ms, "must be 0..60000");
-    REQUIRE(c->home_timeout_s > 0 && c->home_timeout_s <= 3600, "carriage.home_timeout_s", c->home_timeout_s,
-            "must be above 0 and at most 3600");
-    REQUIRE(c->home_debounce_ms >= 0 && c->home_debounce_ms <= 1000, "carriage.home_debounce_ms",
-            c->home_debounce_ms, "must be 0..1000");
-    REQUIRE(isfinite(c->home_offset_mm), "carriage.home_offset_mm", c->home_offset_mm, "must be a number");
-    REQUIRE(c->home_rate_hz > 0 && c->home_rate_hz <= c->max_rate_hz, "carriage.home_rate_hz", c->home_rate_hz,
-            "must be above 0 and at most max_rate_hz");
-    REQUIRE(c->home_backoff_mm > 0 && c->home_backoff_mm <= c->travel_mm, "carriage.home_backoff_mm",
-            c->home_backoff_mm, "must be above 0 and at most the travel");
+    REQUIRE(c->park_mm <= c->travel_mm, "carriage.park_mm", c->park_mm, "must lie inside the travel (0..travel_mm)");
+    REQUIRE(c->backlash_mm < c->travel_mm, "carriage.backlash_mm", c->backlash_mm, "must be less than the travel");
+    REQUIRE(c->home_rate_hz <= c->max_rate_hz, "carriage.home_rate_hz", c->home_rate_hz, "must be at most max_rate_hz");
+    REQUIRE(c->home_backoff_mm <= c->travel_mm, "carriage.home_backoff_mm", c->home_backoff_mm,
+            "must be at most the travel");
     return UWB_RIG_OK;
 }
 
@@ -96,16 +121,6 @@ static int check_digitiser(const struct uwb_digitiser_config *d, char *err, size
         snprintf(err, errlen, "rig config: digitiser.endpoint: %s", why);
         return UWB_RIG_ERR_CONFIG;
     }
-    REQUIRE(d->samples >= 1 && d->samples <= UWB_FRAME_MAX_SAMPLES, "digitiser.samples", d->samples,
-            "must be 1..65536");
-    REQUIRE(d->sample_interval_s > 0 && d->sample_interval_s < 1e-3, "digitiser.sample_interval_s",
-            d->sample_interval_s, "must be above 0 and below 1 ms");
-    REQUIRE(isfinite(d->t0_s), "digitiser.t0_s", d->t0_s, "must be a number");
-    REQUIRE(d->stack >= 1 && d->stack <= 65536, "digitiser.stack", d->stack, "must be 1..65536");
-    REQUIRE(d->frame_timeout_ms >= 1 && d->frame_timeout_ms <= 600000, "digitiser.frame_timeout_ms",
-            d->frame_timeout_ms, "must be 1..600000");
-    REQUIRE(d->frame_retries >= 0 && d->frame_retries <= 100, "digitiser.frame_retries", d->frame_retries,
-            "must be 0..100");
     return UWB_RIG_OK;
 }
 
@@ -148,16 +163,13 @@ int uwb_rig_config_check(const struct uwb_rig_config *cfg, char *err, size_t err
 {
     int rc = check_gpio(&cfg->gpio, err, errlen);
     if (rc == UWB_RIG_OK)
+        rc = check_table_ranges(cfg, err, errlen);
+    if (rc == UWB_RIG_OK)
         rc = check_digitiser(&cfg->digitiser, err, errlen);
     if (rc == UWB_RIG_OK)
         rc = check_carriage(&cfg->carriage, err, errlen);
     if (rc != UWB_RIG_OK)
         return rc;
-    REQUIRE(cfg->positions >= 1 && cfg->positions <= UWBSCAN_MAX_POSITIONS, "positions", cfg->positions,
-            "must be 1..4096");
-    REQUIRE(isfinite(cfg->first_position_mm), "first_position_mm", cfg->first_position_mm, "must be a number");
-    REQUIRE(isfinite(cfg->step_mm) && (cfg->step_mm != 0 || cfg->positions == 1), "step_mm", cfg->step_mm,
-            "must be a number, not 0 with more than one position");
     /* Every position, backlash overshoot included, must stay above home and
      * inside the travel. */
     const struct uwb_carriage_config *c = &cfg->carriage;
@@ -172,16 +184,8 @@ int uwb_rig_config_check(const struct uwb_rig_config *cfg, char *err, size_t err
             return UWB_RIG_ERR_CONFIG;
         }
     }
-    REQUIRE(cfg->eps_r >= 1 && cfg->eps_r <= 100, "eps_r", cfg->eps_r, "must be 1..100");
-    for (int i = 0; i < 2; i++) {
-        REQUIRE(isfinite(cfg->tx_m[i]) && fabs(cfg->tx_m[i]) <= 1, "tx_m", cfg->tx_m[i], "must be within 1 m");
-        REQUIRE(isfinite(cfg->rx_m[i]) && fabs(cfg->rx_m[i]) <= 1, "rx_m", cfg->rx_m[i], "must be within 1 m");
-    }
     if (cfg->has_target_z)
-        REQUIRE(cfg->target_z_m[0] >= 0 && cfg->target_z_m[1] > cfg->target_z_m[0], "target_z_m[1]",
-                cfg->target_z_m[1], "must be above target_z_m[0] >= 0");
-    REQUIRE(cfg->trigger_pulse_us > 0 && cfg->trigger_pulse_us <= 1e6, "trigger_pulse_us", cfg->trigger_pulse_us,
-            "must be above 0 and at most 1 s");
-    REQUIRE(cfg->time_scale >= 0 && cfg->time_scale <= 100, "time_scale", cfg->time_scale, "must be 0..100");
+        REQUIRE(cfg->target_z_m[0] >= 0 && cfg->target_z_m[1] > cfg->target_z_m[0], "geometry.target_z_mm",
+                cfg->target_z_m[1] * 1e3, "far must be above near");
     return UWB_RIG_OK;
 }

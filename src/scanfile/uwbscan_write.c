@@ -214,7 +214,7 @@ int uwbscan_write_file(const char *path, const struct uwb_scan *scan, char *err,
     if (header == NULL)
         return -1;
     struct atomic_file af;
-    if (atomic_file_open(&af, path, err, errlen) != 0) {
+    if (uwb_atomic_file_open(&af, path, err, errlen) != 0) {
         free(header);
         return -1;
     }
@@ -234,9 +234,9 @@ int uwbscan_write_file(const char *path, const struct uwb_scan *scan, char *err,
     }
     if (!ok) {
         int e = errno;
-        atomic_file_abort(&af);
+        uwb_atomic_file_abort(&af);
         uwbscan_fail(err, errlen, path, "cannot write temporary file: %s", strerror(e));
         return -1;
     }
-    return atomic_file_commit(&af, err, errlen);
+    return uwb_atomic_file_commit(&af, err, errlen);
 }

@@ -53,7 +53,7 @@ static void discard_temp(struct atomic_file *af)
     }
 }
 
-int atomic_file_open(struct atomic_file *af, const char *path, char *err, size_t errlen)
+int uwb_atomic_file_open(struct atomic_file *af, const char *path, char *err, size_t errlen)
 {
     memset(af, 0, sizeof *af);
     if (path == NULL || path[0] == '\0') {
@@ -107,7 +107,7 @@ int atomic_file_open(struct atomic_file *af, const char *path, char *err, size_t
     return 0;
 }
 
-int atomic_file_commit(struct atomic_file *af, char *err, size_t errlen)
+int uwb_atomic_file_commit(struct atomic_file *af, char *err, size_t errlen)
 {
     if (af->fp == NULL || af->temp_path[0] == '\0') {
         set_error(err, errlen, "%s: nothing to commit (not open)",
@@ -167,26 +167,26 @@ int atomic_file_commit(struct atomic_file *af, char *err, size_t errlen)
     return 0;
 }
 
-void atomic_file_abort(struct atomic_file *af)
+void uwb_atomic_file_abort(struct atomic_file *af)
 {
     discard_temp(af);
 }
 
-int atomic_write_file(const char *path, const void *data, size_t len, char *err, size_t errlen)
+int uwb_atomic_write_file(const char *path, const void *data, size_t len, char *err, size_t errlen)
 {
     struct atomic_file af;
-    if (atomic_file_open(&af, path, err, errlen) != 0)
+    if (uwb_atomic_file_open(&af, path, err, errlen) != 0)
         return -1;
     if (len > 0 && fwrite(data, 1, len, af.fp) != len) {
         int e = errno;
-        atomic_file_abort(&af);
+        uwb_atomic_file_abort(&af);
         set_error(err, errlen, "%s: cannot write temporary file: %s", path, strerror(e));
         return -1;
     }
-    return atomic_file_commit(&af, err, errlen);
+    return uwb_atomic_file_commit(&af, err, errlen);
 }
 
-int atomic_file_is_temporary_name(const char *name)
+int uwb_atomic_file_is_temporary_name(const char *name)
 {
     size_t n = strlen(name), pre = strlen(ATOMIC_FILE_TEMP_PREFIX), suf = strlen(ATOMIC_FILE_TEMP_SUFFIX);
     /* prefix, at least one byte of name, '.', six random characters, suffix */

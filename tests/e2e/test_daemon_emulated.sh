@@ -86,13 +86,14 @@ wait_for test -S run/console.sock || fail "console listener did not come up"
 group_flag=()
 if [[ $(id -u) == 0 ]]; then group_flag=(--set control.group='"nogroup"'); fi
 ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" "${group_flag[@]}" --console unix:run/console.sock -v \
-    > uwbd.log 2>&1 &
+    --set site.phase='"B"' --set site.label='"Hillside GT2, north window"' > uwbd.log 2>&1 &
 daemon_pid=$!
 pids+=($daemon_pid)
 wait_for ctl status || fail "uwbd does not answer on its control socket"
 [[ $(stat -c %a run/control.sock) == 660 ]] || fail "control socket mode $(stat -c %a run/control.sock), want 660"
 ctl status > status0.json
-json_check status0.json 'class == STATUS' 'state == idle' 'baseline absent' || fail "first status: $(cat status0.json)"
+json_check status0.json 'class == STATUS' 'state == idle' 'baseline absent' 'site.phase == B' \
+    'site.label == Hillside GT2, north window' || fail "first status: $(cat status0.json)"
 pass "daemon up: control socket mode 0660, STATUS idle, no baseline"
 
 # A second daemon stops before it touches the state or the hardware.
@@ -156,6 +157,21 @@ pass "archive, verdicts.jsonl, latest.json and baseline files present and valid"
 ctl history 5 > history.json
 json_check history.json 'class == HISTORY' 'count = 2' 'verdicts len 2' 'verdicts.0.status == edges' \
     'verdicts.1.status == alarm' || fail "history: $(cat history.json)"
+# The trend: the same two verdicts as a series, and trend.png rewritten
+# after each (its Description chunk is plain text in the file).
+ctl trend 5 > trend.json || fail "trend: $(cat trend.json)"
+json_check trend.json 'class == TREND' 'count = 2' 'verdicts.0.status == edges' 'verdicts.0.baseline_set = true' \
+    'verdicts.1.status == alarm' "verdicts.1.axial_displacement_mm = $shift_mm" "verdicts.1.uncertainty_mm = $uncertainty_mm" \
+    'thresholds.alarm_mm exists' "image == $(cd $state && pwd)/trend.png" || fail "trend: $(cat trend.json)"
+ctl --text trend 5 > trend.txt || fail "uwbd ctl --text trend"
+grep -q "ALARM  *$(printf '%+.2f' "$shift_mm") ± $(printf '%.2f' "$uncertainty_mm") mm" trend.txt &&
+    grep -q 'EDGES  *no figure' trend.txt && grep -q "^image: /.*/trend.png$" trend.txt ||
+    fail "uwbd ctl --text trend: $(cat trend.txt)"
+[[ $(head -c 8 $state/trend.png | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] || fail "trend.png is not a PNG"
+grep -aq '2 verdicts: 1 with a figure, 0 inconclusive, 0 error, 1 edges only' $state/trend.png ||
+    fail "trend.png does not describe the two verdicts"
+grep -aq 'phase B, Hillside GT2, north window' $state/trend.png || fail "trend.png does not name the site"
+pass "trend: JSON and --text from verdicts.jsonl; trend.png rewritten after the scan"
 ctl verdict > verdict.json
 json_check verdict.json '. same scan2.json' || fail "verdict is not the latest scan's"
 ctl --text verdict > verdict.txt || fail "uwbd ctl --text verdict"

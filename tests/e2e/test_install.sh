@@ -61,4 +61,24 @@ if [[ -e $root/usr/share/uwbd/emulated/uwbd.json && ! -e $root/usr/bin/uwbemu ]]
     fail "the emulated sample config is installed without uwbemu"
 fi
 pass "no paths outside the repository; no emulated sample without uwbemu"
+
+# The clock: the unit pulls in systemd-time-wait-sync (off by default) and
+# starts after it and time-sync.target; the drop-in installed with it bounds
+# that wait, which is otherwise infinite, so a site without NTP is watched.
+unit=$root/usr/lib/systemd/system/uwbd.service
+dropin=$root/usr/lib/systemd/system/systemd-time-wait-sync.service.d/uwbd.conf
+grep -qx 'Wants=systemd-time-wait-sync.service' "$unit" || fail "the unit does not pull in systemd-time-wait-sync"
+after=$(sed -n 's/^After=//p' "$unit" | tr ' ' '\n')
+grep -qx 'time-sync.target' <<< "$after" && grep -qx 'systemd-time-wait-sync.service' <<< "$after" ||
+    fail "the unit is not ordered after time-sync.target and systemd-time-wait-sync: After=$after"
+[[ -f $dropin ]] || fail "not installed: the drop-in ${dropin#"$root"}"
+# The key in its [Service] section, its value a finite time span.
+timeout=$(awk '/^\[/ { section = $0 } section == "[Service]" && sub(/^TimeoutStartSec=/, "") { print }' "$dropin")
+[[ -n $timeout && $timeout != infinity ]] || fail "the drop-in sets no finite TimeoutStartSec in [Service]: '$timeout'"
+if command -v systemd-analyze > /dev/null; then
+    us=$(systemd-analyze timespan "$timeout" | sed -n 's/^ *μs: *//p')
+    [[ $us =~ ^[0-9]+$ ]] && (( us >= 60000000 && us <= 3600000000 )) ||
+        fail "TimeoutStartSec=$timeout is not between 1 min and 1 h (systemd-analyze: '$us' us)"
+fi
+pass "the unit waits for the clock: Wants=systemd-time-wait-sync, bounded to $timeout by its drop-in"
 echo "$passed passed"

@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "fuzz_harness.h"
-#include "uwb/daemon/command.h"
-#include "uwb/daemon/line_buffer.h"
+#include "daemon/command.h"
+#include "daemon/line_buffer.h"
 
 static const size_t read_sizes[] = {5, 1, 64, 13, 200};
 
@@ -30,6 +30,8 @@ static int parse_line(const char *line, size_t len, int *accepted, char *why, si
             return fuzz_broken(why, whylen, "command of kind %d", (int)cmd.kind);
         if (cmd.kind == UWB_COMMAND_HISTORY && (cmd.count < 1 || cmd.count > UWB_HISTORY_MAX))
             return fuzz_broken(why, whylen, "history of %d", cmd.count);
+        if (cmd.kind == UWB_COMMAND_TREND && (cmd.count < 1 || cmd.count > UWB_HISTORY_MAX))
+            return fuzz_broken(why, whylen, "trend of %d", cmd.count);
         if (!strcmp(uwb_command_name(cmd.kind), "?"))
             return fuzz_broken(why, whylen, "command without a name");
         ++*accepted;

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "fuzz_harness.h"
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 #include "uwb/frame.h"
 
 #define NAME "fuzz.json"

@@ -1,8 +1,9 @@
 /* Fuzzing what `uwbd ctl` makes of the daemon's reply line: the --text
- * rendering (uwbd_verdict_text), which reads a VERDICT's fields (issue 17).
+ * renderings (uwbd_verdict_text, uwbd_trend_text), which read a VERDICT's
+ * or a TREND's fields (issues 17, 19).
  *
- * Contract: a VERDICT object is printed as text (0), anything else is
- * refused (-1) with nothing printed. */
+ * Contract, for each: its class of object is printed as text (0),
+ * anything else is refused (-1) with nothing printed. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,22 +11,15 @@
 #include "fuzz_harness.h"
 #include "uwb/cli.h"
 
-int fuzz_ctl_reply_input(const uint8_t *data, size_t size, char *why, size_t whylen)
+static int render(int (*as_text)(const char *, FILE *), const char *line, const char *kind, char *why,
+                  size_t whylen)
 {
-    why[0] = '\0';
-    char *line = malloc(size + 1);
-    if (!line)
-        return fuzz_broken(why, whylen, "out of memory");
-    memcpy(line, data, size);
-    line[size] = '\0';
     char *text = NULL;
     size_t len = 0;
     FILE *out = open_memstream(&text, &len);
-    if (!out) {
-        free(line);
+    if (!out)
         return fuzz_broken(why, whylen, "open_memstream failed");
-    }
-    int rc = uwbd_verdict_text(line, out);
+    int rc = as_text(line, out);
     fclose(out);
     int outcome = FUZZ_ACCEPTED;
     if (rc != 0 && rc != -1)
@@ -35,12 +29,32 @@ int fuzz_ctl_reply_input(const uint8_t *data, size_t size, char *why, size_t why
     else if (rc == 0 && len == 0)
         outcome = fuzz_broken(why, whylen, "accepted, printed nothing");
     else if (rc == -1) {
-        snprintf(why, whylen, "not a VERDICT reply");
+        snprintf(why, whylen, "not a %s reply", kind);
         outcome = FUZZ_REJECTED;
     }
     free(text);
-    free(line);
     return outcome;
+}
+
+int fuzz_ctl_reply_input(const uint8_t *data, size_t size, char *why, size_t whylen)
+{
+    why[0] = '\0';
+    char *line = malloc(size + 1);
+    if (!line)
+        return fuzz_broken(why, whylen, "out of memory");
+    memcpy(line, data, size);
+    line[size] = '\0';
+    int verdict = render(uwbd_verdict_text, line, "VERDICT", why, whylen);
+    int trend = verdict == FUZZ_BROKEN ? verdict : render(uwbd_trend_text, line, "TREND", why, whylen);
+    free(line);
+    if (verdict == FUZZ_BROKEN || trend == FUZZ_BROKEN)
+        return FUZZ_BROKEN;
+    if (verdict == FUZZ_ACCEPTED || trend == FUZZ_ACCEPTED) {
+        why[0] = '\0';
+        return FUZZ_ACCEPTED;
+    }
+    snprintf(why, whylen, "neither a VERDICT nor a TREND reply");
+    return FUZZ_REJECTED;
 }
 
 UWB_FUZZ_TARGET(fuzz_ctl_reply_input)

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "fuzz_harness.h"
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 
 static const char sample[] =
     "{\"state_dir\": \"run/state\", \"control\": {\"socket\": \"run/control.sock\"},"

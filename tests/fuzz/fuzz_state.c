@@ -17,10 +17,10 @@
 #include <unistd.h>
 
 #include "fuzz_harness.h"
-#include "uwb/daemon/baseline_store.h"
-#include "uwb/daemon/log.h"
-#include "uwb/daemon/store.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/baseline_store.h"
+#include "daemon/log.h"
+#include "daemon/store.h"
+#include "daemon/verdict_log.h"
 #include "uwb/scan.h"
 
 static char root[64];

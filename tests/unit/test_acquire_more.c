@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "uwb/compare.h"
-#include "uwb/daemon/acquire_more.h"
+#include "daemon/acquire_more.h"
 
 static char err[512];
 

@@ -2,7 +2,7 @@
  * contact), without lines. */
 #include "unity.h"
 
-#include "uwb/daemon/alarm_contacts.h"
+#include "integrations/alarm_contacts.h"
 
 void setUp(void) {}
 void tearDown(void) {}

@@ -85,7 +85,7 @@ static void test_creates_new_file(void)
 {
     char path[256];
     in_tmp(path, sizeof path, "new.json");
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, atomic_write_file(path, "{\"a\":1}\n", 8, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_atomic_write_file(path, "{\"a\":1}\n", 8, err, sizeof err), err);
     TEST_ASSERT_EQUAL_STRING("{\"a\":1}\n", read_plain(path));
     TEST_ASSERT_EQUAL_STRING("new.json", listing(tmpdir));
     struct stat st;
@@ -99,7 +99,7 @@ static void test_replaces_existing_file_and_keeps_its_mode(void)
     in_tmp(path, sizeof path, "verdict.json");
     write_plain(path, "old content that is longer than the new one");
     TEST_ASSERT_EQUAL_INT(0, chmod(path, 0640));
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, atomic_write_file(path, "new", 3, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_atomic_write_file(path, "new", 3, err, sizeof err), err);
     TEST_ASSERT_EQUAL_STRING("new", read_plain(path));
     TEST_ASSERT_EQUAL_STRING("verdict.json", listing(tmpdir));
     struct stat st;
@@ -112,7 +112,7 @@ static void test_empty_content_gives_empty_file(void)
     char path[256];
     in_tmp(path, sizeof path, "empty");
     write_plain(path, "something");
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, atomic_write_file(path, NULL, 0, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_atomic_write_file(path, NULL, 0, err, sizeof err), err);
     struct stat st;
     TEST_ASSERT_EQUAL_INT(0, stat(path, &st));
     TEST_ASSERT_EQUAL_INT64(0, st.st_size);
@@ -124,25 +124,25 @@ static void test_temporary_is_a_hidden_sibling_until_commit(void)
     in_tmp(path, sizeof path, "scan.uwbscan");
     write_plain(path, "old");
     struct atomic_file af;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, atomic_file_open(&af, path, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_atomic_file_open(&af, path, err, sizeof err), err);
     char prefix[256];
     snprintf(prefix, sizeof prefix, "%s/" ATOMIC_FILE_TEMP_PREFIX "scan.uwbscan.", tmpdir);
     TEST_ASSERT_TRUE_MESSAGE(strncmp(af.temp_path, prefix, strlen(prefix)) == 0, af.temp_path);
     const char *temp_name = strrchr(af.temp_path, '/') + 1;
     /* A name only uwbd makes: the start-up cleanup removes nothing else. */
-    TEST_ASSERT_TRUE_MESSAGE(atomic_file_is_temporary_name(temp_name), temp_name);
-    TEST_ASSERT_FALSE(atomic_file_is_temporary_name(".scan.uwbscan.Ab12Cd"));
-    TEST_ASSERT_FALSE(atomic_file_is_temporary_name(".bashrc.backup"));
-    TEST_ASSERT_FALSE(atomic_file_is_temporary_name(ATOMIC_FILE_TEMP_PREFIX "x.Ab12C.part"));
+    TEST_ASSERT_TRUE_MESSAGE(uwb_atomic_file_is_temporary_name(temp_name), temp_name);
+    TEST_ASSERT_FALSE(uwb_atomic_file_is_temporary_name(".scan.uwbscan.Ab12Cd"));
+    TEST_ASSERT_FALSE(uwb_atomic_file_is_temporary_name(".bashrc.backup"));
+    TEST_ASSERT_FALSE(uwb_atomic_file_is_temporary_name(ATOMIC_FILE_TEMP_PREFIX "x.Ab12C.part"));
     TEST_ASSERT_EQUAL_STRING(path, af.final_path);
     fputs("new", af.fp);
     /* Before the commit, readers still see the old content. */
     TEST_ASSERT_EQUAL_STRING("old", read_plain(path));
     TEST_ASSERT_EQUAL_INT(0, access(af.temp_path, F_OK));
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, atomic_file_commit(&af, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_atomic_file_commit(&af, err, sizeof err), err);
     TEST_ASSERT_EQUAL_STRING("new", read_plain(path));
     TEST_ASSERT_EQUAL_STRING("scan.uwbscan", listing(tmpdir));
-    atomic_file_abort(&af); /* after a commit: does nothing, removes nothing */
+    uwb_atomic_file_abort(&af); /* after a commit: does nothing, removes nothing */
     TEST_ASSERT_EQUAL_STRING("new", read_plain(path));
 }
 
@@ -152,12 +152,12 @@ static void test_abort_discards_and_leaves_target(void)
     in_tmp(path, sizeof path, "kept.txt");
     write_plain(path, "precious");
     struct atomic_file af;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, atomic_file_open(&af, path, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_atomic_file_open(&af, path, err, sizeof err), err);
     fputs("half-written", af.fp);
-    atomic_file_abort(&af);
+    uwb_atomic_file_abort(&af);
     TEST_ASSERT_EQUAL_STRING("precious", read_plain(path));
     TEST_ASSERT_EQUAL_STRING("kept.txt", listing(tmpdir));
-    atomic_file_abort(&af); /* twice is harmless */
+    uwb_atomic_file_abort(&af); /* twice is harmless */
 }
 
 static void test_failed_commit_keeps_old_target_and_removes_temp(void)
@@ -169,7 +169,7 @@ static void test_failed_commit_keeps_old_target_and_removes_temp(void)
     snprintf(inner, sizeof inner, "%s/inside.txt", path);
     write_plain(inner, "old content");
 
-    TEST_ASSERT_EQUAL_INT(-1, atomic_write_file(path, "new", 3, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_atomic_write_file(path, "new", 3, err, sizeof err));
     char expected[512];
     snprintf(expected, sizeof expected, "%s: cannot replace with new file: %s", path,
              strerror(EISDIR));
@@ -186,10 +186,10 @@ static void test_commit_failure_after_writing_keeps_old_file(void)
     in_tmp(path, sizeof path, "data.bin");
     write_plain(path, "generation 1");
     struct atomic_file af;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, atomic_file_open(&af, path, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_atomic_file_open(&af, path, err, sizeof err), err);
     fputs("generation 2", af.fp);
     TEST_ASSERT_EQUAL_INT(0, unlink(af.temp_path));
-    TEST_ASSERT_EQUAL_INT(-1, atomic_file_commit(&af, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_atomic_file_commit(&af, err, sizeof err));
     TEST_ASSERT_TRUE_MESSAGE(strncmp(err, path, strlen(path)) == 0, err);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, strerror(ENOENT)), err);
     TEST_ASSERT_EQUAL_STRING("generation 1", read_plain(path));
@@ -201,7 +201,7 @@ static void test_missing_parent_directory_is_reported(void)
 {
     char path[256];
     in_tmp(path, sizeof path, "no/such/dir/out.json");
-    TEST_ASSERT_EQUAL_INT(-1, atomic_write_file(path, "x", 1, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_atomic_write_file(path, "x", 1, err, sizeof err));
     char expected[512];
     snprintf(expected, sizeof expected, "%s: cannot create temporary file: %s", path,
              strerror(ENOENT));
@@ -212,20 +212,20 @@ static void test_missing_parent_directory_is_reported(void)
 static void test_rejects_paths_that_name_no_file(void)
 {
     struct atomic_file af;
-    TEST_ASSERT_EQUAL_INT(-1, atomic_file_open(&af, "", err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_atomic_file_open(&af, "", err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(err, "empty path"));
     char path[256];
     snprintf(path, sizeof path, "%s/", tmpdir);
-    TEST_ASSERT_EQUAL_INT(-1, atomic_file_open(&af, path, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_atomic_file_open(&af, path, err, sizeof err));
     char expected[512];
     snprintf(expected, sizeof expected, "%s: path names a directory, not a file", path);
     TEST_ASSERT_EQUAL_STRING(expected, err);
-    atomic_file_abort(&af); /* safe on a failed open */
+    uwb_atomic_file_abort(&af); /* safe on a failed open */
 
     char longpath[5000];
     memset(longpath, 'a', sizeof longpath - 1);
     longpath[sizeof longpath - 1] = '\0';
-    TEST_ASSERT_EQUAL_INT(-1, atomic_file_open(&af, longpath, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_atomic_file_open(&af, longpath, err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "path is too long"), err);
     TEST_ASSERT_EQUAL_STRING("", listing(tmpdir));
 }
@@ -236,11 +236,11 @@ static void test_bare_file_name_uses_current_directory(void)
     TEST_ASSERT_NOT_NULL(getcwd(cwd, sizeof cwd));
     TEST_ASSERT_EQUAL_INT(0, chdir(tmpdir));
     struct atomic_file af;
-    int rc = atomic_file_open(&af, "plain.txt", err, sizeof err);
+    int rc = uwb_atomic_file_open(&af, "plain.txt", err, sizeof err);
     int temp_is_local = rc == 0 && strncmp(af.temp_path, ATOMIC_FILE_TEMP_PREFIX "plain.txt.", strlen(ATOMIC_FILE_TEMP_PREFIX "plain.txt.")) == 0;
     if (rc == 0) {
         fputs("here", af.fp);
-        rc = atomic_file_commit(&af, err, sizeof err);
+        rc = uwb_atomic_file_commit(&af, err, sizeof err);
     }
     TEST_ASSERT_EQUAL_INT(0, chdir(cwd));
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, rc, err);

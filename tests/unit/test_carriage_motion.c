@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "unity.h"
-#include "uwb/carriage.h"
+#include "rig/carriage.h"
 #include "uwb/rig.h"
 
 void setUp(void) {}

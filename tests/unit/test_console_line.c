@@ -5,7 +5,7 @@
 
 #include <string.h>
 
-#include "uwb/daemon/console_line.h"
+#include "daemon/console_line.h"
 
 static struct uwbd_console_line cl;
 static char lines[8][UWB_COMMAND_MAX_LINE + 1];

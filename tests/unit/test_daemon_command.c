@@ -6,8 +6,8 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "uwb/daemon/command.h"
-#include "uwb/daemon/line_buffer.h"
+#include "daemon/command.h"
+#include "daemon/line_buffer.h"
 
 static struct uwb_command cmd;
 static char err[160];

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "scratch_support.h"
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 
 #define SAMPLE_EMULATED "board/emulated/uwbd.json"
 #define SAMPLE_RPI4 "board/raspberry-pi-4/uwbd.json"
@@ -303,6 +303,18 @@ static void test_config_md_documents_every_key(void)
     free(doc);
 }
 
+/* The display image's range: the analysis' default unless the key says otherwise. */
+static void test_display_half_range_key_sets_the_analysis_option(void)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("analysis.display_half_range_mm", NULL), err);
+    struct uwb_analysis_options defaults;
+    uwb_analysis_defaults(&defaults);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, defaults.display_half_range_m, cfg.evaluate.analysis.display_half_range_m);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("analysis.display_half_range_mm", "100"), err);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.1, cfg.evaluate.analysis.display_half_range_m);
+    assert_refused("analysis.display_half_range_mm", "5", "out of range");
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -320,5 +332,6 @@ int main(void)
     RUN_TEST(test_syntax_errors_name_the_place);
     RUN_TEST(test_overrides_are_checked_like_the_file);
     RUN_TEST(test_config_md_documents_every_key);
+    RUN_TEST(test_display_half_range_key_sets_the_analysis_option);
     return UNITY_END();
 }

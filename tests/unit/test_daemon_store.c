@@ -15,11 +15,12 @@
 
 #include "scratch_support.h"
 #include "uwb/atomic_file.h"
-#include "uwb/daemon/baseline_store.h"
+#include "daemon/baseline_store.h"
 #include "uwb/daemon/direct_coupling.h"
-#include "uwb/daemon/retention.h"
-#include "uwb/daemon/store.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/retention.h"
+#include "daemon/state_open.h"
+#include "daemon/store.h"
+#include "daemon/verdict_log.h"
 
 #define WINDOW_END_S 2e-9
 
@@ -176,7 +177,7 @@ static void test_torn_and_damaged_lines_are_tolerated_and_repaired(void)
     uwbd_verdict_lines_free(lines, count);
 
     int repairs = 0;
-    TEST_ASSERT_EQUAL_INT(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_state_open(&store, dir, &repairs, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(1, repairs);
     TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":5}", err, sizeof err));
     char *text = scratch_slurp(store.verdict_log, NULL);
@@ -518,7 +519,7 @@ static void test_verdict_log_and_latest_are_never_written_through_a_symlink(void
     TEST_ASSERT_EQUAL_INT(0, symlink(victim, p));
     TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_append(&store, "{\"scan_id\":\"a\"}", err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "is a symbolic link"), err);
-    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_open(&store, dir, NULL, err, sizeof err));   /* the repair refuses */
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_state_open(&store, dir, NULL, err, sizeof err));   /* the repair refuses */
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "verdicts.jsonl: cannot open: is a symbolic link"), err);
     size_t len = 0;
     char *text = scratch_slurp(victim, &len);

@@ -2,7 +2,7 @@
  * contact in, "scan now" out), without lines. */
 #include "unity.h"
 
-#include "uwb/daemon/event_trigger.h"
+#include "integrations/event_trigger.h"
 
 void setUp(void) {}
 void tearDown(void) {}

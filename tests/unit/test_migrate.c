@@ -99,7 +99,9 @@ static void test_fixed_point_matches_float_reference(void)
     struct uwb_condition_options copt;
     uwb_condition_defaults(&copt);
     char err[256];
-    TEST_ASSERT_EQUAL_INT(0, uwb_condition(&raw, &g, &copt, uwb_dominant_frequency(&raw), NULL, &s, err, sizeof err));
+    double dominant_hz;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_dominant_frequency(&raw, &dominant_hz, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(0, uwb_condition(&raw, &g, &copt, dominant_hz, NULL, &s, err, sizeof err));
     struct uwb_image ref, fixed;
     fixture_image_grid(&ref, 600, 400, 0.0, 0.001, 0.25, 0.001);
     fixture_image_grid(&fixed, 600, 400, 0.0, 0.001, 0.25, 0.001);

@@ -68,7 +68,7 @@ static int check_table_rows(const struct uwb_scan *s, const struct uwb_image *im
     uwb_geometry_from_scan(&g, s, 0.0);
     struct delay_table t;
     char err[256];
-    TEST_ASSERT_EQUAL_INT(0, delay_table_plan(&t, DELAY_FIXED, s, &g, img, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwb_delay_table_plan(&t, DELAY_FIXED, s, &g, img, err, sizeof err));
     TEST_ASSERT_TRUE(t.shared);
     double y_top = s->antenna_y_m[POSITIONS - 1];
     for (int r = 0; r < t.rows; r++) {
@@ -88,7 +88,7 @@ static int check_table_rows(const struct uwb_scan *s, const struct uwb_image *im
         }
     }
     int stored = t.stored_rows;
-    delay_table_free(&t);
+    uwb_delay_table_free(&t);
     return stored;
 }
 
@@ -141,7 +141,7 @@ static void test_weight_rounding_carries_into_the_index(void)
     fixture_image_grid(&img, 1, 401, 0.0, 0.001, z_exact - 200 * 2e-12, 2e-12);
     struct delay_table t;
     char err[256];
-    TEST_ASSERT_EQUAL_INT(0, delay_table_plan(&t, DELAY_FIXED, &s, &g, &img, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwb_delay_table_plan(&t, DELAY_FIXED, &s, &g, &img, err, sizeof err));
     int carried = 0;
     for (int iz = 0; iz < img.nz; iz++) {
         double d = delay_samples(&g, 0.0, img.z0_m + iz * img.dz_m);
@@ -153,7 +153,7 @@ static void test_weight_rounding_carries_into_the_index(void)
         }
     }
     TEST_ASSERT_TRUE_MESSAGE(carried > 0, "the grid did not reach a carrying fraction");
-    delay_table_free(&t);
+    uwb_delay_table_free(&t);
     uwb_image_free(&img);
     s.positions = POSITIONS;
     uwb_scan_free(&s);
@@ -169,7 +169,7 @@ static void test_simd_row_equals_portable_row(void)
     rng_state = 99u;
     for (int s = 0; s < SAMPLES; s++)
         trace[s] = s % 7 == 0 ? 1.0f : s % 7 == 1 ? -1.0f : random_unit();
-    migrate_fill_pairs(trace, SAMPLES, 32767.0f, pairs);
+    uwb_migrate_fill_pairs(trace, SAMPLES, 32767.0f, pairs);
     TEST_ASSERT_EQUAL_INT16(-32767, pairs[0]);      /* -q[0], q[0] = 32767 */
     TEST_ASSERT_EQUAL_INT16(-32767, pairs[1]);      /* q[1] = -32767 */
     TEST_ASSERT_EQUAL_INT16(0, pairs[2 * SAMPLES]); /* the pad */
@@ -184,13 +184,13 @@ static void test_simd_row_equals_portable_row(void)
         int32_t a[N], b[N];
         for (int i = 0; i < N; i++)
             a[i] = b[i] = (int32_t)(next_random() % 2001) - 1000;
-        migrate_row_fixed_portable(index, weight, pairs, a, n);
-        migrate_row_fixed_simd(index, weight, pairs, b, n);
+        uwb_migrate_row_fixed_portable(index, weight, pairs, a, n);
+        uwb_migrate_row_fixed_simd(index, weight, pairs, b, n);
         TEST_ASSERT_EQUAL_INT32_ARRAY(a, b, N);
     }
     /* And the portable loop is the interpolation it claims to be. */
     int32_t out[N] = {0};
-    migrate_row_fixed_portable(index, weight, pairs, out, N);
+    uwb_migrate_row_fixed_portable(index, weight, pairs, out, N);
     for (int i = 0; i < N; i++) {
         const int16_t *p = pairs + 2 * index[i];
         double a = -p[0], b = p[1];

@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "scratch_support.h"
-#include "uwb/daemon/prometheus_textfile.h"
+#include "integrations/prometheus_textfile.h"
 
 static char dir[256];
 

@@ -2,7 +2,7 @@
  * with libpng and check what a person relies on — where the edge lines sit,
  * how they differ, the colour bar, the axis labels, the caption. */
 #include "unity.h"
-#include "uwb/render.h"
+#include "output/render_internal.h"
 
 #include <dirent.h>
 #include <math.h>
@@ -42,6 +42,28 @@ static struct uwb_image make_image(double lo, double hi)
             img.pix[iy * img.nz + iz] = on_face ? 1.0f : (float)BACKGROUND;
         }
     return img;
+}
+
+/* An analysis as the comparison receives it: the display image with its
+ * face at image_lo..image_hi, and the face profile the edges were read
+ * from, bright (1.0, else BACKGROUND) over profile_lo..profile_hi on a
+ * 1 mm grid. In a real analysis the two agree; tests may part them. */
+static struct uwb_analysis make_analysis(double image_lo, double image_hi, double profile_lo,
+                                         double profile_hi)
+{
+    struct uwb_analysis a;
+    memset(&a, 0, sizeof a);
+    a.intensity = make_image(image_lo, image_hi);
+    a.profile.n = 601;
+    a.profile.y0_m = 0.0;
+    a.profile.dy_m = 0.001;
+    a.profile.value = malloc((size_t)a.profile.n * sizeof *a.profile.value);
+    TEST_ASSERT_NOT_NULL(a.profile.value);
+    for (int i = 0; i < a.profile.n; i++) {
+        double y = a.profile.y0_m + i * a.profile.dy_m;
+        a.profile.value[i] = y >= profile_lo - 1e-9 && y <= profile_hi + 1e-9 ? 1.0f : (float)BACKGROUND;
+    }
+    return a;
 }
 
 static void set_edges(struct uwb_edges *e, double lo, double hi)
@@ -150,7 +172,7 @@ static struct png_rgb render_migrated(const char *name, const struct uwb_image *
 {
     char path[512], err[512] = "";
     path_in_dir(path, sizeof path, name);
-    int rc = render_migrated_png_opt(path, img, v, opt, err, sizeof err);
+    int rc = uwb_render_migrated_png_opt(path, img, v, opt, err, sizeof err);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, rc, err);
     return read_png(path);
 }
@@ -351,7 +373,7 @@ static void test_migrated_png_edges_sit_on_their_heights(void)
 
     struct uwb_plot p;
     int bar_x, bar_w;
-    render_migrated_layout(&img, &v, &o, &p, &bar_x, &bar_w);
+    uwb_render_migrated_layout(&img, &v, &o, &p, &bar_x, &bar_w);
     TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.0, p.y_min);
     TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.6, p.y_max);
 
@@ -396,7 +418,7 @@ static void test_migrated_png_puts_the_face_where_the_axis_says(void)
     struct png_rgb png = render_migrated("face.png", &img, NULL, NULL);
     struct uwb_plot p;
     int bar_x, bar_w;
-    render_migrated_layout(&img, NULL, NULL, &p, &bar_x, &bar_w);
+    uwb_render_migrated_layout(&img, NULL, NULL, &p, &bar_x, &bar_w);
     int face_col = col_of(&p, FACE_Z);
     struct uwb_rgb peak = uwb_colormap_perceptual(1.0), floor_colour = uwb_colormap_perceptual(0.0);
     int top = -1, bottom = -1;
@@ -427,7 +449,7 @@ static void test_migrated_colorbar_runs_from_peak_colour_to_floor_colour(void)
     struct png_rgb png = render_migrated("bar.png", &img, &v, NULL);
     struct uwb_plot p;
     int bar_x, bar_w;
-    render_migrated_layout(&img, &v, NULL, &p, &bar_x, &bar_w);
+    uwb_render_migrated_layout(&img, &v, NULL, &p, &bar_x, &bar_w);
     TEST_ASSERT_TRUE(bar_x > p.x + p.w);
     struct uwb_rgb top = at(&png, bar_x + bar_w / 2, p.y), bottom = at(&png, bar_x + bar_w / 2, p.y + p.h - 1);
     TEST_ASSERT_TRUE(same(top, uwb_colormap_perceptual(1.0)));
@@ -466,7 +488,7 @@ static void test_migrated_axes_have_tick_labels_on_both_axes(void)
     struct png_rgb png = render_migrated("axes.png", &img, NULL, NULL);
     struct uwb_plot p;
     int bar_x, bar_w;
-    render_migrated_layout(&img, NULL, NULL, &p, &bar_x, &bar_w);
+    uwb_render_migrated_layout(&img, NULL, NULL, &p, &bar_x, &bar_w);
     int half_cap = UWB_FONT_CAP_HEIGHT;   /* font scale 2 by default */
     /* y labels every 50 mm over 0..600: ink left of the axis at the 200 mm
      * tick, none half-way between two labels. */
@@ -526,8 +548,8 @@ static void test_long_reason_wraps_and_pushes_the_plot_down(void)
     struct uwb_plot p_short, p_long;
     int bx, bw;
     struct uwb_verdict plain = make_verdict();
-    render_migrated_layout(&img, &plain, NULL, &p_short, &bx, &bw);
-    render_migrated_layout(&img, &v, NULL, &p_long, &bx, &bw);
+    uwb_render_migrated_layout(&img, &plain, NULL, &p_short, &bx, &bw);
+    uwb_render_migrated_layout(&img, &v, NULL, &p_long, &bx, &bw);
     TEST_ASSERT_EQUAL_INT(p_short.y + 2 * line, p_long.y);
     struct png_rgb png = render_migrated("long.png", &img, &v, NULL);
     /* The plot really starts lower: its frame is right above p_long.y. */
@@ -543,7 +565,7 @@ static void test_png_description_carries_the_verdict(void)
     struct uwb_verdict v = make_verdict();
     char path[512], err[256];
     path_in_dir(path, sizeof path, "text.png");
-    TEST_ASSERT_EQUAL_INT(0, render_migrated_png(path, &img, &v, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwb_render_migrated_png(path, &img, &v, err, sizeof err));
     FILE *fp = fopen(path, "rb");
     TEST_ASSERT_NOT_NULL(fp);
     png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
@@ -577,7 +599,7 @@ static void test_floor_option_changes_the_scale(void)
     struct png_rgb png = render_migrated("floor.png", &img, NULL, &o);
     struct uwb_plot p;
     int bar_x, bar_w;
-    render_migrated_layout(&img, NULL, &o, &p, &bar_x, &bar_w);
+    uwb_render_migrated_layout(&img, NULL, &o, &p, &bar_x, &bar_w);
     /* -40 dB background on a 0..-60 dB scale sits a third of the way up. */
     struct uwb_rgb bg = at(&png, col_of(&p, 0.65), row_of(&p, 0.45));
     struct uwb_rgb want = uwb_colormap_perceptual(1.0 / 3.0);
@@ -595,8 +617,8 @@ static void test_same_input_gives_identical_bytes(void)
     char p1[512], p2[512], err[256];
     path_in_dir(p1, sizeof p1, "1.png");
     path_in_dir(p2, sizeof p2, "2.png");
-    TEST_ASSERT_EQUAL_INT(0, render_migrated_png(p1, &img, &v, err, sizeof err));
-    TEST_ASSERT_EQUAL_INT(0, render_migrated_png(p2, &img, &v, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwb_render_migrated_png(p1, &img, &v, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwb_render_migrated_png(p2, &img, &v, err, sizeof err));
     FILE *a = fopen(p1, "rb"), *b = fopen(p2, "rb");
     TEST_ASSERT_NOT_NULL(a);
     TEST_ASSERT_NOT_NULL(b);
@@ -638,11 +660,11 @@ static void test_bscan_traces_are_at_their_antenna_heights(void)
     struct uwb_verdict v = make_verdict();
     char path[512];
     path_in_dir(path, sizeof path, "bscan.png");
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, render_bscan_png(path, &scan, &v, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_bscan_png(path, &scan, &v, err, sizeof err), err);
     struct png_rgb png = read_png(path);
     struct uwb_plot p;
     int bar_x, bar_w;
-    render_bscan_layout(&scan, &v, NULL, &p, &bar_x, &bar_w);
+    uwb_render_bscan_layout(&scan, &v, NULL, &p, &bar_x, &bar_w);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, -0.015, p.y_min);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.615, p.y_max);
     double t_pos = scan.t0_s + 100 * scan.sample_interval_s, t_neg = scan.t0_s + 250 * scan.sample_interval_s;
@@ -670,15 +692,16 @@ static void test_bscan_traces_are_at_their_antenna_heights(void)
 
 static void test_comparison_shows_both_scans_and_the_shift(void)
 {
-    struct uwb_image cur = make_image(FACE_LO, FACE_HI), base = make_image(BASE_LO, BASE_HI);
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
+    struct uwb_analysis base = make_analysis(BASE_LO, BASE_HI, BASE_LO, BASE_HI);
     struct uwb_verdict v = make_verdict();
     char path[512], err[256];
     path_in_dir(path, sizeof path, "cmp.png");
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, render_comparison_png(path, &cur, &base, &v, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, &base, &v, err, sizeof err), err);
     struct png_rgb png = read_png(path);
     struct uwb_plot pb, pc, pp;
     int bar_x, bar_w;
-    render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
     TEST_ASSERT_TRUE(pb.x + pb.w < pc.x && pc.x + pc.w < pp.x);   /* baseline left, current right */
     struct uwb_rgb peak = uwb_colormap_perceptual(1.0);
     int fc_b = col_of(&pb, FACE_Z), fc_c = col_of(&pc, FACE_Z);
@@ -709,23 +732,64 @@ static void test_comparison_shows_both_scans_and_the_shift(void)
     TEST_ASSERT_TRUE_MESSAGE(white_right > 0, "current profile at full intensity mid-face");
     TEST_ASSERT_TRUE_MESSAGE(pink_curve > 0, "baseline profile at full intensity where only it is bright");
     free(png.px);
-    uwb_image_free(&cur);
-    uwb_image_free(&base);
+    uwb_analysis_free(&cur);
+    uwb_analysis_free(&base);
+}
+
+/* The profile panel draws the profile the analysis read its edges from, not
+ * one taken again from the display image: here the two are made to differ
+ * (the profile bright at 350..450 mm, the image's face at 100..250 mm), and
+ * the curve follows the profile. */
+static void test_comparison_draws_the_analysis_profile_not_the_image(void)
+{
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, 0.35, 0.45);
+    struct uwb_verdict v = make_verdict();
+    v.has_baseline = 0;
+    v.status = UWB_STATUS_EDGES;
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "cmp-profile.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, NULL, &v, err, sizeof err), err);
+    struct png_rgb png = read_png(path);
+    struct uwb_plot pb, pc, pp;
+    int bar_x, bar_w;
+    uwb_render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    int at_profile = 0, at_image = 0;
+    int r_profile = row_of(&pp, 0.40), r_image = row_of(&pp, 0.20);
+    for (int x = col_of(&pp, 0.9); x < pp.x + pp.w; x++) {
+        at_profile += same(at(&png, x, r_profile), UWB_RGB_CURRENT_EDGE);
+        at_image += same(at(&png, x, r_image), UWB_RGB_CURRENT_EDGE);
+    }
+    TEST_ASSERT_TRUE_MESSAGE(at_profile > 0, "curve at full intensity where the analysis' profile is");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, at_image, "no curve at full intensity where only the image is bright");
+    /* The drawing's own points: value / peak on the x axis, one per sample. */
+    int xs[601], ys[601];
+    int n = uwb_comparison_profile_polyline(&pp, &cur.profile, xs, ys);
+    TEST_ASSERT_TRUE(n > 300);
+    for (int i = 0; i < n; i++) {
+        double y = pp.y_max - (ys[i] - pp.y) * (pp.y_max - pp.y_min) / (pp.h - 1);
+        int bright = y >= 0.35 + 0.002 && y <= 0.45 - 0.002, dark = y < 0.35 - 0.002 || y > 0.45 + 0.002;
+        if (bright)
+            TEST_ASSERT_INT_WITHIN(1, col_of(&pp, 1.0), xs[i]);
+        if (dark)
+            TEST_ASSERT_INT_WITHIN(1, col_of(&pp, BACKGROUND), xs[i]);
+    }
+    free(png.px);
+    uwb_analysis_free(&cur);
 }
 
 static void test_comparison_without_baseline_draws_this_scan_only(void)
 {
-    struct uwb_image cur = make_image(FACE_LO, FACE_HI);
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
     struct uwb_verdict v = make_verdict();
     v.has_baseline = 0;
     v.status = UWB_STATUS_EDGES;
     char path[512], err[256];
     path_in_dir(path, sizeof path, "cmp1.png");
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, render_comparison_png(path, &cur, NULL, &v, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, NULL, &v, err, sizeof err), err);
     struct png_rgb png = read_png(path);
     struct uwb_plot pb, pc, pp;
     int bar_x, bar_w;
-    render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
+    uwb_render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pp, &bar_x, &bar_w);
     int pink = 0;
     for (int y = pb.y; y < pb.y + pb.h; y++)
         for (int x = pb.x; x < pp.x + pp.w; x++)
@@ -736,7 +800,7 @@ static void test_comparison_without_baseline_draws_this_scan_only(void)
     struct uwb_rgb c = at(&png, pb.x + 5, pb.y + 5);
     TEST_ASSERT_TRUE(c.r == c.g && c.g == c.b);
     free(png.px);
-    uwb_image_free(&cur);
+    uwb_analysis_free(&cur);
 }
 
 /* ---------- failures ---------- */
@@ -747,7 +811,7 @@ static void test_unwritable_path_fails_naming_it_and_leaves_nothing(void)
     struct uwb_verdict v = make_verdict();
     char path[512], err[512] = "";
     snprintf(path, sizeof path, "%s/no-such-dir/m.png", dir);
-    TEST_ASSERT_EQUAL_INT(-1, render_migrated_png(path, &img, &v, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_render_migrated_png(path, &img, &v, err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, path), err);
     TEST_ASSERT_EQUAL_INT(0, count_dir_entries(dir));
     uwb_image_free(&img);
@@ -782,15 +846,17 @@ static void test_bad_inputs_are_refused_with_the_path(void)
     char path[512], err[512] = "";
     path_in_dir(path, sizeof path, "bad.png");
     struct uwb_image empty = { 0 };
-    TEST_ASSERT_EQUAL_INT(-1, render_migrated_png(path, &empty, NULL, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_render_migrated_png(path, &empty, NULL, err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(err, path));
-    struct uwb_image img = make_image(FACE_LO, FACE_HI);
-    img.dy_m = 0.0;
-    TEST_ASSERT_EQUAL_INT(-1, render_comparison_png(path, &img, NULL, NULL, err, sizeof err));
+    struct uwb_analysis bad = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
+    bad.intensity.dy_m = 0.0;
+    TEST_ASSERT_EQUAL_INT(-1, uwb_render_comparison_png(path, &bad, NULL, NULL, err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(err, "spacing"));
+    uwb_analysis_free(&bad);
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
     struct uwb_scan scan;
     memset(&scan, 0, sizeof scan);
-    TEST_ASSERT_EQUAL_INT(-1, render_bscan_png(path, &scan, NULL, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_render_bscan_png(path, &scan, NULL, err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(err, path));
     TEST_ASSERT_EQUAL_INT(0, count_dir_entries(dir));
     uwb_image_free(&img);
@@ -817,6 +883,7 @@ int main(void)
     RUN_TEST(test_bscan_traces_are_at_their_antenna_heights);
     RUN_TEST(test_comparison_shows_both_scans_and_the_shift);
     RUN_TEST(test_comparison_without_baseline_draws_this_scan_only);
+    RUN_TEST(test_comparison_draws_the_analysis_profile_not_the_image);
     RUN_TEST(test_unwritable_path_fails_naming_it_and_leaves_nothing);
     RUN_TEST(test_libpng_failure_keeps_the_old_file_and_no_temporary);
     RUN_TEST(test_bad_inputs_are_refused_with_the_path);

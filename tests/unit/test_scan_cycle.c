@@ -12,13 +12,13 @@
 
 #include "scene_support.h"
 #include "scratch_support.h"
-#include "uwb/daemon/baseline_store.h"
-#include "uwb/daemon/config.h"
+#include "daemon/baseline_store.h"
+#include "daemon/config.h"
 #include "uwb/daemon/direct_coupling.h"
-#include "uwb/daemon/retention.h"
-#include "uwb/daemon/scan_cycle.h"
-#include "uwb/daemon/store.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/retention.h"
+#include "daemon/scan_cycle.h"
+#include "daemon/store.h"
+#include "daemon/verdict_log.h"
 #include "uwbsim/uwbsim.h"
 
 /* 2030-01-02T00:00:00Z: the archive day is 2030/01/02. */

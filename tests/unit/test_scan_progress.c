@@ -4,7 +4,7 @@
 #include <cjson/cJSON.h>
 #include <stdlib.h>
 
-#include "uwb/daemon/scan_progress.h"
+#include "daemon/scan_progress.h"
 
 void setUp(void) {}
 void tearDown(void) {}

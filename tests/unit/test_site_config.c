@@ -8,7 +8,7 @@
 #include <sys/stat.h>
 
 #include "scratch_support.h"
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 
 #define SAMPLE_EMULATED "board/emulated/uwbd.json"
 

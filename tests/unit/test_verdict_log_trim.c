@@ -12,9 +12,9 @@
 #include <unistd.h>
 
 #include "scratch_support.h"
-#include "uwb/daemon/retention.h"
-#include "uwb/daemon/store.h"
-#include "uwb/daemon/verdict_log.h"
+#include "daemon/retention.h"
+#include "daemon/store.h"
+#include "daemon/verdict_log.h"
 
 #define DAY 86400
 

@@ -35,7 +35,7 @@ static int replace_block(const char *path, const char *table, char *err, size_t 
     memcpy(out, text, head);
     memcpy(out + head, table, body);
     memcpy(out + head + body, end, tail);
-    int rc = atomic_write_file(path, out, head + body + tail, err, errlen);
+    int rc = uwb_atomic_write_file(path, out, head + body + tail, err, errlen);
     free(out);
     free(text);
     return rc;

@@ -17,7 +17,9 @@ struct bench_options {
     int runs_large;         /* repetitions at 64 x 4096 */
     int runs_replay;        /* repetitions of the whole replay */
     int list_calls;         /* print every timed library call of the replay */
+    int replay_only;        /* the whole replay alone, no migration figures */
     const char *uwbd_path;  /* the program measured as a child; NULL: next to uwbbench */
+    const char *replay_current, *replay_baseline;   /* recorded scans to replay; NULL: simulate a pair */
 };
 
 /* ---- clock ------------------------------------------------------------- */
@@ -42,6 +44,7 @@ double bench_series_best(const struct bench_series *s);
 #define BENCH_CHILD_OUTPUT 8192
 struct bench_child {
     double seconds;          /* fork to wait4 */
+    double cpu_seconds;      /* its user + system time (wait4's rusage): what a shared machine's load does not inflate */
     long maxrss_kib;         /* wait4's ru_maxrss */
     int status;              /* exit status, or 128 + signal */
     char output[BENCH_CHILD_OUTPUT];   /* its stdout (truncated) */
@@ -115,6 +118,7 @@ const char *bench_stage_name(enum bench_stage s);
 struct replay_figures {
     int child_measured;          /* 0: uwbd could not be run, in-process figures only */
     double child_ms, child_best_ms;
+    double child_cpu_ms, child_cpu_best_ms;   /* its CPU time, median and best */
     long child_maxrss_kib;
     long idle_maxrss_kib;        /* uwbd --version: the program and its libraries, no work */
     int child_status;            /* exit status of the last run */

@@ -25,6 +25,7 @@ struct launch_reply {
     int ok;                 /* 0: could not start or wait (message in text) */
     int status;             /* exit status, or 128 + signal */
     double seconds;
+    double cpu_seconds;     /* user + system, wait4's rusage */
     long maxrss_kib;
     size_t text_len;        /* stdout (or the error message) follows */
 };
@@ -121,6 +122,8 @@ static void launch_one(char *request, size_t len, int reply_fd)
     rep.ok = 1;
     rep.seconds = uwb_monotonic_s() - t0;
     rep.maxrss_kib = ru.ru_maxrss;   /* Linux: kibibytes */
+    rep.cpu_seconds = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
+                      (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
     rep.status = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : 128 + WTERMSIG(wstatus);
 reply:
     if (used >= sizeof text)
@@ -201,6 +204,7 @@ int bench_launcher_run(char *const args[], struct bench_child *out, char *err, s
     }
     out->seconds = rep.seconds;
     out->maxrss_kib = rep.maxrss_kib;
+    out->cpu_seconds = rep.cpu_seconds;
     out->status = rep.status;
     return 0;
 }

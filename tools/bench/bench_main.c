@@ -34,6 +34,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
         "usage: uwbbench [--quick] [--runs N] [--replay-runs N] [--calls] [--uwbd PATH]\n"
+        "                [--replay CURRENT.uwbscan BASELINE.uwbscan] [--replay-only]\n"
         "\n"
         "Prints migration speed (fixed point with its SIMD and its portable inner loop, float,\n"
         "and a straightforward double-precision yardstick) at 21 x 2048 -> 600 x 400 and\n"
@@ -46,6 +47,9 @@ static void usage(FILE *f)
         "  --replay-runs N  repetitions of the whole replay (default 9)\n"
         "  --calls          list every timed library call of the replay, with its grid\n"
         "  --uwbd PATH      the uwbd measured as a child (default: next to uwbbench)\n"
+        "  --replay-only    the whole replay alone (no migration figures)\n"
+        "  --replay CUR BASE  replay these recorded scans (default: a simulated 21 x 2048 pair;\n"
+        "                   make bench passes the paper pair from tests/fixtures)\n"
         "\n"
         "UWB_EXEC_PREFIX, if set, is put before uwbd (e.g. \"qemu-aarch64 -L /\").\n");
 }
@@ -78,6 +82,11 @@ static int parse_options(int argc, char **argv, struct bench_options *o)
                 goto bad_count;
         } else if (strcmp(a, "--calls") == 0) {
             o->list_calls = 1;
+        } else if (strcmp(a, "--replay-only") == 0) {
+            o->replay_only = 1;
+        } else if (strcmp(a, "--replay") == 0 && i + 2 < argc) {
+            o->replay_current = argv[++i];
+            o->replay_baseline = argv[++i];
         } else if (strcmp(a, "--uwbd") == 0 && has_value) {
             o->uwbd_path = argv[++i];
         } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
@@ -144,11 +153,12 @@ static void print_migration(const struct migration_figures *f)
 static void print_replay(const struct replay_figures *r, int list_calls)
 {
     if (r->child_measured)
-        printf("uwbd as a child (fork, exec, wait4): %.1f ms (best %.1f), peak RSS %.1f MiB"
-               " (%ld KiB)\n  verdict: %s\n  for scale: uwbd --version peaks at %.1f MiB RSS"
-               " (program and shared libraries, no work)\n",
-               r->child_ms, r->child_best_ms, r->child_maxrss_kib / 1024.0, r->child_maxrss_kib,
-               r->verdict, r->idle_maxrss_kib / 1024.0);
+        printf("uwbd as a child (fork, exec, wait4): %.1f ms (best %.1f), CPU %.1f ms (best %.1f),"
+               " peak RSS %.1f MiB (%ld KiB)\n  verdict: %s\n  for scale: uwbd --version peaks at"
+               " %.1f MiB RSS (program and shared libraries, no work)\n",
+               r->child_ms, r->child_best_ms, r->child_cpu_ms, r->child_cpu_best_ms,
+               r->child_maxrss_kib / 1024.0, r->child_maxrss_kib, r->verdict,
+               r->idle_maxrss_kib / 1024.0);
     else
         printf("uwbd as a child: not measured (no executable uwbd next to uwbbench; see --uwbd)\n");
     printf("in process (the same library calls): read %.1f ms + evaluate %.1f ms + PNGs %.1f ms"
@@ -203,12 +213,14 @@ int main(int argc, char **argv)
     print_machine();
 
     struct migration_figures mig[2];
-    int n_sizes = opt.quick ? 1 : 2;
-    printf("\nMigration of a simulated, conditioned scan onto a 1 mm grid (%d run%s at the small "
+    int n_sizes = opt.replay_only ? 0 : opt.quick ? 1 : 2;
+    if (n_sizes > 0)
+        printf("\nMigration of a simulated, conditioned scan onto a 1 mm grid (%d run%s at the small "
            "size, %d at the large)\n", opt.runs_small, opt.runs_small == 1 ? "" : "s",
            opt.quick ? 0 : opt.runs_large);
-    printf("%-24s %-10s %20s %10s %10s %14s\n", "traces x samples -> y x z", "path",
-           "ms/image (best)", "ns/px-tr", "speed", "SNR vs double");
+    if (n_sizes > 0)
+        printf("%-24s %-10s %20s %10s %10s %14s\n", "traces x samples -> y x z", "path",
+               "ms/image (best)", "ns/px-tr", "speed", "SNR vs double");
     for (int i = 0; i < n_sizes; i++) {
         if (bench_migration(i ? &large_case : &small_case, i ? opt.runs_large : opt.runs_small,
                             &mig[i], err, sizeof err) != 0) {
@@ -217,12 +229,16 @@ int main(int argc, char **argv)
         }
         print_migration(&mig[i]);
     }
-    printf("(ns/px-tr: ns per pixel and trace, pixels x traces; speed: the yardstick's time over"
-           " this path's;\n fixed: the appliance's path, inner loop %s; fixed-port: the same with"
-           " the portable C loop)\n", uwb_migration_simd());
+    if (n_sizes > 0)
+        printf("(ns/px-tr: ns per pixel and trace, pixels x traces; speed: the yardstick's time over"
+               " this path's;\n fixed: the appliance's path, inner loop %s; fixed-port: the same with"
+               " the portable C loop)\n", uwb_migration_simd());
 
-    printf("\nWhole replay: 21 x 2048 simulated scan (winding moved up 20 mm) against its baseline,"
-           "\nread, condition, migrate, envelope, edges, verdict, 3 PNGs (%d run%s)\n",
+    if (opt.replay_current)
+        printf("\nWhole replay: %s against %s,", opt.replay_current, opt.replay_baseline);
+    else
+        printf("\nWhole replay: 21 x 2048 simulated scan (winding moved up 20 mm) against its baseline,");
+    printf("\nread, condition, migrate, envelope, edges, verdict, 3 PNGs (%d run%s)\n",
            opt.runs_replay, opt.runs_replay == 1 ? "" : "s");
     struct replay_figures rep;
     if (bench_replay(&opt, &rep, err, sizeof err) != 0) {
@@ -249,11 +265,19 @@ int main(int argc, char **argv)
         if (mig[i].snr_fixed_db < worst_snr)
             worst_snr = mig[i].snr_fixed_db;
     }
-    snprintf(fig, sizeof fig, "%.1f dB (worst size)", worst_snr);
-    print_target("fixed-point SNR >= 50 dB against double", fig, worst_snr >= TARGET_SNR_DB);
+    if (n_sizes > 0) {
+        snprintf(fig, sizeof fig, "%.1f dB (worst size)", worst_snr);
+        print_target("fixed-point SNR >= 50 dB against double", fig, worst_snr >= TARGET_SNR_DB);
+    }
     double replay_ms = rep.child_measured ? rep.child_ms : rep.total_ms;
     snprintf(fig, sizeof fig, "%.1f ms%s", replay_ms, rep.child_measured ? "" : " (in process)");
     print_target("whole replay <= 100 ms", fig, replay_ms <= TARGET_REPLAY_MS);
+    if (rep.child_measured) {
+        /* On a shared machine the wall time carries the other jobs' load;
+         * the CPU time is what the replay itself costs one core. */
+        snprintf(fig, sizeof fig, "%.1f ms", rep.child_cpu_ms);
+        print_target("whole replay <= 100 ms, CPU time", fig, rep.child_cpu_ms <= TARGET_REPLAY_MS);
+    }
     if (rep.child_measured) {
         double mib = rep.child_maxrss_kib / 1024.0;
         snprintf(fig, sizeof fig, "%.1f MiB", mib);

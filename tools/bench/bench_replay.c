@@ -29,7 +29,7 @@ static const struct bench_case replay_case = {
 
 struct replay_files {
     char dir[64];
-    char current[128], baseline[128], out_child[128], out_inproc[128];
+    char current[PATH_MAX], baseline[PATH_MAX], out_child[128], out_inproc[128];
 };
 
 static void remove_files_in(const char *dir)
@@ -58,8 +58,10 @@ static void remove_replay_files(const struct replay_files *f)
     rmdir(f->dir);
 }
 
-/* Two simulated scans, intact and moved up 20 mm, written as uwbscan files. */
-static int make_replay_files(struct replay_files *f, char *err, size_t errlen)
+/* The recorded scans the options name, or two simulated scans, intact and
+ * moved up 20 mm, written as uwbscan files. */
+static int make_replay_files(const struct bench_options *opt, struct replay_files *f, char *err,
+                             size_t errlen)
 {
     snprintf(f->dir, sizeof f->dir, "/tmp/uwbbench-XXXXXX");
     if (!mkdtemp(f->dir)) {
@@ -71,7 +73,15 @@ static int make_replay_files(struct replay_files *f, char *err, size_t errlen)
     snprintf(f->out_child, sizeof f->out_child, "%s/out-uwbd", f->dir);
     snprintf(f->out_inproc, sizeof f->out_inproc, "%s/out-library", f->dir);
     const char *paths[2] = {f->baseline, f->current};
-    for (int i = 0; i < 2; i++) {
+    if (opt->replay_current) {
+        int a = snprintf(f->current, sizeof f->current, "%s", opt->replay_current);
+        int b = snprintf(f->baseline, sizeof f->baseline, "%s", opt->replay_baseline);
+        if (a < 0 || (size_t)a >= sizeof f->current || b < 0 || (size_t)b >= sizeof f->baseline) {
+            snprintf(err, errlen, "bench: --replay: path too long");
+            return -1;
+        }
+    }
+    for (int i = 0; i < 2 && !opt->replay_current; i++) {
         struct uwb_scan raw;
         if (bench_simulate(&replay_case, i ? 0.020 : 0.0, &raw, NULL, err, errlen) != 0)
             return -1;
@@ -186,7 +196,7 @@ int bench_replay(const struct bench_options *opt, struct replay_figures *fig,
     memset(fig, 0, sizeof *fig);
     struct replay_files f;
     memset(&f, 0, sizeof f);
-    if (make_replay_files(&f, err, errlen) != 0) {
+    if (make_replay_files(opt, &f, err, errlen) != 0) {
         if (f.dir[0] && strcmp(f.dir, "/tmp/uwbbench-XXXXXX") != 0)
             remove_replay_files(&f);
         return -1;
@@ -196,7 +206,7 @@ int bench_replay(const struct bench_options *opt, struct replay_figures *fig,
 
     char uwbd[PATH_MAX];
     if (find_uwbd(opt, uwbd, sizeof uwbd) == 0) {
-        struct bench_series wall = {0};
+        struct bench_series wall = {0}, cpu = {0};
         static struct bench_child child;
         char *version[] = {uwbd, "--version", NULL};
         if (run_uwbd(version, &child, err, errlen) != 0)
@@ -208,6 +218,7 @@ int bench_replay(const struct bench_options *opt, struct replay_figures *fig,
             if (run_uwbd(replay, &child, err, errlen) != 0)
                 goto done;
             bench_series_add(&wall, child.seconds);
+            bench_series_add(&cpu, child.cpu_seconds);
             if (child.maxrss_kib > fig->child_maxrss_kib)
                 fig->child_maxrss_kib = child.maxrss_kib;
         }
@@ -216,6 +227,8 @@ int bench_replay(const struct bench_options *opt, struct replay_figures *fig,
         fig->child_measured = 1;
         fig->child_ms = 1e3 * bench_series_median(&wall);
         fig->child_best_ms = 1e3 * bench_series_best(&wall);
+        fig->child_cpu_ms = 1e3 * bench_series_median(&cpu);
+        fig->child_cpu_best_ms = 1e3 * bench_series_best(&cpu);
     }
 
     struct bench_series parts[3] = {{0}}, total = {0};

@@ -39,8 +39,9 @@ int bench_simulate(const struct bench_case *c, double displacement_m, struct uwb
         uwb_geometry_from_scan(&g, &scan, 0.0);
         struct uwb_condition_options opt;
         uwb_condition_defaults(&opt);
-        if (uwb_condition(&scan, &g, &opt, uwb_dominant_frequency(&scan), NULL, conditioned,
-                          err, errlen) != 0) {
+        double dominant_hz;
+        if (uwb_dominant_frequency(&scan, &dominant_hz, err, errlen) != 0 ||
+            uwb_condition(&scan, &g, &opt, dominant_hz, NULL, conditioned, err, errlen) != 0) {
             uwb_scan_free(&scan);
             return -1;
         }

@@ -2,8 +2,9 @@
 # make test-deb: the .deb that `make deb` built, installed with apt in a
 # fresh Debian 12 (bookworm) minbase chroot made by debootstrap, and checked
 # there: installed, the system user and group made, /etc/uwbd/uwbd.json a
-# conffile that `uwbd --check-config` accepts, the unit, udev rules, manual
-# pages and documents in place; purged cleanly. Ends with
+# conffile that `uwbd --check-config` accepts, the unit (waiting for the
+# clock, its systemd-time-wait-sync drop-in), udev rules, manual pages and
+# documents in place; purged cleanly. Ends with
 # "N passed, N failed". Needs root (debootstrap, chroot) and the network
 # (the Debian mirror). Everything is made under CHROOT_DIR, in the build
 # directory, and removed at the end.
@@ -84,6 +85,14 @@ check "uwbd --check-config /etc/uwbd/uwbd.json: exit $rc, $(head -c 200 "$root/c
 check "the unit: /lib/systemd/system/uwbd.service, Type=notify, ExecStart=/usr/bin/uwbd" \
     bash -c "grep -qx 'Type=notify' '$root/lib/systemd/system/uwbd.service' &&
              grep -qx 'ExecStart=/usr/bin/uwbd --config /etc/uwbd/uwbd.json' '$root/lib/systemd/system/uwbd.service'"
+check "the unit waits for the clock: Wants=systemd-time-wait-sync, After= it and time-sync.target" \
+    bash -c "grep -qx 'Wants=systemd-time-wait-sync.service' '$root/lib/systemd/system/uwbd.service' &&
+             grep -qx 'After=.*time-sync.target.*' '$root/lib/systemd/system/uwbd.service' &&
+             grep -qx 'After=.*systemd-time-wait-sync.service.*' '$root/lib/systemd/system/uwbd.service'"
+check "the drop-in bounding systemd-time-wait-sync (TimeoutStartSec=5min)" \
+    grep -qx 'TimeoutStartSec=5min' "$root/lib/systemd/system/systemd-time-wait-sync.service.d/uwbd.conf"
+check "the package recommends an NTP client (systemd-timesyncd | time-daemon)" \
+    bash -c "chroot '$root' dpkg-query -W -f='\${Recommends}' uwbd | grep -qx 'systemd-timesyncd | time-daemon'"
 check "udev rules in /lib/udev/rules.d" test -f "$root/lib/udev/rules.d/99-uwbd-gpio.rules" -a \
     -f "$root/lib/udev/rules.d/99-uwbd-digitiser.rules"
 check "manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1)" test -f "$root/usr/share/man/man8/uwbd.8.gz" -a \

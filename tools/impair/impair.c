@@ -17,8 +17,10 @@ double uwb_impair_gate_s(const struct uwb_scan *scan)
 {
     struct uwb_geometry g;
     uwb_geometry_from_scan(&g, scan, 0.0);
-    double f = uwb_dominant_frequency(scan);
-    double periods = f > 0.0 ? GATE_PERIODS / f : 0.0;
+    double f;
+    char err[160];
+    /* No spectrum (or no memory for it): no ringing to wait out, gate at the range alone. */
+    double periods = uwb_dominant_frequency(scan, &f, err, sizeof err) == 0 ? GATE_PERIODS / f : 0.0;
     return uwb_two_way_delay(&g, 0.0, GATE_RANGE_M) + periods;
 }
 

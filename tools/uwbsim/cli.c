@@ -179,7 +179,7 @@ int uwbsim_cli(int argc, char **argv, FILE *out, FILE *errout)
         text[len] = '\n';
         text[len + 1] = '\0';
         free(json);
-        rc = atomic_write_file(truth, text, len + 1, err, sizeof err);
+        rc = uwb_atomic_write_file(truth, text, len + 1, err, sizeof err);
         free(text);
         if (rc != 0) {
             fprintf(errout, "uwbsim: %s\n", err);

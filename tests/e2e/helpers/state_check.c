@@ -37,7 +37,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "uwb/daemon/store.h"
+#include "daemon/store.h"
 #include "uwb/monotonic.h"
 #include "uwb/read_file.h"
 #include "uwb/scan.h"

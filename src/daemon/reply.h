@@ -6,9 +6,9 @@
 #ifndef UWB_DAEMON_REPLY_H
 #define UWB_DAEMON_REPLY_H
 
-#include "uwb/daemon/scan_progress.h"
+#include "daemon/scan_progress.h"
 
-#include "uwb/daemon/baseline_store.h"
+#include "daemon/baseline_store.h"
 
 #define UWBD_PROTOCOL_MAJOR 1
 #define UWBD_PROTOCOL_MINOR 0
@@ -31,6 +31,7 @@ struct uwbd_status {
     const char *console;           /* endpoint, or NULL when none */
     const char *fault;             /* a device fault (the baseline failed its check), or NULL */
     const struct uwbd_scan_progress *progress; /* while scanning, or NULL */
+    const char *site_phase, *site_label;       /* site.phase, site.label; "" or NULL: not set */
 };
 
 char *uwbd_reply_error(const char *message);

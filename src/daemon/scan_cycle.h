@@ -10,9 +10,9 @@
 #include <stddef.h>
 #include <time.h>
 
-#include "uwb/daemon/baseline_store.h"
-#include "uwb/daemon/config.h"
-#include "uwb/daemon/store.h"
+#include "daemon/baseline_store.h"
+#include "daemon/config.h"
+#include "daemon/store.h"
 #include "uwb/scan.h"
 #include "uwb/verdict.h"
 

@@ -12,7 +12,7 @@
 #include <stddef.h>
 #include <time.h>
 
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 
 #define UWBD_SCAN_ID_MAX 100
 
@@ -26,9 +26,9 @@ struct uwbd_store {
 };
 
 /* Create the directories if missing, make the root absolute, remove
- * temporaries a crash left behind and cut a torn last line off
- * verdicts.jsonl. Notes on what was repaired go to *repairs (may be NULL):
- * the number of files and bytes dropped. Returns 0 or -1 with err. */
+ * temporaries a crash left behind; *repairs (may be NULL) counts them.
+ * The verdict log is repaired by its own code (uwbd_state_open does both).
+ * Returns 0 or -1 with err. */
 int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repairs, char *err,
                     size_t errlen);
 

@@ -10,6 +10,7 @@
 #define UWB_COMMAND_MAX_LINE 64
 #define UWB_HISTORY_DEFAULT 10
 #define UWB_HISTORY_MAX 100
+#define UWB_TREND_DEFAULT 20
 /* `baseline set N`: at most this many scans averaged (UWBD_BASELINE_SCANS_MAX). */
 #define UWB_BASELINE_SCANS_MAX 16
 
@@ -21,6 +22,7 @@ enum uwb_command_kind {
     UWB_COMMAND_BASELINE_SET,  /* baseline set   the next good scan becomes the baseline */
     UWB_COMMAND_HELP,          /* help           the commands */
     UWB_COMMAND_WATCH,         /* watch [off|progress], ?WATCH={"enable":true}  stream PROGRESS and VERDICT lines */
+    UWB_COMMAND_TREND,         /* trend [N]      the last N verdicts as a displacement series, with its rate */
     UWB_COMMAND_ACK,           /* ack            latched alarm contacts fall back to the latest verdict */
     UWB_COMMAND_EVENT,         /* event          a through-fault happened: scan as soon as the running one ends */
     /* EVENT is the last kind: tests/fuzz/fuzz_command.c checks kinds against it. */
@@ -28,7 +30,7 @@ enum uwb_command_kind {
 
 struct uwb_command {
     enum uwb_command_kind kind;
-    int count;                 /* history: how many; baseline set: scans to average (0 = the configured default) */
+    int count;                 /* history, trend: how many; baseline set: scans to average (0 = the configured default) */
     int force;                 /* baseline set force: also on a scan that is an alarm against the current baseline */
     int watch;                 /* watch: 1 PROGRESS and VERDICT lines, 2 PROGRESS only, 0 off */
 };

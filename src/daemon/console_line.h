@@ -9,8 +9,8 @@
 
 #include <stddef.h>
 
-#include "uwb/daemon/command.h"
-#include "uwb/daemon/line_buffer.h"   /* enum uwbd_line_event */
+#include "daemon/command.h"
+#include "daemon/line_buffer.h"   /* enum uwbd_line_event */
 
 /* Shown on the console when it is ready for a command line. */
 #define UWBD_CONSOLE_PROMPT "uwbd> "

@@ -9,7 +9,7 @@
 #include <stddef.h>
 #include <time.h>
 
-#include "uwb/daemon/store.h"
+#include "daemon/store.h"
 
 /* Append one JSON object (no newline inside) as a line. */
 int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, char *err, size_t errlen);

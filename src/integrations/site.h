@@ -8,7 +8,7 @@
 
 #include <stddef.h>
 
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 
 struct uwbd_site;
 

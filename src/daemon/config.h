@@ -11,7 +11,7 @@
 
 #include "uwb/evaluate.h"
 #include "uwb/rig.h"
-#include "uwb/daemon/site_config.h"
+#include "integrations/site_config.h"
 
 #define UWBD_PATH_MAX 1024
 /* sun_path holds 108 bytes including the terminator. */
@@ -37,7 +37,9 @@ struct uwbd_config {
     double direct_coupling_tolerance_s;
     int baseline_scans;                /* `baseline set` without N averages this many scans */
     double reacquire_budget_s;         /* time a cycle may spend acquiring again to be decisive; 0: never */
-    struct uwbd_site_config site;      /* the site: asset id, alarm contacts, event input, ... */
+    char site_phase[8];                /* site.phase: the phase as the site names it ("B", "L2"); "": none */
+    char site_label[64];               /* site.label: free text for people; "": none */
+    struct uwbd_site_config site;      /* the site's integrations: asset id, alarm contacts, event input, ... */
 };
 
 /* A command-line override: KEY=VALUE, VALUE as JSON (a bare word is taken

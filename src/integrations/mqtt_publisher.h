@@ -11,7 +11,7 @@
 
 #include <stddef.h>
 
-#include "uwb/daemon/site_config.h"
+#include "integrations/site_config.h"
 
 struct uwbd_mqtt;
 

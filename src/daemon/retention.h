@@ -7,7 +7,7 @@
 #include <stddef.h>
 #include <time.h>
 
-#include "uwb/daemon/store.h"
+#include "daemon/store.h"
 
 /* Delete the oldest archived scans beyond max_scans (0: no limit) and those
  * older than max_age_days (0: no limit) at `now`. A scan's age is its

@@ -7,7 +7,7 @@
 
 #include <stddef.h>
 
-#include "uwb/daemon/scan_cycle.h"
+#include "daemon/scan_cycle.h"
 #include "uwb/verdict.h"
 
 /* Acquire one more scan into *added and average it into *scan (same

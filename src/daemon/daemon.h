@@ -7,7 +7,7 @@
 
 #include <stddef.h>
 
-#include "uwb/daemon/config.h"
+#include "daemon/config.h"
 
 #define UWBD_VERSION "0.1.0"
 #define UWBD_MAX_OVERRIDES 64

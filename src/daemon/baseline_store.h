@@ -7,7 +7,7 @@
 #include <stddef.h>
 #include <time.h>
 
-#include "uwb/daemon/store.h"
+#include "daemon/store.h"
 #include "uwb/scan.h"
 
 /* `baseline set N`: at most this many scans averaged into one baseline. */

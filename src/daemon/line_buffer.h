@@ -6,7 +6,7 @@
 
 #include <stddef.h>
 
-#include "uwb/daemon/command.h"
+#include "daemon/command.h"
 
 struct uwbd_line_buffer {
     char text[UWB_COMMAND_MAX_LINE + 2];  /* room for "\r" and the NUL */

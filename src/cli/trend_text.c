@@ -1,0 +1,116 @@
+/* A TREND reply as a table for people (uwbd ctl --text trend): one line
+ * per verdict, oldest first, then the rate and the image. */
+#include <ctype.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "uwb/cli.h"
+
+static const cJSON *item(const cJSON *o, const char *key)
+{
+    return cJSON_GetObjectItemCaseSensitive(o, key);
+}
+
+static const char *text(const cJSON *o, const char *key, const char *otherwise)
+{
+    const cJSON *v = item(o, key);
+    return cJSON_IsString(v) && v->valuestring ? v->valuestring : otherwise;
+}
+
+static int number(const cJSON *o, const char *key, double *out)
+{
+    const cJSON *v = item(o, key);
+    if (!cJSON_IsNumber(v))
+        return 0;
+    *out = v->valuedouble;
+    return 1;
+}
+
+static void upper(char *dst, size_t n, const char *src)
+{
+    size_t i = 0;
+    for (; src[i] && i + 1 < n; i++)
+        dst[i] = (char)toupper((unsigned char)src[i]);
+    dst[i] = '\0';
+}
+
+/* s left-aligned in `width` columns: printf counts bytes, a terminal
+ * counts characters, and "±" is two bytes. */
+static void column(FILE *out, const char *s, int width)
+{
+    int shown = 0;
+    for (const unsigned char *c = (const unsigned char *)s; *c; c++)
+        shown += (*c & 0xC0) != 0x80;
+    fputs(s, out);
+    for (; shown < width; shown++)
+        fputc(' ', out);
+}
+
+static void verdict_line(const cJSON *v, FILE *out)
+{
+    char status[16], figure[64], height[32];
+    upper(status, sizeof status, text(v, "status", "?"));
+    double d, u, h;
+    if (number(v, "axial_displacement_mm", &d) && number(v, "uncertainty_mm", &u))
+        snprintf(figure, sizeof figure, "%+7.2f \u00b1 %.2f mm", d, u);
+    else
+        snprintf(figure, sizeof figure, "no figure");
+    if (number(v, "height_change_mm", &h))
+        snprintf(height, sizeof height, "%+7.2f mm", h);
+    else
+        snprintf(height, sizeof height, "-");   /* right-aligned under the figures' "mm" */
+    /* "*" marks a baseline change: the figures before and after it are
+     * against different references. */
+    fprintf(out, "%-20s %c %-12s  ", text(v, "created", "(no time)"), cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ',
+            status);
+    column(out, figure, 20);
+    fprintf(out, "  %10s  %s", height, text(v, "scan_id", ""));
+    if (cJSON_IsTrue(item(v, "baseline_set")))
+        fputs("  (became the baseline)", out);
+    const char *reason = text(v, "reason", NULL);
+    if (reason)
+        fprintf(out, "\n%23s%s", "", reason);
+    fputc('\n', out);
+}
+
+int uwbd_trend_text(const char *reply, FILE *out)
+{
+    cJSON *o = cJSON_Parse(reply);
+    const cJSON *cls = item(o, "class"), *list = item(o, "verdicts");
+    if (!cJSON_IsString(cls) || strcmp(cls->valuestring, "TREND") != 0 || !cJSON_IsArray(list)) {
+        cJSON_Delete(o);
+        return -1;
+    }
+    const cJSON *limits = item(o, "thresholds"), *rate = item(o, "rate");
+    double count = 0, watch = 0, alarm = 0;
+    number(o, "count", &count);
+    fprintf(out, "trend: the last %.0f verdict%s", count, count == 1 ? "" : "s");
+    if (number(limits, "watch_mm", &watch) && number(limits, "alarm_mm", &alarm))
+        fprintf(out, " (watch from %.2f mm, alarm from %.2f mm)", watch, alarm);
+    fputc('\n', out);
+    fprintf(out, "%-20s   %-12s  ", "created (UTC)", "status");
+    column(out, "displacement \u00b1 1\u03c3", 20);
+    fprintf(out, "  %10s  %s\n", "height chg", "scan");
+    const cJSON *v;
+    cJSON_ArrayForEach(v, list)
+        verdict_line(v, out);
+    double unreadable;
+    if (number(o, "unreadable_lines", &unreadable))
+        fprintf(out, "(%.0f line%s of verdicts.jsonl could not be read)\n", unreadable, unreadable == 1 ? "" : "s");
+    double per_year, sigma, days, figures = 0;
+    number(rate, "figures", &figures);
+    if (number(rate, "mm_per_year", &per_year) && number(rate, "sigma_mm_per_year", &sigma) &&
+        number(rate, "days", &days))
+        fprintf(out, "rate: %+.2f \u00b1 %.2f mm/year (1\u03c3) over %.1f days, %.0f figures since the last baseline change\n",
+                per_year, sigma, days, figures);
+    else
+        fprintf(out, "rate: not known (%.0f dated figure%s since the last baseline change; it needs two)\n", figures,
+                figures == 1 ? "" : "s");
+    const char *image = text(o, "image", NULL);
+    if (image)
+        fprintf(out, "image: %s\n", image);
+    cJSON_Delete(o);
+    return 0;
+}

@@ -1,0 +1,30 @@
+/* FFTW plans kept for the process's life (private to src/imaging).
+ *
+ * Planning costs more than transforming: 190 us for the pair of plans of a
+ * 1697-sample trace (a prime: the paper scans' length) against 60 us to run
+ * both, and the replay of one pair asks for the same few lengths about 250
+ * times. So each (kind, length) is planned once and reused through FFTW's
+ * new-array execute functions, whose arrays must come from fftwf_alloc_*
+ * (the alignment the plan was made for) and be out of place for R2C and
+ * C2R, in place for C2C.
+ *
+ * Like FFTW's planner itself, this is for one thread at a time: the daemon
+ * analyses in one worker thread at a time (src/daemon/worker.c). */
+#ifndef UWB_FFT_PLANS_H
+#define UWB_FFT_PLANS_H
+
+#include <fftw3.h>
+
+enum fft_kind {
+    FFT_R2C,                     /* n reals -> n/2+1 complex, out of place */
+    FFT_C2R,                     /* n/2+1 complex -> n reals, out of place (destroys its input) */
+    FFT_C2C_BACKWARD_IN_PLACE,   /* n complex, in place, unnormalised inverse */
+};
+
+/* A plan for this kind and length: a cached one, or (when the cache is
+ * full) a new one that uwb_fft_plan_release destroys. NULL if FFTW has no
+ * memory for it. */
+fftwf_plan uwb_fft_plan_acquire(enum fft_kind kind, int n);
+void uwb_fft_plan_release(fftwf_plan plan);
+
+#endif

@@ -1,0 +1,395 @@
+/* The trend PNG (see output/render_trend.h): displacement over time with
+ * 2-sigma bars, the thresholds, baseline changes, and the verdicts that
+ * have no figure shown as marks of their own. */
+#include "output/render_trend.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define FONT_SCALE 2
+#define MARGIN_LEFT 110
+#define MARGIN_RIGHT 30
+#define MARGIN_BOTTOM 80
+#define STRIP_H 22
+#define MARKER 4            /* half-size of a figure's square, px */
+#define CAP 5               /* half-width of a bar's cap, px */
+#define X_TICKS 6
+
+static const struct uwb_rgb white = {255, 255, 255};
+static const struct uwb_rgb ink = {25, 25, 25};
+static const struct uwb_rgb muted = {90, 90, 90};
+static const struct uwb_rgb rule = {170, 170, 170};
+static const struct uwb_rgb zero_grey = {200, 200, 200};
+static const struct uwb_rgb series_grey = {150, 150, 150};
+static const struct uwb_rgb strip_fill = {242, 242, 242};
+static const struct uwb_rgb baseline_ink = {150, 20, 110};
+
+static double mm_per_year(double mm_per_day)
+{
+    return mm_per_day * 365.25;
+}
+
+static int line_step(int scale)
+{
+    return UWB_FONT_LINE_HEIGHT * scale + 3;
+}
+
+static void count_kinds(const struct uwb_trend *t, int *figures, int *inconclusive, int *errors, int *edges,
+                        int *undated)
+{
+    *figures = *inconclusive = *errors = *edges = *undated = 0;
+    for (int i = 0; i < t->count; i++) {
+        const struct uwb_trend_point *p = &t->points[i];
+        *undated += !p->has_time;
+        if (p->has_displacement)
+            ++*figures;
+        else if (p->status == UWB_STATUS_ERROR)
+            ++*errors;
+        else if (p->status == UWB_STATUS_EDGES)
+            ++*edges;
+        else
+            ++*inconclusive;
+    }
+}
+
+static const struct uwb_trend_point *latest(const struct uwb_trend *t)
+{
+    return t->count > 0 ? &t->points[t->count - 1] : NULL;
+}
+
+/* The latest verdict in words, ASCII (sep is "+/-" or the font's "±"). */
+static void describe_point(const struct uwb_trend_point *p, const char *sep, char *buf, size_t len)
+{
+    if (!p)
+        snprintf(buf, len, "no verdict yet");
+    else if (p->has_displacement)
+        snprintf(buf, len, "%s %+.2f %s %.2f mm (1 sigma)", uwb_status_name(p->status), p->displacement_mm, sep,
+                 p->sigma_mm);
+    else if (p->status == UWB_STATUS_EDGES)
+        snprintf(buf, len, "edges only (%s)", p->became_baseline ? "became the baseline" : "no baseline");
+    else
+        snprintf(buf, len, "%s, no figure%s%.100s", uwb_status_name(p->status), p->reason[0] ? ": " : "", p->reason);
+}
+
+static void describe_rate(const struct uwb_trend *t, const char *sep, char *buf, size_t len)
+{
+    if (t->rate.known)
+        snprintf(buf, len, "%+.2f %s %.2f mm/year (1 sigma), %d figures over %.0f days since the baseline",
+                 mm_per_year(t->rate.mm_per_day), sep, mm_per_year(t->rate.sigma_mm_per_day), t->rate.points,
+                 t->rate.days);
+    else
+        snprintf(buf, len, "not known: %d dated figure%s since the baseline", t->rate.points,
+                 t->rate.points == 1 ? "" : "s");
+}
+
+void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *th, char *buf, size_t len)
+{
+    int figures, inconclusive, errors, edges, undated;
+    count_kinds(t, &figures, &inconclusive, &errors, &edges, &undated);
+    char last[300], rate[200];
+    describe_point(latest(t), "+/-", last, sizeof last);
+    describe_rate(t, "+/-", rate, sizeof rate);
+    const struct uwb_trend_point *p = latest(t);
+    snprintf(buf, len,
+             "%d verdicts: %d with a figure, %d inconclusive, %d error, %d edges only; latest %s: %s; "
+             "rate %s; thresholds watch %.2f mm, alarm %.2f mm; bars +/-%.0f sigma (95 %%)",
+             t->count, figures, inconclusive, errors, edges, p && p->created[0] ? p->created : "(none)", last, rate,
+             th->watch_m * 1e3, th->alarm_m * 1e3, UWB_TREND_BAR_SIGMAS);
+}
+
+static int first_last_time(const struct uwb_trend *t, time_t *first, time_t *last)
+{
+    int any = 0;
+    for (int i = 0; i < t->count; i++) {
+        const struct uwb_trend_point *p = &t->points[i];
+        if (!p->has_time)
+            continue;
+        if (!any || p->t < *first)
+            *first = p->t;
+        if (!any || p->t > *last)
+            *last = p->t;
+        any = 1;
+    }
+    return any;
+}
+
+/* Caption lines: title, site, latest, rate, legend. Drawn when c is set;
+ * returns the height either way so layout and drawing agree. */
+static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct uwb_thresholds *th,
+                   const char *site)
+{
+    int scale = FONT_SCALE, x = 12, y = 10;
+    char a[512], b[400];
+    if (c)
+        uwb_draw_text(c, x, y, "uwbd trend: axial displacement", scale + 1, ink);
+    y += UWB_FONT_LINE_HEIGHT * (scale + 1) + 6;
+    int label_w = uwb_text_width("latest  ", scale);
+    if (site && site[0]) {
+        if (c) {
+            uwb_draw_text(c, x, y, "asset", scale, muted);
+            uwb_draw_text(c, x + label_w, y, site, scale, ink);
+        }
+        y += line_step(scale);
+    }
+    const struct uwb_trend_point *p = latest(t);
+    if (c) {
+        uwb_draw_text(c, x, y, "latest", scale, muted);
+        describe_point(p, "\u00b1", b, sizeof b);
+        snprintf(a, sizeof a, "%s  %s", p && p->created[0] ? p->created : "", b);
+        uwb_draw_text(c, x + label_w, y, a, scale, p ? uwb_status_colour(p->status) : ink);
+    }
+    y += line_step(scale);
+    if (c) {
+        uwb_draw_text(c, x, y, "rate", scale, muted);
+        describe_rate(t, "\u00b1", a, sizeof a);
+        uwb_draw_text(c, x + label_w, y, a, scale, ink);
+    }
+    y += line_step(scale);
+    if (c) {
+        /* Legend: a sample of each line next to what it means. */
+        int lx = x, mid = y + UWB_FONT_CAP_HEIGHT * scale / 2;
+        uwb_canvas_fill_rect(c, lx + 6, y - 2, 1, UWB_FONT_CAP_HEIGHT * scale + 4, ink);
+        uwb_canvas_fill_rect(c, lx + 6 - CAP, y - 2, 2 * CAP + 1, 1, ink);
+        uwb_canvas_fill_rect(c, lx + 6 - CAP, y + UWB_FONT_CAP_HEIGHT * scale + 1, 2 * CAP + 1, 1, ink);
+        lx += 18;
+        snprintf(a, sizeof a, "\u00b1%.0f sigma (95 %%)", UWB_TREND_BAR_SIGMAS);
+        lx += uwb_draw_text(c, lx, y, a, scale, ink) + 24;
+        uwb_canvas_line(c, lx, mid, lx + 28, mid, uwb_status_colour(UWB_STATUS_WATCH), 2, 6, 4);
+        lx += 34;
+        snprintf(a, sizeof a, "watch \u00b1%.2g mm", th->watch_m * 1e3);
+        lx += uwb_draw_text(c, lx, y, a, scale, ink) + 24;
+        uwb_canvas_line(c, lx, mid, lx + 28, mid, uwb_status_colour(UWB_STATUS_ALARM), 2, 0, 0);
+        lx += 34;
+        snprintf(a, sizeof a, "alarm \u00b1%.2g mm", th->alarm_m * 1e3);
+        lx += uwb_draw_text(c, lx, y, a, scale, ink) + 24;
+        uwb_canvas_line(c, lx + 4, y - 2, lx + 4, y + UWB_FONT_CAP_HEIGHT * scale + 2, baseline_ink, 1, 3, 3);
+        lx += 12;
+        uwb_draw_text(c, lx, y, "new baseline", scale, ink);
+    }
+    y += line_step(scale) + 4;
+    if (c)
+        uwb_canvas_fill_rect(c, 0, y - 4, c->width, 1, rule);
+    return y;
+}
+
+void uwb_render_trend_layout(const struct uwb_trend *t, const struct uwb_thresholds *th, const char *site,
+                         struct uwb_trend_layout *out)
+{
+    memset(out, 0, sizeof *out);
+    out->caption_h = caption(NULL, t, th, site);
+    out->strip_y = out->caption_h + 6;
+    out->strip_h = STRIP_H;
+    struct uwb_plot *p = &out->plot;
+    p->x = MARGIN_LEFT;
+    p->y = out->strip_y + out->strip_h + 8;
+    p->w = UWB_TREND_PNG_WIDTH - MARGIN_LEFT - MARGIN_RIGHT;
+    p->h = UWB_TREND_PNG_HEIGHT - p->y - MARGIN_BOTTOM;
+
+    time_t first = 0, last = 0;
+    out->unit_s = 86400.0;
+    if (first_last_time(t, &first, &last)) {
+        out->t_ref = first - first % 86400;
+        if (last - first < 2 * 86400)
+            out->unit_s = 3600.0;
+        double span = (double)(last - first) / out->unit_s;
+        double pad = fmax(0.04 * span, 0.5);
+        p->x_min = (double)(first - out->t_ref) / out->unit_s - pad;
+        p->x_max = (double)(last - out->t_ref) / out->unit_s + pad;
+    } else {
+        p->x_min = 0;
+        p->x_max = 1;
+    }
+    /* Symmetric about zero, so "up" and "down" look alike, and always
+     * wide enough for the alarm lines. */
+    double lim = fmax(th->alarm_m * 1e3 * 1.25, 1.0);
+    for (int i = 0; i < t->count; i++) {
+        const struct uwb_trend_point *q = &t->points[i];
+        if (q->has_displacement)
+            lim = fmax(lim, 1.1 * (fabs(q->displacement_mm) + UWB_TREND_BAR_SIGMAS * q->sigma_mm));
+    }
+    p->y_min = -lim;
+    p->y_max = lim;
+}
+
+int uwb_trend_col(const struct uwb_trend_layout *l, time_t when)
+{
+    return uwb_plot_col(&l->plot, (double)(when - l->t_ref) / l->unit_s);
+}
+
+static void hline(struct uwb_canvas *c, const struct uwb_plot *p, double y, struct uwb_rgb colour, int dash_on,
+                  int dash_off)
+{
+    int row = uwb_plot_row(p, y);
+    uwb_canvas_line(c, p->x, row, p->x + p->w - 1, row, colour, 1, dash_on, dash_off);
+}
+
+static void thresholds(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_thresholds *th)
+{
+    hline(c, p, 0.0, zero_grey, 0, 0);
+    for (int sign = -1; sign <= 1; sign += 2) {
+        hline(c, p, sign * th->watch_m * 1e3, uwb_status_colour(UWB_STATUS_WATCH), 6, 4);
+        hline(c, p, sign * th->alarm_m * 1e3, uwb_status_colour(UWB_STATUS_ALARM), 0, 0);
+    }
+    int right = p->x + p->w - 4;
+    int w = uwb_text_width("watch", 1);
+    uwb_draw_text(c, right - w, uwb_plot_row(p, th->watch_m * 1e3) - UWB_FONT_CAP_HEIGHT - 3, "watch", 1,
+                  uwb_status_colour(UWB_STATUS_WATCH));
+    w = uwb_text_width("alarm", 1);
+    uwb_draw_text(c, right - w, uwb_plot_row(p, th->alarm_m * 1e3) - UWB_FONT_CAP_HEIGHT - 3, "alarm", 1,
+                  uwb_status_colour(UWB_STATUS_ALARM));
+}
+
+/* A verdict without a figure: its letter in the strip, in its colour. */
+static void no_figure_mark(struct uwb_canvas *c, const struct uwb_trend_layout *l, const struct uwb_trend_point *q)
+{
+    /* ? inconclusive, X error, B became the baseline, E edges only. */
+    const char *mark = q->status == UWB_STATUS_ERROR ? "X"
+                       : q->became_baseline          ? "B"
+                       : q->status == UWB_STATUS_EDGES ? "E"
+                                                       : "?";
+    int col = uwb_trend_col(l, q->t);
+    int w = uwb_text_width(mark, FONT_SCALE);
+    uwb_draw_text(c, col - w / 2, l->strip_y + (l->strip_h - UWB_FONT_CAP_HEIGHT * FONT_SCALE) / 2, mark, FONT_SCALE,
+                  uwb_status_colour(q->status));
+}
+
+static void figure(struct uwb_canvas *c, const struct uwb_plot *p, int col, const struct uwb_trend_point *q)
+{
+    double bar = UWB_TREND_BAR_SIGMAS * q->sigma_mm;
+    int top = uwb_plot_row(p, q->displacement_mm + bar), bottom = uwb_plot_row(p, q->displacement_mm - bar);
+    int row = uwb_plot_row(p, q->displacement_mm);
+    uwb_canvas_line(c, col, top, col, bottom, ink, 1, 0, 0);
+    uwb_canvas_line(c, col - CAP, top, col + CAP, top, ink, 1, 0, 0);
+    uwb_canvas_line(c, col - CAP, bottom, col + CAP, bottom, ink, 1, 0, 0);
+    uwb_canvas_fill_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1, uwb_status_colour(q->status));
+    uwb_canvas_frame_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1, ink);
+}
+
+static void x_labels(struct uwb_canvas *c, const struct uwb_trend_layout *l, const struct uwb_trend *t)
+{
+    const struct uwb_plot *p = &l->plot;
+    double ticks[64], step;
+    int n = uwb_nice_ticks(p->x_min, p->x_max, X_TICKS, ticks, 64, &step);
+    int days = l->unit_s >= 86400.0;
+    for (int i = 0; i < n; i++) {
+        if (days && fabs(ticks[i] - round(ticks[i])) > 1e-6)
+            continue;   /* half days: a tick, no date */
+        time_t when = l->t_ref + (time_t)llround(ticks[i] * l->unit_s);
+        struct tm tm;
+        char label[32];
+        gmtime_r(&when, &tm);
+        strftime(label, sizeof label, days ? "%m-%d" : "%H:%M", &tm);
+        int col = uwb_plot_col(p, ticks[i]);
+        int w = uwb_text_width(label, FONT_SCALE);
+        uwb_draw_text(c, col - w / 2, p->y + p->h + 6 + 4, label, FONT_SCALE, ink);
+    }
+    char title[96];
+    time_t first = 0, last = 0;
+    if (first_last_time(t, &first, &last)) {
+        struct tm a, b;
+        gmtime_r(&first, &a);
+        gmtime_r(&last, &b);
+        if (days && a.tm_year == b.tm_year)
+            snprintf(title, sizeof title, "date (UTC), %d", a.tm_year + 1900);
+        else if (days)
+            snprintf(title, sizeof title, "date (UTC), %d to %d", a.tm_year + 1900, b.tm_year + 1900);
+        else
+            snprintf(title, sizeof title, "time (UTC) from %04d-%02d-%02d", a.tm_year + 1900, a.tm_mon + 1,
+                     a.tm_mday);
+    } else {
+        snprintf(title, sizeof title, "no dated verdicts");
+    }
+    int w = uwb_text_width(title, FONT_SCALE);
+    uwb_draw_text(c, p->x + (p->w - w) / 2, p->y + p->h + 6 + 4 + UWB_FONT_CAP_HEIGHT * FONT_SCALE + 12, title,
+                  FONT_SCALE, ink);
+}
+
+static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct uwb_thresholds *th, const char *site)
+{
+    struct uwb_trend_layout l;
+    uwb_render_trend_layout(t, th, site, &l);
+    const struct uwb_plot *p = &l.plot;
+    caption(c, t, th, site);
+
+    uwb_canvas_fill_rect(c, p->x, l.strip_y, p->w, l.strip_h, strip_fill);
+    uwb_draw_text(c, 8, l.strip_y + (l.strip_h - UWB_FONT_CAP_HEIGHT) / 2, "no figure", 1, muted);
+    thresholds(c, p, th);
+
+    /* Baseline changes first, so the figures stay on top of them. */
+    for (int i = 0; i < t->count; i++) {
+        const struct uwb_trend_point *q = &t->points[i];
+        if (!q->baseline_change || !q->has_time)
+            continue;
+        int col = uwb_trend_col(&l, q->t);
+        uwb_canvas_line(c, col, l.strip_y, col, p->y + p->h - 1, baseline_ink, 1, 3, 3);
+    }
+    /* A thin line joins the figures of one baseline; a new baseline
+     * starts a new line (its figures are against another reference). */
+    int prev_col = 0, prev_row = 0, have_prev = 0;
+    for (int i = 0; i < t->count; i++) {
+        const struct uwb_trend_point *q = &t->points[i];
+        if (q->baseline_change)
+            have_prev = 0;
+        if (!q->has_displacement || !q->has_time)
+            continue;
+        int col = uwb_trend_col(&l, q->t), row = uwb_plot_row(p, q->displacement_mm);
+        if (have_prev)
+            uwb_canvas_line(c, prev_col, prev_row, col, row, series_grey, 1, 0, 0);
+        prev_col = col;
+        prev_row = row;
+        have_prev = 1;
+    }
+    for (int i = 0; i < t->count; i++) {
+        const struct uwb_trend_point *q = &t->points[i];
+        if (!q->has_time)
+            continue;
+        if (q->has_displacement)
+            figure(c, p, uwb_trend_col(&l, q->t), q);
+        else
+            no_figure_mark(c, &l, q);
+    }
+    struct uwb_axis_style style = {
+        .x_label_scale = 1.0,
+        .y_label_scale = 1.0,
+        .font_scale = FONT_SCALE,
+        .x_ticks = X_TICKS,
+        .y_ticks = 8,
+        .x_labels = 0,
+        .y_labels_left = 1,
+        .y_title = "displacement, mm (up +)",
+    };
+    uwb_draw_axes(c, p, &style);
+    x_labels(c, &l, t);
+    if (t->count == 0) {
+        const char *none = "no verdicts yet";
+        int w = uwb_text_width(none, FONT_SCALE);
+        uwb_draw_text(c, p->x + (p->w - w) / 2, p->y + p->h / 3, none, FONT_SCALE, muted);
+    }
+}
+
+int uwb_render_trend_png(const char *path, const struct uwb_trend *t, const struct uwb_thresholds *th,
+                     const char *site, char *err, size_t errlen)
+{
+    struct uwb_canvas c;
+    if (uwb_canvas_init(&c, UWB_TREND_PNG_WIDTH, UWB_TREND_PNG_HEIGHT, white, err, errlen) != 0)
+        return -1;
+    draw(&c, t, th, site);
+    char summary[1024], asset[256];
+    uwb_trend_summary(t, th, summary, sizeof summary);
+    /* A site label may be UTF-8; tEXt is Latin-1: other bytes become '?'. */
+    snprintf(asset, sizeof asset, "%s", site ? site : "");
+    for (char *c = asset; *c; c++)
+        if ((unsigned char)*c < 0x20 || (unsigned char)*c > 0x7e)
+            *c = '?';
+    /* tEXt is Latin-1: ASCII only here ("+/-", "sigma"). */
+    struct uwb_png_text texts[] = {
+        {"Title", "uwbd trend: axial displacement"},
+        {"Description", summary},
+        {"Asset", asset[0] ? asset : NULL},
+        {"Software", "uwbd"},
+    };
+    int rc = uwb_canvas_write_png(&c, path, texts, 4, err, errlen);
+    uwb_canvas_free(&c);
+    return rc;
+}

@@ -1,0 +1,163 @@
+/* Verdict lines -> a displacement series and its rate (see verdict/trend.h). */
+#include "verdict/trend.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int uwb_status_from_name(const char *name, enum uwb_status *out)
+{
+    static const enum uwb_status all[] = {UWB_STATUS_EDGES, UWB_STATUS_OK, UWB_STATUS_WATCH,
+                                          UWB_STATUS_ALARM, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR};
+    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
+        if (strcmp(name, uwb_status_name(all[i])) == 0) {
+            *out = all[i];
+            return 0;
+        }
+    }
+    return -1;
+}
+
+static const char *text_of(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    return cJSON_IsString(v) && v->valuestring ? v->valuestring : NULL;
+}
+
+static int number_of(const cJSON *o, const char *key, double *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
+        return 0;
+    *out = v->valuedouble;
+    return 1;
+}
+
+static void copy_text(char *dst, size_t n, const char *src)
+{
+    snprintf(dst, n, "%s", src ? src : "");
+}
+
+/* "YYYY-MM-DDTHH:MM:SSZ" (what uwbd writes) to UTC seconds. */
+static int parse_utc(const char *text, time_t *out)
+{
+    struct tm tm;
+    memset(&tm, 0, sizeof tm);
+    char zone = 0;
+    if (!text || sscanf(text, "%4d-%2d-%2dT%2d:%2d:%2d%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour,
+                        &tm.tm_min, &tm.tm_sec, &zone) != 7 || zone != 'Z')
+        return 0;
+    if (tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 || tm.tm_hour > 23 ||
+        tm.tm_min > 59 || tm.tm_sec > 60)
+        return 0;
+    tm.tm_year -= 1900;
+    tm.tm_mon -= 1;
+    *out = timegm(&tm);
+    return 1;
+}
+
+static int read_point(const char *line, struct uwb_trend_point *p)
+{
+    cJSON *o = line ? cJSON_Parse(line) : NULL;
+    const char *cls = text_of(o, "class");
+    enum uwb_status status;
+    if (!cJSON_IsObject(o) || !cls || strcmp(cls, "VERDICT") != 0 ||
+        uwb_status_from_name(text_of(o, "status"), &status) != 0) {
+        cJSON_Delete(o);
+        return -1;
+    }
+    memset(p, 0, sizeof *p);
+    p->status = status;
+    copy_text(p->created, sizeof p->created, text_of(o, "created"));
+    p->has_time = parse_utc(text_of(o, "created"), &p->t);
+    copy_text(p->scan_id, sizeof p->scan_id, text_of(o, "scan_id"));
+    copy_text(p->reason, sizeof p->reason, text_of(o, "reason"));
+    const cJSON *base = cJSON_GetObjectItemCaseSensitive(o, "baseline");
+    copy_text(p->baseline_id, sizeof p->baseline_id, text_of(base, "scan_id"));
+    p->became_baseline = p->baseline_change = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(o, "baseline_set"));
+    /* A figure only where the verdict made one: an inconclusive or error
+     * verdict never becomes a point on the line. */
+    int decided = status == UWB_STATUS_OK || status == UWB_STATUS_WATCH || status == UWB_STATUS_ALARM;
+    p->has_displacement = decided && number_of(o, "axial_displacement_mm", &p->displacement_mm) &&
+                          number_of(o, "uncertainty_mm", &p->sigma_mm) && p->sigma_mm >= 0;
+    p->has_height_change = decided && number_of(o, "height_change_mm", &p->height_change_mm);
+    cJSON_Delete(o);
+    return 0;
+}
+
+static void find_rate(struct uwb_trend *t)
+{
+    memset(&t->rate, 0, sizeof t->rate);
+    int from = 0;
+    for (int i = 0; i < t->count; i++)
+        if (t->points[i].baseline_change)
+            from = i;
+    /* Weighted least squares in days from the first figure; a sigma of 0
+     * (rounded) counts as 0.01 mm, the verdict's resolution. */
+    double sw = 0, swx = 0, swy = 0, swxx = 0, swxy = 0, t0 = 0, first = 0, last = 0;
+    int n = 0;
+    for (int i = from; i < t->count; i++) {
+        const struct uwb_trend_point *p = &t->points[i];
+        if (!p->has_displacement || !p->has_time)
+            continue;
+        if (n == 0)
+            t0 = (double)p->t;
+        double x = ((double)p->t - t0) / 86400.0;
+        double s = fmax(p->sigma_mm, 0.01);
+        double w = 1.0 / (s * s);
+        sw += w;
+        swx += w * x;
+        swy += w * p->displacement_mm;
+        swxx += w * x * x;
+        swxy += w * x * p->displacement_mm;
+        if (n == 0)
+            first = x;
+        last = x;
+        n++;
+    }
+    t->rate.points = n;
+    t->rate.days = last - first;
+    double det = sw * swxx - swx * swx;
+    if (n < 2 || !(det > 0) || !(t->rate.days > 0))
+        return;
+    t->rate.known = 1;
+    t->rate.mm_per_day = (sw * swxy - swx * swy) / det;
+    t->rate.sigma_mm_per_day = sqrt(sw / det);
+}
+
+int uwb_trend_from_lines(char *const *lines, int count, struct uwb_trend *out)
+{
+    memset(out, 0, sizeof *out);
+    if (count <= 0)
+        return 0;
+    out->points = calloc((size_t)count, sizeof *out->points);
+    if (!out->points)
+        return -1;
+    char known_baseline[UWB_TREND_ID_MAX + 1] = "";
+    for (int i = 0; i < count; i++) {
+        struct uwb_trend_point *p = &out->points[out->count];
+        if (read_point(lines[i], p) != 0) {
+            out->unreadable++;
+            continue;
+        }
+        /* A new baseline shows as this scan having become one, or as a
+         * verdict against another baseline than the one before. */
+        if (p->baseline_id[0] && known_baseline[0] && strcmp(p->baseline_id, known_baseline) != 0)
+            p->baseline_change = 1;
+        if (p->became_baseline)
+            copy_text(known_baseline, sizeof known_baseline, p->scan_id);
+        else if (p->baseline_id[0])
+            copy_text(known_baseline, sizeof known_baseline, p->baseline_id);
+        out->count++;
+    }
+    find_rate(out);
+    return 0;
+}
+
+void uwb_trend_free(struct uwb_trend *t)
+{
+    free(t->points);
+    memset(t, 0, sizeof *t);
+}

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# No cycles between files of different jobs in libuwb.a: for every object of
+# src/, the global symbols it uses are resolved to the object defining them
+# (nm), and the resulting "uses" graph must have no loop (tsort). A loop
+# means neither file can be understood, tested or replaced without the other
+# (issue 18: the store's open repaired the verdict log, which writes through
+# the store).
+#
+# Files that are one job split for size are one node; each group says why.
+set -euo pipefail
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+obj="$UWB_BUILD_DIR/obj/src"
+[[ -d $obj ]] || fail "$obj: no objects (build first)"
+
+groups=$(cat <<'EOF'
+# An interface and the backends in its table: the front end picks a backend,
+# the backends use the front end's helpers.
+gpio src/gpio/gpio.o src/gpio/gpio_emulated.o src/hw/gpio_libgpiod.o
+link src/link/link.o src/link/link_socket.o
+# The daemon's event loop and the parts of it that share its state
+# (src/daemon/daemon_internal.h): peers, worker thread, lock watch, baseline requests,
+# the commands MQTT brings.
+daemon-loop src/daemon/daemon.o src/daemon/peers.o src/daemon/worker.o src/daemon/lock_watch.o
+daemon-loop src/daemon/baseline_requests.o src/daemon/site_commands.o
+EOF
+)
+
+# The nm that reads these objects (a cross build's are not the host's).
+first=$(cd "$UWB_BUILD_DIR/obj" && find src -name '*.o' | sort | head -n 1)
+nm_tool=
+for candidate in nm aarch64-linux-gnu-nm; do
+    if command -v "$candidate" > /dev/null && "$candidate" "$UWB_BUILD_DIR/obj/$first" > /dev/null 2>&1; then
+        nm_tool=$candidate
+        break
+    fi
+done
+[[ -n $nm_tool ]] || fail "no nm reads $first"
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# node OBJECT: the group an object belongs to, or the object itself.
+echo "$groups" | awk '!/^#/ && NF > 1 { for (i = 2; i <= NF; i++) print $i, $1 }' | sort > "$work/node"
+
+repo=$(pwd)
+cd "$UWB_BUILD_DIR/obj"
+# Objects of sources that still exist (a renamed file leaves its old object behind).
+objects=$(find src -name '*.o' | sort | while read -r o; do if [[ -f $repo/${o%.o}.c ]]; then echo "$o"; fi; done)
+[[ $(echo "$objects" | wc -l) -gt 20 ]] || fail "only $(echo "$objects" | wc -l) objects under $obj"
+for o in $objects; do
+    "$nm_tool" --defined-only -g "$o" | awk -v o="$o" 'NF == 3 { print $3, o }'
+done | sort > "$work/defined"
+for o in $objects; do
+    "$nm_tool" -u "$o" | awk -v o="$o" '{ print $2, o }'
+done | sort > "$work/used"
+
+# "user provider" per symbol, then each object replaced by its node.
+join "$work/used" "$work/defined" | awk '{ print $2, $3, $1 }' | sort > "$work/edges"
+awk 'NR == FNR { node[$1] = $2; next }
+     { u = ($1 in node) ? node[$1] : $1; p = ($2 in node) ? node[$2] : $2;
+       if (u != p) print u, p, $3 }' "$work/node" "$work/edges" > "$work/node-edges"
+[[ -s $work/node-edges ]] || fail "no references between objects found (nm output changed?)"
+
+if ! awk '{ print $1, $2 }' "$work/node-edges" | sort -u | tsort > /dev/null 2> "$work/loops"; then
+    echo "objects of libuwb.a that use each other (a cycle), with a symbol each way:" >&2
+    loop=$(grep -v 'input contains a loop' "$work/loops" | sed 's/^tsort: //' | sort -u)
+    for a in $loop; do
+        for b in $loop; do
+            awk -v a="$a" -v b="$b" '$1 == a && $2 == b { print "    " a " uses " b ": " $3; exit }' \
+                "$work/node-edges" >&2
+        done
+    done
+    fail "cycles between objects of different jobs"
+fi
+echo "PASS: $(echo "$objects" | wc -l) objects, $(awk '{ print $1, $2 }' "$work/node-edges" | sort -u | wc -l) uses between them, no cycle"

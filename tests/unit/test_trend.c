@@ -1,0 +1,443 @@
+/* The trend: verdicts.jsonl read back as a displacement series with its
+ * rate, `trend [N]` parsed, its TREND reply as text for people, and
+ * trend.png read back with libpng (size, text chunks, an error bar's
+ * pixels, a threshold line, the mark of a verdict without a figure). */
+#include "unity.h"
+
+#include <dirent.h>
+#include <math.h>
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "scratch_support.h"
+#include "uwb/cli.h"
+#include "daemon/command.h"
+#include "daemon/store.h"
+#include "daemon/trend.h"
+#include "output/render_trend.h"
+
+static char dir[256];
+
+void setUp(void)
+{
+    dir[0] = '\0';
+}
+
+void tearDown(void)
+{
+    if (dir[0])
+        scratch_remove_tree(dir);
+}
+
+/* Ten days of verdicts: a baseline, figures growing by 0.1 mm/day against
+ * it, an inconclusive one (which must not become a figure even though it
+ * carries numbers), an error, a line that is not a verdict, then a new
+ * baseline and two figures against it. */
+static const char *const log_lines[] = {
+    "{\"class\":\"VERDICT\",\"status\":\"edges\",\"scan_id\":\"B1\",\"created\":\"2026-03-01T06:00:00Z\","
+    "\"baseline_set\":true,\"lower_edge_mm\":200,\"upper_edge_mm\":600}",
+    "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S2\",\"created\":\"2026-03-02T06:00:00Z\","
+    "\"axial_displacement_mm\":0.1,\"uncertainty_mm\":0.3,\"height_change_mm\":0.05,\"baseline\":{\"scan_id\":\"B1\"}}",
+    "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S3\",\"created\":\"2026-03-03T06:00:00Z\","
+    "\"axial_displacement_mm\":0.2,\"uncertainty_mm\":0.3,\"baseline\":{\"scan_id\":\"B1\"}}",
+    "{\"class\":\"VERDICT\",\"status\":\"inconclusive\",\"scan_id\":\"S4\",\"created\":\"2026-03-04T06:00:00Z\","
+    "\"reason\":\"face echo too weak (SNR 3 dB)\",\"axial_displacement_mm\":9.9,\"uncertainty_mm\":0.1}",
+    "not a verdict",
+    "{\"class\":\"VERDICT\",\"status\":\"error\",\"scan_id\":\"S5\",\"created\":\"2026-03-05T06:00:00Z\","
+    "\"reason\":\"digitiser did not answer\"}",
+    "{\"class\":\"VERDICT\",\"status\":\"watch\",\"scan_id\":\"S6\",\"created\":\"2026-03-06T06:00:00Z\","
+    "\"axial_displacement_mm\":3.0,\"uncertainty_mm\":0.5,\"height_change_mm\":-0.2,\"baseline\":{\"scan_id\":\"B1\"}}",
+    "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S7\",\"created\":\"2026-03-08T06:00:00Z\","
+    "\"axial_displacement_mm\":0.0,\"uncertainty_mm\":0.2,\"baseline\":{\"scan_id\":\"B2\"}}",
+    "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S8\",\"created\":\"2026-03-10T06:00:00Z\","
+    "\"axial_displacement_mm\":-0.4,\"uncertainty_mm\":0.2,\"baseline\":{\"scan_id\":\"B2\"}}",
+};
+#define N_LINES ((int)(sizeof log_lines / sizeof log_lines[0]))
+
+static void read_lines(struct uwb_trend *t)
+{
+    TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines((char *const *)log_lines, N_LINES, t));
+}
+
+static void test_verdicts_become_figures_only_where_the_verdict_made_one(void)
+{
+    struct uwb_trend t;
+    read_lines(&t);
+    TEST_ASSERT_EQUAL_INT(N_LINES - 1, t.count);
+    TEST_ASSERT_EQUAL_INT(1, t.unreadable);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_EDGES, t.points[0].status);
+    TEST_ASSERT_FALSE(t.points[0].has_displacement);
+    TEST_ASSERT_TRUE(t.points[1].has_displacement);
+    TEST_ASSERT_EQUAL_DOUBLE(0.1, t.points[1].displacement_mm);
+    TEST_ASSERT_EQUAL_DOUBLE(0.3, t.points[1].sigma_mm);
+    TEST_ASSERT_TRUE(t.points[1].has_height_change);
+    TEST_ASSERT_FALSE(t.points[2].has_height_change);
+    /* The inconclusive verdict's numbers are not a figure. */
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, t.points[3].status);
+    TEST_ASSERT_FALSE(t.points[3].has_displacement);
+    TEST_ASSERT_EQUAL_STRING("face echo too weak (SNR 3 dB)", t.points[3].reason);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, t.points[4].status);
+    TEST_ASSERT_FALSE(t.points[4].has_displacement);
+    TEST_ASSERT_TRUE(t.points[1].has_time);
+    TEST_ASSERT_EQUAL_INT64(86400, (long long)(t.points[2].t - t.points[1].t));
+    uwb_trend_free(&t);
+}
+
+static void test_baseline_changes_are_marked(void)
+{
+    struct uwb_trend t;
+    read_lines(&t);
+    TEST_ASSERT_TRUE(t.points[0].became_baseline);
+    TEST_ASSERT_TRUE(t.points[0].baseline_change);
+    for (int i = 1; i < 6; i++)
+        TEST_ASSERT_FALSE_MESSAGE(t.points[i].baseline_change, t.points[i].scan_id);
+    /* S7 is against B2, the scans before against B1. */
+    TEST_ASSERT_TRUE(t.points[6].baseline_change);
+    TEST_ASSERT_FALSE(t.points[6].became_baseline);
+    TEST_ASSERT_FALSE(t.points[7].baseline_change);
+    uwb_trend_free(&t);
+}
+
+static void test_rate_is_fitted_since_the_last_baseline_change(void)
+{
+    struct uwb_trend t;
+    read_lines(&t);
+    /* Since B2: 0.0 then -0.4 two days later, equal sigmas: -0.2 mm/day.
+     * (Over all figures it would be positive: the old series rose.) */
+    TEST_ASSERT_TRUE(t.rate.known);
+    TEST_ASSERT_EQUAL_INT(2, t.rate.points);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, -0.2, t.rate.mm_per_day);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 2.0, t.rate.days);
+    /* Two points with sigma 0.2 two days apart: sigma of the slope
+     * sqrt(2) * 0.2 / 2 mm/day. */
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, sqrt(2.0) * 0.2 / 2.0, t.rate.sigma_mm_per_day);
+    uwb_trend_free(&t);
+
+    /* Without the new baseline: the three B1 figures 0.1, 0.2 (days 1, 2)
+     * and 3.0 (day 5), weighted by 1/sigma^2. */
+    TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines((char *const *)log_lines, 7, &t));
+    TEST_ASSERT_TRUE(t.rate.known);
+    TEST_ASSERT_EQUAL_INT(3, t.rate.points);
+    double w[3] = {1 / 0.09, 1 / 0.09, 1 / 0.25}, x[3] = {0, 1, 4}, y[3] = {0.1, 0.2, 3.0};
+    double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (int i = 0; i < 3; i++) {
+        sw += w[i];
+        sx += w[i] * x[i];
+        sy += w[i] * y[i];
+        sxx += w[i] * x[i] * x[i];
+        sxy += w[i] * x[i] * y[i];
+    }
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, (sw * sxy - sx * sy) / (sw * sxx - sx * sx), t.rate.mm_per_day);
+    uwb_trend_free(&t);
+}
+
+static void test_one_figure_has_no_rate(void)
+{
+    struct uwb_trend t;
+    TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines((char *const *)log_lines, 2, &t));
+    TEST_ASSERT_FALSE(t.rate.known);
+    TEST_ASSERT_EQUAL_INT(1, t.rate.points);
+    uwb_trend_free(&t);
+}
+
+static void test_trend_command_parses_its_count(void)
+{
+    struct uwb_command cmd;
+    char err[160];
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_OK, uwb_command_parse("trend", 5, &cmd, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_TREND, cmd.kind);
+    TEST_ASSERT_EQUAL_INT(UWB_TREND_DEFAULT, cmd.count);
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_OK, uwb_command_parse("trend 7\r\n", 9, &cmd, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(7, cmd.count);
+    TEST_ASSERT_EQUAL_STRING("trend", uwb_command_name(cmd.kind));
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_INVALID, uwb_command_parse("trend 0", 7, &cmd, err, sizeof err));
+    TEST_ASSERT_NOT_NULL(strstr(err, "trend: N must be"));
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_INVALID, uwb_command_parse("trend 101", 9, &cmd, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_INVALID, uwb_command_parse("trend 5 6", 9, &cmd, err, sizeof err));
+}
+
+static char *memstream_text;
+static size_t memstream_len;
+
+static char *trend_as_text(const char *reply)
+{
+    memstream_text = NULL;
+    FILE *out = open_memstream(&memstream_text, &memstream_len);
+    TEST_ASSERT_NOT_NULL(out);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_trend_text(reply, out));
+    fclose(out);
+    return memstream_text;
+}
+
+/* Terminal column (characters, not bytes) of `at` in its line. */
+static int column_of(const char *text, const char *at)
+{
+    const char *line = at;
+    while (line > text && line[-1] != '\n')
+        line--;
+    int col = 0;
+    for (const unsigned char *c = (const unsigned char *)line; c < (const unsigned char *)at; c++)
+        col += (*c & 0xC0) != 0x80;
+    return col;
+}
+
+static void test_trend_reply_reads_as_a_table(void)
+{
+    struct uwb_trend t;
+    read_lines(&t);
+    struct uwb_thresholds th = {.watch_m = 2e-3, .alarm_m = 5e-3};
+    char *reply = uwbd_reply_trend(&t, 20, &th, "/var/lib/uwbd/trend.png");
+    TEST_ASSERT_NOT_NULL(reply);
+    TEST_ASSERT_NOT_NULL(strstr(reply, "\"class\":\"TREND\""));
+    TEST_ASSERT_NOT_NULL(strstr(reply, "\"mm_per_year\":-73.05"));   /* -0.2 mm/day */
+    char *text = trend_as_text(reply);
+    /* One line per verdict, oldest first, with what a person needs. */
+    const char *ok = strstr(text, "2026-03-02T06:00:00Z");
+    const char *inc = strstr(text, "2026-03-04T06:00:00Z");
+    TEST_ASSERT_NOT_NULL(ok);
+    TEST_ASSERT_NOT_NULL(inc);
+    TEST_ASSERT_TRUE(ok < inc);
+    TEST_ASSERT_NOT_NULL(strstr(ok, "OK"));
+    TEST_ASSERT_NOT_NULL(strstr(ok, "+0.10 \u00b1 0.30 mm"));
+    TEST_ASSERT_NOT_NULL(strstr(ok, "+0.05 mm"));
+    /* The inconclusive verdict says so and why, with no figure. */
+    const char *inc_end = strchr(strchr(inc, '\n') + 1, '\n');
+    char row[512];
+    snprintf(row, sizeof row, "%.*s", (int)(inc_end - inc), inc);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(row, "INCONCLUSIVE"), row);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(row, "no figure"), row);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(row, "face echo too weak"), row);
+    TEST_ASSERT_NULL_MESSAGE(strstr(row, "9.9"), row);
+    /* The baseline change is starred on S7's line. */
+    const char *s7 = strstr(text, "2026-03-08T06:00:00Z");
+    TEST_ASSERT_NOT_NULL(s7);
+    TEST_ASSERT_EQUAL_STRING_LEN(" * OK", s7 + 20, 5);
+    /* Columns line up on a terminal ("±" and "σ" are two bytes each):
+     * every scan id under the header's "scan". */
+    int scan_col = column_of(text, strstr(text, "scan\n"));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S2\n")));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S3\n")));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S6\n")));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S4\n")));
+    TEST_ASSERT_NOT_NULL(strstr(text, "rate: -73.05 \u00b1 "));
+    TEST_ASSERT_NOT_NULL(strstr(text, "watch from 2.00 mm, alarm from 5.00 mm"));
+    TEST_ASSERT_NOT_NULL(strstr(text, "1 line of verdicts.jsonl could not be read"));
+    TEST_ASSERT_NOT_NULL(strstr(text, "image: /var/lib/uwbd/trend.png"));
+    /* Anything else is not a trend. */
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_trend_text("{\"class\":\"HISTORY\",\"verdicts\":[]}", stdout));
+    free(text);
+    free(reply);
+    uwb_trend_free(&t);
+}
+
+/* ---- trend.png, written from a state directory's verdicts.jsonl ---- */
+
+struct png_read {
+    int w, h;
+    unsigned char *px;
+    char description[2048];
+    int text_ascii;
+};
+
+static struct png_read read_png(const char *path)
+{
+    struct png_read out;
+    memset(&out, 0, sizeof out);
+    FILE *fp = fopen(path, "rb");
+    TEST_ASSERT_NOT_NULL_MESSAGE(fp, path);
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    TEST_ASSERT_EQUAL_INT(0, setjmp(png_jmpbuf(png)));
+    png_init_io(png, fp);
+    png_read_info(png, info);
+    out.w = (int)png_get_image_width(png, info);
+    out.h = (int)png_get_image_height(png, info);
+    TEST_ASSERT_EQUAL_INT(PNG_COLOR_TYPE_RGB, png_get_color_type(png, info));
+    TEST_ASSERT_EQUAL_INT(8, png_get_bit_depth(png, info));
+    png_textp texts;
+    int n = 0;
+    png_get_text(png, info, &texts, &n);
+    out.text_ascii = 1;
+    for (int i = 0; i < n; i++) {
+        for (const unsigned char *c = (const unsigned char *)texts[i].text; *c; c++)
+            out.text_ascii &= *c < 0x80;
+        if (!strcmp(texts[i].key, "Description"))
+            snprintf(out.description, sizeof out.description, "%s", texts[i].text);
+    }
+    size_t row_bytes = (size_t)out.w * 3;
+    out.px = malloc(row_bytes * (size_t)out.h);
+    TEST_ASSERT_NOT_NULL(out.px);
+    for (int y = 0; y < out.h; y++)
+        png_read_row(png, out.px + row_bytes * (size_t)y, NULL);
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    return out;
+}
+
+static struct uwb_rgb pixel(const struct png_read *p, int x, int y)
+{
+    TEST_ASSERT_TRUE(x >= 0 && y >= 0 && x < p->w && y < p->h);
+    const unsigned char *q = p->px + ((size_t)y * (size_t)p->w + (size_t)x) * 3;
+    struct uwb_rgb c = {q[0], q[1], q[2]};
+    return c;
+}
+
+static int is(struct uwb_rgb a, struct uwb_rgb b)
+{
+    return a.r == b.r && a.g == b.g && a.b == b.b;
+}
+
+/* Row of a displacement from the documented mapping (top row y_max). */
+static int row_of(const struct uwb_plot *p, double y)
+{
+    return p->y + (int)lround((p->y_max - y) / (p->y_max - p->y_min) * (p->h - 1));
+}
+
+static void write_state(struct uwbd_store *store, int lines)
+{
+    scratch_scratch_dir(dir, sizeof dir, "trend");
+    char err[512];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(store, dir, NULL, err, sizeof err), err);
+    size_t len = 0;
+    for (int i = 0; i < lines; i++)
+        len += strlen(log_lines[i]) + 1;
+    char *text = calloc(len + 1, 1);
+    TEST_ASSERT_NOT_NULL(text);
+    for (int i = 0; i < lines; i++) {
+        strcat(text, log_lines[i]);
+        strcat(text, "\n");
+    }
+    scratch_spit(store->verdict_log, text);
+    free(text);
+}
+
+static void test_trend_png_shows_bars_thresholds_and_no_figure_marks(void)
+{
+    struct uwbd_store store;
+    write_state(&store, N_LINES);
+    struct uwbd_config cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.evaluate.compare.thresholds.watch_m = 2e-3;
+    cfg.evaluate.compare.thresholds.alarm_m = 5e-3;
+    char err[512], path[1100];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_trend_png_update(&cfg, &store, NULL, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_trend_png_path(&store, path, sizeof path));
+    TEST_ASSERT_NOT_NULL(strstr(path, "/trend.png"));
+    struct png_read png = read_png(path);
+    TEST_ASSERT_EQUAL_INT(UWB_TREND_PNG_WIDTH, png.w);
+    TEST_ASSERT_EQUAL_INT(UWB_TREND_PNG_HEIGHT, png.h);
+    TEST_ASSERT_TRUE_MESSAGE(png.text_ascii, "tEXt is Latin-1: ASCII only");
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(png.description, "8 verdicts: 5 with a figure, 1 inconclusive, 1 error, 1 edges"),
+                                 png.description);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(png.description, "bars +/-2 sigma"), png.description);
+
+    struct uwb_trend t;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_trend_read(&store, UWBD_TREND_PNG_VERDICTS, &t, err, sizeof err));
+    struct uwb_trend_layout l;
+    uwb_render_trend_layout(&t, &cfg.evaluate.compare.thresholds, NULL, &l);
+    const struct uwb_plot *p = &l.plot;
+    const struct uwb_rgb ink = {25, 25, 25}, white = {255, 255, 255};
+
+    /* S6: +3.0 mm, sigma 0.5: its bar runs from +2.0 to +4.0 mm in its
+     * column; between the marker and the cap the column is the bar's ink
+     * and the columns beside it are not. */
+    const struct uwb_trend_point *s6 = &t.points[5];
+    TEST_ASSERT_EQUAL_STRING("S6", s6->scan_id);
+    int col = uwb_trend_col(&l, s6->t);
+    int row = row_of(p, 3.0 + 1.5 * 0.5);
+    TEST_ASSERT_TRUE_MESSAGE(row < row_of(p, 3.0) - 6, "the bar reaches past the marker");
+    TEST_ASSERT_TRUE(is(pixel(&png, col, row), ink));
+    TEST_ASSERT_FALSE(is(pixel(&png, col + 2, row), ink));
+    TEST_ASSERT_FALSE(is(pixel(&png, col - 2, row), ink));
+    /* The cap at +2 sigma (4.0 mm), and nothing of the bar above it. */
+    int cap = row_of(p, 3.0 + 2.0 * 0.5);
+    TEST_ASSERT_TRUE(is(pixel(&png, col + 4, cap), ink));
+    TEST_ASSERT_TRUE(is(pixel(&png, col, cap - 3), white));
+    /* Its marker is in the watch colour. */
+    TEST_ASSERT_TRUE(is(pixel(&png, col, row_of(p, 3.0)), uwb_status_colour(UWB_STATUS_WATCH)));
+
+    /* The alarm threshold: a solid line at +5 mm and -5 mm. */
+    int alarm_rows[2] = {row_of(p, 5.0), row_of(p, -5.0)};
+    for (int k = 0; k < 2; k++)
+        TEST_ASSERT_TRUE(is(pixel(&png, p->x + 5, alarm_rows[k]), uwb_status_colour(UWB_STATUS_ALARM)));
+
+    /* S4, inconclusive with numbers in its line: nothing in the plot at
+     * its time (no marker, no bar), a grey mark in the strip above. */
+    const struct uwb_trend_point *s4 = &t.points[3];
+    int c4 = uwb_trend_col(&l, s4->t);
+    for (int y = p->y; y <= row_of(p, 0.5); y++)
+        TEST_ASSERT_FALSE(is(pixel(&png, c4, y), ink));
+    int marked = 0;
+    for (int y = l.strip_y; y < l.strip_y + l.strip_h; y++)
+        for (int x = c4 - 6; x <= c4 + 6; x++)
+            marked += is(pixel(&png, x, y), uwb_status_colour(UWB_STATUS_INCONCLUSIVE));
+    TEST_ASSERT_TRUE_MESSAGE(marked > 5, "the inconclusive verdict's mark");
+
+    free(png.px);
+    uwb_trend_free(&t);
+}
+
+static void test_trend_png_of_an_empty_log_still_draws(void)
+{
+    struct uwbd_store store;
+    write_state(&store, 0);
+    struct uwbd_config cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.evaluate.compare.thresholds.watch_m = 2e-3;
+    cfg.evaluate.compare.thresholds.alarm_m = 5e-3;
+    char err[512], path[1100];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_trend_png_update(&cfg, &store, "T1 phase B", err, sizeof err), err);
+    uwbd_trend_png_path(&store, path, sizeof path);
+    struct png_read png = read_png(path);
+    TEST_ASSERT_EQUAL_INT(UWB_TREND_PNG_WIDTH, png.w);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(png.description, "0 verdicts"), png.description);
+    free(png.px);
+}
+
+static void test_trend_png_failure_names_the_file_and_leaves_no_temporary(void)
+{
+    struct uwbd_store store;
+    write_state(&store, 3);
+    struct uwbd_config cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.evaluate.compare.thresholds.watch_m = 2e-3;
+    cfg.evaluate.compare.thresholds.alarm_m = 5e-3;
+    char err[512], path[1100], inside[1200];
+    /* Something that is not ours where trend.png goes (a directory with a
+     * file in it; modes would not stop root): the update fails and says
+     * where, and leaves that alone and no temporary behind. */
+    uwbd_trend_png_path(&store, path, sizeof path);
+    TEST_ASSERT_EQUAL_INT(0, mkdir(path, 0755));
+    snprintf(inside, sizeof inside, "%s/keep", path);
+    scratch_spit(inside, "mine");
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_trend_png_update(&cfg, &store, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "trend.png"), err);
+    TEST_ASSERT_TRUE(scratch_file_exists(inside));
+    DIR *d = opendir(dir);
+    TEST_ASSERT_NOT_NULL(d);
+    struct dirent *e;
+    int entries = 0;
+    while ((e = readdir(d)) != NULL)
+        entries += e->d_name[0] != '.';
+    closedir(d);
+    /* archive, baseline, verdicts.jsonl, trend.png (the directory) */
+    TEST_ASSERT_EQUAL_INT(4, entries);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_verdicts_become_figures_only_where_the_verdict_made_one);
+    RUN_TEST(test_baseline_changes_are_marked);
+    RUN_TEST(test_rate_is_fitted_since_the_last_baseline_change);
+    RUN_TEST(test_one_figure_has_no_rate);
+    RUN_TEST(test_trend_command_parses_its_count);
+    RUN_TEST(test_trend_reply_reads_as_a_table);
+    RUN_TEST(test_trend_png_shows_bars_thresholds_and_no_figure_marks);
+    RUN_TEST(test_trend_png_of_an_empty_log_still_draws);
+    RUN_TEST(test_trend_png_failure_names_the_file_and_leaves_no_temporary);
+    return UNITY_END();
+}
