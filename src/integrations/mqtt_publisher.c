@@ -43,6 +43,8 @@ struct uwbd_mqtt {
     int offline_mid, offline_acked;
     int was_connected;           /* log a lost broker once */
     char cmd_topic[256], reply_topic[256];
+    char health_topic[256];
+    char *health;                /* the latest health report, sent on every connection */
     int command_fd;              /* eventfd: commands wait; -1 without mqtt.commands */
     char *commands[COMMANDS_MAX];/* received, not yet taken by the main loop */
     size_t n_commands;
@@ -93,6 +95,8 @@ static void on_connect(struct mosquitto *mosq, void *ctx, int rc)
     mosquitto_publish(mosq, NULL, m->status_topic, 6, "online", QOS, true);
     if (m->command_fd >= 0)
         mosquitto_subscribe(mosq, NULL, m->cmd_topic, QOS);
+    if (m->health)
+        mosquitto_publish(mosq, NULL, m->health_topic, (int)strlen(m->health), m->health, QOS, true);
     uwbd_log(UWBD_LOG_NOTICE, "mqtt: connected; %zu verdict(s) queued", m->queued);
     send_next(m);
     pthread_mutex_unlock(&m->lock);
@@ -266,6 +270,7 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
     m->queue_max = cfg->mqtt_queue_max;
     snprintf(m->cmd_topic, sizeof m->cmd_topic, "%s/%s/cmd", cfg->mqtt_topic_prefix, cfg->asset_id);
     snprintf(m->reply_topic, sizeof m->reply_topic, "%s/%s/reply", cfg->mqtt_topic_prefix, cfg->asset_id);
+    snprintf(m->health_topic, sizeof m->health_topic, "%s/%s/health", cfg->mqtt_topic_prefix, cfg->asset_id);
     m->command_fd = cfg->mqtt_commands ? eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK) : -1;
     if (cfg->mqtt_commands && m->command_fd < 0) {
         snprintf(err, errlen, "mqtt: eventfd: %s", strerror(errno));
@@ -359,6 +364,21 @@ void uwbd_mqtt_reply(struct uwbd_mqtt *m, const char *reply_json)
         mosquitto_publish(m->mosq, NULL, m->reply_topic, (int)strlen(reply_json), reply_json, QOS, false);
 }
 
+void uwbd_mqtt_health(struct uwbd_mqtt *m, const char *health_json)
+{
+    if (!m || !health_json)
+        return;
+    char *copy = strdup(health_json);
+    pthread_mutex_lock(&m->lock);
+    if (copy) {
+        free(m->health);
+        m->health = copy;
+    }
+    if (m->connected && m->health)
+        mosquitto_publish(m->mosq, NULL, m->health_topic, (int)strlen(m->health), m->health, QOS, true);
+    pthread_mutex_unlock(&m->lock);
+}
+
 size_t uwbd_mqtt_queued(struct uwbd_mqtt *m)
 {
     pthread_mutex_lock(&m->lock);
@@ -393,6 +413,7 @@ void uwbd_mqtt_close(struct uwbd_mqtt *m)
     pthread_mutex_destroy(&m->lock);
     for (size_t i = 0; i < m->n_commands; i++)
         free(m->commands[i]);
+    free(m->health);
     if (m->command_fd >= 0)
         close(m->command_fd);
     free(m->queue);

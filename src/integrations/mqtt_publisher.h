@@ -28,6 +28,9 @@ void uwbd_mqtt_verdict(struct uwbd_mqtt *mqtt, const char *verdict_json);
 int uwbd_mqtt_command_fd(const struct uwbd_mqtt *mqtt);
 char *uwbd_mqtt_next_command(struct uwbd_mqtt *mqtt);
 void uwbd_mqtt_reply(struct uwbd_mqtt *mqtt, const char *reply_json);
+/* The health report (one JSON line), on PREFIX/ASSET/health, retained:
+ * sent now when connected, and again on every (re)connection. */
+void uwbd_mqtt_health(struct uwbd_mqtt *mqtt, const char *health_json);
 /* Verdicts waiting for the broker. */
 size_t uwbd_mqtt_queued(struct uwbd_mqtt *mqtt);
 /* Says "offline" (briefly waiting for the broker's acknowledgement) and

@@ -133,6 +133,43 @@ static void write_textfile(struct uwbd_site *s)
     s->prom_failing = 0;
 }
 
+/* The health report MQTT carries: whether the appliance is healthy (as the
+ * fault contact says), the latest verdict's status, what waits for the
+ * broker, when. */
+static void publish_health(struct uwbd_site *s)
+{
+    if (!s->mqtt)
+        return;
+    cJSON *o = cJSON_CreateObject();
+    if (!o)
+        return;
+    char now[32];
+    time_t t = time(NULL);
+    struct tm tm;
+    gmtime_r(&t, &tm);
+    strftime(now, sizeof now, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    cJSON_AddStringToObject(o, "class", "HEALTH");
+    cJSON_AddStringToObject(o, "asset_id", s->cfg.asset_id);
+    cJSON_AddStringToObject(o, "time", now);
+    cJSON_AddBoolToObject(o, "healthy", uwbd_contacts_energised(&s->contacts, UWBD_CONTACT_FAULT));
+    if (s->prom.has_verdict)
+        cJSON_AddStringToObject(o, "latest_status", uwbd_prometheus_status_name(s->prom.status));
+    unsigned long verdicts = 0;
+    for (int i = 0; i < UWBD_PROM_STATUSES; i++)
+        verdicts += s->prom.verdicts[i];
+    cJSON_AddNumberToObject(o, "verdicts_since_start", (double)verdicts);
+    cJSON_AddNumberToObject(o, "mqtt_queued", (double)uwbd_mqtt_queued(s->mqtt));
+    if (s->cfg.contacts_enabled) {
+        cJSON *c = cJSON_AddObjectToObject(o, "contacts");
+        for (int i = 0; i < UWBD_CONTACT_COUNT; i++)
+            cJSON_AddBoolToObject(c, uwbd_contact_name(i), uwbd_contacts_energised(&s->contacts, i));
+    }
+    char *text = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    uwbd_mqtt_health(s->mqtt, text);
+    free(text);
+}
+
 static void reopen(struct uwbd_site *s)
 {
     char err[512];
@@ -205,6 +242,7 @@ int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const
                  uwbd_contacts_energised(&s->contacts, UWBD_CONTACT_ALARM),
                  uwbd_contacts_energised(&s->contacts, UWBD_CONTACT_FAULT));
     write_textfile(s);
+    publish_health(s);
     *site = s;
     return UWB_GPIO_OK;
 }
@@ -216,6 +254,7 @@ void uwbd_site_verdict(struct uwbd_site *s, const char *verdict_json, double dur
     cJSON *v = verdict_json ? cJSON_Parse(verdict_json) : NULL;
     int fault;
     const char *status = verdict_status(v, &fault);
+    int recorded = status != NULL;   /* status points into v, deleted below */
     if (status) {
         uwbd_contacts_verdict(&s->contacts, status, fault);
         prom_from_verdict(&s->prom, v);
@@ -229,7 +268,7 @@ void uwbd_site_verdict(struct uwbd_site *s, const char *verdict_json, double dur
             s->prom.event_scans++;
     }
     cJSON_Delete(v);
-    if (!status)
+    if (!recorded)
         return;
     uwbd_mqtt_verdict(s->mqtt, verdict_json);
     if (s->cfg.contacts_enabled) {
@@ -237,6 +276,7 @@ void uwbd_site_verdict(struct uwbd_site *s, const char *verdict_json, double dur
         drive_contacts(s);
     }
     write_textfile(s);
+    publish_health(s);
 }
 
 int uwbd_site_ack(struct uwbd_site *s, char *err, size_t errlen)
@@ -252,6 +292,7 @@ int uwbd_site_ack(struct uwbd_site *s, char *err, size_t errlen)
              uwbd_contacts_energised(&s->contacts, UWBD_CONTACT_WATCH),
              uwbd_contacts_energised(&s->contacts, UWBD_CONTACT_ALARM));
     write_textfile(s);
+    publish_health(s);
     return 0;
 }
 

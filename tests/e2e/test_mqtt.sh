@@ -99,6 +99,13 @@ mqtt_sub "$port" tester tester-secret uwbd/T7/verdict 1 20 > retained.out || fai
 json_check latest.json 'asset_id == T7' || fail "verdict: $(cut -c1-300 latest.json)"
 pass "status \"online\" retained; the latest verdict retained on uwbd/T7/verdict, the same line as uwbd ctl verdict"
 
+mqtt_sub "$port" tester tester-secret uwbd/T7/health 1 20 > health.out || fail "no health report"
+[[ $(cut -d' ' -f1,2 health.out) == "uwbd/T7/health 1" ]] || fail "health not retained: $(cat health.out)"
+cut -d' ' -f3- health.out | json_check - 'class == HEALTH' 'asset_id == T7' 'healthy = true' \
+    "latest_status == $(json_get status < latest.json)" 'verdicts_since_start = 1' 'mqtt_queued exists' 'time exists' ||
+    fail "health: $(cat health.out)"
+pass "health report retained on uwbd/T7/health: healthy, the latest status, verdicts since start, queue length"
+
 # ---- the last will ---------------------------------------------------------------
 mqtt_sub "$port" tester tester-secret uwbd/T7/status 2 20 > will.out 2> will.err &
 sub_pid=$!
