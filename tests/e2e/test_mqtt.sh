@@ -92,14 +92,23 @@ mqtt_sub "$port" tester tester-secret uwbd/T7/status 1 20 > status.out || fail "
 ctl baseline set 1 > /dev/null
 ctl scan > v1.json 2>/dev/null || fail "first scan: $(cat v1.json)"
 ctl verdict > latest.json
-mqtt_sub "$port" tester tester-secret uwbd/T7/verdict 1 20 > retained.out || fail "no retained verdict"
+# uwbd publishes from its own network thread: wait until the broker holds
+# this verdict retained (a subscriber is then handed it at once).
+retained_now() {
+    mqtt_sub "$port" tester tester-secret uwbd/T7/verdict 1 5 > retained.out &&
+        [[ $(cut -d' ' -f1,2 retained.out) == "uwbd/T7/verdict 1" && $(cut -d' ' -f3- retained.out) == "$(cat latest.json)" ]]
+}
+wait_for retained_now || fail "the retained verdict is not what uwbd ctl verdict prints: $(cut -c1-300 retained.out)"
 [[ $(cut -d' ' -f1,2 retained.out) == "uwbd/T7/verdict 1" ]] || fail "not retained: $(cut -c1-200 retained.out)"
-[[ $(cut -d' ' -f3- retained.out) == "$(cat latest.json)" ]] ||
-    fail "the retained verdict is not what uwbd ctl verdict prints: $(cut -c1-300 retained.out)"
 json_check latest.json 'asset_id == T7' || fail "verdict: $(cut -c1-300 latest.json)"
 pass "status \"online\" retained; the latest verdict retained on uwbd/T7/verdict, the same line as uwbd ctl verdict"
 
-mqtt_sub "$port" tester tester-secret uwbd/T7/health 1 20 > health.out || fail "no health report"
+health_now() {
+    mqtt_sub "$port" tester tester-secret uwbd/T7/health 1 5 > health.out &&
+        [[ $(cut -d' ' -f1,2 health.out) == "uwbd/T7/health 1" ]] &&
+        cut -d' ' -f3- health.out | json_check - 'verdicts_since_start = 1' 2>/dev/null
+}
+wait_for health_now || fail "no health report after the verdict: $(cat health.out)"
 [[ $(cut -d' ' -f1,2 health.out) == "uwbd/T7/health 1" ]] || fail "health not retained: $(cat health.out)"
 cut -d' ' -f3- health.out | json_check - 'class == HEALTH' 'asset_id == T7' 'healthy = true' \
     "latest_status == $(json_get status < latest.json)" 'verdicts_since_start = 1' 'mqtt_queued exists' 'time exists' ||
@@ -121,8 +130,12 @@ pass "kill -9: the last will \"offline\" published and retained"
 
 # ---- the broker away: verdicts queued on disk, all sent in order on its return ----
 start_daemon uwbd2.log
-mqtt_sub "$port" tester tester-secret uwbd/T7/status 1 20 > status2.out
-[[ $(cat status2.out) == "uwbd/T7/status 1 online" ]] || fail "status after restart: $(cat status2.out)"
+# The will's "offline" stays retained until the new uwbd has connected.
+online_again() {
+    mqtt_sub "$port" tester tester-secret uwbd/T7/status 1 5 > status2.out &&
+        [[ $(cat status2.out) == "uwbd/T7/status 1 online" ]]
+}
+wait_for online_again || fail "status after restart: $(cat status2.out)"
 stop_broker
 ids=()
 for d in 0.003 0.008; do
