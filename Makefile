@@ -14,6 +14,8 @@
 #   make bench            build tools/bench/*.c into $(BUILD)/uwbbench, run it
 #   make accuracy         the accuracy report on the full-wave fixtures (build/uwbaccuracy);
 #                         it also rewrites the README's accuracy table
+#   make readme-verdict   rewrite the README's paper-pair figure and example verdict from a
+#                         run of the command it shows (make test checks they match)
 #   make soak             SOAK_CYCLES (1000) scan cycles of uwbd on the emulated board:
 #                         RSS, open fds and archive size must stay flat; then
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
@@ -111,13 +113,13 @@ ARM_PREFIX    := aarch64-linux-gnu-
 # flags are computed on a machine that has the libraries.
 SUBMAKE       := $(MAKE) --no-print-directory -f $(abspath $(firstword $(MAKEFILE_LIST)))
 
-ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
+ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy readme-verdict soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
 ifneq ($(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --exists $(LIBS_PKG) 2>/dev/null && echo ok),ok)
 $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIPLET)); `make $(if $(TRIPLET),deps-arm,deps)` installs them)
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench accuracy soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy readme-verdict soak install deps deps-arm check-hw-headers clean
 # Programs whose main.c is not written yet are left out, so the library
 # and its tests build meanwhile.
 all: $(if $(wildcard src/main.c),$(BUILD)/uwbd) $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/uwbsim) \
@@ -308,6 +310,13 @@ ACCURACY_PAIRS ?= 30
 accuracy: deps
 	+@$(SUBMAKE) all $(BUILD)/uwbaccuracy
 	$(TEST_RUNNER) $(BUILD)/uwbaccuracy --pairs $(ACCURACY_PAIRS) --readme README.md
+
+# The README's paper-pair figure and example verdict, from the command it
+# shows (tools/readme/readme-verdict.sh); tests/e2e/test_readme_verdict.sh
+# fails in make test when they differ from what that command prints.
+readme-verdict: deps
+	+@$(SUBMAKE) all $(BUILD)/e2e/state_check
+	UWB_EXEC_PREFIX='$(TEST_RUNNER)' bash tools/readme/readme-verdict.sh '$(BUILD)' --write README.md
 
 bench: deps
 	@if [ -z "$(BENCH_SRC)" ]; then echo "make bench: no tools/bench/*.c yet" >&2; exit 1; fi

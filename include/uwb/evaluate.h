@@ -1,5 +1,7 @@
-/* From scans in memory to a verdict: where replay and the appliance meet
- * (data flows drivers -> scan -> here -> outputs). */
+/* From scans in memory to a verdict: the one place where a scan and a
+ * baseline become a verdict, policy included (time zero, comparability,
+ * thresholds). The daemon and `uwbd --replay` both call uwb_evaluate and
+ * only add to its result (data flows drivers -> scan -> here -> outputs). */
 #ifndef UWB_EVALUATE_H
 #define UWB_EVALUATE_H
 
@@ -10,17 +12,40 @@
 #include "uwb/scan.h"
 #include "uwb/verdict.h"
 
+/* Time zero from the direct coupling (uwb/direct_coupling.h). */
+struct uwb_direct_coupling_options {
+    double window_end_s;  /* the arrival is looked for from the first sample up to here (default 2 ns) */
+    double tolerance_s;   /* moved more than this since the baseline: not compared (default 20 ps) */
+};
+
 struct uwb_evaluate_options {
     struct uwb_analysis_options analysis;
     struct uwb_compare_options compare;
+    struct uwb_direct_coupling_options direct_coupling;
 };
 
 void uwb_evaluate_defaults(struct uwb_evaluate_options *opt);
 
-/* Analyse current (and baseline, may be NULL) and compare. The analyses are
- * returned for the images; free them with uwb_analysis_free. Returns 0 when
- * a verdict was produced (possibly inconclusive), -1 on a hard error. */
-int uwb_evaluate(const struct uwb_scan *current, const struct uwb_scan *baseline,
+/* The baseline and what was recorded with it at commissioning (the
+ * daemon's baseline/current.json). */
+struct uwb_baseline_record {
+    const struct uwb_scan *scan;
+    int has_direct_coupling;      /* 0: not recorded; measured on `scan` as commissioning does */
+    double direct_coupling_s;     /* its time zero (direct-coupling arrival) */
+    int scans;                    /* acquisitions averaged into it (0: not recorded, one) */
+    int has_repeatability;
+    double repeatability_m;       /* spread (1-sigma) of the centre across those scans */
+};
+
+/* Analyse current and, against a baseline (NULL: edges only), compare.
+ * Against a baseline the policy comes first: a scan whose direct coupling
+ * is not found, or moved more than direct_coupling.tolerance_s since the
+ * baseline's, or whose rig differs from the baseline's, is `inconclusive`
+ * and not compared (reason says why). The analyses are returned for the
+ * images (the baseline's zeroed when it was not compared); free them with
+ * uwb_analysis_free. Returns 0 when a verdict was produced (possibly
+ * inconclusive), -1 on a hard error. */
+int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_record *baseline,
                  const struct uwb_evaluate_options *opt, struct uwb_verdict *v,
                  struct uwb_analysis *current_analysis, struct uwb_analysis *baseline_analysis,
                  char *err, size_t errlen);

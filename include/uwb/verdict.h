@@ -51,6 +51,13 @@ struct uwb_verdict {
     double axial_displacement_m; /* Yc - Yc(baseline), positive = up */
     double uncertainty_m;        /* 1-sigma of the displacement */
     double height_change_m;
+    /* Time zero: the direct coupling's arrival in this scan and, against a
+     * baseline, how far it moved since the baseline's. */
+    int has_direct_coupling;
+    double direct_coupling_s;
+    char direct_coupling_why[200];   /* why it was not found (not in the JSON: `reason` says it when it matters) */
+    int has_direct_coupling_shift;
+    double direct_coupling_shift_s;
     int n_images;
     char images[UWB_MAX_IMAGES][4096];
 };

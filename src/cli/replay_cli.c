@@ -1,6 +1,7 @@
 /* uwbd --replay: evaluate a recorded scan against a baseline, as the
  * appliance would, and print the verdict line. The work is done by the
- * library (src/imaging, src/verdict, src/output, src/replay). */
+ * library (uwb_evaluate in src/evaluate, the one path from a scan to a
+ * verdict; src/output for the images). */
 #include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
@@ -10,7 +11,9 @@
 #include <sysexits.h>
 #include <unistd.h>
 
+#include "uwb/atomic_file.h"
 #include "uwb/cli.h"
+#include "daemon/baseline_store.h"
 #include "daemon/daemon.h"
 #include "uwb/evaluate.h"
 #include "uwb/scan.h"
@@ -23,11 +26,18 @@ void uwbd_replay_usage(FILE *f)
         "\n"
         "Images a recorded scan, finds the winding's lower and upper edges and, against a\n"
         "baseline scan of the intact winding, reports the axial displacement. Prints one\n"
-        "JSON verdict line on stdout.\n"
+        "JSON verdict line on stdout: for a scan the appliance archived, with its baseline, the\n"
+        "verdict it recorded (the fields only the appliance adds, such as scan_file, aside).\n"
         "\n"
         "  --replay FILE            the scan to evaluate (uwbscan/1)\n"
-        "  --baseline FILE          baseline scan (intact winding); without it only edges are reported\n"
-        "  --out DIR                write PNG images (migrated, bscan, comparison) and the verdict JSON here\n"
+        "  --baseline FILE          baseline scan (intact winding); without it only edges are reported.\n"
+        "                           What the appliance recorded with it is read from the description\n"
+        "                           beside it (BASE.json for BASE.uwbscan: the state directory's\n"
+        "                           baseline/current.json, or baseline/history/ID.json): its time zero\n"
+        "                           (direct coupling), scans averaged and repeatability. Without one, the\n"
+        "                           time zero is measured on FILE, as commissioning does\n"
+        "  --out DIR                write the PNG images (STEM-migrated, STEM-bscan, STEM-comparison) and\n"
+        "                           the verdict line as STEM.json here (STEM: the scan id, else the file name)\n"
         "  --migration fixed|float  migration arithmetic (default fixed: int16 samples, Q15 weights)\n"
         "  --target-z NEAR:FAR      look for the winding's face only between these ranges, metres\n"
         "                           (default: the scan's target_z_m, else 0.15:1.6)\n"
@@ -36,6 +46,9 @@ void uwbd_replay_usage(FILE *f)
         "  --alarm-mm D             |displacement| from which status is alarm (default 5)\n"
         "  --max-uncertainty-mm U   above this 1-sigma uncertainty the verdict is inconclusive (default 1)\n"
         "  --edge-fraction F        edge where the face profile crosses F of its peak (default 0.5)\n"
+        "  --direct-coupling-window-ns T  look for the direct coupling up to T ns (default 2)\n"
+        "  --direct-coupling-tolerance-ps T  against a baseline, a direct coupling moved more than T ps is\n"
+        "                           inconclusive, not compared: cable or antenna changed (default 20)\n"
         "  -h, --help               this text\n"
         "  --version                print the version\n"
         "\n"
@@ -100,7 +113,62 @@ static void image_stem(const struct uwb_scan *scan, const char *path, char *stem
 }
 
 enum { OPT_REPLAY = 256, OPT_BASELINE, OPT_OUT, OPT_MIGRATION, OPT_TARGET_Z, OPT_T0,
-       OPT_WATCH, OPT_ALARM, OPT_MAX_UNC, OPT_EDGE_FRACTION, OPT_VERSION };
+       OPT_WATCH, OPT_ALARM, OPT_MAX_UNC, OPT_EDGE_FRACTION, OPT_DC_WINDOW, OPT_DC_TOLERANCE, OPT_VERSION };
+
+/* What the appliance recorded with the baseline: BASE.json beside
+ * BASE.uwbscan, when there and describing this scan. Returns 0, or
+ * EX_DATAERR when the description is there but unreadable. */
+static int baseline_record(const char *path, const struct uwb_scan *scan, struct uwb_baseline_record *rec)
+{
+    memset(rec, 0, sizeof *rec);
+    rec->scan = scan;
+    static const char suffix[] = ".uwbscan";
+    size_t n = strlen(path), k = sizeof suffix - 1;
+    if (n <= k || strcmp(path + n - k, suffix) != 0)
+        return 0;
+    char info_path[4096];
+    snprintf(info_path, sizeof info_path, "%.*s.json", (int)(n - k), path);
+    struct uwbd_baseline_info info;
+    char err[1024];
+    int rc = uwbd_baseline_info_read(info_path, &info, err, sizeof err);
+    if (rc == 1)
+        return 0;
+    if (rc != 0) {
+        fprintf(stderr, "uwbd: %s\n", err);
+        return EX_DATAERR;
+    }
+    char id[UWBD_SCAN_ID_MAX + 1];
+    uwbd_safe_scan_id(scan->scan_id ? scan->scan_id : "", id, sizeof id);
+    if (strcmp(info.scan_id, id) != 0) {   /* the appliance rebuilds such a description from the scan */
+        fprintf(stderr, "uwbd: warning: %s describes baseline %s, not %s: not used; time zero measured on %s\n",
+                info_path, info.scan_id, id, path);
+        return 0;
+    }
+    rec->has_direct_coupling = info.has_direct_coupling;
+    rec->direct_coupling_s = info.direct_coupling_s;
+    rec->scans = info.scans;
+    rec->has_repeatability = info.has_repeatability;
+    rec->repeatability_m = info.repeatability_m;
+    return 0;
+}
+
+/* --out DIR: the verdict line beside the images, as the archive keeps it. */
+static int write_verdict_file(const char *dir, const char *stem, const char *json)
+{
+    char path[4096], err[1024];
+    snprintf(path, sizeof path, "%s/%s.json", dir, stem);
+    struct atomic_file af;
+    if (uwb_atomic_file_open(&af, path, err, sizeof err) != 0) {
+        fprintf(stderr, "uwbd: %s\n", err);
+        return -1;
+    }
+    fprintf(af.fp, "%s\n", json);
+    if (uwb_atomic_file_commit(&af, err, sizeof err) != 0) {
+        fprintf(stderr, "uwbd: %s\n", err);
+        return -1;
+    }
+    return 0;
+}
 
 int uwbd_replay_main(int argc, char **argv)
 {
@@ -115,6 +183,8 @@ int uwbd_replay_main(int argc, char **argv)
         {"alarm-mm", required_argument, 0, OPT_ALARM},
         {"max-uncertainty-mm", required_argument, 0, OPT_MAX_UNC},
         {"edge-fraction", required_argument, 0, OPT_EDGE_FRACTION},
+        {"direct-coupling-window-ns", required_argument, 0, OPT_DC_WINDOW},
+        {"direct-coupling-tolerance-ps", required_argument, 0, OPT_DC_TOLERANCE},
         {"help", no_argument, 0, 'h'},
         {"version", no_argument, 0, OPT_VERSION},
         {0, 0, 0, 0},
@@ -182,6 +252,21 @@ int uwbd_replay_main(int argc, char **argv)
             }
             opt.analysis.edge_fraction = v;
             break;
+        case OPT_DC_WINDOW:
+            if (parse_number("--direct-coupling-window-ns", optarg, &v) != 0)
+                return EX_USAGE;
+            opt.direct_coupling.window_end_s = v * 1e-9;
+            break;
+        case OPT_DC_TOLERANCE:
+            if (parse_number("--direct-coupling-tolerance-ps", optarg, &v) != 0)
+                return EX_USAGE;
+            if (!(v > 0.0)) {
+                fprintf(stderr, "uwbd: --direct-coupling-tolerance-ps: '%s' is not a positive number of picoseconds\n",
+                        optarg);
+                return EX_USAGE;
+            }
+            opt.direct_coupling.tolerance_s = v * 1e-12;
+            break;
         case 'h': usage(stdout); return 0;
         case OPT_VERSION: printf("uwbd %s\n", UWBD_VERSION); return 0;
         default: uwb_cli_option_error("uwbd", "uwbd --help", argv, argc, longopts); return EX_USAGE;
@@ -207,8 +292,11 @@ int uwbd_replay_main(int argc, char **argv)
     int rc = read_scan(replay, &current);
     if (rc)
         return rc;
-    if (baseline_path && (rc = read_scan(baseline_path, &baseline)) != 0) {
+    struct uwb_baseline_record record;
+    if (baseline_path && ((rc = read_scan(baseline_path, &baseline)) != 0 ||
+                          (rc = baseline_record(baseline_path, &baseline, &record)) != 0)) {
         uwb_scan_free(&current);
+        uwb_scan_free(&baseline);
         return rc;
     }
     if (out_dir && mkdir(out_dir, 0755) != 0 && errno != EEXIST) {
@@ -222,7 +310,7 @@ int uwbd_replay_main(int argc, char **argv)
     struct uwb_analysis cur_a, base_a;
     char err[512];
     rc = 0;
-    if (uwb_evaluate(&current, baseline_path ? &baseline : NULL, &opt, &verdict, &cur_a, &base_a,
+    if (uwb_evaluate(&current, baseline_path ? &record : NULL, &opt, &verdict, &cur_a, &base_a,
                      err, sizeof err) != 0) {
         fprintf(stderr, "uwbd: %s: %s\n", replay, err);
         rc = EX_SOFTWARE;
@@ -239,6 +327,8 @@ int uwbd_replay_main(int argc, char **argv)
             fprintf(stderr, "uwbd: out of memory for the verdict\n");
             rc = EX_SOFTWARE;
         } else {
+            if (out_dir && rc == 0 && write_verdict_file(out_dir, stem, json) != 0)
+                rc = EX_CANTCREAT;
             puts(json);
             free(json);
         }

@@ -69,7 +69,7 @@ void uwbd_baseline_request_finished(struct daemon *d, unsigned long request, con
     if (d->baseline_requests == d->baseline_done && uwbd_baseline_pending_clear(&d->store, err, sizeof err) != 0)
         uwbd_log(UWBD_LOG_WARNING, "baseline: %s; the request may be applied again after a restart", err);
     if (res->baseline_set) {
-        d->has_baseline = uwbd_baseline_load(&d->store, d->cfg.direct_coupling_window_end_s, NULL, &d->baseline,
+        d->has_baseline = uwbd_baseline_load(&d->store, d->cfg.evaluate.direct_coupling.window_end_s, NULL, &d->baseline,
                                              NULL, err, sizeof err) == UWBD_BASELINE_LOADED;
         if (!d->has_baseline)
             uwbd_log(UWBD_LOG_ERR, "baseline: just set, but cannot be read back: %s", err);

@@ -14,8 +14,8 @@
 #include <unistd.h>
 #include <zlib.h>
 
-#include "uwb/daemon/direct_coupling.h"
 #include "daemon/log.h"
+#include "uwb/direct_coupling.h"
 #include "uwb/read_file.h"
 
 #define INFO_MAX 65536
@@ -77,8 +77,7 @@ static int write_info(const char *path, const struct uwbd_baseline_info *info, c
     return rc;
 }
 
-/* 0 read, 1 absent, -1 unreadable or malformed (err says which). */
-static int read_info(const char *path, struct uwbd_baseline_info *info, char *err, size_t errlen)
+int uwbd_baseline_info_read(const char *path, struct uwbd_baseline_info *info, char *err, size_t errlen)
 {
     memset(info, 0, sizeof *info);
     char *text = NULL;
@@ -164,7 +163,7 @@ int uwbd_baseline_load(const struct uwbd_store *store, double window_end_s, stru
     int parsed = uwbscan_parse(bytes, len, p.scan, &scan, err, errlen);
     free(bytes);
     char why[2 * UWBD_PATH_MAX];
-    int rc = read_info(p.info, info, why, sizeof why);
+    int rc = uwbd_baseline_info_read(p.info, info, why, sizeof why);
     char id[UWBD_SCAN_ID_MAX + 1];
     uwbd_safe_scan_id(parsed == 0 && scan.scan_id ? scan.scan_id : "", id, sizeof id);
     /* A scan that names another baseline than current.json is a crash between

@@ -26,6 +26,10 @@ struct uwbd_baseline_info {
     double repeatability_m;            /* spread (1-sigma) of the centre across those scans */
 };
 
+/* Read a baseline description (current.json, history/ID.json): 0 read, 1
+ * absent, -1 unreadable or malformed (err says which). */
+int uwbd_baseline_info_read(const char *path, struct uwbd_baseline_info *info, char *err, size_t errlen);
+
 enum uwbd_baseline_result {
     UWBD_BASELINE_LOADED = 0,
     UWBD_BASELINE_NONE = 1,            /* never set */

@@ -553,9 +553,9 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
              r->carriage.max_rate_hz);
         return -1;
     }
-    if (!(cfg->direct_coupling_window_end_s > r->digitiser.t0_s)) {
+    if (!(cfg->evaluate.direct_coupling.window_end_s > r->digitiser.t0_s)) {
         fail(ctx, "direct_coupling.window_end_ns", "%g ns is not after the first sample (digitiser.t0_ps = %g ps)",
-             cfg->direct_coupling_window_end_s * 1e9, r->digitiser.t0_s * 1e12);
+             cfg->evaluate.direct_coupling.window_end_s * 1e9, r->digitiser.t0_s * 1e12);
         return -1;
     }
     const char *site_key = NULL;

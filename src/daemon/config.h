@@ -33,8 +33,6 @@ struct uwbd_config {
     char control_mode_text[8];         /* as written, e.g. "0660" */
     unsigned control_mode;
     char control_group[UWBD_GROUP_MAX]; /* "": the daemon's own group */
-    double direct_coupling_window_end_s;
-    double direct_coupling_tolerance_s;
     int baseline_scans;                /* `baseline set` without N averages this many scans */
     double reacquire_budget_s;         /* time a cycle may spend acquiring again to be decisive; 0: never */
     char site_phase[8];                /* site.phase: the phase as the site names it ("B", "L2"); "": none */

@@ -207,10 +207,10 @@ const struct config_key uwbd_config_keys[] = {
     NUMBER_ABOVE("analysis.display_half_range_mm", evaluate.analysis.display_half_range_m, "mm", 1e-3, 10,
                  2000, 250, "the migrated image (PNG) shows ranges this far either side of the winding's face"),
 
-    NUMBER("direct_coupling.window_end_ns", direct_coupling_window_end_s, "ns", 1e-9, -1e3, 1e3, 2,
+    NUMBER("direct_coupling.window_end_ns", evaluate.direct_coupling.window_end_s, "ns", 1e-9, -1e3, 1e3, 2,
            "the direct Tx-to-Rx arrival is looked for from the first sample up to this time after "
            "the pulse leaves the transmitter"),
-    NUMBER_ABOVE("direct_coupling.tolerance_ps", direct_coupling_tolerance_s, "ps", 1e-12, 0, 1e6, 20,
+    NUMBER_ABOVE("direct_coupling.tolerance_ps", evaluate.direct_coupling.tolerance_s, "ps", 1e-12, 0, 1e6, 20,
                  "a scan whose direct-coupling arrival moved more than this from the baseline's is "
                  "inconclusive (cable or antenna changed?) instead of compared"),
 

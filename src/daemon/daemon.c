@@ -157,7 +157,7 @@ static void load_baseline_info(struct daemon *d)
     struct uwb_scan scan = {0};
     /* The same check as before every scan: a baseline already missing or
      * damaged at start is a device fault from the start. */
-    int rc = uwbd_baseline_watch(&d->store, d->cfg.direct_coupling_window_end_s, NULL, &scan, &d->baseline, why,
+    int rc = uwbd_baseline_watch(&d->store, d->cfg.evaluate.direct_coupling.window_end_s, NULL, &scan, &d->baseline, why,
                                  sizeof why);
     uwb_scan_free(&scan);
     d->has_baseline = rc == UWBD_BASELINE_LOADED;

@@ -14,37 +14,12 @@
 
 #include "daemon/acquire_more.h"
 #include "daemon/baseline_store.h"
-#include "uwb/daemon/direct_coupling.h"
 #include "daemon/log.h"
 #include "daemon/retention.h"
 #include "daemon/verdict_log.h"
 #include "uwb/evaluate.h"
 #include "uwb/monotonic.h"
 #include "uwb/verdict_json.h"
-
-/* What the daemon adds to the imaging core's verdict. */
-struct verdict_extras {
-    const char *scan_file;
-    int has_direct_coupling;
-    double direct_coupling_s;
-    int has_shift;
-    double direct_coupling_shift_s;
-    int baseline_requested;
-    int baseline_set;
-    const char *fault;           /* "baseline" when the baseline failed its check */
-    char baseline_note[256];
-    const char *archive_error;   /* a file of this cycle the archive did not take */
-    const char *record_error;    /* why the verdict is not in verdicts.jsonl */
-    int pulses;                  /* per position, in the scan evaluated */
-    int acquisitions;
-    const char *reacquire_note;  /* why no more were acquired while inconclusive */
-    int baseline_scans;          /* a baseline set from this many scans... */
-    int has_repeatability;
-    double repeatability_m;      /* ...whose centres spread this much */
-    const char *clock_note;      /* this scan is dated before the newest recorded one */
-    const char *asset_id;        /* site.asset_id, NULL when not set */
-    const char *trigger;         /* what started the scan: "schedule", "command", "event" */
-};
 
 struct cycle {
     const struct uwbd_config *cfg;
@@ -64,8 +39,10 @@ struct cycle {
     int acquisitions, pulses_each;
     int baseline_scans, has_repeatability;
     double repeatability_m;
-    char reacquire_note[256];
+    char reacquire_note[256];    /* why no more were acquired while inconclusive */
     char clock_note[200];        /* "" unless the clock went back (issue 17) */
+    char baseline_note[256];     /* after `baseline set`: why it was not set, or how */
+    const char *fault;           /* "baseline" when the baseline failed its check */
 };
 
 static int file_exists_in(const char *dir, const char *id, const char *suffix)
@@ -95,52 +72,6 @@ static void choose_id(struct cycle *c, const char *wanted)
     }
 }
 
-static char *verdict_text(const struct uwb_verdict *v, const struct verdict_extras *x)
-{
-    char *core = uwb_verdict_to_json(v);
-    cJSON *o = core ? cJSON_Parse(core) : NULL;
-    free(core);
-    if (!o)
-        return NULL;
-    if (x->asset_id)
-        cJSON_AddStringToObject(o, "asset_id", x->asset_id);
-    if (x->trigger)
-        cJSON_AddStringToObject(o, "trigger", x->trigger);
-    if (x->scan_file)
-        cJSON_AddStringToObject(o, "scan_file", x->scan_file);
-    if (x->has_direct_coupling)
-        cJSON_AddNumberToObject(o, "direct_coupling_ps", round(x->direct_coupling_s * 1e13) / 10.0);
-    if (x->has_shift)
-        cJSON_AddNumberToObject(o, "direct_coupling_shift_ps", round(x->direct_coupling_shift_s * 1e13) / 10.0);
-    if (x->fault)
-        cJSON_AddStringToObject(o, "fault", x->fault);
-    if (x->baseline_requested) {
-        cJSON_AddBoolToObject(o, "baseline_set", x->baseline_set);
-        if (x->baseline_note[0])
-            cJSON_AddStringToObject(o, "baseline_note", x->baseline_note);
-    }
-    if (x->pulses > 0) {
-        cJSON_AddNumberToObject(o, "pulses_per_position", x->pulses);
-        cJSON_AddNumberToObject(o, "acquisitions", x->acquisitions);
-    }
-    if (x->reacquire_note)
-        cJSON_AddStringToObject(o, "reacquire_note", x->reacquire_note);
-    if (x->baseline_set && x->baseline_scans > 0) {
-        cJSON_AddNumberToObject(o, "baseline_scans", x->baseline_scans);
-        if (x->has_repeatability)
-            cJSON_AddNumberToObject(o, "baseline_repeatability_mm", round(x->repeatability_m * 1e6) / 1e3);
-    }
-    if (x->archive_error)
-        cJSON_AddStringToObject(o, "archive_error", x->archive_error);
-    if (x->record_error)
-        cJSON_AddStringToObject(o, "record_error", x->record_error);
-    if (x->clock_note)
-        cJSON_AddStringToObject(o, "clock_warning", x->clock_note);
-    char *text = cJSON_PrintUnformatted(o);
-    cJSON_Delete(o);
-    return text;
-}
-
 static void problem(struct cycle *c, const char *what, const char *err)
 {
     uwbd_log(UWBD_LOG_ERR, "scan %s: %s: %s", c->id, what, err);
@@ -156,10 +87,12 @@ static void archive_problem(struct cycle *c, const char *what, const char *err)
         snprintf(c->archive_error, sizeof c->archive_error, "%s", err);
 }
 
-/* Replace the result's verdict text after the extras changed. */
-static int retext(struct cycle *c, const struct uwb_verdict *v, const struct verdict_extras *x)
+/* The verdict object's text becomes the result's (the reply, `status` and
+ * latest.json carry it). Printed once, and again only when a record of it
+ * failed and the object says so. */
+static int print_verdict(struct cycle *c, const cJSON *o)
 {
-    char *text = verdict_text(v, x);
+    char *text = cJSON_PrintUnformatted(o);
     if (!text)
         return -1;
     free(c->res->verdict_json);
@@ -174,44 +107,76 @@ static int write_verdict_file(struct cycle *c, const char *text, char *err, size
     return uwbd_write_json_file(path, text, err, errlen);
 }
 
+/* What the daemon adds to the evaluation's verdict: where the scan is
+ * archived, how it was acquired, what became of a `baseline set`, and
+ * what of the cycle went wrong. A field only the daemon knows is added
+ * here and nowhere else. */
+static void add_cycle_fields(const struct cycle *c, cJSON *o, const char *scan_file, int pulses)
+{
+    cJSON_AddStringToObject(o, "scan_file", scan_file);
+    if (c->fault)
+        cJSON_AddStringToObject(o, "fault", c->fault);
+    if (c->req->make_baseline) {
+        cJSON_AddBoolToObject(o, "baseline_set", c->res->baseline_set);
+        if (c->baseline_note[0])
+            cJSON_AddStringToObject(o, "baseline_note", c->baseline_note);
+    }
+    if (pulses > 0) {
+        cJSON_AddNumberToObject(o, "pulses_per_position", pulses);
+        cJSON_AddNumberToObject(o, "acquisitions", c->acquisitions);
+    }
+    if (c->reacquire_note[0])
+        cJSON_AddStringToObject(o, "reacquire_note", c->reacquire_note);
+    if (c->res->baseline_set && c->baseline_scans > 0) {
+        cJSON_AddNumberToObject(o, "baseline_scans", c->baseline_scans);
+        if (c->has_repeatability)
+            cJSON_AddNumberToObject(o, "baseline_repeatability_mm", round(c->repeatability_m * 1e6) / 1e3);
+    }
+}
+
 /* The verdict file in the archive, its line in verdicts.jsonl, latest.json.
  * What could not be written is added to the verdict that goes on: the
  * verdicts.jsonl line says its archive copy is missing, and when the line
  * itself is refused (the state directory full or read-only) the reply and
- * the status say so, which is then the verdict's only record besides the log. */
-static void record(struct cycle *c, const struct uwb_verdict *v, const struct verdict_extras *extras)
+ * the status say so, which is then the verdict's only record besides the log.
+ * Takes the object (NULL: out of memory) and frees it. */
+static void record(struct cycle *c, const struct uwb_verdict *v, cJSON *o)
 {
     struct uwbd_cycle_result *res = c->res;
-    struct verdict_extras x = *extras;
     res->outcome = UWBD_CYCLE_RECORDED;
     res->status = v->status;
     snprintf(res->scan_id, sizeof res->scan_id, "%s", c->id);
     snprintf(res->reason, sizeof res->reason, "%s", v->reason);
-    res->baseline_set = x.baseline_set;
-    x.archive_error = c->archive_error[0] ? c->archive_error : NULL;
-    x.clock_note = c->clock_note[0] ? c->clock_note : NULL;
-    x.asset_id = c->cfg->site.asset_id[0] ? c->cfg->site.asset_id : NULL;
-    x.trigger = c->req->trigger;
-    if (retext(c, v, &x) != 0) {
+    /* Who the appliance is and what started this scan: for the site's systems. */
+    if (o && c->cfg->site.asset_id[0])
+        cJSON_AddStringToObject(o, "asset_id", c->cfg->site.asset_id);
+    if (o && c->req->trigger)
+        cJSON_AddStringToObject(o, "trigger", c->req->trigger);
+    if (o && c->archive_error[0])
+        cJSON_AddStringToObject(o, "archive_error", c->archive_error);
+    if (o && c->clock_note[0])
+        cJSON_AddStringToObject(o, "clock_warning", c->clock_note);
+    if (!o || print_verdict(c, o) != 0) {
         problem(c, "verdict", "out of memory");
+        cJSON_Delete(o);
         return;
     }
     char err[512];
     if (c->have_day_dir && write_verdict_file(c, res->verdict_json, err, sizeof err) != 0) {
+        int said = c->archive_error[0] != '\0';
         archive_problem(c, "archive", err);
-        x.archive_error = c->archive_error;
-        if (retext(c, v, &x) != 0)
+        if (!said && (!cJSON_AddStringToObject(o, "archive_error", c->archive_error) || print_verdict(c, o) != 0))
             problem(c, "verdict", "out of memory");
     }
     char log_err[512];
     if (uwbd_verdict_log_append(c->store, res->verdict_json, log_err, sizeof log_err) != 0) {
         problem(c, "verdict log", log_err);
-        x.record_error = log_err;
-        if (retext(c, v, &x) != 0)
+        if (!cJSON_AddStringToObject(o, "record_error", log_err) || print_verdict(c, o) != 0)
             problem(c, "verdict", "out of memory");
     }
     if (uwbd_latest_write(c->store, res->verdict_json, err, sizeof err) != 0)
         problem(c, "latest verdict", err);
+    cJSON_Delete(o);
 }
 
 static void record_error(struct cycle *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -230,8 +195,7 @@ static void record_error(struct cycle *c, const char *fmt, ...)
     snprintf(v.scan_id, sizeof v.scan_id, "%s", c->id);
     snprintf(v.created, sizeof v.created, "%s", c->created);
     uwbd_log(UWBD_LOG_ERR, "scan %s lost: %s", c->id, v.reason);
-    struct verdict_extras x = {0};
-    record(c, &v, &x);
+    record(c, &v, uwb_verdict_object(&v));
 }
 
 static int replace_text(char **field, const char *text)
@@ -242,21 +206,6 @@ static int replace_text(char **field, const char *text)
     free(*field);
     *field = copy;
     return 0;
-}
-
-/* Why this scan must not be compared with the baseline, or "" when it may. */
-static void direct_coupling_check(const struct cycle *c, int dc_ok, double arrival_s, const char *dc_why,
-                                  const struct uwbd_baseline_info *base, char *why, size_t n)
-{
-    why[0] = '\0';
-    if (!dc_ok)
-        snprintf(why, n, "direct coupling not found in this scan (%s): cable or antenna disconnected?", dc_why);
-    else if (!base->has_direct_coupling)
-        snprintf(why, n, "the baseline has no direct-coupling time zero to check this scan against");
-    else if (fabs(arrival_s - base->direct_coupling_s) > c->cfg->direct_coupling_tolerance_s)
-        snprintf(why, n,
-                 "direct coupling moved %+.0f ps since the baseline (tolerance %.0f ps): cable or antenna changed?",
-                 (arrival_s - base->direct_coupling_s) * 1e12, c->cfg->direct_coupling_tolerance_s * 1e12);
 }
 
 /* The commissioning rules beyond edges and time zero: a scan that says the
@@ -284,24 +233,25 @@ static int commissioning_refusal(const struct cycle *c, const struct uwb_verdict
     return 1;
 }
 
-static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, const struct uwb_verdict *v,
-                                 int dc_ok, double arrival_s, const char *dc_why, struct verdict_extras *x)
+/* A pending `baseline set`: make this scan the baseline when it is good;
+ * c->baseline_note says why not, or how. Its time zero is the direct
+ * coupling the evaluation found in it. */
+static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, const struct uwb_verdict *v)
 {
-    x->baseline_requested = 1;
-    if (commissioning_refusal(c, v, x->baseline_note, sizeof x->baseline_note)) {
+    if (commissioning_refusal(c, v, c->baseline_note, sizeof c->baseline_note)) {
         c->res->baseline_refused = 1;
-        uwbd_log(UWBD_LOG_WARNING, "scan %s: baseline set %s", c->id, x->baseline_note);
+        uwbd_log(UWBD_LOG_WARNING, "scan %s: baseline set %s", c->id, c->baseline_note);
         return;
     }
     if (!v->current.found) {
-        snprintf(x->baseline_note, sizeof x->baseline_note,
+        snprintf(c->baseline_note, sizeof c->baseline_note,
                  "not set: the winding's edges were not found in this scan; the next good scan will be tried");
         return;
     }
-    if (!dc_ok) {
-        snprintf(x->baseline_note, sizeof x->baseline_note,
+    if (!v->has_direct_coupling) {
+        snprintf(c->baseline_note, sizeof c->baseline_note,
                  "not set: no direct coupling to take time zero from (%.120s); the next good scan will be tried",
-                 dc_why);
+                 v->direct_coupling_why);
         return;
     }
     struct uwbd_baseline_info info = {0};
@@ -309,21 +259,20 @@ static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, c
     snprintf(info.created, sizeof info.created, "%s", scan->created ? scan->created : "");
     uwbd_utc_text(c->req->now, info.set_at, sizeof info.set_at);
     info.has_direct_coupling = 1;
-    info.direct_coupling_s = arrival_s;
+    info.direct_coupling_s = v->direct_coupling_s;
     info.scans = c->baseline_scans > 0 ? c->baseline_scans : 1;
     info.has_repeatability = c->has_repeatability;
     info.repeatability_m = c->repeatability_m;
-    x->baseline_scans = info.scans;
-    x->has_repeatability = info.has_repeatability;
-    x->repeatability_m = info.repeatability_m;
+    c->baseline_scans = info.scans;
     char err[512];
-    if (uwbd_baseline_set(c->store, scan, &info, c->cfg->direct_coupling_window_end_s, err, sizeof err) != 0) {
+    if (uwbd_baseline_set(c->store, scan, &info, c->cfg->evaluate.direct_coupling.window_end_s, err, sizeof err) != 0) {
         problem(c, "baseline", err);
-        snprintf(x->baseline_note, sizeof x->baseline_note, "not set: %.200s", err);
+        snprintf(c->baseline_note, sizeof c->baseline_note, "not set: %.200s", err);
         return;
     }
-    x->baseline_set = 1;
-    uwbd_log(UWBD_LOG_NOTICE, "scan %s is the new baseline (direct coupling at %.1f ps)", c->id, arrival_s * 1e12);
+    c->res->baseline_set = 1;
+    uwbd_log(UWBD_LOG_NOTICE, "scan %s is the new baseline (direct coupling at %.1f ps)", c->id,
+             v->direct_coupling_s * 1e12);
 }
 
 /* The centre of the winding in one scan alone (NaN when not found): what
@@ -375,7 +324,7 @@ static int acquire_baseline_scans(struct cycle *c, struct uwb_scan *scan, char *
  * again and average, within analysis.reacquire_budget_s of the cycle's
  * start, re-evaluating each time. Why it stopped short goes to the verdict.
  * -1 (err) when the evaluation itself fails. */
-static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan, const struct uwb_scan *base,
+static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan, const struct uwb_baseline_record *base,
                                     const struct uwb_evaluate_options *opt, struct uwb_verdict *v,
                                     struct uwb_analysis *cur_a, struct uwb_analysis *base_a, const char *scan_path,
                                     char *err, size_t errlen)
@@ -454,70 +403,52 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
         return;
     }
 
-    double arrival = 0;
-    char dc_why[200] = "";
-    int dc_ok = uwb_direct_coupling_arrival(scan, c->cfg->direct_coupling_window_end_s, &arrival, dc_why,
-                                            sizeof dc_why) == 0;
     struct uwb_scan base = {0};
-    struct uwbd_baseline_info info;
-    int b = uwbd_baseline_watch(c->store, c->cfg->direct_coupling_window_end_s,
+    struct uwbd_baseline_info info = {0};
+    int b = uwbd_baseline_watch(c->store, c->cfg->evaluate.direct_coupling.window_end_s,
                                 c->req->has_expected ? &c->req->expected : NULL, &base, &info, c->res->fault,
                                 sizeof c->res->fault);
     c->res->baseline_checked = 1;
     if (b == UWBD_BASELINE_FAULT)
         uwbd_log(UWBD_LOG_WARNING, "scan %s not compared: fault: %s", c->id, c->res->fault);
-    char not_compared[256] = "";
-    if (b == UWBD_BASELINE_LOADED)
-        direct_coupling_check(c, dc_ok, arrival, dc_why, &info, not_compared, sizeof not_compared);
-    int compare = b == UWBD_BASELINE_LOADED && !not_compared[0];
+    /* The baseline with what was recorded with it at commissioning. */
+    struct uwb_baseline_record against = {.scan = &base, .has_direct_coupling = info.has_direct_coupling,
+                                          .direct_coupling_s = info.direct_coupling_s, .scans = info.scans,
+                                          .has_repeatability = info.has_repeatability,
+                                          .repeatability_m = info.repeatability_m};
+    const struct uwb_baseline_record *baseline = b == UWBD_BASELINE_LOADED ? &against : NULL;
 
-    struct uwb_evaluate_options opt = c->cfg->evaluate;
-    if (compare && info.has_repeatability)   /* the baseline's mean carries spread/sqrt(N) */
-        opt.compare.baseline_repeatability_m = info.repeatability_m / sqrt(info.scans > 1 ? info.scans : 1);
     struct uwb_analysis cur_a, base_a;
-    if (uwb_evaluate(scan, compare ? &base : NULL, &opt, &v, &cur_a, &base_a, err, sizeof err) != 0 ||
-        (compare && reacquire_until_decisive(c, scan, &base, &opt, &v, &cur_a, &base_a, scan_path, err,
-                                             sizeof err) != 0)) {
+    if (uwb_evaluate(scan, baseline, &c->cfg->evaluate, &v, &cur_a, &base_a, err, sizeof err) != 0 ||
+        (baseline && reacquire_until_decisive(c, scan, baseline, &c->cfg->evaluate, &v, &cur_a, &base_a, scan_path,
+                                              err, sizeof err) != 0)) {
         uwb_scan_free(&base);
         record_error(c, "evaluation failed: %s", err);
         return;
     }
-    if (not_compared[0]) {
-        char edges_reason[256];
-        snprintf(edges_reason, sizeof edges_reason, "%s", v.current.found ? "" : v.reason);
-        v.status = UWB_STATUS_INCONCLUSIVE;
-        snprintf(v.reason, sizeof v.reason, "%.200s%s%.50s", not_compared, edges_reason[0] ? "; " : "",
-                 edges_reason);
-        if (b == UWBD_BASELINE_LOADED)
-            snprintf(v.baseline_scan_id, sizeof v.baseline_scan_id, "%s", info.scan_id);
-    }
-    if (uwb_write_images(c->day_dir, c->id, scan, &cur_a, compare ? &base_a : NULL, &v, err, sizeof err) != 0)
+    if (uwb_write_images(c->day_dir, c->id, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
         archive_problem(c, "images", err);
     uwb_analysis_free(&cur_a);
     uwb_analysis_free(&base_a);
     uwb_scan_free(&base);
 
-    struct verdict_extras x = {.scan_file = scan_path, .has_direct_coupling = dc_ok, .direct_coupling_s = arrival,
-                               .pulses = scan->stack, .acquisitions = c->acquisitions,
-                               .reacquire_note = c->reacquire_note[0] ? c->reacquire_note : NULL};
-    if (compare) {
-        x.has_shift = 1;
-        x.direct_coupling_shift_s = arrival - info.direct_coupling_s;
-    }
     if (c->req->make_baseline)
-        set_baseline_if_good(c, scan, &v, dc_ok, arrival, dc_why, &x);
+        set_baseline_if_good(c, scan, &v);
     if (b == UWBD_BASELINE_FAULT) {
-        if (x.baseline_set) {
-            snprintf(x.baseline_note, sizeof x.baseline_note, "replaced a baseline that failed its check: %.200s",
+        if (c->res->baseline_set) {
+            snprintf(c->baseline_note, sizeof c->baseline_note, "replaced a baseline that failed its check: %.200s",
                      c->res->fault);
             c->res->fault[0] = '\0';
         } else {
             v.status = UWB_STATUS_ERROR;
             snprintf(v.reason, sizeof v.reason, "fault: %.240s", c->res->fault);
-            x.fault = "baseline";
+            c->fault = "baseline";
         }
     }
-    record(c, &v, &x);
+    cJSON *o = uwb_verdict_object(&v);
+    if (o)
+        add_cycle_fields(c, o, scan_path, scan->stack);
+    record(c, &v, o);
     uwbd_log(UWBD_LOG_INFO, "scan %s: %s%s%s", c->id, uwb_status_name(v.status), v.reason[0] ? ": " : "", v.reason);
 }
 

@@ -1,7 +1,8 @@
 /* One scan cycle above the hardware: acquire a scan (through a function, so
- * tests can hand in simulated scans), archive it, check its direct
- * coupling against the baseline's, evaluate, write the verdict and images,
- * set the baseline when asked, apply retention. A lost scan becomes an
+ * tests can hand in simulated scans), archive it, verify the baseline,
+ * evaluate it against the baseline (uwb_evaluate: time zero, comparability
+ * and figures, as `uwbd --replay` does), write the images and the verdict
+ * with what the daemon adds, set the baseline when asked, apply retention. A lost scan becomes an
  * `error` verdict with a reason; nothing is ever half-written. */
 #ifndef UWB_DAEMON_SCAN_CYCLE_H
 #define UWB_DAEMON_SCAN_CYCLE_H

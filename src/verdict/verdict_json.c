@@ -16,10 +16,11 @@ const char *uwb_status_name(enum uwb_status status)
     return "unknown";
 }
 
-/* Millimetres to 0.01 mm: finer digits would claim precision nobody has. */
+/* Millimetres to 0.01 mm: finer digits would claim precision nobody has.
+ * (+ 0.0 turns a -0 from rounding a small negative into 0.) */
 static void add_mm(cJSON *obj, const char *key, double metres)
 {
-    cJSON_AddNumberToObject(obj, key, round(metres * 1e5) / 100.0);
+    cJSON_AddNumberToObject(obj, key, round(metres * 1e5) / 100.0 + 0.0);
 }
 
 static void add_edges(cJSON *obj, const struct uwb_edges *e)
@@ -30,7 +31,12 @@ static void add_edges(cJSON *obj, const struct uwb_edges *e)
     add_mm(obj, "height_mm", e->height_m);
 }
 
-char *uwb_verdict_to_json(const struct uwb_verdict *v)
+void uwb_json_add_ps(cJSON *obj, const char *key, double seconds)
+{
+    cJSON_AddNumberToObject(obj, key, round(seconds * 1e13) / 10.0 + 0.0);
+}
+
+cJSON *uwb_verdict_object(const struct uwb_verdict *v)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o)
@@ -69,10 +75,20 @@ char *uwb_verdict_to_json(const struct uwb_verdict *v)
                 cJSON_AddStringToObject(b, "scan_id", v->baseline_scan_id);
         }
     }
+    if (v->has_direct_coupling)
+        uwb_json_add_ps(o, "direct_coupling_ps", v->direct_coupling_s);
+    if (v->has_direct_coupling_shift)
+        uwb_json_add_ps(o, "direct_coupling_shift_ps", v->direct_coupling_shift_s);
     cJSON *images = cJSON_AddArrayToObject(o, "images");
     for (int i = 0; images && i < v->n_images; i++)
         cJSON_AddItemToArray(images, cJSON_CreateString(v->images[i]));
-    char *text = cJSON_PrintUnformatted(o);
+    return o;
+}
+
+char *uwb_verdict_to_json(const struct uwb_verdict *v)
+{
+    cJSON *o = uwb_verdict_object(v);
+    char *text = o ? cJSON_PrintUnformatted(o) : NULL;
     cJSON_Delete(o);
     return text;
 }

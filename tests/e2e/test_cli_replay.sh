@@ -22,6 +22,9 @@ for i in 0 1 2; do
     [[ $(head -c 8 "$png" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] || fail "not a PNG: $png"
 done
 ls -A "$out/img" | grep -q '^\.' && fail "temporary files left in the output directory"
+# --out holds the verdict too, as --help says: the printed line, named like the images.
+cmp -s "$out/stdout" "$out/img/fdtd2d-paper-up20mm.json" || fail "--out: no STEM.json equal to the printed verdict"
+[[ $(ls "$out/img" | wc -l) == 4 ]] || fail "--out: want 3 PNGs and the verdict: $(ls "$out/img")"
 
 # Without a baseline: edges only.
 uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan | grep -q '"status":"edges"' || fail "edges-only status"
@@ -72,7 +75,8 @@ done
 # --help documents every option the parser accepts.
 help=$(uwbd --help)
 for opt in --replay --baseline --out --migration --target-z --time-zero-offset-ps --watch-mm \
-           --alarm-mm --max-uncertainty-mm --edge-fraction --help --version; do
+           --alarm-mm --max-uncertainty-mm --edge-fraction --direct-coupling-window-ns \
+           --direct-coupling-tolerance-ps --help --version; do
     grep -q -- "$opt" <<< "$help" || fail "--help does not mention $opt"
 done
 echo "cli replay ok"

@@ -37,7 +37,8 @@ static int evaluate(const struct uwb_scan *scan, const struct uwb_scan *baseline
     memset(err, 'x', sizeof err);
     err[sizeof err - 1] = '\0';
     err[0] = '\0';
-    int rc = uwb_evaluate(scan, baseline, &opt, &v, &cur, &base, err, sizeof err);
+    struct uwb_baseline_record rec = {.scan = baseline};
+    int rc = uwb_evaluate(scan, baseline ? &rec : NULL, &opt, &v, &cur, &base, err, sizeof err);
     int outcome = FUZZ_ACCEPTED;
     if (rc != 0) {
         if (!err[0])

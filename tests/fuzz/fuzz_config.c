@@ -31,8 +31,8 @@ static int check_config(const struct uwbd_config *cfg, char *why, size_t whylen)
         return fuzz_broken(why, whylen, "accepted without state_dir, control.socket or digitiser.endpoint");
     if (cfg->control_mode > 07777)
         return fuzz_broken(why, whylen, "accepted control.mode %o", cfg->control_mode);
-    double numbers[] = {cfg->interval_s, cfg->retention_max_age_days, cfg->direct_coupling_window_end_s,
-                        cfg->direct_coupling_tolerance_s, r->first_position_mm, r->step_mm, r->tx_m[0], r->tx_m[1],
+    double numbers[] = {cfg->interval_s, cfg->retention_max_age_days, cfg->evaluate.direct_coupling.window_end_s,
+                        cfg->evaluate.direct_coupling.tolerance_s, r->first_position_mm, r->step_mm, r->tx_m[0], r->tx_m[1],
                         r->rx_m[0], r->rx_m[1], r->eps_r, r->trigger_pulse_us, r->time_scale,
                         r->digitiser.sample_interval_s, r->digitiser.t0_s};
     for (size_t i = 0; i < sizeof numbers / sizeof numbers[0]; i++)

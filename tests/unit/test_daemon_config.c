@@ -97,7 +97,7 @@ static void test_emulated_sample_loads_with_units_converted(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, -0.020, cfg.rig.tx_m[0]);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.020, cfg.rig.rx_m[0]);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.005, cfg.evaluate.compare.thresholds.alarm_m);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-18, 20e-12, cfg.direct_coupling_tolerance_s);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-18, 20e-12, cfg.evaluate.direct_coupling.tolerance_s);
     TEST_ASSERT_EQUAL_UINT(0660, cfg.control_mode);
     TEST_ASSERT_EQUAL_INT(UWB_DEFAULT_STACK, cfg.rig.digitiser.stack);
     TEST_ASSERT_EQUAL_DOUBLE(0.0, cfg.interval_s);
@@ -136,7 +136,7 @@ static void test_defaults_fill_what_is_left_out(void)
     TEST_ASSERT_EQUAL_STRING("", cfg.console_endpoint);
     TEST_ASSERT_EQUAL_INT(0, cfg.rig.has_target_z);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.002, cfg.evaluate.compare.thresholds.watch_m);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-18, 2e-9, cfg.direct_coupling_window_end_s);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-18, 2e-9, cfg.evaluate.direct_coupling.window_end_s);
     TEST_ASSERT_EQUAL_DOUBLE(1.0, cfg.rig.time_scale);
 }
 

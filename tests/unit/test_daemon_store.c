@@ -16,11 +16,11 @@
 #include "scratch_support.h"
 #include "uwb/atomic_file.h"
 #include "daemon/baseline_store.h"
-#include "uwb/daemon/direct_coupling.h"
 #include "daemon/retention.h"
 #include "daemon/state_open.h"
 #include "daemon/store.h"
 #include "daemon/verdict_log.h"
+#include "uwb/direct_coupling.h"
 
 #define WINDOW_END_S 2e-9
 

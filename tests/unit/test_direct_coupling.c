@@ -8,7 +8,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "uwb/daemon/direct_coupling.h"
+#include "uwb/direct_coupling.h"
 #include "uwbsim/uwbsim.h"
 
 #define K 8

@@ -33,7 +33,8 @@ static void evaluate(enum uwb_migration_kind kind, const struct uwb_scan *cur,
     opt.analysis.migration = kind;
     struct uwb_analysis a, b;
     char err[512];
-    if (uwb_evaluate(cur, base, &opt, v, &a, &b, err, sizeof err) != 0)
+    struct uwb_baseline_record rec = {.scan = base};
+    if (uwb_evaluate(cur, base ? &rec : NULL, &opt, v, &a, &b, err, sizeof err) != 0)
         TEST_FAIL_MESSAGE(err);
     uwb_analysis_free(&a);
     uwb_analysis_free(&b);
@@ -98,7 +99,8 @@ static void test_time_zero_offset_moves_range_not_height(void)
     struct uwb_verdict v;
     struct uwb_analysis a, b;
     char err[512];
-    TEST_ASSERT_EQUAL_INT(0, uwb_evaluate(&up20, &intact, &opt, &v, &a, &b, err, sizeof err));
+    struct uwb_baseline_record rec = {.scan = &intact};
+    TEST_ASSERT_EQUAL_INT(0, uwb_evaluate(&up20, &rec, &opt, &v, &a, &b, err, sizeof err));
     /* Sample 0 taken as 100 ps later: every echo looks 15 mm farther. */
     TEST_ASSERT_DOUBLE_WITHIN(0.004, truth_up20.z_face_m + 0.015, v.current.face_z_m);
     TEST_ASSERT_DOUBLE_WITHIN(0.0005, 0.020, v.axial_displacement_m);

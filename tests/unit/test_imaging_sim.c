@@ -50,7 +50,8 @@ static void verdict(const struct uwb_scan *cur, const struct uwb_scan *base,
 {
     char err[256];
     struct uwb_analysis ca, ba;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(cur, base, opt, v, &ca, &ba, err, sizeof err), err);
+    struct uwb_baseline_record rec = {.scan = base};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(cur, base ? &rec : NULL, opt, v, &ca, &ba, err, sizeof err), err);
     uwb_analysis_free(&ca);
     uwb_analysis_free(&ba);
 }

@@ -43,7 +43,8 @@ static void replay(const char *path, struct uwb_verdict *v, double *true_mm)
     uwb_evaluate_defaults(&opt);
     struct uwb_analysis ca, ba;
     char err[256];
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(&cur, &base, &opt, v, &ca, &ba, err, sizeof err), err);
+    struct uwb_baseline_record rec = {.scan = &base};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(&cur, &rec, &opt, v, &ca, &ba, err, sizeof err), err);
     uwb_analysis_free(&ca);
     uwb_analysis_free(&ba);
     uwb_scan_free(&cur);

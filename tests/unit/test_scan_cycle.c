@@ -14,11 +14,11 @@
 #include "scratch_support.h"
 #include "daemon/baseline_store.h"
 #include "daemon/config.h"
-#include "uwb/daemon/direct_coupling.h"
 #include "daemon/retention.h"
 #include "daemon/scan_cycle.h"
 #include "daemon/store.h"
 #include "daemon/verdict_log.h"
+#include "uwb/direct_coupling.h"
 #include "uwbsim/uwbsim.h"
 
 /* 2030-01-02T00:00:00Z: the archive day is 2030/01/02. */
@@ -147,7 +147,7 @@ static int in_state(const char *rel)
 
 static void current_baseline(struct uwbd_baseline_info *info)
 {
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, cfg.direct_coupling_window_end_s, NULL,
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, cfg.evaluate.direct_coupling.window_end_s, NULL,
                                                                    info, NULL, err, sizeof err));
 }
 
@@ -233,10 +233,10 @@ static void commission_directly(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(UWBD_ACQUIRE_OK, fake_acquire(&rig, &never, &scan, err, sizeof err), err);
     struct uwbd_baseline_info info = {0};
     snprintf(info.scan_id, sizeof info.scan_id, "%s", scan.scan_id);
-    info.has_direct_coupling = uwb_direct_coupling_arrival(&scan, cfg.direct_coupling_window_end_s,
+    info.has_direct_coupling = uwb_direct_coupling_arrival(&scan, cfg.evaluate.direct_coupling.window_end_s,
                                                            &info.direct_coupling_s, err, sizeof err) == 0;
     TEST_ASSERT_TRUE_MESSAGE(info.has_direct_coupling, err);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_baseline_set(&store, &scan, &info, cfg.direct_coupling_window_end_s, err,
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_baseline_set(&store, &scan, &info, cfg.evaluate.direct_coupling.window_end_s, err,
                                                        sizeof err), err);
     uwb_scan_free(&scan);
 }
@@ -251,6 +251,8 @@ static void test_moved_direct_coupling_is_inconclusive_not_compared(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(res.reason, "cable or antenna changed?"), res.reason);
     cJSON *v = verdict();
     TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(v, "axial_displacement_mm"));
+    /* The evaluation's figure for the move, also when it declined the scan. */
+    TEST_ASSERT_DOUBLE_WITHIN(1.0, 40.0, number(v, "direct_coupling_shift_ps"));
     cJSON_Delete(v);
 
     rig.delay_samples = 1;   /* 10 ps: within the tolerance, compared */

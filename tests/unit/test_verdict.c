@@ -31,7 +31,8 @@ static int evaluate(const struct uwb_scan *cur, const struct uwb_scan *base, str
     uwb_evaluate_defaults(&opt);
     struct uwb_analysis a, b;
     char err[512];
-    int rc = uwb_evaluate(cur, base, &opt, v, &a, &b, err, sizeof err);
+    struct uwb_baseline_record rec = {.scan = base};
+    int rc = uwb_evaluate(cur, base ? &rec : NULL, &opt, v, &a, &b, err, sizeof err);
     uwb_analysis_free(&a);
     uwb_analysis_free(&b);
     return rc;
@@ -79,7 +80,8 @@ static void test_target_range_excluding_the_winding_finds_nothing_there(void)
     struct uwb_verdict v;
     struct uwb_analysis a, b;
     char err[512];
-    TEST_ASSERT_EQUAL_INT(0, uwb_evaluate(&up20, &intact, &opt, &v, &a, &b, err, sizeof err));
+    struct uwb_baseline_record rec = {.scan = &intact};
+    TEST_ASSERT_EQUAL_INT(0, uwb_evaluate(&up20, &rec, &opt, &v, &a, &b, err, sizeof err));
     uwb_analysis_free(&a);
     uwb_analysis_free(&b);
     /* Only the winding's far-off sidelobes are there: not a confident figure. */

@@ -147,7 +147,8 @@ int accuracy_run_case(const char *dir, const struct accuracy_case *c, const stru
         }
         struct uwb_verdict v;
         struct uwb_analysis ca, ba;
-        rc = uwb_evaluate(s, b, &opt, &v, &ca, &ba, err, errlen);
+        struct uwb_baseline_record rec = {.scan = b};
+        rc = uwb_evaluate(s, b ? &rec : NULL, &opt, &v, &ca, &ba, err, errlen);
         if (rc == 0) {
             uwb_analysis_free(&ca);
             uwb_analysis_free(&ba);

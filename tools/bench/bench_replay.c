@@ -174,7 +174,8 @@ static int run_in_process(const struct replay_files *f, double part[3], char *er
         uwbscan_read_file(f->baseline, &base, err, errlen) != 0)
         goto done;
     double t1 = uwb_monotonic_s();
-    if (uwb_evaluate(&cur, &base, &opt, &v, &cur_a, &base_a, err, errlen) != 0)
+    struct uwb_baseline_record rec = {.scan = &base};
+    if (uwb_evaluate(&cur, &rec, &opt, &v, &cur_a, &base_a, err, errlen) != 0)
         goto done;
     double t2 = uwb_monotonic_s();
     rc = uwb_write_images(f->out_inproc, "current", &cur, &cur_a, &base_a, &v, err, errlen);

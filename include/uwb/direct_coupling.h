@@ -3,8 +3,8 @@
  * at every position. Commissioning records its arrival with the baseline;
  * a later scan whose arrival moved (a cable or an antenna changed, the
  * digitiser's delay drifted) cannot be compared with that baseline. */
-#ifndef UWB_DAEMON_DIRECT_COUPLING_H
-#define UWB_DAEMON_DIRECT_COUPLING_H
+#ifndef UWB_DIRECT_COUPLING_H
+#define UWB_DIRECT_COUPLING_H
 
 #include <stddef.h>
 

@@ -1,5 +1,5 @@
 /* The direct-coupling arrival of a scan (see the header for why). */
-#include "uwb/daemon/direct_coupling.h"
+#include "uwb/direct_coupling.h"
 
 #include <math.h>
 #include <stdio.h>
