@@ -68,13 +68,13 @@ done
 start_broker gateway gateway_conf
 gateway_port=$port
 central_log=$(ls central-*.log | tail -1)
-wait_for grep -q "as gateway-northfield" "$central_log" || fail "the gateway's bridge did not reach the central broker"
+E2E_WAIT_TRIES=600 wait_for grep -q "as gateway-northfield" "$central_log" || fail "the gateway's bridge did not reach the central broker"
 pass "board/fleet/mosquitto-gateway.conf: the gateway starts and its bridge logs in to the central broker"
 
 mqtt_sub "$central_port" historian h-secret 'uwbd/+/verdict' 2 120 > historian.out 2> historian.err &
 sub_pid=$!
 pids+=($sub_pid)
-wait_for grep -q subscribed historian.err || fail "the historian did not subscribe"
+E2E_WAIT_TRIES=600 wait_for grep -q subscribed historian.err || fail "the historian did not subscribe"
 
 cp "$REPO/board/emulated/uwbd.json" uwbd.json
 for asset in T1 T2; do

@@ -119,7 +119,7 @@ pass "health report retained on uwbd/T7/health: healthy, the latest status, verd
 mqtt_sub "$port" tester tester-secret uwbd/T7/status 2 20 > will.out 2> will.err &
 sub_pid=$!
 pids+=($sub_pid)
-wait_for grep -q subscribed will.err || fail "the subscriber did not subscribe"
+E2E_WAIT_TRIES=600 wait_for grep -q subscribed will.err || fail "the subscriber did not subscribe"
 kill -9 "$daemon_pid"
 wait "$daemon_pid" 2>/dev/null || true
 wait "$sub_pid" || fail "no will after kill -9: $(cat will.out)"
@@ -151,7 +151,7 @@ keep_port=1 start_broker tester-only.pw
 mqtt_sub "$port" tester tester-secret uwbd/T7/verdict 2 30 > back.out 2> back.err &
 sub_pid=$!
 pids+=($sub_pid)
-wait_for grep -q subscribed back.err || fail "the subscriber did not subscribe"
+E2E_WAIT_TRIES=600 wait_for grep -q subscribed back.err || fail "the subscriber did not subscribe"
 cp broker.pw active.pw
 kill -HUP "$broker_pid"
 wait "$sub_pid" || fail "the queued verdicts did not arrive: $(cat back.out; tail -5 uwbd2.log)"
@@ -167,7 +167,7 @@ ask_mqtt() {   # COMMAND OUT: publish COMMAND on the cmd topic, the reply into O
     mqtt_sub "$port" tester tester-secret uwbd/T7/reply 1 20 > "$2" 2> "$2.err" &
     local sub=$!
     pids+=($sub)
-    wait_for grep -q subscribed "$2.err" || fail "the reply subscriber did not subscribe"
+    E2E_WAIT_TRIES=600 wait_for grep -q subscribed "$2.err" || fail "the reply subscriber did not subscribe"
     mqtt_pub "$port" tester tester-secret uwbd/T7/cmd "$1" || fail "cannot publish $1"
     wait "$sub" || fail "no reply to $1: $(tail -3 uwbd2.log)"
     cut -d' ' -f3- "$2" > "$2.json"
