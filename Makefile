@@ -39,7 +39,7 @@ CROSS_COMPILE ?=
 CC            := $(CROSS_COMPILE)gcc
 AR            := $(CROSS_COMPILE)ar
 PKG_CONFIG    ?= pkg-config
-LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto
+LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto libmodbus
 PREFIX        ?= /usr/local
 DESTDIR       ?=
 

@@ -67,8 +67,9 @@ int uwb_measure_shift(const struct uwb_analysis *current, const struct uwb_analy
 /* The noise of that displacement (src/imaging/pair_uncertainty.c): the noise
  * rms per sample read on the two scans' difference where the winding cannot
  * reply, and the displacement's rms change when noise of that rms is added
- * to each scan in turn. measured = 0 when the noise could not be read (too
- * few samples before the winding replies). */
+ * to each scan in turn (propagated linearly through the fit). measured = 0
+ * when the noise could not be read (too few samples before the winding
+ * replies). */
 struct uwb_shift_noise {
     int measured;
     double noise_rms;              /* per sample, conditioned traces, each scan */

@@ -499,6 +499,12 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
         return -1;
     if (cfg->console_endpoint[0] && check_endpoint(ctx, "console.endpoint", cfg->console_endpoint) != 0)
         return -1;
+    if (cfg->modbus.enabled && !cfg->modbus.endpoint[0]) {
+        fail(ctx, "modbus.endpoint", "missing: required when modbus.enabled is true (serial:/dev/ttyX, tcp:HOST:PORT)");
+        return -1;
+    }
+    if (cfg->modbus.endpoint[0] && check_endpoint(ctx, "modbus.endpoint", cfg->modbus.endpoint) != 0)
+        return -1;
     if (!cfg->state_dir[0]) {
         fail(ctx, "state_dir", "empty");
         return -1;

@@ -20,6 +20,13 @@
 #define UWBD_DEFAULT_CONFIG "/etc/uwbd/uwbd.json"
 #define UWBD_DEFAULT_CONTROL_SOCKET "/run/uwbd/control.sock"
 
+/* Modbus (src/integrations/modbus_server.c): off by default. */
+struct uwbd_modbus_config {
+    int enabled;
+    char endpoint[UWB_ENDPOINT_MAX];   /* serial:|unix: RTU, tcp: listening; required when enabled */
+    int unit_id;                       /* RTU address, 1-247 */
+};
+
 struct uwbd_config {
     struct uwb_rig_config rig;
     struct uwb_evaluate_options evaluate;
@@ -38,6 +45,7 @@ struct uwbd_config {
     char site_phase[8];                /* site.phase: the phase as the site names it ("B", "L2"); "": none */
     char site_label[64];               /* site.label: free text for people; "": none */
     struct uwbd_site_config site;      /* the site's integrations: asset id, alarm contacts, event input, ... */
+    struct uwbd_modbus_config modbus;
 };
 
 /* A command-line override: KEY=VALUE, VALUE as JSON (a bare word is taken

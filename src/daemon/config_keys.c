@@ -293,6 +293,16 @@ const struct config_key uwbd_config_keys[] = {
     BOOLEAN("mqtt.commands", site.mqtt_commands, 0,
             "take the commands scan, event, ack and baseline set [N|force] from PREFIX/ASSET_ID/cmd (one a "
             "message) and answer each on PREFIX/ASSET_ID/reply; the broker's ACL decides who may publish there"),
+    BOOLEAN("modbus.enabled", modbus.enabled, 0,
+            "serve the latest verdict, health and contact states as Modbus registers and take `ack` and `event` "
+            "as coils (README \"Modbus\" has the map); off: nothing is opened"),
+    STRING("modbus.endpoint", modbus.endpoint, "",
+           "serial:/dev/ttyX?baud=N: Modbus RTU on that line (RS-485; 8 data bits, no parity, 1 stop bit); "
+           "unix:PATH: RTU over a local socket uwbd connects to (the tests); tcp:HOST:PORT: Modbus TCP, "
+           "listening on that address (the substation LAN's, e.g. tcp:192.0.2.10:502; a port under 1024 needs CAP_NET_BIND_SERVICE); "
+           "required when modbus.enabled"),
+    INTEGER("modbus.unit_id", modbus.unit_id, "", 1, 247, 1,
+            "the RTU unit (slave) address this appliance answers on the bus; Modbus TCP answers any"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];

@@ -254,6 +254,7 @@ static void reload(struct daemon *d)
             uwbd_log(UWBD_LOG_ERR, "reload: the site's lines: %s; alarm contacts and event input are off until "
                                    "the next reload", err);
     }
+    uwbd_modbus_reload(d, &previous.modbus);
     uwbd_schedule_arm(d, &d->last_cycle_start);
     uwbd_log(UWBD_LOG_NOTICE, "configuration reloaded from %s%s%s", d->options->config_path,
              rig_changed ? " (rig reopened)" : "", console_changed ? " (console reopened)" : "");
@@ -396,7 +397,7 @@ static void watchdog_start(struct daemon *d)
 
 static void loop(struct daemon *d)
 {
-    struct pollfd fds[SLOT_CLIENTS + MAX_CLIENTS];
+    struct pollfd fds[SLOT_CLIENTS + MAX_CLIENTS + UWBD_MODBUS_POLL_FDS];
     struct peer *owner[SLOT_CLIENTS + MAX_CLIENTS];
     while (!(d->stopping && !d->scanning)) {
         int timeout_ms = uwbd_peers_expire(d);   /* drops clients past their deadlines first */
@@ -423,6 +424,8 @@ static void loop(struct daemon *d)
             fds[n++] = (struct pollfd){.fd = d->clients[i].fd,
                                        .events = (short)(POLLIN | (d->clients[i].out_len ? POLLOUT : 0))};
         }
+        nfds_t peers_end = n;   /* the Modbus server's fds follow the peers' */
+        n += (nfds_t)uwbd_modbus_poll_add(d, fds + n, &timeout_ms);
         if (poll(fds, n, timeout_ms) < 0) {
             if (errno == EINTR)
                 continue;
@@ -461,12 +464,13 @@ static void loop(struct daemon *d)
             uwbd_run_site_commands(d);
         if (fds[SLOT_CONTROL].revents)
             uwbd_peer_accept(d);
-        for (nfds_t i = SLOT_CONSOLE; i < n; i++) {
+        for (nfds_t i = SLOT_CONSOLE; i < peers_end; i++) {
             if ((fds[i].revents & POLLOUT) && owner[i]->in_use)
                 uwbd_peer_writable(d, owner[i]);
             if ((fds[i].revents & ~POLLOUT) && owner[i]->in_use)
                 uwbd_peer_readable(d, owner[i]);
         }
+        uwbd_modbus_poll_serve(d, fds + peers_end, (int)(n - peers_end));
     }
 }
 
@@ -519,6 +523,7 @@ static void teardown(struct daemon *d)
             uwbd_peer_close(&d->clients[i]);
     if (d->console.in_use)
         uwbd_peer_close(&d->console);
+    uwbd_modbus_close(d);
     uwbd_control_close(&d->control);
     close_fd(&d->signal_fd);
     close_fd(&d->schedule_fd);
@@ -643,6 +648,10 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         return code;
     }
     uwbd_console_open(d);
+    if (uwbd_modbus_open(d, err, sizeof err) != 0) {
+        uwbd_log(UWBD_LOG_ERR, "%s", err);
+        return UWBD_EXIT_CANT_CREATE;
+    }
     schedule_first(d);
     if (d->cfg.interval_s > 0)
         uwbd_log(UWBD_LOG_NOTICE, "uwbd %s running: state %s, control %s, a scan every %.0f s", UWBD_VERSION,

@@ -5,6 +5,7 @@
 #ifndef UWB_DAEMON_INTERNAL_H
 #define UWB_DAEMON_INTERNAL_H
 
+#include <poll.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <signal.h>
@@ -20,6 +21,7 @@
 #include "daemon/scan_progress.h"
 #include "daemon/store.h"
 #include "integrations/site.h"
+#include "integrations/modbus_server.h"
 #include "uwb/link.h"
 #include "uwb/rig.h"
 
@@ -122,6 +124,7 @@ struct daemon {
     char *latest_verdict;            /* VERDICT line or NULL */
     struct uwbd_site *site;          /* alarm contacts, event input (src/integrations/) */
     enum scan_trigger pending_trigger; /* what asked for the next scan */
+    struct uwbd_modbus_server *modbus;   /* NULL: Modbus off (modbus_hook.c) */
     int has_baseline;
     struct uwbd_baseline_info baseline;
 };
@@ -156,6 +159,14 @@ char *uwbd_baseline_request(struct daemon *d, int scans, int force); /* `baselin
 void uwbd_baseline_requests_restore(struct daemon *d);         /* a request pending at the last stop */
 void uwbd_baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req);
 void uwbd_baseline_request_finished(struct daemon *d, unsigned long request, const struct uwbd_cycle_result *res);
+
+/* modbus_hook.c: nothing is opened unless modbus.enabled */
+int uwbd_modbus_open(struct daemon *d, char *err, size_t errlen);  /* 0, or -1 with err */
+void uwbd_modbus_close(struct daemon *d);
+void uwbd_modbus_reload(struct daemon *d, const struct uwbd_modbus_config *previous);
+/* Its fds into fds (room for UWBD_MODBUS_POLL_FDS), *timeout_ms lowered to its next retry; returns the count. */
+int uwbd_modbus_poll_add(struct daemon *d, struct pollfd *fds, int *timeout_ms);
+void uwbd_modbus_poll_serve(struct daemon *d, const struct pollfd *fds, int n);
 
 /* lock_watch.c */
 int uwbd_lock_watch_open(struct daemon *d);                    /* 0, or -1 (logged; the daemon runs unwatched) */

@@ -137,6 +137,30 @@ static void aperture(const struct uwb_scan *scan, double *lo, double *hi)
  * image spans the aperture and FINE_Y_MARGIN_M beyond, or, when
  * y_lo_m < y_hi_m, only those heights (rows still on the antenna-aligned
  * grid). plan: a migration plan kept across calls on one grid, or NULL. */
+int uwb_face_grid(const struct uwb_scan *conditioned, const struct uwb_geometry *g, double z_centre,
+                  double dominant_hz, double y_lo_m, double y_hi_m, struct uwb_image *fine, char *err,
+                  size_t errlen)
+{
+    double wavelength = g->velocity_m_s / dominant_hz;
+    double half = fmax(FACE_WINDOW_WAVELENGTHS * wavelength, FACE_WINDOW_MIN_M);
+    double z_lo = fmax(z_centre - half, NEAREST_RANGE_M);
+    if (uwb_imaging_grid(fine, conditioned, FINE_Y_MARGIN_M, aligned_dy(conditioned, FINE_DY_M), z_lo,
+                     z_centre + half, FINE_DZ_M, err, errlen) != 0)
+        return -1;
+    if (y_lo_m < y_hi_m) {
+        /* Keep the grid's rows (aligned with the antennas), only fewer of them. */
+        int first = (int)floor((y_lo_m - fine->y0_m) / fine->dy_m);
+        int last = (int)ceil((y_hi_m - fine->y0_m) / fine->dy_m);
+        first = first < 0 ? 0 : first;
+        last = last > fine->ny - 1 ? fine->ny - 1 : last;
+        if (last - first >= 8) {
+            fine->y0_m += first * fine->dy_m;
+            fine->ny = last - first + 1;
+        }
+    }
+    return 0;
+}
+
 static int measure_face_rows(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
                              const struct uwb_analysis_options *opt, double z_centre,
                              double dominant_hz, double y_lo_m, double y_hi_m,
@@ -145,23 +169,9 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
                              char *err, size_t errlen)
 {
     double wavelength = g->velocity_m_s / dominant_hz;
-    double half = fmax(FACE_WINDOW_WAVELENGTHS * wavelength, FACE_WINDOW_MIN_M);
-    double z_lo = fmax(z_centre - half, NEAREST_RANGE_M);
     struct uwb_image fine = {0};
-    if (uwb_imaging_grid(&fine, conditioned, FINE_Y_MARGIN_M, aligned_dy(conditioned, FINE_DY_M), z_lo,
-                     z_centre + half, FINE_DZ_M, err, errlen) != 0)
+    if (uwb_face_grid(conditioned, g, z_centre, dominant_hz, y_lo_m, y_hi_m, &fine, err, errlen) != 0)
         return -1;
-    if (y_lo_m < y_hi_m) {
-        /* Keep the grid's rows (aligned with the antennas), only fewer of them. */
-        int first = (int)floor((y_lo_m - fine.y0_m) / fine.dy_m);
-        int last = (int)ceil((y_hi_m - fine.y0_m) / fine.dy_m);
-        first = first < 0 ? 0 : first;
-        last = last > fine.ny - 1 ? fine.ny - 1 : last;
-        if (last - first >= 8) {
-            fine.y0_m += first * fine.dy_m;
-            fine.ny = last - first + 1;
-        }
-    }
     int rc = plan ? uwb_imaging_intensity_planned(plan, opt->migration, conditioned, g, &fine, err, errlen)
                   : uwb_imaging_intensity(opt->migration, conditioned, g, &fine, err, errlen);
     if (rc != 0) {
@@ -628,8 +638,8 @@ void uwb_analysis_free(struct uwb_analysis *a)
 
 int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
                            const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
-                           struct uwb_migration_plan *plan, struct uwb_face_profile *p, char *err,
-                           size_t errlen)
+                           struct uwb_migration_plan *plan, struct uwb_face_profile *p, double *z_face_out,
+                           char *err, size_t errlen)
 {
     memset(p, 0, sizeof *p);
     if (!a->measured.data || !a->weight || added->positions != a->measured.positions ||
@@ -654,5 +664,7 @@ int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_an
     int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, plan,
                                &z_face, p, &pe, err, errlen);
     uwb_scan_free(&s);
+    if (z_face_out)
+        *z_face_out = z_face;
     return rc;
 }

@@ -25,6 +25,13 @@ int uwb_imaging_intensity_planned(struct uwb_migration_plan *plan, enum uwb_migr
                               const struct uwb_scan *conditioned, const struct uwb_geometry *g,
                               struct uwb_image *img, char *err, size_t errlen);
 
+/* The grid a face measurement images on: the face's range window around
+ * z_centre, rows on the antenna-aligned 1 mm grid, only y_lo_m..y_hi_m when
+ * y_lo_m < y_hi_m (as uwb_analysis_measure_again images). */
+int uwb_face_grid(const struct uwb_scan *conditioned, const struct uwb_geometry *g, double z_centre,
+                  double dominant_hz, double y_lo_m, double y_hi_m, struct uwb_image *fine, char *err,
+                  size_t errlen);
+
 /* The brightest pixel of range column iz: its value, and its row in *row. */
 double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row);
 
@@ -75,6 +82,14 @@ double uwb_profile_shift_fit(const struct uwb_face_profile *cur, const struct uw
 double uwb_analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
                       const struct uwb_analysis *base_analysis, double guess_m);
 
+/* How the fit's optimum d moves with each profile value (implicit
+ * differentiation of the misfit's stationarity in d): grad_cur[i] =
+ * dd/dcur->value[i], grad_base likewise (either may be NULL). Returns 0, or
+ * -1 when out of memory or the misfit is not convex at d. */
+int uwb_profile_shift_gradient(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
+                               double base_centre_m, double half_span_m, double d_m, double *grad_cur,
+                               double *grad_base);
+
 /* The face profile of an analysis measured again on its kept traces plus
  * scale * added (weighted by the analysis' aperture weights): what the same
  * scan with that noise would have given, imaged between y_lo_m and y_hi_m
@@ -83,8 +98,8 @@ double uwb_analysis_shift(const struct uwb_face_profile *cur, const struct uwb_f
  * uwb_migration_plan_free). Returns 0, or -1 with err filled. */
 int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
                            const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
-                           struct uwb_migration_plan *plan, struct uwb_face_profile *p, char *err,
-                           size_t errlen);
+                           struct uwb_migration_plan *plan, struct uwb_face_profile *p, double *z_face_out,
+                           char *err, size_t errlen);
 
 /* uwb_condition in its two parts: what depends on the scan alone (band-pass,
  * alignment on the direct coupling), done once per analysis, and what
@@ -99,5 +114,12 @@ int uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geome
 
 /* The gain conditioning's band-pass gives frequency f_hz (0..1). */
 double uwb_condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz);
+
+/* The displacement's noise by repeating the fit over `draws` seeded noise
+ * draws per scan (what uwb_shift_noise's linear propagation must agree
+ * with: the tests' oracle). Returns as uwb_shift_noise. */
+int uwb_shift_noise_draws(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                          const struct uwb_analysis_options *opt, double shift_m, int draws,
+                          struct uwb_shift_noise *out, char *err, size_t errlen);
 
 #endif

@@ -1,6 +1,6 @@
 /* Migration onto one grid, repeated (private to src/imaging): the delay
  * table, a real part of a migration's cost, is built once. The noise
- * re-fits (pair_uncertainty.c) migrate 24 draws per scan onto one grid. */
+ * re-fits (pair_uncertainty.c) migrate many draws per scan onto one grid. */
 #ifndef UWB_MIGRATE_PLAN_H
 #define UWB_MIGRATE_PLAN_H
 

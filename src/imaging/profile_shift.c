@@ -172,3 +172,131 @@ int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis 
     }
     return 0;
 }
+
+/* ---- the fit's sensitivity to each profile value -------------------------- */
+
+/* Catmull-Rom weights of v[i-1..i+2] at fraction t, and of its slope (per
+ * pixel): energy_at's interpolation, term by term. */
+static void catmull_rom_weights(double t, double w[4], double dw[4])
+{
+    w[0] = 0.5 * (-t + 2.0 * t * t - t * t * t);
+    w[1] = 1.0 + 0.5 * (-5.0 * t * t + 3.0 * t * t * t);
+    w[2] = 0.5 * (t + 4.0 * t * t - 3.0 * t * t * t);
+    w[3] = 0.5 * (-t * t + t * t * t);
+    dw[0] = 0.5 * (-1.0 + 4.0 * t - 3.0 * t * t);
+    dw[1] = 0.5 * (-10.0 * t + 9.0 * t * t);
+    dw[2] = 0.5 * (1.0 + 8.0 * t - 9.0 * t * t);
+    dw[3] = 0.5 * (-2.0 * t + 3.0 * t * t);
+}
+
+/* Where y falls among a profile's pixels: the first of the four it reads,
+ * or -1 where energy_at reads 0. */
+static int cell_of(const struct energy *p, double y, double *t)
+{
+    double x = (y - p->y0_m) / p->dy_m;
+    int i = (int)floor(x);
+    if (i < 1 || i > p->n - 3)
+        return -1;
+    *t = x - i;
+    return i - 1;
+}
+
+struct misfit_sums {
+    double cc1, cb, c1b;   /* sum c c', sum c b, sum c' b */
+};
+
+static struct misfit_sums sums_at(const struct energy *cur, const struct span *s, double d)
+{
+    struct misfit_sums m = {0};
+    int k = 0;
+    for (double u = -s->half_m; u <= s->half_m + 1e-12; u += FIT_STEP_M, k++) {
+        double t, w[4], dw[4], c = 0.0, c1 = 0.0;
+        int i = cell_of(cur, s->centre_m + d + u, &t);
+        if (i >= 0) {
+            catmull_rom_weights(t, w, dw);
+            for (int j = 0; j < 4; j++) {
+                c += w[j] * cur->value[i + j];
+                c1 += dw[j] * cur->value[i + j] / cur->dy_m;
+            }
+        }
+        m.cc1 += c * c1;
+        m.cb += c * s->base[k];
+        m.c1b += c1 * s->base[k];
+    }
+    return m;
+}
+
+/* d/dd of the misfit (gain eliminated): zero at the fit's optimum. */
+static double misfit_slope(const struct misfit_sums *m, double bb)
+{
+    return 2.0 * m->cc1 - (bb > 0.0 ? 2.0 * m->cb * m->c1b / bb : 0.0);
+}
+
+int uwb_profile_shift_gradient(const struct uwb_face_profile *cur_profile, const struct uwb_face_profile *base_profile,
+                               double base_centre_m, double half_span_m, double d_m, double *grad_cur,
+                               double *grad_base)
+{
+    struct energy cur, base;
+    struct span span = {0};
+    if (energy_of(cur_profile, &cur) != 0)
+        return -1;
+    if (energy_of(base_profile, &base) != 0) {
+        free(cur.value);
+        return -1;
+    }
+    if (span_of(&base, base_centre_m, half_span_m, &span) != 0) {
+        free(cur.value);
+        free(base.value);
+        return -1;
+    }
+    /* The slope's own change with d over the fit's finest step, as the
+     * fit's parabola through its neighbours reads the curvature. */
+    struct misfit_sums lo = sums_at(&cur, &span, d_m - FINE_STEP_M);
+    struct misfit_sums hi = sums_at(&cur, &span, d_m + FINE_STEP_M);
+    double curvature = (misfit_slope(&hi, span.bb) - misfit_slope(&lo, span.bb)) / (2.0 * FINE_STEP_M);
+    struct misfit_sums m = sums_at(&cur, &span, d_m);
+    int rc = curvature > 0.0 && span.bb > 0.0 ? 0 : -1;
+    if (grad_cur)
+        for (int i = 0; i < cur_profile->n; i++)
+            grad_cur[i] = 0.0;
+    if (grad_base)
+        for (int i = 0; i < base_profile->n; i++)
+            grad_base[i] = 0.0;
+    int k = 0;
+    for (double u = -half_span_m; rc == 0 && u <= half_span_m + 1e-12; u += FIT_STEP_M, k++) {
+        double t, w[4], dw[4], c = 0.0, c1 = 0.0, b = span.base[k];
+        int i = cell_of(&cur, base_centre_m + d_m + u, &t);
+        if (i >= 0) {
+            catmull_rom_weights(t, w, dw);
+            for (int j = 0; j < 4; j++) {
+                c += w[j] * cur.value[i + j];
+                c1 += dw[j] * cur.value[i + j] / cur.dy_m;
+            }
+            /* dF/de for the current's energies this point reads. */
+            for (int j = 0; grad_cur && j < 4; j++) {
+                double dc = w[j], dc1 = dw[j] / cur.dy_m;
+                double dF = 2.0 * (dc * c1 + c * dc1) - 2.0 * (dc * b * m.c1b + m.cb * dc1 * b) / span.bb;
+                grad_cur[i + j] += -dF / curvature;
+            }
+        }
+        if (!grad_base)
+            continue;
+        /* dF/db at this point, then back to the baseline's energies. */
+        double dFdb = -2.0 * (c * m.c1b + m.cb * c1) / span.bb + 4.0 * m.cb * m.c1b * b / (span.bb * span.bb);
+        int ib = cell_of(&base, base_centre_m + u, &t);
+        if (ib >= 0) {
+            catmull_rom_weights(t, w, dw);
+            for (int j = 0; j < 4; j++)
+                grad_base[ib + j] += -dFdb * w[j] / curvature;
+        }
+    }
+    /* From energies (squared envelope) to the profile's envelope values. */
+    for (int i = 0; grad_cur && i < cur_profile->n; i++)
+        grad_cur[i] *= 2.0 * cur_profile->value[i];
+    for (int i = 0; grad_base && i < base_profile->n; i++)
+        grad_base[i] *= 2.0 * base_profile->value[i];
+    free(cur.value);
+    free(base.value);
+    free(span.base);
+    return rc;
+}

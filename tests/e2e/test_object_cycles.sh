@@ -23,6 +23,8 @@ link src/link/link.o src/link/link_socket.o
 # the commands MQTT brings.
 daemon-loop src/daemon/daemon.o src/daemon/peers.o src/daemon/worker.o src/daemon/lock_watch.o
 daemon-loop src/daemon/baseline_requests.o src/daemon/site_commands.o
+# The Modbus server's side in the loop: the registers from the daemon's state, coils to its commands.
+daemon-loop src/daemon/modbus_hook.o
 EOF
 )
 

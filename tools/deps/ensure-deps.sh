@@ -34,10 +34,10 @@ set -euo pipefail
 
 REPO_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 readonly REPO_ROOT
-readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto)
+readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto libmodbus)
 readonly NATIVE_PACKAGES=(gcc make libc6-dev pkg-config
     libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev
-    libmosquitto-dev mosquitto)
+    libmosquitto-dev mosquitto libmodbus-dev)
 readonly UNITY_FILES=(unity.c unity.h unity_internals.h)
 readonly UNITY_EXPECTED_VERSION="2.4.3"
 # Unity comes from the cJSON source package of one fixed Debian release so
@@ -171,7 +171,7 @@ ensure_cross() {
         "libc6:$debian_arch")
     local package
     for package in libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev \
-        libmosquitto-dev; do
+        libmosquitto-dev libmodbus-dev; do
         cross_packages+=("$package:$debian_arch")
     done
 

@@ -1,0 +1,379 @@
+/* The Modbus server on libmodbus (see modbus_server.h). RTU over a link:
+ * the RTU context is made with modbus_new_rtu but never connected;
+ * modbus_set_socket gives it the link's fd (libserialport's tty, or a unix
+ * socket in the tests), and libmodbus's RTU backend reads and writes that
+ * fd. TCP: modbus_tcp_pi_listen, then one context serving each accepted
+ * socket in turn through modbus_set_socket. */
+#include "integrations/modbus_server.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <modbus/modbus.h>
+
+#include "daemon/log.h"
+#include "uwb/link.h"
+#include "uwb/monotonic.h"
+
+/* A lost RTU link (the peer of a unix: endpoint went away, the USB adapter
+ * was unplugged) is opened again after this. */
+#define RETRY_S 5.0
+/* RTU: a master that starts a request must finish it within this, and
+ * its bytes come at most this far apart (libmodbus's indication and byte
+ * timeouts; on a bus they are milliseconds apart). The loop waits for an
+ * RTU frame at most a few seconds, and only for someone on the bus. */
+#define REQUEST_TIMEOUT_US 500000
+#define BYTE_TIMEOUT_US 50000
+/* TCP: a request is gathered without blocking, frame by frame (its MBAP
+ * header gives its length); one not complete within this drops its
+ * connection. The loop never waits for a TCP master. */
+#define TCP_FRAME_S 2.0
+#define MBAP_HEADER 7
+
+/* Function codes that write registers: the map is read-only. */
+#define FC_WRITE_SINGLE_COIL 0x05
+#define FC_WRITE_SINGLE_REGISTER 0x06
+#define FC_WRITE_MULTIPLE_COILS 0x0F
+#define FC_WRITE_MULTIPLE_REGISTERS 0x10
+#define FC_MASK_WRITE_REGISTER 0x16
+#define FC_WRITE_AND_READ_REGISTERS 0x17
+
+struct uwbd_modbus_server {
+    char endpoint[UWB_ENDPOINT_MAX];
+    struct uwb_endpoint ep;
+    int unit_id;
+    struct uwbd_modbus_handlers h;
+    modbus_mapping_t *map;
+
+    /* RTU */
+    modbus_t *rtu;
+    struct uwb_link *link;         /* NULL while closed */
+    double retry_at_s;             /* CLOCK_MONOTONIC of the next open attempt */
+    int failing;                   /* log an outage once, not every retry */
+
+    /* TCP */
+    modbus_t *tcp;
+    int listen_fd;
+    struct tcp_client {
+        int fd;                    /* -1: free */
+        uint8_t frame[MODBUS_TCP_MAX_ADU_LENGTH];
+        int len;                   /* bytes of the current request so far */
+        double started_s;          /* CLOCK_MONOTONIC of its first byte */
+    } clients[UWBD_MODBUS_TCP_CLIENTS];
+};
+
+static void rtu_try_open(struct uwbd_modbus_server *s)
+{
+    char err[512];
+    if (uwb_link_open(s->endpoint, &s->link, err, sizeof err) != UWB_LINK_OK) {
+        s->link = NULL;
+        s->retry_at_s = uwb_monotonic_s() + RETRY_S;
+        if (!s->failing)
+            uwbd_log(UWBD_LOG_WARNING, "modbus: %s; trying again every %.0f s", err, RETRY_S);
+        s->failing = 1;
+        return;
+    }
+    modbus_set_socket(s->rtu, uwb_link_fd(s->link));
+    uwbd_log(UWBD_LOG_INFO, "modbus: RTU unit %d on %s", s->unit_id, s->endpoint);
+    s->failing = 0;
+}
+
+static void rtu_lost(struct uwbd_modbus_server *s, const char *why)
+{
+    uwbd_log(UWBD_LOG_WARNING, "modbus: %s: %s; opening it again in %.0f s", s->endpoint, why, RETRY_S);
+    modbus_set_socket(s->rtu, -1);
+    uwb_link_close(s->link);
+    s->link = NULL;
+    s->retry_at_s = uwb_monotonic_s() + RETRY_S;
+}
+
+static modbus_t *set_up(modbus_t *ctx, int unit_id)
+{
+    if (!ctx)
+        return NULL;
+    modbus_set_slave(ctx, unit_id);
+    modbus_set_indication_timeout(ctx, 0, REQUEST_TIMEOUT_US);
+    modbus_set_byte_timeout(ctx, 0, BYTE_TIMEOUT_US);
+    return ctx;
+}
+
+int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd_modbus_handlers *handlers,
+                            struct uwbd_modbus_server **out, char *err, size_t errlen)
+{
+    *out = NULL;
+    struct uwbd_modbus_server *s = calloc(1, sizeof *s);
+    if (!s) {
+        snprintf(err, errlen, "modbus: out of memory");
+        return -1;
+    }
+    s->listen_fd = -1;
+    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
+        s->clients[i].fd = -1;
+    s->unit_id = unit_id;
+    s->h = *handlers;
+    snprintf(s->endpoint, sizeof s->endpoint, "%s", endpoint);
+    char why[512];
+    if (uwb_endpoint_parse(endpoint, &s->ep, why, sizeof why) != UWB_LINK_OK) {
+        snprintf(err, errlen, "modbus.endpoint: %s", why);
+        free(s);
+        return -1;
+    }
+    s->map = modbus_mapping_new(UWBD_MODBUS_COIL_COUNT, 0, UWBD_MODBUS_REGISTER_COUNT, UWBD_MODBUS_REGISTER_COUNT);
+    if (!s->map) {
+        snprintf(err, errlen, "modbus: out of memory for the register map");
+        free(s);
+        return -1;
+    }
+    if (s->ep.kind == UWB_ENDPOINT_TCP) {
+        s->tcp = set_up(modbus_new_tcp_pi(s->ep.host, s->ep.port), unit_id);
+        if (!s->tcp || (s->listen_fd = modbus_tcp_pi_listen(s->tcp, UWBD_MODBUS_TCP_CLIENTS)) < 0) {
+            snprintf(err, errlen, "modbus: cannot listen on %s: %s", endpoint, modbus_strerror(errno));
+            uwbd_modbus_server_close(s);
+            return -1;
+        }
+        uwbd_log(UWBD_LOG_INFO, "modbus: TCP listening on %s", endpoint);
+    } else {
+        s->rtu = set_up(modbus_new_rtu(s->ep.path, s->ep.baud > 0 ? s->ep.baud : UWB_SERIAL_DEFAULT_BAUD, 'N', 8, 1), unit_id);
+        if (!s->rtu) {
+            snprintf(err, errlen, "modbus: RTU context for %s: %s", endpoint, modbus_strerror(errno));
+            uwbd_modbus_server_close(s);
+            return -1;
+        }
+        rtu_try_open(s);
+    }
+    *out = s;
+    return 0;
+}
+
+int uwbd_modbus_server_poll_fds(struct uwbd_modbus_server *s, struct pollfd *fds, int max)
+{
+    int n = 0;
+    if (s->link && n < max)
+        fds[n++] = (struct pollfd){.fd = uwb_link_fd(s->link), .events = POLLIN};
+    if (s->listen_fd >= 0 && n < max)
+        fds[n++] = (struct pollfd){.fd = s->listen_fd, .events = POLLIN};
+    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS && n < max; i++)
+        if (s->clients[i].fd >= 0)
+            fds[n++] = (struct pollfd){.fd = s->clients[i].fd, .events = POLLIN};
+    return n;
+}
+
+static int ms_until(double when_s)
+{
+    double left_s = when_s - uwb_monotonic_s();
+    return left_s <= 0 ? 0 : (int)(left_s * 1000.0) + 1;
+}
+
+int uwbd_modbus_server_timeout_ms(const struct uwbd_modbus_server *s)
+{
+    int ms = -1;
+    if (s->rtu && !s->link)
+        ms = ms_until(s->retry_at_s);
+    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++) {
+        if (s->clients[i].fd < 0 || s->clients[i].len == 0)
+            continue;
+        int left = ms_until(s->clients[i].started_s + TCP_FRAME_S);
+        if (ms < 0 || left < ms)
+            ms = left;
+    }
+    return ms;
+}
+
+static int coil_wired(const struct uwbd_modbus_server *s, int first, int count)
+{
+    for (int c = first; c < first + count; c++)
+        if (c >= 0 && c < UWBD_MODBUS_COIL_COUNT && !s->h.coil[c])
+            return 0;
+    return 1;
+}
+
+/* Coil writes run their commands before the reply, so that the reply says
+ * whether the command was taken; a write of 0 does nothing. Returns 0, or
+ * the Modbus exception to answer. */
+static int run_coils(struct uwbd_modbus_server *s, const uint8_t *pdu, int pdu_len)
+{
+    int function = pdu[0];
+    if (pdu_len < 5)
+        return 0;   /* malformed: modbus_reply answers it */
+    int address = (pdu[1] << 8) | pdu[2];
+    int set[UWBD_MODBUS_COIL_COUNT] = {0};
+    if (function == FC_WRITE_SINGLE_COIL) {
+        if (!coil_wired(s, address, 1))
+            return address < UWBD_MODBUS_COIL_COUNT ? MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS : 0;
+        if (address < UWBD_MODBUS_COIL_COUNT && pdu[3] == 0xFF && pdu[4] == 0x00)
+            set[address] = 1;
+    } else {
+        int count = (pdu[3] << 8) | pdu[4];
+        if (address + count > UWBD_MODBUS_COIL_COUNT || pdu_len < 6 || pdu_len < 6 + pdu[5])
+            return 0;   /* out of the map or malformed: modbus_reply answers it */
+        if (!coil_wired(s, address, count))
+            return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
+        for (int i = 0; i < count; i++)
+            set[address + i] = (pdu[6 + i / 8] >> (i % 8)) & 1;
+    }
+    for (int c = 0; c < UWBD_MODBUS_COIL_COUNT; c++)
+        if (set[c] && s->h.coil[c](s->h.ctx) != 0)
+            return MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE;
+    return 0;
+}
+
+/* Answers one whole request (query, len bytes, as libmodbus frames it)
+ * on ctx, its socket set: -1 when the connection is gone. */
+static int answer(struct uwbd_modbus_server *s, modbus_t *ctx, const uint8_t *query, int len)
+{
+    int header = modbus_get_header_length(ctx);
+    if (len <= header)
+        return 0;
+    const uint8_t *pdu = query + header;
+    int pdu_len = len - header - (ctx == s->rtu ? 2 : 0);   /* RTU's CRC */
+    int function = pdu[0];
+    int exception = 0;
+    if (function == FC_WRITE_SINGLE_REGISTER || function == FC_WRITE_MULTIPLE_REGISTERS ||
+        function == FC_MASK_WRITE_REGISTER || function == FC_WRITE_AND_READ_REGISTERS)
+        exception = MODBUS_EXCEPTION_ILLEGAL_FUNCTION;   /* the registers are read-only */
+    else if (function == FC_WRITE_SINGLE_COIL || function == FC_WRITE_MULTIPLE_COILS)
+        exception = run_coils(s, pdu, pdu_len);
+    int rc;
+    if (exception) {
+        rc = modbus_reply_exception(ctx, query, (unsigned)exception);
+    } else {
+        uint16_t regs[UWBD_MODBUS_REGISTER_COUNT];
+        s->h.fill(s->h.ctx, regs);
+        memcpy(s->map->tab_input_registers, regs, sizeof regs);
+        memcpy(s->map->tab_registers, regs, sizeof regs);
+        rc = modbus_reply(ctx, query, len, s->map);
+        memset(s->map->tab_bits, 0, UWBD_MODBUS_COIL_COUNT);   /* coils are momentary */
+    }
+    if (rc < 0 && ctx == s->tcp)
+        return -1;   /* a master that does not take its reply (EAGAIN) or went away */
+    if (rc < 0 && (errno == EPIPE || errno == ECONNRESET || errno == EBADF || errno == EIO))
+        return -1;
+    return 0;
+}
+
+/* One RTU request from the link: -1 when the link is gone. */
+static int serve_rtu(struct uwbd_modbus_server *s)
+{
+    uint8_t query[MODBUS_RTU_MAX_ADU_LENGTH];
+    int len = modbus_receive(s->rtu, query);
+    if (len == 0)
+        return 0;   /* a request for another unit on the bus */
+    if (len < 0) {
+        if (errno == ECONNRESET || errno == EPIPE || errno == EBADF || errno == EIO || errno == ENOTCONN)
+            return -1;
+        modbus_flush(s->rtu);   /* a bad CRC or a half frame: wait for the next */
+        return 0;
+    }
+    return answer(s, s->rtu, query, len);
+}
+
+/* What a TCP master sent, gathered without blocking; a whole request is
+ * answered. -1: drop the connection (closed, not Modbus, or an error). */
+static int serve_tcp(struct uwbd_modbus_server *s, struct tcp_client *c)
+{
+    int want = c->len < MBAP_HEADER ? MBAP_HEADER : 6 + ((c->frame[4] << 8) | c->frame[5]);
+    ssize_t n = recv(c->fd, c->frame + c->len, (size_t)(want - c->len), MSG_DONTWAIT);
+    if (n == 0)
+        return -1;
+    if (n < 0)
+        return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : -1;
+    if (c->len == 0)
+        c->started_s = uwb_monotonic_s();
+    c->len += (int)n;
+    if (c->len == MBAP_HEADER) {
+        int length = (c->frame[4] << 8) | c->frame[5];
+        /* protocol id 0; unit id and at least a function code; within an ADU */
+        if (c->frame[2] || c->frame[3] || length < 2 || 6 + length > MODBUS_TCP_MAX_ADU_LENGTH)
+            return -1;
+        want = 6 + length;
+    }
+    if (c->len < want || c->len < MBAP_HEADER)
+        return 0;
+    int len = c->len;
+    c->len = 0;
+    modbus_set_socket(s->tcp, c->fd);
+    int rc = answer(s, s->tcp, c->frame, len);
+    modbus_set_socket(s->tcp, -1);
+    return rc;
+}
+
+static void drop_client(struct tcp_client *c)
+{
+    close(c->fd);
+    c->fd = -1;
+    c->len = 0;
+}
+
+static void accept_client(struct uwbd_modbus_server *s)
+{
+    int fd = accept(s->listen_fd, NULL, NULL);
+    if (fd < 0)
+        return;
+    fcntl(fd, F_SETFD, FD_CLOEXEC);   /* accept4 is a GNU extension */
+    /* Replies are sent without blocking too: a master that does not read
+     * them is dropped when its socket's buffer is full. */
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
+    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
+        if (s->clients[i].fd < 0) {
+            s->clients[i].fd = fd;
+            s->clients[i].len = 0;
+            return;
+        }
+    uwbd_log(UWBD_LOG_WARNING, "modbus: a TCP master refused: %d already connected", UWBD_MODBUS_TCP_CLIENTS);
+    close(fd);
+}
+
+void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd *fds, int n)
+{
+    for (int i = 0; i < n; i++) {
+        if (!fds[i].revents)
+            continue;
+        if (s->link && fds[i].fd == uwb_link_fd(s->link)) {
+            if (serve_rtu(s) < 0)
+                rtu_lost(s, "the link closed");
+            continue;
+        }
+        if (fds[i].fd == s->listen_fd) {
+            accept_client(s);
+            continue;
+        }
+        for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++)
+            if (s->clients[c].fd == fds[i].fd && serve_tcp(s, &s->clients[c]) < 0)
+                drop_client(&s->clients[c]);
+    }
+    double now_s = uwb_monotonic_s();
+    for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++)
+        if (s->clients[c].fd >= 0 && s->clients[c].len > 0 && now_s - s->clients[c].started_s >= TCP_FRAME_S) {
+            uwbd_log(UWBD_LOG_WARNING, "modbus: a TCP master dropped: no whole request within %.0f s", TCP_FRAME_S);
+            drop_client(&s->clients[c]);
+        }
+    if (s->rtu && !s->link && uwb_monotonic_s() >= s->retry_at_s)
+        rtu_try_open(s);
+}
+
+void uwbd_modbus_server_close(struct uwbd_modbus_server *s)
+{
+    if (!s)
+        return;
+    if (s->rtu) {
+        modbus_set_socket(s->rtu, -1);   /* the link owns the fd */
+        modbus_free(s->rtu);
+    }
+    uwb_link_close(s->link);
+    if (s->tcp) {
+        modbus_set_socket(s->tcp, -1);
+        modbus_free(s->tcp);
+    }
+    if (s->listen_fd >= 0)
+        close(s->listen_fd);
+    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
+        if (s->clients[i].fd >= 0)
+            close(s->clients[i].fd);
+    modbus_mapping_free(s->map);
+    free(s);
+}

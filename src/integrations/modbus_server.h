@@ -1,0 +1,48 @@
+/* The Modbus server (libmodbus): RTU on a serial line (RS-485) or, for the
+ * tests, over a unix socket it connects to, or Modbus TCP listening on an
+ * address. It lives in the daemon's poll() loop: it hands out its fds,
+ * serves what polled readable, and asks the daemon for the registers just
+ * before each reply, so a master never reads a stale verdict. */
+#ifndef UWBD_INTEGRATIONS_MODBUS_SERVER_H
+#define UWBD_INTEGRATIONS_MODBUS_SERVER_H
+
+#include <poll.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "integrations/modbus_registers.h"
+
+/* More TCP masters at once are refused (closed on accept). */
+#define UWBD_MODBUS_TCP_CLIENTS 4
+#define UWBD_MODBUS_POLL_FDS (1 + UWBD_MODBUS_TCP_CLIENTS)
+
+struct uwbd_modbus_handlers {
+    void *ctx;
+    /* The registers now (the map in modbus_registers.h). */
+    void (*fill)(void *ctx, uint16_t regs[UWBD_MODBUS_REGISTER_COUNT]);
+    /* A coil written 1: the command for it. 0 = done; -1 = cannot (the
+     * master gets exception 4, server device failure). NULL: the coil is
+     * not wired (exception 2, illegal data address). */
+    int (*coil[UWBD_MODBUS_COIL_COUNT])(void *ctx);
+};
+
+struct uwbd_modbus_server;
+
+/* endpoint: serial:/dev/ttyX[?baud=N] or unix:PATH (RTU; uwbd connects, and
+ * connects again every few seconds after the peer went away), or
+ * tcp:HOST:PORT (Modbus TCP, listening). unit_id: the RTU address (1-247).
+ * 0, or -1 with err naming the endpoint and the problem. A serial or unix
+ * endpoint that cannot be opened yet is not an error: it is retried. */
+int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd_modbus_handlers *handlers,
+                            struct uwbd_modbus_server **out, char *err, size_t errlen);
+/* The fds to poll (at most UWBD_MODBUS_POLL_FDS) into fds; returns the count. */
+int uwbd_modbus_server_poll_fds(struct uwbd_modbus_server *s, struct pollfd *fds, int max);
+/* After poll(): fds/n as poll_fds filled them. Also opens a lost RTU link
+ * again once its retry time came. */
+void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd *fds, int n);
+/* Milliseconds until the server needs serve() without any fd (a retry); -1: never. */
+int uwbd_modbus_server_timeout_ms(const struct uwbd_modbus_server *s);
+/* NULL is a no-op. */
+void uwbd_modbus_server_close(struct uwbd_modbus_server *s);
+
+#endif

@@ -1,0 +1,149 @@
+#!/usr/bin/env bash
+# Modbus through the full stack (uwbemu + uwbd + a libmodbus master,
+# tests/e2e/helpers/modbus_client.c): RTU over a unix socket the daemon
+# connects to (libserialport cannot open ptys), then Modbus TCP on a free
+# 127.0.0.1 port after a reload; the registers after each verdict equal
+# that verdict's JSON in 0.01 mm; the `event` coil starts a scan; `ack` is
+# refused while not wired; registers are read-only; another RTU unit is not
+# answered; disabling closes the port; enabling without an endpoint is
+# refused at --check-config naming the key.
+set -euo pipefail
+
+source "$(dirname "$0")/daemon_e2e.sh"
+e2e_workdir uwbd-modbus
+
+config="$work/uwbd.json"
+cp "$REPO/board/emulated/uwbd.json" "$config"
+json_edit "$config" "$config" 'baseline={"scans":1}'
+ctl() { uwbd ctl --socket run/control.sock "$@"; }
+emu() { uwbemu --ctl unix:run/emu.sock "$@"; }
+mbc() { $HOST_PREFIX "$HOST_BUILD/e2e/modbus_client" "$@"; }
+# The TCP sockets uwbd holds: its socket inodes found in /proc/net/tcp*.
+tcp_sockets() {
+    local inode count=0 tables=(/proc/net/tcp)
+    [[ -r /proc/net/tcp6 ]] && tables+=(/proc/net/tcp6)
+    for inode in $(ls -l /proc/"$daemon_pid"/fd 2>/dev/null | sed -n 's/.*socket:\[\([0-9]*\)\].*/\1/p'); do
+        if awk -v i="$inode" 'NR > 1 && $10 == i { found = 1 } END { exit !found }' "${tables[@]}"; then
+            count=$((count + 1))
+        fi
+    done
+    echo "$count"
+}
+
+# ---- --check-config names the key --------------------------------------------
+json_edit "$config" no-endpoint.json 'modbus={"enabled":true}'
+rc=0
+uwbd --check-config no-endpoint.json > check.out 2>&1 || rc=$?
+[[ $rc == 78 ]] && grep -q 'modbus.endpoint' check.out || fail "enabled without endpoint: exit $rc: $(cat check.out)"
+json_edit "$config" bad-endpoint.json 'modbus={"enabled":true,"endpoint":"udp:1.2.3.4:502"}'
+rc=0
+uwbd --check-config bad-endpoint.json > check2.out 2>&1 || rc=$?
+[[ $rc == 78 ]] && grep -q 'modbus.endpoint' check2.out && grep -q "unknown scheme 'udp'" check2.out ||
+    fail "a bad endpoint: exit $rc: $(cat check2.out)"
+json_edit "$config" bad-unit.json 'modbus={"enabled":true,"endpoint":"tcp:127.0.0.1:1502","unit_id":248}'
+rc=0
+uwbd --check-config bad-unit.json > check3.out 2>&1 || rc=$?
+[[ $rc == 78 ]] && grep -q 'modbus.unit_id' check3.out || fail "unit 248: exit $rc: $(cat check3.out)"
+pass "--check-config refuses modbus.enabled without modbus.endpoint, a bad endpoint and unit 248, naming the key"
+
+# verdict_matches DUMP_LINE VERDICT_JSON: every figure of the verdict in the registers.
+status_code() {
+    case $1 in edges) echo 1 ;; ok) echo 2 ;; watch) echo 3 ;; alarm) echo 4 ;; inconclusive) echo 5 ;;
+        error) echo 6 ;; *) echo 0 ;; esac
+}
+field() { tr ' ' '\n' <<<"$1" | sed -n "s/^$2=//p"; }
+hundredths() {   # mm from the JSON ("(missing)" -> none) as the register reads it
+    [[ $1 == "(missing)" ]] && { echo none; return; }
+    awk -v v="$1" 'BEGIN { x = v * 100; printf "%d\n", (x < 0 ? x - 0.5 : x + 0.5) }'
+}
+verdict_matches() {
+    local dump=$1 verdict=$2 key reg want got
+    want=$(status_code "$(json_get status < "$verdict")")
+    [[ $(field "$dump" status) == "$want" ]] || { echo "status: $(field "$dump" status), verdict $want"; return 1; }
+    for pair in axial_displacement_mm:displacement uncertainty_mm:sigma height_change_mm:height_change \
+        lower_edge_mm:lower_edge upper_edge_mm:upper_edge; do
+        key=${pair%%:*} reg=${pair##*:}
+        want=$(hundredths "$(json_get "$key" < "$verdict")")
+        got=$(field "$dump" "$reg")
+        [[ $got == "$want" ]] || { echo "$reg: $got, verdict $key gives $want"; return 1; }
+    done
+    want=$(date -u -d "$(json_get created < "$verdict")" +%s)
+    [[ $(field "$dump" scan_time) == "$want" ]] || { echo "scan_time: $(field "$dump" scan_time), created $want"; return 1; }
+    [[ $(field "$dump" version) == 1 ]] || { echo "map version $(field "$dump" version)"; return 1; }
+}
+
+$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
+    --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7 \
+    > emu.log 2>&1 &
+pids+=($!)
+wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+wait_for emu status || fail "uwbemu does not answer"
+
+# ---- RTU over the socket endpoint -------------------------------------------
+json_edit "$config" "$config" 'modbus={"enabled":true,"endpoint":"unix:run/modbus.sock","unit_id":7}'
+mbc rtu-listen run/modbus.sock 7 dump coil=1:1 wait-count=1 dump coils coil=0:1 write-register \
+    unit=9 probe unit=7 probe probe > rtu.out 2> rtu.err &
+rtu_pid=$!
+pids+=($rtu_pid)
+wait_for test -S run/modbus.sock || fail "modbus_client does not listen: $(cat rtu.err)"
+${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" -v > uwbd.log 2>&1 &
+daemon_pid=$!
+pids+=($daemon_pid)
+wait_for ctl status || fail "uwbd does not answer: $(tail -5 uwbd.log)"
+wait "$rtu_pid" || fail "RTU master: $(cat rtu.err) $(cat rtu.out)"
+ctl verdict > rtu-verdict.json
+before=$(sed -n 1p rtu.out)
+[[ $(field "$before" status) == 0 && $(field "$before" scan_count) == 0 && $(field "$before" displacement) == none &&
+   $(field "$before" lower_edge) == none ]] || fail "RTU before any verdict: $before"
+after=$(sed -n 3p rtu.out)
+[[ $(sed -n 2p rtu.out) == "coil 1=1: ok" ]] || fail "event coil: $(cat rtu.out)"
+[[ $(field "$after" scan_count) == 1 ]] || fail "RTU after the event scan: $after"
+why=$(verdict_matches "$after" rtu-verdict.json) || fail "RTU registers vs the verdict: $why: $after / $(cat rtu-verdict.json)"
+grep -q 'modbus: event coil: scan requested' uwbd.log || fail "the event coil did not reach the daemon"
+[[ $(sed -n 4p rtu.out) == "coils=00" ]] || fail "coils read back: $(sed -n 4p rtu.out)"
+[[ $(sed -n 5p rtu.out) == "coil 0=1: Illegal data address" ]] || fail "ack coil while not wired: $(sed -n 5p rtu.out)"
+[[ $(sed -n 6p rtu.out) == "write-register: Illegal function" ]] || fail "register write: $(sed -n 6p rtu.out)"
+[[ $(sed -n 7p rtu.out) == "probe: Connection timed out" ]] || fail "unit 9 answered: $(sed -n 7p rtu.out)"
+# On a bus, unit 9's answer follows its request, and libmodbus's RTU server
+# skips that one frame; with no unit 9 the next request is the frame skipped,
+# as a master's retry covers.
+[[ $(sed -n 9p rtu.out) == "probe: ok" ]] || fail "unit 7 after unit 9: $(sed -n 8,9p rtu.out)"
+pass "RTU unit 7 over unix:: registers = the verdict ($after); event coil scanned; ack coil refused" \
+     "(not wired); registers read-only; unit 9 not answered"
+
+# ---- Modbus TCP on 127.0.0.1 after a reload -----------------------------------
+port=$(mbc freeport)
+json_edit "$config" "$config" "modbus.endpoint=\"tcp:127.0.0.1:$port\""
+kill -HUP "$daemon_pid"
+wait_for mbc tcp 127.0.0.1 "$port" probe > /dev/null 2>&1 || fail "no Modbus TCP on $port after the reload: $(tail -5 uwbd.log)"
+ctl baseline set > /dev/null
+ctl scan > base.json || fail "baseline scan: $(cat base.json)"
+emu 'set displacement_m 0.004' > /dev/null
+ctl scan > moved.json || fail "4 mm scan: $(cat moved.json)"
+json_check moved.json 'axial_displacement_mm exists' 'uncertainty_mm exists' 'height_change_mm exists' ||
+    fail "no compared verdict: $(cat moved.json)"
+mbc tcp 127.0.0.1 "$port" dump coil=1:1 wait-count=4 dump coil=0:1 write-register > tcp.out 2> tcp.err ||
+    fail "TCP master: $(cat tcp.err)"
+first=$(sed -n 1p tcp.out)
+[[ $(field "$first" scan_count) == 3 ]] || fail "TCP scan counter after 3 verdicts: $first"
+(( ($(field "$first" health) & 8) != 0 )) || fail "TCP health without the baseline bit: $first"
+why=$(verdict_matches "$first" moved.json) || fail "TCP registers vs the verdict: $why: $first / $(cat moved.json)"
+ctl verdict > event.json
+last=$(sed -n 3p tcp.out)
+why=$(verdict_matches "$last" event.json) || fail "TCP after the event scan: $why: $last / $(cat event.json)"
+[[ $(sed -n 4p tcp.out) == "coil 0=1: Illegal data address" && $(sed -n 5p tcp.out) == "write-register: Illegal function" ]] ||
+    fail "TCP refusals: $(cat tcp.out)"
+[[ $(tcp_sockets) -ge 1 ]] || fail "no TCP socket held while Modbus TCP is on (the check below would prove nothing)"
+pass "Modbus TCP on 127.0.0.1:$port after SIGHUP: a 4 mm verdict in the registers ($first); event coil scanned"
+
+# ---- disabled: nothing listens --------------------------------------------------
+json_edit "$config" "$config" 'modbus.enabled=false'
+kill -HUP "$daemon_pid"
+closed() { ! mbc tcp 127.0.0.1 "$port" probe > /dev/null 2>&1; }
+wait_for closed || fail "port $port still answers with modbus.enabled false"
+# ...and the daemon holds no TCP socket at all.
+[[ $(tcp_sockets) == 0 ]] || fail "uwbd holds $(tcp_sockets) TCP socket(s) with modbus.enabled false"
+kill -TERM "$daemon_pid"
+wait "$daemon_pid" || fail "uwbd exit $? at SIGTERM"
+pass "modbus.enabled false on reload: port $port closed, no TCP socket held (one or more while on)"
+echo "$passed passed"

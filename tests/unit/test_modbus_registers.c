@@ -1,0 +1,174 @@
+/* The Modbus register map from a verdict line and the daemon's state:
+ * 0.01 mm signed figures, 32-bit values high word first, "none" markers
+ * for figures a verdict does not carry, clipping that never reads as
+ * "none", and the health and contact bits. */
+#include "scratch_support.h"
+#include "unity.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "integrations/modbus_registers.h"
+
+static uint16_t regs[UWBD_MODBUS_REGISTER_COUNT];
+
+void setUp(void)
+{
+    memset(regs, 0xA5, sizeof regs);   /* every register must be written */
+}
+
+void tearDown(void) {}
+
+static int32_t reg32(int at)
+{
+    return (int32_t)(((uint32_t)regs[at] << 16) | regs[at + 1]);
+}
+
+static const char *const compared =
+    "{\"class\":\"VERDICT\",\"status\":\"watch\",\"created\":\"2026-11-24T05:30:00Z\","
+    "\"axial_displacement_mm\":-1.23,\"uncertainty_mm\":0.45,\"lower_edge_mm\":412.35,"
+    "\"upper_edge_mm\":1105.6,\"height_change_mm\":0.07,\"images\":[]}";
+
+static void test_compared_verdict_in_hundredths_of_a_millimetre(void)
+{
+    struct uwbd_modbus_status st = {.scan_count = 70000, .has_baseline = 1};
+    uwbd_modbus_registers_fill(compared, &st, regs);
+    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_MAP_VERSION, regs[UWBD_MODBUS_REG_MAP_VERSION]);
+    TEST_ASSERT_EQUAL_UINT16(3, regs[UWBD_MODBUS_REG_STATUS]);   /* watch */
+    TEST_ASSERT_EQUAL_INT16(-123, (int16_t)regs[UWBD_MODBUS_REG_DISPLACEMENT]);
+    TEST_ASSERT_EQUAL_INT16(45, (int16_t)regs[UWBD_MODBUS_REG_SIGMA]);
+    TEST_ASSERT_EQUAL_INT16(7, (int16_t)regs[UWBD_MODBUS_REG_HEIGHT_CHANGE]);
+    TEST_ASSERT_EQUAL_INT32(41235, reg32(UWBD_MODBUS_REG_LOWER_EDGE));
+    TEST_ASSERT_EQUAL_INT32(110560, reg32(UWBD_MODBUS_REG_UPPER_EDGE));
+    /* 70000 = 0x0001 0x1170: the high word first */
+    TEST_ASSERT_EQUAL_UINT16(1, regs[UWBD_MODBUS_REG_SCAN_COUNT]);
+    TEST_ASSERT_EQUAL_UINT16(0x1170, regs[UWBD_MODBUS_REG_SCAN_COUNT + 1]);
+    TEST_ASSERT_EQUAL_INT32(1795498200, reg32(UWBD_MODBUS_REG_SCAN_TIME));   /* date -u -d ... +%s */
+    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_BASELINE | UWBD_MODBUS_HEALTH_VERDICT, regs[UWBD_MODBUS_REG_HEALTH]);
+    TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_CONTACTS]);
+}
+
+static void test_no_verdict_reads_status_zero_and_none_markers(void)
+{
+    struct uwbd_modbus_status st = {.rig_down = 1};
+    uwbd_modbus_registers_fill(NULL, &st, regs);
+    TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_STATUS]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_DISPLACEMENT]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_SIGMA]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_HEIGHT_CHANGE]);
+    TEST_ASSERT_EQUAL_HEX32(UWBD_MODBUS_NONE32, (uint32_t)reg32(UWBD_MODBUS_REG_LOWER_EDGE));
+    TEST_ASSERT_EQUAL_HEX32(UWBD_MODBUS_NONE32, (uint32_t)reg32(UWBD_MODBUS_REG_UPPER_EDGE));
+    TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_COUNT));
+    TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
+    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_RIG_DOWN, regs[UWBD_MODBUS_REG_HEALTH]);
+
+    uwbd_modbus_registers_fill("not json", &st, regs);
+    TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_STATUS]);
+    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_RIG_DOWN, regs[UWBD_MODBUS_REG_HEALTH]);
+}
+
+static void test_edges_only_verdict_has_edges_but_no_displacement(void)
+{
+    struct uwbd_modbus_status st = {.scan_count = 1, .scanning = 1};
+    uwbd_modbus_registers_fill("{\"status\":\"edges\",\"created\":\"2026-11-24T05:30:00Z\",\"lower_edge_mm\":-0.5,"
+                               "\"upper_edge_mm\":700}", &st, regs);
+    TEST_ASSERT_EQUAL_UINT16(1, regs[UWBD_MODBUS_REG_STATUS]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_DISPLACEMENT]);
+    TEST_ASSERT_EQUAL_INT32(-50, reg32(UWBD_MODBUS_REG_LOWER_EDGE));
+    TEST_ASSERT_EQUAL_INT32(70000, reg32(UWBD_MODBUS_REG_UPPER_EDGE));
+    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_SCANNING | UWBD_MODBUS_HEALTH_VERDICT, regs[UWBD_MODBUS_REG_HEALTH]);
+}
+
+static void test_every_status_has_its_code(void)
+{
+    const char *names[] = {"edges", "ok", "watch", "alarm", "inconclusive", "error"};
+    struct uwbd_modbus_status st = {0};
+    char line[128];
+    for (int i = 0; i < 6; i++) {
+        snprintf(line, sizeof line, "{\"status\":\"%s\"}", names[i]);
+        uwbd_modbus_registers_fill(line, &st, regs);
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(i + 1, regs[UWBD_MODBUS_REG_STATUS], names[i]);
+    }
+    uwbd_modbus_registers_fill("{\"status\":\"bogus\"}", &st, regs);
+    TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_STATUS]);
+}
+
+static void test_large_figures_clip_and_never_read_as_none(void)
+{
+    struct uwbd_modbus_status st = {0};
+    uwbd_modbus_registers_fill("{\"status\":\"alarm\",\"axial_displacement_mm\":-400,\"uncertainty_mm\":400,"
+                               "\"height_change_mm\":-327.68}", &st, regs);
+    TEST_ASSERT_EQUAL_INT16(-32767, (int16_t)regs[UWBD_MODBUS_REG_DISPLACEMENT]);
+    TEST_ASSERT_EQUAL_INT16(32767, (int16_t)regs[UWBD_MODBUS_REG_SIGMA]);
+    TEST_ASSERT_EQUAL_INT16(-32767, (int16_t)regs[UWBD_MODBUS_REG_HEIGHT_CHANGE]);
+}
+
+static void test_time_without_zone_or_malformed_is_zero(void)
+{
+    struct uwbd_modbus_status st = {0};
+    uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"2026-11-24T05:30:00\"}", &st, regs);
+    TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
+    uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"yesterday\"}", &st, regs);
+    TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
+}
+
+static void test_fault_and_contact_bits(void)
+{
+    struct uwbd_modbus_status st = {.device_fault = 1,
+                                    .contacts = UWBD_MODBUS_CONTACT_ALARM | UWBD_MODBUS_CONTACT_FAULT | 0x80};
+    uwbd_modbus_registers_fill(compared, &st, regs);
+    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_DEVICE_FAULT | UWBD_MODBUS_HEALTH_VERDICT,
+                             regs[UWBD_MODBUS_REG_HEALTH]);
+    /* bits outside the map are not passed on */
+    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_CONTACT_ALARM | UWBD_MODBUS_CONTACT_FAULT, regs[UWBD_MODBUS_REG_CONTACTS]);
+}
+
+/* README's register table gives every address as the enum has it. */
+static void test_readme_documents_the_map(void)
+{
+    char *readme = scratch_slurp("README.md", NULL);
+    TEST_ASSERT_NOT_NULL_MESSAGE(readme, "README.md");
+    const struct {
+        int at, width;
+        const char *what;
+    } rows[] = {
+        {UWBD_MODBUS_REG_MAP_VERSION, 1, "map version"},
+        {UWBD_MODBUS_REG_STATUS, 1, "status"},
+        {UWBD_MODBUS_REG_DISPLACEMENT, 1, "axial displacement"},
+        {UWBD_MODBUS_REG_SIGMA, 1, "its uncertainty"},
+        {UWBD_MODBUS_REG_HEIGHT_CHANGE, 1, "height change"},
+        {UWBD_MODBUS_REG_LOWER_EDGE, 2, "lower edge"},
+        {UWBD_MODBUS_REG_UPPER_EDGE, 2, "upper edge"},
+        {UWBD_MODBUS_REG_SCAN_COUNT, 2, "scan counter"},
+        {UWBD_MODBUS_REG_SCAN_TIME, 2, "the verdict's time"},
+        {UWBD_MODBUS_REG_HEALTH, 1, "health bits"},
+        {UWBD_MODBUS_REG_CONTACTS, 1, "contact states"},
+    };
+    char row[128];
+    for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        if (rows[i].width == 1)
+            snprintf(row, sizeof row, "| %d | %s", rows[i].at, rows[i].what);
+        else
+            snprintf(row, sizeof row, "| %d\u2013%d | %s", rows[i].at, rows[i].at + 1, rows[i].what);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(readme, row), row);
+    }
+    snprintf(row, sizeof row, "coil %d `ack`, coil %d `event`", UWBD_MODBUS_COIL_ACK, UWBD_MODBUS_COIL_EVENT);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(readme, row), row);
+    free(readme);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_compared_verdict_in_hundredths_of_a_millimetre);
+    RUN_TEST(test_no_verdict_reads_status_zero_and_none_markers);
+    RUN_TEST(test_edges_only_verdict_has_edges_but_no_displacement);
+    RUN_TEST(test_every_status_has_its_code);
+    RUN_TEST(test_large_figures_clip_and_never_read_as_none);
+    RUN_TEST(test_time_without_zone_or_malformed_is_zero);
+    RUN_TEST(test_fault_and_contact_bits);
+    RUN_TEST(test_readme_documents_the_map);
+    return UNITY_END();
+}
