@@ -41,7 +41,7 @@ CROSS_COMPILE ?=
 CC            := $(CROSS_COMPILE)gcc
 AR            := $(CROSS_COMPILE)ar
 PKG_CONFIG    ?= pkg-config
-LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmodbus
+LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto libmodbus
 PREFIX        ?= /usr/local
 DESTDIR       ?=
 
@@ -304,7 +304,7 @@ test-board:
 	@bash tools/board-in-loop/test-board.sh '$(BUILD)' '$(BOARD_ARM_BUILD)'
 
 demo: deps
-	+@$(SUBMAKE) all
+	+@$(SUBMAKE) all $(BUILD)/e2e/mqtt_sub
 	@if [ ! -f tools/demo/run-demo.sh ]; then \
 	    echo "make demo: tools/demo/run-demo.sh does not exist yet" >&2; exit 1; fi
 	UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh

@@ -15,8 +15,18 @@ enum uwb_gpio_line {
     UWB_LINE_DIR,       /* out: stepper direction, 1 = up (towards larger y) */
     UWB_LINE_ENABLE,    /* out: stepper driver enable, 1 = energised */
     UWB_LINE_HOME,      /* in:  home switch, 1 = carriage at home (after active-low mapping) */
+    /* The site's lines (src/integrations/), opened by a handle of their own: */
+    UWB_LINE_WATCH,     /* out: `watch` alarm contact, 1 = relay energised */
+    UWB_LINE_ALARM,     /* out: `alarm` alarm contact, 1 = relay energised */
+    UWB_LINE_FAULT,     /* out: device-fault contact, 1 = energised = healthy (fail-safe) */
+    UWB_LINE_EVENT,     /* in:  event input (protection relay trip), 1 = active */
     UWB_LINE_COUNT
 };
+
+/* The rig's five lines, trigger to home: what uwb_gpio_config_defaults opens. */
+#define UWB_LINE_RIG (UWB_LINE_HOME + 1)
+#define UWB_GPIO_RIG_LINES 0x1fu
+#define UWB_GPIO_LINE_BIT(line) (1u << (line))
 
 #define UWB_GPIO_NAME_MAX 64
 
@@ -30,6 +40,8 @@ struct uwb_gpio_config {
     int home_pull_up;                          /* request the internal pull-up (libgpiod >= 1.5 bias) */
     int enable_active_low;                     /* driver's EN pin energises the motor when low
                                                   (A4988, TMC2209): ENABLE 1 drives it low */
+    unsigned lines;                            /* UWB_GPIO_LINE_BIT of each line this handle opens */
+    int active_low[UWB_LINE_COUNT];            /* site lines: active (1) when the pin is low (libgpiod) */
 };
 
 /* Distinct failure classes, so the daemon can map them to distinct exit codes. */
@@ -46,6 +58,7 @@ struct uwb_gpio;
 
 void uwb_gpio_config_defaults(struct uwb_gpio_config *cfg);
 const char *uwb_gpio_line_name(enum uwb_gpio_line line);
+int uwb_gpio_line_is_input(enum uwb_gpio_line line);
 
 /* Open the backend cfg->backend names. Returns UWB_GPIO_OK or an
  * enum uwb_gpio_error with err naming the chip/line/endpoint and problem.

@@ -25,6 +25,10 @@ const struct uwb_command_help uwb_command_help[] = {
               "every verdict to this connection, until it closes; gpsd's ?WATCH={\"enable\":true} is the same"},
     {"watch progress", "stream PROGRESS lines only (what `uwbd ctl scan` asks for its progress bar)"},
     {"watch off", "stop the stream"},
+    {"ack", "acknowledge the alarm contacts: a latched watch or alarm contact falls back to what the latest verdict "
+            "calls for"},
+    {"event", "a through-fault (or another event) happened: scan as soon as the running scan ends; the verdict says "
+              "\"trigger\": \"event\""},
     {"help", "this list"},
 };
 const size_t uwb_command_help_count = sizeof uwb_command_help / sizeof uwb_command_help[0];
@@ -40,6 +44,8 @@ const char *uwb_command_name(enum uwb_command_kind kind)
     case UWB_COMMAND_HELP: return "help";
     case UWB_COMMAND_WATCH: return "watch";
     case UWB_COMMAND_TREND: return "trend";
+    case UWB_COMMAND_ACK: return "ack";
+    case UWB_COMMAND_EVENT: return "event";
     }
     return "?";
 }
@@ -162,6 +168,10 @@ int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, cha
         cmd.kind = UWB_COMMAND_VERDICT;
     } else if (strcmp(verb, "help") == 0) {
         cmd.kind = UWB_COMMAND_HELP;
+    } else if (strcmp(verb, "ack") == 0) {
+        cmd.kind = UWB_COMMAND_ACK;
+    } else if (strcmp(verb, "event") == 0) {
+        cmd.kind = UWB_COMMAND_EVENT;
     } else if (strcmp(verb, "watch") == 0) {
         cmd.kind = UWB_COMMAND_WATCH;
         cmd.watch = 1;

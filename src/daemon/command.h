@@ -23,7 +23,9 @@ enum uwb_command_kind {
     UWB_COMMAND_HELP,          /* help           the commands */
     UWB_COMMAND_WATCH,         /* watch [off|progress], ?WATCH={"enable":true}  stream PROGRESS and VERDICT lines */
     UWB_COMMAND_TREND,         /* trend [N]      the last N verdicts as a displacement series, with its rate */
-    /* TREND is the last kind: tests/fuzz/fuzz_command.c checks kinds against it. */
+    UWB_COMMAND_ACK,           /* ack            latched alarm contacts fall back to the latest verdict */
+    UWB_COMMAND_EVENT,         /* event          a through-fault happened: scan as soon as the running one ends */
+    /* EVENT is the last kind: tests/fuzz/fuzz_command.c checks kinds against it. */
 };
 
 struct uwb_command {

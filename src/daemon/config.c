@@ -8,6 +8,7 @@
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -156,14 +157,15 @@ static int set_gpio_line(struct load_context *ctx, const struct config_key *k, c
                          struct uwbd_config *cfg)
 {
     size_t line = k->size;
+    struct uwb_gpio_config *gpio = field(cfg, k);   /* the rig's or the site's */
     if (cJSON_IsNumber(v)) {
         double d = v->valuedouble;
         if (d != floor(d) || d < 0 || d > 1023) {
             fail(ctx, k->path, "%g is not a line offset (an integer 0..1023)", d);
             return -1;
         }
-        cfg->rig.gpio.offset[line] = (int)d;
-        cfg->rig.gpio.name[line][0] = '\0';
+        gpio->offset[line] = (int)d;
+        gpio->name[line][0] = '\0';
         return 0;
     }
     if (cJSON_IsString(v)) {
@@ -171,10 +173,10 @@ static int set_gpio_line(struct load_context *ctx, const struct config_key *k, c
             fail(ctx, k->path, "empty line name");
             return -1;
         }
-        if (check_text(ctx, k, v->valuestring, sizeof cfg->rig.gpio.name[line]) != 0)
+        if (check_text(ctx, k, v->valuestring, sizeof gpio->name[line]) != 0)
             return -1;
-        cfg->rig.gpio.offset[line] = -1;
-        snprintf(cfg->rig.gpio.name[line], sizeof cfg->rig.gpio.name[line], "%s", v->valuestring);
+        gpio->offset[line] = -1;
+        snprintf(gpio->name[line], sizeof gpio->name[line], "%s", v->valuestring);
         return 0;
     }
     fail(ctx, k->path, "expected a line offset (integer) or a line name (string), got %s",
@@ -311,6 +313,9 @@ static void apply_defaults(struct uwbd_config *cfg)
     /* The rig's own defaults first, for anything this table leaves alone. */
     uwb_rig_config_defaults(&cfg->rig);
     uwb_evaluate_defaults(&cfg->evaluate);
+    /* The site's handle opens no line until an integration asks for one. */
+    for (int i = 0; i < UWB_LINE_COUNT; i++)
+        cfg->site.io.offset[i] = -1;
     for (size_t i = 0; i < uwbd_config_key_total; i++) {
         const struct config_key *k = &uwbd_config_keys[i];
         if (k->required)
@@ -478,7 +483,8 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
         return -1;
     }
     for (size_t i = 0; libgpiod && i < uwbd_config_key_total; i++)
-        if (uwbd_config_keys[i].type == KEY_GPIO_LINE && !ctx->seen[i]) {
+        if (uwbd_config_keys[i].type == KEY_GPIO_LINE && uwbd_config_keys[i].offset == offsetof(struct uwbd_config, rig.gpio) &&
+            !ctx->seen[i]) {
             fail(ctx, uwbd_config_keys[i].path, "missing: required with the libgpiod backend (%s)",
                  uwbd_config_keys[i].doc);
             return -1;
@@ -558,6 +564,12 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
              cfg->evaluate.direct_coupling.window_end_s * 1e9, r->digitiser.t0_s * 1e12);
         return -1;
     }
+    const char *site_key = NULL;
+    char site_why[512];
+    if (uwbd_site_config_check(cfg, &site_key, site_why, sizeof site_why) != 0) {
+        fail(ctx, site_key, "%s", site_why);
+        return -1;
+    }
     /* The rig's own checks, for anything the table cannot express. */
     char why[512];
     if (uwb_rig_config_check(r, why, sizeof why) != UWB_RIG_OK) {
@@ -626,7 +638,10 @@ int uwbd_config_parse(const char *text, size_t len, const char *name,
             fail(&ctx, uwbd_config_keys[i].path, "missing (required: %s)", uwbd_config_keys[i].doc);
             return -1;
         }
-    return check_together(&ctx, cfg);
+    if (check_together(&ctx, cfg) != 0)
+        return -1;
+    uwbd_site_config_finish(cfg);
+    return 0;
 }
 
 int uwbd_config_load(const char *path, const struct uwbd_override *overrides, size_t n_overrides,
@@ -663,7 +678,7 @@ static void print_default(FILE *out, const struct config_key *k)
     case KEY_NUMBER:
     case KEY_INT: fprintf(out, "`%g`", k->default_number); break;
     case KEY_PAIR: fputs("absent", out); break;
-    case KEY_GPIO_LINE: fputs("required with libgpiod", out); break;
+    case KEY_GPIO_LINE: fputs(k->default_text ? k->default_text : "required with libgpiod", out); break;
     }
 }
 

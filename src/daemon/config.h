@@ -11,6 +11,7 @@
 
 #include "uwb/evaluate.h"
 #include "uwb/rig.h"
+#include "integrations/site_config.h"
 
 #define UWBD_PATH_MAX 1024
 /* sun_path holds 108 bytes including the terminator. */
@@ -43,6 +44,7 @@ struct uwbd_config {
     double reacquire_budget_s;         /* time a cycle may spend acquiring again to be decisive; 0: never */
     char site_phase[8];                /* site.phase: the phase as the site names it ("B", "L2"); "": none */
     char site_label[64];               /* site.label: free text for people; "": none */
+    struct uwbd_site_config site;      /* the site's integrations: asset id, alarm contacts, event input, ... */
     struct uwbd_modbus_config modbus;
 };
 

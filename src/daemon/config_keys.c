@@ -49,7 +49,12 @@
       .unit = "", .doc = text }
 /* Required with the libgpiod backend (config.c checks); the emulated board ignores them. */
 #define GPIO_LINE(p, line, text) \
-    { .path = p, .type = KEY_GPIO_LINE, .size = line, .scale = 1, .max = INT_MAX, .unit = "", .doc = text }
+    { .path = p, .type = KEY_GPIO_LINE, .offset = AT(rig.gpio), .size = line, .scale = 1, .max = INT_MAX, \
+      .unit = "", .doc = text }
+/* A line of the site's own GPIO handle (alarm contacts, event input). */
+#define SITE_LINE(p, line, when, text) \
+    { .path = p, .type = KEY_GPIO_LINE, .offset = AT(site.io), .size = line, .scale = 1, .max = INT_MAX, \
+      .default_text = when, .unit = "", .doc = text }
 #define REQUIRED_PAIR(p, m, u, sc, lo, hi, text) \
     { .path = p, .type = KEY_PAIR, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
       .required = 1, .unit = u, .doc = text }
@@ -61,6 +66,9 @@
 static const char *const gpio_backends[] = {"libgpiod", "emulated", NULL};
 
 const struct config_key uwbd_config_keys[] = {
+    STRING("site.asset_id", site.asset_id, "",
+           "the transformer's name in the utility's asset register (letters, digits, . _ - ; at most 63); in "
+           "every verdict as asset_id when set; required once any integration (contacts, event, prometheus, mqtt) is on"),
     STRING("state_dir", state_dir, "/var/lib/uwbd",
            "directory of the archive, verdicts.jsonl, latest.json and the baseline (board/state-dir.md); "
            "created if missing; a relative path is taken from the daemon's working directory; a directory of its "
@@ -113,6 +121,10 @@ const struct config_key uwbd_config_keys[] = {
     BOOLEAN("gpio.enable_active_low", rig.gpio.enable_active_low, 1,
             "the stepper driver's EN input energises the motor when low (A4988, DRV8825, TMC2209); "
             "uwbd still keeps the motor off between scans"),
+
+    STRING("gpio.site_endpoint", site.io.endpoint, "",
+           "emulated: unix:PATH or tcp:HOST:PORT of the emulated board's site lines (uwbemu --site-io: alarm "
+           "contacts and event input); required there when contacts.enabled or event.enabled"),
 
     REQUIRED_STRING("digitiser.endpoint", rig.digitiser.endpoint,
                     "the digitiser link: serial:/dev/uwb-digitiser?baud=921600, tcp:HOST:PORT or unix:PATH"),
@@ -221,6 +233,70 @@ const struct config_key uwbd_config_keys[] = {
            "a free label for people (e.g. Hillside GT2, north window; at most 63 bytes); shown in `status` and "
            "the trend image"),
 
+    BOOLEAN("contacts.enabled", site.contacts_enabled, 0,
+            "drive the alarm contacts (README: Alarm contacts): watch and alarm energised by those verdicts, "
+            "fault energised while the appliance is healthy (fail-safe)"),
+    SITE_LINE("contacts.watch.line", UWB_LINE_WATCH, "required with libgpiod when contacts.enabled",
+              "the watch contact's output: line offset (integer) or line name (string)"),
+    BOOLEAN("contacts.watch.active_low", site.io.active_low[UWB_LINE_WATCH], 0,
+            "the watch relay is energised by a low pin (libgpiod)"),
+    BOOLEAN("contacts.watch.latch", site.watch_latch, 1,
+            "the watch contact stays energised after a verdict that no longer calls for it, until `ack`"),
+    SITE_LINE("contacts.alarm.line", UWB_LINE_ALARM, "required with libgpiod when contacts.enabled",
+              "the alarm contact's output: offset or name"),
+    BOOLEAN("contacts.alarm.active_low", site.io.active_low[UWB_LINE_ALARM], 0,
+            "the alarm relay is energised by a low pin (libgpiod)"),
+    BOOLEAN("contacts.alarm.latch", site.alarm_latch, 1,
+            "the alarm contact stays energised after a verdict that no longer calls for it, until `ack`"),
+    SITE_LINE("contacts.fault.line", UWB_LINE_FAULT, "required with libgpiod when contacts.enabled",
+              "the device-fault contact's output: offset or name; energised while healthy, so a dead board, "
+              "a stopped daemon or an `error` verdict opens it"),
+    BOOLEAN("contacts.fault.active_low", site.io.active_low[UWB_LINE_FAULT], 0,
+            "the fault relay is energised by a low pin (libgpiod)"),
+
+    BOOLEAN("event.enabled", site.event_enabled, 0,
+            "scan after an event: the event input (a protection relay's trip contact) starts a scan as soon as "
+            "the running one ends; the verdict says \"trigger\": \"event\""),
+    SITE_LINE("event.line", UWB_LINE_EVENT, "required with libgpiod when event.enabled",
+              "the event input: offset or name"),
+    BOOLEAN("event.active_low", site.io.active_low[UWB_LINE_EVENT], 0,
+            "the event input is active when its pin is low (a contact to ground on a pulled-up input)"),
+    NUMBER("event.debounce_ms", site.event_debounce_s, "ms", 1e-3, 0, 10000, 50,
+           "the input must read active for this long to count (contact bounce, induced spikes)"),
+    NUMBER("event.min_interval_s", site.event_min_interval_s, "s", 1, 0, 366.0 * 86400, 600,
+           "at most one event scan per this long: a relay that chatters or recloses does not keep the "
+           "carriage running; events inside it are logged and dropped"),
+    NUMBER_ABOVE("event.poll_ms", site.event_poll_s, "ms", 1e-3, 0, 10000, 10,
+                 "how often the event input is read; at most event.debounce_ms where that is above 0"),
+
+    BOOLEAN("prometheus.enabled", site.prometheus_enabled, 0,
+            "write the Prometheus textfile (README: Prometheus textfile) after every verdict"),
+    STRING("prometheus.textfile", site.prometheus_textfile, "",
+           "where: a NAME.prom in node_exporter's --collector.textfile.directory (Debian: "
+           "/var/lib/prometheus/node-exporter/uwbd.prom); replaced atomically; required when prometheus.enabled"),
+
+    BOOLEAN("mqtt.enabled", site.mqtt_enabled, 0,
+            "publish verdicts and status to an MQTT broker (README: MQTT); needs mqtt.endpoint and site.asset_id"),
+    STRING("mqtt.endpoint", site.mqtt_endpoint, "",
+           "the broker: tcp:HOST:PORT (8883 with TLS); required when mqtt.enabled"),
+    STRING("mqtt.username", site.mqtt_username, "", "user name at the broker; empty = anonymous"),
+    STRING("mqtt.password_file", site.mqtt_password_file, "",
+           "file whose first line is the password, readable by the service only (mode 0600 or 0400); "
+           "required with mqtt.username"),
+    STRING("mqtt.ca_file", site.mqtt_ca_file, "",
+           "CA certificate (PEM) the broker's is checked against; set = TLS, empty = plain TCP"),
+    STRING("mqtt.cert_file", site.mqtt_cert_file, "", "client certificate (PEM) for TLS, with mqtt.key_file"),
+    STRING("mqtt.key_file", site.mqtt_key_file, "", "the client certificate's key (PEM), readable by the service only"),
+    STRING("mqtt.topic_prefix", site.mqtt_topic_prefix, "uwbd",
+           "topics are PREFIX/ASSET_ID/verdict and PREFIX/ASSET_ID/status"),
+    INTEGER("mqtt.queue_max", site.mqtt_queue_max, "", 1, 100000, 1000,
+            "verdicts kept in STATE_DIR/mqtt-queue while the broker is away, sent in order when it is back; "
+            "beyond this the oldest is dropped (logged)"),
+    NUMBER_ABOVE("mqtt.reconnect_max_s", site.mqtt_reconnect_max_s, "s", 1, 0, 3600, 60,
+                 "reconnecting backs off from 1 s, doubling, up to this"),
+    BOOLEAN("mqtt.commands", site.mqtt_commands, 0,
+            "take the commands scan, event, ack and baseline set [N|force] from PREFIX/ASSET_ID/cmd (one a "
+            "message) and answer each on PREFIX/ASSET_ID/reply; the broker's ACL decides who may publish there"),
     BOOLEAN("modbus.enabled", modbus.enabled, 0,
             "serve the latest verdict, health and contact states as Modbus registers and take `ack` and `event` "
             "as coils (README \"Modbus\" has the map); off: nothing is opened"),

@@ -100,6 +100,31 @@ void uwbd_scan_now(struct daemon *d)
     uwbd_test_hang_point("loop");
 }
 
+void uwbd_scan_request(struct daemon *d, enum scan_trigger why)
+{
+    if (why > d->pending_trigger)
+        d->pending_trigger = why;
+    uwbd_scan_now(d);
+}
+
+const char *uwbd_scan_trigger_name(enum scan_trigger why)
+{
+    switch (why) {
+    case TRIGGER_EVENT: return "event";
+    case TRIGGER_COMMAND: return "command";
+    case TRIGGER_SCHEDULE:
+    case TRIGGER_NONE: break;
+    }
+    return "schedule";
+}
+
+/* The site's timer: the event input read, a lost line opened again. */
+static void site_tick(struct daemon *d)
+{
+    if (uwbd_site_tick(d->site) && !d->stopping)
+        uwbd_scan_request(d, TRIGGER_EVENT);
+}
+
 /* After a restart the schedule carries on from the latest verdict's time. */
 static void schedule_first(struct daemon *d)
 {
@@ -196,6 +221,7 @@ static void reload(struct daemon *d)
 
     int rig_changed = memcmp(&next.rig, &d->cfg.rig, sizeof next.rig) != 0;
     int console_changed = strcmp(next.console_endpoint, d->cfg.console_endpoint) != 0;
+    int site_changed = memcmp(&next.site, &d->cfg.site, sizeof next.site) != 0;
     static struct uwbd_config previous;   /* static: a configuration is large */
     previous = d->cfg;
     d->cfg = next;
@@ -220,6 +246,13 @@ static void reload(struct daemon *d)
         struct itimerspec off = {0};
         timerfd_settime(d->console_retry_fd, 0, &off, NULL);
         uwbd_console_open(d);
+    }
+    if (site_changed) {
+        uwbd_site_close(d->site);
+        d->site = NULL;
+        if (uwbd_site_open(&d->site, &d->cfg, d->latest_verdict, err, sizeof err) != UWB_GPIO_OK)
+            uwbd_log(UWBD_LOG_ERR, "reload: the site's lines: %s; alarm contacts and event input are off until "
+                                   "the next reload", err);
     }
     uwbd_modbus_reload(d, &previous.modbus);
     uwbd_schedule_arm(d, &d->last_cycle_start);
@@ -281,7 +314,7 @@ static void drain(int fd)
 }
 
 enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_LOCK_WATCH, SLOT_WATCHDOG, SLOT_PROGRESS,
-       SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
+       SLOT_SITE, SLOT_SITE_COMMANDS, SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
 
 /* How long a healthy scan worker may go without a sign of life (a rig
  * message: at least one a position): homing at its slowest, one position
@@ -375,6 +408,9 @@ static void loop(struct daemon *d)
         fds[SLOT_LOCK_WATCH] = (struct pollfd){.fd = d->lock_watch_fd, .events = POLLIN};
         fds[SLOT_WATCHDOG] = (struct pollfd){.fd = d->watchdog_fd, .events = POLLIN};
         fds[SLOT_PROGRESS] = (struct pollfd){.fd = d->progress_fd, .events = POLLIN};
+        fds[SLOT_SITE] = (struct pollfd){.fd = uwbd_site_timer_fd(d->site), .events = POLLIN};
+        fds[SLOT_SITE_COMMANDS] = (struct pollfd){.fd = d->stopping ? -1 : uwbd_site_command_fd(d->site),
+                                                  .events = POLLIN};
         /* A negative fd is skipped by poll(). */
         fds[SLOT_CONTROL] = (struct pollfd){.fd = d->stopping ? -1 : d->control.fd, .events = POLLIN};
         fds[SLOT_CONSOLE] = (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1,
@@ -409,7 +445,7 @@ static void loop(struct daemon *d)
             d->has_next_scan = 0;
             if (!d->stopping && !d->scanning) {
                 uwbd_log(UWBD_LOG_INFO, "scheduled scan");
-                uwbd_scan_now(d);
+                uwbd_scan_request(d, TRIGGER_SCHEDULE);
             }
         }
         if (fds[SLOT_CONSOLE_RETRY].revents) {
@@ -422,6 +458,10 @@ static void loop(struct daemon *d)
             drain(d->progress_fd);
             uwbd_peers_send_progress(d);
         }
+        if (fds[SLOT_SITE].revents)
+            site_tick(d);
+        if (fds[SLOT_SITE_COMMANDS].revents)
+            uwbd_run_site_commands(d);
         if (fds[SLOT_CONTROL].revents)
             uwbd_peer_accept(d);
         for (nfds_t i = SLOT_CONSOLE; i < peers_end; i++) {
@@ -472,6 +512,8 @@ static void close_fd(int *fd)
 
 static void teardown(struct daemon *d)
 {
+    uwbd_site_close(d->site);   /* contacts de-energised: the fault contact opens */
+    d->site = NULL;
     if (d->rig) {
         uwb_rig_close(d->rig);   /* outputs low: pulser idle, motor disabled */
         d->rig = NULL;
@@ -599,6 +641,12 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
     load_baseline_info(d);
     uwbd_baseline_requests_restore(d);
     load_latest_verdict(d);
+    rc = uwbd_site_open(&d->site, &d->cfg, d->latest_verdict, err, sizeof err);
+    if (rc != UWB_GPIO_OK) {
+        int code = uwbd_exit_for_rig_open(UWB_RIG_ERR_GPIO, rc);
+        uwbd_log(UWBD_LOG_ERR, "%s (exit %d)", err, code);
+        return code;
+    }
     uwbd_console_open(d);
     if (uwbd_modbus_open(d, err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_ERR, "%s", err);

@@ -20,6 +20,7 @@
 #include "daemon/scan_cycle.h"
 #include "daemon/scan_progress.h"
 #include "daemon/store.h"
+#include "integrations/site.h"
 #include "integrations/modbus_server.h"
 #include "uwb/link.h"
 #include "uwb/rig.h"
@@ -44,6 +45,9 @@
 #define CONSOLE_RETRY_S 5
 
 enum peer_kind { PEER_CONTROL, PEER_CONSOLE };
+/* What started a scan, for its verdict; ranked, so that requests merged
+ * into one scan name the strongest. */
+enum scan_trigger { TRIGGER_NONE, TRIGGER_SCHEDULE, TRIGGER_COMMAND, TRIGGER_EVENT };
 enum { WATCH_ALL = 1, WATCH_PROGRESS = 2 };
 
 struct peer {
@@ -66,6 +70,7 @@ struct peer {
 struct scan_job {
     pthread_t thread;
     unsigned long cycle;
+    double started_s;                /* CLOCK_MONOTONIC when the cycle started */
     unsigned long baseline_request;  /* the `baseline set` this job carries, 0 = none */
     struct uwbd_cycle_request request;
     struct uwbd_cycle_result result;
@@ -117,6 +122,8 @@ struct daemon {
     _Atomic long long progress_start_ms, progress_first_ms, progress_last_ms;
 
     char *latest_verdict;            /* VERDICT line or NULL */
+    struct uwbd_site *site;          /* alarm contacts, event input (src/integrations/) */
+    enum scan_trigger pending_trigger; /* what asked for the next scan */
     struct uwbd_modbus_server *modbus;   /* NULL: Modbus off (modbus_hook.c) */
     int has_baseline;
     struct uwbd_baseline_info baseline;
@@ -168,5 +175,10 @@ void uwbd_lock_watch_check(struct daemon *d);                  /* stops the daem
 /* daemon.c */
 void uwbd_schedule_arm(struct daemon *d, const struct timespec *from);
 void uwbd_scan_now(struct daemon *d);               /* start a cycle, or queue one */
+void uwbd_scan_request(struct daemon *d, enum scan_trigger why); /* uwbd_scan_now, saying why */
+const char *uwbd_scan_trigger_name(enum scan_trigger why);
+
+/* site_commands.c: run the commands MQTT received */
+void uwbd_run_site_commands(struct daemon *d);
 
 #endif

@@ -296,7 +296,28 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         }
         /* The peer waits for the cycle that starts now, or the one queued after the running one. */
         p->waiting_for = d->cycles_started + 1;
-        uwbd_scan_now(d);
+        uwbd_scan_request(d, TRIGGER_COMMAND);
+        return;
+    case UWB_COMMAND_ACK: {
+        char err[160];
+        struct uwbd_contact_states st;
+        if (uwbd_site_ack(d->site, err, sizeof err) != 0) {
+            reply(d, p, uwbd_reply_error(err));
+            return;
+        }
+        uwbd_site_contact_states(d->site, &st);
+        reply(d, p, uwbd_reply_ack(st.watch, st.alarm, st.fault));
+        return;
+    }
+    case UWB_COMMAND_EVENT:
+        if (d->stopping) {
+            reply(d, p, uwbd_reply_error("the daemon is stopping; no new scan"));
+            return;
+        }
+        uwbd_log(UWBD_LOG_NOTICE, "%s: event: a scan follows as soon as possible",
+                 p->kind == PEER_CONSOLE ? "console" : "control");
+        reply(d, p, uwbd_reply_event(d->scanning));
+        uwbd_scan_request(d, TRIGGER_EVENT);
         return;
     }
 }

@@ -182,3 +182,33 @@ char *uwbd_reply_watch(int watch)
     cJSON_AddBoolToObject(o, "verdicts", watch == 1);
     return finish(o);
 }
+
+char *uwbd_reply_ack(int watch, int alarm, int fault)
+{
+    cJSON *o = start("ACK");
+    if (!o)
+        return NULL;
+    cJSON *contacts = cJSON_AddObjectToObject(o, "contacts");
+    cJSON_AddBoolToObject(contacts, "watch", watch > 0);
+    cJSON_AddBoolToObject(contacts, "alarm", alarm > 0);
+    cJSON_AddBoolToObject(contacts, "fault", fault > 0);
+    return finish(o);
+}
+
+char *uwbd_reply_event(int queued)
+{
+    cJSON *o = start("EVENT");
+    if (!o)
+        return NULL;
+    cJSON_AddStringToObject(o, "scan", queued ? "queued" : "started");
+    return finish(o);
+}
+
+char *uwbd_reply_scan_requested(int queued)
+{
+    cJSON *o = start("SCAN");
+    if (!o)
+        return NULL;
+    cJSON_AddStringToObject(o, "scan", queued ? "queued" : "started");
+    return finish(o);
+}

@@ -148,6 +148,11 @@ static void record(struct cycle *c, const struct uwb_verdict *v, cJSON *o)
     res->status = v->status;
     snprintf(res->scan_id, sizeof res->scan_id, "%s", c->id);
     snprintf(res->reason, sizeof res->reason, "%s", v->reason);
+    /* Who the appliance is and what started this scan: for the site's systems. */
+    if (o && c->cfg->site.asset_id[0])
+        cJSON_AddStringToObject(o, "asset_id", c->cfg->site.asset_id);
+    if (o && c->req->trigger)
+        cJSON_AddStringToObject(o, "trigger", c->req->trigger);
     if (o && c->archive_error[0])
         cJSON_AddStringToObject(o, "archive_error", c->archive_error);
     if (o && c->clock_note[0])

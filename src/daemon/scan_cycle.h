@@ -34,6 +34,7 @@ struct uwbd_cycle_request {
     int has_expected;          /* the daemon commissioned `expected`: it must still be there, whole */
     struct uwbd_baseline_info expected;
     time_t now;                /* wall clock at the start (names the archive day) */
+    const char *trigger;       /* what started it, for the verdict: "schedule", "command" or "event"; NULL: not said */
 };
 
 enum uwbd_cycle_outcome {

@@ -148,6 +148,9 @@ int uwbd_worker_start(struct daemon *d)
     memset(&d->job, 0, sizeof d->job);
     d->job.cycle = ++d->cycles_started;
     d->job.request.now = time(NULL);
+    d->job.started_s = uwb_monotonic_s();
+    d->job.request.trigger = uwbd_scan_trigger_name(d->pending_trigger);
+    d->pending_trigger = TRIGGER_NONE;
     uwbd_baseline_request_fill(d, &d->job.request);
     int pending = d->job.request.make_baseline;
     d->job.baseline_request = pending ? d->baseline_requests : 0;
@@ -197,6 +200,8 @@ void uwbd_worker_collect(struct daemon *d)
         d->latest_verdict = strdup(res->verdict_json);
     }
     uwbd_baseline_request_finished(d, d->job.baseline_request, res);
+    /* the one place the site hears of a verdict */
+    uwbd_site_verdict(d->site, res->verdict_json, uwb_monotonic_s() - d->job.started_s);
     uwbd_peers_send_verdict(d, d->job.cycle, res->verdict_json, "out of memory for the verdict");
     uwbd_cycle_result_free(res);
 }

@@ -1,4 +1,4 @@
-/* The "emulated" GPIO backend: the five lines as text lines over a
+/* The "emulated" GPIO backend: the handle's lines as text lines over a
  * uwb_link to the emulated board (unix:, tcp: or serial:), protocol in
  * board/emulated-gpio.md. Values are logical (ENABLE 1 = energised, HOME 1 =
  * at home): active-low wiring is a property of real pins only.
@@ -66,13 +66,16 @@ static int send_text(struct uwb_gpio *gpio, const char *text, char *err, size_t 
     return UWB_GPIO_OK;
 }
 
-/* Drives the four outputs low (pulser idle, motor off); stops at the first
- * failure, as a link that failed once would only time out again. */
+/* Drives the handle's outputs low (pulser idle, motor off, contacts
+ * de-energised); stops at the first failure, as a link that failed once
+ * would only time out again. */
 static int drive_outputs_low(struct uwb_gpio *gpio, char *err, size_t errlen)
 {
     char text[64];
     int rc = UWB_GPIO_OK;
-    for (int line = 0; rc == UWB_GPIO_OK && line < UWB_LINE_HOME; line++) {
+    for (int line = 0; rc == UWB_GPIO_OK && line < UWB_LINE_COUNT; line++) {
+        if (!(gpio->cfg.lines & UWB_GPIO_LINE_BIT(line)) || uwb_gpio_line_is_input(line))
+            continue;
         snprintf(text, sizeof text, "set %s 0\n", uwb_gpio_line_name(line));
         rc = send_text(gpio, text, err, errlen);
     }

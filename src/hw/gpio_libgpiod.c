@@ -1,5 +1,5 @@
-/* The "libgpiod" GPIO backend (libgpiod 1.6 API, Debian 12): the five
- * lines on one /dev/gpiochip*, by offset or by line name. Active-low
+/* The "libgpiod" GPIO backend (libgpiod 1.6 API, Debian 12): the lines a
+ * handle opens (the rig's five, or the site's) on one /dev/gpiochip*, by offset or by line name. Active-low
  * wiring (home switch to ground, the driver's EN pin) is handed to the
  * kernel with the request flags, so the rest of the code sees logical
  * values only. */
@@ -82,8 +82,14 @@ static int request_line(struct chip_lines *cl, const struct uwb_gpio_config *cfg
         int flags = (cfg->home_active_low ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0) |
                     (cfg->home_pull_up ? GPIOD_LINE_REQUEST_FLAG_BIAS_PULL_UP : 0);
         rc = gpiod_line_request_input_flags(line, CONSUMER, flags);
+    } else if (uwb_gpio_line_is_input(which)) {
+        rc = gpiod_line_request_input_flags(line, CONSUMER,
+                                            cfg->active_low[which] ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0);
     } else {
-        int flags = which == UWB_LINE_ENABLE && cfg->enable_active_low ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0;
+        int active_low = which == UWB_LINE_ENABLE ? cfg->enable_active_low
+                         : which >= UWB_LINE_RIG  ? cfg->active_low[which]
+                                                  : 0;
+        int flags = active_low ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0;
         /* Logical 0 from the first instant: pulser idle, motor off. */
         rc = gpiod_line_request_output_flags(line, CONSUMER, flags, 0);
     }
@@ -101,7 +107,7 @@ static int request_line(struct chip_lines *cl, const struct uwb_gpio_config *cfg
         return UWB_GPIO_ERR_BUSY;
     }
     snprintf(err, errlen, "gpio %s line: cannot request %s offset %u as %s: %s%s", role, chip, offset,
-             which == UWB_LINE_HOME ? "input" : "output", strerror(error),
+             uwb_gpio_line_is_input(which) ? "input" : "output", strerror(error),
              which == UWB_LINE_HOME && cfg->home_pull_up
                  ? " (a kernel without bias support rejects the pull-up: fit an external one and set "
                    "home_pull_up false)"
@@ -133,9 +139,11 @@ static int libgpiod_open(struct uwb_gpio *gpio, const struct uwb_gpio_config *cf
     }
     int rc = UWB_GPIO_OK;
     for (int i = 0; rc == UWB_GPIO_OK && i < UWB_LINE_COUNT; i++)
-        rc = find_line(cl, cfg, i, err, errlen);
+        if (cfg->lines & UWB_GPIO_LINE_BIT(i))
+            rc = find_line(cl, cfg, i, err, errlen);
     for (int i = 0; rc == UWB_GPIO_OK && i < UWB_LINE_COUNT; i++)
-        rc = request_line(cl, cfg, i, err, errlen);
+        if (cfg->lines & UWB_GPIO_LINE_BIT(i))
+            rc = request_line(cl, cfg, i, err, errlen);
     if (rc != UWB_GPIO_OK) {
         release_all(cl);
         return rc;
@@ -171,8 +179,8 @@ static void libgpiod_close(struct uwb_gpio *gpio)
     struct chip_lines *cl = gpio->state;
     if (!cl)
         return;
-    for (int i = 0; i < UWB_LINE_HOME; i++)
-        if (cl->requested[i])
+    for (int i = 0; i < UWB_LINE_COUNT; i++)
+        if (cl->requested[i] && !uwb_gpio_line_is_input(i))
             gpiod_line_set_value(cl->line[i], 0);
     release_all(cl);
     gpio->state = NULL;

@@ -147,7 +147,7 @@ static int check_gpio(const struct uwb_gpio_config *g, char *err, size_t errlen)
         snprintf(err, errlen, "rig config: gpio.chip is empty (gpiochip0, a label or a /dev path)");
         return UWB_RIG_ERR_CONFIG;
     }
-    for (int i = 0; i < UWB_LINE_COUNT; i++) {
+    for (int i = 0; i < UWB_LINE_RIG; i++) {
         if (g->offset[i] < 0 && !g->name[i][0]) {
             snprintf(err, errlen, "rig config: gpio %s line has neither an offset (0 or more) nor a name",
                      uwb_gpio_line_name(i));

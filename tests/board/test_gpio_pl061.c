@@ -19,7 +19,7 @@
 #define DEBUGFS_GPIO "/sys/kernel/debug/gpio"
 
 /* Where the appliance's lines sit on the PL061 for these tests. */
-static const int line_offset[UWB_LINE_COUNT] = {
+static const int line_offset[UWB_LINE_RIG] = {
     [UWB_LINE_TRIGGER] = 0, [UWB_LINE_STEP] = 1, [UWB_LINE_DIR] = 2,
     [UWB_LINE_ENABLE] = 4, [UWB_LINE_HOME] = 5,
 };
@@ -148,7 +148,7 @@ static void pl061_config(struct uwb_gpio_config *cfg, const char *chip)
     uwb_gpio_config_defaults(cfg);
     snprintf(cfg->backend, sizeof cfg->backend, "libgpiod");
     snprintf(cfg->chip, sizeof cfg->chip, "%s", chip);
-    for (int line = 0; line < UWB_LINE_COUNT; line++)
+    for (int line = 0; line < UWB_LINE_RIG; line++)
         cfg->offset[line] = line_offset[line];
     cfg->home_active_low = 1;
     cfg->home_pull_up = 1;
@@ -195,13 +195,13 @@ static void test_open_by_label_requests_every_line_with_outputs_low(void)
 {
     /* Leave the outputs' latches high first, so "low after open" is the
      * backend's doing. */
-    for (int line = 0; line < UWB_LINE_COUNT; line++)
+    for (int line = 0; line < UWB_LINE_RIG; line++)
         if (line != UWB_LINE_HOME)
             sysfs_drive(line_offset[line], 1);
     struct uwb_gpio_config cfg;
     pl061_config(&cfg, CHIP_LABEL);
     struct uwb_gpio *gpio = open_ok(&cfg);
-    for (int line = 0; line < UWB_LINE_COUNT; line++) {
+    for (int line = 0; line < UWB_LINE_RIG; line++) {
         struct kernel_line k = kernel_view(line_offset[line]);
         TEST_ASSERT_TRUE_MESSAGE(k.requested, uwb_gpio_line_name(line));
         TEST_ASSERT_TRUE_MESSAGE(k.consumer[0] != '\0', "the line has no consumer label");
@@ -210,7 +210,7 @@ static void test_open_by_label_requests_every_line_with_outputs_low(void)
             TEST_ASSERT_FALSE_MESSAGE(k.high, uwb_gpio_line_name(line));
         }
     }
-    TEST_ASSERT_EQUAL_INT(UWB_LINE_COUNT, requested_line_count());
+    TEST_ASSERT_EQUAL_INT(UWB_LINE_RIG, requested_line_count());
     uwb_gpio_close(gpio);
 }
 
@@ -345,7 +345,7 @@ static void test_line_held_by_another_consumer_is_busy(void)
     pl061_config(&cfg, CHIP_LABEL);
     struct uwb_gpio *first = open_ok(&cfg);
     expect_open_error(&cfg, UWB_GPIO_ERR_BUSY, uwb_gpio_line_name(UWB_LINE_TRIGGER));
-    TEST_ASSERT_EQUAL_INT(UWB_LINE_COUNT, requested_line_count());
+    TEST_ASSERT_EQUAL_INT(UWB_LINE_RIG, requested_line_count());
     TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_GPIO_OK, uwb_gpio_set(first, UWB_LINE_STEP, 1, err, sizeof err), err);
     TEST_ASSERT_TRUE(kernel_view(line_offset[UWB_LINE_STEP]).high);
     uwb_gpio_close(first);
@@ -365,7 +365,7 @@ static void test_partly_busy_open_gives_back_what_it_took(void)
     other.offset[UWB_LINE_HOME] = 7;
     struct uwb_gpio *first = open_ok(&other);
     int before = requested_line_count();
-    TEST_ASSERT_EQUAL_INT(UWB_LINE_COUNT, before);
+    TEST_ASSERT_EQUAL_INT(UWB_LINE_RIG, before);
 
     struct uwb_gpio_config second;
     pl061_config(&second, CHIP_LABEL);

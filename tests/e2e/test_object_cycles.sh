@@ -19,9 +19,10 @@ groups=$(cat <<'EOF'
 gpio src/gpio/gpio.o src/gpio/gpio_emulated.o src/hw/gpio_libgpiod.o
 link src/link/link.o src/link/link_socket.o
 # The daemon's event loop and the parts of it that share its state
-# (src/daemon/daemon_internal.h): peers, worker thread, lock watch, baseline requests.
+# (src/daemon/daemon_internal.h): peers, worker thread, lock watch, baseline requests,
+# the commands MQTT brings.
 daemon-loop src/daemon/daemon.o src/daemon/peers.o src/daemon/worker.o src/daemon/lock_watch.o
-daemon-loop src/daemon/baseline_requests.o
+daemon-loop src/daemon/baseline_requests.o src/daemon/site_commands.o
 # The Modbus server's side in the loop: the registers from the daemon's state, coils to its commands.
 daemon-loop src/daemon/modbus_hook.o
 EOF

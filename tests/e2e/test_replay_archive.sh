@@ -20,7 +20,8 @@ ctl() { uwbd ctl --socket run/control.sock "$@"; }
 # archived, what became of a `baseline set`, what of the cycle failed);
 # `images` are paths, the archive's and the replay's --out.
 daemon_only=(scan_file pulses_per_position acquisitions reacquire_note baseline_set baseline_note baseline_scans
-             baseline_repeatability_mm fault archive_error record_error clock_warning images)
+             baseline_repeatability_mm fault archive_error record_error clock_warning images
+             trigger asset_id)
 
 $HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
     --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 11 \

@@ -41,7 +41,7 @@ static int run_session(char *why, size_t whylen)
     int outcome = FUZZ_ACCEPTED, reads = 0;
     for (int i = 0; i < GETS; i++) {
         /* Mostly the home switch, as a home search polls it. */
-        enum uwb_gpio_line line = i % 3 ? UWB_LINE_HOME : (enum uwb_gpio_line)(i / 3 % UWB_LINE_COUNT);
+        enum uwb_gpio_line line = i % 3 ? UWB_LINE_HOME : (enum uwb_gpio_line)(i / 3 % UWB_LINE_RIG);
         char err[512] = "";
         if (line != UWB_LINE_HOME && (rc = uwb_gpio_set(gpio, line, i & 1, err, sizeof err)) != UWB_GPIO_OK) {
             outcome = err[0] ? FUZZ_ACCEPTED : fuzz_broken(why, whylen, "set failed (%d) without a message", rc);

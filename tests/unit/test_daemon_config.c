@@ -108,7 +108,7 @@ static void test_raspberry_pi_sample_loads(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_load(SAMPLE_RPI4, NULL, 0, &cfg, err, sizeof err), err);
     TEST_ASSERT_EQUAL_STRING("libgpiod", cfg.rig.gpio.backend);
     TEST_ASSERT_EQUAL_STRING("/var/lib/uwbd", cfg.state_dir);
-    for (int i = 0; i < UWB_LINE_COUNT; i++)
+    for (int i = 0; i < UWB_LINE_RIG; i++)
         TEST_ASSERT_TRUE(cfg.rig.gpio.offset[i] >= 0 || cfg.rig.gpio.name[i][0]);
     TEST_ASSERT_EQUAL_INT(0, cfg.allow_root);
     TEST_ASSERT_EQUAL_INT(UWB_DEFAULT_STACK, cfg.rig.digitiser.stack);

@@ -22,11 +22,13 @@ rm -rf "$OUT/run"
 mkdir -p "$OUT/run"
 cd "$OUT"
 
-emu_pid= daemon_pid=
+emu_pid= daemon_pid= broker_pid= sub_pid=
 stop_all() {
     if [[ -n $daemon_pid ]]; then kill -TERM "$daemon_pid" 2>/dev/null || true; wait "$daemon_pid" 2>/dev/null || true; fi
     if [[ -n $emu_pid ]]; then kill -TERM "$emu_pid" 2>/dev/null || true; wait "$emu_pid" 2>/dev/null || true; fi
-    daemon_pid= emu_pid=
+    if [[ -n $sub_pid ]]; then kill -TERM "$sub_pid" 2>/dev/null || true; wait "$sub_pid" 2>/dev/null || true; fi
+    if [[ -n $broker_pid ]]; then kill -TERM "$broker_pid" 2>/dev/null || true; wait "$broker_pid" 2>/dev/null || true; fi
+    daemon_pid= emu_pid= sub_pid= broker_pid=
 }
 trap stop_all EXIT
 die() {
@@ -44,6 +46,36 @@ show() {   # label: the latest verdict as text, from uwbd ctl --text
     echo "\$ uwbd ctl --text verdict"
     ctl --text verdict | sed "s/^/   /" || die "uwbd ctl --text verdict"
 }
+# The alarm contacts as the emulated board's relays see them (1 = energised).
+contacts() {
+    local status
+    status=$("$BUILD/uwbemu" --ctl unix:run/emu.sock status) || die "uwbemu status"
+    line() { printf '%s\n' "$status" | sed -n "s/.*\"lines\":{[^}]*\"$1\":\([01]\).*/\1/p"; }
+    echo "   alarm contacts (uwbemu status, 1 = energised): watch $(line watch), alarm $(line alarm), fault $(line fault)  ${1:-}"
+}
+# The site's integrations, on (all are off in the shipped sample): the contacts
+# on their own emulated lines.
+site=(--set site.asset_id=demo-T1 --set contacts.enabled=true --set gpio.site_endpoint=unix:run/site.sock)
+
+# With Debian's mosquitto installed (make deps does), a broker on 127.0.0.1 for
+# the demo alone, and a subscriber that prints what uwbd publishes.
+mqtt_port=
+if [[ -x /usr/sbin/mosquitto && -x $BUILD/e2e/mqtt_sub ]]; then
+    mqtt_port=$((20000 + RANDOM % 40000))
+    printf 'listener %s 127.0.0.1\nallow_anonymous true\npersistence false\nuser %s\n' "$mqtt_port" "$(id -un)" \
+        > run/broker.conf
+    /usr/sbin/mosquitto -v -c run/broker.conf > broker.log 2>&1 &
+    broker_pid=$!
+    if wait_for grep -q "listen socket on port $mqtt_port" broker.log; then
+        site+=(--set mqtt.enabled=true --set "mqtt.endpoint=tcp:127.0.0.1:$mqtt_port")
+        "$BUILD/e2e/mqtt_sub" "$mqtt_port" demo demo 'uwbd/demo-T1/#' 4 120 > mqtt.out 2> mqtt.err &
+        sub_pid=$!
+        wait_for grep -q subscribed mqtt.err || mqtt_port=
+    else
+        mqtt_port=
+    fi
+    [[ -n $mqtt_port ]] || echo "   (mosquitto did not start: MQTT not shown; see $OUT/broker.log)"
+fi
 
 root_flag=()
 if [[ $(id -u) == 0 ]]; then
@@ -51,14 +83,15 @@ if [[ $(id -u) == 0 ]]; then
 fi
 
 echo "uwbd demo: the emulated board and the daemon as two processes, talking over unix sockets in $OUT/run"
-"$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock --control unix:run/emu.sock \
+"$BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock --control unix:run/emu.sock --site-io unix:run/site.sock \
     --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --seed 1 > emu.log 2>&1 &
 emu_pid=$!
 wait_for "$BUILD/uwbemu" --ctl unix:run/emu.sock status || die "the emulated board did not start"
-"$BUILD/uwbd" --config "$CONFIG" "${root_flag[@]}" "${stack_override[@]}" > uwbd.log 2>&1 &
+"$BUILD/uwbd" --config "$CONFIG" "${root_flag[@]}" "${stack_override[@]}" "${site[@]}" > uwbd.log 2>&1 &
 daemon_pid=$!
 wait_for ctl status || die "uwbd did not start"
 echo "   started: uwbemu (pid $emu_pid), uwbd --config board/emulated/uwbd.json (pid $daemon_pid)"
+contacts "(fault energised: healthy)"
 
 echo "\$ uwbd ctl baseline set"
 ctl baseline set
@@ -66,6 +99,7 @@ echo "\$ uwbd ctl scan"
 line=$(ctl scan) || die "commissioning scan: $line"
 echo "$line"
 show "commissioning scan of the intact winding (it becomes the baseline)"
+contacts
 
 echo "\$ uwbemu --ctl unix:run/emu.sock 'set displacement_m 0.012'     # the winding moves up 12 mm"
 "$BUILD/uwbemu" --ctl unix:run/emu.sock 'set displacement_m 0.012' > /dev/null || die "cannot move the emulated winding"
@@ -73,7 +107,22 @@ echo "\$ uwbd ctl scan"
 line=$(ctl scan) || die "second scan: $line"
 echo "$line"
 show "scan after the emulated winding moved up 12 mm"
+contacts "(watch and alarm latch until ack)"
+echo "\$ uwbd ctl ack"
+ctl ack || die "ack"
+contacts "(the alarm holds while the latest verdict is an alarm)"
 
+kill -TERM "$daemon_pid" 2>/dev/null; wait "$daemon_pid" 2>/dev/null || true
+daemon_pid=
+contacts "(uwbd stopped: every contact open, the fault contact too)"
+if [[ -n $mqtt_port ]]; then
+    wait "$sub_pid" 2>/dev/null || true
+    sub_pid=
+    echo "== MQTT: what a subscriber to uwbd/demo-T1/# on the demo's broker (127.0.0.1:$mqtt_port) received"
+    echo "   (TOPIC RETAINED PAYLOAD; payloads cut at 180 characters a line)"
+    cut -c1-180 mqtt.out | sed 's/^/   /'
+fi
+stop_all
 stop_all
 echo "== stopped uwbemu and uwbd; the state directory is $OUT/run/state:"
 echo "   verdicts: $OUT/run/state/verdicts.jsonl ($(wc -l < run/state/verdicts.jsonl) lines), latest: $OUT/run/state/latest.json"

@@ -37,9 +37,10 @@ set -euo pipefail
 
 REPO_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 readonly REPO_ROOT
-readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmodbus)
+readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto libmodbus)
 readonly NATIVE_PACKAGES=(gcc make libc6-dev pkg-config
-    libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev libmodbus-dev)
+    libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev
+    libmosquitto-dev mosquitto libmodbus-dev)
 readonly UNITY_FILES=(unity.c unity.h unity_internals.h)
 readonly UNITY_EXPECTED_VERSION="2.4.3"
 # Unity comes from the cJSON source package of one fixed Debian release so
@@ -126,6 +127,8 @@ missing_native() {
     for command_name in gcc make pkg-config; do
         have_command "$command_name" || echo "$command_name"
     done
+    # The MQTT tests start a real broker (Debian installs it in /usr/sbin).
+    { ! is_faked_missing mosquitto && [[ -x /usr/sbin/mosquitto ]]; } || echo mosquitto
     missing_modules "${NATIVE_MODULES[@]}"
 }
 
@@ -170,7 +173,8 @@ ensure_cross() {
     local cross_packages=("gcc-$triplet" "libc6-dev-$debian_arch-cross" qemu-user make pkg-config
         "libc6:$debian_arch")
     local package
-    for package in libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev libmodbus-dev; do
+    for package in libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev \
+        libmosquitto-dev libmodbus-dev; do
         cross_packages+=("$package:$debian_arch")
     done
 

@@ -192,7 +192,7 @@ static char *truth(struct emu_board *b)
 
 static const char help_text[] =
     "status | log | log clear | set KEY VALUE | get KEY | fault NAME on|off|every N|next N | "
-    "board steps_per_mm|home_y_mm|invert_dir|position_mm VALUE | truth | quit";
+    "board steps_per_mm|home_y_mm|invert_dir|position_mm VALUE | input event 0|1 | truth | quit";
 
 char *emu_control_command(struct emu_board *b, const char *line)
 {
@@ -239,6 +239,14 @@ char *emu_control_command(struct emu_board *b, const char *line)
         return fault(b, words[1], words[2], *p ? p : "");
     if (strcmp(cmd, "board") == 0 && words[1][0] && words[2][0] && !*p)
         return board(b, words[1], words[2]);
+    if (strcmp(cmd, "input") == 0 && words[1][0] && words[2][0] && !*p) {
+        if ((strcmp(words[2], "0") != 0 && strcmp(words[2], "1") != 0) || emu_gpio_set_input(b, words[1], words[2][0] - '0') != 0)
+            return reply_error("input: say `input event 0` or `input event 1`, not '%.60s'%s", line, NULL);
+        cJSON *o = reply_ok("input");
+        cJSON_AddStringToObject(o, "line", words[1]);
+        cJSON_AddNumberToObject(o, "value", words[2][0] - '0');
+        return print_and_free(o);
+    }
     if (strcmp(cmd, "truth") == 0 && !words[1][0])
         return truth(b);
     if (strcmp(cmd, "quit") == 0 && !words[1][0]) {

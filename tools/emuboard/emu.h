@@ -97,8 +97,15 @@ void emu_board_log(struct emu_board *b, long sequence, const char *result);
 /* gpio_server.c: one line of the GPIO protocol; writes the reply (if
  * any, with its '\n') into reply, else reply[0] = 0. */
 void emu_gpio_line(struct emu_board *b, const char *line, char *reply, size_t replylen);
-/* The GPIO peer went away: its outputs fall low. */
-void emu_gpio_released(struct emu_board *b);
+/* A GPIO peer went away: the outputs among `lines` (UWB_GPIO_LINE_BIT
+ * mask) fall low, as released lines and unpowered relays do. */
+void emu_gpio_released(struct emu_board *b, unsigned lines);
+/* The site's input (`event`, the protection relay's trip contact) as the
+ * control endpoint drives it; -1 for another line or value. */
+int emu_gpio_set_input(struct emu_board *b, const char *name, int value);
+/* The site's lines (alarm contacts, event input): what --site-io serves. */
+#define EMU_SITE_LINES (UWB_GPIO_LINE_BIT(UWB_LINE_WATCH) | UWB_GPIO_LINE_BIT(UWB_LINE_ALARM) | \
+                        UWB_GPIO_LINE_BIT(UWB_LINE_FAULT) | UWB_GPIO_LINE_BIT(UWB_LINE_EVENT))
 
 /* digitiser_server.c */
 void emu_digitiser_attach(struct emu_board *b, struct uwb_link *link);

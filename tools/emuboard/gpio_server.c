@@ -55,8 +55,9 @@ void emu_gpio_line(struct emu_board *b, const char *text, char *reply, size_t re
     int n = sscanf(text, "%15s %15s %d %1s", cmd, name, &value, extra);
     if (n == 3 && strcmp(cmd, "set") == 0) {
         int line = find_line(name);
-        if (line < 0 || line == UWB_LINE_HOME || (value != 0 && value != 1))
-            snprintf(reply, replylen, "err cannot set '%.60s': outputs are trigger, step, dir, enable; values 0 or 1\n",
+        if (line < 0 || uwb_gpio_line_is_input(line) || (value != 0 && value != 1))
+            snprintf(reply, replylen,
+                     "err cannot set '%.60s': outputs are trigger, step, dir, enable, watch, alarm, fault; values 0 or 1\n",
                      text);
         else
             set_line(b, line, value);
@@ -82,8 +83,18 @@ void emu_gpio_line(struct emu_board *b, const char *text, char *reply, size_t re
         snprintf(reply, replylen, "err unknown command '%.60s'\n", text);
 }
 
-void emu_gpio_released(struct emu_board *b)
+void emu_gpio_released(struct emu_board *b, unsigned lines)
 {
-    for (int i = 0; i < UWB_LINE_HOME; i++)
-        b->line[i] = 0;
+    for (int i = 0; i < UWB_LINE_COUNT; i++)
+        if ((lines & UWB_GPIO_LINE_BIT(i)) && !uwb_gpio_line_is_input(i))
+            b->line[i] = 0;
+}
+
+int emu_gpio_set_input(struct emu_board *b, const char *name, int value)
+{
+    int line = find_line(name);
+    if (line != UWB_LINE_EVENT || (value != 0 && value != 1))
+        return -1;
+    b->line[line] = value;
+    return 0;
 }

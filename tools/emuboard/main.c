@@ -36,6 +36,8 @@ static void usage(FILE *out)
 "  --gpio ENDPOINT        emulated-GPIO protocol (board/emulated-gpio.md)\n"
 "  --digitiser ENDPOINT   digitiser frame protocol (board/digitiser-protocol.md)\n"
 "  --control ENDPOINT     control commands, one line each, one JSON reply line\n"
+"  --site-io ENDPOINT     the site's lines (alarm contacts watch, alarm, fault; event input)\n"
+"                         on the emulated-GPIO protocol, for uwbd's gpio.site_endpoint\n"
 "  --scene FILE           uwbsim scene JSON (tools/uwbsim/scenes/); default: uwbsim's defaults\n"
 "  --set KEY=VALUE        any uwbsim scene parameter (repeatable), e.g. --set displacement_m=0.012\n"
 "  --seed N               noise seed (default 1)\n"
@@ -57,6 +59,7 @@ static void usage(FILE *out)
 "                         lose-steps (upward steps that strike do not move the carriage);\n"
 "                         MODE: on, off, every N, next N\n"
 "  board KEY VALUE        steps_per_mm, home_y_mm, invert_dir (0/1), position_mm (move the carriage)\n"
+"  input event 0|1        the event input (a protection relay's trip contact) open or closed\n"
 "  truth                  the scene's true winding edges (class TRUTH)\n"
 "  quit                   stop the board\n");
 }
@@ -184,7 +187,7 @@ static int control_client(const char *endpoint, const char *command)
 }
 
 struct options {
-    const char *gpio, *digitiser, *control;
+    const char *gpio, *digitiser, *control, *site_io;
     double start_mm, steps_per_mm, home_y_mm;
     int invert_dir, verbose;
     unsigned long long seed;
@@ -230,6 +233,8 @@ static int parse_args(int argc, char **argv, struct options *o, struct sim_scene
             o->digitiser = v;
         } else if (strcmp(a, "--control") == 0) {
             o->control = v;
+        } else if (strcmp(a, "--site-io") == 0) {
+            o->site_io = v;
         } else if (strcmp(a, "--scene") == 0) {
             if (sim_scene_load_json(v, scene, err, sizeof err) != 0) {
                 fprintf(stderr, "uwbemu: --scene: %s\n", err);
@@ -306,22 +311,55 @@ static struct uwb_link *accept_one(struct uwb_link_listener *l, const char *what
     return link;
 }
 
-static int run(struct emu_board *b, struct uwb_link_listener *gpio_l, struct uwb_link_listener *dig_l,
-               struct uwb_link_listener *ctl_l)
+/* A GPIO-protocol listener (--gpio, --site-io): one peer at a time, a new
+ * connection replacing the old one; the lines a peer leaves fall low. */
+struct gpio_port {
+    struct uwb_link_listener *listener;
+    struct line_peer peer;
+    unsigned lines;
+    const char *what;
+};
+
+static void gpio_port_accept(struct emu_board *b, struct gpio_port *port)
 {
-    struct line_peer gpio = {0};
+    struct uwb_link *link = accept_one(port->listener, port->what);
+    if (!link)
+        return;
+    if (port->peer.link) {
+        uwb_link_close(port->peer.link);
+        emu_gpio_released(b, port->lines);
+    }
+    port->peer = (struct line_peer){.link = link};
+    fprintf(stderr, "uwbemu: %s peer connected\n", port->what);
+}
+
+static void gpio_port_readable(struct emu_board *b, struct gpio_port *port)
+{
+    if (port->peer.link && read_lines(b, &port->peer, gpio_line, port->what) < 0) {
+        emu_gpio_released(b, port->lines);
+        fprintf(stderr, "uwbemu: %s peer left\n", port->what);
+    }
+}
+
+static int run(struct emu_board *b, struct uwb_link_listener *gpio_l, struct uwb_link_listener *dig_l,
+               struct uwb_link_listener *ctl_l, struct uwb_link_listener *site_l)
+{
+    struct gpio_port gpio = {.listener = gpio_l, .lines = UWB_GPIO_RIG_LINES, .what = "gpio"};
+    struct gpio_port site = {.listener = site_l, .lines = EMU_SITE_LINES, .what = "site-io"};
     struct line_peer control[MAX_CONTROL_CLIENTS];
     memset(control, 0, sizeof control);
     while (!stop_signal && !b->quit) {
-        struct pollfd fds[5 + MAX_CONTROL_CLIENTS];
+        struct pollfd fds[7 + MAX_CONTROL_CLIENTS];
         int nfds = 0;
         fds[nfds++] = (struct pollfd){.fd = uwb_link_listener_fd(gpio_l), .events = POLLIN};
         fds[nfds++] = (struct pollfd){.fd = uwb_link_listener_fd(dig_l), .events = POLLIN};
         fds[nfds++] = (struct pollfd){.fd = ctl_l ? uwb_link_listener_fd(ctl_l) : -1, .events = POLLIN};
-        fds[nfds++] = (struct pollfd){.fd = gpio.link ? uwb_link_fd(gpio.link) : -1, .events = POLLIN};
+        fds[nfds++] = (struct pollfd){.fd = gpio.peer.link ? uwb_link_fd(gpio.peer.link) : -1, .events = POLLIN};
         fds[nfds++] = (struct pollfd){.fd = b->digitiser ? uwb_link_fd(b->digitiser) : -1, .events = POLLIN};
         for (int i = 0; i < MAX_CONTROL_CLIENTS; i++)
             fds[nfds++] = (struct pollfd){.fd = control[i].link ? uwb_link_fd(control[i].link) : -1, .events = POLLIN};
+        fds[nfds++] = (struct pollfd){.fd = site_l ? uwb_link_listener_fd(site_l) : -1, .events = POLLIN};
+        fds[nfds++] = (struct pollfd){.fd = site.peer.link ? uwb_link_fd(site.peer.link) : -1, .events = POLLIN};
         int n = poll(fds, (nfds_t)nfds, -1);
         if (n < 0) {
             if (errno == EINTR)
@@ -329,17 +367,8 @@ static int run(struct emu_board *b, struct uwb_link_listener *gpio_l, struct uwb
             perror("uwbemu: poll");
             return 1;
         }
-        if (fds[0].revents) {
-            struct uwb_link *link = accept_one(gpio_l, "gpio");
-            if (link) {
-                if (gpio.link) {
-                    uwb_link_close(gpio.link);
-                    emu_gpio_released(b);
-                }
-                gpio = (struct line_peer){.link = link};
-                fprintf(stderr, "uwbemu: gpio peer connected\n");
-            }
-        }
+        if (fds[0].revents)
+            gpio_port_accept(b, &gpio);
         if (fds[1].revents) {
             struct uwb_link *link = accept_one(dig_l, "digitiser");
             if (link) {
@@ -358,18 +387,22 @@ static int run(struct emu_board *b, struct uwb_link_listener *gpio_l, struct uwb
             else if (link)
                 uwb_link_close(link);   /* too many at once: refuse by closing */
         }
-        if (fds[3].revents && gpio.link && read_lines(b, &gpio, gpio_line, "gpio") < 0) {
-            emu_gpio_released(b);
-            fprintf(stderr, "uwbemu: gpio peer left\n");
-        }
+        if (fds[3].revents)
+            gpio_port_readable(b, &gpio);
         if (fds[4].revents && b->digitiser && emu_digitiser_readable(b) < 0)
             fprintf(stderr, "uwbemu: digitiser peer left\n");
         for (int i = 0; i < MAX_CONTROL_CLIENTS; i++)
             if (fds[5 + i].revents && control[i].link)
                 read_lines(b, &control[i], control_line, "control");
+        if (fds[5 + MAX_CONTROL_CLIENTS].revents)
+            gpio_port_accept(b, &site);
+        if (fds[6 + MAX_CONTROL_CLIENTS].revents)
+            gpio_port_readable(b, &site);
     }
-    if (gpio.link)
-        uwb_link_close(gpio.link);
+    if (gpio.peer.link)
+        uwb_link_close(gpio.peer.link);
+    if (site.peer.link)
+        uwb_link_close(site.peer.link);
     for (int i = 0; i < MAX_CONTROL_CLIENTS; i++)
         if (control[i].link)
             uwb_link_close(control[i].link);
@@ -407,10 +440,10 @@ int main(int argc, char **argv)
     board.verbose = o.verbose;
     board.steps = (long)(o.start_mm * o.steps_per_mm + (o.start_mm >= 0 ? 0.5 : -0.5));
 
-    struct uwb_link_listener *gpio_l = NULL, *dig_l = NULL, *ctl_l = NULL;
+    struct uwb_link_listener *gpio_l = NULL, *dig_l = NULL, *ctl_l = NULL, *site_l = NULL;
     int rc = 1;
     if (listen_on(o.gpio, "gpio", &gpio_l) == 0 && listen_on(o.digitiser, "digitiser", &dig_l) == 0 &&
-        listen_on(o.control, "control", &ctl_l) == 0) {
+        listen_on(o.control, "control", &ctl_l) == 0 && listen_on(o.site_io, "site-io", &site_l) == 0) {
         struct sigaction sa = {.sa_handler = on_signal};
         sigemptyset(&sa.sa_mask);
         sigaction(SIGINT, &sa, NULL);
@@ -418,11 +451,12 @@ int main(int argc, char **argv)
         signal(SIGPIPE, SIG_IGN);
         fprintf(stderr, "uwbemu: listening: gpio %s, digitiser %s%s%s; carriage at %.2f mm above home\n", o.gpio,
                 o.digitiser, o.control ? ", control " : "", o.control ? o.control : "", o.start_mm);
-        rc = run(&board, gpio_l, dig_l, ctl_l);
+        rc = run(&board, gpio_l, dig_l, ctl_l, site_l);
     }
     uwb_link_listener_close(gpio_l);
     uwb_link_listener_close(dig_l);
     uwb_link_listener_close(ctl_l);
+    uwb_link_listener_close(site_l);
     emu_board_free(&board);
     return rc;
 }
