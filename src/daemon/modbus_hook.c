@@ -8,6 +8,7 @@
 #include "daemon/log.h"
 #include "integrations/modbus_registers.h"
 #include "integrations/modbus_server.h"
+#include "integrations/site.h"
 
 static void fill_registers(void *ctx, uint16_t regs[UWBD_MODBUS_REGISTER_COUNT])
 {
@@ -19,19 +20,37 @@ static void fill_registers(void *ctx, uint16_t regs[UWBD_MODBUS_REGISTER_COUNT])
         /* d->rig belongs to the worker while a scan runs: only read it when none does. */
         .rig_down = !d->scanning && !d->rig,
         .has_baseline = d->has_baseline,
-        .contacts = 0,   /* the alarm contacts' states, once the daemon drives them */
     };
+    struct uwbd_contact_states contacts;
+    uwbd_site_contact_states(d->site, &contacts);
+    /* -1: no contacts configured, none energised */
+    status.contacts = (contacts.watch == 1 ? UWBD_MODBUS_CONTACT_WATCH : 0u) |
+                      (contacts.alarm == 1 ? UWBD_MODBUS_CONTACT_ALARM : 0u) |
+                      (contacts.fault == 1 ? UWBD_MODBUS_CONTACT_FAULT : 0u);
     uwbd_modbus_registers_fill(d->latest_verdict, &status, regs);
 }
 
-/* Coil 1: a scan as soon as the running one ends (as `scan` does). */
+/* Coil 1: a scan as soon as the running one ends, as `event` does. */
 static int coil_event(void *ctx)
 {
     struct daemon *d = ctx;
     if (d->stopping)
         return -1;
     uwbd_log(UWBD_LOG_NOTICE, "modbus: event coil: scan requested");
-    uwbd_scan_now(d);
+    uwbd_scan_request(d, TRIGGER_EVENT);
+    return 0;
+}
+
+/* Coil 0: `ack`; a failure (no contacts configured) answers "server failure". */
+static int coil_ack(void *ctx)
+{
+    struct daemon *d = ctx;
+    char err[160];
+    if (uwbd_site_ack(d->site, err, sizeof err) != 0) {
+        uwbd_log(UWBD_LOG_NOTICE, "modbus: ack coil: %s", err);
+        return -1;
+    }
+    uwbd_log(UWBD_LOG_NOTICE, "modbus: ack coil: latched contacts acknowledged");
     return 0;
 }
 
@@ -42,8 +61,7 @@ int uwbd_modbus_open(struct daemon *d, char *err, size_t errlen)
         return 0;   /* nothing opened */
     struct uwbd_modbus_handlers h = {.ctx = d, .fill = fill_registers};
     h.coil[UWBD_MODBUS_COIL_EVENT] = coil_event;
-    /* Coil 0 (`ack`) answers "illegal data address" until the daemon has
-     * latched contacts to acknowledge. */
+    h.coil[UWBD_MODBUS_COIL_ACK] = coil_ack;
     return uwbd_modbus_server_open(d->cfg.modbus.endpoint, d->cfg.modbus.unit_id, &h, &d->modbus, err, errlen);
 }
 

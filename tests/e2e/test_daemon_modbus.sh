@@ -98,18 +98,21 @@ before=$(sed -n 1p rtu.out)
 after=$(sed -n 3p rtu.out)
 [[ $(sed -n 2p rtu.out) == "coil 1=1: ok" ]] || fail "event coil: $(cat rtu.out)"
 [[ $(field "$after" scan_count) == 1 ]] || fail "RTU after the event scan: $after"
+[[ $(field "$after" contacts) == 0 ]] || fail "contacts register without contacts configured: $after"
 why=$(verdict_matches "$after" rtu-verdict.json) || fail "RTU registers vs the verdict: $why: $after / $(cat rtu-verdict.json)"
 grep -q 'modbus: event coil: scan requested' uwbd.log || fail "the event coil did not reach the daemon"
 [[ $(sed -n 4p rtu.out) == "coils=00" ]] || fail "coils read back: $(sed -n 4p rtu.out)"
-[[ $(sed -n 5p rtu.out) == "coil 0=1: Illegal data address" ]] || fail "ack coil while not wired: $(sed -n 5p rtu.out)"
+[[ $(sed -n 5p rtu.out) == "coil 0=1: Slave device or server failure" ]] ||
+    fail "ack coil without contacts to acknowledge: $(sed -n 5p rtu.out)"
+json_check rtu-verdict.json "trigger == event" || fail "the event coil's verdict does not say event: $(cut -c1-300 rtu-verdict.json)"
 [[ $(sed -n 6p rtu.out) == "write-register: Illegal function" ]] || fail "register write: $(sed -n 6p rtu.out)"
 [[ $(sed -n 7p rtu.out) == "probe: Connection timed out" ]] || fail "unit 9 answered: $(sed -n 7p rtu.out)"
 # On a bus, unit 9's answer follows its request, and libmodbus's RTU server
 # skips that one frame; with no unit 9 the next request is the frame skipped,
 # as a master's retry covers.
 [[ $(sed -n 9p rtu.out) == "probe: ok" ]] || fail "unit 7 after unit 9: $(sed -n 8,9p rtu.out)"
-pass "RTU unit 7 over unix:: registers = the verdict ($after); event coil scanned; ack coil refused" \
-     "(not wired); registers read-only; unit 9 not answered"
+pass "RTU unit 7 over unix:: registers = the verdict ($after); event coil scanned (trigger event); ack refused" \
+     "(no contacts configured); registers read-only; unit 9 not answered"
 
 # ---- Modbus TCP on 127.0.0.1 after a reload -----------------------------------
 port=$(mbc freeport)
@@ -131,7 +134,7 @@ why=$(verdict_matches "$first" moved.json) || fail "TCP registers vs the verdict
 ctl verdict > event.json
 last=$(sed -n 3p tcp.out)
 why=$(verdict_matches "$last" event.json) || fail "TCP after the event scan: $why: $last / $(cat event.json)"
-[[ $(sed -n 4p tcp.out) == "coil 0=1: Illegal data address" && $(sed -n 5p tcp.out) == "write-register: Illegal function" ]] ||
+[[ $(sed -n 4p tcp.out) == "coil 0=1: Slave device or server failure" && $(sed -n 5p tcp.out) == "write-register: Illegal function" ]] ||
     fail "TCP refusals: $(cat tcp.out)"
 [[ $(tcp_sockets) -ge 1 ]] || fail "no TCP socket held while Modbus TCP is on (the check below would prove nothing)"
 pass "Modbus TCP on 127.0.0.1:$port after SIGHUP: a 4 mm verdict in the registers ($first); event coil scanned"
