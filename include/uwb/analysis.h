@@ -13,16 +13,16 @@
 
 struct uwb_analysis_options {
     enum uwb_migration_kind migration;
-    double time_zero_offset_s;     /* calibration added to the header's t0 */
-    int has_target_z;              /* overrides the header's target_z_m */
+    double time_zero_offset_s; /* calibration added to the header's t0 */
+    int has_target_z;          /* overrides the header's target_z_m */
     double target_z_m[2];
-    double search_z_min_m;         /* face search without a target range */
+    double search_z_min_m; /* face search without a target range */
     double search_z_max_m;
-    double edge_fraction;          /* edge where the face profile crosses this fraction of its peak */
-    double min_snr_db;             /* below this the winding is "not established" */
-    double systematic_edge_m;      /* 1-sigma floor of an edge's position */
-    int remove_side_reflector;     /* take a compact reflector beside the winding out (clamping plate) */
-    double display_half_range_m;   /* the display image (migrated PNG) spans the face's range +- this (0.25) */
+    double edge_fraction;        /* edge where the face profile crosses this fraction of its peak */
+    double min_snr_db;           /* below this the winding is "not established" */
+    double systematic_edge_m;    /* 1-sigma floor of an edge's position */
+    int remove_side_reflector;   /* take a compact reflector beside the winding out (clamping plate) */
+    double display_half_range_m; /* the display image (migrated PNG) spans the face's range +- this (0.25) */
     struct uwb_condition_options condition;
 };
 
@@ -31,25 +31,25 @@ void uwb_analysis_defaults(struct uwb_analysis_options *opt);
 struct uwb_face_profile {
     int n;
     double y0_m, dy_m;
-    float *value;                  /* envelope along y at the face range */
+    float *value; /* envelope along y at the face range */
 };
 
 /* What was measured, for the verdict and for the images to draw as it is
  * (src/output draws these; it measures nothing again). */
 struct uwb_analysis {
-    struct uwb_edges edges;        /* incl. the side reflector taken out (side_reflector, _y_m) */
-    struct uwb_image intensity;    /* display image: envelope around the face (or the search area) */
-    struct uwb_face_profile profile;   /* the profile the edges were read from (tapered, reflector out) */
+    struct uwb_edges edges;          /* incl. the side reflector taken out (side_reflector, _y_m) */
+    struct uwb_image intensity;      /* display image: envelope around the face (or the search area) */
+    struct uwb_face_profile profile; /* the profile the edges were read from (tapered, reflector out) */
     double dominant_hz;
-    double noise_sigma;            /* per-sample noise of the conditioned traces */
-    double aperture_lo_m, aperture_hi_m;  /* antenna travel */
+    double noise_sigma;                  /* per-sample noise of the conditioned traces */
+    double aperture_lo_m, aperture_hi_m; /* antenna travel */
     /* What the last face measurement ran on, kept so that a comparison can
      * measure again with noise added (src/imaging/pair_uncertainty.c): the
      * conditioned traces, the per-position aperture weights, and the traces
      * the profile was measured on (weighted, a side reflector taken out). */
     struct uwb_scan conditioned;
     struct uwb_scan measured;
-    double *weight;                /* per position, 0..1 (1 everywhere before any taper pass) */
+    double *weight; /* per position, 0..1 (1 everywhere before any taper pass) */
 };
 
 /* Returns 0 when the analysis ran (edges.found tells whether the winding
@@ -72,12 +72,12 @@ int uwb_measure_shift(const struct uwb_analysis *current, const struct uwb_analy
  * replies). */
 struct uwb_shift_noise {
     int measured;
-    double noise_rms;              /* per sample, conditioned traces, each scan */
+    double noise_rms; /* per sample, conditioned traces, each scan */
     double sigma_current_m, sigma_baseline_m;
 };
 int uwb_shift_noise(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
-                    const struct uwb_analysis_options *opt, double shift_m,
-                    struct uwb_shift_noise *out, char *err, size_t errlen);
+                    const struct uwb_analysis_options *opt, double shift_m, struct uwb_shift_noise *out,
+                    char *err, size_t errlen);
 
 void uwb_analysis_free(struct uwb_analysis *a);
 

@@ -12,14 +12,15 @@ struct uwb_compare_options {
     struct uwb_thresholds thresholds;
     double systematic_displacement_m; /* 1-sigma floor of a displacement between two scans */
     double max_uncertainty_m;         /* above this 1-sigma the verdict is inconclusive */
-    double baseline_repeatability_m;  /* 1-sigma of the baseline's centre from the spread of its commissioning scans */
+    double baseline_repeatability_m;  /* 1-sigma of the baseline's centre from the spread of its commissioning
+                                         scans */
 };
 
 void uwb_compare_defaults(struct uwb_compare_options *opt);
 
 /* Nonzero when two scans can be compared, else 0 with the difference named. */
-int uwb_scans_comparable(const struct uwb_scan *current, const struct uwb_scan *baseline,
-                         char *why, size_t whylen);
+int uwb_scans_comparable(const struct uwb_scan *current, const struct uwb_scan *baseline, char *why,
+                         size_t whylen);
 
 /* Fill v's status, reason and figures from the edges (baseline may be NULL). */
 void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *current,
@@ -30,17 +31,17 @@ void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *current,
 struct uwb_pair_figures {
     int valid;
     double displacement_m;
-    int noise_measured;           /* the two noise terms below replace the per-scan ones */
+    int noise_measured; /* the two noise terms below replace the per-scan ones */
     double sigma_noise_current_m, sigma_noise_baseline_m;
 };
 
 /* The terms of a displacement's 1-sigma uncertainty, all independent. */
 struct uwb_uncertainty_terms {
-    double noise_current_m;       /* each scan's noise carried into the displacement */
+    double noise_current_m; /* each scan's noise carried into the displacement */
     double noise_baseline_m;
-    double clutter_current_m;     /* what taking a reflector beside the winding out may leave */
+    double clutter_current_m; /* what taking a reflector beside the winding out may leave */
     double clutter_baseline_m;
-    double systematic_m;          /* the floor: what the static scene and sampling leave */
+    double systematic_m;             /* the floor: what the static scene and sampling leave */
     double baseline_repeatability_m; /* spread of the baseline's commissioning scans (baseline set N) */
 };
 

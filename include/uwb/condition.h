@@ -12,11 +12,14 @@
 
 struct uwb_condition_options {
     int remove_static;          /* subtract the static reference trace (default 1) */
-    double static_end_fraction; /* before the winding is located: positions at each end that form the reference (0.25) */
+    double static_end_fraction; /* before the winding is located: positions at each end that form the
+                                   reference (0.25) */
     double highpass_ratio;      /* wow cut-off as a fraction of the dominant frequency (0.15) */
-    double lowpass_ratio;       /* noise cut-off: pass to this times the dominant frequency, none beyond 1.5x it (2.0; 0 = off) */
-    double gate_range_m;        /* blank replies from nearer than this (0.1 m) */
-    int align_coupling;         /* undo trigger jitter and gain drift per trace, measured on the direct coupling (1) */
+    double lowpass_ratio; /* noise cut-off: pass to this times the dominant frequency, none beyond 1.5x it
+                             (2.0; 0 = off) */
+    double gate_range_m;  /* blank replies from nearer than this (0.1 m) */
+    int align_coupling;   /* undo trigger jitter and gain drift per trace, measured on the direct coupling (1)
+                           */
 };
 
 void uwb_condition_defaults(struct uwb_condition_options *opt);
@@ -37,14 +40,13 @@ struct uwb_target_window {
  * before the winding is located) keeps its echoes out of the static reference. */
 int uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g,
                   const struct uwb_condition_options *opt, double dominant_hz,
-                  const struct uwb_target_window *winding, struct uwb_scan *out,
-                  char *err, size_t errlen);
+                  const struct uwb_target_window *winding, struct uwb_scan *out, char *err, size_t errlen);
 
 /* What the alignment on the direct coupling did. */
 struct uwb_alignment {
-    int aligned;                /* traces shifted/scaled (others did not resemble the reference) */
-    double max_shift_s;         /* largest trigger shift removed */
-    double max_gain_db;         /* largest gain change removed */
+    int aligned;        /* traces shifted/scaled (others did not resemble the reference) */
+    double max_shift_s; /* largest trigger shift removed */
+    double max_gain_db; /* largest gain change removed */
 };
 
 /* Shift and scale each trace so that its part before window_end_s (the

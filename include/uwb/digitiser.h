@@ -12,22 +12,22 @@
 
 enum uwb_digitiser_error {
     UWB_DIGITISER_OK = 0,
-    UWB_DIGITISER_ERR_LINK = -1,      /* endpoint could not be opened (or reopened) */
-    UWB_DIGITISER_ERR_PROTOCOL = -2,  /* peer does not answer as a digitiser, or refused the configuration */
-    UWB_DIGITISER_ERR_FRAMES = -3,    /* no good frame for a trigger within the retries */
-    UWB_DIGITISER_ERR_FIRE = -4,      /* the fire callback failed (GPIO) */
+    UWB_DIGITISER_ERR_LINK = -1,     /* endpoint could not be opened (or reopened) */
+    UWB_DIGITISER_ERR_PROTOCOL = -2, /* peer does not answer as a digitiser, or refused the configuration */
+    UWB_DIGITISER_ERR_FRAMES = -3,   /* no good frame for a trigger within the retries */
+    UWB_DIGITISER_ERR_FIRE = -4,     /* the fire callback failed (GPIO) */
 };
 
 struct uwb_digitiser_stats {
-    unsigned long traces;         /* good traces returned */
-    unsigned long fired;          /* triggers fired, retries included */
-    unsigned long retries;        /* triggers fired again after a bad or missing frame */
-    unsigned long timeouts;       /* triggers whose frame never came */
-    unsigned long bad_frames;     /* frames failing a CRC (header or whole frame) */
-    unsigned long bad_payloads;   /* frames whose length or sample count is wrong */
-    unsigned long stale;          /* frames answering an earlier trigger, dropped */
-    unsigned long ahead;          /* frames whose sequence skipped triggers (digitiser counted more) */
-    unsigned long reconnects;     /* link reopened after it failed */
+    unsigned long traces;       /* good traces returned */
+    unsigned long fired;        /* triggers fired, retries included */
+    unsigned long retries;      /* triggers fired again after a bad or missing frame */
+    unsigned long timeouts;     /* triggers whose frame never came */
+    unsigned long bad_frames;   /* frames failing a CRC (header or whole frame) */
+    unsigned long bad_payloads; /* frames whose length or sample count is wrong */
+    unsigned long stale;        /* frames answering an earlier trigger, dropped */
+    unsigned long ahead;        /* frames whose sequence skipped triggers (digitiser counted more) */
+    unsigned long reconnects;   /* link reopened after it failed */
 };
 
 struct uwb_digitiser;
@@ -45,8 +45,8 @@ typedef int (*uwb_fire_fn)(void *ctx, char *err, size_t errlen);
 /* One trace of cfg->samples values, in volts, answering one trigger:
  * fire, wait frame_timeout_ms for its frame, check it; on a bad or missing
  * frame or a dropped link, fire again, up to frame_retries times. */
-int uwb_digitiser_acquire(struct uwb_digitiser *dig, uwb_fire_fn fire, void *ctx, float *out,
-                          char *err, size_t errlen);
+int uwb_digitiser_acquire(struct uwb_digitiser *dig, uwb_fire_fn fire, void *ctx, float *out, char *err,
+                          size_t errlen);
 void uwb_digitiser_get_stats(const struct uwb_digitiser *dig, struct uwb_digitiser_stats *stats);
 /* Disarms (best effort) and closes. NULL is a no-op. */
 void uwb_digitiser_close(struct uwb_digitiser *dig);

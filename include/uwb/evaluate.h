@@ -14,8 +14,8 @@
 
 /* Time zero from the direct coupling (uwb/direct_coupling.h). */
 struct uwb_direct_coupling_options {
-    double window_end_s;  /* the arrival is looked for from the first sample up to here (default 2 ns) */
-    double tolerance_s;   /* moved more than this since the baseline: not compared (default 20 ps) */
+    double window_end_s; /* the arrival is looked for from the first sample up to here (default 2 ns) */
+    double tolerance_s;  /* moved more than this since the baseline: not compared (default 20 ps) */
 };
 
 struct uwb_evaluate_options {
@@ -30,11 +30,11 @@ void uwb_evaluate_defaults(struct uwb_evaluate_options *opt);
  * daemon's baseline/current.json). */
 struct uwb_baseline_record {
     const struct uwb_scan *scan;
-    int has_direct_coupling;      /* 0: not recorded; measured on `scan` as commissioning does */
-    double direct_coupling_s;     /* its time zero (direct-coupling arrival) */
-    int scans;                    /* acquisitions averaged into it (0: not recorded, one) */
+    int has_direct_coupling;  /* 0: not recorded; measured on `scan` as commissioning does */
+    double direct_coupling_s; /* its time zero (direct-coupling arrival) */
+    int scans;                /* acquisitions averaged into it (0: not recorded, one) */
     int has_repeatability;
-    double repeatability_m;       /* spread (1-sigma) of the centre across those scans */
+    double repeatability_m; /* spread (1-sigma) of the centre across those scans */
 };
 
 /* Analyse current and, against a baseline (NULL: edges only), compare.
@@ -47,8 +47,8 @@ struct uwb_baseline_record {
  * inconclusive), -1 on a hard error. */
 int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_record *baseline,
                  const struct uwb_evaluate_options *opt, struct uwb_verdict *v,
-                 struct uwb_analysis *current_analysis, struct uwb_analysis *baseline_analysis,
-                 char *err, size_t errlen);
+                 struct uwb_analysis *current_analysis, struct uwb_analysis *baseline_analysis, char *err,
+                 size_t errlen);
 
 /* Write the migrated, B-scan and comparison PNGs into dir, named after
  * `stem`, and list them in v->images; without a migrated image (analysis
@@ -56,7 +56,7 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
  * its id, else by `stem`, and the asset (NULL or "": not set). */
 int uwb_write_images(const char *dir, const char *stem, const char *asset, const struct uwb_scan *current,
                      const struct uwb_analysis *current_analysis,
-                     const struct uwb_analysis *baseline_analysis, struct uwb_verdict *v,
-                     char *err, size_t errlen);
+                     const struct uwb_analysis *baseline_analysis, struct uwb_verdict *v, char *err,
+                     size_t errlen);
 
 #endif

@@ -8,15 +8,14 @@
 #define UWB_SPEED_OF_LIGHT 299792458.0
 
 struct uwb_geometry {
-    double velocity_m_s;     /* c / sqrt(eps_r) */
-    double tx_dy, tx_dz;     /* phase centres relative to the reference point */
+    double velocity_m_s; /* c / sqrt(eps_r) */
+    double tx_dy, tx_dz; /* phase centres relative to the reference point */
     double rx_dy, rx_dz;
-    double t0_s;             /* header t0 plus any calibration offset */
+    double t0_s; /* header t0 plus any calibration offset */
     double dt_s;
 };
 
-void uwb_geometry_from_scan(struct uwb_geometry *g, const struct uwb_scan *scan,
-                            double time_zero_offset_s);
+void uwb_geometry_from_scan(struct uwb_geometry *g, const struct uwb_scan *scan, double time_zero_offset_s);
 
 /* Two-way delay (s) from Tx to (dy, z) and back to Rx, where dy is the
  * point's height above the antenna reference point. */

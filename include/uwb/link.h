@@ -13,9 +13,9 @@
 
 enum uwb_link_error {
     UWB_LINK_OK = 0,
-    UWB_LINK_ERR_ENDPOINT = -1,    /* malformed endpoint string */
-    UWB_LINK_ERR_OPEN = -2,        /* port missing, connection refused, ... */
-    UWB_LINK_ERR_IO = -3,          /* read/write failed, peer closed */
+    UWB_LINK_ERR_ENDPOINT = -1, /* malformed endpoint string */
+    UWB_LINK_ERR_OPEN = -2,     /* port missing, connection refused, ... */
+    UWB_LINK_ERR_IO = -3,       /* read/write failed, peer closed */
     UWB_LINK_ERR_TIMEOUT = -4,
 };
 
@@ -26,10 +26,10 @@ enum uwb_endpoint_kind { UWB_ENDPOINT_SERIAL, UWB_ENDPOINT_TCP, UWB_ENDPOINT_UNI
 /* An endpoint string taken apart. */
 struct uwb_endpoint {
     enum uwb_endpoint_kind kind;
-    char path[UWB_ENDPOINT_MAX];   /* serial device or unix socket path */
-    char host[UWB_ENDPOINT_MAX];   /* tcp: name or address, IPv6 without its [] */
-    char port[8];                  /* tcp: 1..65535 as text */
-    int baud;                      /* serial: ?baud=N, else UWB_SERIAL_DEFAULT_BAUD */
+    char path[UWB_ENDPOINT_MAX]; /* serial device or unix socket path */
+    char host[UWB_ENDPOINT_MAX]; /* tcp: name or address, IPv6 without its [] */
+    char port[8];                /* tcp: 1..65535 as text */
+    int baud;                    /* serial: ?baud=N, else UWB_SERIAL_DEFAULT_BAUD */
 };
 
 /* Pure parsing, no I/O. Returns UWB_LINK_OK or UWB_LINK_ERR_ENDPOINT with
@@ -43,8 +43,10 @@ int uwb_link_open(const char *endpoint, struct uwb_link **link, char *err, size_
  * returns the count (> 0) or an enum uwb_link_error. */
 ssize_t uwb_link_read(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen);
 /* Exactly len bytes or an error. */
-int uwb_link_read_exact(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen);
-int uwb_link_write_all(struct uwb_link *link, const void *buf, size_t len, int timeout_ms, char *err, size_t errlen);
+int uwb_link_read_exact(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err,
+                        size_t errlen);
+int uwb_link_write_all(struct uwb_link *link, const void *buf, size_t len, int timeout_ms, char *err,
+                       size_t errlen);
 int uwb_link_fd(struct uwb_link *link);
 /* The endpoint string the link was opened with (for messages). */
 const char *uwb_link_name(const struct uwb_link *link);
@@ -62,8 +64,8 @@ int uwb_link_listen(const char *endpoint, struct uwb_link_listener **listener, c
 int uwb_link_listener_fd(const struct uwb_link_listener *listener);
 /* Accept one pending connection (call when listener_fd polls readable;
  * waits at most timeout_ms otherwise). */
-int uwb_link_accept(struct uwb_link_listener *listener, struct uwb_link **link, int timeout_ms,
-                    char *err, size_t errlen);
+int uwb_link_accept(struct uwb_link_listener *listener, struct uwb_link **link, int timeout_ms, char *err,
+                    size_t errlen);
 /* Closes the socket and removes a unix socket's file. NULL is a no-op. */
 void uwb_link_listener_close(struct uwb_link_listener *listener);
 

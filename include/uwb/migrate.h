@@ -15,7 +15,7 @@
 #include "uwb/scan.h"
 
 enum uwb_migration_kind {
-    UWB_MIGRATE_FIXED = 0,   /* default on the appliance */
+    UWB_MIGRATE_FIXED = 0, /* default on the appliance */
     UWB_MIGRATE_FLOAT = 1,
     /* The fixed-point path with its portable C inner loop instead of the
      * SIMD one (SSE2 / NEON, when compiled in): the same image bit for bit,
@@ -25,9 +25,8 @@ enum uwb_migration_kind {
 
 /* Migrate `scan` (already conditioned) onto the grid described by `img`
  * (ny, nz, y0_m, dy_m, z0_m, dz_m set; pix allocated). */
-int uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
-                const struct uwb_geometry *geom, struct uwb_image *img,
-                char *err, size_t errlen);
+int uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan, const struct uwb_geometry *geom,
+                struct uwb_image *img, char *err, size_t errlen);
 
 /* "fixed", "float", "fixed-portable"; parse accepts the first two (the
  * command line's choices). */

@@ -8,19 +8,19 @@
 
 enum uwb_read_result {
     UWB_READ_OK = 0,
-    UWB_READ_FAILED = -1,    /* cannot open, stat or read, or out of memory */
-    UWB_READ_TOO_BIG = -2,   /* more than max_bytes */
+    UWB_READ_FAILED = -1,  /* cannot open, stat or read, or out of memory */
+    UWB_READ_TOO_BIG = -2, /* more than max_bytes */
 };
 
 /* The file's bytes in a malloc'd buffer with a NUL after the last one (not
  * counted in *out_len), so text callers can use it as a string. On failure
  * *out is NULL, *out_len 0 and err holds "PATH: problem". */
-enum uwb_read_result uwb_read_file(const char *path, size_t max_bytes, char **out, size_t *out_len,
-                                   char *err, size_t errlen);
+enum uwb_read_result uwb_read_file(const char *path, size_t max_bytes, char **out, size_t *out_len, char *err,
+                                   size_t errlen);
 
 /* The same for an open descriptor (stdin, a pipe), read to EOF and left
  * open; name stands for it in messages. */
-enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, char **out,
-                                 size_t *out_len, char *err, size_t errlen);
+enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, char **out, size_t *out_len,
+                                 char *err, size_t errlen);
 
 #endif

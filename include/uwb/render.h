@@ -20,10 +20,10 @@
  * PNG alone tells an engineer what was measured on what. Each field may be
  * unset (NULL, "" or 0). The software version is always added. */
 struct uwb_provenance {
-    const char *scan_name;      /* names the scan when the verdict has no scan id (a replayed file's stem) */
-    const char *asset;          /* the asset as the site names it (site.phase, site.label) */
-    int stack;                  /* pulses averaged per antenna position */
-    double eps_r;               /* relative permittivity the image was focused with */
+    const char *scan_name; /* names the scan when the verdict has no scan id (a replayed file's stem) */
+    const char *asset;     /* the asset as the site names it (site.phase, site.label) */
+    int stack;             /* pulses averaged per antenna position */
+    double eps_r;          /* relative permittivity the image was focused with */
 };
 
 /* ------------------------------------------------------------------ */
@@ -31,12 +31,13 @@ struct uwb_provenance {
 /* ------------------------------------------------------------------ */
 
 struct uwb_render_options {
-    int width, height;          /* canvas size in pixels */
-    double floor_db;            /* migrated / comparison colour floor re image peak (< 0, default -30) */
-    double bscan_floor_db;      /* raw B-scan: |amplitude| below this re the peak shows as zero (default -40) */
-    int font_scale;             /* text size: 1 = 5x7 px capitals, 2 (default) = 10x14 */
-    const struct uwb_provenance *provenance;   /* where the scan came from (NULL: the verdict alone) */
-    int bscan_conditioned;      /* the B-scan's traces are the conditioned ones the migration ran on (titles say so) */
+    int width, height;     /* canvas size in pixels */
+    double floor_db;       /* migrated / comparison colour floor re image peak (< 0, default -30) */
+    double bscan_floor_db; /* raw B-scan: |amplitude| below this re the peak shows as zero (default -40) */
+    int font_scale;        /* text size: 1 = 5x7 px capitals, 2 (default) = 10x14 */
+    const struct uwb_provenance *provenance; /* where the scan came from (NULL: the verdict alone) */
+    int bscan_conditioned; /* the B-scan's traces are the conditioned ones the migration ran on (titles say
+                              so) */
 };
 
 void uwb_render_options_default(struct uwb_render_options *opt);
@@ -46,31 +47,29 @@ void uwb_render_options_sane(const struct uwb_render_options *in, struct uwb_ren
 /* Migrated intensity image (linear envelope >= 0) in dB re its peak, y up,
  * z across, edges of v->current solid, v->baseline dashed. v may be NULL
  * (no overlay, caption says so). Returns 0, or -1 with "PATH: problem". */
-int uwb_render_migrated_png(const char *path, const struct uwb_image *intensity,
-                        const struct uwb_verdict *v, char *err, size_t errlen);
-int uwb_render_migrated_png_opt(const char *path, const struct uwb_image *intensity,
-                            const struct uwb_verdict *v, const struct uwb_render_options *opt,
+int uwb_render_migrated_png(const char *path, const struct uwb_image *intensity, const struct uwb_verdict *v,
                             char *err, size_t errlen);
+int uwb_render_migrated_png_opt(const char *path, const struct uwb_image *intensity,
+                                const struct uwb_verdict *v, const struct uwb_render_options *opt, char *err,
+                                size_t errlen);
 
 /* Traces: antenna y (mm) vertical, time (ns) across, signed amplitude in
  * a diverging map on a signed dB scale. The title says "raw", or
  * "conditioned" with opt->bscan_conditioned (uwb_write_images draws the
  * analysis's conditioned traces, the ones that were migrated). */
-int uwb_render_bscan_png(const char *path, const struct uwb_scan *scan,
-                     const struct uwb_verdict *v, char *err, size_t errlen);
-int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan,
-                         const struct uwb_verdict *v, const struct uwb_render_options *opt,
+int uwb_render_bscan_png(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
                          char *err, size_t errlen);
+int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
+                             const struct uwb_render_options *opt, char *err, size_t errlen);
 
 /* Baseline panel | current panel (both cropped to the face, same dB scale)
- * | this minus baseline (each re its peak, linear) | face profiles along y, edges and the centre shift marked. It draws what
- * each analysis measured: its display image and the face profile its edges
- * were read from (nothing is measured again here). baseline may be NULL:
- * the baseline panel then says "no baseline" and only the current image and
- * profile are drawn, so the file set stays the same. */
+ * | this minus baseline (each re its peak, linear) | face profiles along y, edges and the centre shift
+ * marked. It draws what each analysis measured: its display image and the face profile its edges were read
+ * from (nothing is measured again here). baseline may be NULL: the baseline panel then says "no baseline" and
+ * only the current image and profile are drawn, so the file set stays the same. */
 int uwb_render_comparison_png(const char *path, const struct uwb_analysis *current,
-                              const struct uwb_analysis *baseline, const struct uwb_verdict *v,
-                              char *err, size_t errlen);
+                              const struct uwb_analysis *baseline, const struct uwb_verdict *v, char *err,
+                              size_t errlen);
 int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *current,
                                   const struct uwb_analysis *baseline, const struct uwb_verdict *v,
                                   const struct uwb_render_options *opt, char *err, size_t errlen);

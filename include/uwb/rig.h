@@ -13,18 +13,18 @@
 #include "uwb/scan.h"
 
 struct uwb_carriage_config {
-    double steps_per_mm;       /* microsteps per millimetre of travel */
-    double max_rate_hz;        /* top step rate */
-    double accel_hz_per_s;     /* linear ramp of the step rate */
-    double travel_mm;          /* usable travel above home; positions must lie inside */
-    double park_mm;            /* where the carriage rests between scans */
-    double backlash_mm;        /* every position is approached from below by this overshoot */
-    double settle_ms;          /* wait after a move before firing */
-    double home_timeout_s;     /* give up homing after this */
-    double home_debounce_ms;   /* switch must read stable this long */
-    double home_offset_mm;     /* y of the home switch in scan coordinates (mm) */
-    double home_rate_hz;       /* step rate seeking the switch (the final approach runs at a quarter) */
-    double home_backoff_mm;    /* a switch still closed after backing off this far is stuck */
+    double steps_per_mm;     /* microsteps per millimetre of travel */
+    double max_rate_hz;      /* top step rate */
+    double accel_hz_per_s;   /* linear ramp of the step rate */
+    double travel_mm;        /* usable travel above home; positions must lie inside */
+    double park_mm;          /* where the carriage rests between scans */
+    double backlash_mm;      /* every position is approached from below by this overshoot */
+    double settle_ms;        /* wait after a move before firing */
+    double home_timeout_s;   /* give up homing after this */
+    double home_debounce_ms; /* switch must read stable this long */
+    double home_offset_mm;   /* y of the home switch in scan coordinates (mm) */
+    double home_rate_hz;     /* step rate seeking the switch (the final approach runs at a quarter) */
+    double home_backoff_mm;  /* a switch still closed after backing off this far is stuck */
 };
 
 /* Pulses averaged per position unless configured: at the emulated board's
@@ -35,40 +35,40 @@ struct uwb_carriage_config {
 
 struct uwb_digitiser_config {
     char endpoint[UWB_ENDPOINT_MAX];
-    int samples;               /* record length per trace */
+    int samples; /* record length per trace */
     double sample_interval_s;
-    double t0_s;               /* time of sample 0 after the trigger (from commissioning) */
-    int stack;                 /* pulses fired and averaged per position */
+    double t0_s; /* time of sample 0 after the trigger (from commissioning) */
+    int stack;   /* pulses fired and averaged per position */
     int frame_timeout_ms;
-    int frame_retries;         /* bad or missing frames retried this many times per pulse */
+    int frame_retries; /* bad or missing frames retried this many times per pulse */
 };
 
 struct uwb_rig_config {
     struct uwb_gpio_config gpio;
     struct uwb_digitiser_config digitiser;
     struct uwb_carriage_config carriage;
-    int positions;             /* K */
-    double first_position_mm;  /* y of position 0 in scan coordinates */
-    double step_mm;            /* spacing between positions */
-    double tx_m[2], rx_m[2];   /* antenna phase centres, written to the header */
+    int positions;            /* K */
+    double first_position_mm; /* y of position 0 in scan coordinates */
+    double step_mm;           /* spacing between positions */
+    double tx_m[2], rx_m[2];  /* antenna phase centres, written to the header */
     double eps_r;
     int has_target_z;
     double target_z_m[2];
-    double trigger_pulse_us;   /* trigger line high time */
+    double trigger_pulse_us; /* trigger line high time */
     /* Multiplies every wait (step timing, settle, debounce, trigger pulse):
      * 1 = real time; below 1 runs emulated scans faster, 0 = no waiting at
      * all. Timeouts of the home search count nominal (unscaled) time. */
     double time_scale;
-    char source[128];          /* header `source` prefix, e.g. "uwbd 1.0 on HOST"; "" = "uwbd" */
+    char source[128]; /* header `source` prefix, e.g. "uwbd 1.0 on HOST"; "" = "uwbd" */
 };
 
 enum uwb_rig_error {
     UWB_RIG_OK = 0,
-    UWB_RIG_ERR_GPIO = -1,         /* see the gpio error inside err */
-    UWB_RIG_ERR_LINK = -2,         /* digitiser endpoint could not be opened */
-    UWB_RIG_ERR_HOME = -3,         /* home switch never seen / stuck */
-    UWB_RIG_ERR_DIGITISER = -4,    /* frames bad beyond the retries, timeout */
-    UWB_RIG_ERR_STOPPED = -5,      /* *stop became non-zero */
+    UWB_RIG_ERR_GPIO = -1,      /* see the gpio error inside err */
+    UWB_RIG_ERR_LINK = -2,      /* digitiser endpoint could not be opened */
+    UWB_RIG_ERR_HOME = -3,      /* home switch never seen / stuck */
+    UWB_RIG_ERR_DIGITISER = -4, /* frames bad beyond the retries, timeout */
+    UWB_RIG_ERR_STOPPED = -5,   /* *stop became non-zero */
     UWB_RIG_ERR_CONFIG = -6,
 };
 
@@ -83,15 +83,15 @@ void uwb_rig_config_defaults(struct uwb_rig_config *cfg);
 int uwb_rig_config_check(const struct uwb_rig_config *cfg, char *err, size_t errlen);
 /* Open the GPIO backend and the digitiser link. On failure returns an enum
  * uwb_rig_error (the underlying gpio/link error in *detail if not NULL). */
-int uwb_rig_open(const struct uwb_rig_config *cfg, struct uwb_rig **rig, int *detail,
-                 char *err, size_t errlen);
+int uwb_rig_open(const struct uwb_rig_config *cfg, struct uwb_rig **rig, int *detail, char *err,
+                 size_t errlen);
 /* One scan cycle: home, every position (move from below, settle, `stack`
  * pulses each answered by one checked frame, average), park, motor
  * disabled, pulser idle. Fills *out (positions, samples, geometry, stack,
  * created, scan_id, source). The hardware is left safe on every return.
  * `stop` may be NULL; it is polled between pulses and steps. */
-int uwb_rig_scan(struct uwb_rig *rig, const volatile sig_atomic_t *stop, struct uwb_scan *out,
-                 char *err, size_t errlen);
+int uwb_rig_scan(struct uwb_rig *rig, const volatile sig_atomic_t *stop, struct uwb_scan *out, char *err,
+                 size_t errlen);
 /* Pulser idle, motor disabled; safe to call at any time, e.g. from cleanup. */
 void uwb_rig_make_safe(struct uwb_rig *rig);
 void uwb_rig_close(struct uwb_rig *rig);
@@ -109,8 +109,8 @@ void uwb_rig_set_progress(struct uwb_rig *rig, uwb_rig_progress_fn progress, voi
 struct uwb_rig_stats {
     unsigned long scans;
     unsigned long traces, fired, retries, timeouts, bad_frames, bad_payloads, stale, ahead, reconnects;
-    long last_scan_steps;          /* microsteps moved in the last scan, homing included */
-    double last_home_found_mm;     /* how far the home search went down in the last scan */
+    long last_scan_steps;      /* microsteps moved in the last scan, homing included */
+    double last_home_found_mm; /* how far the home search went down in the last scan */
 };
 void uwb_rig_get_stats(const struct uwb_rig *rig, struct uwb_rig_stats *stats);
 

@@ -32,23 +32,23 @@
 #define UWBSCAN_MAX_RANGE_M 10.0
 
 struct uwb_scan {
-    int positions;              /* K traces */
-    int samples;                /* S samples per trace */
+    int positions; /* K traces */
+    int samples;   /* S samples per trace */
     double sample_interval_s;
-    double t0_s;                /* time of sample 0 after the pulse leaves Tx */
-    double *antenna_y_m;        /* K reference-point heights */
-    double tx_m[2];             /* Tx phase centre [dy, dz] from reference */
-    double rx_m[2];             /* Rx phase centre [dy, dz] from reference */
-    double eps_r;               /* 1.0 when the file has none */
+    double t0_s;         /* time of sample 0 after the pulse leaves Tx */
+    double *antenna_y_m; /* K reference-point heights */
+    double tx_m[2];      /* Tx phase centre [dy, dz] from reference */
+    double rx_m[2];      /* Rx phase centre [dy, dz] from reference */
+    double eps_r;        /* 1.0 when the file has none */
     int has_target_z;
-    double target_z_m[2];       /* [near, far] expected face range */
-    int stack;                  /* 0 when absent */
-    char *created;              /* optional strings: NULL when absent */
+    double target_z_m[2]; /* [near, far] expected face range */
+    int stack;            /* 0 when absent */
+    char *created;        /* optional strings: NULL when absent */
     char *scan_id;
     char *source;
     char *comment;
-    char *extra_json;           /* unknown header keys as a JSON object text, kept for rewrite; NULL if none */
-    float *data;                /* K*S samples, position-major: data[k*S + s] */
+    char *extra_json; /* unknown header keys as a JSON object text, kept for rewrite; NULL if none */
+    float *data;      /* K*S samples, position-major: data[k*S + s] */
 };
 
 /* Allocate antenna_y_m and data for a K x S scan and zero every other field
@@ -60,13 +60,13 @@ int uwb_scan_copy(struct uwb_scan *dst, const struct uwb_scan *src, char *err, s
 
 /* Parse a whole uwbscan/1 image held in memory. `name` is used in messages
  * ("NAME: problem"). On failure *scan is left freed/zeroed. */
-int uwbscan_parse(const void *buf, size_t len, const char *name,
-                  struct uwb_scan *scan, char *err, size_t errlen);
+int uwbscan_parse(const void *buf, size_t len, const char *name, struct uwb_scan *scan, char *err,
+                  size_t errlen);
 int uwbscan_read_file(const char *path, struct uwb_scan *scan, char *err, size_t errlen);
 
 /* Serialise to a malloc'd buffer (caller frees). */
-int uwbscan_serialise(const struct uwb_scan *scan, unsigned char **buf, size_t *len,
-                      char *err, size_t errlen);
+int uwbscan_serialise(const struct uwb_scan *scan, unsigned char **buf, size_t *len, char *err,
+                      size_t errlen);
 /* Write atomically (temp + fsync + rename): the old file, if any, survives a failure. */
 int uwbscan_write_file(const char *path, const struct uwb_scan *scan, char *err, size_t errlen);
 

@@ -6,7 +6,7 @@
 #include <stddef.h>
 
 enum uwb_status {
-    UWB_STATUS_EDGES,        /* no baseline given: edges only */
+    UWB_STATUS_EDGES, /* no baseline given: edges only */
     UWB_STATUS_OK,
     UWB_STATUS_WATCH,
     UWB_STATUS_ALARM,
@@ -17,14 +17,15 @@ enum uwb_status {
 const char *uwb_status_name(enum uwb_status status);
 
 struct uwb_edges {
-    int found;                   /* 0: winding or an edge not established, see reason */
-    double lower_m, upper_m;     /* Y1, Y2 in the scan's own y */
-    double center_m, height_m;   /* (Y1+Y2)/2, Y2-Y1 */
-    double face_z_m;             /* range of the winding's face */
-    double sigma_lower_m;        /* 1-sigma uncertainties */
+    int found;                 /* 0: winding or an edge not established, see reason */
+    double lower_m, upper_m;   /* Y1, Y2 in the scan's own y */
+    double center_m, height_m; /* (Y1+Y2)/2, Y2-Y1 */
+    double face_z_m;           /* range of the winding's face */
+    double sigma_lower_m;      /* 1-sigma uncertainties */
     double sigma_upper_m;
     double sigma_center_m;
-    double sigma_center_noise_m; /* the part of sigma_center from noise alone: what a comparison of two scans inherits */
+    double sigma_center_noise_m; /* the part of sigma_center from noise alone: what a comparison of two scans
+                                    inherits */
     double snr_db;               /* face peak over image noise floor */
     int side_reflector;          /* a compact reflector beside the winding (clamping plate) was taken out */
     double side_reflector_y_m;   /* ...where it imaged */
@@ -33,15 +34,15 @@ struct uwb_edges {
 };
 
 struct uwb_thresholds {
-    double watch_m;              /* |displacement| from which status is watch (default 2 mm) */
-    double alarm_m;              /* from which it is alarm (default 5 mm) */
+    double watch_m; /* |displacement| from which status is watch (default 2 mm) */
+    double alarm_m; /* from which it is alarm (default 5 mm) */
 };
 
 #define UWB_MAX_IMAGES 4
 
 struct uwb_verdict {
     enum uwb_status status;
-    char reason[256];            /* why inconclusive, or empty */
+    char reason[256]; /* why inconclusive, or empty */
     char scan_id[128];
     char created[64];
     struct uwb_edges current;
@@ -55,7 +56,8 @@ struct uwb_verdict {
      * baseline, how far it moved since the baseline's. */
     int has_direct_coupling;
     double direct_coupling_s;
-    char direct_coupling_why[200];   /* why it was not found (not in the JSON: `reason` says it when it matters) */
+    char direct_coupling_why[200]; /* why it was not found (not in the JSON: `reason` says it when it matters)
+                                    */
     int has_direct_coupling_shift;
     double direct_coupling_shift_s;
     int n_images;

@@ -1,7 +1,7 @@
 /* uwbd --config-keys=man: the uwbd.json(5) manual page, made from the same
  * key table as the Markdown one (uwbd_config_print_keys_markdown), so the
  * page cannot drift from what the loader accepts. */
-#define _GNU_SOURCE   /* open_memstream */
+#define _GNU_SOURCE /* open_memstream */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -77,15 +77,14 @@ static const char header[] =
     ".SH KEYS\n"
     "Each key with its type, unit, range and default; \\fBrequired\\fR keys have no default.\n";
 
-static const char footer[] =
-    ".SH FILES\n"
-    ".TP\n"
-    ".I /etc/uwbd/uwbd.json\n"
-    "the configuration the systemd unit starts uwbd with\n"
-    ".SH SEE ALSO\n"
-    ".BR uwbd (8),\n"
-    ".BR uwbd\\-ctl (1);\n"
-    "the installed config.md and install\\-guide.md under /usr/share/doc/uwbd\n";
+static const char footer[] = ".SH FILES\n"
+                             ".TP\n"
+                             ".I /etc/uwbd/uwbd.json\n"
+                             "the configuration the systemd unit starts uwbd with\n"
+                             ".SH SEE ALSO\n"
+                             ".BR uwbd (8),\n"
+                             ".BR uwbd\\-ctl (1);\n"
+                             "the installed config.md and install\\-guide.md under /usr/share/doc/uwbd\n";
 
 int uwbd_config_print_keys_man(FILE *out)
 {
@@ -104,13 +103,13 @@ int uwbd_config_print_keys_man(FILE *out)
     for (char *line = strtok(markdown, "\n"); line; line = strtok(NULL, "\n")) {
         char *cells[6];
         if (strncmp(line, "|---", 4) == 0)
-            continue;   /* the table's rule */
+            continue; /* the table's rule */
         if (split_row(line, cells) != 0) {
             rc = -1;
             break;
         }
         if (strcmp(cells[0], "key") == 0)
-            continue;   /* the table's head */
+            continue; /* the table's head */
         /* key, then "type, unit, range, default: ..." on the tag line, then the meaning */
         fputs(".TP\n", out);
         put_cell(out, cells[0]);

@@ -26,7 +26,8 @@
 
 void uwbd_ctl_usage(FILE *f)
 {
-    fprintf(f,
+    fprintf(
+        f,
         "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text] COMMAND...\n"
         "\n"
         "Sends COMMAND to the running daemon and prints its reply (one JSON line).\n"
@@ -111,7 +112,8 @@ static int read_line(struct reply_reader *r, double timeout_s, char **out)
         if (got < 0 && errno == EINTR)
             continue;
         if (got <= 0) {
-            fprintf(stderr, "uwbd ctl: the daemon closed the connection%s\n", r->len ? " in the middle of a line" : "");
+            fprintf(stderr, "uwbd ctl: the daemon closed the connection%s\n",
+                    r->len ? " in the middle of a line" : "");
             return UWBD_CTL_NO_DAEMON;
         }
         r->len += (size_t)got;
@@ -159,19 +161,16 @@ static void show_progress(const char *line, int on_terminal)
 int uwbd_ctl_main(int argc, char **argv)
 {
     static const struct option longopts[] = {
-        {"socket", required_argument, 0, 's'},
-        {"config", required_argument, 0, 'c'},
-        {"timeout", required_argument, 0, 't'},
-        {"text", no_argument, 0, 'T'},
-        {"help", no_argument, 0, 'h'},
-        {0, 0, 0, 0},
+        {"socket", required_argument, 0, 's'},  {"config", required_argument, 0, 'c'},
+        {"timeout", required_argument, 0, 't'}, {"text", no_argument, 0, 'T'},
+        {"help", no_argument, 0, 'h'},          {0, 0, 0, 0},
     };
     const char *socket_path = NULL, *config_path = NULL;
     double timeout_s = 0;
     int as_text = 0;
     int c;
     /* "+": stop at the first command word, so "history 5" is not an option. */
-    opterr = 0;   /* one line of our own instead of getopt's and the usage */
+    opterr = 0; /* one line of our own instead of getopt's and the usage */
     while ((c = getopt_long(argc, argv, "+h", longopts, NULL)) != -1) {
         switch (c) {
         case 's': socket_path = optarg; break;
@@ -187,7 +186,9 @@ int uwbd_ctl_main(int argc, char **argv)
         }
         case 'T': as_text = 1; break;
         case 'h': uwbd_ctl_usage(stdout); return UWBD_CTL_OK;
-        default: uwb_cli_option_error("uwbd ctl", "uwbd ctl --help", argv, argc, longopts); return UWBD_CTL_USAGE;
+        default:
+            uwb_cli_option_error("uwbd ctl", "uwbd ctl --help", argv, argc, longopts);
+            return UWBD_CTL_USAGE;
         }
     }
     if (optind >= argc) {
@@ -286,7 +287,7 @@ int uwbd_ctl_main(int argc, char **argv)
         if (rc != 0)
             break;
         if (!acked) {
-            acked = 1;   /* the WATCH answer (an ERROR from a daemon without `watch`) */
+            acked = 1; /* the WATCH answer (an ERROR from a daemon without `watch`) */
             continue;
         }
         if (scan_progress && has_class(reply, "PROGRESS")) {

@@ -13,7 +13,8 @@
 
 void uwbd_daemon_usage(FILE *f)
 {
-    fprintf(f,
+    fprintf(
+        f,
         "usage: uwbd --config FILE [options]        run the appliance daemon (foreground)\n"
         "       uwbd --check-config FILE [options]  validate FILE with the overrides below, then exit\n"
         "       uwbd --config-keys[=man]            print every configuration key (Markdown table, or the\n"
@@ -48,8 +49,18 @@ int uwbd_wants_daemon(int argc, char **argv)
     return 0;
 }
 
-enum { OPT_CONFIG = 256, OPT_CHECK, OPT_KEYS, OPT_STATE_DIR, OPT_INTERVAL, OPT_CONSOLE, OPT_CONTROL, OPT_SET,
-       OPT_ALLOW_ROOT, OPT_SYSLOG };
+enum {
+    OPT_CONFIG = 256,
+    OPT_CHECK,
+    OPT_KEYS,
+    OPT_STATE_DIR,
+    OPT_INTERVAL,
+    OPT_CONSOLE,
+    OPT_CONTROL,
+    OPT_SET,
+    OPT_ALLOW_ROOT,
+    OPT_SYSLOG
+};
 
 static int add_override(struct uwbd_options *o, const char *key, const char *value)
 {
@@ -113,7 +124,7 @@ int uwbd_daemon_main(int argc, char **argv)
     opt.log_level = UWBD_LOG_INFO;
     const char *check = NULL;
     int keys = 0, c, bad = 0;
-    opterr = 0;   /* one line of our own instead of getopt's and the usage */
+    opterr = 0; /* one line of our own instead of getopt's and the usage */
     while ((c = getopt_long(argc, argv, "vh", longopts, NULL)) != -1) {
         switch (c) {
         case OPT_CONFIG: opt.config_path = optarg; break;
@@ -124,7 +135,8 @@ int uwbd_daemon_main(int argc, char **argv)
             } else if (strcmp(optarg, "man") == 0) {
                 keys = 2;
             } else {
-                fprintf(stderr, "uwbd: --config-keys=%s: the format is markdown or man; see uwbd --help\n", optarg);
+                fprintf(stderr, "uwbd: --config-keys=%s: the format is markdown or man; see uwbd --help\n",
+                        optarg);
                 return UWBD_EXIT_USAGE;
             }
             break;

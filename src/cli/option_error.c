@@ -80,13 +80,14 @@ void uwb_cli_option_error(const char *prog, const char *help, char *const argv[]
     for (const struct option *o = longopts; o->name; o++)
         prefixed += strncmp(o->name, name, n) == 0;
     if (prefixed > 1) {
-        fprintf(stderr, "%s: option '--%.*s' is ambiguous (%d options start so); see %s\n", prog, (int)n, name,
-                prefixed, help);
+        fprintf(stderr, "%s: option '--%.*s' is ambiguous (%d options start so); see %s\n", prog, (int)n,
+                name, prefixed, help);
         return;
     }
     const char *meant = closest_option(name, n, longopts);
     if (meant)
-        fprintf(stderr, "%s: unknown option '--%.*s' (did you mean --%s?); see %s\n", prog, (int)n, name, meant, help);
+        fprintf(stderr, "%s: unknown option '--%.*s' (did you mean --%s?); see %s\n", prog, (int)n, name,
+                meant, help);
     else
         fprintf(stderr, "%s: unknown option '--%.*s'; see %s\n", prog, (int)n, name, help);
 }

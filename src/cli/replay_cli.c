@@ -21,7 +21,8 @@
 
 void uwbd_replay_usage(FILE *f)
 {
-    fprintf(f,
+    fprintf(
+        f,
         "usage: uwbd --replay CURRENT.uwbscan [--baseline BASE.uwbscan] [--out DIR] [options]\n"
         "\n"
         "Images a recorded scan, finds the winding's lower and upper edges and, against a\n"
@@ -37,7 +38,8 @@ void uwbd_replay_usage(FILE *f)
         "                           (direct coupling), scans averaged and repeatability. Without one, the\n"
         "                           time zero is measured on FILE, as commissioning does\n"
         "  --out DIR                write the PNG images (STEM-migrated, STEM-bscan, STEM-comparison) and\n"
-        "                           the verdict line as STEM.json here (STEM: the scan id, else the file name)\n"
+        "                           the verdict line as STEM.json here (STEM: the scan id, else the file "
+        "name)\n"
         "  --migration fixed|float  migration arithmetic (default fixed: int16 samples, Q15 weights)\n"
         "  --target-z NEAR:FAR      look for the winding's face only between these ranges, metres\n"
         "                           (default: the scan's target_z_m, else 0.15:1.6)\n"
@@ -100,8 +102,8 @@ static void image_stem(const struct uwb_scan *scan, const char *path, char *stem
     size_t j = 0;
     for (size_t i = 0; src[i] && j + 1 < n; i++) {
         char c = src[i];
-        int safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                   c == '-' || c == '_' || c == '.';
+        int safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
+                   c == '_' || c == '.';
         stem[j++] = safe ? c : '_';
     }
     stem[j] = '\0';
@@ -112,8 +114,21 @@ static void image_stem(const struct uwb_scan *scan, const char *path, char *stem
         snprintf(stem, n, "scan");
 }
 
-enum { OPT_REPLAY = 256, OPT_BASELINE, OPT_OUT, OPT_MIGRATION, OPT_TARGET_Z, OPT_T0,
-       OPT_WATCH, OPT_ALARM, OPT_MAX_UNC, OPT_EDGE_FRACTION, OPT_DC_WINDOW, OPT_DC_TOLERANCE, OPT_VERSION };
+enum {
+    OPT_REPLAY = 256,
+    OPT_BASELINE,
+    OPT_OUT,
+    OPT_MIGRATION,
+    OPT_TARGET_Z,
+    OPT_T0,
+    OPT_WATCH,
+    OPT_ALARM,
+    OPT_MAX_UNC,
+    OPT_EDGE_FRACTION,
+    OPT_DC_WINDOW,
+    OPT_DC_TOLERANCE,
+    OPT_VERSION
+};
 
 /* What the appliance recorded with the baseline: BASE.json beside
  * BASE.uwbscan, when there and describing this scan. Returns 0, or
@@ -139,8 +154,9 @@ static int baseline_record(const char *path, const struct uwb_scan *scan, struct
     }
     char id[UWBD_SCAN_ID_MAX + 1];
     uwbd_safe_scan_id(scan->scan_id ? scan->scan_id : "", id, sizeof id);
-    if (strcmp(info.scan_id, id) != 0) {   /* the appliance rebuilds such a description from the scan */
-        fprintf(stderr, "uwbd: warning: %s describes baseline %s, not %s: not used; time zero measured on %s\n",
+    if (strcmp(info.scan_id, id) != 0) { /* the appliance rebuilds such a description from the scan */
+        fprintf(stderr,
+                "uwbd: warning: %s describes baseline %s, not %s: not used; time zero measured on %s\n",
                 info_path, info.scan_id, id, path);
         return 0;
     }
@@ -194,7 +210,7 @@ int uwbd_replay_main(int argc, char **argv)
     uwb_evaluate_defaults(&opt);
     double v = 0;
     int c, watch_given = 0, alarm_given = 0;
-    opterr = 0;   /* one line of our own instead of getopt's and the usage */
+    opterr = 0; /* one line of our own instead of getopt's and the usage */
     while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
         switch (c) {
         case OPT_REPLAY: replay = optarg; break;
@@ -211,7 +227,8 @@ int uwbd_replay_main(int argc, char **argv)
             char tail;
             if (sscanf(optarg, "%lf:%lf%c", &near_m, &far_m, &tail) != 2 || !(near_m >= 0.0) ||
                 !(far_m > near_m)) {
-                fprintf(stderr, "uwbd: --target-z: '%s' is not NEAR:FAR with 0 <= NEAR < FAR (metres)\n", optarg);
+                fprintf(stderr, "uwbd: --target-z: '%s' is not NEAR:FAR with 0 <= NEAR < FAR (metres)\n",
+                        optarg);
                 return EX_USAGE;
             }
             opt.analysis.has_target_z = 1;
@@ -227,7 +244,9 @@ int uwbd_replay_main(int argc, char **argv)
         case OPT_WATCH:
         case OPT_ALARM:
         case OPT_MAX_UNC: {
-            const char *name = c == OPT_WATCH ? "--watch-mm" : c == OPT_ALARM ? "--alarm-mm" : "--max-uncertainty-mm";
+            const char *name = c == OPT_WATCH   ? "--watch-mm"
+                               : c == OPT_ALARM ? "--alarm-mm"
+                                                : "--max-uncertainty-mm";
             if (parse_number(name, optarg, &v) != 0)
                 return EX_USAGE;
             if (!(v > 0.0)) {
@@ -261,8 +280,10 @@ int uwbd_replay_main(int argc, char **argv)
             if (parse_number("--direct-coupling-tolerance-ps", optarg, &v) != 0)
                 return EX_USAGE;
             if (!(v > 0.0)) {
-                fprintf(stderr, "uwbd: --direct-coupling-tolerance-ps: '%s' is not a positive number of picoseconds\n",
-                        optarg);
+                fprintf(
+                    stderr,
+                    "uwbd: --direct-coupling-tolerance-ps: '%s' is not a positive number of picoseconds\n",
+                    optarg);
                 return EX_USAGE;
             }
             opt.direct_coupling.tolerance_s = v * 1e-12;
@@ -277,13 +298,16 @@ int uwbd_replay_main(int argc, char **argv)
         return EX_USAGE;
     }
     if (!replay) {
-        fprintf(stderr, "uwbd: nothing to do: give --replay FILE, --config FILE or ctl COMMAND (see --help)\n");
+        fprintf(stderr,
+                "uwbd: nothing to do: give --replay FILE, --config FILE or ctl COMMAND (see --help)\n");
         return EX_USAGE;
     }
     if (opt.compare.thresholds.alarm_m < opt.compare.thresholds.watch_m) {
         /* Both values, and which one is a default, so the fix is plain. */
-        fprintf(stderr, "uwbd: --alarm-mm %g%s is below --watch-mm %g%s: the alarm threshold must be at least the "
-                        "watch threshold\n", opt.compare.thresholds.alarm_m * 1e3, alarm_given ? "" : " (the default)",
+        fprintf(stderr,
+                "uwbd: --alarm-mm %g%s is below --watch-mm %g%s: the alarm threshold must be at least the "
+                "watch threshold\n",
+                opt.compare.thresholds.alarm_m * 1e3, alarm_given ? "" : " (the default)",
                 opt.compare.thresholds.watch_m * 1e3, watch_given ? "" : " (the default)");
         return EX_USAGE;
     }
@@ -310,8 +334,8 @@ int uwbd_replay_main(int argc, char **argv)
     struct uwb_analysis cur_a, base_a;
     char err[512];
     rc = 0;
-    if (uwb_evaluate(&current, baseline_path ? &record : NULL, &opt, &verdict, &cur_a, &base_a,
-                     err, sizeof err) != 0) {
+    if (uwb_evaluate(&current, baseline_path ? &record : NULL, &opt, &verdict, &cur_a, &base_a, err,
+                     sizeof err) != 0) {
         fprintf(stderr, "uwbd: %s: %s\n", replay, err);
         rc = EX_SOFTWARE;
     } else {

@@ -60,11 +60,11 @@ static void verdict_line(const cJSON *v, FILE *out)
     if (number(v, "height_change_mm", &h))
         snprintf(height, sizeof height, "%+7.2f mm", h);
     else
-        snprintf(height, sizeof height, "-");   /* right-aligned under the figures' "mm" */
+        snprintf(height, sizeof height, "-"); /* right-aligned under the figures' "mm" */
     /* "*" marks a baseline change: the figures before and after it are
      * against different references. */
-    fprintf(out, "%-20s %c %-12s  ", text(v, "created", "(no time)"), cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ',
-            status);
+    fprintf(out, "%-20s %c %-12s  ", text(v, "created", "(no time)"),
+            cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ', status);
     column(out, figure, 20);
     fprintf(out, "  %10s  %s", height, text(v, "scan_id", ""));
     if (cJSON_IsTrue(item(v, "baseline_set")))
@@ -94,20 +94,22 @@ int uwbd_trend_text(const char *reply, FILE *out)
     column(out, "displacement \u00b1 1\u03c3", 20);
     fprintf(out, "  %10s  %s\n", "height chg", "scan");
     const cJSON *v;
-    cJSON_ArrayForEach(v, list)
-        verdict_line(v, out);
+    cJSON_ArrayForEach(v, list) verdict_line(v, out);
     double unreadable;
     if (number(o, "unreadable_lines", &unreadable))
-        fprintf(out, "(%.0f line%s of verdicts.jsonl could not be read)\n", unreadable, unreadable == 1 ? "" : "s");
+        fprintf(out, "(%.0f line%s of verdicts.jsonl could not be read)\n", unreadable,
+                unreadable == 1 ? "" : "s");
     double per_year, sigma, days, figures = 0;
     number(rate, "figures", &figures);
     if (number(rate, "mm_per_year", &per_year) && number(rate, "sigma_mm_per_year", &sigma) &&
         number(rate, "days", &days))
-        fprintf(out, "rate: %+.2f \u00b1 %.2f mm/year (1\u03c3) over %.1f days, %.0f figures since the last baseline change\n",
+        fprintf(out,
+                "rate: %+.2f \u00b1 %.2f mm/year (1\u03c3) over %.1f days, %.0f figures since the last "
+                "baseline change\n",
                 per_year, sigma, days, figures);
     else
-        fprintf(out, "rate: not known (%.0f dated figure%s since the last baseline change; it needs two)\n", figures,
-                figures == 1 ? "" : "s");
+        fprintf(out, "rate: not known (%.0f dated figure%s since the last baseline change; it needs two)\n",
+                figures, figures == 1 ? "" : "s");
     const char *image = text(o, "image", NULL);
     if (image)
         fprintf(out, "image: %s\n", image);

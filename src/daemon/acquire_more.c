@@ -13,14 +13,17 @@ static int pulses_of(const struct uwb_scan *s)
 int uwbd_scan_accumulate(struct uwb_scan *acc, const struct uwb_scan *add, char *err, size_t errlen)
 {
     if (acc->positions != add->positions || acc->samples != add->samples ||
-        fabs(acc->t0_s - add->t0_s) > 1e-15 || fabs(acc->sample_interval_s - add->sample_interval_s) > 1e-18) {
-        snprintf(err, errlen, "the repeated acquisition differs in its record (%d x %d) from the first (%d x %d)",
+        fabs(acc->t0_s - add->t0_s) > 1e-15 ||
+        fabs(acc->sample_interval_s - add->sample_interval_s) > 1e-18) {
+        snprintf(err, errlen,
+                 "the repeated acquisition differs in its record (%d x %d) from the first (%d x %d)",
                  add->positions, add->samples, acc->positions, acc->samples);
         return -1;
     }
     for (int k = 0; k < acc->positions; k++)
         if (fabs(acc->antenna_y_m[k] - add->antenna_y_m[k]) > 1e-4) {
-            snprintf(err, errlen, "the repeated acquisition's position %d is at %.4f m, the first's at %.4f m", k,
+            snprintf(err, errlen,
+                     "the repeated acquisition's position %d is at %.4f m, the first's at %.4f m", k,
                      add->antenna_y_m[k], acc->antenna_y_m[k]);
             return -1;
         }
@@ -72,7 +75,7 @@ int uwbd_acquisitions_needed(const struct uwb_verdict *v, double max_m, int puls
 {
     double total2 = v->uncertainty_m * v->uncertainty_m;
     double noise2 = v->current.sigma_center_noise_m * v->current.sigma_center_noise_m;
-    if (!(noise2 > 0))   /* no noise term given: take it all as noise; the fit corrects it */
+    if (!(noise2 > 0)) /* no noise term given: take it all as noise; the fit corrects it */
         noise2 = total2;
     double rest2 = total2 - noise2;
     if (rest2 < 0)
@@ -94,7 +97,7 @@ int uwbd_acquisitions_needed_fit(double sigma1, int pulses1, double sigma2, int 
         return -1;
     double scaling = (sigma1 * sigma1 - sigma2 * sigma2) / (1.0 / pulses1 - 1.0 / pulses2);
     if (!(scaling > 0))
-        return -1;   /* sigma did not fall with more pulses: more will not help */
+        return -1; /* sigma did not fall with more pulses: more will not help */
     double fixed = sigma2 * sigma2 - scaling / pulses2;
     if (fixed < 0)
         fixed = 0;

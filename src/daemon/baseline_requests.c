@@ -17,10 +17,14 @@ char *uwbd_baseline_request(struct daemon *d, int scans, int force)
     d->baseline_force = force;
     char err[1024];
     if (uwbd_baseline_pending_write(&d->store, d->baseline_scans, force, time(NULL), err, sizeof err) != 0)
-        uwbd_log(UWBD_LOG_WARNING, "baseline set: the request holds until the next good scan but is not kept "
-                                   "across a restart: %s", err);
-    uwbd_log(UWBD_LOG_NOTICE, "baseline set requested: the next good scan, averaged over %d acquisition%s, becomes "
-                              "the baseline%s", d->baseline_scans, d->baseline_scans == 1 ? "" : "s",
+        uwbd_log(UWBD_LOG_WARNING,
+                 "baseline set: the request holds until the next good scan but is not kept "
+                 "across a restart: %s",
+                 err);
+    uwbd_log(UWBD_LOG_NOTICE,
+             "baseline set requested: the next good scan, averaged over %d acquisition%s, becomes "
+             "the baseline%s",
+             d->baseline_scans, d->baseline_scans == 1 ? "" : "s",
              force ? " even if it is an alarm against the current one (force)" : "");
     return uwbd_reply_baseline(1, d->has_baseline, &d->baseline);
 }
@@ -39,8 +43,10 @@ void uwbd_baseline_requests_restore(struct daemon *d)
     d->baseline_requests = d->baseline_done + 1;
     d->baseline_scans = scans;
     d->baseline_force = force;
-    uwbd_log(UWBD_LOG_NOTICE, "baseline set (%d scan%s) pending from before the restart: the next good scan "
-                              "becomes the baseline", scans, scans == 1 ? "" : "s");
+    uwbd_log(UWBD_LOG_NOTICE,
+             "baseline set (%d scan%s) pending from before the restart: the next good scan "
+             "becomes the baseline",
+             scans, scans == 1 ? "" : "s");
 }
 
 void uwbd_baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req)
@@ -53,7 +59,8 @@ void uwbd_baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req
         req->expected = d->baseline;
 }
 
-void uwbd_baseline_request_finished(struct daemon *d, unsigned long request, const struct uwbd_cycle_result *res)
+void uwbd_baseline_request_finished(struct daemon *d, unsigned long request,
+                                    const struct uwbd_cycle_result *res)
 {
     if (res->baseline_checked) {
         if (res->fault[0] && strcmp(res->fault, d->fault) != 0)
@@ -66,11 +73,12 @@ void uwbd_baseline_request_finished(struct daemon *d, unsigned long request, con
         return;
     d->baseline_done = request;
     char err[1024];
-    if (d->baseline_requests == d->baseline_done && uwbd_baseline_pending_clear(&d->store, err, sizeof err) != 0)
+    if (d->baseline_requests == d->baseline_done &&
+        uwbd_baseline_pending_clear(&d->store, err, sizeof err) != 0)
         uwbd_log(UWBD_LOG_WARNING, "baseline: %s; the request may be applied again after a restart", err);
     if (res->baseline_set) {
-        d->has_baseline = uwbd_baseline_load(&d->store, d->cfg.evaluate.direct_coupling.window_end_s, NULL, &d->baseline,
-                                             NULL, err, sizeof err) == UWBD_BASELINE_LOADED;
+        d->has_baseline = uwbd_baseline_load(&d->store, d->cfg.evaluate.direct_coupling.window_end_s, NULL,
+                                             &d->baseline, NULL, err, sizeof err) == UWBD_BASELINE_LOADED;
         if (!d->has_baseline)
             uwbd_log(UWBD_LOG_ERR, "baseline: just set, but cannot be read back: %s", err);
     }

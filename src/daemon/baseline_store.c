@@ -147,7 +147,7 @@ int uwbd_baseline_load(const struct uwbd_store *store, double window_end_s, stru
         int e = errno;
         if (e == ENOENT && access(p.info, F_OK) != 0)
             return UWBD_BASELINE_NONE;
-        if (e == ENOENT) {   /* the scan is written first: a description alone is damage */
+        if (e == ENOENT) { /* the scan is written first: a description alone is damage */
             snprintf(err, errlen, "%s: missing, though current.json describes a baseline", p.scan);
             return UWBD_BASELINE_ERROR;
         }
@@ -168,10 +168,11 @@ int uwbd_baseline_load(const struct uwbd_store *store, double window_end_s, stru
     uwbd_safe_scan_id(parsed == 0 && scan.scan_id ? scan.scan_id : "", id, sizeof id);
     /* A scan that names another baseline than current.json is a crash between
      * the two writes (rebuilt below); the same name with other bytes is damage. */
-    if (rc == 0 && info->has_checksum && info->checksum != crc && (parsed != 0 || strcmp(info->scan_id, id) == 0)) {
+    if (rc == 0 && info->has_checksum && info->checksum != crc &&
+        (parsed != 0 || strcmp(info->scan_id, id) == 0)) {
         uwb_scan_free(&scan);
-        snprintf(err, errlen, "%s: CRC-32 %08lx, not the %08lx recorded at commissioning in current.json", p.scan,
-                 crc, info->checksum);
+        snprintf(err, errlen, "%s: CRC-32 %08lx, not the %08lx recorded at commissioning in current.json",
+                 p.scan, crc, info->checksum);
         return UWBD_BASELINE_DAMAGED;
     }
     if (parsed != 0)
@@ -194,13 +195,15 @@ int uwbd_baseline_load(const struct uwbd_store *store, double window_end_s, stru
         char own_text[64] = "none";
         if (own_dc)
             snprintf(own_text, sizeof own_text, "%.1f ps", own_arrival * 1e12);
-        uwbd_log(UWBD_LOG_WARNING, "baseline: current.json gives the direct coupling at %.1f ps, the baseline scan %s "
-                                   "itself %s; using the scan's", info->direct_coupling_s * 1e12, id, own_text);
+        uwbd_log(UWBD_LOG_WARNING,
+                 "baseline: current.json gives the direct coupling at %.1f ps, the baseline scan %s "
+                 "itself %s; using the scan's",
+                 info->direct_coupling_s * 1e12, id, own_text);
         info->has_direct_coupling = own_dc;
         info->direct_coupling_s = own_dc ? own_arrival : 0;
         rewrite = 1;
     }
-    if (!info->has_checksum) {   /* commissioned before checksums were recorded */
+    if (!info->has_checksum) { /* commissioned before checksums were recorded */
         info->has_checksum = 1;
         info->checksum = crc;
         rewrite = 1;
@@ -208,8 +211,9 @@ int uwbd_baseline_load(const struct uwbd_store *store, double window_end_s, stru
     if (rewrite) {
         char write_err[2 * UWBD_PATH_MAX];
         if (write_info(p.info, info, write_err, sizeof write_err) != 0)
-            uwbd_log(UWBD_LOG_WARNING, "baseline: current.json does not describe current.uwbscan (%s) and cannot "
-                                       "be rebuilt now: %s; using the description taken from the scan",
+            uwbd_log(UWBD_LOG_WARNING,
+                     "baseline: current.json does not describe current.uwbscan (%s) and cannot "
+                     "be rebuilt now: %s; using the description taken from the scan",
                      info->scan_id, write_err);
         else if (repaired)
             *repaired = 1;
@@ -270,7 +274,8 @@ static int move_damaged_aside(const struct uwbd_store *store, const char *set_at
             return -1;
         }
     }
-    uwbd_log(UWBD_LOG_WARNING, "baseline: the damaged baseline (%.300s) moved to baseline/history/%s.*", why, stamp);
+    uwbd_log(UWBD_LOG_WARNING, "baseline: the damaged baseline (%.300s) moved to baseline/history/%s.*", why,
+             stamp);
     return 0;
 }
 
@@ -313,7 +318,8 @@ int uwbd_baseline_watch(const struct uwbd_store *store, double window_end_s,
     struct baseline_paths p;
     current_paths(store, &p);
     if (access(p.scan, F_OK) != 0 && errno == ENOENT && (expected || access(p.info, F_OK) == 0)) {
-        snprintf(why, whylen, "baseline missing: baseline/current.uwbscan (%.100s, commissioned %.40s) is gone",
+        snprintf(why, whylen,
+                 "baseline missing: baseline/current.uwbscan (%.100s, commissioned %.40s) is gone",
                  expected ? expected->scan_id : "described by current.json",
                  expected && expected->set_at[0] ? expected->set_at : "earlier");
         return UWBD_BASELINE_FAULT;
@@ -322,16 +328,16 @@ int uwbd_baseline_watch(const struct uwbd_store *store, double window_end_s,
     int repaired = 0;
     int rc = uwbd_baseline_load(store, window_end_s, scan, info, &repaired, err, sizeof err);
     if (repaired)
-        uwbd_log(UWBD_LOG_WARNING, "baseline/current.json did not describe current.uwbscan; rebuilt it from the scan");
+        uwbd_log(UWBD_LOG_WARNING,
+                 "baseline/current.json did not describe current.uwbscan; rebuilt it from the scan");
     switch (rc) {
-    case UWBD_BASELINE_NONE:   /* nothing commissioned, nothing expected (checked above) */
+    case UWBD_BASELINE_NONE: /* nothing commissioned, nothing expected (checked above) */
         return UWBD_BASELINE_NONE;
     case UWBD_BASELINE_ERROR:
     case UWBD_BASELINE_DAMAGED:
         snprintf(why, whylen, "baseline damaged: %.400s", err);
         return UWBD_BASELINE_FAULT;
-    default:
-        break;
+    default: break;
     }
     if (expected && expected->has_checksum &&
         (strcmp(expected->scan_id, info->scan_id) != 0 || expected->checksum != info->checksum)) {
@@ -345,8 +351,8 @@ int uwbd_baseline_watch(const struct uwbd_store *store, double window_end_s,
     return UWBD_BASELINE_LOADED;
 }
 
-int uwbd_baseline_pending_write(const struct uwbd_store *store, int scans, int force, time_t requested, char *err,
-                                size_t errlen)
+int uwbd_baseline_pending_write(const struct uwbd_store *store, int scans, int force, time_t requested,
+                                char *err, size_t errlen)
 {
     struct baseline_paths p;
     current_paths(store, &p);
@@ -357,7 +363,8 @@ int uwbd_baseline_pending_write(const struct uwbd_store *store, int scans, int f
     return uwbd_write_json_file(p.pending, text, err, errlen);
 }
 
-int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, int *force, char *err, size_t errlen)
+int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, int *force, char *err,
+                               size_t errlen)
 {
     struct baseline_paths p;
     current_paths(store, &p);
@@ -373,9 +380,9 @@ int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, int *
     if (ok) {
         *scans = (int)n->valuedouble;
         *force = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(o, "force"));
-    }
-    else
-        snprintf(err, errlen, "%s: not a pending `baseline set` (scans 1..%d)", p.pending, UWBD_BASELINE_SCANS_MAX);
+    } else
+        snprintf(err, errlen, "%s: not a pending `baseline set` (scans 1..%d)", p.pending,
+                 UWBD_BASELINE_SCANS_MAX);
     cJSON_Delete(o);
     return ok ? 1 : -1;
 }

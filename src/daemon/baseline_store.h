@@ -11,19 +11,19 @@
 #include "uwb/scan.h"
 
 /* `baseline set N`: at most this many scans averaged into one baseline. */
-#define UWBD_BASELINE_SCANS_MAX 16   /* = UWB_BASELINE_SCANS_MAX of command.h */
+#define UWBD_BASELINE_SCANS_MAX 16 /* = UWB_BASELINE_SCANS_MAX of command.h */
 
 struct uwbd_baseline_info {
     char scan_id[UWBD_SCAN_ID_MAX + 1];
-    char created[64];                  /* when the baseline scan was taken */
-    char set_at[64];                   /* when it became the baseline */
+    char created[64]; /* when the baseline scan was taken */
+    char set_at[64];  /* when it became the baseline */
     int has_direct_coupling;
-    double direct_coupling_s;          /* time zero recorded at commissioning */
+    double direct_coupling_s; /* time zero recorded at commissioning */
     int has_checksum;
-    unsigned long checksum;            /* CRC-32 of current.uwbscan's bytes, recorded at commissioning */
-    int scans;                         /* acquisitions averaged into it (0: not recorded, one) */
+    unsigned long checksum; /* CRC-32 of current.uwbscan's bytes, recorded at commissioning */
+    int scans;              /* acquisitions averaged into it (0: not recorded, one) */
     int has_repeatability;
-    double repeatability_m;            /* spread (1-sigma) of the centre across those scans */
+    double repeatability_m; /* spread (1-sigma) of the centre across those scans */
 };
 
 /* Read a baseline description (current.json, history/ID.json): 0 read, 1
@@ -32,10 +32,10 @@ int uwbd_baseline_info_read(const char *path, struct uwbd_baseline_info *info, c
 
 enum uwbd_baseline_result {
     UWBD_BASELINE_LOADED = 0,
-    UWBD_BASELINE_NONE = 1,            /* never set */
+    UWBD_BASELINE_NONE = 1, /* never set */
     UWBD_BASELINE_ERROR = -1,
-    UWBD_BASELINE_DAMAGED = -2,        /* readable, but not the bytes commissioned (checksum) */
-    UWBD_BASELINE_FAULT = -3,          /* uwbd_baseline_watch: missing, damaged or replaced */
+    UWBD_BASELINE_DAMAGED = -2, /* readable, but not the bytes commissioned (checksum) */
+    UWBD_BASELINE_FAULT = -3,   /* uwbd_baseline_watch: missing, damaged or replaced */
 };
 
 /* Read baseline/current.uwbscan and current.json. current.uwbscan is the
@@ -71,9 +71,10 @@ int uwbd_baseline_watch(const struct uwbd_store *store, double window_end_s,
  * that a restart does not forget it. read: 1 and *scans when one is
  * pending (and *force: `baseline set force`), 0 when none, -1 unreadable
  * (err; treated as none). */
-int uwbd_baseline_pending_write(const struct uwbd_store *store, int scans, int force, time_t requested, char *err,
-                                size_t errlen);
-int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, int *force, char *err, size_t errlen);
+int uwbd_baseline_pending_write(const struct uwbd_store *store, int scans, int force, time_t requested,
+                                char *err, size_t errlen);
+int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, int *force, char *err,
+                               size_t errlen);
 int uwbd_baseline_pending_clear(const struct uwbd_store *store, char *err, size_t errlen);
 
 #endif

@@ -14,21 +14,27 @@ const struct uwb_command_help uwb_command_help[] = {
     {"scan", "scan now; the reply is that scan's verdict"},
     {"verdict", "the latest verdict"},
     {"history [N]", "the last N verdicts, oldest first (N 1..100, default 10)"},
-    {"trend [N]", "the last N verdicts (N 1..100, default 20) as a series: time, status, displacement +/- 1 sigma, "
-                  "height change, baseline changes, the rate of change since the last baseline change, and the "
-                  "trend image"},
-    {"baseline set [N]", "the next good scan, averaged over N acquisitions (1..16; default baseline.scans), becomes "
-                         "the baseline (the old one is kept in baseline/history)"},
-    {"baseline set force", "the same, also when the scan is an alarm against the current baseline (after a repair "
-                           "that moved the winding); logged"},
-    {"watch", "stream PROGRESS lines (position k of N, elapsed, time left) while scanning and a VERDICT line for "
-              "every verdict to this connection, until it closes; gpsd's ?WATCH={\"enable\":true} is the same"},
+    {"trend [N]",
+     "the last N verdicts (N 1..100, default 20) as a series: time, status, displacement +/- 1 sigma, "
+     "height change, baseline changes, the rate of change since the last baseline change, and the "
+     "trend image"},
+    {"baseline set [N]",
+     "the next good scan, averaged over N acquisitions (1..16; default baseline.scans), becomes "
+     "the baseline (the old one is kept in baseline/history)"},
+    {"baseline set force",
+     "the same, also when the scan is an alarm against the current baseline (after a repair "
+     "that moved the winding); logged"},
+    {"watch",
+     "stream PROGRESS lines (position k of N, elapsed, time left) while scanning and a VERDICT line for "
+     "every verdict to this connection, until it closes; gpsd's ?WATCH={\"enable\":true} is the same"},
     {"watch progress", "stream PROGRESS lines only (what `uwbd ctl scan` asks for its progress bar)"},
     {"watch off", "stop the stream"},
-    {"ack", "acknowledge the alarm contacts: a latched watch or alarm contact falls back to what the latest verdict "
-            "calls for"},
-    {"event", "a through-fault (or another event) happened: scan as soon as the running scan ends; the verdict says "
-              "\"trigger\": \"event\""},
+    {"ack",
+     "acknowledge the alarm contacts: a latched watch or alarm contact falls back to what the latest verdict "
+     "calls for"},
+    {"event",
+     "a through-fault (or another event) happened: scan as soon as the running scan ends; the verdict says "
+     "\"trigger\": \"event\""},
     {"help", "this list"},
 };
 const size_t uwb_command_help_count = sizeof uwb_command_help / sizeof uwb_command_help[0];
@@ -91,10 +97,14 @@ static int parse_gpsd_watch(const char *line, size_t len, struct uwb_command *ou
     struct uwb_command cmd = {.kind = UWB_COMMAND_WATCH};
     if (strcmp(compact, "?WATCH={\"enable\":true}") == 0 || strcmp(compact, "?WATCH={\"enable\":true};") == 0)
         cmd.watch = 1;
-    else if (strcmp(compact, "?WATCH={\"enable\":false}") == 0 || strcmp(compact, "?WATCH={\"enable\":false};") == 0)
+    else if (strcmp(compact, "?WATCH={\"enable\":false}") == 0 ||
+             strcmp(compact, "?WATCH={\"enable\":false};") == 0)
         cmd.watch = 0;
     else {
-        set_error(err, errlen, "?WATCH: only gpsd's ?WATCH={\"enable\":true} or {\"enable\":false} is understood (or say `watch`)", NULL);
+        set_error(err, errlen,
+                  "?WATCH: only gpsd's ?WATCH={\"enable\":true} or {\"enable\":false} is understood (or say "
+                  "`watch`)",
+                  NULL);
         return UWB_COMMAND_INVALID;
     }
     *out = cmd;
@@ -202,7 +212,8 @@ int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, cha
         }
     } else if (strcmp(verb, "baseline") == 0) {
         if (n_words < 2 || strcmp(words[1], "set") != 0) {
-            set_error(err, errlen, "say `baseline set` (or `baseline set N`) to make the next good scan the baseline",
+            set_error(err, errlen,
+                      "say `baseline set` (or `baseline set N`) to make the next good scan the baseline",
                       NULL);
             return UWB_COMMAND_INVALID;
         }
@@ -210,9 +221,12 @@ int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, cha
         max_args = 2;
         if (n_words == 3 && strcmp(words[2], "force") == 0)
             cmd.force = 1;
-        else if (n_words == 3 && (parse_count(words[2], &cmd.count) != 0 || cmd.count > UWB_BASELINE_SCANS_MAX)) {
-            set_error(err, errlen, "baseline set: N (scans to average) must be a whole number from 1 to 16, or `force`, not",
-                      words[2]);
+        else if (n_words == 3 &&
+                 (parse_count(words[2], &cmd.count) != 0 || cmd.count > UWB_BASELINE_SCANS_MAX)) {
+            set_error(
+                err, errlen,
+                "baseline set: N (scans to average) must be a whole number from 1 to 16, or `force`, not",
+                words[2]);
             return UWB_COMMAND_INVALID;
         }
     } else {

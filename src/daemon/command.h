@@ -15,30 +15,30 @@
 #define UWB_BASELINE_SCANS_MAX 16
 
 enum uwb_command_kind {
-    UWB_COMMAND_STATUS,        /* status         daemon state, baseline, last verdict */
-    UWB_COMMAND_SCAN,          /* scan           scan now; the reply is its verdict */
-    UWB_COMMAND_VERDICT,       /* verdict        the latest verdict */
-    UWB_COMMAND_HISTORY,       /* history [N]    the last N verdicts, newest last */
-    UWB_COMMAND_BASELINE_SET,  /* baseline set   the next good scan becomes the baseline */
-    UWB_COMMAND_HELP,          /* help           the commands */
-    UWB_COMMAND_WATCH,         /* watch [off|progress], ?WATCH={"enable":true}  stream PROGRESS and VERDICT lines */
-    UWB_COMMAND_TREND,         /* trend [N]      the last N verdicts as a displacement series, with its rate */
-    UWB_COMMAND_ACK,           /* ack            latched alarm contacts fall back to the latest verdict */
-    UWB_COMMAND_EVENT,         /* event          a through-fault happened: scan as soon as the running one ends */
+    UWB_COMMAND_STATUS,       /* status         daemon state, baseline, last verdict */
+    UWB_COMMAND_SCAN,         /* scan           scan now; the reply is its verdict */
+    UWB_COMMAND_VERDICT,      /* verdict        the latest verdict */
+    UWB_COMMAND_HISTORY,      /* history [N]    the last N verdicts, newest last */
+    UWB_COMMAND_BASELINE_SET, /* baseline set   the next good scan becomes the baseline */
+    UWB_COMMAND_HELP,         /* help           the commands */
+    UWB_COMMAND_WATCH, /* watch [off|progress], ?WATCH={"enable":true}  stream PROGRESS and VERDICT lines */
+    UWB_COMMAND_TREND, /* trend [N]      the last N verdicts as a displacement series, with its rate */
+    UWB_COMMAND_ACK,   /* ack            latched alarm contacts fall back to the latest verdict */
+    UWB_COMMAND_EVENT, /* event          a through-fault happened: scan as soon as the running one ends */
     /* EVENT is the last kind: tests/fuzz/fuzz_command.c checks kinds against it. */
 };
 
 struct uwb_command {
     enum uwb_command_kind kind;
-    int count;                 /* history, trend: how many; baseline set: scans to average (0 = the configured default) */
-    int force;                 /* baseline set force: also on a scan that is an alarm against the current baseline */
-    int watch;                 /* watch: 1 PROGRESS and VERDICT lines, 2 PROGRESS only, 0 off */
+    int count; /* history, trend: how many; baseline set: scans to average (0 = the configured default) */
+    int force; /* baseline set force: also on a scan that is an alarm against the current baseline */
+    int watch; /* watch: 1 PROGRESS and VERDICT lines, 2 PROGRESS only, 0 off */
 };
 
 enum uwb_command_result {
     UWB_COMMAND_OK = 0,
-    UWB_COMMAND_EMPTY = 1,     /* blank line: nothing to do, no reply */
-    UWB_COMMAND_INVALID = -1,  /* err says why */
+    UWB_COMMAND_EMPTY = 1,    /* blank line: nothing to do, no reply */
+    UWB_COMMAND_INVALID = -1, /* err says why */
 };
 
 /* Parse one line (a trailing "\n" or "\r\n" is allowed; no other control

@@ -26,7 +26,7 @@ struct load_context {
     const char *name;
     char *err;
     size_t errlen;
-    unsigned char seen[128];   /* per table key: given in the file or an override */
+    unsigned char seen[128]; /* per table key: given in the file or an override */
 };
 
 static void fail(struct load_context *ctx, const char *key, const char *fmt, ...)
@@ -91,17 +91,22 @@ static void *field(struct uwbd_config *cfg, const struct config_key *k)
 
 static const char *json_type_name(const cJSON *v)
 {
-    if (cJSON_IsString(v)) return "a string";
-    if (cJSON_IsNumber(v)) return "a number";
-    if (cJSON_IsBool(v)) return "true/false";
-    if (cJSON_IsNull(v)) return "null";
-    if (cJSON_IsArray(v)) return "an array";
-    if (cJSON_IsObject(v)) return "an object";
+    if (cJSON_IsString(v))
+        return "a string";
+    if (cJSON_IsNumber(v))
+        return "a number";
+    if (cJSON_IsBool(v))
+        return "true/false";
+    if (cJSON_IsNull(v))
+        return "null";
+    if (cJSON_IsArray(v))
+        return "an array";
+    if (cJSON_IsObject(v))
+        return "an object";
     return "something else";
 }
 
-static int check_text(struct load_context *ctx, const struct config_key *k, const char *s,
-                      size_t size)
+static int check_text(struct load_context *ctx, const struct config_key *k, const char *s, size_t size)
 {
     size_t n = strlen(s);
     if (n >= size) {
@@ -157,7 +162,7 @@ static int set_gpio_line(struct load_context *ctx, const struct config_key *k, c
                          struct uwbd_config *cfg)
 {
     size_t line = k->size;
-    struct uwb_gpio_config *gpio = field(cfg, k);   /* the rig's or the site's */
+    struct uwb_gpio_config *gpio = field(cfg, k); /* the rig's or the site's */
     if (cJSON_IsNumber(v)) {
         double d = v->valuedouble;
         if (d != floor(d) || d < 0 || d > 1023) {
@@ -179,8 +184,7 @@ static int set_gpio_line(struct load_context *ctx, const struct config_key *k, c
         snprintf(gpio->name[line], sizeof gpio->name[line], "%s", v->valuestring);
         return 0;
     }
-    fail(ctx, k->path, "expected a line offset (integer) or a line name (string), got %s",
-         json_type_name(v));
+    fail(ctx, k->path, "expected a line offset (integer) or a line name (string), got %s", json_type_name(v));
     return -1;
 }
 
@@ -250,8 +254,8 @@ static int set_value(struct load_context *ctx, const struct config_key *k, const
         *(int *)field(cfg, k) = cJSON_IsTrue(v);
         return 0;
     case KEY_PAIR: {
-        if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2 ||
-            !cJSON_IsNumber(cJSON_GetArrayItem(v, 0)) || !cJSON_IsNumber(cJSON_GetArrayItem(v, 1))) {
+        if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2 || !cJSON_IsNumber(cJSON_GetArrayItem(v, 0)) ||
+            !cJSON_IsNumber(cJSON_GetArrayItem(v, 1))) {
             fail(ctx, k->path, "expected two numbers [a, b]%s%s", k->unit[0] ? " in " : "", k->unit);
             return -1;
         }
@@ -266,8 +270,7 @@ static int set_value(struct load_context *ctx, const struct config_key *k, const
             *(int *)((char *)cfg + k->flag_offset) = 1;
         return 0;
     }
-    case KEY_GPIO_LINE:
-        return set_gpio_line(ctx, k, v, cfg);
+    case KEY_GPIO_LINE: return set_gpio_line(ctx, k, v, cfg);
     }
     fail(ctx, k->path, "internal error: unknown key type");
     return -1;
@@ -370,8 +373,8 @@ static int apply_override(struct load_context *ctx, cJSON *root, const struct uw
             next = cJSON_AddObjectToObject(obj, part);
         } else if (!cJSON_IsObject(next)) {
             cJSON_Delete(value);
-            snprintf(ctx->err, ctx->errlen, "override: key `%s`: the file has a value, not a section, on the way",
-                     shown);
+            snprintf(ctx->err, ctx->errlen,
+                     "override: key `%s`: the file has a value, not a section, on the way", shown);
             return -1;
         }
         if (!next) {
@@ -405,11 +408,12 @@ static int check_endpoint(struct load_context *ctx, const char *key, const char 
  * and trims delete inside state_dir, so it must be a directory of its own
  * (e.g. /var/lib/uwbd). */
 static const char *const system_directories[] = {
-    "/", "/bin", "/boot", "/dev", "/etc", "/home", "/lib", "/lib32", "/lib64", "/libx32", "/media",
-    "/mnt", "/opt", "/proc", "/root", "/run", "/sbin", "/srv", "/sys", "/tmp", "/usr", "/usr/bin",
-    "/usr/include", "/usr/lib", "/usr/libexec", "/usr/local", "/usr/sbin", "/usr/share", "/usr/src",
-    "/var", "/var/backups", "/var/cache", "/var/lib", "/var/local", "/var/lock", "/var/log",
-    "/var/mail", "/var/opt", "/var/run", "/var/spool", "/var/tmp",
+    "/",        "/bin",         "/boot",        "/dev",         "/etc",       "/home",      "/lib",
+    "/lib32",   "/lib64",       "/libx32",      "/media",       "/mnt",       "/opt",       "/proc",
+    "/root",    "/run",         "/sbin",        "/srv",         "/sys",       "/tmp",       "/usr",
+    "/usr/bin", "/usr/include", "/usr/lib",     "/usr/libexec", "/usr/local", "/usr/sbin",  "/usr/share",
+    "/usr/src", "/var",         "/var/backups", "/var/cache",   "/var/lib",   "/var/local", "/var/lock",
+    "/var/log", "/var/mail",    "/var/opt",     "/var/run",     "/var/spool", "/var/tmp",
 };
 
 /* path made lexically canonical: repeated and trailing slashes dropped,
@@ -483,8 +487,8 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
         return -1;
     }
     for (size_t i = 0; libgpiod && i < uwbd_config_key_total; i++)
-        if (uwbd_config_keys[i].type == KEY_GPIO_LINE && uwbd_config_keys[i].offset == offsetof(struct uwbd_config, rig.gpio) &&
-            !ctx->seen[i]) {
+        if (uwbd_config_keys[i].type == KEY_GPIO_LINE &&
+            uwbd_config_keys[i].offset == offsetof(struct uwbd_config, rig.gpio) && !ctx->seen[i]) {
             fail(ctx, uwbd_config_keys[i].path, "missing: required with the libgpiod backend (%s)",
                  uwbd_config_keys[i].doc);
             return -1;
@@ -500,7 +504,8 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
     if (cfg->console_endpoint[0] && check_endpoint(ctx, "console.endpoint", cfg->console_endpoint) != 0)
         return -1;
     if (cfg->modbus.enabled && !cfg->modbus.endpoint[0]) {
-        fail(ctx, "modbus.endpoint", "missing: required when modbus.enabled is true (serial:/dev/ttyX, tcp:HOST:PORT)");
+        fail(ctx, "modbus.endpoint",
+             "missing: required when modbus.enabled is true (serial:/dev/ttyX, tcp:HOST:PORT)");
         return -1;
     }
     if (cfg->modbus.endpoint[0] && check_endpoint(ctx, "modbus.endpoint", cfg->modbus.endpoint) != 0)
@@ -512,7 +517,8 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
     const char *system_dir = names_system_directory(cfg->state_dir);
     if (system_dir) {
         fail(ctx, "state_dir",
-             "\"%s\" is %s, which holds other files: uwbd deletes inside its state directory, so give it one of its own (e.g. /var/lib/uwbd)",
+             "\"%s\" is %s, which holds other files: uwbd deletes inside its state directory, so give it one "
+             "of its own (e.g. /var/lib/uwbd)",
              cfg->state_dir, strcmp(system_dir, cfg->state_dir) == 0 ? "a system directory" : system_dir);
         return -1;
     }
@@ -535,14 +541,15 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
         return -1;
     }
     if ((r->positions - 1) * r->step_mm > UWBSCAN_MAX_TRAVEL_M * 1e3) {
-        fail(ctx, "scan.positions", "%d positions %g mm apart span %g mm, over the largest travel a scan file may hold (%g mm)",
+        fail(ctx, "scan.positions",
+             "%d positions %g mm apart span %g mm, over the largest travel a scan file may hold (%g mm)",
              r->positions, r->step_mm, (r->positions - 1) * r->step_mm, UWBSCAN_MAX_TRAVEL_M * 1e3);
         return -1;
     }
     if (last > highest + 1e-9) {
         fail(ctx, "scan.positions",
-             "the last position, %g mm, lies beyond the travel (home_offset_mm + travel_mm = %g mm)",
-             last, highest);
+             "the last position, %g mm, lies beyond the travel (home_offset_mm + travel_mm = %g mm)", last,
+             highest);
         return -1;
     }
     if (c->park_mm > c->travel_mm) {
@@ -555,12 +562,13 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
         return -1;
     }
     if (r->carriage.home_rate_hz > r->carriage.max_rate_hz) {
-        fail(ctx, "carriage.home_rate_hz", "%g Hz is above carriage.max_rate_hz (%g Hz)", r->carriage.home_rate_hz,
-             r->carriage.max_rate_hz);
+        fail(ctx, "carriage.home_rate_hz", "%g Hz is above carriage.max_rate_hz (%g Hz)",
+             r->carriage.home_rate_hz, r->carriage.max_rate_hz);
         return -1;
     }
     if (!(cfg->evaluate.direct_coupling.window_end_s > r->digitiser.t0_s)) {
-        fail(ctx, "direct_coupling.window_end_ns", "%g ns is not after the first sample (digitiser.t0_ps = %g ps)",
+        fail(ctx, "direct_coupling.window_end_ns",
+             "%g ns is not after the first sample (digitiser.t0_ps = %g ps)",
              cfg->evaluate.direct_coupling.window_end_s * 1e9, r->digitiser.t0_s * 1e12);
         return -1;
     }
@@ -594,9 +602,8 @@ static void locate(const char *text, size_t offset, int *line, int *column)
     }
 }
 
-int uwbd_config_parse(const char *text, size_t len, const char *name,
-                      const struct uwbd_override *overrides, size_t n_overrides,
-                      struct uwbd_config *cfg, char *err, size_t errlen)
+int uwbd_config_parse(const char *text, size_t len, const char *name, const struct uwbd_override *overrides,
+                      size_t n_overrides, struct uwbd_config *cfg, char *err, size_t errlen)
 {
     struct load_context ctx = {.name = name ? name : "(config)", .err = err, .errlen = errlen};
     apply_defaults(cfg);
@@ -671,9 +678,7 @@ static void print_default(FILE *out, const struct config_key *k)
     case KEY_STRING:
     case KEY_CHOICE:
     case KEY_MIGRATION:
-    case KEY_FILE_MODE:
-        fprintf(out, "`\"%s\"`", k->default_text ? k->default_text : "");
-        break;
+    case KEY_FILE_MODE: fprintf(out, "`\"%s\"`", k->default_text ? k->default_text : ""); break;
     case KEY_BOOL: fputs(k->default_number != 0 ? "`true`" : "`false`", out); break;
     case KEY_NUMBER:
     case KEY_INT: fprintf(out, "`%g`", k->default_number); break;

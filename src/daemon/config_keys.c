@@ -20,47 +20,73 @@
 #define SIZE(member) sizeof(((struct uwbd_config *)0)->member)
 
 #define STRING(p, m, def, text) \
-    { .path = p, .type = KEY_STRING, .offset = AT(m), .size = SIZE(m), .scale = 1, \
-      .default_text = def, .unit = "", .doc = text }
+    { \
+        .path = p, .type = KEY_STRING, .offset = AT(m), .size = SIZE(m), .scale = 1, .default_text = def, \
+        .unit = "", .doc = text \
+    }
 #define REQUIRED_STRING(p, m, text) \
-    { .path = p, .type = KEY_STRING, .offset = AT(m), .size = SIZE(m), .scale = 1, .required = 1, \
-      .unit = "", .doc = text }
+    { \
+        .path = p, .type = KEY_STRING, .offset = AT(m), .size = SIZE(m), .scale = 1, .required = 1, \
+        .unit = "", .doc = text \
+    }
 /* A number in [lo, hi] (ABOVE: in (lo, hi]), written in `u`, stored times `sc`. */
 #define NUMBER(p, m, u, sc, lo, hi, def, text) \
-    { .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
-      .default_number = def, .unit = u, .doc = text }
+    { \
+        .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
+        .default_number = def, .unit = u, .doc = text \
+    }
 #define NUMBER_ABOVE(p, m, u, sc, lo, hi, def, text) \
-    { .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
-      .min_exclusive = 1, .default_number = def, .unit = u, .doc = text }
+    { \
+        .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
+        .min_exclusive = 1, .default_number = def, .unit = u, .doc = text \
+    }
 #define REQUIRED_NUMBER(p, m, u, sc, lo, hi, text) \
-    { .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
-      .required = 1, .unit = u, .doc = text }
+    { \
+        .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, .required = 1, \
+        .unit = u, .doc = text \
+    }
 #define REQUIRED_NUMBER_ABOVE(p, m, u, sc, lo, hi, text) \
-    { .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
-      .min_exclusive = 1, .required = 1, .unit = u, .doc = text }
+    { \
+        .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
+        .min_exclusive = 1, .required = 1, .unit = u, .doc = text \
+    }
 #define INTEGER(p, m, u, lo, hi, def, text) \
-    { .path = p, .type = KEY_INT, .offset = AT(m), .scale = 1, .min = lo, .max = hi, \
-      .default_number = def, .unit = u, .doc = text }
+    { \
+        .path = p, .type = KEY_INT, .offset = AT(m), .scale = 1, .min = lo, .max = hi, \
+        .default_number = def, .unit = u, .doc = text \
+    }
 #define REQUIRED_INTEGER(p, m, lo, hi, text) \
-    { .path = p, .type = KEY_INT, .offset = AT(m), .scale = 1, .min = lo, .max = hi, \
-      .required = 1, .unit = "", .doc = text }
+    { \
+        .path = p, .type = KEY_INT, .offset = AT(m), .scale = 1, .min = lo, .max = hi, .required = 1, \
+        .unit = "", .doc = text \
+    }
 #define BOOLEAN(p, m, def, text) \
-    { .path = p, .type = KEY_BOOL, .offset = AT(m), .scale = 1, .max = 1, .default_number = def, \
-      .unit = "", .doc = text }
+    { \
+        .path = p, .type = KEY_BOOL, .offset = AT(m), .scale = 1, .max = 1, .default_number = def, \
+        .unit = "", .doc = text \
+    }
 /* Required with the libgpiod backend (config.c checks); the emulated board ignores them. */
 #define GPIO_LINE(p, line, text) \
-    { .path = p, .type = KEY_GPIO_LINE, .offset = AT(rig.gpio), .size = line, .scale = 1, .max = INT_MAX, \
-      .unit = "", .doc = text }
+    { \
+        .path = p, .type = KEY_GPIO_LINE, .offset = AT(rig.gpio), .size = line, .scale = 1, .max = INT_MAX, \
+        .unit = "", .doc = text \
+    }
 /* A line of the site's own GPIO handle (alarm contacts, event input). */
 #define SITE_LINE(p, line, when, text) \
-    { .path = p, .type = KEY_GPIO_LINE, .offset = AT(site.io), .size = line, .scale = 1, .max = INT_MAX, \
-      .default_text = when, .unit = "", .doc = text }
+    { \
+        .path = p, .type = KEY_GPIO_LINE, .offset = AT(site.io), .size = line, .scale = 1, .max = INT_MAX, \
+        .default_text = when, .unit = "", .doc = text \
+    }
 #define REQUIRED_PAIR(p, m, u, sc, lo, hi, text) \
-    { .path = p, .type = KEY_PAIR, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
-      .required = 1, .unit = u, .doc = text }
+    { \
+        .path = p, .type = KEY_PAIR, .offset = AT(m), .scale = sc, .min = lo, .max = hi, .required = 1, \
+        .unit = u, .doc = text \
+    }
 #define OPTIONAL_PAIR(p, m, flag, u, sc, lo, hi, text) \
-    { .path = p, .type = KEY_PAIR, .offset = AT(m), .flag_offset = AT(flag), .scale = sc, \
-      .min = lo, .max = hi, .unit = u, .doc = text }
+    { \
+        .path = p, .type = KEY_PAIR, .offset = AT(m), .flag_offset = AT(flag), .scale = sc, .min = lo, \
+        .max = hi, .unit = u, .doc = text \
+    }
 // NOLINTEND(bugprone-macro-parentheses)
 
 static const char *const gpio_backends[] = {"libgpiod", "emulated", NULL};
@@ -68,10 +94,12 @@ static const char *const gpio_backends[] = {"libgpiod", "emulated", NULL};
 const struct config_key uwbd_config_keys[] = {
     STRING("site.asset_id", site.asset_id, "",
            "the transformer's name in the utility's asset register (letters, digits, . _ - ; at most 63); in "
-           "every verdict as asset_id when set; required once any integration (contacts, event, prometheus, mqtt) is on"),
+           "every verdict as asset_id when set; required once any integration (contacts, event, prometheus, "
+           "mqtt) is on"),
     STRING("state_dir", state_dir, "/var/lib/uwbd",
            "directory of the archive, verdicts.jsonl, latest.json and the baseline (board/state-dir.md); "
-           "created if missing; a relative path is taken from the daemon's working directory; a directory of its "
+           "created if missing; a relative path is taken from the daemon's working directory; a directory of "
+           "its "
            "own: / and system directories (/etc, /home, /usr, /var, /var/lib, ...) are refused"),
     BOOLEAN("allow_root", allow_root, 0,
             "let the daemon run as root; without it uwbd refuses to start as root (exit 77)"),
@@ -89,9 +117,14 @@ const struct config_key uwbd_config_keys[] = {
 
     STRING("control.socket", control_socket, UWBD_DEFAULT_CONTROL_SOCKET,
            "path of the local control socket that `uwbd ctl` talks to (at most 107 bytes)"),
-    { .path = "control.mode", .type = KEY_FILE_MODE, .offset = AT(control_mode), .scale = 1,
-      .default_text = "0660", .unit = "", .doc = "permissions of the control socket, octal; the owner "
-      "needs read and write, others may have nothing" },
+    {.path = "control.mode",
+     .type = KEY_FILE_MODE,
+     .offset = AT(control_mode),
+     .scale = 1,
+     .default_text = "0660",
+     .unit = "",
+     .doc = "permissions of the control socket, octal; the owner "
+            "needs read and write, others may have nothing"},
     STRING("control.group", control_group, "",
            "group owning the control socket (engineers in it may use `uwbd ctl`); "
            "empty = the daemon's own group"),
@@ -100,15 +133,22 @@ const struct config_key uwbd_config_keys[] = {
            "serial console for line commands: serial:/dev/ttyS0?baud=115200, or tcp:HOST:PORT / "
            "unix:PATH, which uwbd connects to; empty = no console"),
 
-    { .path = "gpio.backend", .type = KEY_CHOICE, .offset = AT(rig.gpio.backend),
-      .size = SIZE(rig.gpio.backend), .scale = 1, .required = 1, .unit = "", .choices = gpio_backends,
-      .doc = "libgpiod (a /dev/gpiochip*) or emulated (the emulated board's GPIO socket)" },
+    {.path = "gpio.backend",
+     .type = KEY_CHOICE,
+     .offset = AT(rig.gpio.backend),
+     .size = SIZE(rig.gpio.backend),
+     .scale = 1,
+     .required = 1,
+     .unit = "",
+     .choices = gpio_backends,
+     .doc = "libgpiod (a /dev/gpiochip*) or emulated (the emulated board's GPIO socket)"},
     STRING("gpio.chip", rig.gpio.chip, "",
            "libgpiod: the chip's label, name (gpiochip0) or path; required with that backend"),
     STRING("gpio.endpoint", rig.gpio.endpoint, "",
            "emulated: unix:PATH or tcp:HOST:PORT of the emulated board; required with that backend"),
-    GPIO_LINE("gpio.lines.trigger", UWB_LINE_TRIGGER,
-              "pulser trigger output: line offset (integer) or line name (string); libgpiod only, required there"),
+    GPIO_LINE(
+        "gpio.lines.trigger", UWB_LINE_TRIGGER,
+        "pulser trigger output: line offset (integer) or line name (string); libgpiod only, required there"),
     GPIO_LINE("gpio.lines.step", UWB_LINE_STEP, "stepper driver STEP output: offset or name"),
     GPIO_LINE("gpio.lines.dir", UWB_LINE_DIR, "stepper driver DIR output (high = up): offset or name"),
     GPIO_LINE("gpio.lines.enable", UWB_LINE_ENABLE,
@@ -174,11 +214,17 @@ const struct config_key uwbd_config_keys[] = {
                      "antenna positions per scan (K)"),
     REQUIRED_NUMBER("scan.first_position_mm", rig.first_position_mm, "mm", 1, -1e5, 1e5,
                     "height of position 0 in scan coordinates"),
-    { .path = "scan.step_mm", .type = KEY_NUMBER, .offset = AT(rig.step_mm), .scale = 1,
-      .min = UWBSCAN_MIN_STEP_M * 1e3, .max = UWBSCAN_MAX_TRAVEL_M * 1e3, .required = 1, .unit = "mm",
-      .below_min_why = "under the smallest step a scan file may hold (1 mm, uwb/scan.h)",
-      .doc = "spacing between positions; at least 1 mm, and (positions - 1) x step at most 5000 mm (what a "
-             "scan file may hold)" },
+    {.path = "scan.step_mm",
+     .type = KEY_NUMBER,
+     .offset = AT(rig.step_mm),
+     .scale = 1,
+     .min = UWBSCAN_MIN_STEP_M * 1e3,
+     .max = UWBSCAN_MAX_TRAVEL_M * 1e3,
+     .required = 1,
+     .unit = "mm",
+     .below_min_why = "under the smallest step a scan file may hold (1 mm, uwb/scan.h)",
+     .doc = "spacing between positions; at least 1 mm, and (positions - 1) x step at most 5000 mm (what a "
+            "scan file may hold)"},
     NUMBER_ABOVE("scan.trigger_pulse_us", rig.trigger_pulse_us, "us", 1, 0, 1e6, 10,
                  "how long the trigger line is held high"),
     NUMBER("scan.time_scale", rig.time_scale, "", 1, 0, 100, 1,
@@ -201,37 +247,47 @@ const struct config_key uwbd_config_keys[] = {
                  "a displacement (up or down) from this size on gives the status alarm (not below watch_mm)"),
     NUMBER_ABOVE("analysis.max_uncertainty_mm", evaluate.compare.max_uncertainty_m, "mm", 1e-3, 0, 1000, 1,
                  "above this 1-sigma uncertainty of the displacement the verdict is inconclusive"),
-    { .path = "analysis.migration", .type = KEY_MIGRATION, .offset = AT(evaluate.analysis.migration),
-      .scale = 1, .default_text = "fixed", .unit = "",
-      .doc = "migration arithmetic: fixed (int16 samples, Q15 weights) or float" },
+    {.path = "analysis.migration",
+     .type = KEY_MIGRATION,
+     .offset = AT(evaluate.analysis.migration),
+     .scale = 1,
+     .default_text = "fixed",
+     .unit = "",
+     .doc = "migration arithmetic: fixed (int16 samples, Q15 weights) or float"},
     NUMBER("analysis.time_zero_offset_ps", evaluate.analysis.time_zero_offset_s, "ps", 1e-12, -1e6, 1e6, 0,
            "calibration added to each scan's t0"),
     NUMBER_ABOVE("analysis.edge_fraction", evaluate.analysis.edge_fraction, "", 1, 0.05, 0.95, 0.5,
                  "an edge is where the face profile crosses this fraction of its peak"),
     NUMBER_ABOVE("analysis.display_half_range_mm", evaluate.analysis.display_half_range_m, "mm", 1e-3, 10,
-                 2000, 250, "the migrated image (PNG) shows ranges this far either side of the winding's face"),
+                 2000, 250,
+                 "the migrated image (PNG) shows ranges this far either side of the winding's face"),
 
     NUMBER("direct_coupling.window_end_ns", evaluate.direct_coupling.window_end_s, "ns", 1e-9, -1e3, 1e3, 2,
            "the direct Tx-to-Rx arrival is looked for from the first sample up to this time after "
            "the pulse leaves the transmitter"),
-    NUMBER_ABOVE("direct_coupling.tolerance_ps", evaluate.direct_coupling.tolerance_s, "ps", 1e-12, 0, 1e6, 20,
+    NUMBER_ABOVE("direct_coupling.tolerance_ps", evaluate.direct_coupling.tolerance_s, "ps", 1e-12, 0, 1e6,
+                 20,
                  "a scan whose direct-coupling arrival moved more than this from the baseline's is "
                  "inconclusive (cable or antenna changed?) instead of compared"),
 
-    INTEGER("baseline.scans", baseline_scans, "", 1, 16, 4,
-            "`baseline set` without N commissions the baseline from this many scans acquired back to back and "
-            "averaged; their spread is recorded as the baseline's repeatability and enters every verdict's "
-            "uncertainty"),
-    NUMBER("analysis.reacquire_budget_s", reacquire_budget_s, "s", 1, 0, 86400, 600,
-           "when a scan's uncertainty is over analysis.max_uncertainty_mm and more pulses would bring it under "
-           "(its noise part falls as 1/sqrt(pulses)), acquire again and average, for at most this long per "
-           "scan cycle, before the verdict says inconclusive; 0 = never"),
-    STRING("site.phase", site_phase, "",
-           "the phase (or winding) this unit watches, as the site names it (e.g. B, L2, HV-B; at most 7 bytes); "
-           "shown in `status` and the trend image"),
-    STRING("site.label", site_label, "",
-           "a free label for people (e.g. Hillside GT2, north window; at most 63 bytes); shown in `status` and "
-           "the trend image"),
+    INTEGER(
+        "baseline.scans", baseline_scans, "", 1, 16, 4,
+        "`baseline set` without N commissions the baseline from this many scans acquired back to back and "
+        "averaged; their spread is recorded as the baseline's repeatability and enters every verdict's "
+        "uncertainty"),
+    NUMBER(
+        "analysis.reacquire_budget_s", reacquire_budget_s, "s", 1, 0, 86400, 600,
+        "when a scan's uncertainty is over analysis.max_uncertainty_mm and more pulses would bring it under "
+        "(its noise part falls as 1/sqrt(pulses)), acquire again and average, for at most this long per "
+        "scan cycle, before the verdict says inconclusive; 0 = never"),
+    STRING(
+        "site.phase", site_phase, "",
+        "the phase (or winding) this unit watches, as the site names it (e.g. B, L2, HV-B; at most 7 bytes); "
+        "shown in `status` and the trend image"),
+    STRING(
+        "site.label", site_label, "",
+        "a free label for people (e.g. Hillside GT2, north window; at most 63 bytes); shown in `status` and "
+        "the trend image"),
 
     BOOLEAN("contacts.enabled", site.contacts_enabled, 0,
             "drive the alarm contacts (README: Alarm contacts): watch and alarm energised by those verdicts, "
@@ -254,9 +310,10 @@ const struct config_key uwbd_config_keys[] = {
     BOOLEAN("contacts.fault.active_low", site.io.active_low[UWB_LINE_FAULT], 0,
             "the fault relay is energised by a low pin (libgpiod)"),
 
-    BOOLEAN("event.enabled", site.event_enabled, 0,
-            "scan after an event: the event input (a protection relay's trip contact) starts a scan as soon as "
-            "the running one ends; the verdict says \"trigger\": \"event\""),
+    BOOLEAN(
+        "event.enabled", site.event_enabled, 0,
+        "scan after an event: the event input (a protection relay's trip contact) starts a scan as soon as "
+        "the running one ends; the verdict says \"trigger\": \"event\""),
     SITE_LINE("event.line", UWB_LINE_EVENT, "required with libgpiod when event.enabled",
               "the event input: offset or name"),
     BOOLEAN("event.active_low", site.io.active_low[UWB_LINE_EVENT], 0,
@@ -273,10 +330,12 @@ const struct config_key uwbd_config_keys[] = {
             "write the Prometheus textfile (README: Prometheus textfile) after every verdict"),
     STRING("prometheus.textfile", site.prometheus_textfile, "",
            "where: a NAME.prom in node_exporter's --collector.textfile.directory (Debian: "
-           "/var/lib/prometheus/node-exporter/uwbd.prom); replaced atomically; required when prometheus.enabled"),
+           "/var/lib/prometheus/node-exporter/uwbd.prom); replaced atomically; required when "
+           "prometheus.enabled"),
 
     BOOLEAN("mqtt.enabled", site.mqtt_enabled, 0,
-            "publish verdicts and status to an MQTT broker (README: MQTT); needs mqtt.endpoint and site.asset_id"),
+            "publish verdicts and status to an MQTT broker (README: MQTT); needs mqtt.endpoint and "
+            "site.asset_id"),
     STRING("mqtt.endpoint", site.mqtt_endpoint, "",
            "the broker: tcp:HOST:PORT (8883 with TLS); required when mqtt.enabled"),
     STRING("mqtt.username", site.mqtt_username, "", "user name at the broker; empty = anonymous"),
@@ -286,7 +345,8 @@ const struct config_key uwbd_config_keys[] = {
     STRING("mqtt.ca_file", site.mqtt_ca_file, "",
            "CA certificate (PEM) the broker's is checked against; set = TLS, empty = plain TCP"),
     STRING("mqtt.cert_file", site.mqtt_cert_file, "", "client certificate (PEM) for TLS, with mqtt.key_file"),
-    STRING("mqtt.key_file", site.mqtt_key_file, "", "the client certificate's key (PEM), readable by the service only"),
+    STRING("mqtt.key_file", site.mqtt_key_file, "",
+           "the client certificate's key (PEM), readable by the service only"),
     STRING("mqtt.topic_prefix", site.mqtt_topic_prefix, "uwbd",
            "topics are PREFIX/ASSET_ID/verdict and PREFIX/ASSET_ID/status"),
     INTEGER("mqtt.queue_max", site.mqtt_queue_max, "", 1, 100000, 1000,
@@ -294,16 +354,19 @@ const struct config_key uwbd_config_keys[] = {
             "beyond this the oldest is dropped (logged)"),
     NUMBER_ABOVE("mqtt.reconnect_max_s", site.mqtt_reconnect_max_s, "s", 1, 0, 3600, 60,
                  "reconnecting backs off from 1 s, doubling, up to this"),
-    BOOLEAN("mqtt.commands", site.mqtt_commands, 0,
-            "take the commands scan, event, ack and baseline set [N|force] from PREFIX/ASSET_ID/cmd (one a "
-            "message) and answer each on PREFIX/ASSET_ID/reply; the broker's ACL decides who may publish there"),
-    BOOLEAN("modbus.enabled", modbus.enabled, 0,
-            "serve the latest verdict, health and contact states as Modbus registers and take `ack` and `event` "
-            "as coils (README \"Modbus\" has the map); off: nothing is opened"),
+    BOOLEAN(
+        "mqtt.commands", site.mqtt_commands, 0,
+        "take the commands scan, event, ack and baseline set [N|force] from PREFIX/ASSET_ID/cmd (one a "
+        "message) and answer each on PREFIX/ASSET_ID/reply; the broker's ACL decides who may publish there"),
+    BOOLEAN(
+        "modbus.enabled", modbus.enabled, 0,
+        "serve the latest verdict, health and contact states as Modbus registers and take `ack` and `event` "
+        "as coils (README \"Modbus\" has the map); off: nothing is opened"),
     STRING("modbus.endpoint", modbus.endpoint, "",
            "serial:/dev/ttyX?baud=N: Modbus RTU on that line (RS-485; 8 data bits, no parity, 1 stop bit); "
            "unix:PATH: RTU over a local socket uwbd connects to (the tests); tcp:HOST:PORT: Modbus TCP, "
-           "listening on that address (the substation LAN's, e.g. tcp:192.0.2.10:502; a port under 1024 needs CAP_NET_BIND_SERVICE); "
+           "listening on that address (the substation LAN's, e.g. tcp:192.0.2.10:502; a port under 1024 "
+           "needs CAP_NET_BIND_SERVICE); "
            "required when modbus.enabled"),
     INTEGER("modbus.unit_id", modbus.unit_id, "", 1, 247, 1,
             "the RTU unit (slave) address this appliance answers on the bus; Modbus TCP answers any"),

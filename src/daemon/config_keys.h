@@ -5,19 +5,19 @@
 #include <stddef.h>
 
 enum config_key_type {
-    KEY_STRING,      /* char[size] */
-    KEY_NUMBER,      /* double, stored = written * scale */
-    KEY_INT,         /* int */
-    KEY_BOOL,        /* int 0/1 */
-    KEY_PAIR,        /* double[2], stored = written * scale; optional ones set a flag */
-    KEY_GPIO_LINE,   /* an offset (integer) or a line name (string) */
-    KEY_CHOICE,      /* char[size], one of choices */
-    KEY_MIGRATION,   /* enum uwb_migration_kind from "fixed" / "float" */
-    KEY_FILE_MODE,   /* octal string, e.g. "0660" */
+    KEY_STRING,    /* char[size] */
+    KEY_NUMBER,    /* double, stored = written * scale */
+    KEY_INT,       /* int */
+    KEY_BOOL,      /* int 0/1 */
+    KEY_PAIR,      /* double[2], stored = written * scale; optional ones set a flag */
+    KEY_GPIO_LINE, /* an offset (integer) or a line name (string) */
+    KEY_CHOICE,    /* char[size], one of choices */
+    KEY_MIGRATION, /* enum uwb_migration_kind from "fixed" / "float" */
+    KEY_FILE_MODE, /* octal string, e.g. "0660" */
 };
 
 struct config_key {
-    const char *path;          /* dotted, e.g. "digitiser.samples" */
+    const char *path; /* dotted, e.g. "digitiser.samples" */
     enum config_key_type type;
     size_t offset;             /* into struct uwbd_config */
     size_t size;               /* string buffer size; the GPIO line index for KEY_GPIO_LINE */
@@ -27,10 +27,10 @@ struct config_key {
     int min_exclusive;         /* value must be > min rather than >= */
     const char *below_min_why; /* said after "out of range" when a value is under min; NULL: nothing */
     int required;
-    double default_number;     /* when not required (numbers, ints, bools) */
-    const char *default_text;  /* when not required (strings, choices, modes) */
-    const char *unit;          /* written unit, "" for none */
-    const char *const *choices;/* KEY_CHOICE: NULL-terminated */
+    double default_number;      /* when not required (numbers, ints, bools) */
+    const char *default_text;   /* when not required (strings, choices, modes) */
+    const char *unit;           /* written unit, "" for none */
+    const char *const *choices; /* KEY_CHOICE: NULL-terminated */
     const char *doc;
 };
 

@@ -3,8 +3,14 @@
 
 #include <string.h>
 
-enum { KEY_CTRL_C = 0x03, KEY_BACKSPACE = 0x08, KEY_TAB = 0x09, KEY_CTRL_U = 0x15, KEY_ESC = 0x1b,
-       KEY_DEL = 0x7f };
+enum {
+    KEY_CTRL_C = 0x03,
+    KEY_BACKSPACE = 0x08,
+    KEY_TAB = 0x09,
+    KEY_CTRL_U = 0x15,
+    KEY_ESC = 0x1b,
+    KEY_DEL = 0x7f
+};
 
 static void echo(struct uwbd_console_line *cl, const char *bytes, size_t n)
 {
@@ -34,7 +40,7 @@ static int in_escape(struct uwbd_console_line *cl, unsigned char c)
     }
     if (cl->escape == 2) {
         if (c >= 0x40 && c <= 0x7e)
-            cl->escape = 0;   /* the final byte */
+            cl->escape = 0; /* the final byte */
         return 1;
     }
     return 0;
@@ -48,7 +54,7 @@ int uwbd_console_line_feed(struct uwbd_console_line *cl, const char *data, size_
         int after_cr = cl->after_cr;
         cl->after_cr = 0;
         if (c == '\n' && after_cr)
-            continue;   /* the LF of a CRLF */
+            continue; /* the LF of a CRLF */
         if (c == '\r' || c == '\n') {
             cl->escape = 0;
             cl->after_cr = c == '\r';
@@ -88,12 +94,12 @@ int uwbd_console_line_feed(struct uwbd_console_line *cl, const char *data, size_
         if (c == KEY_TAB)
             c = ' ';
         else if (c < 0x20)
-            continue;   /* other control keys do nothing */
+            continue; /* other control keys do nothing */
         if (cl->overlong)
             continue;
         if (cl->len >= UWB_COMMAND_MAX_LINE) {
             cl->overlong = 1;
-            echo(cl, "\a", 1);   /* the terminal's bell: no more fits */
+            echo(cl, "\a", 1); /* the terminal's bell: no more fits */
             continue;
         }
         cl->text[cl->len++] = (char)c;

@@ -10,7 +10,7 @@
 #include <stddef.h>
 
 #include "daemon/command.h"
-#include "daemon/line_buffer.h"   /* enum uwbd_line_event */
+#include "daemon/line_buffer.h" /* enum uwbd_line_event */
 
 /* Shown on the console when it is ready for a command line. */
 #define UWBD_CONSOLE_PROMPT "uwbd> "
@@ -22,11 +22,11 @@
 struct uwbd_console_line {
     char text[UWB_COMMAND_MAX_LINE + 1];
     size_t len;
-    int overlong;       /* more was typed than a command may hold */
-    int after_cr;       /* the line just ended with CR: an LF now is its CRLF */
-    int escape;         /* 0, 1 after ESC, 2 inside a CSI/SS3 sequence */
+    int overlong; /* more was typed than a command may hold */
+    int after_cr; /* the line just ended with CR: an LF now is its CRLF */
+    int escape;   /* 0, 1 after ESC, 2 inside a CSI/SS3 sequence */
     char echo[UWBD_CONSOLE_ECHO_MAX];
-    size_t echo_len;    /* echo bytes waiting; the caller sends and clears them */
+    size_t echo_len; /* echo bytes waiting; the caller sends and clears them */
 };
 
 /* Feed bytes from data[*used ..n) (at most UWBD_CONSOLE_CHUNK between

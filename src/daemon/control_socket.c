@@ -69,7 +69,8 @@ static int ensure_parent(const char *path, gid_t gid, int set_group, char *err, 
     *slash = '\0';
     if (mkdir(dir, 0750) == 0) {
         if (set_group && chown(dir, (uid_t)-1, gid) != 0) {
-            snprintf(err, errlen, "%s: cannot give the directory to the control group: %s", dir, strerror(errno));
+            snprintf(err, errlen, "%s: cannot give the directory to the control group: %s", dir,
+                     strerror(errno));
             return -1;
         }
         return 0;
@@ -93,8 +94,8 @@ int uwbd_control_listen(struct uwbd_control_socket *cs, const char *path, unsign
     struct sockaddr_un addr;
     if (snprintf(temp, sizeof temp, "%s.new%ld", path, (long)getpid()) >= (int)sizeof temp ||
         fill_address(&addr, temp) != 0) {
-        snprintf(err, errlen, "%s: control socket path too long (the temporary name needs %zu more bytes)", path,
-                 strlen(temp) + 1 - sizeof addr.sun_path);
+        snprintf(err, errlen, "%s: control socket path too long (the temporary name needs %zu more bytes)",
+                 path, strlen(temp) + 1 - sizeof addr.sun_path);
         return UWBD_CONTROL_ERR_CREATE;
     }
     if (ensure_parent(path, gid, set_group, err, errlen) != 0)

@@ -9,15 +9,15 @@
 
 enum uwbd_control_error {
     UWBD_CONTROL_OK = 0,
-    UWBD_CONTROL_ERR_CONFIG = -1,  /* the group does not exist or the daemon is not in it */
-    UWBD_CONTROL_ERR_CREATE = -2,  /* path unusable, in use by another uwbd, bind/listen failed */
+    UWBD_CONTROL_ERR_CONFIG = -1, /* the group does not exist or the daemon is not in it */
+    UWBD_CONTROL_ERR_CREATE = -2, /* path unusable, in use by another uwbd, bind/listen failed */
 };
 
 struct uwbd_control_socket {
     int fd;
     char path[108];
     dev_t dev;
-    ino_t ino;                     /* to remove only our own socket at exit */
+    ino_t ino; /* to remove only our own socket at exit */
 };
 
 /* group: name or "" for the daemon's own group. Returns an enum

@@ -61,7 +61,7 @@ static void schedule_off(struct daemon *d)
 static void arm_at(struct daemon *d, struct timespec when)
 {
     if (when.tv_sec == 0 && when.tv_nsec == 0)
-        when.tv_nsec = 1;   /* an all-zero time would disarm the timer */
+        when.tv_nsec = 1; /* an all-zero time would disarm the timer */
     d->next_scan = when;
     struct itimerspec its = {.it_value = when};
     timerfd_settime(d->schedule_fd, TFD_TIMER_ABSTIME, &its, NULL);
@@ -83,9 +83,10 @@ void uwbd_scan_now(struct daemon *d)
         d->scan_queued = 1;
         return;
     }
-    uwbd_lock_watch_check(d);   /* also when inotify is unavailable */
+    uwbd_lock_watch_check(d); /* also when inotify is unavailable */
     if (d->exit_code) {
-        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL, "the state directory was deleted or replaced; uwbd is stopping");
+        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL,
+                                "the state directory was deleted or replaced; uwbd is stopping");
         return;
     }
     schedule_off(d);
@@ -141,14 +142,14 @@ static void schedule_first(struct daemon *d)
         tm.tm_year -= 1900;
         tm.tm_mon -= 1;
         double elapsed = difftime(time(NULL), timegm(&tm));
-        if (elapsed >= 0)   /* a clock set back says nothing about the schedule */
+        if (elapsed >= 0) /* a clock set back says nothing about the schedule */
             wait = elapsed >= wait ? 0 : wait - elapsed;
     }
     cJSON_Delete(latest);
     arm_at(d, add_seconds(monotonic_now(), wait));
     if (wait < d->cfg.interval_s)
-        uwbd_log(UWBD_LOG_INFO, "next scheduled scan in %.0f s (the schedule carries on from the latest verdict)",
-                 wait);
+        uwbd_log(UWBD_LOG_INFO,
+                 "next scheduled scan in %.0f s (the schedule carries on from the latest verdict)", wait);
 }
 
 static void load_baseline_info(struct daemon *d)
@@ -157,14 +158,16 @@ static void load_baseline_info(struct daemon *d)
     struct uwb_scan scan = {0};
     /* The same check as before every scan: a baseline already missing or
      * damaged at start is a device fault from the start. */
-    int rc = uwbd_baseline_watch(&d->store, d->cfg.evaluate.direct_coupling.window_end_s, NULL, &scan, &d->baseline, why,
-                                 sizeof why);
+    int rc = uwbd_baseline_watch(&d->store, d->cfg.evaluate.direct_coupling.window_end_s, NULL, &scan,
+                                 &d->baseline, why, sizeof why);
     uwb_scan_free(&scan);
     d->has_baseline = rc == UWBD_BASELINE_LOADED;
     if (rc == UWBD_BASELINE_FAULT) {
         snprintf(d->fault, sizeof d->fault, "%s", why);
-        uwbd_log(UWBD_LOG_WARNING, "device fault: %s; every scan is an error until `baseline set` re-commissions "
-                                   "(the damaged files are kept) or the file is restored", why);
+        uwbd_log(UWBD_LOG_WARNING,
+                 "device fault: %s; every scan is an error until `baseline set` re-commissions "
+                 "(the damaged files are kept) or the file is restored",
+                 why);
     } else if (rc == UWBD_BASELINE_NONE) {
         uwbd_log(UWBD_LOG_NOTICE, "no baseline yet: send `baseline set`, then `scan`, to commission");
     }
@@ -179,10 +182,12 @@ static void load_latest_verdict(struct daemon *d)
         return;
     char **lines = NULL, log_err[512];
     int count = 0;
-    if (uwbd_verdict_log_tail(&d->store, 1, &lines, &count, NULL, log_err, sizeof log_err) == 0 && count == 1) {
+    if (uwbd_verdict_log_tail(&d->store, 1, &lines, &count, NULL, log_err, sizeof log_err) == 0 &&
+        count == 1) {
         d->latest_verdict = lines[0];
         lines[0] = NULL;
-        uwbd_log(UWBD_LOG_WARNING, "%s; the latest verdict is taken from verdicts.jsonl until the next scan", err);
+        uwbd_log(UWBD_LOG_WARNING, "%s; the latest verdict is taken from verdicts.jsonl until the next scan",
+                 err);
     } else {
         uwbd_log(UWBD_LOG_WARNING, "%s; it is replaced at the next scan", err);
     }
@@ -193,7 +198,8 @@ static void set_rig_source(struct uwbd_config *cfg)
 {
     char host[64] = "";
     gethostname(host, sizeof host - 1);
-    snprintf(cfg->rig.source, sizeof cfg->rig.source, "uwbd %s%s%s", UWBD_VERSION, host[0] ? " on " : "", host);
+    snprintf(cfg->rig.source, sizeof cfg->rig.source, "uwbd %s%s%s", UWBD_VERSION, host[0] ? " on " : "",
+             host);
 }
 
 static void reload(struct daemon *d)
@@ -208,9 +214,9 @@ static void reload(struct daemon *d)
     }
     set_rig_source(&next);
     /* These are fixed at start: the sandbox and the socket's owner depend on them. */
-    if (strcmp(next.state_dir, d->cfg.state_dir) != 0 || strcmp(next.control_socket, d->cfg.control_socket) != 0 ||
-        next.control_mode != d->cfg.control_mode || strcmp(next.control_group, d->cfg.control_group) != 0 ||
-        next.allow_root != d->cfg.allow_root)
+    if (strcmp(next.state_dir, d->cfg.state_dir) != 0 ||
+        strcmp(next.control_socket, d->cfg.control_socket) != 0 || next.control_mode != d->cfg.control_mode ||
+        strcmp(next.control_group, d->cfg.control_group) != 0 || next.allow_root != d->cfg.allow_root)
         uwbd_log(UWBD_LOG_WARNING, "reload: state_dir, control.* and allow_root change only with a restart");
     snprintf(next.state_dir, sizeof next.state_dir, "%s", d->cfg.state_dir);
     snprintf(next.control_socket, sizeof next.control_socket, "%s", d->cfg.control_socket);
@@ -222,7 +228,7 @@ static void reload(struct daemon *d)
     int rig_changed = memcmp(&next.rig, &d->cfg.rig, sizeof next.rig) != 0;
     int console_changed = strcmp(next.console_endpoint, d->cfg.console_endpoint) != 0;
     int site_changed = memcmp(&next.site, &d->cfg.site, sizeof next.site) != 0;
-    static struct uwbd_config previous;   /* static: a configuration is large */
+    static struct uwbd_config previous; /* static: a configuration is large */
     previous = d->cfg;
     d->cfg = next;
     if (rig_changed) {
@@ -251,8 +257,10 @@ static void reload(struct daemon *d)
         uwbd_site_close(d->site);
         d->site = NULL;
         if (uwbd_site_open(&d->site, &d->cfg, d->latest_verdict, err, sizeof err) != UWB_GPIO_OK)
-            uwbd_log(UWBD_LOG_ERR, "reload: the site's lines: %s; alarm contacts and event input are off until "
-                                   "the next reload", err);
+            uwbd_log(UWBD_LOG_ERR,
+                     "reload: the site's lines: %s; alarm contacts and event input are off until "
+                     "the next reload",
+                     err);
     }
     uwbd_modbus_reload(d, &previous.modbus);
     uwbd_schedule_arm(d, &d->last_cycle_start);
@@ -294,7 +302,8 @@ static void cycle_finished(struct daemon *d)
     if (d->reload_pending)
         reload(d);
     if (d->stopping) {
-        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL, "the daemon is stopping; the queued scan will not run");
+        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL,
+                                "the daemon is stopping; the queued scan will not run");
         return;
     }
     if (d->scan_queued) {
@@ -313,8 +322,20 @@ static void drain(int fd)
     }
 }
 
-enum { SLOT_SIGNAL, SLOT_SCHEDULE, SLOT_DONE, SLOT_CONSOLE_RETRY, SLOT_LOCK_WATCH, SLOT_WATCHDOG, SLOT_PROGRESS,
-       SLOT_SITE, SLOT_SITE_COMMANDS, SLOT_CONTROL, SLOT_CONSOLE, SLOT_CLIENTS };
+enum {
+    SLOT_SIGNAL,
+    SLOT_SCHEDULE,
+    SLOT_DONE,
+    SLOT_CONSOLE_RETRY,
+    SLOT_LOCK_WATCH,
+    SLOT_WATCHDOG,
+    SLOT_PROGRESS,
+    SLOT_SITE,
+    SLOT_SITE_COMMANDS,
+    SLOT_CONTROL,
+    SLOT_CONSOLE,
+    SLOT_CLIENTS
+};
 
 /* How long a healthy scan worker may go without a sign of life (a rig
  * message: at least one a position): homing at its slowest, one position
@@ -327,8 +348,9 @@ static double worker_stall_limit_s(const struct uwbd_config *cfg)
     if (test && atof(test) > 0)
         return atof(test);
     const struct uwb_rig_config *r = &cfg->rig;
-    double position_s = r->digitiser.stack * (r->digitiser.frame_retries + 1.0) * r->digitiser.frame_timeout_ms / 1e3 +
-                        r->carriage.settle_ms / 1e3 + 60.0;
+    double position_s =
+        r->digitiser.stack * (r->digitiser.frame_retries + 1.0) * r->digitiser.frame_timeout_ms / 1e3 +
+        r->carriage.settle_ms / 1e3 + 60.0;
     return r->carriage.home_timeout_s + position_s + ANALYSIS_ALLOWANCE_S;
 }
 
@@ -347,8 +369,10 @@ static void watchdog_tick(struct daemon *d)
     double limit_s = worker_stall_limit_s(&d->cfg);
     if (d->scanning && silent_s > limit_s) {
         if (!d->watchdog_withheld)
-            uwbd_log(UWBD_LOG_ERR, "the scan worker has been silent for %.0f s (limit %.0f s): no more watchdog "
-                                   "pings, so systemd restarts uwbd", silent_s, limit_s);
+            uwbd_log(UWBD_LOG_ERR,
+                     "the scan worker has been silent for %.0f s (limit %.0f s): no more watchdog "
+                     "pings, so systemd restarts uwbd",
+                     silent_s, limit_s);
         d->watchdog_withheld = 1;
         return;
     }
@@ -371,7 +395,8 @@ static void report_status(struct daemon *d)
     const cJSON *status = cJSON_GetObjectItemCaseSensitive(latest, "status");
     const cJSON *created = cJSON_GetObjectItemCaseSensitive(latest, "created");
     if (cJSON_IsString(status))
-        uwbd_service_status("idle; latest verdict %s%s%s", status->valuestring, cJSON_IsString(created) ? " at " : "",
+        uwbd_service_status("idle; latest verdict %s%s%s", status->valuestring,
+                            cJSON_IsString(created) ? " at " : "",
                             cJSON_IsString(created) ? created->valuestring : "");
     else
         uwbd_service_status("idle; no verdict yet");
@@ -391,8 +416,8 @@ static void watchdog_start(struct daemon *d)
     struct timespec every = {.tv_sec = ping_ms / 1000, .tv_nsec = (ping_ms % 1000) * 1000000L};
     struct itimerspec its = {.it_value = every, .it_interval = every};
     timerfd_settime(d->watchdog_fd, 0, &its, NULL);
-    uwbd_log(UWBD_LOG_INFO, "systemd watchdog: a ping every %ld ms while the main loop and scan worker are alive",
-             ping_ms);
+    uwbd_log(UWBD_LOG_INFO,
+             "systemd watchdog: a ping every %ld ms while the main loop and scan worker are alive", ping_ms);
 }
 
 static void loop(struct daemon *d)
@@ -400,7 +425,7 @@ static void loop(struct daemon *d)
     struct pollfd fds[SLOT_CLIENTS + MAX_CLIENTS + UWBD_MODBUS_POLL_FDS];
     struct peer *owner[SLOT_CLIENTS + MAX_CLIENTS];
     while (!(d->stopping && !d->scanning)) {
-        int timeout_ms = uwbd_peers_expire(d);   /* drops clients past their deadlines first */
+        int timeout_ms = uwbd_peers_expire(d); /* drops clients past their deadlines first */
         fds[SLOT_SIGNAL] = (struct pollfd){.fd = d->signal_fd, .events = POLLIN};
         fds[SLOT_SCHEDULE] = (struct pollfd){.fd = d->schedule_fd, .events = POLLIN};
         fds[SLOT_DONE] = (struct pollfd){.fd = d->done_fd, .events = POLLIN};
@@ -409,12 +434,12 @@ static void loop(struct daemon *d)
         fds[SLOT_WATCHDOG] = (struct pollfd){.fd = d->watchdog_fd, .events = POLLIN};
         fds[SLOT_PROGRESS] = (struct pollfd){.fd = d->progress_fd, .events = POLLIN};
         fds[SLOT_SITE] = (struct pollfd){.fd = uwbd_site_timer_fd(d->site), .events = POLLIN};
-        fds[SLOT_SITE_COMMANDS] = (struct pollfd){.fd = d->stopping ? -1 : uwbd_site_command_fd(d->site),
-                                                  .events = POLLIN};
+        fds[SLOT_SITE_COMMANDS] =
+            (struct pollfd){.fd = d->stopping ? -1 : uwbd_site_command_fd(d->site), .events = POLLIN};
         /* A negative fd is skipped by poll(). */
         fds[SLOT_CONTROL] = (struct pollfd){.fd = d->stopping ? -1 : d->control.fd, .events = POLLIN};
-        fds[SLOT_CONSOLE] = (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1,
-                                            .events = POLLIN};
+        fds[SLOT_CONSOLE] =
+            (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1, .events = POLLIN};
         owner[SLOT_CONSOLE] = &d->console;
         nfds_t n = SLOT_CLIENTS;
         for (int i = 0; i < MAX_CLIENTS; i++) {
@@ -424,7 +449,7 @@ static void loop(struct daemon *d)
             fds[n++] = (struct pollfd){.fd = d->clients[i].fd,
                                        .events = (short)(POLLIN | (d->clients[i].out_len ? POLLOUT : 0))};
         }
-        nfds_t peers_end = n;   /* the Modbus server's fds follow the peers' */
+        nfds_t peers_end = n; /* the Modbus server's fds follow the peers' */
         n += (nfds_t)uwbd_modbus_poll_add(d, fds + n, &timeout_ms);
         if (poll(fds, n, timeout_ms) < 0) {
             if (errno == EINTR)
@@ -481,7 +506,7 @@ static int setup_event_fds(struct daemon *d, char *err, size_t errlen)
     sigaddset(&mask, SIGTERM);
     sigaddset(&mask, SIGINT);
     sigaddset(&mask, SIGHUP);
-    sigaddset(&mask, SIGUSR1);   /* only the scan thread takes it */
+    sigaddset(&mask, SIGUSR1); /* only the scan thread takes it */
     /* Blocked before any thread exists, so every thread inherits the mask. */
     if (pthread_sigmask(SIG_BLOCK, &mask, NULL) != 0) {
         snprintf(err, errlen, "cannot block signals");
@@ -512,10 +537,10 @@ static void close_fd(int *fd)
 
 static void teardown(struct daemon *d)
 {
-    uwbd_site_close(d->site);   /* contacts de-energised: the fault contact opens */
+    uwbd_site_close(d->site); /* contacts de-energised: the fault contact opens */
     d->site = NULL;
     if (d->rig) {
-        uwb_rig_close(d->rig);   /* outputs low: pulser idle, motor disabled */
+        uwb_rig_close(d->rig); /* outputs low: pulser idle, motor disabled */
         d->rig = NULL;
     }
     for (int i = 0; i < MAX_CLIENTS; i++)
@@ -581,21 +606,23 @@ static void remove_fresh_state_dir(const struct daemon *d, const char *created)
 /* The emulated board is a separate program; say how to start it. */
 static void hint_emulated_board(const struct daemon *d, int rc)
 {
-    if (strcmp(d->cfg.rig.gpio.backend, "emulated") != 0 || (rc != UWB_RIG_ERR_GPIO && rc != UWB_RIG_ERR_LINK))
+    if (strcmp(d->cfg.rig.gpio.backend, "emulated") != 0 ||
+        (rc != UWB_RIG_ERR_GPIO && rc != UWB_RIG_ERR_LINK))
         return;
     char cwd[UWBD_PATH_MAX] = "";
     if (!getcwd(cwd, sizeof cwd))
         snprintf(cwd, sizeof cwd, "the working directory");
-    uwbd_log(UWBD_LOG_ERR, "the emulated board (uwbemu) is not running there: start it first, in %s: "
-                           "uwbemu --gpio %s --digitiser %s &  (build/uwbemu in the source tree; see uwbemu --help)",
+    uwbd_log(UWBD_LOG_ERR,
+             "the emulated board (uwbemu) is not running there: start it first, in %s: "
+             "uwbemu --gpio %s --digitiser %s &  (build/uwbemu in the source tree; see uwbemu --help)",
              cwd, d->cfg.rig.gpio.endpoint, d->cfg.rig.digitiser.endpoint);
 }
 
 static int start(struct daemon *d, char *created_dir, size_t created_len)
 {
     char err[1024];
-    if (uwbd_config_load(d->options->config_path, d->options->overrides, d->options->n_overrides, &d->cfg, err,
-                         sizeof err) != 0) {
+    if (uwbd_config_load(d->options->config_path, d->options->overrides, d->options->n_overrides, &d->cfg,
+                         err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_ERR, "%s", err);
         return UWBD_EXIT_CONFIG;
     }
@@ -617,15 +644,16 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         return UWBD_EXIT_CANT_CREATE;
     }
     if (repairs)
-        uwbd_log(UWBD_LOG_WARNING, "state directory: removed %d leftover(s) of an interrupted write", repairs);
+        uwbd_log(UWBD_LOG_WARNING, "state directory: removed %d leftover(s) of an interrupted write",
+                 repairs);
     uwbd_lock_watch_open(d);
     if (setup_event_fds(d, err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_ERR, "%s", err);
         return UWBD_EXIT_OS;
     }
     /* The socket before the hardware: a second uwbd stops here, before it touches a line. */
-    int rc = uwbd_control_listen(&d->control, d->cfg.control_socket, d->cfg.control_mode, d->cfg.control_group, err,
-                                 sizeof err);
+    int rc = uwbd_control_listen(&d->control, d->cfg.control_socket, d->cfg.control_mode,
+                                 d->cfg.control_group, err, sizeof err);
     if (rc != UWBD_CONTROL_OK) {
         uwbd_log(UWBD_LOG_ERR, "%s", err);
         return rc == UWBD_CONTROL_ERR_CONFIG ? UWBD_EXIT_CONFIG : UWBD_EXIT_CANT_CREATE;
@@ -657,19 +685,19 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
         uwbd_log(UWBD_LOG_NOTICE, "uwbd %s running: state %s, control %s, a scan every %.0f s", UWBD_VERSION,
                  d->store.root, d->control.path, d->cfg.interval_s);
     else
-        uwbd_log(UWBD_LOG_NOTICE, "uwbd %s running: state %s, control %s, scans on request only", UWBD_VERSION,
-                 d->store.root, d->control.path);
+        uwbd_log(UWBD_LOG_NOTICE, "uwbd %s running: state %s, control %s, scans on request only",
+                 UWBD_VERSION, d->store.root, d->control.path);
     return UWBD_EXIT_OK;
 }
 
 int uwbd_daemon_run(const struct uwbd_options *opt)
 {
-    static struct daemon d;   /* one per process; large */
+    static struct daemon d; /* one per process; large */
     memset(&d, 0, sizeof d);
     d.options = opt;
     d.started = time(NULL);
-    d.lock_fd = d.lock_watch_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd = d.watchdog_fd =
-        d.progress_fd = -1;
+    d.lock_fd = d.lock_watch_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd =
+        d.watchdog_fd = d.progress_fd = -1;
     d.control.fd = -1;
     uwbd_peers_init(&d);
     d.last_cycle_start = monotonic_now();
@@ -687,7 +715,8 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     if (rc != UWBD_EXIT_OK && created_dir[0])
         remove_fresh_state_dir(&d, created_dir);
     if (rc == UWBD_EXIT_OK && d.exit_code) {
-        uwbd_log(UWBD_LOG_ERR, "stopped: the state directory is no longer ours (exit %d); hardware left safe", d.exit_code);
+        uwbd_log(UWBD_LOG_ERR, "stopped: the state directory is no longer ours (exit %d); hardware left safe",
+                 d.exit_code);
         return d.exit_code;
     }
     if (rc == UWBD_EXIT_OK)

@@ -16,7 +16,7 @@ struct uwbd_options {
     const char *config_path;
     struct uwbd_override overrides[UWBD_MAX_OVERRIDES];
     size_t n_overrides;
-    int log_level;             /* syslog priority, UWBD_LOG_INFO by default */
+    int log_level; /* syslog priority, UWBD_LOG_INFO by default */
     int use_syslog;
 };
 

@@ -53,44 +53,44 @@ enum { WATCH_ALL = 1, WATCH_PROGRESS = 2 };
 struct peer {
     enum peer_kind kind;
     int in_use;
-    int fd;                        /* control client socket */
-    struct uwb_link *link;         /* console */
+    int fd;                /* control client socket */
+    struct uwb_link *link; /* console */
     struct uwbd_line_buffer lines;
     struct uwbd_console_line console_line; /* the console's: echo and editing keys */
-    unsigned long waiting_for;     /* cycle whose verdict this peer asked for; 0 = none */
-    int watching;                  /* `watch`: WATCH_ALL, WATCH_PROGRESS (what `uwbd ctl scan` asks) or 0 */
-    double last_active_s;          /* CLOCK_MONOTONIC of its connection or last input */
-    double line_since_s;           /* CLOCK_MONOTONIC of its connection or last complete line */
-    char *out;                     /* queued reply bytes not yet sent (control clients) */
+    unsigned long waiting_for;             /* cycle whose verdict this peer asked for; 0 = none */
+    int watching;         /* `watch`: WATCH_ALL, WATCH_PROGRESS (what `uwbd ctl scan` asks) or 0 */
+    double last_active_s; /* CLOCK_MONOTONIC of its connection or last input */
+    double line_since_s;  /* CLOCK_MONOTONIC of its connection or last complete line */
+    char *out;            /* queued reply bytes not yet sent (control clients) */
     size_t out_len, out_cap;
-    double out_progress_s;         /* CLOCK_MONOTONIC of the queue's last progress */
-    int privileged;                /* connected as root or the daemon's own user (SO_PEERCRED) */
+    double out_progress_s; /* CLOCK_MONOTONIC of the queue's last progress */
+    int privileged;        /* connected as root or the daemon's own user (SO_PEERCRED) */
 };
 
 struct scan_job {
     pthread_t thread;
     unsigned long cycle;
-    double started_s;                /* CLOCK_MONOTONIC when the cycle started */
-    unsigned long baseline_request;  /* the `baseline set` this job carries, 0 = none */
+    double started_s;               /* CLOCK_MONOTONIC when the cycle started */
+    unsigned long baseline_request; /* the `baseline set` this job carries, 0 = none */
     struct uwbd_cycle_request request;
     struct uwbd_cycle_result result;
 };
 
 struct daemon {
     const struct uwbd_options *options;
-    struct uwbd_config cfg;          /* read by the worker while a scan runs: not changed then */
+    struct uwbd_config cfg; /* read by the worker while a scan runs: not changed then */
     struct uwbd_store store;
-    struct uwb_rig *rig;             /* the worker's while a scan runs */
-    char rig_state[512];             /* the worker's while a scan runs */
+    struct uwb_rig *rig; /* the worker's while a scan runs */
+    char rig_state[512]; /* the worker's while a scan runs */
     time_t started;
 
-    int lock_fd;                     /* the state directory's lock, held until exit */
+    int lock_fd; /* the state directory's lock, held until exit */
     int signal_fd, schedule_fd, done_fd, console_retry_fd;
     struct uwbd_control_socket control;
     struct peer clients[MAX_CLIENTS];
     struct peer console;
 
-    int scanning;                    /* a worker thread exists */
+    int scanning; /* a worker thread exists */
     struct scan_job job;
     unsigned long cycles_started;
     int scans_this_run;
@@ -105,15 +105,15 @@ struct daemon {
     int stopping;
     int reload_pending;
     int has_next_scan;
-    struct timespec next_scan;       /* CLOCK_MONOTONIC */
-    struct timespec last_cycle_start;/* CLOCK_MONOTONIC; the schedule counts from it */
-    int console_failing;             /* log a console outage once, not every retry */
+    struct timespec next_scan;        /* CLOCK_MONOTONIC */
+    struct timespec last_cycle_start; /* CLOCK_MONOTONIC; the schedule counts from it */
+    int console_failing;              /* log a console outage once, not every retry */
 
     /* systemd's watchdog (daemon.c): pinged from the main loop while the
      * scan worker, if one runs, has shown a sign of life recently. */
-    int watchdog_fd;                 /* timerfd, -1 without a watchdog */
-    int watchdog_withheld;           /* pings stopped: the worker went silent */
-    _Atomic long long worker_beat_ms;/* CLOCK_MONOTONIC ms of the worker's last sign of life */
+    int watchdog_fd;                  /* timerfd, -1 without a watchdog */
+    int watchdog_withheld;            /* pings stopped: the worker went silent */
+    _Atomic long long worker_beat_ms; /* CLOCK_MONOTONIC ms of the worker's last sign of life */
 
     /* The running scan's progress, written by the worker (its rig hook), read
      * by the loop; progress_fd tells the loop a position was acquired. */
@@ -121,18 +121,18 @@ struct daemon {
     _Atomic int progress_done, progress_total;
     _Atomic long long progress_start_ms, progress_first_ms, progress_last_ms;
 
-    char *latest_verdict;            /* VERDICT line or NULL */
-    struct uwbd_site *site;          /* alarm contacts, event input (src/integrations/) */
+    char *latest_verdict;              /* VERDICT line or NULL */
+    struct uwbd_site *site;            /* alarm contacts, event input (src/integrations/) */
     enum scan_trigger pending_trigger; /* what asked for the next scan */
-    struct uwbd_modbus_server *modbus;   /* NULL: Modbus off (modbus_hook.c) */
+    struct uwbd_modbus_server *modbus; /* NULL: Modbus off (modbus_hook.c) */
     int has_baseline;
     struct uwbd_baseline_info baseline;
 };
 
 /* worker.c */
-int uwbd_worker_start(struct daemon *d);            /* 0, or -1 (logged) */
+int uwbd_worker_start(struct daemon *d); /* 0, or -1 (logged) */
 void uwbd_worker_request_stop(struct daemon *d);
-void uwbd_worker_collect(struct daemon *d);         /* after done_fd fired */
+void uwbd_worker_collect(struct daemon *d); /* after done_fd fired */
 void uwbd_worker_install_stop_handler(void);
 int uwbd_rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen);
 
@@ -156,25 +156,27 @@ void uwbd_console_open(struct daemon *d);
 
 /* baseline_requests.c */
 char *uwbd_baseline_request(struct daemon *d, int scans, int force); /* `baseline set [N|force]`: the reply */
-void uwbd_baseline_requests_restore(struct daemon *d);         /* a request pending at the last stop */
+void uwbd_baseline_requests_restore(struct daemon *d);               /* a request pending at the last stop */
 void uwbd_baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req);
-void uwbd_baseline_request_finished(struct daemon *d, unsigned long request, const struct uwbd_cycle_result *res);
+void uwbd_baseline_request_finished(struct daemon *d, unsigned long request,
+                                    const struct uwbd_cycle_result *res);
 
 /* modbus_hook.c: nothing is opened unless modbus.enabled */
-int uwbd_modbus_open(struct daemon *d, char *err, size_t errlen);  /* 0, or -1 with err */
+int uwbd_modbus_open(struct daemon *d, char *err, size_t errlen); /* 0, or -1 with err */
 void uwbd_modbus_close(struct daemon *d);
 void uwbd_modbus_reload(struct daemon *d, const struct uwbd_modbus_config *previous);
-/* Its fds into fds (room for UWBD_MODBUS_POLL_FDS), *timeout_ms lowered to its next retry; returns the count. */
+/* Its fds into fds (room for UWBD_MODBUS_POLL_FDS), *timeout_ms lowered to its next retry; returns the count.
+ */
 int uwbd_modbus_poll_add(struct daemon *d, struct pollfd *fds, int *timeout_ms);
 void uwbd_modbus_poll_serve(struct daemon *d, const struct pollfd *fds, int n);
 
 /* lock_watch.c */
-int uwbd_lock_watch_open(struct daemon *d);                    /* 0, or -1 (logged; the daemon runs unwatched) */
-void uwbd_lock_watch_check(struct daemon *d);                  /* stops the daemon when the lock is no longer ours */
+int uwbd_lock_watch_open(struct daemon *d);   /* 0, or -1 (logged; the daemon runs unwatched) */
+void uwbd_lock_watch_check(struct daemon *d); /* stops the daemon when the lock is no longer ours */
 
 /* daemon.c */
 void uwbd_schedule_arm(struct daemon *d, const struct timespec *from);
-void uwbd_scan_now(struct daemon *d);               /* start a cycle, or queue one */
+void uwbd_scan_now(struct daemon *d);                            /* start a cycle, or queue one */
 void uwbd_scan_request(struct daemon *d, enum scan_trigger why); /* uwbd_scan_now, saying why */
 const char *uwbd_scan_trigger_name(enum scan_trigger why);
 

@@ -15,11 +15,8 @@ int uwbd_exit_for_rig_open(int rig_error, int detail)
         case UWB_GPIO_ERR_CONFIG: return UWBD_EXIT_CONFIG;
         default: return UWBD_EXIT_GPIO_CHIP;
         }
-    case UWB_RIG_ERR_LINK:
-        return detail == UWB_LINK_ERR_ENDPOINT ? UWBD_EXIT_CONFIG : UWBD_EXIT_DIGITISER;
-    case UWB_RIG_ERR_CONFIG:
-        return UWBD_EXIT_CONFIG;
-    default:
-        return UWBD_EXIT_SOFTWARE;
+    case UWB_RIG_ERR_LINK: return detail == UWB_LINK_ERR_ENDPOINT ? UWBD_EXIT_CONFIG : UWBD_EXIT_DIGITISER;
+    case UWB_RIG_ERR_CONFIG: return UWBD_EXIT_CONFIG;
+    default: return UWBD_EXIT_SOFTWARE;
     }
 }

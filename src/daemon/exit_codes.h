@@ -18,11 +18,11 @@ enum uwbd_exit {
 
 /* uwbd ctl */
 enum uwbd_ctl_exit {
-    UWBD_CTL_OK = 0,            /* a reply other than ERROR */
-    UWBD_CTL_REFUSED = 1,       /* the daemon replied ERROR */
+    UWBD_CTL_OK = 0,      /* a reply other than ERROR */
+    UWBD_CTL_REFUSED = 1, /* the daemon replied ERROR */
     UWBD_CTL_USAGE = 64,
-    UWBD_CTL_NO_DAEMON = 69,    /* nothing listening on the control socket */
-    UWBD_CTL_TIMEOUT = 75,      /* no reply in time */
+    UWBD_CTL_NO_DAEMON = 69, /* nothing listening on the control socket */
+    UWBD_CTL_TIMEOUT = 75,   /* no reply in time */
 };
 
 /* The exit status for a failed uwb_rig_open (its result and *detail). */

@@ -9,15 +9,15 @@
 #include "daemon/command.h"
 
 struct uwbd_line_buffer {
-    char text[UWB_COMMAND_MAX_LINE + 2];  /* room for "\r" and the NUL */
+    char text[UWB_COMMAND_MAX_LINE + 2]; /* room for "\r" and the NUL */
     size_t len;
-    int overlong;                          /* the current line passed the bound */
+    int overlong; /* the current line passed the bound */
 };
 
 enum uwbd_line_event {
-    UWBD_LINE_NONE,       /* no complete line yet */
-    UWBD_LINE_READY,      /* *line / *len hold a line, without its newline */
-    UWBD_LINE_TOO_LONG,   /* a line longer than the bound ended and was dropped */
+    UWBD_LINE_NONE,     /* no complete line yet */
+    UWBD_LINE_READY,    /* *line / *len hold a line, without its newline */
+    UWBD_LINE_TOO_LONG, /* a line longer than the bound ended and was dropped */
 };
 
 /* Feed bytes from data[*used ..n); stops after each event, advancing *used,

@@ -28,8 +28,8 @@ int uwbd_lock_watch_open(struct daemon *d)
     if (d->lock_watch_fd < 0 ||
         inotify_add_watch(d->lock_watch_fd, path, IN_ATTRIB | IN_DELETE_SELF | IN_MOVE_SELF) < 0 ||
         inotify_add_watch(d->lock_watch_fd, d->store.root, IN_DELETE_SELF | IN_MOVE_SELF) < 0) {
-        uwbd_log(UWBD_LOG_WARNING, "%s: cannot watch the lock file (%s); it is checked before each scan", path,
-                 strerror(errno));
+        uwbd_log(UWBD_LOG_WARNING, "%s: cannot watch the lock file (%s); it is checked before each scan",
+                 path, strerror(errno));
         if (d->lock_watch_fd >= 0)
             close(d->lock_watch_fd);
         d->lock_watch_fd = -1;
@@ -54,9 +54,10 @@ void uwbd_lock_watch_check(struct daemon *d)
     int ours = stat(path, &named) == 0 && named.st_dev == held.st_dev && named.st_ino == held.st_ino;
     if (ours)
         return;
-    uwbd_log(UWBD_LOG_ERR, "state directory %s: its lock file %s was deleted or replaced (the state directory "
-                           "removed?); stopping, so that no other uwbd shares it with this one. Restore the state "
-                           "directory (or accept a fresh one) and start uwbd again",
+    uwbd_log(UWBD_LOG_ERR,
+             "state directory %s: its lock file %s was deleted or replaced (the state directory "
+             "removed?); stopping, so that no other uwbd shares it with this one. Restore the state "
+             "directory (or accept a fresh one) and start uwbd again",
              d->store.root, path);
     d->exit_code = UWBD_EXIT_CANT_CREATE;
     if (!d->stopping) {

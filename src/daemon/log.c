@@ -29,7 +29,7 @@ void uwbd_log_setup(int max_level, int use_syslog)
 {
     log_max_level = max_level;
     stderr_is_journal = detect_journal();
-    log_to_syslog = use_syslog && !stderr_is_journal;   /* never the same line twice in the journal */
+    log_to_syslog = use_syslog && !stderr_is_journal; /* never the same line twice in the journal */
     if (log_to_syslog)
         openlog("uwbd", LOG_PID, LOG_DAEMON);
 }

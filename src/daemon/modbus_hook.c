@@ -58,11 +58,12 @@ int uwbd_modbus_open(struct daemon *d, char *err, size_t errlen)
 {
     d->modbus = NULL;
     if (!d->cfg.modbus.enabled)
-        return 0;   /* nothing opened */
+        return 0; /* nothing opened */
     struct uwbd_modbus_handlers h = {.ctx = d, .fill = fill_registers};
     h.coil[UWBD_MODBUS_COIL_EVENT] = coil_event;
     h.coil[UWBD_MODBUS_COIL_ACK] = coil_ack;
-    return uwbd_modbus_server_open(d->cfg.modbus.endpoint, d->cfg.modbus.unit_id, &h, &d->modbus, err, errlen);
+    return uwbd_modbus_server_open(d->cfg.modbus.endpoint, d->cfg.modbus.unit_id, &h, &d->modbus, err,
+                                   errlen);
 }
 
 void uwbd_modbus_close(struct daemon *d)

@@ -132,7 +132,7 @@ int uwbd_peers_expire(struct daemon *d)
             deadline = p->line_since_s + CLIENT_LINE_TIMEOUT_S;
             why = "no complete command line in time";
         } else {
-            continue;   /* waits for a scan's verdict, or watches */
+            continue; /* waits for a scan's verdict, or watches */
         }
         if (now >= deadline) {
             drop_client(p, why);
@@ -162,7 +162,7 @@ static void console_write(struct daemon *d, struct peer *p, const char *bytes, s
 static void send_line(struct daemon *d, struct peer *p, const char *line)
 {
     if (!p->in_use)
-        return;   /* dropped meanwhile (e.g. an earlier reply of a pipeline) */
+        return; /* dropped meanwhile (e.g. an earlier reply of a pipeline) */
     if (!line) {
         uwbd_log(UWBD_LOG_ERR, "out of memory building a reply");
         return;
@@ -175,7 +175,8 @@ static void send_line(struct daemon *d, struct peer *p, const char *line)
         uwbd_log(UWBD_LOG_ERR, "out of memory sending a reply");
         return;
     }
-    // NOLINTNEXTLINE(bugprone-not-null-terminated-result): a counted reply (newline-framed below), not a C string
+    // NOLINTNEXTLINE(bugprone-not-null-terminated-result): a counted reply (newline-framed below), not a C
+    // string
     memcpy(text, line, n);
     if (p->kind == PEER_CONTROL) {
         text[n] = '\n';
@@ -208,7 +209,9 @@ static char *status_reply(struct daemon *d)
     int has_progress = uwbd_scan_progress_now(d, &progress);
     struct uwbd_status st = {
         .version = UWBD_VERSION,
-        .state = d->stopping ? "stopping" : d->scanning ? "scanning" : "idle",
+        .state = d->stopping   ? "stopping"
+                 : d->scanning ? "scanning"
+                               : "idle",
         .uptime_s = (long)(time(NULL) - d->started),
         .interval_s = d->cfg.interval_s,
         .has_next_scan = d->has_next_scan && !d->scanning,
@@ -249,12 +252,8 @@ static char *trend_reply(struct daemon *d, int n)
 static void run_command(struct daemon *d, struct peer *p, const struct uwb_command *cmd)
 {
     switch (cmd->kind) {
-    case UWB_COMMAND_STATUS:
-        reply(d, p, status_reply(d));
-        return;
-    case UWB_COMMAND_HELP:
-        reply(d, p, uwbd_reply_help());
-        return;
+    case UWB_COMMAND_STATUS: reply(d, p, status_reply(d)); return;
+    case UWB_COMMAND_HELP: reply(d, p, uwbd_reply_help()); return;
     case UWB_COMMAND_VERDICT:
         if (d->latest_verdict)
             send_line(d, p, d->latest_verdict);
@@ -273,12 +272,8 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         uwbd_verdict_lines_free(lines, count);
         return;
     }
-    case UWB_COMMAND_TREND:
-        reply(d, p, trend_reply(d, cmd->count));
-        return;
-    case UWB_COMMAND_BASELINE_SET:
-        reply(d, p, uwbd_baseline_request(d, cmd->count, cmd->force));
-        return;
+    case UWB_COMMAND_TREND: reply(d, p, trend_reply(d, cmd->count)); return;
+    case UWB_COMMAND_BASELINE_SET: reply(d, p, uwbd_baseline_request(d, cmd->count, cmd->force)); return;
     case UWB_COMMAND_WATCH:
         p->watching = cmd->watch;
         reply(d, p, uwbd_reply_watch(cmd->watch));
@@ -291,7 +286,8 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         if (p->waiting_for) {
             /* One connection waits for one verdict: a second `scan` sent before
              * the first one's verdict is refused, not silently merged. */
-            reply(d, p, uwbd_reply_error("a scan is already pending on this connection; wait for its verdict"));
+            reply(d, p,
+                  uwbd_reply_error("a scan is already pending on this connection; wait for its verdict"));
             return;
         }
         /* The peer waits for the cycle that starts now, or the one queued after the running one. */
@@ -333,11 +329,13 @@ static void handle_line(struct daemon *d, struct peer *p, const char *line, size
         return;
     }
     if (rc != UWB_COMMAND_OK) {
-        uwbd_log(UWBD_LOG_INFO, "%s: refused a command: %s", p->kind == PEER_CONSOLE ? "console" : "control", err);
+        uwbd_log(UWBD_LOG_INFO, "%s: refused a command: %s", p->kind == PEER_CONSOLE ? "console" : "control",
+                 err);
         reply(d, p, uwbd_reply_error(err));
         return;
     }
-    uwbd_log(UWBD_LOG_DEBUG, "%s: %s", p->kind == PEER_CONSOLE ? "console" : "control", uwb_command_name(cmd.kind));
+    uwbd_log(UWBD_LOG_DEBUG, "%s: %s", p->kind == PEER_CONSOLE ? "console" : "control",
+             uwb_command_name(cmd.kind));
     run_command(d, p, &cmd);
 }
 
@@ -356,7 +354,8 @@ static void feed_console(struct daemon *d, struct peer *p, const char *buf, size
             return;
         if (ev == UWBD_LINE_TOO_LONG) {
             char msg[96];
-            snprintf(msg, sizeof msg, "command line too long (at most %d bytes); ignored", UWB_COMMAND_MAX_LINE);
+            snprintf(msg, sizeof msg, "command line too long (at most %d bytes); ignored",
+                     UWB_COMMAND_MAX_LINE);
             reply(d, p, uwbd_reply_error(msg));
         } else if (ev == UWBD_LINE_READY) {
             handle_line(d, p, line, len);
@@ -374,11 +373,13 @@ static void feed(struct daemon *d, struct peer *p, const char *buf, size_t n)
         feed_console(d, p, buf, n);
         return;
     }
-    while (p->in_use && (ev = uwbd_line_buffer_feed(&p->lines, buf, n, &used, &line, &len)) != UWBD_LINE_NONE) {
+    while (p->in_use &&
+           (ev = uwbd_line_buffer_feed(&p->lines, buf, n, &used, &line, &len)) != UWBD_LINE_NONE) {
         p->line_since_s = uwb_monotonic_s();
         if (ev == UWBD_LINE_TOO_LONG) {
             char msg[96];
-            snprintf(msg, sizeof msg, "command line too long (at most %d bytes); ignored", UWB_COMMAND_MAX_LINE);
+            snprintf(msg, sizeof msg, "command line too long (at most %d bytes); ignored",
+                     UWB_COMMAND_MAX_LINE);
             reply(d, p, uwbd_reply_error(msg));
         } else {
             handle_line(d, p, line, len);
@@ -441,7 +442,9 @@ void uwbd_peer_accept(struct daemon *d)
     if (ordinary_full)
         slot = NULL;
     if (!slot && (slot = client_to_drop(d, now, ordinary_full)) != NULL) {
-        uwbd_log(UWBD_LOG_NOTICE, "control: %d clients connected; dropping one idle for %.1f s (no complete command line) to make room",
+        uwbd_log(UWBD_LOG_NOTICE,
+                 "control: %d clients connected; dropping one idle for %.1f s (no complete command line) to "
+                 "make room",
                  ordinary_full ? MAX_ORDINARY_CLIENTS : MAX_CLIENTS, now - slot->line_since_s);
         uwbd_peer_close(slot);
     }
@@ -454,10 +457,13 @@ void uwbd_peer_accept(struct daemon *d)
     }
     char why[160];
     if (ordinary_full)
-        snprintf(why, sizeof why, "too many control clients (%d of %d; the last is kept for root and the daemon's user); try again later",
+        snprintf(why, sizeof why,
+                 "too many control clients (%d of %d; the last is kept for root and the daemon's user); try "
+                 "again later",
                  MAX_ORDINARY_CLIENTS, MAX_CLIENTS);
     else
-        snprintf(why, sizeof why, "too many control clients (%d of %d); try again later", MAX_CLIENTS, MAX_CLIENTS);
+        snprintf(why, sizeof why, "too many control clients (%d of %d); try again later", MAX_CLIENTS,
+                 MAX_CLIENTS);
     uwbd_log(UWBD_LOG_INFO, "control: a client was turned away: %s", why);
     struct peer turned_away = {.kind = PEER_CONTROL, .in_use = 1, .fd = fd};
     reply(d, &turned_away, uwbd_reply_error(why));
@@ -470,7 +476,8 @@ static void console_lost(struct daemon *d, const char *why)
              d->cfg.console_endpoint, why, CONSOLE_RETRY_S);
     d->console_failing = 1;
     uwbd_peer_close(&d->console);
-    struct itimerspec its = {.it_value = {.tv_sec = CONSOLE_RETRY_S}, .it_interval = {.tv_sec = CONSOLE_RETRY_S}};
+    struct itimerspec its = {.it_value = {.tv_sec = CONSOLE_RETRY_S},
+                             .it_interval = {.tv_sec = CONSOLE_RETRY_S}};
     timerfd_settime(d->console_retry_fd, 0, &its, NULL);
 }
 
@@ -501,8 +508,7 @@ void uwbd_peer_readable(struct daemon *d, struct peer *p)
         if (r > 0) {
             p->last_active_s = uwb_monotonic_s();
             feed(d, p, buf, (size_t)r);
-        }
-        else if (r == 0 || (errno != EAGAIN && errno != EINTR))
+        } else if (r == 0 || (errno != EAGAIN && errno != EINTR))
             uwbd_peer_close(p);
         return;
     }

@@ -61,8 +61,9 @@ static void copy_member(cJSON *to, const cJSON *from, const char *key)
 /* The fields of a verdict that tell its story in one line. */
 static cJSON *verdict_summary(const char *verdict_line)
 {
-    static const char *const keys[] = {"scan_id", "created", "status", "reason", "axial_displacement_mm",
-                                       "uncertainty_mm", "center_mm", "height_change_mm", "baseline_set"};
+    static const char *const keys[] = {
+        "scan_id",        "created",   "status",           "reason",      "axial_displacement_mm",
+        "uncertainty_mm", "center_mm", "height_change_mm", "baseline_set"};
     cJSON *v = cJSON_Parse(verdict_line);
     if (!v)
         return NULL;
@@ -165,8 +166,8 @@ char *uwbd_reply_baseline(int pending, int has_current, const struct uwbd_baseli
     if (!o)
         return NULL;
     cJSON_AddBoolToObject(o, "pending", pending);
-    cJSON_AddStringToObject(o, "message", pending ? "the next good scan becomes the baseline"
-                                                  : "no baseline change pending");
+    cJSON_AddStringToObject(
+        o, "message", pending ? "the next good scan becomes the baseline" : "no baseline change pending");
     if (has_current)
         cJSON_AddItemToObject(o, "current", baseline_object(current));
     return finish(o);

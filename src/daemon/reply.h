@@ -15,21 +15,21 @@
 
 struct uwbd_status {
     const char *version;
-    const char *state;             /* "idle", "scanning", "stopping" */
+    const char *state; /* "idle", "scanning", "stopping" */
     long uptime_s;
-    double interval_s;             /* 0: on request only */
+    double interval_s; /* 0: on request only */
     int has_next_scan;
     long next_scan_in_s;
     int scans_this_run;
-    int scan_queued;               /* a requested scan waits for the running one */
+    int scan_queued; /* a requested scan waits for the running one */
     int baseline_pending;
     int has_baseline;
     struct uwbd_baseline_info baseline;
-    const char *latest_verdict;    /* the VERDICT line, or NULL */
+    const char *latest_verdict; /* the VERDICT line, or NULL */
     const char *state_dir;
-    const char *rig;               /* "ready" or why not */
-    const char *console;           /* endpoint, or NULL when none */
-    const char *fault;             /* a device fault (the baseline failed its check), or NULL */
+    const char *rig;                           /* "ready" or why not */
+    const char *console;                       /* endpoint, or NULL when none */
+    const char *fault;                         /* a device fault (the baseline failed its check), or NULL */
     const struct uwbd_scan_progress *progress; /* while scanning, or NULL */
     const char *site_phase, *site_label;       /* site.phase, site.label; "" or NULL: not set */
 };

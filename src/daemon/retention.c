@@ -18,9 +18,9 @@
 #include <unistd.h>
 
 struct archived_scan {
-    char day[16];            /* "YYYY/MM/DD" under archive/ */
+    char day[16]; /* "YYYY/MM/DD" under archive/ */
     char id[UWBD_SCAN_ID_MAX + 1];
-    struct timespec mtime;   /* to the nanosecond: scans a second apart still sort */
+    struct timespec mtime; /* to the nanosecond: scans a second apart still sort */
 };
 
 struct scan_list {
@@ -149,7 +149,7 @@ static int walk_days(int dirfd, int level, const char *prefix, struct scan_list 
             continue;
         int sub = open_subdir(dirfd, e->d_name);
         if (sub < 0)
-            continue;   /* a symlink or a file: not ours to walk */
+            continue; /* a symlink or a file: not ours to walk */
         char day[16];
         snprintf(day, sizeof day, "%s%s%s", prefix, level ? "/" : "", e->d_name);
         rc = level == 2 ? list_day(sub, day, list) : walk_days(sub, level + 1, day, list);
@@ -209,11 +209,13 @@ static void remove_empty_days(const struct uwbd_store *store, const char *day)
     }
 }
 
-static int delete_scan(const struct uwbd_store *store, const struct archived_scan *s, char *err, size_t errlen)
+static int delete_scan(const struct uwbd_store *store, const struct archived_scan *s, char *err,
+                       size_t errlen)
 {
     int dayfd = open_day(store, s->day);
     if (dayfd < 0) {
-        snprintf(err, errlen, "%s/%s: cannot open as a directory: %s", store->archive, s->day, strerror(errno));
+        snprintf(err, errlen, "%s/%s: cannot open as a directory: %s", store->archive, s->day,
+                 strerror(errno));
         return -1;
     }
     DIR *d = list_fd(dayfd);
@@ -260,7 +262,7 @@ static int list_scans(const struct uwbd_store *store, struct scan_list *list)
 int uwbd_clock_synchronised(void)
 {
     struct timex t;
-    memset(&t, 0, sizeof t);   /* modes 0: read only */
+    memset(&t, 0, sizeof t); /* modes 0: read only */
     int state = ntp_adjtime(&t);
     return state >= 0 && state != TIME_ERROR && !(t.status & STA_UNSYNC);
 }
@@ -290,14 +292,14 @@ int uwbd_retention_apply(const struct uwbd_store *store, int max_scans, double m
         /* Age never takes the newest scan: the archive keeps at least one. */
         int too_old = max_age_days > 0 && list.items[i].mtime.tv_sec < cutoff && i + 1 < list.count;
         if (!too_many && !too_old)
-            break;   /* oldest first: everything after is newer */
+            break; /* oldest first: everything after is newer */
         if (delete_scan(store, &list.items[i], err, errlen) != 0)
             rc = -1;
         else if (removed)
             ++*removed;
     }
     if (uwbd_verdict_log_trim(store, max_scans, max_age_days, now, NULL, err, errlen) != 0)
-        rc = -1;   /* verdicts.jsonl spans what the archive keeps */
+        rc = -1; /* verdicts.jsonl spans what the archive keeps */
     free(list.items);
     return rc;
 }

@@ -32,7 +32,7 @@ struct cycle {
     char day_dir_error[512];
     char id[UWBD_SCAN_ID_MAX + 1];
     char created[64];
-    char archive_error[512];     /* the first file of this cycle that could not be archived */
+    char archive_error[512]; /* the first file of this cycle that could not be archived */
     uwbd_acquire_fn acquire;
     void *acquire_ctx;
     const volatile sig_atomic_t *stop;
@@ -40,10 +40,10 @@ struct cycle {
     int acquisitions, pulses_each;
     int baseline_scans, has_repeatability;
     double repeatability_m;
-    char reacquire_note[256];    /* why no more were acquired while inconclusive */
-    char clock_note[200];        /* "" unless the clock went back (issue 17) */
-    char baseline_note[256];     /* after `baseline set`: why it was not set, or how */
-    const char *fault;           /* "baseline" when the baseline failed its check */
+    char reacquire_note[256]; /* why no more were acquired while inconclusive */
+    char clock_note[200];     /* "" unless the clock went back (issue 17) */
+    char baseline_note[256];  /* after `baseline set`: why it was not set, or how */
+    const char *fault;        /* "baseline" when the baseline failed its check */
 };
 
 static int file_exists_in(const char *dir, const char *id, const char *suffix)
@@ -64,8 +64,9 @@ static void choose_id(struct cycle *c, const char *wanted)
         strftime(base, sizeof base, "uwbd-%Y%m%dT%H%M%SZ", &tm);
     }
     snprintf(c->id, sizeof c->id, "%s", base);
-    for (int n = 2; c->have_day_dir && n < 10000 &&
-                    (file_exists_in(c->day_dir, c->id, ".json") || file_exists_in(c->day_dir, c->id, ".uwbscan"));
+    for (int n = 2;
+         c->have_day_dir && n < 10000 &&
+         (file_exists_in(c->day_dir, c->id, ".json") || file_exists_in(c->day_dir, c->id, ".uwbscan"));
          n++) {
         char suffix[16];
         int len = snprintf(suffix, sizeof suffix, "-%d", n);
@@ -166,7 +167,8 @@ static void record(struct cycle *c, const struct uwb_verdict *v, cJSON *o)
     if (c->have_day_dir && write_verdict_file(c, res->verdict_json, err, sizeof err) != 0) {
         int said = c->archive_error[0] != '\0';
         archive_problem(c, "archive", err);
-        if (!said && (!cJSON_AddStringToObject(o, "archive_error", c->archive_error) || print_verdict(c, o) != 0))
+        if (!said &&
+            (!cJSON_AddStringToObject(o, "archive_error", c->archive_error) || print_verdict(c, o) != 0))
             problem(c, "verdict", "out of memory");
     }
     char log_err[512];
@@ -219,18 +221,24 @@ static int commissioning_refusal(const struct cycle *c, const struct uwb_verdict
                 fabs(v->axial_displacement_m) >= c->cfg->evaluate.compare.thresholds.alarm_m;
     if (v->status != UWB_STATUS_ALARM && !moved)
         return 0;
-    if (c->req->force_baseline) {   /* the operator's decision after a repair: said, not silent */
-        uwbd_log(UWBD_LOG_WARNING, "scan %s: baseline set force: taking it as the baseline although it is %+.2f mm from the "
-                                   "current one", c->id, v->axial_displacement_m * 1e3);
-        snprintf(note, n, "forced (`baseline set force`): made the baseline although it is %s against the previous "
-                          "one (%+.2f mm)", v->status == UWB_STATUS_ALARM ? "an alarm" : "past the alarm threshold",
+    if (c->req->force_baseline) { /* the operator's decision after a repair: said, not silent */
+        uwbd_log(UWBD_LOG_WARNING,
+                 "scan %s: baseline set force: taking it as the baseline although it is %+.2f mm from the "
+                 "current one",
+                 c->id, v->axial_displacement_m * 1e3);
+        snprintf(note, n,
+                 "forced (`baseline set force`): made the baseline although it is %s against the previous "
+                 "one (%+.2f mm)",
+                 v->status == UWB_STATUS_ALARM ? "an alarm" : "past the alarm threshold",
                  v->axial_displacement_m * 1e3);
         return 0;
     }
-    snprintf(note, n,
-             "refused: this scan is %s against the current baseline (%+.2f mm): a winding that moved is not made "
-             "the baseline; inspect it, and if the move is known (a repair), send `baseline set force`",
-             v->status == UWB_STATUS_ALARM ? "an alarm" : "past the alarm threshold", v->axial_displacement_m * 1e3);
+    snprintf(
+        note, n,
+        "refused: this scan is %s against the current baseline (%+.2f mm): a winding that moved is not made "
+        "the baseline; inspect it, and if the move is known (a repair), send `baseline set force`",
+        v->status == UWB_STATUS_ALARM ? "an alarm" : "past the alarm threshold",
+        v->axial_displacement_m * 1e3);
     return 1;
 }
 
@@ -245,14 +253,16 @@ static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, c
         return;
     }
     if (!v->current.found) {
-        snprintf(c->baseline_note, sizeof c->baseline_note,
-                 "not set: the winding's edges were not found in this scan; the next good scan will be tried");
+        snprintf(
+            c->baseline_note, sizeof c->baseline_note,
+            "not set: the winding's edges were not found in this scan; the next good scan will be tried");
         return;
     }
     if (!v->has_direct_coupling) {
-        snprintf(c->baseline_note, sizeof c->baseline_note,
-                 "not set: no direct coupling to take time zero from (%.120s); the next good scan will be tried",
-                 v->direct_coupling_why);
+        snprintf(
+            c->baseline_note, sizeof c->baseline_note,
+            "not set: no direct coupling to take time zero from (%.120s); the next good scan will be tried",
+            v->direct_coupling_why);
         return;
     }
     struct uwbd_baseline_info info = {0};
@@ -266,7 +276,8 @@ static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, c
     info.repeatability_m = c->repeatability_m;
     c->baseline_scans = info.scans;
     char err[512];
-    if (uwbd_baseline_set(c->store, scan, &info, c->cfg->evaluate.direct_coupling.window_end_s, err, sizeof err) != 0) {
+    if (uwbd_baseline_set(c->store, scan, &info, c->cfg->evaluate.direct_coupling.window_end_s, err,
+                          sizeof err) != 0) {
         problem(c, "baseline", err);
         snprintf(c->baseline_note, sizeof c->baseline_note, "not set: %.200s", err);
         return;
@@ -294,7 +305,8 @@ static double scan_centre(const struct cycle *c, const struct uwb_scan *scan)
  * spread of their centres is the baseline's repeatability. */
 static int acquire_baseline_scans(struct cycle *c, struct uwb_scan *scan, char *err, size_t errlen)
 {
-    int n = c->req->baseline_scans > UWBD_BASELINE_SCANS_MAX ? UWBD_BASELINE_SCANS_MAX : c->req->baseline_scans;
+    int n =
+        c->req->baseline_scans > UWBD_BASELINE_SCANS_MAX ? UWBD_BASELINE_SCANS_MAX : c->req->baseline_scans;
     double centres[UWBD_BASELINE_SCANS_MAX];
     centres[0] = scan_centre(c, scan);
     for (int i = 1; i < n; i++) {
@@ -302,9 +314,10 @@ static int acquire_baseline_scans(struct cycle *c, struct uwb_scan *scan, char *
         int rc = uwbd_acquire_and_average(c->acquire, c->acquire_ctx, c->stop, scan, &added, err, errlen);
         if (rc == UWBD_ACQUIRE_STOPPED)
             return rc;
-        if (rc != UWBD_ACQUIRE_OK) {   /* keep what was acquired: the scans so far make the baseline */
-            uwbd_log(UWBD_LOG_WARNING, "baseline: acquisition %d of %d failed (%s); averaging the %d acquired", i + 1,
-                     n, err, i);
+        if (rc != UWBD_ACQUIRE_OK) { /* keep what was acquired: the scans so far make the baseline */
+            uwbd_log(UWBD_LOG_WARNING,
+                     "baseline: acquisition %d of %d failed (%s); averaging the %d acquired", i + 1, n, err,
+                     i);
             n = i;
             break;
         }
@@ -316,7 +329,8 @@ static int acquire_baseline_scans(struct cycle *c, struct uwb_scan *scan, char *
     c->repeatability_m = uwbd_spread(centres, n, &used);
     c->has_repeatability = used >= 2;
     c->baseline_scans = n;
-    uwbd_log(UWBD_LOG_INFO, "baseline: %d scans averaged; their centres spread %.3f mm (1-sigma, %d with edges)", n,
+    uwbd_log(UWBD_LOG_INFO,
+             "baseline: %d scans averaged; their centres spread %.3f mm (1-sigma, %d with edges)", n,
              c->repeatability_m * 1e3, used);
     return UWBD_ACQUIRE_OK;
 }
@@ -325,10 +339,11 @@ static int acquire_baseline_scans(struct cycle *c, struct uwb_scan *scan, char *
  * again and average, within analysis.reacquire_budget_s of the cycle's
  * start, re-evaluating each time. Why it stopped short goes to the verdict.
  * -1 (err) when the evaluation itself fails. */
-static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan, const struct uwb_baseline_record *base,
+static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan,
+                                    const struct uwb_baseline_record *base,
                                     const struct uwb_evaluate_options *opt, struct uwb_verdict *v,
-                                    struct uwb_analysis *cur_a, struct uwb_analysis *base_a, const char *scan_path,
-                                    char *err, size_t errlen)
+                                    struct uwb_analysis *cur_a, struct uwb_analysis *base_a,
+                                    const char *scan_path, char *err, size_t errlen)
 {
     double max_m = opt->compare.max_uncertainty_m, budget = c->cfg->reacquire_budget_s;
     int added_any = 0;
@@ -339,8 +354,8 @@ static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan, cons
         int pulses = scan->stack > 0 ? scan->stack : 1;
         /* First from the verdict's noise term; once sigma has been seen at two
          * pulse counts, from how it actually fell. */
-        int more = added_any ? uwbd_acquisitions_needed_fit(sigma_before, pulses_before, v->uncertainty_m, pulses,
-                                                            max_m, c->pulses_each)
+        int more = added_any ? uwbd_acquisitions_needed_fit(sigma_before, pulses_before, v->uncertainty_m,
+                                                            pulses, max_m, c->pulses_each)
                              : uwbd_acquisitions_needed(v, max_m, pulses, c->pulses_each);
         sigma_before = v->uncertainty_m;
         pulses_before = pulses;
@@ -348,14 +363,16 @@ static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan, cons
         if (more < 0) {
             snprintf(c->reacquire_note, sizeof c->reacquire_note,
                      "more pulses cannot bring the uncertainty under %.2f mm: its part that does not average "
-                     "down is over it", max_m * 1e3);
+                     "down is over it",
+                     max_m * 1e3);
             break;
         }
         if (more < 1)
             more = 1;
         if (spent + more * c->acquire_s > budget) {
             snprintf(c->reacquire_note, sizeof c->reacquire_note,
-                     "%d more acquisition%s (about %.0f s) would be needed, over analysis.reacquire_budget_s %.0f s",
+                     "%d more acquisition%s (about %.0f s) would be needed, over analysis.reacquire_budget_s "
+                     "%.0f s",
                      more, more == 1 ? "" : "s", more * c->acquire_s, budget);
             break;
         }
@@ -373,8 +390,8 @@ static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan, cons
         uwb_analysis_free(base_a);
         if (uwb_evaluate(scan, base, opt, v, cur_a, base_a, err, errlen) != 0)
             return -1;
-        uwbd_log(UWBD_LOG_INFO, "scan %s: acquired again (%d pulses per position): uncertainty %.2f mm", c->id,
-                 scan->stack, v->uncertainty_m * 1e3);
+        uwbd_log(UWBD_LOG_INFO, "scan %s: acquired again (%d pulses per position): uncertainty %.2f mm",
+                 c->id, scan->stack, v->uncertainty_m * 1e3);
     }
     /* The archive keeps the scan the verdict was made from. */
     char write_err[512];
@@ -389,7 +406,8 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     struct uwb_verdict v;
     char err[512];
     choose_id(c, scan->scan_id);
-    if (replace_text(&scan->scan_id, c->id) != 0 || (!scan->created && replace_text(&scan->created, c->created) != 0)) {
+    if (replace_text(&scan->scan_id, c->id) != 0 ||
+        (!scan->created && replace_text(&scan->created, c->created) != 0)) {
         record_error(c, "out of memory");
         return;
     }
@@ -413,16 +431,18 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     if (b == UWBD_BASELINE_FAULT)
         uwbd_log(UWBD_LOG_WARNING, "scan %s not compared: fault: %s", c->id, c->res->fault);
     /* The baseline with what was recorded with it at commissioning. */
-    struct uwb_baseline_record against = {.scan = &base, .has_direct_coupling = info.has_direct_coupling,
-                                          .direct_coupling_s = info.direct_coupling_s, .scans = info.scans,
+    struct uwb_baseline_record against = {.scan = &base,
+                                          .has_direct_coupling = info.has_direct_coupling,
+                                          .direct_coupling_s = info.direct_coupling_s,
+                                          .scans = info.scans,
                                           .has_repeatability = info.has_repeatability,
                                           .repeatability_m = info.repeatability_m};
     const struct uwb_baseline_record *baseline = b == UWBD_BASELINE_LOADED ? &against : NULL;
 
     struct uwb_analysis cur_a, base_a;
     if (uwb_evaluate(scan, baseline, &c->cfg->evaluate, &v, &cur_a, &base_a, err, sizeof err) != 0 ||
-        (baseline && reacquire_until_decisive(c, scan, baseline, &c->cfg->evaluate, &v, &cur_a, &base_a, scan_path,
-                                              err, sizeof err) != 0)) {
+        (baseline && reacquire_until_decisive(c, scan, baseline, &c->cfg->evaluate, &v, &cur_a, &base_a,
+                                              scan_path, err, sizeof err) != 0)) {
         uwb_scan_free(&base);
         record_error(c, "evaluation failed: %s", err);
         return;
@@ -439,8 +459,8 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
         set_baseline_if_good(c, scan, &v);
     if (b == UWBD_BASELINE_FAULT) {
         if (c->res->baseline_set) {
-            snprintf(c->baseline_note, sizeof c->baseline_note, "replaced a baseline that failed its check: %.200s",
-                     c->res->fault);
+            snprintf(c->baseline_note, sizeof c->baseline_note,
+                     "replaced a baseline that failed its check: %.200s", c->res->fault);
             c->res->fault[0] = '\0';
         } else {
             v.status = UWB_STATUS_ERROR;
@@ -452,7 +472,8 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     if (o)
         add_cycle_fields(c, o, scan_path, scan->stack);
     record(c, &v, o);
-    uwbd_log(UWBD_LOG_INFO, "scan %s: %s%s%s", c->id, uwb_status_name(v.status), v.reason[0] ? ": " : "", v.reason);
+    uwbd_log(UWBD_LOG_INFO, "scan %s: %s%s%s", c->id, uwb_status_name(v.status), v.reason[0] ? ": " : "",
+             v.reason);
 }
 
 int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store, uwbd_acquire_fn acquire,
@@ -460,14 +481,21 @@ int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store
                    struct uwbd_cycle_result *res)
 {
     memset(res, 0, sizeof *res);
-    struct cycle c = {.cfg = cfg, .store = store, .req = req, .res = res, .acquire = acquire,
-                      .acquire_ctx = acquire_ctx, .stop = stop, .started_s = uwb_monotonic_s()};
+    struct cycle c = {.cfg = cfg,
+                      .store = store,
+                      .req = req,
+                      .res = res,
+                      .acquire = acquire,
+                      .acquire_ctx = acquire_ctx,
+                      .stop = stop,
+                      .started_s = uwb_monotonic_s()};
     uwbd_utc_text(req->now, c.created, sizeof c.created);
     char newest[64];
     if (uwbd_verdict_log_latest_created(store, newest, sizeof newest) && strcmp(c.created, newest) < 0)
-        snprintf(c.clock_note, sizeof c.clock_note,
-                 "this scan's time %s is earlier than the newest recorded scan's (%.40s): the clock went back", c.created,
-                 newest);
+        snprintf(
+            c.clock_note, sizeof c.clock_note,
+            "this scan's time %s is earlier than the newest recorded scan's (%.40s): the clock went back",
+            c.created, newest);
     if (c.clock_note[0])
         uwbd_log(UWBD_LOG_WARNING, "%s", c.clock_note);
     struct tm utc;
@@ -496,12 +524,12 @@ int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store
         uwb_scan_free(&scan);
     }
     int removed = 0, synchronised = uwbd_clock_synchronised();
-    static int said_unsynchronised;   /* once per run, not once per scan */
+    static int said_unsynchronised; /* once per run, not once per scan */
     if (cfg->retention_max_age_days > 0 && !synchronised && !said_unsynchronised++)
         uwbd_log(UWBD_LOG_NOTICE, "retention: the system clock is not synchronised: "
                                   "retention.max_age_days waits for it (max_scans still applies)");
-    if (uwbd_retention_apply(store, cfg->retention_max_scans, cfg->retention_max_age_days, req->now, synchronised,
-                             &removed, err, sizeof err) != 0)
+    if (uwbd_retention_apply(store, cfg->retention_max_scans, cfg->retention_max_age_days, req->now,
+                             synchronised, &removed, err, sizeof err) != 0)
         uwbd_log(UWBD_LOG_ERR, "retention: %s", err);
     else if (removed)
         uwbd_log(UWBD_LOG_INFO, "retention: deleted %d archived scan%s", removed, removed == 1 ? "" : "s");

@@ -19,27 +19,28 @@
 
 enum uwbd_acquire_result {
     UWBD_ACQUIRE_OK = 0,
-    UWBD_ACQUIRE_STOPPED = 1,  /* *stop was raised: nothing to record */
-    UWBD_ACQUIRE_FAILED = -1,  /* err says why; the hardware has been made safe */
+    UWBD_ACQUIRE_STOPPED = 1, /* *stop was raised: nothing to record */
+    UWBD_ACQUIRE_FAILED = -1, /* err says why; the hardware has been made safe */
 };
 
 /* Fill *out with a new scan; returns an enum uwbd_acquire_result. */
-typedef int (*uwbd_acquire_fn)(void *ctx, const volatile sig_atomic_t *stop, struct uwb_scan *out,
-                               char *err, size_t errlen);
+typedef int (*uwbd_acquire_fn)(void *ctx, const volatile sig_atomic_t *stop, struct uwb_scan *out, char *err,
+                               size_t errlen);
 
 struct uwbd_cycle_request {
-    int make_baseline;         /* a `baseline set` is pending */
-    int baseline_scans;        /* ...to be made from this many scans averaged (0 or 1: this one) */
-    int force_baseline;        /* ...even from a scan that is an alarm against the current one */
-    int has_expected;          /* the daemon commissioned `expected`: it must still be there, whole */
+    int make_baseline;  /* a `baseline set` is pending */
+    int baseline_scans; /* ...to be made from this many scans averaged (0 or 1: this one) */
+    int force_baseline; /* ...even from a scan that is an alarm against the current one */
+    int has_expected;   /* the daemon commissioned `expected`: it must still be there, whole */
     struct uwbd_baseline_info expected;
-    time_t now;                /* wall clock at the start (names the archive day) */
-    const char *trigger;       /* what started it, for the verdict: "schedule", "command" or "event"; NULL: not said */
+    time_t now; /* wall clock at the start (names the archive day) */
+    const char
+        *trigger; /* what started it, for the verdict: "schedule", "command" or "event"; NULL: not said */
 };
 
 enum uwbd_cycle_outcome {
-    UWBD_CYCLE_RECORDED,       /* a verdict (maybe `error`) was produced */
-    UWBD_CYCLE_STOPPED,        /* stopped by a signal: nothing recorded */
+    UWBD_CYCLE_RECORDED, /* a verdict (maybe `error`) was produced */
+    UWBD_CYCLE_STOPPED,  /* stopped by a signal: nothing recorded */
 };
 
 struct uwbd_cycle_result {
@@ -47,12 +48,12 @@ struct uwbd_cycle_result {
     enum uwb_status status;
     char scan_id[UWBD_SCAN_ID_MAX + 1];
     char reason[256];
-    int baseline_set;          /* this scan became the baseline */
-    int baseline_refused;      /* the pending `baseline set` was refused for good (an alarm); see the verdict */
-    int baseline_checked;      /* the baseline was looked at: `fault` is current */
-    char fault[512];           /* "" or why the baseline cannot be trusted (a device fault) */
-    char *verdict_json;        /* malloc'd one-line VERDICT object (as archived), NULL when stopped */
-    int archive_problems;      /* files that could not be written (logged) */
+    int baseline_set;     /* this scan became the baseline */
+    int baseline_refused; /* the pending `baseline set` was refused for good (an alarm); see the verdict */
+    int baseline_checked; /* the baseline was looked at: `fault` is current */
+    char fault[512];      /* "" or why the baseline cannot be trusted (a device fault) */
+    char *verdict_json;   /* malloc'd one-line VERDICT object (as archived), NULL when stopped */
+    int archive_problems; /* files that could not be written (logged) */
 };
 
 int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store, uwbd_acquire_fn acquire,

@@ -6,11 +6,11 @@
 #define UWB_DAEMON_SCAN_PROGRESS_H
 
 struct uwbd_scan_progress {
-    int done;            /* positions acquired */
-    int total;           /* positions in the scan */
-    double elapsed_s;    /* since the scan started */
-    int has_left;        /* 0 until a position has been acquired */
-    double left_s;       /* estimated time to the last position */
+    int done;         /* positions acquired */
+    int total;        /* positions in the scan */
+    double elapsed_s; /* since the scan started */
+    int has_left;     /* 0 until a position has been acquired */
+    double left_s;    /* estimated time to the last position */
 };
 
 /* started_s, first_s (the first position's completion), last_s (the latest

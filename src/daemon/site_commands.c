@@ -34,8 +34,7 @@ static char *site_command(struct daemon *d, const char *text)
         uwbd_site_contact_states(d->site, &st);
         return uwbd_reply_ack(st.watch, st.alarm, st.fault);
     }
-    case UWB_COMMAND_BASELINE_SET:
-        return uwbd_baseline_request(d, cmd.count, cmd.force);
+    case UWB_COMMAND_BASELINE_SET: return uwbd_baseline_request(d, cmd.count, cmd.force);
     default:
         return uwbd_reply_error("over MQTT only scan, event, ack and baseline set are taken (the verdict and "
                                 "status topics carry the rest)");
@@ -52,4 +51,3 @@ void uwbd_run_site_commands(struct daemon *d)
         free(text);
     }
 }
-

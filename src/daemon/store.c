@@ -60,7 +60,7 @@ static int make_dirs(const char *path, char *err, size_t errlen)
 
 struct cleanup {
     int removed;
-    int foreign;     /* hidden files or symlinks left alone */
+    int foreign; /* hidden files or symlinks left alone */
 };
 
 static int all_digits(const char *s, size_t len)
@@ -153,8 +153,7 @@ static void remove_stale_temporaries(const struct uwbd_store *store, struct clea
                  c->foreign - FOREIGN_NAMED_MAX);
 }
 
-int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repairs, char *err,
-                    size_t errlen)
+int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repairs, char *err, size_t errlen)
 {
     memset(store, 0, sizeof *store);
     if (repairs)
@@ -216,8 +215,8 @@ int uwbd_store_lock(const char *state_dir, char *err, size_t errlen)
     return fd;
 }
 
-int uwbd_store_day_dir(const struct uwbd_store *store, const struct tm *utc, char *dir, size_t n,
-                       char *err, size_t errlen)
+int uwbd_store_day_dir(const struct uwbd_store *store, const struct tm *utc, char *dir, size_t n, char *err,
+                       size_t errlen)
 {
     int w = snprintf(dir, n, "%s/%04d/%02d/%02d", store->archive, utc->tm_year + 1900, utc->tm_mon + 1,
                      utc->tm_mday);
@@ -248,7 +247,7 @@ int uwbd_write_json_file(const char *path, const char *json, char *err, size_t e
     struct atomic_file af;
     if (uwb_atomic_file_open(&af, path, err, errlen) != 0)
         return -1;
-    fprintf(af.fp, "%s\n", json);   /* a failed write shows at the commit's flush */
+    fprintf(af.fp, "%s\n", json); /* a failed write shows at the commit's flush */
     return uwb_atomic_file_commit(&af, err, errlen);
 }
 

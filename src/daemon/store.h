@@ -17,7 +17,7 @@
 #define UWBD_SCAN_ID_MAX 100
 
 struct uwbd_store {
-    char root[UWBD_PATH_MAX];          /* absolute */
+    char root[UWBD_PATH_MAX]; /* absolute */
     char archive[UWBD_PATH_MAX + 16];
     char baseline_dir[UWBD_PATH_MAX + 16];
     char baseline_history[UWBD_PATH_MAX + 32];
@@ -29,8 +29,7 @@ struct uwbd_store {
  * temporaries a crash left behind; *repairs (may be NULL) counts them.
  * The verdict log is repaired by its own code (uwbd_state_open does both).
  * Returns 0 or -1 with err. */
-int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repairs, char *err,
-                    size_t errlen);
+int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repairs, char *err, size_t errlen);
 
 /* Create state_dir if missing and hold an exclusive lock on its uwbd.lock
  * for the life of the process, so a second daemon never tidies or writes
@@ -39,8 +38,8 @@ int uwbd_store_open(struct uwbd_store *store, const char *state_dir, int *repair
 int uwbd_store_lock(const char *state_dir, char *err, size_t errlen);
 
 /* archive/YYYY/MM/DD for that UTC day, created if missing. */
-int uwbd_store_day_dir(const struct uwbd_store *store, const struct tm *utc, char *dir, size_t n,
-                       char *err, size_t errlen);
+int uwbd_store_day_dir(const struct uwbd_store *store, const struct tm *utc, char *dir, size_t n, char *err,
+                       size_t errlen);
 
 /* A scan id made safe as a file name: [A-Za-z0-9._-], not starting with a
  * dot, at most UWBD_SCAN_ID_MAX bytes; empty input gives "". */

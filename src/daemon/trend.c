@@ -40,7 +40,8 @@ int uwbd_trend_png_update(const struct uwbd_config *cfg, const struct uwbd_store
 {
     char path[UWBD_PATH_MAX + 32];
     if (uwbd_trend_png_path(store, path, sizeof path) != 0) {
-        snprintf(err, errlen, "%.64s...: state directory path too long for %s", store->root, UWBD_TREND_PNG_NAME);
+        snprintf(err, errlen, "%.64s...: state directory path too long for %s", store->root,
+                 UWBD_TREND_PNG_NAME);
         return -1;
     }
     struct uwb_trend t;
@@ -84,7 +85,8 @@ static cJSON *point_object(const struct uwb_trend_point *p)
     return o;
 }
 
-char *uwbd_reply_trend(const struct uwb_trend *t, int requested, const struct uwb_thresholds *th, const char *image)
+char *uwbd_reply_trend(const struct uwb_trend *t, int requested, const struct uwb_thresholds *th,
+                       const char *image)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o)

@@ -32,6 +32,7 @@ int uwbd_trend_png_path(const struct uwbd_store *store, char *path, size_t n);
  * 1-sigma, height change, baseline and baseline changes; the rate since
  * the last baseline change; the thresholds; the image if there is one
  * (image may be NULL). malloc'd line, NULL when out of memory. */
-char *uwbd_reply_trend(const struct uwb_trend *t, int requested, const struct uwb_thresholds *th, const char *image);
+char *uwbd_reply_trend(const struct uwb_trend *t, int requested, const struct uwb_thresholds *th,
+                       const char *image);
 
 #endif

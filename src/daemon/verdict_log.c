@@ -66,8 +66,7 @@ int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, ch
 
 /* Open the log and take its size. Returns 1 when it does not exist yet
  * (nothing logged), 0 with *fd open, or -1 with err filled. */
-static int open_log(const struct uwbd_store *store, int flags, int *fd, off_t *size, char *err,
-                    size_t errlen)
+static int open_log(const struct uwbd_store *store, int flags, int *fd, off_t *size, char *err, size_t errlen)
 {
     *fd = open(store->verdict_log, flags | O_NOFOLLOW | O_CLOEXEC);
     if (*fd < 0) {
@@ -101,7 +100,8 @@ int uwbd_verdict_log_repair(const struct uwbd_store *store, long *dropped, char 
         off_t start = end > (off_t)sizeof buf ? end - (off_t)sizeof buf : 0;
         ssize_t r = pread(fd, buf, (size_t)(end - start), start);
         if (r != end - start) {
-            snprintf(err, errlen, "%s: cannot read: %s", store->verdict_log, r < 0 ? strerror(errno) : "short read");
+            snprintf(err, errlen, "%s: cannot read: %s", store->verdict_log,
+                     r < 0 ? strerror(errno) : "short read");
             close(fd);
             return -1;
         }
@@ -117,7 +117,8 @@ int uwbd_verdict_log_repair(const struct uwbd_store *store, long *dropped, char 
     int rc = 0;
     if (keep < size) {
         if (ftruncate(fd, keep) != 0 || fsync(fd) != 0) {
-            snprintf(err, errlen, "%s: cannot cut off a torn last line: %s", store->verdict_log, strerror(errno));
+            snprintf(err, errlen, "%s: cannot cut off a torn last line: %s", store->verdict_log,
+                     strerror(errno));
             rc = -1;
         } else {
             *dropped = (long)(size - keep);
@@ -138,7 +139,7 @@ void uwbd_verdict_lines_free(char **lines, int count)
 static char *valid_line(const char *text, size_t len)
 {
     if (memchr(text, '\0', len))
-        return NULL;   /* a NUL inside would cut the line short for every reader */
+        return NULL; /* a NUL inside would cut the line short for every reader */
     cJSON *o = cJSON_ParseWithLength(text, len);
     int ok = o && cJSON_IsObject(o);
     cJSON_Delete(o);
@@ -195,11 +196,12 @@ int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines_o
         if (r != (ssize_t)block) {
             free(buf);
             close(fd);
-            snprintf(err, errlen, "%s: cannot read: %s", store->verdict_log, r < 0 ? strerror(errno) : "short read");
+            snprintf(err, errlen, "%s: cannot read: %s", store->verdict_log,
+                     r < 0 ? strerror(errno) : "short read");
             return -1;
         }
         have += block;
-        for (size_t i = 0; i < block; i++)   /* the new block only: the rest was counted */
+        for (size_t i = 0; i < block; i++) /* the new block only: the rest was counted */
             newlines += buf[i] == '\n';
     }
     close(fd);
@@ -218,12 +220,12 @@ int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines_o
     if (end < have)
         skipped++;
     while (end > 0 && count < n) {
-        size_t line_end = end - 1;   /* at the newline */
+        size_t line_end = end - 1; /* at the newline */
         size_t line_start = line_end;
         while (line_start > 0 && buf[line_start - 1] != '\n')
             line_start--;
         if (line_start == 0 && start > 0)
-            break;   /* this line began before what was read */
+            break; /* this line began before what was read */
         if (line_end > line_start) {
             char *copy = valid_line(buf + line_start, line_end - line_start);
             if (copy)
@@ -249,7 +251,7 @@ int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines_o
 
 /* One line of the log during a trim. */
 struct log_line {
-    size_t start, len;   /* without the newline */
+    size_t start, len; /* without the newline */
     int has_time;
     time_t created;
 };
@@ -323,8 +325,10 @@ static int write_kept(const struct uwbd_store *store, const char *text, const st
     for (size_t i = 0; i < count; i++) {
         if (!keep[i])
             continue;
-        if (fwrite(text + lines[i].start, 1, lines[i].len, af.fp) != lines[i].len || fputc('\n', af.fp) == EOF) {
-            snprintf(err, errlen, "%s: cannot write the trimmed log: %s", store->verdict_log, strerror(errno));
+        if (fwrite(text + lines[i].start, 1, lines[i].len, af.fp) != lines[i].len ||
+            fputc('\n', af.fp) == EOF) {
+            snprintf(err, errlen, "%s: cannot write the trimmed log: %s", store->verdict_log,
+                     strerror(errno));
             uwb_atomic_file_abort(&af);
             return -1;
         }
@@ -350,7 +354,9 @@ int uwbd_verdict_log_trim(const struct uwbd_store *store, int max_lines, double 
     close(fd);
     if (!text || r != (ssize_t)size) {
         snprintf(err, errlen, "%s: cannot read for trimming: %s", store->verdict_log,
-                 !text ? "out of memory" : r < 0 ? strerror(e) : "short read");
+                 !text   ? "out of memory"
+                 : r < 0 ? strerror(e)
+                         : "short read");
         free(text);
         return -1;
     }

@@ -75,7 +75,8 @@ int uwbd_scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out)
         return 0;
     int done = atomic_load(&d->progress_done);
     uwbd_scan_progress_estimate(done, atomic_load(&d->progress_total),
-                                atomic_load(&d->progress_start_ms) / 1000.0, atomic_load(&d->progress_first_ms) / 1000.0,
+                                atomic_load(&d->progress_start_ms) / 1000.0,
+                                atomic_load(&d->progress_first_ms) / 1000.0,
                                 atomic_load(&d->progress_last_ms) / 1000.0, uwb_monotonic_s(), out);
     return 1;
 }
@@ -116,7 +117,8 @@ static int acquire_from_rig(void *ctx, const volatile sig_atomic_t *stop, struct
         return UWBD_ACQUIRE_STOPPED;
     uwb_rig_close(d->rig);
     d->rig = NULL;
-    snprintf(d->rig_state, sizeof d->rig_state, "closed after an error, reopened at the next scan: %.300s", err);
+    snprintf(d->rig_state, sizeof d->rig_state, "closed after an error, reopened at the next scan: %.300s",
+             err);
     return UWBD_ACQUIRE_FAILED;
 }
 
@@ -158,7 +160,7 @@ int uwbd_worker_start(struct daemon *d)
     atomic_store(&d->progress_done, 0);
     atomic_store(&d->progress_total, d->cfg.rig.positions);
     atomic_store(&d->progress_start_ms, now_ms);
-    scan_stop = 0;   /* before the thread exists: pthread_create orders it */
+    scan_stop = 0; /* before the thread exists: pthread_create orders it */
     int rc = pthread_create(&d->job.thread, NULL, worker_main, d);
     if (rc != 0) {
         uwbd_log(UWBD_LOG_ERR, "cannot start the scan thread: %s", strerror(rc));
@@ -190,7 +192,8 @@ void uwbd_worker_collect(struct daemon *d)
     if (res->outcome == UWBD_CYCLE_STOPPED) {
         uwbd_log(UWBD_LOG_NOTICE, "scan cycle %lu stopped before its end; nothing recorded, hardware safe",
                  d->job.cycle);
-        uwbd_peers_send_verdict(d, d->job.cycle, NULL, "the scan was stopped (the daemon is shutting down); nothing recorded");
+        uwbd_peers_send_verdict(d, d->job.cycle, NULL,
+                                "the scan was stopped (the daemon is shutting down); nothing recorded");
         uwbd_cycle_result_free(res);
         return;
     }

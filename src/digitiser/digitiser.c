@@ -21,10 +21,10 @@
 
 struct uwb_digitiser {
     struct uwb_digitiser_config cfg;
-    struct uwb_link *link;             /* NULL after a failure until reconnected */
+    struct uwb_link *link; /* NULL after a failure until reconnected */
     struct uwb_frame_decoder dec;
     uint32_t command_sequence;
-    uint32_t next_trigger;             /* sequence the next trigger's frame should carry */
+    uint32_t next_trigger; /* sequence the next trigger's frame should carry */
     char identity[128];
     struct uwb_digitiser_stats stats;
 };
@@ -41,7 +41,8 @@ enum uwb_sequence_check uwb_digitiser_check_sequence(uint32_t expected, uint32_t
 }
 
 /* The next frame, a BAD_* status (already skipped), WAIT_TIMEOUT or WAIT_LINK. */
-static int next_frame(struct uwb_digitiser *d, struct uwb_frame *frame, long long deadline, char *err, size_t errlen)
+static int next_frame(struct uwb_digitiser *d, struct uwb_frame *frame, long long deadline, char *err,
+                      size_t errlen)
 {
     for (;;) {
         int status = uwb_frame_decoder_next(&d->dec, frame);
@@ -65,7 +66,8 @@ static int next_frame(struct uwb_digitiser *d, struct uwb_frame *frame, long lon
 
 static int command_timeout_ms(const struct uwb_digitiser *d)
 {
-    return d->cfg.frame_timeout_ms > MIN_COMMAND_TIMEOUT_MS ? d->cfg.frame_timeout_ms : MIN_COMMAND_TIMEOUT_MS;
+    return d->cfg.frame_timeout_ms > MIN_COMMAND_TIMEOUT_MS ? d->cfg.frame_timeout_ms
+                                                            : MIN_COMMAND_TIMEOUT_MS;
 }
 
 static const char *command_name(uint8_t type)
@@ -81,8 +83,8 @@ static const char *command_name(uint8_t type)
 
 /* Send a command and wait for its reply (type | 0x80 with the same
  * sequence); DATA and unrelated frames met on the way are dropped. */
-static int command(struct uwb_digitiser *d, uint8_t type, const void *payload, size_t len, struct uwb_frame *reply,
-                   char *err, size_t errlen)
+static int command(struct uwb_digitiser *d, uint8_t type, const void *payload, size_t len,
+                   struct uwb_frame *reply, char *err, size_t errlen)
 {
     uint8_t out[64];
     uint32_t sequence = d->command_sequence++;
@@ -96,8 +98,10 @@ static int command(struct uwb_digitiser *d, uint8_t type, const void *payload, s
     for (;;) {
         int status = next_frame(d, reply, deadline, why, sizeof why);
         if (status == WAIT_TIMEOUT) {
-            snprintf(err, errlen, "digitiser at %s: no reply to %s within %d ms (is it a digitiser speaking "
-                     "board/digitiser-protocol.md?)", d->cfg.endpoint, command_name(type), command_timeout_ms(d));
+            snprintf(err, errlen,
+                     "digitiser at %s: no reply to %s within %d ms (is it a digitiser speaking "
+                     "board/digitiser-protocol.md?)",
+                     d->cfg.endpoint, command_name(type), command_timeout_ms(d));
             return UWB_DIGITISER_ERR_PROTOCOL;
         }
         if (status == WAIT_LINK) {
@@ -131,7 +135,7 @@ static int connect_and_arm(struct uwb_digitiser *d, int *link_detail, char *err,
         size_t n = reply.length < sizeof d->identity ? reply.length : sizeof d->identity - 1;
         memcpy(d->identity, reply.payload, n);
         d->identity[n] = '\0';
-        for (size_t i = 0; i < n; i++)   /* it ends up in file headers: printable only */
+        for (size_t i = 0; i < n; i++) /* it ends up in file headers: printable only */
             if (d->identity[i] < 0x20 || d->identity[i] > 0x7e)
                 d->identity[i] = '?';
         uint8_t payload[UWB_FRAME_CONFIGURE_BYTES];
@@ -170,8 +174,10 @@ int uwb_digitiser_open(const struct uwb_digitiser_config *cfg, struct uwb_digiti
         *link_detail = UWB_LINK_OK;
     if (cfg->samples < 1 || cfg->samples > UWB_FRAME_MAX_SAMPLES || !(cfg->sample_interval_s > 0) ||
         cfg->frame_timeout_ms < 1 || cfg->frame_retries < 0) {
-        snprintf(err, errlen, "digitiser config: samples must be 1..%d, sample_interval_s > 0, "
-                 "frame_timeout_ms >= 1 and frame_retries >= 0", UWB_FRAME_MAX_SAMPLES);
+        snprintf(err, errlen,
+                 "digitiser config: samples must be 1..%d, sample_interval_s > 0, "
+                 "frame_timeout_ms >= 1 and frame_retries >= 0",
+                 UWB_FRAME_MAX_SAMPLES);
         return UWB_DIGITISER_ERR_PROTOCOL;
     }
     struct uwb_digitiser *d = calloc(1, sizeof *d);
@@ -218,7 +224,8 @@ static int await_trace(struct uwb_digitiser *d, uint32_t expected, float *out, c
         }
         if (status == UWB_FRAME_BAD_HEADER || status == UWB_FRAME_BAD_CRC) {
             d->stats.bad_frames++;
-            snprintf(why, whylen, "frame failed its %s CRC", status == UWB_FRAME_BAD_HEADER ? "header" : "frame");
+            snprintf(why, whylen, "frame failed its %s CRC",
+                     status == UWB_FRAME_BAD_HEADER ? "header" : "frame");
             return 0;
         }
         if (frame.type != UWB_FRAME_DATA)
@@ -252,7 +259,8 @@ static int await_trace(struct uwb_digitiser *d, uint32_t expected, float *out, c
     }
 }
 
-int uwb_digitiser_acquire(struct uwb_digitiser *d, uwb_fire_fn fire, void *ctx, float *out, char *err, size_t errlen)
+int uwb_digitiser_acquire(struct uwb_digitiser *d, uwb_fire_fn fire, void *ctx, float *out, char *err,
+                          size_t errlen)
 {
     char why[512] = "";
     for (int attempt = 0; attempt <= d->cfg.frame_retries; attempt++) {
@@ -274,8 +282,8 @@ int uwb_digitiser_acquire(struct uwb_digitiser *d, uwb_fire_fn fire, void *ctx, 
             return UWB_DIGITISER_OK;
         }
     }
-    snprintf(err, errlen, "digitiser at %s: no good frame after %d trigger%s; last problem: %s", d->cfg.endpoint,
-             d->cfg.frame_retries + 1, d->cfg.frame_retries ? "s" : "", why);
+    snprintf(err, errlen, "digitiser at %s: no good frame after %d trigger%s; last problem: %s",
+             d->cfg.endpoint, d->cfg.frame_retries + 1, d->cfg.frame_retries ? "s" : "", why);
     return UWB_DIGITISER_ERR_FRAMES;
 }
 

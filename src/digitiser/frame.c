@@ -43,8 +43,8 @@ size_t uwb_frame_size(size_t payload_len)
     return UWB_FRAME_HEADER_BYTES + payload_len + UWB_FRAME_TRAILER_BYTES;
 }
 
-size_t uwb_frame_encode(uint8_t type, uint32_t sequence, const void *payload, size_t payload_len, uint8_t *out,
-                        size_t outlen)
+size_t uwb_frame_encode(uint8_t type, uint32_t sequence, const void *payload, size_t payload_len,
+                        uint8_t *out, size_t outlen)
 {
     if (payload_len > UWB_FRAME_MAX_PAYLOAD || outlen < uwb_frame_size(payload_len))
         return 0;
@@ -201,7 +201,8 @@ size_t uwb_trace_payload_encode(const int16_t *codes, uint32_t samples, float vo
     return size;
 }
 
-int uwb_trace_payload_parse(const struct uwb_frame *frame, struct uwb_trace_view *view, char *err, size_t errlen)
+int uwb_trace_payload_parse(const struct uwb_frame *frame, struct uwb_trace_view *view, char *err,
+                            size_t errlen)
 {
     if (frame->length < UWB_FRAME_TRACE_HEADER_BYTES) {
         snprintf(err, errlen, "data frame %u: payload of %u bytes is shorter than its %d-byte header",
@@ -218,8 +219,8 @@ int uwb_trace_payload_parse(const struct uwb_frame *frame, struct uwb_trace_view
         return -1;
     }
     if (!(view->volts_per_count > 0) || view->volts_per_count > 1e6f) {
-        snprintf(err, errlen, "data frame %u: scale of %g V per count is not usable", (unsigned)frame->sequence,
-                 (double)view->volts_per_count);
+        snprintf(err, errlen, "data frame %u: scale of %g V per count is not usable",
+                 (unsigned)frame->sequence, (double)view->volts_per_count);
         return -1;
     }
     return 0;
@@ -230,7 +231,8 @@ int16_t uwb_trace_code(const struct uwb_trace_view *view, uint32_t i)
     return (int16_t)get_u16(view->codes + 2 * (size_t)i);
 }
 
-void uwb_configure_payload_encode(uint32_t samples, double sample_interval_s, uint8_t out[UWB_FRAME_CONFIGURE_BYTES])
+void uwb_configure_payload_encode(uint32_t samples, double sample_interval_s,
+                                  uint8_t out[UWB_FRAME_CONFIGURE_BYTES])
 {
     uint64_t bits;
     memcpy(&bits, &sample_interval_s, sizeof bits);

@@ -39,7 +39,7 @@ int uwb_direct_coupling_arrival(const struct uwb_scan *scan, double window_end_s
         mean[i] /= scan->positions;
         offset += mean[i];
     }
-    offset /= n;   /* the digitiser's DC offset, not part of any arrival */
+    offset /= n; /* the digitiser's DC offset, not part of any arrival */
     double peak = 0.0;
     for (int i = 0; i < n; i++) {
         mean[i] = fabs(mean[i] - offset);

@@ -31,8 +31,8 @@ static void copy_text(char *dst, size_t n, const char *src)
 
 static int one_side_reflector(const struct uwb_edges *a, const struct uwb_edges *b)
 {
-    return a->side_reflector && (!b->side_reflector ||
-                                 fabs(a->side_reflector_y_m - b->side_reflector_y_m) > SAME_REFLECTOR_M);
+    return a->side_reflector &&
+           (!b->side_reflector || fabs(a->side_reflector_y_m - b->side_reflector_y_m) > SAME_REFLECTOR_M);
 }
 
 /* A reflector beside the winding (a clamping plate) belongs to the static
@@ -72,8 +72,8 @@ static int keep_common_side_reflector(const struct uwb_scan *cur, const struct u
  * or "" when it may: its direct coupling must be found and within the
  * tolerance of the one recorded with the baseline (else a cable or an
  * antenna changed, and a shift of the image would read as a movement). */
-static void time_zero_check(const struct uwb_verdict *v,
-                            const struct uwb_direct_coupling_options *dc, char *why, size_t n)
+static void time_zero_check(const struct uwb_verdict *v, const struct uwb_direct_coupling_options *dc,
+                            char *why, size_t n)
 {
     why[0] = '\0';
     if (!v->has_direct_coupling)
@@ -83,14 +83,15 @@ static void time_zero_check(const struct uwb_verdict *v,
         snprintf(why, n, "the baseline has no direct-coupling time zero to check this scan against");
     else if (fabs(v->direct_coupling_shift_s) > dc->tolerance_s)
         snprintf(why, n,
-                 "direct coupling moved %+.0f ps since the baseline (tolerance %.0f ps): cable or antenna changed?",
+                 "direct coupling moved %+.0f ps since the baseline (tolerance %.0f ps): cable or antenna "
+                 "changed?",
                  v->direct_coupling_shift_s * 1e12, dc->tolerance_s * 1e12);
 }
 
 /* The baseline's time zero: the one recorded at commissioning, else
  * measured on the baseline scan the same way. */
-static int baseline_time_zero(const struct uwb_baseline_record *base, const struct uwb_direct_coupling_options *dc,
-                              double *arrival_s)
+static int baseline_time_zero(const struct uwb_baseline_record *base,
+                              const struct uwb_direct_coupling_options *dc, double *arrival_s)
 {
     if (base->has_direct_coupling) {
         *arrival_s = base->direct_coupling_s;
@@ -112,18 +113,17 @@ static void not_compared(struct uwb_verdict *v, const struct uwb_edges *cur, con
 }
 
 int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_record *baseline,
-                 const struct uwb_evaluate_options *opt, struct uwb_verdict *v,
-                 struct uwb_analysis *cur_a, struct uwb_analysis *base_a,
-                 char *err, size_t errlen)
+                 const struct uwb_evaluate_options *opt, struct uwb_verdict *v, struct uwb_analysis *cur_a,
+                 struct uwb_analysis *base_a, char *err, size_t errlen)
 {
     memset(v, 0, sizeof *v);
     memset(cur_a, 0, sizeof *cur_a);
     memset(base_a, 0, sizeof *base_a);
     copy_text(v->scan_id, sizeof v->scan_id, current->scan_id);
     copy_text(v->created, sizeof v->created, current->created);
-    v->has_direct_coupling = uwb_direct_coupling_arrival(current, opt->direct_coupling.window_end_s,
-                                                         &v->direct_coupling_s, v->direct_coupling_why,
-                                                         sizeof v->direct_coupling_why) == 0;
+    v->has_direct_coupling =
+        uwb_direct_coupling_arrival(current, opt->direct_coupling.window_end_s, &v->direct_coupling_s,
+                                    v->direct_coupling_why, sizeof v->direct_coupling_why) == 0;
     if (baseline) {
         copy_text(v->baseline_scan_id, sizeof v->baseline_scan_id, baseline->scan->scan_id);
         double base_arrival;
@@ -153,7 +153,8 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
         return 0;
     }
     if (uwb_analyse_scan(baseline->scan, &opt->analysis, base_a, err, errlen) != 0 ||
-        keep_common_side_reflector(current, baseline->scan, &opt->analysis, cur_a, base_a, err, errlen) != 0) {
+        keep_common_side_reflector(current, baseline->scan, &opt->analysis, cur_a, base_a, err, errlen) !=
+            0) {
         uwb_analysis_free(cur_a);
         uwb_analysis_free(base_a);
         return -1;
@@ -161,7 +162,8 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
     /* The baseline's mean over N commissioning scans carries their spread / sqrt(N). */
     struct uwb_compare_options copt = opt->compare;
     if (baseline->has_repeatability)
-        copt.baseline_repeatability_m = baseline->repeatability_m / sqrt(baseline->scans > 1 ? baseline->scans : 1);
+        copt.baseline_repeatability_m =
+            baseline->repeatability_m / sqrt(baseline->scans > 1 ? baseline->scans : 1);
     struct uwb_pair_figures pair = {0};
     if (cur_a->edges.found && base_a->edges.found &&
         uwb_measure_shift(cur_a, base_a, &pair.displacement_m, err, errlen) == 0) {

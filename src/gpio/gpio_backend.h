@@ -6,7 +6,7 @@
 #include "uwb/gpio.h"
 
 struct uwb_gpio_ops {
-    const char *name;   /* what cfg->backend says to choose this backend */
+    const char *name; /* what cfg->backend says to choose this backend */
     int (*open)(struct uwb_gpio *gpio, const struct uwb_gpio_config *cfg, char *err, size_t errlen);
     int (*set)(struct uwb_gpio *gpio, enum uwb_gpio_line line, int value, char *err, size_t errlen);
     int (*get)(struct uwb_gpio *gpio, enum uwb_gpio_line line, int *value, char *err, size_t errlen);
@@ -16,7 +16,7 @@ struct uwb_gpio_ops {
 struct uwb_gpio {
     const struct uwb_gpio_ops *ops;
     struct uwb_gpio_config cfg;
-    void *state;       /* the backend's own */
+    void *state; /* the backend's own */
 };
 
 extern const struct uwb_gpio_ops uwb_gpio_libgpiod_ops;

@@ -20,7 +20,7 @@
 
 struct emulated {
     struct uwb_link *link;
-    char buf[1024];    /* received bytes not yet consumed: one line of up to 1023 bytes and its '\n' */
+    char buf[1024]; /* received bytes not yet consumed: one line of up to 1023 bytes and its '\n' */
     size_t len;
 };
 
@@ -108,12 +108,15 @@ static int say_hello(struct uwb_gpio *gpio, const char *endpoint, char *err, siz
     if (rc != UWB_GPIO_OK) {
         char inner[512];
         snprintf(inner, sizeof inner, "%s", err);
-        snprintf(err, errlen, "%s (no hello from %s: is this the emulated board's GPIO endpoint?)", inner, endpoint);
+        snprintf(err, errlen, "%s (no hello from %s: is this the emulated board's GPIO endpoint?)", inner,
+                 endpoint);
         return UWB_GPIO_ERR_CHIP;
     }
     if (strncmp(line, "ok " PROTOCOL, strlen("ok " PROTOCOL)) != 0) {
-        snprintf(err, errlen, "emulated GPIO at %s: answered '%.80s' to hello, not 'ok " PROTOCOL "' "
-                 "(is this the emulated board's GPIO endpoint?)", endpoint, line);
+        snprintf(err, errlen,
+                 "emulated GPIO at %s: answered '%.80s' to hello, not 'ok " PROTOCOL "' "
+                 "(is this the emulated board's GPIO endpoint?)",
+                 endpoint, line);
         return UWB_GPIO_ERR_CHIP;
     }
     return UWB_GPIO_OK;
@@ -122,7 +125,8 @@ static int say_hello(struct uwb_gpio *gpio, const char *endpoint, char *err, siz
 static int emulated_open(struct uwb_gpio *gpio, const struct uwb_gpio_config *cfg, char *err, size_t errlen)
 {
     if (!cfg->endpoint[0]) {
-        snprintf(err, errlen, "emulated GPIO: no endpoint configured (unix:PATH, tcp:HOST:PORT or serial:DEV)");
+        snprintf(err, errlen,
+                 "emulated GPIO: no endpoint configured (unix:PATH, tcp:HOST:PORT or serial:DEV)");
         return UWB_GPIO_ERR_CONFIG;
     }
     struct emulated *em = calloc(1, sizeof *em);
@@ -142,7 +146,7 @@ static int emulated_open(struct uwb_gpio *gpio, const struct uwb_gpio_config *cf
             rc = drive_outputs_low(gpio, err, errlen);
     }
     if (rc != UWB_GPIO_OK) {
-        uwb_link_close(em->link);   /* NULL when the link did not open */
+        uwb_link_close(em->link); /* NULL when the link did not open */
         free(em);
         gpio->state = NULL;
     }

@@ -48,7 +48,8 @@ static void release_all(struct chip_lines *cl)
 }
 
 /* Finds line `which` on the chip; UWB_GPIO_ERR_LINE with the line named. */
-static int find_line(struct chip_lines *cl, const struct uwb_gpio_config *cfg, int which, char *err, size_t errlen)
+static int find_line(struct chip_lines *cl, const struct uwb_gpio_config *cfg, int which, char *err,
+                     size_t errlen)
 {
     const char *role = uwb_gpio_line_name(which);
     const char *chip = gpiod_chip_name(cl->chip);
@@ -56,7 +57,8 @@ static int find_line(struct chip_lines *cl, const struct uwb_gpio_config *cfg, i
         cl->line[which] = gpiod_chip_get_line(cl->chip, (unsigned)cfg->offset[which]);
         if (!cl->line[which]) {
             snprintf(err, errlen, "gpio %s line: offset %d is not on %s (it has %u lines, 0..%u)", role,
-                     cfg->offset[which], chip, gpiod_chip_num_lines(cl->chip), gpiod_chip_num_lines(cl->chip) - 1);
+                     cfg->offset[which], chip, gpiod_chip_num_lines(cl->chip),
+                     gpiod_chip_num_lines(cl->chip) - 1);
             return UWB_GPIO_ERR_LINE;
         }
         return UWB_GPIO_OK;
@@ -73,7 +75,8 @@ static int find_line(struct chip_lines *cl, const struct uwb_gpio_config *cfg, i
     return UWB_GPIO_OK;
 }
 
-static int request_line(struct chip_lines *cl, const struct uwb_gpio_config *cfg, int which, char *err, size_t errlen)
+static int request_line(struct chip_lines *cl, const struct uwb_gpio_config *cfg, int which, char *err,
+                        size_t errlen)
 {
     struct gpiod_line *line = cl->line[which];
     const char *role = uwb_gpio_line_name(which);

@@ -61,7 +61,8 @@ static int serial_open(struct uwb_link *link, const struct uwb_endpoint *ep, cha
     return UWB_LINK_ERR_OPEN;
 }
 
-static ssize_t serial_read(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen)
+static ssize_t serial_read(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err,
+                           size_t errlen)
 {
     /* libserialport's timeout 0 means "wait for ever". */
     int n;
@@ -81,14 +82,16 @@ static ssize_t serial_read(struct uwb_link *link, void *buf, size_t len, int tim
     return UWB_LINK_ERR_IO;
 }
 
-static int serial_write_all(struct uwb_link *link, const void *buf, size_t len, int timeout_ms,
-                            char *err, size_t errlen)
+static int serial_write_all(struct uwb_link *link, const void *buf, size_t len, int timeout_ms, char *err,
+                            size_t errlen)
 {
-    int n = sp_blocking_write(link->port, buf, len, timeout_ms < 0 ? 0 : (unsigned)(timeout_ms ? timeout_ms : 1));
+    int n =
+        sp_blocking_write(link->port, buf, len, timeout_ms < 0 ? 0 : (unsigned)(timeout_ms ? timeout_ms : 1));
     if (n >= 0 && (size_t)n == len)
         return UWB_LINK_OK;
     if (n >= 0) {
-        snprintf(err, errlen, "%s: only %d of %zu bytes written within %d ms", link->endpoint, n, len, timeout_ms);
+        snprintf(err, errlen, "%s: only %d of %zu bytes written within %d ms", link->endpoint, n, len,
+                 timeout_ms);
         return UWB_LINK_ERR_TIMEOUT;
     }
     char why[256];

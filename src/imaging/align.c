@@ -19,16 +19,15 @@
 #include "select.h"
 #include "trace_spectrum.h"
 
-#define MIN_CORRELATION 0.9    /* a trace whose early part does not look like the rest is left alone */
-#define MAX_GAIN_DB 3.0        /* larger gain changes are not drift: left alone */
-#define PASSES 2               /* the second reference is built from aligned traces */
+#define MIN_CORRELATION 0.9 /* a trace whose early part does not look like the rest is left alone */
+#define MAX_GAIN_DB 3.0     /* larger gain changes are not drift: left alone */
+#define PASSES 2            /* the second reference is built from aligned traces */
 
 /* The median trace over the early window, faded out over its last
  * `fade` samples. Only the reference is windowed: each trace is read past
  * the window's end, so a shifted trace is compared whole and the cut does
  * not pull the estimate toward zero lag. */
-static void median_reference(const struct uwb_scan *s, int n_win, int fade, float *column,
-                             double *ref)
+static void median_reference(const struct uwb_scan *s, int n_win, int fade, float *column, double *ref)
 {
     for (int t = 0; t < n_win; t++) {
         for (int k = 0; k < s->positions; k++)
@@ -45,8 +44,7 @@ static void median_reference(const struct uwb_scan *s, int n_win, int fade, floa
 /* Lag (samples, > 0 when the trace is late) maximising the correlation of
  * the trace's early window with the reference, refined with a parabola;
  * also the normalised correlation at the best integer lag. */
-static double best_lag(const float *tr, int samples, const double *ref, int n_win, int max_lag,
-                       double *ncc)
+static double best_lag(const float *tr, int samples, const double *ref, int n_win, int max_lag, double *ncc)
 {
     double best = -INFINITY, c_prev = 0.0, c_next = 0.0;
     int best_l = 0;
@@ -125,7 +123,7 @@ int uwb_align_to_coupling(struct uwb_scan *s, double window_end_s, double t0_s, 
         n_win = s->samples;
     int max_lag = (int)ceil(0.25 * period_s / dt);
     if (s->positions < 3 || n_win < 4 * max_lag || max_lag < 1)
-        return 0;   /* the record starts too late to see the coupling: nothing to align on */
+        return 0; /* the record starts too late to see the coupling: nothing to align on */
     float *column = malloc((size_t)s->positions * sizeof *column);
     double *ref = malloc((size_t)n_win * sizeof *ref);
     double *lag = calloc((size_t)s->positions, sizeof *lag);
@@ -170,8 +168,7 @@ int uwb_align_to_coupling(struct uwb_scan *s, double window_end_s, double t0_s, 
             report->aligned++;
         }
         struct correction corr = {lag, gain};
-        rc = uwb_filter_traces_in_spectrum(s, uncorrected, shift_and_scale, &corr, "alignment", err,
-                                       errlen);
+        rc = uwb_filter_traces_in_spectrum(s, uncorrected, shift_and_scale, &corr, "alignment", err, errlen);
         if (pass == 0)
             for (int k = 0; k < s->positions; k++) {
                 report->max_shift_s = fmax(report->max_shift_s, fabs(lag[k]) * dt);

@@ -145,7 +145,7 @@ int uwb_face_grid(const struct uwb_scan *conditioned, const struct uwb_geometry 
     double half = fmax(FACE_WINDOW_WAVELENGTHS * wavelength, FACE_WINDOW_MIN_M);
     double z_lo = fmax(z_centre - half, NEAREST_RANGE_M);
     if (uwb_imaging_grid(fine, conditioned, FINE_Y_MARGIN_M, aligned_dy(conditioned, FINE_DY_M), z_lo,
-                     z_centre + half, FINE_DZ_M, err, errlen) != 0)
+                         z_centre + half, FINE_DZ_M, err, errlen) != 0)
         return -1;
     if (y_lo_m < y_hi_m) {
         /* Keep the grid's rows (aligned with the antennas), only fewer of them. */
@@ -162,11 +162,10 @@ int uwb_face_grid(const struct uwb_scan *conditioned, const struct uwb_geometry 
 }
 
 static int measure_face_rows(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
-                             const struct uwb_analysis_options *opt, double z_centre,
-                             double dominant_hz, double y_lo_m, double y_hi_m,
-                             struct uwb_migration_plan *plan, double *z_face,
-                             struct uwb_face_profile *profile, struct profile_edges *edges,
-                             char *err, size_t errlen)
+                             const struct uwb_analysis_options *opt, double z_centre, double dominant_hz,
+                             double y_lo_m, double y_hi_m, struct uwb_migration_plan *plan, double *z_face,
+                             struct uwb_face_profile *profile, struct profile_edges *edges, char *err,
+                             size_t errlen)
 {
     double wavelength = g->velocity_m_s / dominant_hz;
     struct uwb_image fine = {0};
@@ -222,7 +221,7 @@ static double symmetric_centre(const struct uwb_face_profile *p, const struct pr
 {
     double mid = 0.5 * (e->lower_m + e->upper_m);
     return uwb_profile_symmetry_centre(p, mid, SYMMETRY_SPAN * 0.5 * (e->upper_m - e->lower_m),
-                                   SYMMETRY_SEARCH_M);
+                                       SYMMETRY_SEARCH_M);
 }
 
 /* Weights that make the aperture symmetric about the winding: with more
@@ -230,8 +229,7 @@ static double symmetric_centre(const struct uwb_face_profile *p, const struct pr
  * the travel and a displacement reads short by a few per cent. A Tukey
  * window (flat centre, cosine shoulders) reaching to the nearer end of the
  * travel removes that lean and moves smoothly as the winding moves. */
-static void taper_weights(const struct uwb_scan *in, double y_centre, double lo, double hi,
-                          double *weight)
+static void taper_weights(const struct uwb_scan *in, double y_centre, double lo, double hi, double *weight)
 {
     double half = fmin(y_centre - lo, hi - y_centre);
     double step = antenna_step(in);
@@ -262,8 +260,8 @@ static void apply_weights(struct uwb_scan *s, const double *weight)
 /* Where the search says the winding is: its range and rough ends, widened
  * by a wavelength, so conditioning can keep its echoes out of the static
  * reference. */
-static void rough_window(const struct uwb_image *coarse, double z_face, double wavelength,
-                         double ap_lo, double ap_hi, struct uwb_target_window *w)
+static void rough_window(const struct uwb_image *coarse, double z_face, double wavelength, double ap_lo,
+                         double ap_hi, struct uwb_target_window *w)
 {
     struct uwb_face_profile p = {0};
     struct profile_edges e = {0};
@@ -296,12 +294,12 @@ struct analysis_run {
     size_t errlen;
     struct uwb_geometry g;
     double wavelength;
-    double z_lo_m, z_hi_m;          /* ranges searched */
-    struct uwb_scan prepared;       /* band-passed and aligned: both conditionings start here */
-    struct face_candidate face;     /* what the search found */
-    struct uwb_scan quadrature;     /* Hilbert partner of out->conditioned (side reflector fit) */
-    struct profile_edges pe;        /* crossings of out->profile */
-    double z_face_m;                /* the face's range, sub-pixel */
+    double z_lo_m, z_hi_m;      /* ranges searched */
+    struct uwb_scan prepared;   /* band-passed and aligned: both conditionings start here */
+    struct face_candidate face; /* what the search found */
+    struct uwb_scan quadrature; /* Hilbert partner of out->conditioned (side reflector fit) */
+    struct profile_edges pe;    /* crossings of out->profile */
+    double z_face_m;            /* the face's range, sub-pixel */
     /* The last taper pass: the range it was centred on and the reflector
      * it took out, to measure it again on every row (measure_face). */
     int passes;
@@ -358,11 +356,11 @@ static enum step search_for_face(struct analysis_run *r)
                               r->errlen) != 0)
         return STEP_FAILED;
     struct uwb_scan searched = {0};
-    if (uwb_condition_finish(&r->prepared, &r->g, &opt->condition, out->dominant_hz, NULL, &searched,
-                             r->err, r->errlen) != 0)
+    if (uwb_condition_finish(&r->prepared, &r->g, &opt->condition, out->dominant_hz, NULL, &searched, r->err,
+                             r->errlen) != 0)
         return STEP_FAILED;
     int rc = uwb_imaging_grid(&out->intensity, &searched, SEARCH_Y_MARGIN_M, aligned_dy(r->scan, SEARCH_DY_M),
-                          r->z_lo_m, r->z_hi_m, SEARCH_DZ_M, r->err, r->errlen);
+                              r->z_lo_m, r->z_hi_m, SEARCH_DZ_M, r->err, r->errlen);
     if (rc == 0)
         rc = uwb_imaging_intensity(opt->migration, &searched, &r->g, &out->intensity, r->err, r->errlen);
     if (rc == 0)
@@ -372,7 +370,7 @@ static enum step search_for_face(struct analysis_run *r)
     if (rc != 0)
         return STEP_FAILED;
     if (uwb_face_search(&out->intensity, out->aperture_lo_m, out->aperture_hi_m, antenna_step(r->scan),
-                    &r->face, out->edges.reason, sizeof out->edges.reason) != 0)
+                        &r->face, out->edges.reason, sizeof out->edges.reason) != 0)
         return STEP_DONE;
     return STEP_NEXT;
 }
@@ -443,8 +441,8 @@ static enum step measure_weighted(struct analysis_run *r, struct side_reflector 
         z_centre = r->pass_z_centre_m;
     } else {
         double mid = 0.5 * (r->pe.lower_m + r->pe.upper_m);
-        double span = SYMMETRY_SPAN * 0.5 * (r->pe.upper_m - r->pe.lower_m) + SYMMETRY_SEARCH_M +
-                      PASS_ROWS_MARGIN_M;
+        double span =
+            SYMMETRY_SPAN * 0.5 * (r->pe.upper_m - r->pe.lower_m) + SYMMETRY_SEARCH_M + PASS_ROWS_MARGIN_M;
         y_lo = mid - span;
         y_hi = mid + span;
         uwb_side_reflector_free(&r->pass_side);
@@ -515,9 +513,9 @@ static enum step side_reflector_passes(struct analysis_run *r)
         last_centre = centre;
         taper_weights(&out->conditioned, centre, out->aperture_lo_m, out->aperture_hi_m, out->weight);
         struct side_reflector side = {0};
-        if (uwb_side_reflector_find(&out->conditioned, &r->quadrature, out->weight, &r->g, r->z_face_m, centre,
-                                0.5 * (r->pe.upper_m - r->pe.lower_m), out->dominant_hz, side_y, &side,
-                                r->err, r->errlen) != 0)
+        if (uwb_side_reflector_find(&out->conditioned, &r->quadrature, out->weight, &r->g, r->z_face_m,
+                                    centre, 0.5 * (r->pe.upper_m - r->pe.lower_m), out->dominant_hz, side_y,
+                                    &side, r->err, r->errlen) != 0)
             return STEP_FAILED;
         side_y = side.found ? side.y_m : NAN;
         out->edges.side_reflector = side.found;
@@ -554,9 +552,10 @@ static enum step image_for_display(struct analysis_run *r)
     uwb_image_free(&out->intensity);
     double z_lo = fmax(r->z_face_m - opt->display_half_range_m, NEAREST_RANGE_M);
     if (uwb_imaging_grid(&out->intensity, &out->conditioned, DISPLAY_Y_MARGIN_M,
-                     aligned_dy(&out->conditioned, DISPLAY_DY_M), z_lo,
-                     r->z_face_m + opt->display_half_range_m, DISPLAY_DZ_M, r->err, r->errlen) != 0 ||
-        uwb_imaging_intensity(opt->migration, &out->conditioned, &r->g, &out->intensity, r->err, r->errlen) != 0)
+                         aligned_dy(&out->conditioned, DISPLAY_DY_M), z_lo,
+                         r->z_face_m + opt->display_half_range_m, DISPLAY_DZ_M, r->err, r->errlen) != 0 ||
+        uwb_imaging_intensity(opt->migration, &out->conditioned, &r->g, &out->intensity, r->err, r->errlen) !=
+            0)
         return STEP_FAILED;
     return STEP_NEXT;
 }
@@ -573,19 +572,20 @@ static enum step judge_edges(struct analysis_run *r)
     if (!pe->ok || pe->lower_m < ap_lo || pe->upper_m > ap_hi) {
         snprintf(edges->reason, sizeof edges->reason,
                  "edge outside the seen aperture: the face at %.3f m does not fall off inside the "
-                 "antenna travel %.3f..%.3f m", r->z_face_m, ap_lo, ap_hi);
+                 "antenna travel %.3f..%.3f m",
+                 r->z_face_m, ap_lo, ap_hi);
         return STEP_DONE;
     }
     if (edges->snr_db < opt->min_snr_db) {
         snprintf(edges->reason, sizeof edges->reason,
-                 "too little SNR: face echo %.1f dB over the noise, at least %.1f dB needed",
-                 edges->snr_db, opt->min_snr_db);
+                 "too little SNR: face echo %.1f dB over the noise, at least %.1f dB needed", edges->snr_db,
+                 opt->min_snr_db);
         return STEP_DONE;
     }
     /* Noise moves a crossing by noise / slope. An absolute edge also carries
      * a floor for how the imaging blurs it; between two scans of the same
      * installation that blur is common and cancels (see compare.c). */
-    double sn_lo = image_noise / fmax(fabs(pe->slope_lower), 1e-30);   /* slopes are > 0 at a crossing */
+    double sn_lo = image_noise / fmax(fabs(pe->slope_lower), 1e-30); /* slopes are > 0 at a crossing */
     double sn_hi = image_noise / fmax(fabs(pe->slope_upper), 1e-30);
     double height = pe->upper_m - pe->lower_m;
     edges->found = 1;
@@ -637,9 +637,9 @@ void uwb_analysis_free(struct uwb_analysis *a)
 }
 
 int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
-                           const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
-                           struct uwb_migration_plan *plan, struct uwb_face_profile *p, double *z_face_out,
-                           char *err, size_t errlen)
+                               const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
+                               struct uwb_migration_plan *plan, struct uwb_face_profile *p,
+                               double *z_face_out, char *err, size_t errlen)
 {
     memset(p, 0, sizeof *p);
     if (!a->measured.data || !a->weight || added->positions != a->measured.positions ||
@@ -661,8 +661,8 @@ int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_an
     }
     double z_face = a->edges.face_z_m;
     struct profile_edges pe;
-    int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, plan,
-                               &z_face, p, &pe, err, errlen);
+    int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, plan, &z_face,
+                               p, &pe, err, errlen);
     uwb_scan_free(&s);
     if (z_face_out)
         *z_face_out = z_face;

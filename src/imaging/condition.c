@@ -121,8 +121,8 @@ static int bandpass(struct uwb_scan *s, double low_hz, double high_hz, char *err
  * of the travel. A mean over all positions would subtract part of the flat
  * face itself, which returns at one delay wherever it is faced. */
 static int positions_quiet_at(const struct uwb_scan *s, const struct uwb_geometry *g,
-                              const struct uwb_target_window *w, double end_fraction,
-                              double period_s, int t, int *quiet)
+                              const struct uwb_target_window *w, double end_fraction, double period_s, int t,
+                              int *quiet)
 {
     int K = s->positions, n = 0;
     if (!w) {
@@ -143,7 +143,8 @@ static int positions_quiet_at(const struct uwb_scan *s, const struct uwb_geometr
         double y_near = ya < w->y_lo_m ? w->y_lo_m : ya > w->y_hi_m ? w->y_hi_m : ya;
         double t_first = uwb_two_way_delay(g, y_near - ya, w->z_near_m) - 2.0 * period_s;
         double t_last = fmax(uwb_two_way_delay(g, w->y_lo_m - ya, w->z_far_m),
-                             uwb_two_way_delay(g, w->y_hi_m - ya, w->z_far_m)) + 2.0 * period_s;
+                             uwb_two_way_delay(g, w->y_hi_m - ya, w->z_far_m)) +
+                        2.0 * period_s;
         if (time < t_first || time > t_last)
             quiet[n++] = k;
     }
@@ -155,9 +156,8 @@ double uwb_condition_band_gain(const struct uwb_condition_options *opt, double d
     return band_gain(f_hz, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz);
 }
 
-static int remove_static(struct uwb_scan *s, const struct uwb_geometry *g,
-                         const struct uwb_target_window *w, double end_fraction,
-                         double period_s, char *err, size_t errlen)
+static int remove_static(struct uwb_scan *s, const struct uwb_geometry *g, const struct uwb_target_window *w,
+                         double end_fraction, double period_s, char *err, size_t errlen)
 {
     int K = s->positions, S = s->samples;
     int *quiet = malloc((size_t)K * sizeof *quiet);
@@ -173,7 +173,7 @@ static int remove_static(struct uwb_scan *s, const struct uwb_geometry *g,
     for (int t = 0; t < S; t++) {
         int n = positions_quiet_at(s, g, w, end_fraction, period_s, t, quiet);
         if (n < 2)
-            continue;   /* every position may hear the winding: leave it be */
+            continue; /* every position may hear the winding: leave it be */
         for (int j = 0; j < n; j++)
             column[j] = s->data[(size_t)quiet[j] * S + t];
         reference[t] = uwb_median_float(column, (size_t)n);
@@ -189,8 +189,7 @@ static int remove_static(struct uwb_scan *s, const struct uwb_geometry *g,
 
 /* Blank what arrives before a reply from gate_range could, with a one-period
  * raised-cosine ramp so the cut itself does not ring. */
-static void gate_early(struct uwb_scan *s, const struct uwb_geometry *g,
-                       double gate_range_m, double period_s)
+static void gate_early(struct uwb_scan *s, const struct uwb_geometry *g, double gate_range_m, double period_s)
 {
     double t_open = uwb_two_way_delay(g, 0.0, gate_range_m) - period_s;
     for (int t = 0; t < s->samples; t++) {
@@ -208,14 +207,15 @@ static void gate_early(struct uwb_scan *s, const struct uwb_geometry *g,
 }
 
 int uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *g,
-                          const struct uwb_condition_options *opt, double dominant_hz,
-                          struct uwb_scan *out, char *err, size_t errlen)
+                          const struct uwb_condition_options *opt, double dominant_hz, struct uwb_scan *out,
+                          char *err, size_t errlen)
 {
     if (uwb_scan_copy(out, in, err, errlen) != 0)
         return -1;
     double nyquist = 0.5 / in->sample_interval_s;
     if (!(dominant_hz > 0.0) || dominant_hz >= nyquist) {
-        snprintf(err, errlen, "conditioning: no usable signal spectrum (dominant frequency %.3g Hz)", dominant_hz);
+        snprintf(err, errlen, "conditioning: no usable signal spectrum (dominant frequency %.3g Hz)",
+                 dominant_hz);
         uwb_scan_free(out);
         return -1;
     }
@@ -224,8 +224,8 @@ int uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *
     /* Nothing in the tank replies before the gate range: up to there the
      * traces hold the coupling and the window alone. */
     double coupling_end = uwb_two_way_delay(g, 0.0, opt->gate_range_m);
-    if (bandpass(out, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz, err,
-                 errlen) != 0 ||
+    if (bandpass(out, opt->highpass_ratio * dominant_hz, opt->lowpass_ratio * dominant_hz, err, errlen) !=
+            0 ||
         (opt->align_coupling &&
          uwb_align_to_coupling(out, coupling_end, g->t0_s, period, &alignment, err, errlen) != 0)) {
         uwb_scan_free(out);
@@ -236,13 +236,13 @@ int uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *
 
 int uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geometry *g,
                          const struct uwb_condition_options *opt, double dominant_hz,
-                         const struct uwb_target_window *winding, struct uwb_scan *out,
-                         char *err, size_t errlen)
+                         const struct uwb_target_window *winding, struct uwb_scan *out, char *err,
+                         size_t errlen)
 {
     if (uwb_scan_copy(out, prepared, err, errlen) != 0)
         return -1;
-    if (opt->remove_static && remove_static(out, g, winding, opt->static_end_fraction,
-                                            1.0 / dominant_hz, err, errlen) != 0) {
+    if (opt->remove_static &&
+        remove_static(out, g, winding, opt->static_end_fraction, 1.0 / dominant_hz, err, errlen) != 0) {
         uwb_scan_free(out);
         return -1;
     }
@@ -252,8 +252,7 @@ int uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geome
 
 int uwb_condition(const struct uwb_scan *in, const struct uwb_geometry *g,
                   const struct uwb_condition_options *opt, double dominant_hz,
-                  const struct uwb_target_window *winding, struct uwb_scan *out,
-                  char *err, size_t errlen)
+                  const struct uwb_target_window *winding, struct uwb_scan *out, char *err, size_t errlen)
 {
     struct uwb_scan prepared = {0};
     if (uwb_condition_prepare(in, g, opt, dominant_hz, &prepared, err, errlen) != 0)

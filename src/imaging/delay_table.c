@@ -14,8 +14,8 @@
  * part of a migration's cost, so the path lengths come from plain square
  * roots: hypot's care against overflow is not needed at metre scale and
  * costs several times more. */
-static void row_delays(double *restrict delay, int nz, double dy_above_antenna,
-                       const struct uwb_geometry *g, const struct uwb_image *img)
+static void row_delays(double *restrict delay, int nz, double dy_above_antenna, const struct uwb_geometry *g,
+                       const struct uwb_image *img)
 {
     double ty = dy_above_antenna - g->tx_dy, ry = dy_above_antenna - g->rx_dy;
     double ty2 = ty * ty, ry2 = ry * ry;
@@ -28,8 +28,8 @@ static void row_delays(double *restrict delay, int nz, double dy_above_antenna,
     }
 }
 
-static void split_float(const double *restrict delay, int nz, int samples,
-                        int32_t *restrict index, float *restrict frac)
+static void split_float(const double *restrict delay, int nz, int samples, int32_t *restrict index,
+                        float *restrict frac)
 {
     double last = (double)(samples - 1);
     for (int iz = 0; iz < nz; iz++) {
@@ -45,8 +45,8 @@ static void split_float(const double *restrict delay, int nz, int samples,
     }
 }
 
-static void split_fixed(const double *restrict delay, int nz, int samples,
-                        int32_t *restrict index, int16_t *restrict weight)
+static void split_fixed(const double *restrict delay, int nz, int samples, int32_t *restrict index,
+                        int16_t *restrict weight)
 {
     double last = (double)(samples - 1);
     for (int iz = 0; iz < nz; iz++) {
@@ -64,9 +64,8 @@ static void split_fixed(const double *restrict delay, int nz, int samples,
     }
 }
 
-static void fill_row(struct delay_table *t, size_t at, double dy_above_antenna,
-                     const struct uwb_scan *scan, const struct uwb_geometry *g,
-                     const struct uwb_image *img)
+static void fill_row(struct delay_table *t, size_t at, double dy_above_antenna, const struct uwb_scan *scan,
+                     const struct uwb_geometry *g, const struct uwb_image *img)
 {
     row_delays(t->delay_row, t->nz, dy_above_antenna, g, img);
     if (t->format == DELAY_FIXED)
@@ -93,8 +92,7 @@ static int mirror_sum(const struct uwb_geometry *g, double first_row_dy, double 
 }
 
 int uwb_delay_table_plan(struct delay_table *t, enum delay_format format, const struct uwb_scan *scan,
-                     const struct uwb_geometry *g, const struct uwb_image *img,
-                     char *err, size_t errlen)
+                         const struct uwb_geometry *g, const struct uwb_image *img, char *err, size_t errlen)
 {
     memset(t, 0, sizeof *t);
     t->format = format;
@@ -165,14 +163,13 @@ oom:
 }
 
 void uwb_delay_table_fill_trace(struct delay_table *t, const struct uwb_scan *scan,
-                            const struct uwb_geometry *g, const struct uwb_image *img, int k)
+                                const struct uwb_geometry *g, const struct uwb_image *img, int k)
 {
     if (t->shared)
         return;
     t->row_of_trace[k] = 0;
     for (int iy = 0; iy < img->ny; iy++)
-        fill_row(t, t->row_start[iy], img->y0_m + iy * img->dy_m - scan->antenna_y_m[k], scan, g,
-                 img);
+        fill_row(t, t->row_start[iy], img->y0_m + iy * img->dy_m - scan->antenna_y_m[k], scan, g, img);
 }
 
 void uwb_delay_table_free(struct delay_table *t)

@@ -30,13 +30,13 @@ struct delay_table {
     enum delay_format format;
     int shared;
     int rows, nz;
-    int stored_rows;         /* rows with storage of their own */
-    int *row_of_trace;       /* positions entries */
-    size_t *row_start;       /* rows entries: offset of row r in index / frac / weight_q15 */
-    int32_t *index;          /* stored_rows * nz sample indices */
-    float *frac;             /* stored_rows * nz (FLOAT) */
-    int16_t *weight_q15;     /* stored_rows * nz (FIXED) */
-    double *delay_row;       /* nz: scratch for one row's delays in samples */
+    int stored_rows;     /* rows with storage of their own */
+    int *row_of_trace;   /* positions entries */
+    size_t *row_start;   /* rows entries: offset of row r in index / frac / weight_q15 */
+    int32_t *index;      /* stored_rows * nz sample indices */
+    float *frac;         /* stored_rows * nz (FLOAT) */
+    int16_t *weight_q15; /* stored_rows * nz (FIXED) */
+    double *delay_row;   /* nz: scratch for one row's delays in samples */
 };
 
 /* Offset of the entries for trace k's pixel row iy. */
@@ -48,10 +48,9 @@ static inline size_t delay_table_row(const struct delay_table *t, int k, int iy)
 /* Build the table for all traces (shared case) or prepare one for trace `k`
  * (per-trace case: call delay_table_fill_trace for each k). */
 int uwb_delay_table_plan(struct delay_table *t, enum delay_format format, const struct uwb_scan *scan,
-                     const struct uwb_geometry *g, const struct uwb_image *img,
-                     char *err, size_t errlen);
+                         const struct uwb_geometry *g, const struct uwb_image *img, char *err, size_t errlen);
 void uwb_delay_table_fill_trace(struct delay_table *t, const struct uwb_scan *scan,
-                            const struct uwb_geometry *g, const struct uwb_image *img, int k);
+                                const struct uwb_geometry *g, const struct uwb_image *img, int k);
 void uwb_delay_table_free(struct delay_table *t);
 
 #endif

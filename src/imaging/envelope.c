@@ -27,7 +27,8 @@ int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
         snprintf(err, errlen, "envelope: out of memory for rows of %d", img->nz);
         return -1;
     }
-    fftwf_plan fwd = uwb_fft_plan_acquire(FFT_R2C, n), inv = uwb_fft_plan_acquire(FFT_C2C_BACKWARD_IN_PLACE, n);
+    fftwf_plan fwd = uwb_fft_plan_acquire(FFT_R2C, n),
+               inv = uwb_fft_plan_acquire(FFT_C2C_BACKWARD_IN_PLACE, n);
     if (!fwd || !inv) {
         uwb_fft_plan_release(fwd);
         uwb_fft_plan_release(inv);

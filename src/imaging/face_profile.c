@@ -6,7 +6,7 @@
 #include <stdlib.h>
 
 int uwb_face_profile_measure(const struct uwb_image *img, double z_face_m, double half_width_m,
-                 struct uwb_face_profile *p, char *err, size_t errlen)
+                             struct uwb_face_profile *p, char *err, size_t errlen)
 {
     int lo = (int)floor((z_face_m - half_width_m - img->z0_m) / img->dz_m);
     int hi = (int)ceil((z_face_m + half_width_m - img->z0_m) / img->dz_m);
@@ -80,9 +80,10 @@ static double profile_at(const struct uwb_face_profile *p, double y)
         k = k < 0 ? 0 : k > p->n - 1 ? p->n - 1 : k;
         v[j] = p->value[k];
     }
-    return v[1] + 0.5 * t * (v[2] - v[0] +
-                             t * (2.0 * v[0] - 5.0 * v[1] + 4.0 * v[2] - v[3] +
-                                  t * (3.0 * (v[1] - v[2]) + v[3] - v[0])));
+    return v[1] +
+           0.5 * t *
+               (v[2] - v[0] +
+                t * (2.0 * v[0] - 5.0 * v[1] + 4.0 * v[2] - v[3] + t * (3.0 * (v[1] - v[2]) + v[3] - v[0])));
 }
 
 static double asymmetry(const struct uwb_face_profile *p, double c, double half_span)
@@ -96,7 +97,7 @@ static double asymmetry(const struct uwb_face_profile *p, double c, double half_
 }
 
 double uwb_profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
-                               double search_m)
+                                   double search_m)
 {
     double step = 0.25 * p->dy_m;
     int n = (int)ceil(search_m / step);

@@ -9,13 +9,13 @@
 
 #define MAX_CANDIDATES 8
 #define CANDIDATE_SEPARATION_M 0.03
-#define WEAKEST_CANDIDATE 0.01     /* -40 dB below the strongest reflector */
-#define END_FRACTION 0.5           /* the profile must drop below this inside the travel */
+#define WEAKEST_CANDIDATE 0.01 /* -40 dB below the strongest reflector */
+#define END_FRACTION 0.5       /* the profile must drop below this inside the travel */
 /* ...and that far inside it: residues of clutter the winding shadows (the
  * core leg behind it) end at the travel's ends; a seen edge has positions
  * beyond it. */
 #define END_MARGIN_STEPS 2.0
-#define SHADOW_MARGIN 0.316      /* -10 dB */
+#define SHADOW_MARGIN 0.316 /* -10 dB */
 
 double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row)
 {
@@ -30,24 +30,23 @@ double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row)
     return best;
 }
 
-static int ends_seen(const struct uwb_image *img, int iz, int peak_row, double peak,
-                     double lo_m, double hi_m)
+static int ends_seen(const struct uwb_image *img, int iz, int peak_row, double peak, double lo_m, double hi_m)
 {
     int iy = peak_row;
     while (iy > 0 && img->pix[(size_t)iy * img->nz + iz] >= END_FRACTION * peak)
         iy--;
-    int lower_ok = img->pix[(size_t)iy * img->nz + iz] < END_FRACTION * peak &&
-                   img->y0_m + iy * img->dy_m >= lo_m;
+    int lower_ok =
+        img->pix[(size_t)iy * img->nz + iz] < END_FRACTION * peak && img->y0_m + iy * img->dy_m >= lo_m;
     iy = peak_row;
     while (iy < img->ny - 1 && img->pix[(size_t)iy * img->nz + iz] >= END_FRACTION * peak)
         iy++;
-    int upper_ok = img->pix[(size_t)iy * img->nz + iz] < END_FRACTION * peak &&
-                   img->y0_m + iy * img->dy_m <= hi_m;
+    int upper_ok =
+        img->pix[(size_t)iy * img->nz + iz] < END_FRACTION * peak && img->y0_m + iy * img->dy_m <= hi_m;
     return lower_ok && upper_ok;
 }
 
-int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double aperture_hi_m,
-                double step_m, struct face_candidate *face, char *reason, size_t reasonlen)
+int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double aperture_hi_m, double step_m,
+                    struct face_candidate *face, char *reason, size_t reasonlen)
 {
     double inner_lo = aperture_lo_m + END_MARGIN_STEPS * step_m;
     double inner_hi = aperture_hi_m - END_MARGIN_STEPS * step_m;

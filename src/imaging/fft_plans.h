@@ -16,9 +16,9 @@
 #include <fftw3.h>
 
 enum fft_kind {
-    FFT_R2C,                     /* n reals -> n/2+1 complex, out of place */
-    FFT_C2R,                     /* n/2+1 complex -> n reals, out of place (destroys its input) */
-    FFT_C2C_BACKWARD_IN_PLACE,   /* n complex, in place, unnormalised inverse */
+    FFT_R2C,                   /* n reals -> n/2+1 complex, out of place */
+    FFT_C2R,                   /* n/2+1 complex -> n reals, out of place (destroys its input) */
+    FFT_C2C_BACKWARD_IN_PLACE, /* n complex, in place, unnormalised inverse */
 };
 
 /* A plan for this kind and length: a cached one, or (when the cache is

@@ -2,8 +2,7 @@
 
 #include <math.h>
 
-void uwb_geometry_from_scan(struct uwb_geometry *g, const struct uwb_scan *scan,
-                            double time_zero_offset_s)
+void uwb_geometry_from_scan(struct uwb_geometry *g, const struct uwb_scan *scan, double time_zero_offset_s)
 {
     double eps = scan->eps_r >= 1.0 ? scan->eps_r : 1.0;
     g->velocity_m_s = UWB_SPEED_OF_LIGHT / sqrt(eps);

@@ -23,8 +23,7 @@ int uwb_image_alloc(struct uwb_image *img, int ny, int nz, char *err, size_t err
     img->pix = calloc((size_t)ny * (size_t)nz, sizeof *img->pix);
     if (img->pix == NULL) {
         if (err && errlen)
-            snprintf(err, errlen, "image: cannot allocate %d x %d pixels: %s", ny, nz,
-                     strerror(ENOMEM));
+            snprintf(err, errlen, "image: cannot allocate %d x %d pixels: %s", ny, nz, strerror(ENOMEM));
         return -1;
     }
     img->ny = ny;

@@ -25,9 +25,8 @@ static int grid_side(double span_m, double pixel_m, int *n)
     return 0;
 }
 
-int uwb_imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m,
-                 double dy_m, double z_lo_m, double z_hi_m, double dz_m,
-                 char *err, size_t errlen)
+int uwb_imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m, double dy_m,
+                     double z_lo_m, double z_hi_m, double dz_m, char *err, size_t errlen)
 {
     double lo = scan->antenna_y_m[0], hi = lo;
     for (int k = 1; k < scan->positions; k++) {
@@ -39,7 +38,8 @@ int uwb_imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double 
     double y0 = lo - ceil(y_margin_m / dy_m) * dy_m;
     int ny = 0, nz = 0;
     if (grid_side(hi + y_margin_m - y0, dy_m, &ny) != 0 || grid_side(z_hi_m - z_lo_m, dz_m, &nz) != 0) {
-        snprintf(err, errlen, "imaging: a grid over %g m x %g m in %g m x %g m pixels is not at most %d pixels a side",
+        snprintf(err, errlen,
+                 "imaging: a grid over %g m x %g m in %g m x %g m pixels is not at most %d pixels a side",
                  hi + y_margin_m - y0, z_hi_m - z_lo_m, dy_m, dz_m, IMAGING_GRID_MAX_SIDE);
         return -1;
     }
@@ -57,8 +57,7 @@ int uwb_imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double 
 }
 
 int uwb_imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *conditioned,
-                      const struct uwb_geometry *g, struct uwb_image *img,
-                      char *err, size_t errlen)
+                          const struct uwb_geometry *g, struct uwb_image *img, char *err, size_t errlen)
 {
     if (uwb_migrate(kind, conditioned, g, img, err, errlen) != 0)
         return -1;
@@ -66,8 +65,8 @@ int uwb_imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *c
 }
 
 int uwb_imaging_intensity_planned(struct uwb_migration_plan *plan, enum uwb_migration_kind kind,
-                              const struct uwb_scan *conditioned, const struct uwb_geometry *g,
-                              struct uwb_image *img, char *err, size_t errlen)
+                                  const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                                  struct uwb_image *img, char *err, size_t errlen)
 {
     if (!uwb_migration_plan_serves(plan, kind, img)) {
         uwb_migration_plan_free(plan);

@@ -9,21 +9,19 @@
 
 /* A grid over y whose rows fall on the antenna heights when the antenna
  * step is a multiple of dy (so migration can share one delay table). */
-int uwb_imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m,
-                 double dy_m, double z_lo_m, double z_hi_m, double dz_m,
-                 char *err, size_t errlen);
+int uwb_imaging_grid(struct uwb_image *img, const struct uwb_scan *scan, double y_margin_m, double dy_m,
+                     double z_lo_m, double z_hi_m, double dz_m, char *err, size_t errlen);
 
 /* Migrate onto img and take the envelope along range. */
 int uwb_imaging_intensity(enum uwb_migration_kind kind, const struct uwb_scan *conditioned,
-                      const struct uwb_geometry *g, struct uwb_image *img,
-                      char *err, size_t errlen);
+                          const struct uwb_geometry *g, struct uwb_image *img, char *err, size_t errlen);
 
 /* The same with a migration plan kept by the caller: (re)built when it was
  * made for another grid, reused otherwise (repeated images of one grid). */
 struct uwb_migration_plan;
 int uwb_imaging_intensity_planned(struct uwb_migration_plan *plan, enum uwb_migration_kind kind,
-                              const struct uwb_scan *conditioned, const struct uwb_geometry *g,
-                              struct uwb_image *img, char *err, size_t errlen);
+                                  const struct uwb_scan *conditioned, const struct uwb_geometry *g,
+                                  struct uwb_image *img, char *err, size_t errlen);
 
 /* The grid a face measurement images on: the face's range window around
  * z_centre, rows on the antenna-aligned 1 mm grid, only y_lo_m..y_hi_m when
@@ -45,16 +43,16 @@ struct face_candidate {
  * least two antenna steps inside them).
  * Returns 0 and fills *face, or 1 with reason filled when none qualifies. */
 int uwb_face_search(const struct uwb_image *intensity, double aperture_lo_m, double aperture_hi_m,
-                double step_m, struct face_candidate *face, char *reason, size_t reasonlen);
+                    double step_m, struct face_candidate *face, char *reason, size_t reasonlen);
 
 /* Profile along y at the face: the largest envelope within +-half_width_m of z_face. */
 int uwb_face_profile_measure(const struct uwb_image *intensity, double z_face_m, double half_width_m,
-                 struct uwb_face_profile *p, char *err, size_t errlen);
+                             struct uwb_face_profile *p, char *err, size_t errlen);
 
 struct profile_edges {
     int ok;
     double lower_m, upper_m;
-    double slope_lower, slope_upper;   /* |dP/dy| at the crossings */
+    double slope_lower, slope_upper; /* |dP/dy| at the crossings */
     double peak, peak_y_m;
 };
 
@@ -69,18 +67,18 @@ void uwb_profile_edges(const struct uwb_face_profile *p, double fraction, struct
  * change of the bump's height or width that keeps it symmetric (pulse
  * timing jitter decorrelating the sum) does not move it at all. */
 double uwb_profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
-                               double search_m);
+                                   double search_m);
 
 /* The shift d that best maps base onto cur: cur(y + d) against g * base(y)
  * on the squared envelope, y within +-half_span_m of base_centre_m, searched
  * within 5 mm of guess_m (profile_shift.c says why). NAN when out of memory. */
 double uwb_profile_shift_fit(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
-                         double base_centre_m, double half_span_m, double guess_m);
+                             double base_centre_m, double half_span_m, double guess_m);
 
 /* The displacement between a current and a baseline profile of these
  * analyses (profile_shift_fit over the baseline's winding). */
 double uwb_analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
-                      const struct uwb_analysis *base_analysis, double guess_m);
+                          const struct uwb_analysis *base_analysis, double guess_m);
 
 /* How the fit's optimum d moves with each profile value (implicit
  * differentiation of the misfit's stationarity in d): grad_cur[i] =
@@ -97,20 +95,20 @@ int uwb_profile_shift_gradient(const struct uwb_face_profile *cur, const struct 
  * the caller keeps across repeated calls (initialised to zeros, freed with
  * uwb_migration_plan_free). Returns 0, or -1 with err filled. */
 int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
-                           const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
-                           struct uwb_migration_plan *plan, struct uwb_face_profile *p, double *z_face_out,
-                           char *err, size_t errlen);
+                               const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
+                               struct uwb_migration_plan *plan, struct uwb_face_profile *p,
+                               double *z_face_out, char *err, size_t errlen);
 
 /* uwb_condition in its two parts: what depends on the scan alone (band-pass,
  * alignment on the direct coupling), done once per analysis, and what
  * depends on where the winding is (static clutter removal, early gate). */
 int uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *g,
-                          const struct uwb_condition_options *opt, double dominant_hz,
-                          struct uwb_scan *out, char *err, size_t errlen);
+                          const struct uwb_condition_options *opt, double dominant_hz, struct uwb_scan *out,
+                          char *err, size_t errlen);
 int uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geometry *g,
                          const struct uwb_condition_options *opt, double dominant_hz,
-                         const struct uwb_target_window *winding, struct uwb_scan *out,
-                         char *err, size_t errlen);
+                         const struct uwb_target_window *winding, struct uwb_scan *out, char *err,
+                         size_t errlen);
 
 /* The gain conditioning's band-pass gives frequency f_hz (0..1). */
 double uwb_condition_band_gain(const struct uwb_condition_options *opt, double dominant_hz, double f_hz);

@@ -70,12 +70,11 @@ static int migrate_float(struct delay_table *t, const struct uwb_scan *scan, con
         if (silent(scan->data + (size_t)k * S, S))
             continue;
         memcpy(trace, scan->data + (size_t)k * S, (size_t)S * sizeof *trace);
-        trace[S] = trace[S + 1] = 0.0f;   /* out-of-range delays read zeros */
+        trace[S] = trace[S + 1] = 0.0f; /* out-of-range delays read zeros */
         uwb_delay_table_fill_trace(t, scan, g, img, k);
         for (int iy = 0; iy < img->ny; iy++) {
             size_t row = delay_table_row(t, k, iy);
-            sum_row_float(t->index + row, t->frac + row, trace, img->pix + (size_t)iy * img->nz,
-                          img->nz);
+            sum_row_float(t->index + row, t->frac + row, trace, img->pix + (size_t)iy * img->nz, img->nz);
         }
     }
     free(trace);
@@ -120,8 +119,7 @@ static int migrate_fixed(int simd, struct delay_table *t, const struct uwb_scan 
         uwb_delay_table_fill_trace(t, scan, g, img, k);
         for (int iy = 0; iy < img->ny; iy++) {
             size_t row = delay_table_row(t, k, iy);
-            sum_row(t->index + row, t->weight_q15 + row, pairs, acc + (size_t)iy * img->nz,
-                    img->nz);
+            sum_row(t->index + row, t->weight_q15 + row, pairs, acc + (size_t)iy * img->nz, img->nz);
         }
     }
     for (size_t i = 0; i < npix; i++)
@@ -144,8 +142,8 @@ static int same_grid(const struct uwb_migration_plan *p, const struct uwb_image 
 }
 
 int uwb_migration_plan_init(struct uwb_migration_plan *p, enum uwb_migration_kind kind,
-                        const struct uwb_scan *scan, const struct uwb_geometry *geom,
-                        const struct uwb_image *img, char *err, size_t errlen)
+                            const struct uwb_scan *scan, const struct uwb_geometry *geom,
+                            const struct uwb_image *img, char *err, size_t errlen)
 {
     memset(p, 0, sizeof *p);
     if (!img->pix || img->ny <= 0 || img->nz <= 0) {
@@ -166,7 +164,7 @@ int uwb_migration_plan_init(struct uwb_migration_plan *p, enum uwb_migration_kin
 }
 
 int uwb_migration_plan_run(struct uwb_migration_plan *p, const struct uwb_scan *scan,
-                       const struct uwb_geometry *geom, struct uwb_image *img, char *err, size_t errlen)
+                           const struct uwb_geometry *geom, struct uwb_image *img, char *err, size_t errlen)
 {
     if (!p->planned || !same_grid(p, img)) {
         snprintf(err, errlen, "migration: the plan was made for another grid");
@@ -180,7 +178,7 @@ int uwb_migration_plan_run(struct uwb_migration_plan *p, const struct uwb_scan *
 }
 
 int uwb_migration_plan_serves(const struct uwb_migration_plan *p, enum uwb_migration_kind kind,
-                          const struct uwb_image *img)
+                              const struct uwb_image *img)
 {
     return p->planned && p->kind == kind && same_grid(p, img);
 }
@@ -192,9 +190,8 @@ void uwb_migration_plan_free(struct uwb_migration_plan *p)
     memset(p, 0, sizeof *p);
 }
 
-int uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
-                const struct uwb_geometry *geom, struct uwb_image *img,
-                char *err, size_t errlen)
+int uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan, const struct uwb_geometry *geom,
+                struct uwb_image *img, char *err, size_t errlen)
 {
     struct uwb_migration_plan plan;
     if (uwb_migration_plan_init(&plan, kind, scan, geom, img, err, errlen) != 0)

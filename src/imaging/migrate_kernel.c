@@ -7,8 +7,8 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #define MIGRATE_SSE2 1
-#elif defined(__ARM_NEON) && defined(__aarch64__) && \
-    defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+#elif defined(__ARM_NEON) && defined(__aarch64__) && defined(__BYTE_ORDER__) && \
+    __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
 /* vpaddq_s32 and vmull_high_s16 are AArch64; the pair word's halves are
  * (-a, b) in lane order only on little-endian. */
 #include <arm_neon.h>
@@ -39,7 +39,7 @@ void uwb_migrate_fill_pairs(const float *trace, int samples, float scale, int16_
  * get. |b - a| <= 65534 and w <= 32767 keep the product inside int32. The
  * right shift of a negative value is arithmetic on gcc and clang. */
 void uwb_migrate_row_fixed_portable(const int32_t *restrict index, const int16_t *restrict weight,
-                                const int16_t *restrict pairs, int32_t *restrict out, int n)
+                                    const int16_t *restrict pairs, int32_t *restrict out, int n)
 {
     for (int i = 0; i < n; i++) {
         const int16_t *p = pairs + 2 * (size_t)index[i];
@@ -73,7 +73,7 @@ static inline __m128i gather4(const int16_t *pairs, const int32_t *index)
 }
 
 void uwb_migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
-                            const int16_t *restrict pairs, int32_t *restrict out, int n)
+                                const int16_t *restrict pairs, int32_t *restrict out, int n)
 {
     const __m128i half = _mm_set1_epi32(16384);
     const __m128i sign = _mm_set1_epi16(INT16_MIN);
@@ -120,7 +120,7 @@ static inline int32x4_t interpolate4(int16x8_t samples, int16x8_t weights)
 }
 
 void uwb_migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
-                            const int16_t *restrict pairs, int32_t *restrict out, int n)
+                                const int16_t *restrict pairs, int32_t *restrict out, int n)
 {
     const int16x8_t sign = vdupq_n_s16(INT16_MIN);
     int i = 0;
@@ -142,7 +142,7 @@ const char *uwb_migrate_simd_name(void)
 
 #else
 void uwb_migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
-                            const int16_t *restrict pairs, int32_t *restrict out, int n)
+                                const int16_t *restrict pairs, int32_t *restrict out, int n)
 {
     uwb_migrate_row_fixed_portable(index, weight, pairs, out, n);
 }

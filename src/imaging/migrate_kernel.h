@@ -19,10 +19,10 @@ void uwb_migrate_fill_pairs(const float *trace, int samples, float scale, int16_
  * w = weight[i] in [0, 32767], for i < n. The rounding is floor(x + 1/2),
  * as (x * 32768 + 16384) >> 15. */
 void uwb_migrate_row_fixed_portable(const int32_t *restrict index, const int16_t *restrict weight,
-                                const int16_t *restrict pairs, int32_t *restrict out, int n);
+                                    const int16_t *restrict pairs, int32_t *restrict out, int n);
 /* The same with SIMD; the portable loop where the target has none. */
 void uwb_migrate_row_fixed_simd(const int32_t *restrict index, const int16_t *restrict weight,
-                            const int16_t *restrict pairs, int32_t *restrict out, int n);
+                                const int16_t *restrict pairs, int32_t *restrict out, int n);
 /* "SSE2", "NEON" or "none". */
 const char *uwb_migrate_simd_name(void);
 

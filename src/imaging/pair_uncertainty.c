@@ -59,7 +59,7 @@ static uint64_t splitmix64(uint64_t *state)
 /* Standard normal by Box-Muller, one per pair of uniforms. */
 static double normal(uint64_t *state)
 {
-    double u1 = ((double)(splitmix64(state) >> 11) + 1.0) * 0x1.0p-53;   /* (0, 1] */
+    double u1 = ((double)(splitmix64(state) >> 11) + 1.0) * 0x1.0p-53; /* (0, 1] */
     double u2 = (double)(splitmix64(state) >> 11) * 0x1.0p-53;
     return sqrt(-2.0 * log(u1)) * cos(2.0 * M_PI * u2);
 }
@@ -106,13 +106,13 @@ static double pair_noise_rms(const struct uwb_analysis *ca, const struct uwb_ana
  * slower. Positions the aperture taper weighs 0 get none: it could not
  * reach the fit. */
 struct noise_source {
-    int n;                     /* transform length, a power of two >= the samples */
-    int first_bin, last_bin;   /* the band's non-zero bins */
-    double *gain;              /* per bin */
+    int n;                   /* transform length, a power of two >= the samples */
+    int first_bin, last_bin; /* the band's non-zero bins */
+    double *gain;            /* per bin */
     float *trace;
     fftwf_complex *spec;
     fftwf_plan inverse;
-    fftwf_plan forward;         /* for the linear propagation's spectra */
+    fftwf_plan forward; /* for the linear propagation's spectra */
 };
 
 static void noise_source_free(struct noise_source *ns)
@@ -126,8 +126,8 @@ static void noise_source_free(struct noise_source *ns)
 }
 
 static int noise_source_init(struct noise_source *ns, const struct uwb_scan *shape,
-                             const struct uwb_analysis *a, const struct uwb_analysis_options *opt,
-                             char *err, size_t errlen)
+                             const struct uwb_analysis *a, const struct uwb_analysis_options *opt, char *err,
+                             size_t errlen)
 {
     memset(ns, 0, sizeof *ns);
     ns->n = 2;
@@ -141,7 +141,8 @@ static int noise_source_init(struct noise_source *ns, const struct uwb_scan *sha
     ns->forward = uwb_fft_plan_acquire(FFT_R2C, ns->n);
     if (!ns->gain || !ns->trace || !ns->spec || !ns->inverse || !ns->forward) {
         noise_source_free(ns);
-        snprintf(err, errlen, "pair uncertainty: out of memory for noise traces of %d samples", shape->samples);
+        snprintf(err, errlen, "pair uncertainty: out of memory for noise traces of %d samples",
+                 shape->samples);
         return -1;
     }
     double df = 1.0 / (ns->n * shape->sample_interval_s);
@@ -160,8 +161,7 @@ static int noise_source_init(struct noise_source *ns, const struct uwb_scan *sha
 
 /* One draw of band-limited Gaussian noise of rms 1 per sample over the
  * positions the taper keeps (weight > 0); zero elsewhere. */
-static void noise_draw(struct noise_source *ns, struct uwb_scan *noise, const double *weight,
-                       uint64_t *state)
+static void noise_draw(struct noise_source *ns, struct uwb_scan *noise, const double *weight, uint64_t *state)
 {
     int S = noise->samples, nh = ns->n / 2 + 1;
     double ss = 0.0;
@@ -189,7 +189,6 @@ static void noise_draw(struct noise_source *ns, struct uwb_scan *noise, const do
     for (size_t i = 0; i < n; i++)
         noise->data[i] *= scale;
 }
-
 
 /* ---- linear propagation ---------------------------------------------------
  *
@@ -225,8 +224,8 @@ static double *hilbert_kernel(int n, int nz)
 
 /* The weight on each real-image pixel of sum_y grad[y] * p(y): the
  * profile's row maxima of |R + iHR| within [lo, hi]. h as hilbert_kernel. */
-static void profile_adjoint(const struct uwb_image *real, const double *grad, int lo, int hi,
-                            const double *h, double *weight)
+static void profile_adjoint(const struct uwb_image *real, const double *grad, int lo, int hi, const double *h,
+                            double *weight)
 {
     int nz = real->nz;
     memset(weight, 0, (size_t)real->ny * nz * sizeof *weight);
@@ -237,9 +236,9 @@ static void profile_adjoint(const struct uwb_image *real, const double *grad, in
         double best = -1.0, br = 0.0, bi = 0.0;
         int bz = lo;
         for (int iz = lo; iz <= hi; iz++) {
-            const double *hz = h + iz + nz - 1;   /* hz[-s] = h(iz - s) */
+            const double *hz = h + iz + nz - 1; /* hz[-s] = h(iz - s) */
             double im = 0.0;
-            for (int s = (iz + 1) % 2; s < nz; s += 2)   /* h is 0 at even lags */
+            for (int s = (iz + 1) % 2; s < nz; s += 2) /* h is 0 at even lags */
                 im += hz[-s] * r[s];
             double e = sqrt((double)r[iz] * r[iz] + im * im);
             if (e > best) {
@@ -282,7 +281,8 @@ static double propagated_rms(const struct noise_source *ns, const double *v, int
         double q = 0.0;
         for (int i = ns->first_bin; i <= ns->last_bin; i++) {
             double share = (i == 0 || i == nh - 1) ? 1.0 : 4.0;
-            q += share * ns->gain[i] * ns->gain[i] * ((double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1]);
+            q += share * ns->gain[i] * ns->gain[i] *
+                 ((double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1]);
         }
         total += wk * wk * q;
     }
@@ -308,7 +308,8 @@ static int share_linear(const struct uwb_analysis *a, const struct uwb_analysis 
     memset(&plan, 0, sizeof plan);
     struct uwb_face_profile p0;
     double z_face = a->edges.face_z_m;
-    if (uwb_analysis_measure_again(a, opt, &a->measured, 0.0, y_lo, y_hi, &plan, &p0, &z_face, err, errlen) != 0) {
+    if (uwb_analysis_measure_again(a, opt, &a->measured, 0.0, y_lo, y_hi, &plan, &p0, &z_face, err, errlen) !=
+        0) {
         uwb_migration_plan_free(&plan);
         return -1;
     }
@@ -331,7 +332,8 @@ static int share_linear(const struct uwb_analysis *a, const struct uwb_analysis 
         rc = 1;
         goto done;
     }
-    if (uwb_face_grid(&a->measured, &g, a->edges.face_z_m, a->dominant_hz, y_lo, y_hi, &real, err, errlen) != 0)
+    if (uwb_face_grid(&a->measured, &g, a->edges.face_z_m, a->dominant_hz, y_lo, y_hi, &real, err, errlen) !=
+        0)
         goto done;
     if (real.ny != p0.n || fabs(real.y0_m - p0.y0_m) > 1e-9 ||
         !uwb_migration_plan_serves(&plan, opt->migration, &real)) {
@@ -409,8 +411,8 @@ done:
 
 struct noise_setup {
     double rms;
-    double y_lo, y_hi;            /* the rows the fit reads */
-    struct noise_source source[2];   /* current, baseline */
+    double y_lo, y_hi;             /* the rows the fit reads */
+    struct noise_source source[2]; /* current, baseline */
 };
 
 static void noise_setup_free(struct noise_setup *s)
@@ -429,7 +431,7 @@ static int noise_setup(const struct uwb_analysis *ca, const struct uwb_analysis 
     memset(s, 0, sizeof *s);
     s->rms = pair_noise_rms(ca, ba, opt);
     if (isnan(s->rms))
-        return 1;   /* not measurable: the per-scan figures stand */
+        return 1; /* not measurable: the per-scan figures stand */
     out->measured = 1;
     out->noise_rms = s->rms;
     if (!(s->rms > 0.0))
@@ -468,7 +470,7 @@ static int shares_by_draws(const struct uwb_analysis *ca, const struct uwb_analy
             struct uwb_face_profile p;
             noise_draw(&s->source[which], &noise, a->weight, &state);
             if (which < which_lo || which > which_hi)
-                continue;   /* the draw is still taken: the other scan's draws stay the same */
+                continue; /* the draw is still taken: the other scan's draws stay the same */
             rc = uwb_analysis_measure_again(a, opt, &noise, s->rms, s->y_lo, s->y_hi, &plan[which], &p, NULL,
                                             err, errlen);
             if (rc != 0)
@@ -521,7 +523,7 @@ int uwb_shift_noise(const struct uwb_analysis *ca, const struct uwb_analysis *ba
         const struct uwb_analysis *a = which == 0 ? ca : ba;
         rc = share_linear(a, ca, ba, which, opt, &s.source[which], s.rms, s.y_lo, s.y_hi, shift_m,
                           &sigma[which], err, errlen);
-        if (rc == 1)   /* no curvature to linearise about: the draws decide */
+        if (rc == 1) /* no curvature to linearise about: the draws decide */
             rc = shares_by_draws(ca, ba, opt, shift_m, NOISE_DRAWS, &s, which, which, sigma, err, errlen);
     }
     noise_setup_free(&s);

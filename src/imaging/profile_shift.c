@@ -18,10 +18,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#define FIT_STEP_M 0.001          /* the profiles' own pixel */
+#define FIT_STEP_M 0.001 /* the profiles' own pixel */
 #define COARSE_STEP_M 0.0001
 #define FINE_STEP_M 0.00001
-#define FIT_SEARCH_M 0.005        /* around the centres' difference */
+#define FIT_SEARCH_M 0.005 /* around the centres' difference */
 
 /* A profile's squared envelope, computed once per fit: the search below
  * evaluates it at some 40 000 points. */
@@ -53,9 +53,10 @@ static double energy_at(const struct energy *p, double y)
         return 0.0;
     double t = x - i;
     const double *v = p->value + i - 1;
-    return v[1] + 0.5 * t * (v[2] - v[0] +
-                             t * (2.0 * v[0] - 5.0 * v[1] + 4.0 * v[2] - v[3] +
-                                  t * (3.0 * (v[1] - v[2]) + v[3] - v[0])));
+    return v[1] +
+           0.5 * t *
+               (v[2] - v[0] +
+                t * (2.0 * v[0] - 5.0 * v[1] + 4.0 * v[2] - v[3] + t * (3.0 * (v[1] - v[2]) + v[3] - v[0])));
 }
 
 /* The baseline's side of the fit does not move with the shift tried: its
@@ -63,7 +64,7 @@ static double energy_at(const struct energy *p, double y)
 struct span {
     int n;
     double centre_m, half_m;
-    double *base;                  /* g * base(y) is fitted to these */
+    double *base; /* g * base(y) is fitted to these */
     double bb;
 };
 
@@ -100,8 +101,9 @@ static double misfit(const struct energy *cur, const struct span *s, double d)
     return s->bb > 0.0 ? cc - cb * cb / s->bb : cc;
 }
 
-double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile, const struct uwb_face_profile *base_profile,
-                         double base_centre_m, double half_span_m, double guess_m)
+double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile,
+                             const struct uwb_face_profile *base_profile, double base_centre_m,
+                             double half_span_m, double guess_m)
 {
     struct energy cur, base;
     struct span span = {0};
@@ -151,21 +153,21 @@ double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile, const s
  * at half its peak: beyond, the winding's image falls off and the static
  * scene's share of the row grows. */
 double uwb_analysis_shift(const struct uwb_face_profile *cur, const struct uwb_face_profile *base,
-                      const struct uwb_analysis *base_analysis, double guess_m)
+                          const struct uwb_analysis *base_analysis, double guess_m)
 {
     return uwb_profile_shift_fit(cur, base, base_analysis->edges.center_m,
-                             0.5 * base_analysis->edges.height_m, guess_m);
+                                 0.5 * base_analysis->edges.height_m, guess_m);
 }
 
-int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis *base,
-                      double *shift_m, char *err, size_t errlen)
+int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis *base, double *shift_m,
+                      char *err, size_t errlen)
 {
     if (!cur->edges.found || !base->edges.found || !cur->profile.value || !base->profile.value) {
         snprintf(err, errlen, "shift: the winding is not established in both scans");
         return -1;
     }
-    *shift_m = uwb_analysis_shift(&cur->profile, &base->profile, base,
-                              cur->edges.center_m - base->edges.center_m);
+    *shift_m =
+        uwb_analysis_shift(&cur->profile, &base->profile, base, cur->edges.center_m - base->edges.center_m);
     if (isnan(*shift_m)) {
         snprintf(err, errlen, "shift: out of memory for the profiles' fit");
         return -1;
@@ -202,7 +204,7 @@ static int cell_of(const struct energy *p, double y, double *t)
 }
 
 struct misfit_sums {
-    double cc1, cb, c1b;   /* sum c c', sum c b, sum c' b */
+    double cc1, cb, c1b; /* sum c c', sum c b, sum c' b */
 };
 
 static struct misfit_sums sums_at(const struct energy *cur, const struct span *s, double d)
@@ -232,9 +234,9 @@ static double misfit_slope(const struct misfit_sums *m, double bb)
     return 2.0 * m->cc1 - (bb > 0.0 ? 2.0 * m->cb * m->c1b / bb : 0.0);
 }
 
-int uwb_profile_shift_gradient(const struct uwb_face_profile *cur_profile, const struct uwb_face_profile *base_profile,
-                               double base_centre_m, double half_span_m, double d_m, double *grad_cur,
-                               double *grad_base)
+int uwb_profile_shift_gradient(const struct uwb_face_profile *cur_profile,
+                               const struct uwb_face_profile *base_profile, double base_centre_m,
+                               double half_span_m, double d_m, double *grad_cur, double *grad_base)
 {
     struct energy cur, base;
     struct span span = {0};

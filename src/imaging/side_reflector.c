@@ -17,14 +17,14 @@
 
 #include "trace_spectrum.h"
 
-#define ECHO_HALF_PERIODS 1.5     /* the echo model: +-1.5 periods of the face echo */
-#define ROW_HALF_SPAN_M 0.3       /* the antisymmetric part is compared this far out */
+#define ECHO_HALF_PERIODS 1.5 /* the echo model: +-1.5 periods of the face echo */
+#define ROW_HALF_SPAN_M 0.3   /* the antisymmetric part is compared this far out */
 #define ROW_STEP_M 0.001
-#define CLEAR_OF_EDGE_M 0.02      /* a reflector starts this far beyond the winding's end */
+#define CLEAR_OF_EDGE_M 0.02 /* a reflector starts this far beyond the winding's end */
 #define COARSE_STEP_M 0.003
 #define FINE_STEP_M 0.0005
-#define MIN_EXPLAINED 0.25        /* below this share of the asymmetry, leave the traces be */
-#define MIN_RELATIVE_PEAK 0.1     /* ...or below -20 dB of the face: noise, not a plate */
+#define MIN_EXPLAINED 0.25    /* below this share of the asymmetry, leave the traces be */
+#define MIN_RELATIVE_PEAK 0.1 /* ...or below -20 dB of the face: noise, not a plate */
 /* A point's echo falls off as a line scatterer's (R^-1.5, the plate's edge
  * runs along x) times the antennas' obliquity. */
 #define SPREADING_POWER 1.5
@@ -36,7 +36,7 @@ static void hilbert_spectrum(void *ctx, int k, fftwf_complex *spec, int n, doubl
     (void)k;
     (void)df_hz;
     for (int i = 0; i < n / 2 + 1; i++) {
-        float *bin = (float *)&spec[i];   /* complex.h makes fftwf_complex a C99 complex here */
+        float *bin = (float *)&spec[i]; /* complex.h makes fftwf_complex a C99 complex here */
         float re = bin[0], im = bin[1];
         int edge = i == 0 || (n % 2 == 0 && i == n / 2);
         bin[0] = edge ? 0.0f : im / (float)n;
@@ -102,8 +102,7 @@ static int cut_echo(const struct uwb_scan *s, const struct uwb_scan *q, const st
     for (int i = 0; i < r->len; i++) {
         double t = r->lead_s + i * g->dt_s;
         double from_end = ECHO_HALF_PERIODS * period_s - fabs(t);
-        double w = from_end >= ramp ? 1.0 : from_end <= 0.0 ? 0.0
-                 : 0.5 - 0.5 * cos(M_PI * from_end / ramp);
+        double w = from_end >= ramp ? 1.0 : from_end <= 0.0 ? 0.0 : 0.5 - 0.5 * cos(M_PI * from_end / ramp);
         r->echo[i] = (float)(w * trace_at(d, s->samples, g, t_echo + t));
         r->quadrature[i] = (float)(w * trace_at(h, s->samples, g, t_echo + t));
     }
@@ -111,9 +110,9 @@ static int cut_echo(const struct uwb_scan *s, const struct uwb_scan *q, const st
 }
 
 /* Antisymmetric part of a point echo's face-row image, at the sampled u. */
-static void point_asymmetry(const struct side_reflector *r, const struct uwb_scan *s,
-                            const double *weight, const struct uwb_geometry *g, const double *tau_up,
-                            const double *tau_down, int nu, double yp, double z, double complex *b)
+static void point_asymmetry(const struct side_reflector *r, const struct uwb_scan *s, const double *weight,
+                            const struct uwb_geometry *g, const double *tau_up, const double *tau_down,
+                            int nu, double yp, double z, double complex *b)
 {
     memset(b, 0, (size_t)nu * sizeof *b);
     for (int k = 0; k < s->positions; k++) {
@@ -134,10 +133,10 @@ struct fit {
     double explained;
 };
 
-static void try_position(const struct side_reflector *r, const struct uwb_scan *s,
-                         const double *weight, const struct uwb_geometry *g, const double *tau_up,
-                         const double *tau_down, const double complex *a, double a_energy, int nu,
-                         double yp, double z, double complex *b, struct fit *best)
+static void try_position(const struct side_reflector *r, const struct uwb_scan *s, const double *weight,
+                         const struct uwb_geometry *g, const double *tau_up, const double *tau_down,
+                         const double complex *a, double a_energy, int nu, double yp, double z,
+                         double complex *b, struct fit *best)
 {
     point_asymmetry(r, s, weight, g, tau_up, tau_down, nu, yp, z, b);
     double bb = 0.0;
@@ -158,9 +157,9 @@ static void try_position(const struct side_reflector *r, const struct uwb_scan *
 }
 
 int uwb_side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, const double *weight,
-                        const struct uwb_geometry *g, double z_face, double centre,
-                        double half_height, double dominant_hz, double near_y_m,
-                        struct side_reflector *r, char *err, size_t errlen)
+                            const struct uwb_geometry *g, double z_face, double centre, double half_height,
+                            double dominant_hz, double near_y_m, struct side_reflector *r, char *err,
+                            size_t errlen)
 {
     memset(r, 0, sizeof *r);
     int K = s->positions, nu = (int)floor(ROW_HALF_SPAN_M / ROW_STEP_M);
@@ -228,11 +227,11 @@ int uwb_side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, 
     struct fit best = {0};
     if (isnan(near_y_m)) {
         for (double off = from; off <= to; off += COARSE_STEP_M)
-            try_position(r, s, weight, g, tau_up, tau_down, a, a_energy, nu, centre + side * off,
-                         z_face, b, &best);
+            try_position(r, s, weight, g, tau_up, tau_down, a, a_energy, nu, centre + side * off, z_face, b,
+                         &best);
     } else {
         best.y = near_y_m;
-        best.score = 1.0;   /* only marks "have a start"; scores below replace it */
+        best.score = 1.0; /* only marks "have a start"; scores below replace it */
     }
     if (best.score > 0.0) {
         double y0 = best.y;
@@ -257,13 +256,12 @@ int uwb_side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, 
     r->z_m = z_face;
     r->amp = best.amp;
     r->explained = best.explained;
-    r->found = best.score > 0.0 && best.explained >= MIN_EXPLAINED &&
-               r->relative_peak >= MIN_RELATIVE_PEAK;
+    r->found = best.score > 0.0 && best.explained >= MIN_EXPLAINED && r->relative_peak >= MIN_RELATIVE_PEAK;
     return 0;
 }
 
 void uwb_side_reflector_remove(const struct side_reflector *r, const struct uwb_geometry *g,
-                           struct uwb_scan *s)
+                               struct uwb_scan *s)
 {
     if (!r->found)
         return;

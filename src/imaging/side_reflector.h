@@ -12,14 +12,14 @@
 
 struct side_reflector {
     int found;
-    double y_m, z_m;             /* where it images */
-    double complex amp;          /* its echo relative to the echo model */
-    double explained;            /* share of the face row's asymmetry it accounts for */
-    double relative_peak;        /* its image's peak over the face's */
+    double y_m, z_m;      /* where it images */
+    double complex amp;   /* its echo relative to the echo model */
+    double explained;     /* share of the face row's asymmetry it accounts for */
+    double relative_peak; /* its image's peak over the face's */
     /* The echo model: the face's own echo at the antenna nearest the
      * winding's centre, and its quadrature (Hilbert) partner. */
     int len;
-    double lead_s;               /* time of model sample 0 relative to the echo's delay */
+    double lead_s; /* time of model sample 0 relative to the echo's delay */
     float *echo, *quadrature;
 };
 
@@ -31,13 +31,13 @@ struct side_reflector {
  * (r->found = 0 when nothing beside the winding explains the row's
  * asymmetry). Returns 0, or -1 with err filled. */
 int uwb_side_reflector_find(const struct uwb_scan *conditioned, const struct uwb_scan *quadrature,
-                        const double *weight, const struct uwb_geometry *g, double z_face_m,
-                        double centre_m, double half_height_m, double dominant_hz,
-                        double near_y_m, struct side_reflector *r, char *err, size_t errlen);
+                            const double *weight, const struct uwb_geometry *g, double z_face_m,
+                            double centre_m, double half_height_m, double dominant_hz, double near_y_m,
+                            struct side_reflector *r, char *err, size_t errlen);
 
 /* Subtract the found reflector's echo from every trace of scan. */
 void uwb_side_reflector_remove(const struct side_reflector *r, const struct uwb_geometry *g,
-                           struct uwb_scan *scan);
+                               struct uwb_scan *scan);
 
 void uwb_side_reflector_free(struct side_reflector *r);
 

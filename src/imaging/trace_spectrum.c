@@ -5,9 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
-int uwb_filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int k),
-                              trace_spectrum_fn filter, void *ctx, const char *what,
-                              char *err, size_t errlen)
+int uwb_filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int k), trace_spectrum_fn filter,
+                                  void *ctx, const char *what, char *err, size_t errlen)
 {
     int S = s->samples, nh = S / 2 + 1;
     float *buf = fftwf_alloc_real((size_t)S);

@@ -18,7 +18,7 @@ typedef void (*trace_spectrum_fn)(void *ctx, int k, fftwf_complex *spec, int n, 
  * are, untransformed. `what` names the step in an out-of-memory message.
  * Returns 0, or -1 with err filled. */
 int uwb_filter_traces_in_spectrum(struct uwb_scan *scan, int (*skip)(void *ctx, int k),
-                              trace_spectrum_fn filter, void *ctx, const char *what,
-                              char *err, size_t errlen);
+                                  trace_spectrum_fn filter, void *ctx, const char *what, char *err,
+                                  size_t errlen);
 
 #endif

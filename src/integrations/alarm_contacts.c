@@ -37,7 +37,7 @@ void uwbd_contacts_verdict(struct uwbd_contacts *c, const char *status, int devi
 void uwbd_contacts_restore(struct uwbd_contacts *c, const char *status)
 {
     uwbd_contacts_verdict(c, status, 0);
-    c->healthy = 1;   /* the daemon has just opened its hardware */
+    c->healthy = 1; /* the daemon has just opened its hardware */
 }
 
 void uwbd_contacts_ack(struct uwbd_contacts *c)

@@ -12,8 +12,8 @@
 
 struct uwbd_contacts {
     int latch_watch, latch_alarm;
-    int watch_called, alarm_called;     /* the latest verdict calls for it */
-    int watch_unacked, alarm_unacked;   /* raised since the last `ack` */
+    int watch_called, alarm_called;   /* the latest verdict calls for it */
+    int watch_unacked, alarm_unacked; /* raised since the last `ack` */
     int healthy;
 };
 

@@ -9,18 +9,18 @@
 
 struct uwbd_event_trigger {
     double debounce_s, min_interval_s;
-    int active;             /* the last sample */
-    double active_since_s;  /* when the input last went active */
-    int counted;            /* this activation has been counted */
+    int active;            /* the last sample */
+    double active_since_s; /* when the input last went active */
+    int counted;           /* this activation has been counted */
     int has_fired;
     double last_fired_s;
     unsigned long fired, suppressed;
 };
 
 enum uwbd_event_result {
-    UWBD_EVENT_NONE,        /* nothing new */
-    UWBD_EVENT_FIRE,        /* an event: scan as soon as possible */
-    UWBD_EVENT_SUPPRESSED,  /* an event inside min_interval_s of the last: dropped */
+    UWBD_EVENT_NONE,       /* nothing new */
+    UWBD_EVENT_FIRE,       /* an event: scan as soon as possible */
+    UWBD_EVENT_SUPPRESSED, /* an event inside min_interval_s of the last: dropped */
 };
 
 void uwbd_event_trigger_init(struct uwbd_event_trigger *t, double debounce_s, double min_interval_s);

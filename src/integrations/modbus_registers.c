@@ -67,7 +67,8 @@ static uint32_t created_seconds(const cJSON *verdict)
     memset(&tm, 0, sizeof tm);
     char zone = 0, extra = 0;
     if (sscanf(created->valuestring, "%4d-%2d-%2dT%2d:%2d:%2d%c%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday,
-               &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &zone, &extra) != 7 || zone != 'Z')
+               &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &zone, &extra) != 7 ||
+        zone != 'Z')
         return 0;
     tm.tm_year -= 1900;
     tm.tm_mon -= 1;
@@ -102,6 +103,7 @@ void uwbd_modbus_registers_fill(const char *verdict_json, const struct uwbd_modb
         health |= UWBD_MODBUS_HEALTH_VERDICT;
     regs[UWBD_MODBUS_REG_HEALTH] = (uint16_t)health;
     regs[UWBD_MODBUS_REG_CONTACTS] =
-        (uint16_t)(status->contacts & (UWBD_MODBUS_CONTACT_WATCH | UWBD_MODBUS_CONTACT_ALARM | UWBD_MODBUS_CONTACT_FAULT));
+        (uint16_t)(status->contacts &
+                   (UWBD_MODBUS_CONTACT_WATCH | UWBD_MODBUS_CONTACT_ALARM | UWBD_MODBUS_CONTACT_FAULT));
     cJSON_Delete(verdict);
 }

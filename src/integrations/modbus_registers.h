@@ -34,10 +34,10 @@ enum uwbd_modbus_register {
     UWBD_MODBUS_REG_DISPLACEMENT = 2,
     UWBD_MODBUS_REG_SIGMA = 3,
     UWBD_MODBUS_REG_HEIGHT_CHANGE = 4,
-    UWBD_MODBUS_REG_LOWER_EDGE = 5,     /* two registers */
-    UWBD_MODBUS_REG_UPPER_EDGE = 7,     /* two registers */
-    UWBD_MODBUS_REG_SCAN_COUNT = 9,     /* two registers */
-    UWBD_MODBUS_REG_SCAN_TIME = 11,     /* two registers */
+    UWBD_MODBUS_REG_LOWER_EDGE = 5, /* two registers */
+    UWBD_MODBUS_REG_UPPER_EDGE = 7, /* two registers */
+    UWBD_MODBUS_REG_SCAN_COUNT = 9, /* two registers */
+    UWBD_MODBUS_REG_SCAN_TIME = 11, /* two registers */
     UWBD_MODBUS_REG_HEALTH = 13,
     UWBD_MODBUS_REG_CONTACTS = 14,
     UWBD_MODBUS_REGISTER_COUNT = 15,
@@ -53,17 +53,17 @@ enum uwbd_modbus_coil {
 #define UWBD_MODBUS_NONE32 0x80000000u
 
 enum uwbd_modbus_health {
-    UWBD_MODBUS_HEALTH_DEVICE_FAULT = 1u << 0,  /* the baseline found a device fault */
-    UWBD_MODBUS_HEALTH_RIG_DOWN = 1u << 1,      /* the rig is not open (it is tried again at the next scan) */
+    UWBD_MODBUS_HEALTH_DEVICE_FAULT = 1u << 0, /* the baseline found a device fault */
+    UWBD_MODBUS_HEALTH_RIG_DOWN = 1u << 1,     /* the rig is not open (it is tried again at the next scan) */
     UWBD_MODBUS_HEALTH_SCANNING = 1u << 2,
-    UWBD_MODBUS_HEALTH_BASELINE = 1u << 3,      /* a baseline is set */
-    UWBD_MODBUS_HEALTH_VERDICT = 1u << 4,       /* registers 1-12 hold a verdict */
+    UWBD_MODBUS_HEALTH_BASELINE = 1u << 3, /* a baseline is set */
+    UWBD_MODBUS_HEALTH_VERDICT = 1u << 4,  /* registers 1-12 hold a verdict */
 };
 
 enum uwbd_modbus_contact {
     UWBD_MODBUS_CONTACT_WATCH = 1u << 0,
     UWBD_MODBUS_CONTACT_ALARM = 1u << 1,
-    UWBD_MODBUS_CONTACT_FAULT = 1u << 2,        /* the fail-safe line, energised while healthy */
+    UWBD_MODBUS_CONTACT_FAULT = 1u << 2, /* the fail-safe line, energised while healthy */
 };
 
 /* What the daemon knows besides the verdict. */
@@ -73,7 +73,7 @@ struct uwbd_modbus_status {
     int device_fault;
     int rig_down;
     int has_baseline;
-    unsigned contacts;                          /* UWBD_MODBUS_CONTACT_* energised */
+    unsigned contacts; /* UWBD_MODBUS_CONTACT_* energised */
 };
 
 /* The registers for the verdict line (NULL or unparsable: no verdict yet). */

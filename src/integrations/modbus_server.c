@@ -52,18 +52,18 @@ struct uwbd_modbus_server {
 
     /* RTU */
     modbus_t *rtu;
-    struct uwb_link *link;         /* NULL while closed */
-    double retry_at_s;             /* CLOCK_MONOTONIC of the next open attempt */
-    int failing;                   /* log an outage once, not every retry */
+    struct uwb_link *link; /* NULL while closed */
+    double retry_at_s;     /* CLOCK_MONOTONIC of the next open attempt */
+    int failing;           /* log an outage once, not every retry */
 
     /* TCP */
     modbus_t *tcp;
     int listen_fd;
     struct tcp_client {
-        int fd;                    /* -1: free */
+        int fd; /* -1: free */
         uint8_t frame[MODBUS_TCP_MAX_ADU_LENGTH];
-        int len;                   /* bytes of the current request so far */
-        double started_s;          /* CLOCK_MONOTONIC of its first byte */
+        int len;          /* bytes of the current request so far */
+        double started_s; /* CLOCK_MONOTONIC of its first byte */
     } clients[UWBD_MODBUS_TCP_CLIENTS];
 };
 
@@ -123,7 +123,8 @@ int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd
         free(s);
         return -1;
     }
-    s->map = modbus_mapping_new(UWBD_MODBUS_COIL_COUNT, 0, UWBD_MODBUS_REGISTER_COUNT, UWBD_MODBUS_REGISTER_COUNT);
+    s->map =
+        modbus_mapping_new(UWBD_MODBUS_COIL_COUNT, 0, UWBD_MODBUS_REGISTER_COUNT, UWBD_MODBUS_REGISTER_COUNT);
     if (!s->map) {
         snprintf(err, errlen, "modbus: out of memory for the register map");
         free(s);
@@ -138,7 +139,9 @@ int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd
         }
         uwbd_log(UWBD_LOG_INFO, "modbus: TCP listening on %s", endpoint);
     } else {
-        s->rtu = set_up(modbus_new_rtu(s->ep.path, s->ep.baud > 0 ? s->ep.baud : UWB_SERIAL_DEFAULT_BAUD, 'N', 8, 1), unit_id);
+        s->rtu = set_up(
+            modbus_new_rtu(s->ep.path, s->ep.baud > 0 ? s->ep.baud : UWB_SERIAL_DEFAULT_BAUD, 'N', 8, 1),
+            unit_id);
         if (!s->rtu) {
             snprintf(err, errlen, "modbus: RTU context for %s: %s", endpoint, modbus_strerror(errno));
             uwbd_modbus_server_close(s);
@@ -199,7 +202,7 @@ static int run_coils(struct uwbd_modbus_server *s, const uint8_t *pdu, int pdu_l
 {
     int function = pdu[0];
     if (pdu_len < 5)
-        return 0;   /* malformed: modbus_reply answers it */
+        return 0; /* malformed: modbus_reply answers it */
     int address = (pdu[1] << 8) | pdu[2];
     int set[UWBD_MODBUS_COIL_COUNT] = {0};
     if (function == FC_WRITE_SINGLE_COIL) {
@@ -210,7 +213,7 @@ static int run_coils(struct uwbd_modbus_server *s, const uint8_t *pdu, int pdu_l
     } else {
         int count = (pdu[3] << 8) | pdu[4];
         if (address + count > UWBD_MODBUS_COIL_COUNT || pdu_len < 6 || pdu_len < 6 + pdu[5])
-            return 0;   /* out of the map or malformed: modbus_reply answers it */
+            return 0; /* out of the map or malformed: modbus_reply answers it */
         if (!coil_wired(s, address, count))
             return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
         for (int i = 0; i < count; i++)
@@ -230,12 +233,12 @@ static int answer(struct uwbd_modbus_server *s, modbus_t *ctx, const uint8_t *qu
     if (len <= header)
         return 0;
     const uint8_t *pdu = query + header;
-    int pdu_len = len - header - (ctx == s->rtu ? 2 : 0);   /* RTU's CRC */
+    int pdu_len = len - header - (ctx == s->rtu ? 2 : 0); /* RTU's CRC */
     int function = pdu[0];
     int exception = 0;
     if (function == FC_WRITE_SINGLE_REGISTER || function == FC_WRITE_MULTIPLE_REGISTERS ||
         function == FC_MASK_WRITE_REGISTER || function == FC_WRITE_AND_READ_REGISTERS)
-        exception = MODBUS_EXCEPTION_ILLEGAL_FUNCTION;   /* the registers are read-only */
+        exception = MODBUS_EXCEPTION_ILLEGAL_FUNCTION; /* the registers are read-only */
     else if (function == FC_WRITE_SINGLE_COIL || function == FC_WRITE_MULTIPLE_COILS)
         exception = run_coils(s, pdu, pdu_len);
     int rc;
@@ -247,10 +250,10 @@ static int answer(struct uwbd_modbus_server *s, modbus_t *ctx, const uint8_t *qu
         memcpy(s->map->tab_input_registers, regs, sizeof regs);
         memcpy(s->map->tab_registers, regs, sizeof regs);
         rc = modbus_reply(ctx, query, len, s->map);
-        memset(s->map->tab_bits, 0, UWBD_MODBUS_COIL_COUNT);   /* coils are momentary */
+        memset(s->map->tab_bits, 0, UWBD_MODBUS_COIL_COUNT); /* coils are momentary */
     }
     if (rc < 0 && ctx == s->tcp)
-        return -1;   /* a master that does not take its reply (EAGAIN) or went away */
+        return -1; /* a master that does not take its reply (EAGAIN) or went away */
     if (rc < 0 && (errno == EPIPE || errno == ECONNRESET || errno == EBADF || errno == EIO))
         return -1;
     return 0;
@@ -262,11 +265,11 @@ static int serve_rtu(struct uwbd_modbus_server *s)
     uint8_t query[MODBUS_RTU_MAX_ADU_LENGTH];
     int len = modbus_receive(s->rtu, query);
     if (len == 0)
-        return 0;   /* a request for another unit on the bus */
+        return 0; /* a request for another unit on the bus */
     if (len < 0) {
         if (errno == ECONNRESET || errno == EPIPE || errno == EBADF || errno == EIO || errno == ENOTCONN)
             return -1;
-        modbus_flush(s->rtu);   /* a bad CRC or a half frame: wait for the next */
+        modbus_flush(s->rtu); /* a bad CRC or a half frame: wait for the next */
         return 0;
     }
     return answer(s, s->rtu, query, len);
@@ -314,7 +317,7 @@ static void accept_client(struct uwbd_modbus_server *s)
     int fd = accept(s->listen_fd, NULL, NULL);
     if (fd < 0)
         return;
-    fcntl(fd, F_SETFD, FD_CLOEXEC);   /* accept4 is a GNU extension */
+    fcntl(fd, F_SETFD, FD_CLOEXEC); /* accept4 is a GNU extension */
     /* Replies are sent without blocking too: a master that does not read
      * them is dropped when its socket's buffer is full. */
     fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
@@ -348,8 +351,10 @@ void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd 
     }
     double now_s = uwb_monotonic_s();
     for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++)
-        if (s->clients[c].fd >= 0 && s->clients[c].len > 0 && now_s - s->clients[c].started_s >= TCP_FRAME_S) {
-            uwbd_log(UWBD_LOG_WARNING, "modbus: a TCP master dropped: no whole request within %.0f s", TCP_FRAME_S);
+        if (s->clients[c].fd >= 0 && s->clients[c].len > 0 &&
+            now_s - s->clients[c].started_s >= TCP_FRAME_S) {
+            uwbd_log(UWBD_LOG_WARNING, "modbus: a TCP master dropped: no whole request within %.0f s",
+                     TCP_FRAME_S);
             drop_client(&s->clients[c]);
         }
     if (s->rtu && !s->link && uwb_monotonic_s() >= s->retry_at_s)
@@ -361,7 +366,7 @@ void uwbd_modbus_server_close(struct uwbd_modbus_server *s)
     if (!s)
         return;
     if (s->rtu) {
-        modbus_set_socket(s->rtu, -1);   /* the link owns the fd */
+        modbus_set_socket(s->rtu, -1); /* the link owns the fd */
         modbus_free(s->rtu);
     }
     uwb_link_close(s->link);

@@ -35,18 +35,18 @@ struct uwbd_mqtt {
     char dir[UWBD_SITE_PATH_MAX + 32];
     char verdict_topic[256], status_topic[256];
     int queue_max;
-    unsigned long long *queue;   /* sequence numbers of the files waiting, oldest first */
+    unsigned long long *queue; /* sequence numbers of the files waiting, oldest first */
     size_t queued, cap;
     unsigned long long next_seq;
     int connected;
-    int inflight_mid;            /* the queue head's publish, 0 = none */
+    int inflight_mid; /* the queue head's publish, 0 = none */
     int offline_mid, offline_acked;
-    int was_connected;           /* log a lost broker once */
+    int was_connected; /* log a lost broker once */
     char cmd_topic[256], reply_topic[256];
     char health_topic[256];
-    char *health;                /* the latest health report, sent on every connection */
-    int command_fd;              /* eventfd: commands wait; -1 without mqtt.commands */
-    char *commands[COMMANDS_MAX];/* received, not yet taken by the main loop */
+    char *health;                 /* the latest health report, sent on every connection */
+    int command_fd;               /* eventfd: commands wait; -1 without mqtt.commands */
+    char *commands[COMMANDS_MAX]; /* received, not yet taken by the main loop */
     size_t n_commands;
 };
 
@@ -85,13 +85,14 @@ static void on_connect(struct mosquitto *mosq, void *ctx, int rc)
 {
     struct uwbd_mqtt *m = ctx;
     if (rc != 0) {
-        uwbd_log(UWBD_LOG_WARNING, "mqtt: the broker refused the connection: %s", mosquitto_connack_string(rc));
+        uwbd_log(UWBD_LOG_WARNING, "mqtt: the broker refused the connection: %s",
+                 mosquitto_connack_string(rc));
         return;
     }
     pthread_mutex_lock(&m->lock);
     m->connected = 1;
     m->was_connected = 1;
-    m->inflight_mid = 0;   /* a publish cut off by the disconnection is sent again: at least once */
+    m->inflight_mid = 0; /* a publish cut off by the disconnection is sent again: at least once */
     mosquitto_publish(mosq, NULL, m->status_topic, 6, "online", QOS, true);
     if (m->command_fd >= 0)
         mosquitto_subscribe(mosq, NULL, m->cmd_topic, QOS);
@@ -137,7 +138,7 @@ static void on_message(struct mosquitto *mosq, void *ctx, const struct mosquitto
 {
     struct uwbd_mqtt *m = ctx;
     if (msg->retain)
-        return;   /* a command left on the broker is stale by the time it is read */
+        return; /* a command left on the broker is stale by the time it is read */
     pthread_mutex_lock(&m->lock);
     char *text = NULL;
     if (m->n_commands < COMMANDS_MAX && msg->payloadlen >= 0 && msg->payloadlen <= 256 &&
@@ -150,7 +151,8 @@ static void on_message(struct mosquitto *mosq, void *ctx, const struct mosquitto
             /* the counter is full: the loop has a wake-up pending anyway */
         }
     } else {
-        const char *busy = "{\"class\":\"ERROR\",\"message\":\"too many commands waiting, or one over 256 bytes\"}";
+        const char *busy =
+            "{\"class\":\"ERROR\",\"message\":\"too many commands waiting, or one over 256 bytes\"}";
         mosquitto_publish(mosq, NULL, m->reply_topic, (int)strlen(busy), busy, QOS, false);
     }
     pthread_mutex_unlock(&m->lock);
@@ -191,12 +193,13 @@ static int load_queue(struct uwbd_mqtt *m, char *err, size_t errlen)
     for (struct dirent *e; (e = readdir(d));) {
         unsigned long long seq;
         char tail[8];
-        if (strlen(e->d_name) == 25 && sscanf(e->d_name, "%20llu%7s", &seq, tail) == 2 && strcmp(tail, ".json") == 0)
+        if (strlen(e->d_name) == 25 && sscanf(e->d_name, "%20llu%7s", &seq, tail) == 2 &&
+            strcmp(tail, ".json") == 0)
             if (push_seq(m, seq) != 0)
                 break;
     }
     closedir(d);
-    if (m->queued)   /* qsort may not be given NULL, even for none */
+    if (m->queued) /* qsort may not be given NULL, even for none */
         qsort(m->queue, m->queued, sizeof *m->queue, compare_seq);
     m->next_seq = m->queued ? m->queue[m->queued - 1] + 1 : 1;
     return 0;
@@ -210,8 +213,8 @@ static int read_password(const char *path, char *out, size_t n, char *err, size_
         return -1;
     size_t line = strcspn(text, "\r\n");
     if (line == 0 || line >= n) {
-        snprintf(err, errlen, "mqtt.password_file %s: the first line must hold the password (1..%zu bytes)", path,
-                 n - 1);
+        snprintf(err, errlen, "mqtt.password_file %s: the first line must hold the password (1..%zu bytes)",
+                 path, n - 1);
         free(text);
         return -1;
     }
@@ -237,7 +240,8 @@ static int configure(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, ch
         memset(password, 0, sizeof password);
     }
     if (rc == MOSQ_ERR_SUCCESS && cfg->mqtt_ca_file[0])
-        rc = mosquitto_tls_set(m->mosq, cfg->mqtt_ca_file, NULL, cfg->mqtt_cert_file[0] ? cfg->mqtt_cert_file : NULL,
+        rc = mosquitto_tls_set(m->mosq, cfg->mqtt_ca_file, NULL,
+                               cfg->mqtt_cert_file[0] ? cfg->mqtt_cert_file : NULL,
                                cfg->mqtt_key_file[0] ? cfg->mqtt_key_file : NULL, NULL);
     if (rc == MOSQ_ERR_SUCCESS)
         rc = mosquitto_reconnect_delay_set(m->mosq, 1, (unsigned)(cfg->mqtt_reconnect_max_s + 0.5), true);
@@ -248,8 +252,8 @@ static int configure(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, ch
     return 0;
 }
 
-int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, const char *state_dir, char *err,
-                   size_t errlen)
+int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, const char *state_dir,
+                   char *err, size_t errlen)
 {
     *out = NULL;
     struct uwb_endpoint ep;
@@ -265,7 +269,8 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
     }
     pthread_mutex_init(&m->lock, NULL);
     snprintf(m->dir, sizeof m->dir, "%s/" QUEUE_DIR, state_dir);
-    snprintf(m->verdict_topic, sizeof m->verdict_topic, "%s/%s/verdict", cfg->mqtt_topic_prefix, cfg->asset_id);
+    snprintf(m->verdict_topic, sizeof m->verdict_topic, "%s/%s/verdict", cfg->mqtt_topic_prefix,
+             cfg->asset_id);
     snprintf(m->status_topic, sizeof m->status_topic, "%s/%s/status", cfg->mqtt_topic_prefix, cfg->asset_id);
     m->queue_max = cfg->mqtt_queue_max;
     snprintf(m->cmd_topic, sizeof m->cmd_topic, "%s/%s/cmd", cfg->mqtt_topic_prefix, cfg->asset_id);
@@ -298,8 +303,8 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
         uwbd_mqtt_close(m);
         return -1;
     }
-    uwbd_log(UWBD_LOG_INFO, "mqtt: publishing to %s on %s (%zu verdict(s) queued from before)", m->verdict_topic,
-             cfg->mqtt_endpoint, m->queued);
+    uwbd_log(UWBD_LOG_INFO, "mqtt: publishing to %s on %s (%zu verdict(s) queued from before)",
+             m->verdict_topic, cfg->mqtt_endpoint, m->queued);
     *out = m;
     return 0;
 }

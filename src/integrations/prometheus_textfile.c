@@ -9,8 +9,8 @@
 
 #include "uwb/atomic_file.h"
 
-static const char *const status_names[UWBD_PROM_STATUSES] = {"edges", "ok", "watch", "alarm", "inconclusive",
-                                                             "error"};
+static const char *const status_names[UWBD_PROM_STATUSES] = {"edges", "ok",           "watch",
+                                                             "alarm", "inconclusive", "error"};
 static const char *const contact_names[3] = {"watch", "alarm", "fault"};
 
 const char *uwbd_prometheus_status_name(int status)
@@ -28,7 +28,7 @@ int uwbd_prometheus_status_index(const char *name)
 
 struct text {
     FILE *out;
-    const char *labels;   /* asset_id="..." */
+    const char *labels; /* asset_id="..." */
 };
 
 static void header(struct text *t, const char *name, const char *type, const char *help)
@@ -65,18 +65,20 @@ char *uwbd_prometheus_text(const struct uwbd_prometheus_metrics *m)
     char label[64];
 
     if (m->has_verdict) {
-        header(&t, "uwbd_status", "gauge", "The latest verdict's status: 1 for the one it has, 0 for the others.");
+        header(&t, "uwbd_status", "gauge",
+               "The latest verdict's status: 1 for the one it has, 0 for the others.");
         for (int i = 0; i < UWBD_PROM_STATUSES; i++) {
             snprintf(label, sizeof label, "status=\"%s\"", status_names[i]);
             sample(&t, "uwbd_status", label, i == m->status);
         }
         if (m->created_s > 0)
-            gauge(&t, "uwbd_last_verdict_timestamp_seconds", "When the latest verdict's scan was made (Unix time).",
-                  m->created_s);
+            gauge(&t, "uwbd_last_verdict_timestamp_seconds",
+                  "When the latest verdict's scan was made (Unix time).", m->created_s);
     }
     if (m->has_displacement) {
         gauge(&t, "uwbd_axial_displacement_meters",
-              "The latest axial displacement of the winding from the baseline, positive up.", m->displacement_m);
+              "The latest axial displacement of the winding from the baseline, positive up.",
+              m->displacement_m);
         gauge(&t, "uwbd_axial_displacement_uncertainty_meters", "Its 1-sigma uncertainty.", m->uncertainty_m);
     }
     if (m->has_edges) {
@@ -95,10 +97,12 @@ char *uwbd_prometheus_text(const struct uwbd_prometheus_metrics *m)
         snprintf(label, sizeof label, "status=\"%s\"", status_names[i]);
         sample(&t, "uwbd_verdicts_total", label, (double)m->verdicts[i]);
     }
-    header(&t, "uwbd_event_scans_total", "counter", "Scans started by the event input or command since the daemon started.");
+    header(&t, "uwbd_event_scans_total", "counter",
+           "Scans started by the event input or command since the daemon started.");
     sample(&t, "uwbd_event_scans_total", NULL, (double)m->event_scans);
     if (m->has_contacts) {
-        header(&t, "uwbd_contact_energised", "gauge", "The alarm contacts: 1 energised, 0 not (fault: 1 = healthy).");
+        header(&t, "uwbd_contact_energised", "gauge",
+               "The alarm contacts: 1 energised, 0 not (fault: 1 = healthy).");
         for (int i = 0; i < 3; i++) {
             snprintf(label, sizeof label, "contact=\"%s\"", contact_names[i]);
             sample(&t, "uwbd_contact_energised", label, m->contact[i] > 0);

@@ -8,24 +8,24 @@
 
 #include <stddef.h>
 
-#define UWBD_PROM_STATUSES 6   /* edges, ok, watch, alarm, inconclusive, error */
+#define UWBD_PROM_STATUSES 6 /* edges, ok, watch, alarm, inconclusive, error */
 
 struct uwbd_prometheus_metrics {
     const char *asset_id;
     int has_verdict;
-    int status;                              /* index into uwbd_prometheus_status_name */
+    int status; /* index into uwbd_prometheus_status_name */
     int has_displacement;
     double displacement_m, uncertainty_m;
     int has_edges;
     double lower_edge_m, upper_edge_m, height_change_m;
     int has_height_change;
-    double created_s;                        /* the verdict's time, Unix seconds; 0: unknown */
+    double created_s; /* the verdict's time, Unix seconds; 0: unknown */
     int has_duration;
-    double scan_duration_s;                  /* the latest scan cycle, start to verdict */
+    double scan_duration_s;                     /* the latest scan cycle, start to verdict */
     unsigned long verdicts[UWBD_PROM_STATUSES]; /* recorded since the daemon started */
-    unsigned long event_scans;               /* scans the event input or command started */
+    unsigned long event_scans;                  /* scans the event input or command started */
     int has_contacts;
-    int contact[3];                          /* watch, alarm, fault energised */
+    int contact[3]; /* watch, alarm, fault energised */
 };
 
 const char *uwbd_prometheus_status_name(int status);
@@ -34,6 +34,7 @@ int uwbd_prometheus_status_index(const char *name);
 /* The metrics as exposition text (malloc'd), NULL when out of memory. */
 char *uwbd_prometheus_text(const struct uwbd_prometheus_metrics *m);
 /* Writes them to path atomically. Returns 0, or -1 with err. */
-int uwbd_prometheus_write(const char *path, const struct uwbd_prometheus_metrics *m, char *err, size_t errlen);
+int uwbd_prometheus_write(const char *path, const struct uwbd_prometheus_metrics *m, char *err,
+                          size_t errlen);
 
 #endif

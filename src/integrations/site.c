@@ -27,17 +27,18 @@
 
 struct uwbd_site {
     struct uwbd_site_config cfg;
-    struct uwb_gpio *gpio;         /* NULL: no lines, or closed after a failure */
-    int failing;                   /* log a lost handle once, not every retry */
+    struct uwb_gpio *gpio; /* NULL: no lines, or closed after a failure */
+    int failing;           /* log a lost handle once, not every retry */
     struct uwbd_contacts contacts;
     struct uwbd_event_trigger event;
     struct uwbd_prometheus_metrics prom;
-    int prom_failing;              /* log a failing textfile once, not every verdict */
-    struct uwbd_mqtt *mqtt;        /* NULL: MQTT off */
+    int prom_failing;       /* log a failing textfile once, not every verdict */
+    struct uwbd_mqtt *mqtt; /* NULL: MQTT off */
     int timer_fd;
 };
 
-static const enum uwb_gpio_line contact_line[UWBD_CONTACT_COUNT] = {UWB_LINE_WATCH, UWB_LINE_ALARM, UWB_LINE_FAULT};
+static const enum uwb_gpio_line contact_line[UWBD_CONTACT_COUNT] = {UWB_LINE_WATCH, UWB_LINE_ALARM,
+                                                                    UWB_LINE_FAULT};
 
 static void lost(struct uwbd_site *s, const char *err)
 {
@@ -55,8 +56,8 @@ static void drive_contacts(struct uwbd_site *s)
         return;
     char err[512];
     for (int i = 0; i < UWBD_CONTACT_COUNT; i++)
-        if (uwb_gpio_set(s->gpio, contact_line[i], uwbd_contacts_energised(&s->contacts, i), err, sizeof err) !=
-            UWB_GPIO_OK) {
+        if (uwb_gpio_set(s->gpio, contact_line[i], uwbd_contacts_energised(&s->contacts, i), err,
+                         sizeof err) != UWB_GPIO_OK) {
             lost(s, err);
             return;
         }
@@ -194,8 +195,8 @@ static const char *verdict_status(const cJSON *v, int *device_fault)
     return cJSON_IsString(status) ? status->valuestring : NULL;
 }
 
-int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const char *latest_verdict, char *err,
-                   size_t errlen)
+int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const char *latest_verdict,
+                   char *err, size_t errlen)
 {
     *site = NULL;
     struct uwbd_site *s = calloc(1, sizeof *s);
@@ -254,7 +255,7 @@ void uwbd_site_verdict(struct uwbd_site *s, const char *verdict_json, double dur
     cJSON *v = verdict_json ? cJSON_Parse(verdict_json) : NULL;
     int fault;
     const char *status = verdict_status(v, &fault);
-    int recorded = status != NULL;   /* status points into v, deleted below */
+    int recorded = status != NULL; /* status points into v, deleted below */
     if (status) {
         uwbd_contacts_verdict(&s->contacts, status, fault);
         prom_from_verdict(&s->prom, v);
@@ -329,12 +330,12 @@ int uwbd_site_tick(struct uwbd_site *s)
                  s->cfg.event_debounce_s * 1e3);
         return 1;
     case UWBD_EVENT_SUPPRESSED:
-        uwbd_log(UWBD_LOG_WARNING, "event input: active again within event.min_interval_s (%.0f s) of the last "
-                                   "event scan; no scan (%lu dropped so far)",
+        uwbd_log(UWBD_LOG_WARNING,
+                 "event input: active again within event.min_interval_s (%.0f s) of the last "
+                 "event scan; no scan (%lu dropped so far)",
                  s->cfg.event_min_interval_s, s->event.suppressed);
         return 0;
-    case UWBD_EVENT_NONE:
-        break;
+    case UWBD_EVENT_NONE: break;
     }
     return 0;
 }

@@ -1,6 +1,6 @@
 /* The site's integrations as the daemon sees them (src/integrations/site.c):
- * the alarm contacts, the event input and the Prometheus textfile as one object, opened at start, told of every recorded verdict, asked to
- * `ack`, ticking on a timer of its own while it reads the event input. It
+ * the alarm contacts, the event input and the Prometheus textfile as one object, opened at start, told of
+ * every recorded verdict, asked to `ack`, ticking on a timer of its own while it reads the event input. It
  * reaches hardware only through the GPIO driver table, on a handle of its
  * own (the rig's belongs to the scan thread while it runs). */
 #ifndef UWB_DAEMON_SITE_H
@@ -21,8 +21,8 @@ struct uwbd_contact_states {
  * a valid object that does nothing). latest_verdict is the verdict
  * recorded before this start, or NULL: latched contacts come back from it.
  * Returns 0, or an enum uwb_gpio_error with err saying which line. */
-int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const char *latest_verdict, char *err,
-                   size_t errlen);
+int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const char *latest_verdict,
+                   char *err, size_t errlen);
 /* A verdict was recorded, its scan cycle having taken duration_s: the
  * contacts follow its status and fault, the textfile its figures. */
 void uwbd_site_verdict(struct uwbd_site *site, const char *verdict_json, double duration_s);

@@ -26,8 +26,8 @@ static int check_asset_id(const char *id, char *why, size_t whylen)
 {
     size_t n = strlen(id);
     if (n != strspn(id, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-")) {
-        snprintf(why, whylen, "\"%s\": only letters, digits, '.', '_' and '-' (it names MQTT topics and metrics)",
-                 id);
+        snprintf(why, whylen,
+                 "\"%s\": only letters, digits, '.', '_' and '-' (it names MQTT topics and metrics)", id);
         return -1;
     }
     if (n > 0 && (id[0] == '.' || id[0] == '-')) {
@@ -55,8 +55,10 @@ static int check_lines(const struct uwbd_config *cfg, int enabled, const int *li
     }
     if (!s->io.endpoint[0]) {
         *key = "gpio.site_endpoint";
-        snprintf(why, whylen, "missing: the emulated board's site lines are needed when %s is true "
-                              "(uwbemu --site-io ENDPOINT)", what);
+        snprintf(why, whylen,
+                 "missing: the emulated board's site lines are needed when %s is true "
+                 "(uwbemu --site-io ENDPOINT)",
+                 what);
         return -1;
     }
     struct uwb_endpoint ep;
@@ -83,15 +85,18 @@ static int check_textfile(const struct uwbd_site_config *s, const char **key, ch
     *key = "prometheus.textfile";
     size_t n = strlen(s->prometheus_textfile);
     if (n == 0) {
-        snprintf(why, whylen, "missing: required when prometheus.enabled is true (e.g. "
-                              "/var/lib/prometheus/node-exporter/uwbd.prom)");
+        snprintf(why, whylen,
+                 "missing: required when prometheus.enabled is true (e.g. "
+                 "/var/lib/prometheus/node-exporter/uwbd.prom)");
         return -1;
     }
     const char *slash = strrchr(s->prometheus_textfile, '/');
     const char *name = slash ? slash + 1 : s->prometheus_textfile;
     if (strlen(name) <= 5 || strcmp(s->prometheus_textfile + n - 5, ".prom") != 0) {
-        snprintf(why, whylen, "\"%s\": the name must end in .prom (node_exporter's textfile collector reads "
-                              "no other)", s->prometheus_textfile);
+        snprintf(why, whylen,
+                 "\"%s\": the name must end in .prom (node_exporter's textfile collector reads "
+                 "no other)",
+                 s->prometheus_textfile);
         return -1;
     }
     return 0;
@@ -111,8 +116,10 @@ static int check_secret_file(const char *path, const char *name, const char **ke
         return -1;
     }
     if (st.st_mode & 077) {
-        snprintf(why, whylen, "\"%s\" is readable by others (mode %04o): make it the service's only "
-                              "(chmod 0600)", path, (unsigned)(st.st_mode & 07777));
+        snprintf(why, whylen,
+                 "\"%s\" is readable by others (mode %04o): make it the service's only "
+                 "(chmod 0600)",
+                 path, (unsigned)(st.st_mode & 07777));
         return -1;
     }
     return 0;
@@ -129,7 +136,8 @@ static int check_mqtt(const struct uwbd_site_config *s, const char **key, char *
     }
     struct uwb_endpoint ep;
     char inner[256];
-    if (uwb_endpoint_parse(s->mqtt_endpoint, &ep, inner, sizeof inner) != UWB_LINK_OK || ep.kind != UWB_ENDPOINT_TCP) {
+    if (uwb_endpoint_parse(s->mqtt_endpoint, &ep, inner, sizeof inner) != UWB_LINK_OK ||
+        ep.kind != UWB_ENDPOINT_TCP) {
         snprintf(why, whylen, "\"%s\": the broker is tcp:HOST:PORT", s->mqtt_endpoint);
         return -1;
     }
@@ -143,7 +151,8 @@ static int check_mqtt(const struct uwbd_site_config *s, const char **key, char *
         snprintf(why, whylen, "missing: mqtt.password_file is set, for which user?");
         return -1;
     }
-    if (s->mqtt_password_file[0] && check_secret_file(s->mqtt_password_file, "mqtt.password_file", key, why, whylen))
+    if (s->mqtt_password_file[0] &&
+        check_secret_file(s->mqtt_password_file, "mqtt.password_file", key, why, whylen))
         return -1;
     if (!s->mqtt_cert_file[0] != !s->mqtt_key_file[0]) {
         *key = s->mqtt_cert_file[0] ? "mqtt.key_file" : "mqtt.cert_file";
@@ -185,13 +194,15 @@ int uwbd_site_config_check(const struct uwbd_config *cfg, const char **key, char
         return -1;
     }
     static const int contact_lines[] = {UWB_LINE_WATCH, UWB_LINE_ALARM, UWB_LINE_FAULT};
-    static const char *const contact_keys[] = {"contacts.watch.line", "contacts.alarm.line", "contacts.fault.line"};
+    static const char *const contact_keys[] = {"contacts.watch.line", "contacts.alarm.line",
+                                               "contacts.fault.line"};
     if (check_lines(cfg, s->contacts_enabled, contact_lines, contact_keys, 3, "contacts.enabled", key, why,
                     whylen) != 0)
         return -1;
     static const int event_lines[] = {UWB_LINE_EVENT};
     static const char *const event_keys[] = {"event.line"};
-    if (check_lines(cfg, s->event_enabled, event_lines, event_keys, 1, "event.enabled", key, why, whylen) != 0)
+    if (check_lines(cfg, s->event_enabled, event_lines, event_keys, 1, "event.enabled", key, why, whylen) !=
+        0)
         return -1;
     if (s->event_enabled && s->event_debounce_s > 0 && s->event_poll_s > s->event_debounce_s) {
         *key = "event.poll_ms";
@@ -206,7 +217,8 @@ int uwbd_site_config_check(const struct uwbd_config *cfg, const char **key, char
     if (!s->io.endpoint[0] || strcmp(cfg->rig.gpio.backend, "emulated") == 0)
         return 0;
     *key = "gpio.site_endpoint";
-    snprintf(why, whylen, "only the emulated backend uses an endpoint (backend is %s)", cfg->rig.gpio.backend);
+    snprintf(why, whylen, "only the emulated backend uses an endpoint (backend is %s)",
+             cfg->rig.gpio.backend);
     return -1;
 }
 

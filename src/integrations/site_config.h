@@ -15,34 +15,34 @@
 #define UWBD_SITE_PATH_MAX 1024
 
 struct uwbd_site_config {
-    char asset_id[UWBD_ASSET_ID_MAX];   /* "": not set */
+    char asset_id[UWBD_ASSET_ID_MAX]; /* "": not set */
     /* The site's GPIO handle: its backend and chip are the rig's (gpio.*);
      * its lines (contacts.lines.*, event.line), their active levels and, on
      * the emulated board, its endpoint (gpio.site_endpoint) are its own. */
     struct uwb_gpio_config io;
 
     int contacts_enabled;
-    int watch_latch, alarm_latch;       /* stays energised after the condition clears, until `ack` */
+    int watch_latch, alarm_latch; /* stays energised after the condition clears, until `ack` */
 
     int event_enabled;
-    double event_debounce_s;            /* the input must read active this long */
-    double event_min_interval_s;        /* at most one event scan per this long */
-    double event_poll_s;                /* how often the input is read */
+    double event_debounce_s;     /* the input must read active this long */
+    double event_min_interval_s; /* at most one event scan per this long */
+    double event_poll_s;         /* how often the input is read */
 
     int prometheus_enabled;
-    char prometheus_textfile[UWBD_SITE_PATH_MAX];  /* node_exporter's textfile directory/NAME.prom */
+    char prometheus_textfile[UWBD_SITE_PATH_MAX]; /* node_exporter's textfile directory/NAME.prom */
 
     int mqtt_enabled;
-    char mqtt_endpoint[UWB_ENDPOINT_MAX];          /* tcp:HOST:PORT of the broker */
-    char mqtt_username[64];                        /* "": anonymous */
-    char mqtt_password_file[UWBD_SITE_PATH_MAX];   /* the password, one line, readable by the service only */
-    char mqtt_ca_file[UWBD_SITE_PATH_MAX];         /* "": no TLS */
-    char mqtt_cert_file[UWBD_SITE_PATH_MAX];       /* client certificate, with mqtt_key_file */
+    char mqtt_endpoint[UWB_ENDPOINT_MAX];        /* tcp:HOST:PORT of the broker */
+    char mqtt_username[64];                      /* "": anonymous */
+    char mqtt_password_file[UWBD_SITE_PATH_MAX]; /* the password, one line, readable by the service only */
+    char mqtt_ca_file[UWBD_SITE_PATH_MAX];       /* "": no TLS */
+    char mqtt_cert_file[UWBD_SITE_PATH_MAX];     /* client certificate, with mqtt_key_file */
     char mqtt_key_file[UWBD_SITE_PATH_MAX];
     char mqtt_topic_prefix[64];
-    int mqtt_queue_max;                            /* verdicts kept on disk while the broker is away */
-    double mqtt_reconnect_max_s;                   /* the back-off's ceiling */
-    int mqtt_commands;                             /* take scan, event, ack, baseline set from PREFIX/ASSET/cmd */
+    int mqtt_queue_max;          /* verdicts kept on disk while the broker is away */
+    double mqtt_reconnect_max_s; /* the back-off's ceiling */
+    int mqtt_commands;           /* take scan, event, ack, baseline set from PREFIX/ASSET/cmd */
 };
 
 struct uwbd_config;

@@ -14,8 +14,9 @@
 
 static int bad(const char *text, char *err, size_t errlen, const char *problem)
 {
-    snprintf(err, errlen, "endpoint '%s': %s (expected serial:/dev/ttyX[?baud=N], tcp:HOST:PORT or unix:PATH)",
-             text, problem);
+    snprintf(err, errlen,
+             "endpoint '%s': %s (expected serial:/dev/ttyX[?baud=N], tcp:HOST:PORT or unix:PATH)", text,
+             problem);
     return UWB_LINK_ERR_ENDPOINT;
 }
 
@@ -48,7 +49,7 @@ static int parse_tcp(const char *text, const char *rest, struct uwb_endpoint *ep
 {
     const char *host = rest, *colon;
     size_t hostlen;
-    if (rest[0] == '[') {   /* [IPv6]:PORT */
+    if (rest[0] == '[') { /* [IPv6]:PORT */
         const char *close = strchr(rest, ']');
         if (!close)
             return bad(text, err, errlen, "IPv6 address without its closing ']'");
@@ -125,7 +126,8 @@ int uwb_endpoint_parse(const char *text, struct uwb_endpoint *ep, char *err, siz
     const char *colon = strchr(text, ':');
     char problem[96];
     if (colon)
-        snprintf(problem, sizeof problem, "unknown scheme '%.*s'", (int)(colon - text > 32 ? 32 : colon - text), text);
+        snprintf(problem, sizeof problem, "unknown scheme '%.*s'",
+                 (int)(colon - text > 32 ? 32 : colon - text), text);
     else
         snprintf(problem, sizeof problem, "no scheme");
     return bad(text, err, errlen, problem);

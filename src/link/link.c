@@ -17,7 +17,8 @@ static const struct uwb_link_ops *ops_for(enum uwb_endpoint_kind kind)
     return NULL;
 }
 
-struct uwb_link *uwb_link_new(const struct uwb_link_ops *ops, const char *name, int fd, char *err, size_t errlen)
+struct uwb_link *uwb_link_new(const struct uwb_link_ops *ops, const char *name, int fd, char *err,
+                              size_t errlen)
 {
     struct uwb_link *l = calloc(1, sizeof *l);
     if (!l) {
@@ -62,14 +63,15 @@ ssize_t uwb_link_read(struct uwb_link *link, void *buf, size_t len, int timeout_
     return link->ops->read(link, buf, len, timeout_ms, err, errlen);
 }
 
-int uwb_link_read_exact(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen)
+int uwb_link_read_exact(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err,
+                        size_t errlen)
 {
     /* One deadline for the whole read, not one per chunk. */
     long long deadline = uwb_monotonic_ms() + timeout_ms;
     size_t got = 0;
     while (got < len) {
-        ssize_t n = link->ops->read(link, (char *)buf + got, len - got, uwb_link_time_left(deadline, timeout_ms),
-                                    err, errlen);
+        ssize_t n = link->ops->read(link, (char *)buf + got, len - got,
+                                    uwb_link_time_left(deadline, timeout_ms), err, errlen);
         if (n < 0) {
             if (n == UWB_LINK_ERR_TIMEOUT)
                 snprintf(err, errlen, "%s: timed out after %d ms with %zu of %zu bytes", link->endpoint,
@@ -81,7 +83,8 @@ int uwb_link_read_exact(struct uwb_link *link, void *buf, size_t len, int timeou
     return UWB_LINK_OK;
 }
 
-int uwb_link_write_all(struct uwb_link *link, const void *buf, size_t len, int timeout_ms, char *err, size_t errlen)
+int uwb_link_write_all(struct uwb_link *link, const void *buf, size_t len, int timeout_ms, char *err,
+                       size_t errlen)
 {
     return link->ops->write_all(link, buf, len, timeout_ms, err, errlen);
 }

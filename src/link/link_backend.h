@@ -10,16 +10,17 @@ struct uwb_link_ops {
     int (*open)(struct uwb_link *link, const struct uwb_endpoint *ep, char *err, size_t errlen);
     /* As uwb_link_read. */
     ssize_t (*read)(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen);
-    int (*write_all)(struct uwb_link *link, const void *buf, size_t len, int timeout_ms, char *err, size_t errlen);
-    int (*fd)(struct uwb_link *link);          /* for poll(); -1 if none */
+    int (*write_all)(struct uwb_link *link, const void *buf, size_t len, int timeout_ms, char *err,
+                     size_t errlen);
+    int (*fd)(struct uwb_link *link); /* for poll(); -1 if none */
     void (*close)(struct uwb_link *link);
 };
 
 struct uwb_link {
     const struct uwb_link_ops *ops;
     char endpoint[UWB_ENDPOINT_MAX];
-    int fd;            /* socket backends: the connected socket, else -1 */
-    void *port;        /* serial backend: its struct sp_port */
+    int fd;     /* socket backends: the connected socket, else -1 */
+    void *port; /* serial backend: its struct sp_port */
 };
 
 extern const struct uwb_link_ops uwb_link_tcp_ops;
@@ -28,7 +29,8 @@ extern const struct uwb_link_ops uwb_link_serial_ops;
 
 /* A link served by ops, named name, over fd (-1 until a backend's open
  * sets it); NULL with err set when out of memory. */
-struct uwb_link *uwb_link_new(const struct uwb_link_ops *ops, const char *name, int fd, char *err, size_t errlen);
+struct uwb_link *uwb_link_new(const struct uwb_link_ops *ops, const char *name, int fd, char *err,
+                              size_t errlen);
 
 /* What is left of timeout_ms at deadline (uwb_monotonic_ms() + timeout_ms
  * when it started): -1 (wait for ever) stays -1, a passed deadline is 0. */

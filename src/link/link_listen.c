@@ -21,7 +21,7 @@ struct uwb_link_listener {
     int fd;
     int is_tcp;
     char endpoint[UWB_ENDPOINT_MAX];
-    char unix_path[UWB_ENDPOINT_MAX];   /* removed on close; "" for tcp */
+    char unix_path[UWB_ENDPOINT_MAX]; /* removed on close; "" for tcp */
 };
 
 static int listen_unix(struct uwb_link_listener *l, const struct uwb_endpoint *ep, char *err, size_t errlen)
@@ -49,7 +49,8 @@ static int listen_unix(struct uwb_link_listener *l, const struct uwb_endpoint *e
 
 static int listen_tcp(struct uwb_link_listener *l, const struct uwb_endpoint *ep, char *err, size_t errlen)
 {
-    struct addrinfo hints = {.ai_family = AF_UNSPEC, .ai_socktype = SOCK_STREAM, .ai_flags = AI_PASSIVE}, *res;
+    struct addrinfo hints = {.ai_family = AF_UNSPEC, .ai_socktype = SOCK_STREAM, .ai_flags = AI_PASSIVE},
+                    *res;
     int gai = getaddrinfo(ep->host, ep->port, &hints, &res);
     if (gai != 0) {
         snprintf(err, errlen, "%s: cannot resolve host '%s': %s", l->endpoint, ep->host, gai_strerror(gai));
@@ -112,7 +113,8 @@ int uwb_link_listener_fd(const struct uwb_link_listener *listener)
     return listener->fd;
 }
 
-int uwb_link_accept(struct uwb_link_listener *l, struct uwb_link **link, int timeout_ms, char *err, size_t errlen)
+int uwb_link_accept(struct uwb_link_listener *l, struct uwb_link **link, int timeout_ms, char *err,
+                    size_t errlen)
 {
     *link = NULL;
     int n = uwb_link_wait_fd(l->fd, POLLIN, timeout_ms);

@@ -34,7 +34,8 @@ int uwb_link_wait_fd(int fd, short events, int timeout_ms)
     }
 }
 
-static ssize_t socket_read(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err, size_t errlen)
+static ssize_t socket_read(struct uwb_link *link, void *buf, size_t len, int timeout_ms, char *err,
+                           size_t errlen)
 {
     if (link->fd < 0) {
         snprintf(err, errlen, "%s: link is closed", link->endpoint);
@@ -141,7 +142,8 @@ static int tcp_open(struct uwb_link *link, const struct uwb_endpoint *ep, char *
     struct addrinfo hints = {.ai_family = AF_UNSPEC, .ai_socktype = SOCK_STREAM}, *res;
     int gai = getaddrinfo(ep->host, ep->port, &hints, &res);
     if (gai != 0) {
-        snprintf(err, errlen, "%s: cannot resolve host '%s': %s", link->endpoint, ep->host, gai_strerror(gai));
+        snprintf(err, errlen, "%s: cannot resolve host '%s': %s", link->endpoint, ep->host,
+                 gai_strerror(gai));
         return UWB_LINK_ERR_OPEN;
     }
     int error = 0;
@@ -170,7 +172,7 @@ static int tcp_open(struct uwb_link *link, const struct uwb_endpoint *ep, char *
 static int unix_open(struct uwb_link *link, const struct uwb_endpoint *ep, char *err, size_t errlen)
 {
     struct sockaddr_un sun = {.sun_family = AF_UNIX};
-    memcpy(sun.sun_path, ep->path, strlen(ep->path) + 1);   /* length checked by the parser */
+    memcpy(sun.sun_path, ep->path, strlen(ep->path) + 1); /* length checked by the parser */
     int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd < 0) {
         snprintf(err, errlen, "%s: socket: %s", link->endpoint, strerror(errno));
@@ -179,7 +181,8 @@ static int unix_open(struct uwb_link *link, const struct uwb_endpoint *ep, char 
     int error = connect_bounded(fd, (const struct sockaddr *)&sun, sizeof sun);
     if (error) {
         close(fd);
-        snprintf(err, errlen, "%s: cannot connect to socket %s: %s", link->endpoint, ep->path, strerror(error));
+        snprintf(err, errlen, "%s: cannot connect to socket %s: %s", link->endpoint, ep->path,
+                 strerror(error));
         return UWB_LINK_ERR_OPEN;
     }
     link->fd = fd;

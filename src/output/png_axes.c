@@ -6,8 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
-static const struct uwb_rgb ink = { 25, 25, 25 };
-static const struct uwb_rgb frame_grey = { 60, 60, 60 };
+static const struct uwb_rgb ink = {25, 25, 25};
+static const struct uwb_rgb frame_grey = {60, 60, 60};
 
 double uwb_plot_px_x(const struct uwb_plot *p, double x)
 {
@@ -74,7 +74,7 @@ void uwb_format_tick(char *buf, size_t len, double value, double step)
         decimals++;
     }
     if (fabs(value) < step * 1e-6)
-        value = 0.0;    /* never print "-0" */
+        value = 0.0; /* never print "-0" */
     snprintf(buf, len, "%.*f", decimals, value);
     /* "0.5 1" rather than "0.5 1.0": shorter labels, same figure. */
     if (decimals > 0) {
@@ -128,7 +128,8 @@ void uwb_draw_axes(struct uwb_canvas *c, const struct uwb_plot *p, const struct 
      * 2 x 10^n) so heights read to a few mm without a ruler. */
     double lead = step / pow(10.0, floor(log10(step) + 1e-9));
     double minor = lead > 1.5 && lead < 3.5 ? step / 4 : step / 5;
-    for (double m = ceil(p->y_min * ys / minor - 1e-9) * minor; m <= p->y_max * ys + minor * 1e-9; m += minor) {
+    for (double m = ceil(p->y_min * ys / minor - 1e-9) * minor; m <= p->y_max * ys + minor * 1e-9;
+         m += minor) {
         int row = uwb_plot_row(p, m / ys);
         if (s->y_labels_left)
             uwb_canvas_fill_rect(c, p->x - 1 - MINOR_LEN, row, MINOR_LEN, 1, frame_grey);
@@ -163,9 +164,9 @@ void uwb_draw_axes(struct uwb_canvas *c, const struct uwb_plot *p, const struct 
     }
 }
 
-void uwb_draw_colorbar(struct uwb_canvas *c, int x, int y, int w, int h,
-                       struct uwb_rgb (*map)(double), const double *tick_t,
-                       const char *const *labels, int n_ticks, const char *title, int font_scale)
+void uwb_draw_colorbar(struct uwb_canvas *c, int x, int y, int w, int h, struct uwb_rgb (*map)(double),
+                       const double *tick_t, const char *const *labels, int n_ticks, const char *title,
+                       int font_scale)
 {
     if (h < 2 || w < 1)
         return;

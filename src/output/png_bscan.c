@@ -15,8 +15,8 @@
 #define SPEED_OF_LIGHT 299792458.0
 #define FACE_REGION_FRACTION 0.12
 
-static const struct uwb_rgb page = { 255, 255, 255 };
-static const struct uwb_rgb ink = { 25, 25, 25 };
+static const struct uwb_rgb page = {255, 255, 255};
+static const struct uwb_rgb ink = {25, 25, 25};
 
 static int check_scan(const struct uwb_scan *scan, const char *path, char *err, size_t errlen)
 {
@@ -163,13 +163,14 @@ static void draw_signed_colorbar(struct uwb_canvas *c, int x, int y, int w, int 
 }
 
 void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
-                         const struct uwb_render_options *opt, struct uwb_plot *plot,
-                         int *colorbar_x, int *colorbar_w)
+                             const struct uwb_render_options *opt, struct uwb_plot *plot, int *colorbar_x,
+                             int *colorbar_w)
 {
     struct uwb_render_options o;
     uwb_render_options_sane(opt, &o);
-    uwb_layout_single_plot(o.width, o.height, o.font_scale, uwb_caption_height(v, o.provenance, o.width, o.font_scale),
-                           plot, colorbar_x, colorbar_w);
+    uwb_layout_single_plot(o.width, o.height, o.font_scale,
+                           uwb_caption_height(v, o.provenance, o.width, o.font_scale), plot, colorbar_x,
+                           colorbar_w);
     plot->x_min = scan->t0_s;
     plot->x_max = scan->t0_s + (scan->samples - 1) * scan->sample_interval_s;
     /* Each trace owns the band half-way to its neighbours, so the outer
@@ -187,13 +188,13 @@ void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdi
 }
 
 int uwb_render_bscan_png(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
-                     char *err, size_t errlen)
+                         char *err, size_t errlen)
 {
     return uwb_render_bscan_png_opt(path, scan, v, NULL, err, errlen);
 }
 
 int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
-                         const struct uwb_render_options *opt, char *err, size_t errlen)
+                             const struct uwb_render_options *opt, char *err, size_t errlen)
 {
     if (!path || !*path) {
         snprintf(err, errlen, "B-scan image: no output path");
@@ -229,19 +230,26 @@ int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, cons
     if (v) {
         const struct uwb_edges *b = v->has_baseline ? &v->baseline : NULL, *e = &v->current;
         if (b && b->found) {
-            double t = uwb_face_echo_time(scan, b->face_z_m), half = FACE_REGION_FRACTION * (plot.x_max - plot.x_min);
+            double t = uwb_face_echo_time(scan, b->face_z_m),
+                   half = FACE_REGION_FRACTION * (plot.x_max - plot.x_min);
             uwb_draw_edges(&c, &plot, b, UWB_EDGE_BASELINE, t - half, t + half, t, -1, s);
         }
         if (e->found) {
-            double t = uwb_face_echo_time(scan, e->face_z_m), half = FACE_REGION_FRACTION * (plot.x_max - plot.x_min);
+            double t = uwb_face_echo_time(scan, e->face_z_m),
+                   half = FACE_REGION_FRACTION * (plot.x_max - plot.x_min);
             uwb_draw_edges(&c, &plot, e, UWB_EDGE_CURRENT, t - half, t + half, t, 1, s);
         }
     }
 
-    struct uwb_axis_style axes = { .x_label_scale = 1e9, .y_label_scale = 1000.0, .font_scale = s, .x_ticks = 8, .y_ticks = 10,
-                                   .x_labels = 1, .y_labels_left = 1,
-                                   .x_title = "time after the pulse leaves Tx (ns)",
-                                   .y_title = "antenna height y (mm)" };
+    struct uwb_axis_style axes = {.x_label_scale = 1e9,
+                                  .y_label_scale = 1000.0,
+                                  .font_scale = s,
+                                  .x_ticks = 8,
+                                  .y_ticks = 10,
+                                  .x_labels = 1,
+                                  .y_labels_left = 1,
+                                  .x_title = "time after the pulse leaves Tx (ns)",
+                                  .y_title = "antenna height y (mm)"};
     uwb_draw_axes(&c, &plot, &axes);
     draw_signed_colorbar(&c, bar_x, plot.y, bar_w, plot.h, o.bscan_floor_db, s);
     uwb_draw_edge_legend(&c, plot.x, uwb_layout_legend_y(&plot, s), v && v->current.found,

@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-int uwb_canvas_init(struct uwb_canvas *c, int width, int height, struct uwb_rgb background,
-                    char *err, size_t errlen)
+int uwb_canvas_init(struct uwb_canvas *c, int width, int height, struct uwb_rgb background, char *err,
+                    size_t errlen)
 {
     memset(c, 0, sizeof *c);
     if (width <= 0 || height <= 0 || width > 16384 || height > 16384) {
@@ -44,7 +44,7 @@ void uwb_canvas_put(struct uwb_canvas *c, int x, int y, struct uwb_rgb colour)
 
 struct uwb_rgb uwb_canvas_get(const struct uwb_canvas *c, int x, int y)
 {
-    struct uwb_rgb out = { 0, 0, 0 };
+    struct uwb_rgb out = {0, 0, 0};
     if (x < 0 || y < 0 || x >= c->width || y >= c->height)
         return out;
     const unsigned char *p = c->rgb + ((size_t)y * (size_t)c->width + (size_t)x) * 3;
@@ -123,15 +123,15 @@ static void line_phase(struct uwb_canvas *c, int x0, int y0, int x1, int y1, str
     }
 }
 
-void uwb_canvas_line(struct uwb_canvas *c, int x0, int y0, int x1, int y1,
-                     struct uwb_rgb colour, int thickness, int dash_on, int dash_off)
+void uwb_canvas_line(struct uwb_canvas *c, int x0, int y0, int x1, int y1, struct uwb_rgb colour,
+                     int thickness, int dash_on, int dash_off)
 {
     long phase = 0;
     line_phase(c, x0, y0, x1, y1, colour, thickness, dash_on, dash_off, &phase);
 }
 
-void uwb_canvas_polyline(struct uwb_canvas *c, const int *xs, const int *ys, int n,
-                         struct uwb_rgb colour, int thickness, int dash_on, int dash_off)
+void uwb_canvas_polyline(struct uwb_canvas *c, const int *xs, const int *ys, int n, struct uwb_rgb colour,
+                         int thickness, int dash_on, int dash_off)
 {
     long phase = 0;
     if (n == 1)

@@ -9,13 +9,14 @@
 
 #include "uwb/version.h"
 
-static const struct uwb_rgb ink = { 25, 25, 25 };
-static const struct uwb_rgb muted = { 90, 90, 90 };
-static const struct uwb_rgb rule = { 170, 170, 170 };
-static const struct uwb_rgb white = { 255, 255, 255 };
-static const struct uwb_rgb baseline_ink = { 150, 20, 110 };   /* a darker UWB_RGB_BASELINE_EDGE, readable on white */
+static const struct uwb_rgb ink = {25, 25, 25};
+static const struct uwb_rgb muted = {90, 90, 90};
+static const struct uwb_rgb rule = {170, 170, 170};
+static const struct uwb_rgb white = {255, 255, 255};
+static const struct uwb_rgb baseline_ink = {150, 20,
+                                            110}; /* a darker UWB_RGB_BASELINE_EDGE, readable on white */
 
-#define MM(m) ((m) * 1000.0)
+#define MM(m) ((m)*1000.0)
 
 #define CAPTION_TOP 10
 #define TITLE_GAP 6
@@ -25,16 +26,30 @@ static int line_step(int scale)
     return UWB_FONT_LINE_HEIGHT * scale + 3;
 }
 
-
 struct uwb_rgb uwb_status_colour(enum uwb_status status)
 {
     switch (status) {
-    case UWB_STATUS_OK: { struct uwb_rgb c = { 30, 125, 60 }; return c; }
-    case UWB_STATUS_WATCH: { struct uwb_rgb c = { 205, 125, 0 }; return c; }
-    case UWB_STATUS_ALARM: { struct uwb_rgb c = { 195, 30, 30 }; return c; }
-    case UWB_STATUS_EDGES: { struct uwb_rgb c = { 60, 85, 130 }; return c; }
+    case UWB_STATUS_OK: {
+        struct uwb_rgb c = {30, 125, 60};
+        return c;
+    }
+    case UWB_STATUS_WATCH: {
+        struct uwb_rgb c = {205, 125, 0};
+        return c;
+    }
+    case UWB_STATUS_ALARM: {
+        struct uwb_rgb c = {195, 30, 30};
+        return c;
+    }
+    case UWB_STATUS_EDGES: {
+        struct uwb_rgb c = {60, 85, 130};
+        return c;
+    }
     case UWB_STATUS_INCONCLUSIVE:
-    default: { struct uwb_rgb c = { 105, 105, 105 }; return c; }
+    default: {
+        struct uwb_rgb c = {105, 105, 105};
+        return c;
+    }
     }
 }
 
@@ -52,7 +67,8 @@ static const char *scan_name(const struct uwb_verdict *v, const struct uwb_prove
     return or_unknown(prov ? prov->scan_name : NULL);
 }
 
-void uwb_describe_provenance(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf, size_t len)
+void uwb_describe_provenance(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf,
+                             size_t len)
 {
     char stack[48] = "", eps[48] = "", snr[48] = "";
     if (prov && prov->stack > 0)
@@ -61,8 +77,9 @@ void uwb_describe_provenance(const struct uwb_verdict *v, const struct uwb_prove
         snprintf(eps, sizeof eps, "   eps_r %.2f", prov->eps_r);
     if (v && isfinite(v->current.snr_db) && (v->current.found || v->current.snr_db != 0.0))
         snprintf(snr, sizeof snr, "   SNR %.1f dB", v->current.snr_db);
-    snprintf(buf, len, "asset %s%s%s%s   uwbd %s", prov && prov->asset && prov->asset[0] ? prov->asset : "(not set)",
-             stack, eps, snr, UWBD_VERSION);
+    snprintf(buf, len, "asset %s%s%s%s   uwbd %s",
+             prov && prov->asset && prov->asset[0] ? prov->asset : "(not set)", stack, eps, snr,
+             UWBD_VERSION);
 }
 
 static void upper_case(char *dst, size_t len, const char *src)
@@ -76,9 +93,9 @@ static void upper_case(char *dst, size_t len, const char *src)
 
 static int displacement_known(const struct uwb_verdict *v)
 {
-    return v->has_baseline && (v->status == UWB_STATUS_OK || v->status == UWB_STATUS_WATCH
-                               || v->status == UWB_STATUS_ALARM)
-        && v->current.found && v->baseline.found;
+    return v->has_baseline &&
+           (v->status == UWB_STATUS_OK || v->status == UWB_STATUS_WATCH || v->status == UWB_STATUS_ALARM) &&
+           v->current.found && v->baseline.found;
 }
 
 int uwb_displacement_measured(const struct uwb_verdict *v)
@@ -93,7 +110,10 @@ void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t le
     } else if (displacement_known(v)) {
         double d = MM(v->axial_displacement_m);
         snprintf(buf, len, "displacement %+.2f \u00b1 %.2f mm (%s)   height change %+.2f mm", d,
-                 MM(v->uncertainty_m), d > 0 ? "up" : d < 0 ? "down" : "none",
+                 MM(v->uncertainty_m),
+                 d > 0   ? "up"
+                 : d < 0 ? "down"
+                         : "none",
                  MM(v->height_change_m));
     } else if (v->status == UWB_STATUS_INCONCLUSIVE || v->status == UWB_STATUS_ERROR) {
         snprintf(buf, len, "no displacement: %s", v->reason[0] ? v->reason : uwb_status_name(v->status));
@@ -117,7 +137,8 @@ void uwb_describe_edges(const struct uwb_edges *e, char *buf, size_t len)
              MM(e->upper_m), MM(e->center_m), MM(e->sigma_center_m), MM(e->face_z_m));
 }
 
-void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf, size_t len)
+void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf,
+                         size_t len)
 {
     char source[320];
     uwb_describe_provenance(v, prov, source, sizeof source);
@@ -145,7 +166,7 @@ static size_t fitting_prefix(const char *text, size_t n, int max_w, int scale)
     while (i < n && glyphs > 0) {
         i++;
         while (i < n && ((unsigned char)text[i] & 0xC0) == 0x80)
-            i++;    /* rest of a UTF-8 sequence */
+            i++; /* rest of a UTF-8 sequence */
         glyphs--;
     }
     return i;
@@ -157,7 +178,8 @@ static void fit_text(char *text, int max_w, int scale)
     size_t n = strlen(text);
     if (uwb_text_width(text, scale) <= max_w)
         return;
-    size_t keep = fitting_prefix(text, n, max_w - uwb_text_width("...", scale) - UWB_FONT_ADVANCE * scale, scale);
+    size_t keep =
+        fitting_prefix(text, n, max_w - uwb_text_width("...", scale) - UWB_FONT_ADVANCE * scale, scale);
     if (keep + 3 <= n)
         memcpy(text + keep, "...", 4);
     else
@@ -213,12 +235,12 @@ static void labelled_text(struct pen *p, const char *label, const char *text, st
     }
 }
 
-#define REASON_LINES 3      /* a reason longer than this is in the JSON verdict */
+#define REASON_LINES 3 /* a reason longer than this is in the JSON verdict */
 
 static int caption(struct uwb_canvas *c, int width, const char *title, const struct uwb_verdict *v,
                    const struct uwb_provenance *prov, int scale)
 {
-    struct pen p = { c, width, scale, 12, CAPTION_TOP };
+    struct pen p = {c, width, scale, 12, CAPTION_TOP};
     int title_scale = scale + 1;
     char a[1024];
     snprintf(a, sizeof a, "%s", title ? title : "");
@@ -247,7 +269,7 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
             uwb_draw_text(c, bx + 4 * scale, p.y, status, scale, white);
         }
         struct pen after_badge = p;
-        after_badge.x = bx + bw + 8 * scale - UWB_FONT_ADVANCE * scale;   /* text column after the badge */
+        after_badge.x = bx + bw + 8 * scale - UWB_FONT_ADVANCE * scale; /* text column after the badge */
         uwb_describe_displacement(v, a, sizeof a);
         labelled_text(&after_badge, "", a, ink, REASON_LINES);
         p.y = after_badge.y;
@@ -271,7 +293,8 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
     return height;
 }
 
-int uwb_caption_height(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width, int font_scale)
+int uwb_caption_height(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,
+                       int font_scale)
 {
     return caption(NULL, width, "", v, prov, font_scale);
 }
@@ -283,8 +306,8 @@ int uwb_draw_caption(struct uwb_canvas *c, const char *title, const struct uwb_v
 }
 
 int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const char *title,
-                                 const struct uwb_verdict *v, const struct uwb_provenance *prov,
-                                 char *err, size_t errlen)
+                                 const struct uwb_verdict *v, const struct uwb_provenance *prov, char *err,
+                                 size_t errlen)
 {
     char summary[2048], stack[32] = "", eps[32] = "", snr[32] = "";
     uwb_verdict_summary(v, prov, summary, sizeof summary);
@@ -297,14 +320,16 @@ int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const c
     /* Machine-readable provenance beside the prose; an unknown value is
      * left out rather than written as a guess. */
     struct uwb_png_text texts[] = {
-        { "Title", title },
-        { "Description", summary },
-        { "Software", "uwbd " UWBD_VERSION },
-        { "Scan", v && v->scan_id[0] ? v->scan_id : prov && prov->scan_name && prov->scan_name[0] ? prov->scan_name : NULL },
-        { "Asset", prov && prov->asset && prov->asset[0] ? prov->asset : NULL },
-        { "Stack", stack[0] ? stack : NULL },
-        { "eps_r", eps[0] ? eps : NULL },
-        { "SNR dB", snr[0] ? snr : NULL },
+        {"Title", title},
+        {"Description", summary},
+        {"Software", "uwbd " UWBD_VERSION},
+        {"Scan", v && v->scan_id[0]                              ? v->scan_id
+                 : prov && prov->scan_name && prov->scan_name[0] ? prov->scan_name
+                                                                 : NULL},
+        {"Asset", prov && prov->asset && prov->asset[0] ? prov->asset : NULL},
+        {"Stack", stack[0] ? stack : NULL},
+        {"eps_r", eps[0] ? eps : NULL},
+        {"SNR dB", snr[0] ? snr : NULL},
     };
     int rc = uwb_canvas_write_png(c, path, texts, (int)(sizeof texts / sizeof texts[0]), err, errlen);
     uwb_canvas_free(c);

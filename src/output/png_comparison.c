@@ -22,16 +22,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CROP_HALF_WIDTH_M 0.060     /* face region shown: +/- 60 mm of range */
+#define CROP_HALF_WIDTH_M 0.060 /* face region shown: +/- 60 mm of range */
 #define PANEL_GAP 20
 
-static const struct uwb_rgb page = { 255, 255, 255 };
-static const struct uwb_rgb ink = { 25, 25, 25 };
-static const struct uwb_rgb no_data = { 128, 128, 128 };
-static const struct uwb_rgb profile_background = { 40, 40, 48 };
-static const struct uwb_rgb profile_grid = { 95, 95, 105 };
-static const struct uwb_rgb baseline_ink = { 150, 20, 110 };
-const struct uwb_rgb UWB_RGB_NOT_MEASURED = { 150, 150, 150 };
+static const struct uwb_rgb page = {255, 255, 255};
+static const struct uwb_rgb ink = {25, 25, 25};
+static const struct uwb_rgb no_data = {128, 128, 128};
+static const struct uwb_rgb profile_background = {40, 40, 48};
+static const struct uwb_rgb profile_grid = {95, 95, 105};
+static const struct uwb_rgb baseline_ink = {150, 20, 110};
+const struct uwb_rgb UWB_RGB_NOT_MEASURED = {150, 150, 150};
 
 struct comparison_layout {
     struct uwb_plot base, cur, diff, prof;
@@ -47,9 +47,9 @@ static void image_y_range(const struct uwb_image *img, double *lo, double *hi)
 
 static void layout(int width, int height, int s, int caption_height, struct comparison_layout *L)
 {
-    int top = caption_height + 16 + UWB_FONT_LINE_HEIGHT * s;       /* room for panel titles */
+    int top = caption_height + 16 + UWB_FONT_LINE_HEIGHT * s; /* room for panel titles */
     int left = 12 + 9 * s + 10 + (5 * UWB_FONT_ADVANCE - 1) * s + 12;
-    int right_labels = 12 + (5 * UWB_FONT_ADVANCE - 1) * s;                  /* profile's y labels */
+    int right_labels = 12 + (5 * UWB_FONT_ADVANCE - 1) * s; /* profile's y labels */
     L->bar_w = 10 + 6 * s;
     int right = 22 + L->bar_w + 12 + (3 * UWB_FONT_ADVANCE - 1) * s + 10;
     int bottom = 12 + UWB_FONT_CAP_HEIGHT * s + 10 + 9 * s + 14 + UWB_FONT_LINE_HEIGHT * s + 10;
@@ -57,7 +57,7 @@ static void layout(int width, int height, int s, int caption_height, struct comp
     int panel = avail * 25 / 100;
     if (panel < 16)
         panel = 16;
-    struct uwb_plot p = { 0 };
+    struct uwb_plot p = {0};
     p.y = top;
     p.h = height - top - bottom;
     if (p.h < 16)
@@ -84,7 +84,8 @@ static void panel_title(struct uwb_canvas *c, const struct uwb_plot *p, const ch
     uwb_draw_text(c, p->x + (p->w - w) / 2, p->y - 10 - UWB_FONT_CAP_HEIGHT * s, title, s, colour);
 }
 
-int uwb_comparison_profile_polyline(const struct uwb_plot *p, const struct uwb_face_profile *profile, int *xs, int *ys)
+int uwb_comparison_profile_polyline(const struct uwb_plot *p, const struct uwb_face_profile *profile, int *xs,
+                                    int *ys)
 {
     if (!profile || !profile->value || profile->n < 2)
         return 0;
@@ -107,8 +108,8 @@ int uwb_comparison_profile_polyline(const struct uwb_plot *p, const struct uwb_f
 }
 
 /* The face profile the edges were read from, as a curve in the profile panel. */
-static void draw_profile(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_face_profile *profile,
-                         enum uwb_edge_kind kind)
+static void draw_profile(struct uwb_canvas *c, const struct uwb_plot *p,
+                         const struct uwb_face_profile *profile, enum uwb_edge_kind kind)
 {
     if (!profile || profile->n < 2)
         return;
@@ -123,7 +124,8 @@ static void draw_profile(struct uwb_canvas *c, const struct uwb_plot *p, const s
 }
 
 /* Arrow from the baseline centre to this scan's centre, with the figure. */
-static void draw_shift_arrow(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_verdict *v, int s)
+static void draw_shift_arrow(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_verdict *v,
+                             int s)
 {
     int col = p->x + p->w * 82 / 100;
     int r0 = uwb_plot_row(p, v->baseline.center_m), r1 = uwb_plot_row(p, v->current.center_m);
@@ -132,7 +134,7 @@ static void draw_shift_arrow(struct uwb_canvas *c, const struct uwb_plot *p, con
     struct uwb_rgb arrow = UWB_RGB_CURRENT_EDGE;
     if (abs(r1 - r0) >= 8) {
         uwb_canvas_line(c, col, r0, col, r1, arrow, 2, 0, 0);
-        int dir = r1 < r0 ? 1 : -1;    /* head points toward r1 */
+        int dir = r1 < r0 ? 1 : -1; /* head points toward r1 */
         for (int i = 0; i < 6; i++)
             uwb_canvas_fill_rect(c, col - i, r1 + dir * i, 2 * i + 1, 1, arrow);
     }
@@ -196,7 +198,8 @@ double uwb_paint_difference(struct uwb_canvas *c, const struct uwb_plot *p, cons
  * baseline: no arrow and no figure, but a grey hatched band between the two
  * centres (where both were found) and a grey box saying "not measured" and
  * why, so nobody reads the gap between the curves as a result. */
-static void draw_not_measured(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_verdict *v, int s)
+static void draw_not_measured(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_verdict *v,
+                              int s)
 {
     if (v->current.found && v->baseline.found) {
         int r0 = uwb_plot_row(p, v->baseline.center_m), r1 = uwb_plot_row(p, v->current.center_m);
@@ -229,11 +232,11 @@ static void draw_not_measured(struct uwb_canvas *c, const struct uwb_plot *p, co
     uwb_draw_text(c, bx + (bw - wr) / 2, by + 2 * s + line, why, s, page);
 }
 
-void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const struct uwb_analysis *baseline_scan,
-                              const struct uwb_verdict *v, const struct uwb_render_options *opt,
-                              struct uwb_plot *base_panel, struct uwb_plot *current_panel,
-                              struct uwb_plot *difference_panel, struct uwb_plot *profile_panel,
-                              int *colorbar_x, int *colorbar_w)
+void uwb_render_comparison_layout(const struct uwb_analysis *current_scan,
+                                  const struct uwb_analysis *baseline_scan, const struct uwb_verdict *v,
+                                  const struct uwb_render_options *opt, struct uwb_plot *base_panel,
+                                  struct uwb_plot *current_panel, struct uwb_plot *difference_panel,
+                                  struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w)
 {
     const struct uwb_image *current = &current_scan->intensity;
     const struct uwb_image *baseline = baseline_scan ? &baseline_scan->intensity : NULL;
@@ -257,7 +260,7 @@ void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const
     image_y_range(current, &ylo, &yhi);
     if (baseline)
         image_y_range(baseline, &ylo, &yhi);
-    struct uwb_plot *panels[3] = { &L.base, &L.cur, &L.diff };
+    struct uwb_plot *panels[3] = {&L.base, &L.cur, &L.diff};
     for (int i = 0; i < 3; i++) {
         panels[i]->x_min = zc - CROP_HALF_WIDTH_M;
         panels[i]->x_max = zc + CROP_HALF_WIDTH_M;
@@ -265,7 +268,7 @@ void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const
         panels[i]->y_max = yhi;
     }
     L.prof.x_min = 0.0;
-    L.prof.x_max = 1.05;    /* a little room right of the peak */
+    L.prof.x_max = 1.05; /* a little room right of the peak */
     L.prof.y_min = ylo;
     L.prof.y_max = yhi;
     *base_panel = L.base;
@@ -276,15 +279,16 @@ void uwb_render_comparison_layout(const struct uwb_analysis *current_scan, const
     *colorbar_w = L.bar_w;
 }
 
-int uwb_render_comparison_png(const char *path, const struct uwb_analysis *current, const struct uwb_analysis *baseline,
-                          const struct uwb_verdict *v, char *err, size_t errlen)
+int uwb_render_comparison_png(const char *path, const struct uwb_analysis *current,
+                              const struct uwb_analysis *baseline, const struct uwb_verdict *v, char *err,
+                              size_t errlen)
 {
     return uwb_render_comparison_png_opt(path, current, baseline, v, NULL, err, errlen);
 }
 
 int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *current_scan,
-                              const struct uwb_analysis *baseline_scan, const struct uwb_verdict *v,
-                              const struct uwb_render_options *opt, char *err, size_t errlen)
+                                  const struct uwb_analysis *baseline_scan, const struct uwb_verdict *v,
+                                  const struct uwb_render_options *opt, char *err, size_t errlen)
 {
     if (!current_scan) {
         snprintf(err, errlen, "%s: no analysis to draw", path ? path : "comparison image");
@@ -308,8 +312,8 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     if (uwb_canvas_init(&c, o.width, o.height, page, err, errlen) != 0)
         return -1;
     struct comparison_layout L;
-    uwb_render_comparison_layout(current_scan, baseline_scan, v, &o, &L.base, &L.cur, &L.diff, &L.prof, &L.bar_x,
-                                 &L.bar_w);
+    uwb_render_comparison_layout(current_scan, baseline_scan, v, &o, &L.base, &L.cur, &L.diff, &L.prof,
+                                 &L.bar_x, &L.bar_w);
     const struct uwb_edges *ec = v && v->current.found ? &v->current : NULL;
     const struct uwb_edges *eb = v && v->has_baseline && v->baseline.found ? &v->baseline : NULL;
 
@@ -319,7 +323,8 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     if (baseline) {
         uwb_paint_image_db(&c, &L.base, baseline, uwb_image_peak(baseline), o.floor_db);
         if (eb)
-            uwb_draw_edges(&c, &L.base, eb, UWB_EDGE_BASELINE, L.base.x_min, L.base.x_max, eb->face_z_m, 0, s);
+            uwb_draw_edges(&c, &L.base, eb, UWB_EDGE_BASELINE, L.base.x_min, L.base.x_max, eb->face_z_m, 0,
+                           s);
     } else {
         uwb_canvas_fill_rect(&c, L.base.x, L.base.y, L.base.w, L.base.h, no_data);
         int w = uwb_text_width("no baseline", s);
@@ -341,9 +346,10 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
         int ks = s > 1 ? s - 1 : 1;
         char full[48];
         snprintf(full, sizeof full, "full colour: %.0f%% of peak", 100.0 * largest);
-        const char *key[3] = { "red: stronger now", "blue: weaker now", full };
+        const char *key[3] = {"red: stronger now", "blue: weaker now", full};
         for (int i = 0; i < 3; i++) {
-            int w = uwb_text_width(key[i], ks), ky = L.diff.y + L.diff.h - (3 - i) * (UWB_FONT_LINE_HEIGHT * ks + 2) - 4;
+            int w = uwb_text_width(key[i], ks),
+                ky = L.diff.y + L.diff.h - (3 - i) * (UWB_FONT_LINE_HEIGHT * ks + 2) - 4;
             uwb_canvas_fill_rect(&c, L.diff.x + 3, ky - 2, w + 4, UWB_FONT_CAP_HEIGHT * ks + 4, page);
             uwb_draw_text(&c, L.diff.x + 5, ky, key[i], ks, ink);
         }
@@ -371,18 +377,30 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
         draw_not_measured(&c, &L.prof, v, s);
     panel_title(&c, &L.prof, "face profile", s, ink);
 
-    struct uwb_axis_style img_axes = { .x_label_scale = 1000.0, .y_label_scale = 1000.0, .font_scale = s,
-                                       .x_ticks = 3, .y_ticks = 10, .x_labels = 1, .y_labels_left = 1,
-                                       .x_title = "range z (mm)", .y_title = "height y (mm)",
-                                       .panel_gap = PANEL_GAP };
+    struct uwb_axis_style img_axes = {.x_label_scale = 1000.0,
+                                      .y_label_scale = 1000.0,
+                                      .font_scale = s,
+                                      .x_ticks = 3,
+                                      .y_ticks = 10,
+                                      .x_labels = 1,
+                                      .y_labels_left = 1,
+                                      .x_title = "range z (mm)",
+                                      .y_title = "height y (mm)",
+                                      .panel_gap = PANEL_GAP};
     uwb_draw_axes(&c, &L.base, &img_axes);
     img_axes.y_labels_left = 0;
     uwb_draw_axes(&c, &L.cur, &img_axes);
-    img_axes.x_title = NULL;   /* the neighbours say it; the profile's title would run into it */
+    img_axes.x_title = NULL; /* the neighbours say it; the profile's title would run into it */
     uwb_draw_axes(&c, &L.diff, &img_axes);
-    struct uwb_axis_style prof_axes = { .x_label_scale = 1.0, .y_label_scale = 1000.0, .font_scale = s,
-                                        .x_ticks = 2, .y_ticks = 10, .x_labels = 1, .y_labels_right = 1,
-                                        .x_title = "intensity re peak", .panel_gap = PANEL_GAP };
+    struct uwb_axis_style prof_axes = {.x_label_scale = 1.0,
+                                       .y_label_scale = 1000.0,
+                                       .font_scale = s,
+                                       .x_ticks = 2,
+                                       .y_ticks = 10,
+                                       .x_labels = 1,
+                                       .y_labels_right = 1,
+                                       .x_title = "intensity re peak",
+                                       .panel_gap = PANEL_GAP};
     uwb_draw_axes(&c, &L.prof, &prof_axes);
     uwb_draw_db_colorbar(&c, L.bar_x, L.cur.y, L.bar_w, L.cur.h, o.floor_db, s);
     uwb_draw_edge_legend(&c, L.base.x, uwb_layout_legend_y(&L.cur, s), ec != NULL, eb != NULL, s);

@@ -11,7 +11,7 @@
 
 struct png_failure {
     char message[256];
-    int write_errno;   /* errno when libpng gave up, for a failed fwrite (ENOSPC) */
+    int write_errno; /* errno when libpng gave up, for a failed fwrite (ENOSPC) */
 };
 
 /* libpng must not return from its error callback: record why and jump
@@ -20,7 +20,7 @@ static void on_png_error(png_structp png, png_const_charp msg)
 {
     struct png_failure *f = png_get_error_ptr(png);
     if (f) {
-        f->write_errno = errno;   /* first, before anything can change it */
+        f->write_errno = errno; /* first, before anything can change it */
         snprintf(f->message, sizeof f->message, "%s", msg ? msg : "libpng error");
     }
     png_longjmp(png, 1);
@@ -29,7 +29,7 @@ static void on_png_error(png_structp png, png_const_charp msg)
 static void on_png_warning(png_structp png, png_const_charp msg)
 {
     (void)png;
-    (void)msg;  /* warnings do not spoil the image */
+    (void)msg; /* warnings do not spoil the image */
 }
 
 static int is_ascii(const char *s)
@@ -42,11 +42,10 @@ static int is_ascii(const char *s)
 
 /* Kept apart from the caller so no local modified after setjmp is read
  * after the longjmp (the C rule that would otherwise need volatile). */
-static int write_rows(FILE *fp, const struct uwb_canvas *c, const struct uwb_png_text *texts,
-                      int n_texts, struct png_failure *failure)
+static int write_rows(FILE *fp, const struct uwb_canvas *c, const struct uwb_png_text *texts, int n_texts,
+                      struct png_failure *failure)
 {
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, failure, on_png_error,
-                                              on_png_warning);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, failure, on_png_error, on_png_warning);
     if (!png) {
         snprintf(failure->message, sizeof failure->message, "cannot create libpng writer");
         return -1;
@@ -76,9 +75,10 @@ static int write_rows(FILE *fp, const struct uwb_canvas *c, const struct uwb_png
             continue;
         memset(&chunks[n], 0, sizeof chunks[n]);
         /* tEXt is Latin-1 by definition: UTF-8 (a plus-minus sign, a site name) goes in iTXt. */
-        chunks[n].compression = is_ascii(texts[i].text) ? PNG_TEXT_COMPRESSION_NONE : PNG_ITXT_COMPRESSION_NONE;
-        chunks[n].lang = (png_charp)"";
-        chunks[n].lang_key = (png_charp)"";
+        chunks[n].compression =
+            is_ascii(texts[i].text) ? PNG_TEXT_COMPRESSION_NONE : PNG_ITXT_COMPRESSION_NONE;
+        chunks[n].lang = (png_charp) "";
+        chunks[n].lang_key = (png_charp) "";
         chunks[n].key = (png_charp)texts[i].key;
         chunks[n].text = (png_charp)texts[i].text;
         n++;
@@ -104,9 +104,8 @@ static void name_path_in_error(const char *path, char *err, size_t errlen)
     snprintf(err, errlen, "%s: %s", path, why);
 }
 
-int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
-                         const struct uwb_png_text *texts, int n_texts,
-                         char *err, size_t errlen)
+int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path, const struct uwb_png_text *texts,
+                         int n_texts, char *err, size_t errlen)
 {
     if (!path || !*path) {
         snprintf(err, errlen, "png: no output path");
@@ -121,7 +120,7 @@ int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
         name_path_in_error(path, err, errlen);
         return -1;
     }
-    struct png_failure failure = { "", 0 };
+    struct png_failure failure = {"", 0};
     if (write_rows(af.fp, c, texts, n_texts, &failure) != 0) {
         /* libpng says only "Write Error" when the file refused the bytes:
          * name the system's reason (a full or read-only disk) instead. */

@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-static const struct uwb_rgb outside_grid = { 128, 128, 128 };
+static const struct uwb_rgb outside_grid = {128, 128, 128};
 
 int uwb_image_check(const struct uwb_image *img, const char *name, char *err, size_t errlen)
 {
@@ -18,8 +18,8 @@ int uwb_image_check(const struct uwb_image *img, const char *name, char *err, si
         snprintf(err, errlen, "%s: image of %d x %d pixels is too small to draw", name, img->ny, img->nz);
         return -1;
     }
-    if (!(img->dy_m > 0) || !(img->dz_m > 0) || !isfinite(img->y0_m) || !isfinite(img->z0_m)
-        || !isfinite(img->dy_m) || !isfinite(img->dz_m)) {
+    if (!(img->dy_m > 0) || !(img->dz_m > 0) || !isfinite(img->y0_m) || !isfinite(img->z0_m) ||
+        !isfinite(img->dy_m) || !isfinite(img->dz_m)) {
         snprintf(err, errlen, "%s: image grid spacing must be finite and positive (dy %g m, dz %g m)", name,
                  img->dy_m, img->dz_m);
         return -1;

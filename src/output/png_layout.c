@@ -6,10 +6,10 @@
 void uwb_layout_single_plot(int width, int height, int s, int caption_height, struct uwb_plot *plot,
                             int *colorbar_x, int *colorbar_w)
 {
-    int cap_gap = 16 + UWB_FONT_LINE_HEIGHT * s;          /* room for the colour bar's title */
-    int left = 12 + 9 * s + 10 + (5 * UWB_FONT_ADVANCE - 1) * s + 12;   /* title, "-1000", tick */
+    int cap_gap = 16 + UWB_FONT_LINE_HEIGHT * s;                      /* room for the colour bar's title */
+    int left = 12 + 9 * s + 10 + (5 * UWB_FONT_ADVANCE - 1) * s + 12; /* title, "-1000", tick */
     int bar_w = 10 + 6 * s;
-    int right = 22 + bar_w + 12 + (5 * UWB_FONT_ADVANCE - 1) * s + 10;  /* gap, bar, tick, "-100" */
+    int right = 22 + bar_w + 12 + (5 * UWB_FONT_ADVANCE - 1) * s + 10; /* gap, bar, tick, "-100" */
     int bottom = 12 + UWB_FONT_CAP_HEIGHT * s + 10 + 9 * s + 14 + UWB_FONT_LINE_HEIGHT * s + 10;
     plot->x = left;
     plot->y = caption_height + cap_gap;

@@ -13,7 +13,7 @@
 #define DASH_OFF 5
 #define MARKER_R 5
 
-static const struct uwb_rgb ink = { 25, 25, 25 };
+static const struct uwb_rgb ink = {25, 25, 25};
 
 void uwb_draw_edge_hline(struct uwb_canvas *c, int x0, int x1, int row, enum uwb_edge_kind kind)
 {
@@ -59,8 +59,8 @@ static void boxed_label(struct uwb_canvas *c, int x, int y_mid, const char *text
 }
 
 void uwb_draw_edges(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_edges *e,
-                    enum uwb_edge_kind kind, double x_from, double x_to, double x_marker,
-                    int label_side, int font_scale)
+                    enum uwb_edge_kind kind, double x_from, double x_to, double x_marker, int label_side,
+                    int font_scale)
 {
     if (!e || !e->found)
         return;
@@ -70,11 +70,11 @@ void uwb_draw_edges(struct uwb_canvas *c, const struct uwb_plot *p, const struct
         c0 = p->x;
     if (c1 > p->x + p->w - 1)
         c1 = p->x + p->w - 1;
-    double heights[2] = { e->lower_m, e->upper_m };
+    double heights[2] = {e->lower_m, e->upper_m};
     for (int i = 0; i < 2; i++) {
         int row = uwb_plot_row(p, heights[i]);
         if (row < p->y || row >= p->y + p->h || c1 < c0)
-            continue;   /* off the plot: the caption still gives the figure */
+            continue; /* off the plot: the caption still gives the figure */
         uwb_draw_edge_hline(c, c0, c1, row, kind);
         if (label_side) {
             char mm[32];
@@ -99,7 +99,7 @@ static int legend_entry(struct uwb_canvas *c, int x, int y, enum uwb_edge_kind k
 {
     int mid = y + UWB_FONT_CAP_HEIGHT * scale / 2;
     /* The sample sits on a neutral patch, as the lines sit on an image. */
-    uwb_canvas_fill_rect(c, x, mid - 8, 64, 17, (struct uwb_rgb){ 110, 110, 118 });
+    uwb_canvas_fill_rect(c, x, mid - 8, 64, 17, (struct uwb_rgb){110, 110, 118});
     uwb_draw_edge_hline(c, x + 4, x + 40, mid, kind);
     uwb_draw_centre_marker(c, x + 52, mid, kind);
     int w = uwb_draw_text(c, x + 72, y, words, scale, ink);

@@ -12,8 +12,8 @@
 #define MARGIN_RIGHT 30
 #define MARGIN_BOTTOM 80
 #define STRIP_H 22
-#define MARKER 4            /* half-size of a figure's square, px */
-#define CAP 5               /* half-width of a bar's cap, px */
+#define MARKER 4 /* half-size of a figure's square, px */
+#define CAP 5    /* half-width of a bar's cap, px */
 #define X_TICKS 6
 
 static const struct uwb_rgb white = {255, 255, 255};
@@ -64,12 +64,13 @@ static void describe_point(const struct uwb_trend_point *p, const char *sep, cha
     if (!p)
         snprintf(buf, len, "no verdict yet");
     else if (p->has_displacement)
-        snprintf(buf, len, "%s %+.2f %s %.2f mm (1 sigma)", uwb_status_name(p->status), p->displacement_mm, sep,
-                 p->sigma_mm);
+        snprintf(buf, len, "%s %+.2f %s %.2f mm (1 sigma)", uwb_status_name(p->status), p->displacement_mm,
+                 sep, p->sigma_mm);
     else if (p->status == UWB_STATUS_EDGES)
         snprintf(buf, len, "edges only (%s)", p->became_baseline ? "became the baseline" : "no baseline");
     else
-        snprintf(buf, len, "%s, no figure%s%.100s", uwb_status_name(p->status), p->reason[0] ? ": " : "", p->reason);
+        snprintf(buf, len, "%s, no figure%s%.100s", uwb_status_name(p->status), p->reason[0] ? ": " : "",
+                 p->reason);
 }
 
 static void describe_rate(const struct uwb_trend *t, const char *sep, char *buf, size_t len)
@@ -94,8 +95,8 @@ void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *t
     snprintf(buf, len,
              "%d verdicts: %d with a figure, %d inconclusive, %d error, %d edges only; latest %s: %s; "
              "rate %s; thresholds watch %.2f mm, alarm %.2f mm; bars +/-%.0f sigma (95 %%)",
-             t->count, figures, inconclusive, errors, edges, p && p->created[0] ? p->created : "(none)", last, rate,
-             th->watch_m * 1e3, th->alarm_m * 1e3, UWB_TREND_BAR_SIGMAS);
+             t->count, figures, inconclusive, errors, edges, p && p->created[0] ? p->created : "(none)", last,
+             rate, th->watch_m * 1e3, th->alarm_m * 1e3, UWB_TREND_BAR_SIGMAS);
 }
 
 static int first_last_time(const struct uwb_trend *t, time_t *first, time_t *last)
@@ -174,7 +175,7 @@ static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct
 }
 
 void uwb_render_trend_layout(const struct uwb_trend *t, const struct uwb_thresholds *th, const char *site,
-                         struct uwb_trend_layout *out)
+                             struct uwb_trend_layout *out)
 {
     memset(out, 0, sizeof *out);
     out->caption_h = caption(NULL, t, th, site);
@@ -217,8 +218,8 @@ int uwb_trend_col(const struct uwb_trend_layout *l, time_t when)
     return uwb_plot_col(&l->plot, (double)(when - l->t_ref) / l->unit_s);
 }
 
-static void hline(struct uwb_canvas *c, const struct uwb_plot *p, double y, struct uwb_rgb colour, int dash_on,
-                  int dash_off)
+static void hline(struct uwb_canvas *c, const struct uwb_plot *p, double y, struct uwb_rgb colour,
+                  int dash_on, int dash_off)
 {
     int row = uwb_plot_row(p, y);
     uwb_canvas_line(c, p->x, row, p->x + p->w - 1, row, colour, 1, dash_on, dash_off);
@@ -241,17 +242,18 @@ static void thresholds(struct uwb_canvas *c, const struct uwb_plot *p, const str
 }
 
 /* A verdict without a figure: its letter in the strip, in its colour. */
-static void no_figure_mark(struct uwb_canvas *c, const struct uwb_trend_layout *l, const struct uwb_trend_point *q)
+static void no_figure_mark(struct uwb_canvas *c, const struct uwb_trend_layout *l,
+                           const struct uwb_trend_point *q)
 {
     /* ? inconclusive, X error, B became the baseline, E edges only. */
-    const char *mark = q->status == UWB_STATUS_ERROR ? "X"
-                       : q->became_baseline          ? "B"
+    const char *mark = q->status == UWB_STATUS_ERROR   ? "X"
+                       : q->became_baseline            ? "B"
                        : q->status == UWB_STATUS_EDGES ? "E"
                                                        : "?";
     int col = uwb_trend_col(l, q->t);
     int w = uwb_text_width(mark, FONT_SCALE);
-    uwb_draw_text(c, col - w / 2, l->strip_y + (l->strip_h - UWB_FONT_CAP_HEIGHT * FONT_SCALE) / 2, mark, FONT_SCALE,
-                  uwb_status_colour(q->status));
+    uwb_draw_text(c, col - w / 2, l->strip_y + (l->strip_h - UWB_FONT_CAP_HEIGHT * FONT_SCALE) / 2, mark,
+                  FONT_SCALE, uwb_status_colour(q->status));
 }
 
 static void figure(struct uwb_canvas *c, const struct uwb_plot *p, int col, const struct uwb_trend_point *q)
@@ -262,7 +264,8 @@ static void figure(struct uwb_canvas *c, const struct uwb_plot *p, int col, cons
     uwb_canvas_line(c, col, top, col, bottom, ink, 1, 0, 0);
     uwb_canvas_line(c, col - CAP, top, col + CAP, top, ink, 1, 0, 0);
     uwb_canvas_line(c, col - CAP, bottom, col + CAP, bottom, ink, 1, 0, 0);
-    uwb_canvas_fill_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1, uwb_status_colour(q->status));
+    uwb_canvas_fill_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1,
+                         uwb_status_colour(q->status));
     uwb_canvas_frame_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1, ink);
 }
 
@@ -274,7 +277,7 @@ static void x_labels(struct uwb_canvas *c, const struct uwb_trend_layout *l, con
     int days = l->unit_s >= 86400.0;
     for (int i = 0; i < n; i++) {
         if (days && fabs(ticks[i] - round(ticks[i])) > 1e-6)
-            continue;   /* half days: a tick, no date */
+            continue; /* half days: a tick, no date */
         time_t when = l->t_ref + (time_t)llround(ticks[i] * l->unit_s);
         struct tm tm;
         char label[32];
@@ -301,11 +304,12 @@ static void x_labels(struct uwb_canvas *c, const struct uwb_trend_layout *l, con
         snprintf(title, sizeof title, "no dated verdicts");
     }
     int w = uwb_text_width(title, FONT_SCALE);
-    uwb_draw_text(c, p->x + (p->w - w) / 2, p->y + p->h + 6 + 4 + UWB_FONT_CAP_HEIGHT * FONT_SCALE + 12, title,
-                  FONT_SCALE, ink);
+    uwb_draw_text(c, p->x + (p->w - w) / 2, p->y + p->h + 6 + 4 + UWB_FONT_CAP_HEIGHT * FONT_SCALE + 12,
+                  title, FONT_SCALE, ink);
 }
 
-static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct uwb_thresholds *th, const char *site)
+static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct uwb_thresholds *th,
+                 const char *site)
 {
     struct uwb_trend_layout l;
     uwb_render_trend_layout(t, th, site, &l);
@@ -369,7 +373,7 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
 }
 
 int uwb_render_trend_png(const char *path, const struct uwb_trend *t, const struct uwb_thresholds *th,
-                     const char *site, char *err, size_t errlen)
+                         const char *site, char *err, size_t errlen)
 {
     struct uwb_canvas c;
     if (uwb_canvas_init(&c, UWB_TREND_PNG_WIDTH, UWB_TREND_PNG_HEIGHT, white, err, errlen) != 0)

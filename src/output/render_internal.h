@@ -20,11 +20,11 @@ struct uwb_rgb {
 /* An 8-bit RGB raster, row-major, origin top-left. */
 struct uwb_canvas {
     int width, height;
-    unsigned char *rgb;         /* width * height * 3 */
+    unsigned char *rgb; /* width * height * 3 */
 };
 
-int uwb_canvas_init(struct uwb_canvas *c, int width, int height, struct uwb_rgb background,
-                    char *err, size_t errlen);
+int uwb_canvas_init(struct uwb_canvas *c, int width, int height, struct uwb_rgb background, char *err,
+                    size_t errlen);
 void uwb_canvas_free(struct uwb_canvas *c);
 /* Drawing clips silently to the canvas. */
 void uwb_canvas_put(struct uwb_canvas *c, int x, int y, struct uwb_rgb colour);
@@ -33,11 +33,11 @@ void uwb_canvas_fill_rect(struct uwb_canvas *c, int x, int y, int w, int h, stru
 void uwb_canvas_frame_rect(struct uwb_canvas *c, int x, int y, int w, int h, struct uwb_rgb colour);
 /* A line `thickness` px wide (square brush). dash_on/dash_off in px; 0
  * dash_off draws it solid. */
-void uwb_canvas_line(struct uwb_canvas *c, int x0, int y0, int x1, int y1,
-                     struct uwb_rgb colour, int thickness, int dash_on, int dash_off);
+void uwb_canvas_line(struct uwb_canvas *c, int x0, int y0, int x1, int y1, struct uwb_rgb colour,
+                     int thickness, int dash_on, int dash_off);
 /* Connected segments; the dash pattern runs on across the joints. */
-void uwb_canvas_polyline(struct uwb_canvas *c, const int *xs, const int *ys, int n,
-                         struct uwb_rgb colour, int thickness, int dash_on, int dash_off);
+void uwb_canvas_polyline(struct uwb_canvas *c, const int *xs, const int *ys, int n, struct uwb_rgb colour,
+                         int thickness, int dash_on, int dash_off);
 
 /* Key/value pairs stored as PNG text chunks (e.g. "Title", "Description"):
  * ASCII text as tEXt, anything else as UTF-8 in iTXt (tEXt is Latin-1). A
@@ -49,9 +49,8 @@ struct uwb_png_text {
 
 /* Write the canvas as an 8-bit RGB PNG, atomically. Returns 0, or -1 with
  * "PATH: problem"; on failure nothing new is left at PATH. */
-int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
-                         const struct uwb_png_text *texts, int n_texts,
-                         char *err, size_t errlen);
+int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path, const struct uwb_png_text *texts,
+                         int n_texts, char *err, size_t errlen);
 
 /* Bitmap font: printable ASCII plus a few signs (UTF-8 "±", "°", "Δ").
  * Glyph box is 5x7 above the baseline with 2 rows of descender, on a 6 px
@@ -61,13 +60,11 @@ int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
 #define UWB_FONT_LINE_HEIGHT 11
 int uwb_text_width(const char *utf8, int scale);
 /* (x, y) is the top-left of the text box (y = top of capitals). */
-int uwb_draw_text(struct uwb_canvas *c, int x, int y, const char *utf8, int scale,
-                  struct uwb_rgb colour);
+int uwb_draw_text(struct uwb_canvas *c, int x, int y, const char *utf8, int scale, struct uwb_rgb colour);
 /* Text rotated 90 degrees counter-clockwise (reads bottom to top); (x, y)
  * is where the text starts: its baseline-left corner after rotation,
  * i.e. the text runs upward from y and occupies x .. x + cap height. */
-int uwb_draw_text_up(struct uwb_canvas *c, int x, int y, const char *utf8, int scale,
-                     struct uwb_rgb colour);
+int uwb_draw_text_up(struct uwb_canvas *c, int x, int y, const char *utf8, int scale, struct uwb_rgb colour);
 /* 1 if the font has a glyph for this code point. */
 int uwb_font_has_glyph(unsigned codepoint);
 /* 1 if the glyph table is in the order its index lookup assumes and every
@@ -75,17 +72,17 @@ int uwb_font_has_glyph(unsigned codepoint);
 int uwb_font_table_consistent(void);
 
 /* Colour maps. t is clamped to [0, 1]. */
-struct uwb_rgb uwb_colormap_perceptual(double t);   /* dark violet -> yellow, lightness rises monotonically */
-struct uwb_rgb uwb_colormap_diverging(double t);    /* 0 blue, 0.5 white, 1 red */
+struct uwb_rgb uwb_colormap_perceptual(double t); /* dark violet -> yellow, lightness rises monotonically */
+struct uwb_rgb uwb_colormap_diverging(double t);  /* 0 blue, 0.5 white, 1 red */
 
 /* CIE L* (0..100) of an sRGB colour: how light it looks. */
 double uwb_rgb_lightness(struct uwb_rgb c);
 
 /* Colours with a meaning in every image (the legend names them). */
-extern const struct uwb_rgb UWB_RGB_CURRENT_EDGE;   /* solid line */
-extern const struct uwb_rgb UWB_RGB_BASELINE_EDGE;  /* dashed line */
-extern const struct uwb_rgb UWB_RGB_HALO;           /* outline that keeps lines visible on any colour */
-extern const struct uwb_rgb UWB_RGB_NOT_MEASURED;   /* grey of a displacement not measured (comparison) */
+extern const struct uwb_rgb UWB_RGB_CURRENT_EDGE;  /* solid line */
+extern const struct uwb_rgb UWB_RGB_BASELINE_EDGE; /* dashed line */
+extern const struct uwb_rgb UWB_RGB_HALO;          /* outline that keeps lines visible on any colour */
+extern const struct uwb_rgb UWB_RGB_NOT_MEASURED;  /* grey of a displacement not measured (comparison) */
 
 /* ------------------------------------------------------------------ */
 /* Plot geometry                                                       */
@@ -101,10 +98,10 @@ struct uwb_plot {
     double y_min, y_max;
 };
 
-double uwb_plot_px_x(const struct uwb_plot *p, double x);   /* fractional pixel column */
-double uwb_plot_px_y(const struct uwb_plot *p, double y);   /* fractional pixel row */
-int uwb_plot_col(const struct uwb_plot *p, double x);       /* rounded */
-int uwb_plot_row(const struct uwb_plot *p, double y);       /* rounded */
+double uwb_plot_px_x(const struct uwb_plot *p, double x); /* fractional pixel column */
+double uwb_plot_px_y(const struct uwb_plot *p, double y); /* fractional pixel row */
+int uwb_plot_col(const struct uwb_plot *p, double x);     /* rounded */
+int uwb_plot_row(const struct uwb_plot *p, double y);     /* rounded */
 
 /* "Nice" tick values (1, 2 or 5 x 10^n apart) inside [lo, hi], about
  * `target` of them. Returns the count; *step gets the spacing. */
@@ -113,14 +110,14 @@ int uwb_nice_ticks(double lo, double hi, int target, double *ticks, int max_tick
 void uwb_format_tick(char *buf, size_t len, double value, double step);
 
 struct uwb_axis_style {
-    double x_label_scale;        /* labels show data * scale (1000: metres -> mm, 1e9: s -> ns) */
+    double x_label_scale; /* labels show data * scale (1000: metres -> mm, 1e9: s -> ns) */
     double y_label_scale;
-    int font_scale;              /* 1 or more */
-    int x_ticks, y_ticks;        /* about how many ticks (0: default) */
-    int x_labels;                /* label the x ticks */
+    int font_scale;       /* 1 or more */
+    int x_ticks, y_ticks; /* about how many ticks (0: default) */
+    int x_labels;         /* label the x ticks */
     int y_labels_left, y_labels_right;
-    const char *x_title, *y_title, *y_title_right;   /* NULL: none */
-    int panel_gap;               /* > 0: x labels may not reach past half this gap (panels side by side) */
+    const char *x_title, *y_title, *y_title_right; /* NULL: none */
+    int panel_gap; /* > 0: x labels may not reach past half this gap (panels side by side) */
 };
 
 /* Frame the plot, tick both axes outward and label the ticks. */
@@ -129,9 +126,9 @@ void uwb_draw_axes(struct uwb_canvas *c, const struct uwb_plot *p, const struct 
 /* Vertical colour bar at (x, y, w, h): top row map(1), bottom row map(0);
  * ticks at positions tick_t (0..1, 1 = top) labelled to the right; title
  * above. */
-void uwb_draw_colorbar(struct uwb_canvas *c, int x, int y, int w, int h,
-                       struct uwb_rgb (*map)(double), const double *tick_t,
-                       const char *const *labels, int n_ticks, const char *title, int font_scale);
+void uwb_draw_colorbar(struct uwb_canvas *c, int x, int y, int w, int h, struct uwb_rgb (*map)(double),
+                       const double *tick_t, const char *const *labels, int n_ticks, const char *title,
+                       int font_scale);
 
 /* ------------------------------------------------------------------ */
 /* Caption, intensity painting, edge overlays                          */
@@ -139,7 +136,8 @@ void uwb_draw_colorbar(struct uwb_canvas *c, int x, int y, int w, int h,
 
 /* Height of the caption block for this verdict on a canvas this wide
  * (long reasons wrap onto more lines). */
-int uwb_caption_height(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width, int font_scale);
+int uwb_caption_height(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,
+                       int font_scale);
 /* Title, scan id (else prov->scan_name) and time, verdict badge +
  * displacement, edges (this scan and baseline), then the source line
  * (uwb_describe_provenance). v and prov may be NULL. Returns the y where
@@ -147,7 +145,8 @@ int uwb_caption_height(const struct uwb_verdict *v, const struct uwb_provenance 
 int uwb_draw_caption(struct uwb_canvas *c, const char *title, const struct uwb_verdict *v,
                      const struct uwb_provenance *prov, int font_scale);
 /* "asset phase B   stack 64 pulses/position   eps_r 3.20   SNR 24.1 dB   uwbd 0.1.0" */
-void uwb_describe_provenance(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf, size_t len);
+void uwb_describe_provenance(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf,
+                             size_t len);
 /* 1 if the verdict carries a displacement (ok/watch/alarm with both scans'
  * edges): only then may an image draw one. */
 int uwb_displacement_measured(const struct uwb_verdict *v);
@@ -157,19 +156,20 @@ void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t le
 /* "lower 247.0 ± 0.5 upper ... mm" or "not found: reason". */
 void uwb_describe_edges(const struct uwb_edges *e, char *buf, size_t len);
 /* The caption in one line (stored as the PNG's Description text). */
-void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf, size_t len);
+void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf,
+                         size_t len);
 /* Write the canvas as `path` with Title (title), Description (the verdict
  * summary), Software ("uwbd VERSION") and, where known, Scan, Asset, Stack,
  * eps_r and "SNR dB" text chunks, then free it. */
 int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const char *title,
-                                 const struct uwb_verdict *v, const struct uwb_provenance *prov,
-                                 char *err, size_t errlen);
+                                 const struct uwb_verdict *v, const struct uwb_provenance *prov, char *err,
+                                 size_t errlen);
 
 /* -1 with "NAME: problem" if the image cannot be drawn (no data, < 2x2,
  * non-positive spacing). */
 int uwb_image_check(const struct uwb_image *img, const char *name, char *err, size_t errlen);
-double uwb_image_peak(const struct uwb_image *img);       /* largest finite value >= 0 */
-double uwb_image_peak_z(const struct uwb_image *img);     /* range of the brightest pixel */
+double uwb_image_peak(const struct uwb_image *img);   /* largest finite value >= 0 */
+double uwb_image_peak_z(const struct uwb_image *img); /* range of the brightest pixel */
 /* Colour-map position (0..1) of an amplitude in dB re peak, floor_db -> 0. */
 double uwb_db_to_t(double amplitude, double peak, double floor_db);
 /* Fill the plot rectangle with the image in dB re peak (plot x = z, y = y). */
@@ -184,16 +184,16 @@ void uwb_draw_centre_marker(struct uwb_canvas *c, int cx, int cy, enum uwb_edge_
  * marker at x_marker (NAN: none), the heights in mm written at the right (label_side
  * 1) or left (-1) end, or not (0). Nothing if !e->found. */
 void uwb_draw_edges(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_edges *e,
-                    enum uwb_edge_kind kind, double x_from, double x_to, double x_marker,
-                    int label_side, int font_scale);
+                    enum uwb_edge_kind kind, double x_from, double x_to, double x_marker, int label_side,
+                    int font_scale);
 /* One legend line at (x, y); returns its width. */
 int uwb_draw_edge_legend(struct uwb_canvas *c, int x, int y, int with_current, int with_baseline,
                          int font_scale);
 
 /* Caption on top, plot, colour bar right, legend below (pixel geometry
  * only: the caller sets the plot's data ranges). */
-void uwb_layout_single_plot(int width, int height, int font_scale, int caption_height,
-                            struct uwb_plot *plot, int *colorbar_x, int *colorbar_w);
+void uwb_layout_single_plot(int width, int height, int font_scale, int caption_height, struct uwb_plot *plot,
+                            int *colorbar_x, int *colorbar_w);
 int uwb_layout_legend_y(const struct uwb_plot *plot, int font_scale);
 
 /* The intensity colour bar: 0 dB (peak) at the top, floor_db at the bottom. */
@@ -209,12 +209,12 @@ double uwb_face_echo_time(const struct uwb_scan *scan, double face_z_m);
 /* Where uwb_render_migrated_png puts its plot for this image and options (data
  * units: metres). For tests and for anyone annotating the PNG afterwards. */
 void uwb_render_migrated_layout(const struct uwb_image *intensity, const struct uwb_verdict *v,
-                            const struct uwb_render_options *opt, struct uwb_plot *plot,
-                            int *colorbar_x, int *colorbar_w);
+                                const struct uwb_render_options *opt, struct uwb_plot *plot, int *colorbar_x,
+                                int *colorbar_w);
 /* Likewise for the B-scan (x: time in s, y: antenna height in m). */
 void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
-                         const struct uwb_render_options *opt, struct uwb_plot *plot,
-                         int *colorbar_x, int *colorbar_w);
+                             const struct uwb_render_options *opt, struct uwb_plot *plot, int *colorbar_x,
+                             int *colorbar_w);
 /* Likewise for the comparison's four panels (the difference panel like
  * the image panels; profile x: intensity re peak, 0..1.05). */
 void uwb_render_comparison_layout(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
@@ -230,7 +230,7 @@ double uwb_paint_difference(struct uwb_canvas *c, const struct uwb_plot *p, cons
  * one per profile sample inside the panel's heights, x = value / the
  * profile's peak. xs and ys hold profile->n entries; returns how many were
  * filled (0 for an empty or all-zero profile). */
-int uwb_comparison_profile_polyline(const struct uwb_plot *profile_panel, const struct uwb_face_profile *profile,
-                                    int *xs, int *ys);
+int uwb_comparison_profile_polyline(const struct uwb_plot *profile_panel,
+                                    const struct uwb_face_profile *profile, int *xs, int *ys);
 
 #endif

@@ -25,21 +25,21 @@
  * edges only. */
 struct uwb_trend_layout {
     struct uwb_plot plot;
-    time_t t_ref;              /* midnight UTC of the first dated verdict's day */
-    double unit_s;             /* 86400 (days) or 3600 (hours, a span under two days) */
+    time_t t_ref;  /* midnight UTC of the first dated verdict's day */
+    double unit_s; /* 86400 (days) or 3600 (hours, a span under two days) */
     int strip_y, strip_h;
     int caption_h;
 };
 
 void uwb_render_trend_layout(const struct uwb_trend *t, const struct uwb_thresholds *th, const char *site,
-                         struct uwb_trend_layout *out);
+                             struct uwb_trend_layout *out);
 /* Pixel column of a time in that layout. */
 int uwb_trend_col(const struct uwb_trend_layout *l, time_t when);
 
 /* site: who the trend belongs to (asset, phase, label), or NULL. Returns 0,
  * or -1 with "PATH: problem"; the old file stays on failure. */
 int uwb_render_trend_png(const char *path, const struct uwb_trend *t, const struct uwb_thresholds *th,
-                     const char *site, char *err, size_t errlen);
+                         const char *site, char *err, size_t errlen);
 
 /* The trend in one line (the PNG's Description text, ASCII only). */
 void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *th, char *buf, size_t len);

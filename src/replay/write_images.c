@@ -11,8 +11,8 @@ int uwb_write_images(const char *dir, const char *stem, const char *asset, const
     static const char *const kinds[] = {"migrated", "bscan", "comparison"};
     v->n_images = 0;
     /* The stem names a scan that has no id (a replayed file). */
-    struct uwb_provenance prov = { .scan_name = stem, .asset = asset, .stack = current->stack,
-                                   .eps_r = current->eps_r };
+    struct uwb_provenance prov = {
+        .scan_name = stem, .asset = asset, .stack = current->stack, .eps_r = current->eps_r};
     struct uwb_render_options opt;
     uwb_render_options_default(&opt);
     opt.provenance = &prov;
@@ -30,16 +30,15 @@ int uwb_write_images(const char *dir, const char *stem, const char *asset, const
         int rc;
         if (i == 0)
             rc = uwb_render_migrated_png_opt(path, &cur_a->intensity, v, &opt, err, errlen);
-        else if (i == 1)
-        {
+        else if (i == 1) {
             /* The traces the migration ran on, when the analysis got that
              * far; the raw ones otherwise (titled so). */
             int conditioned = cur_a->conditioned.data && cur_a->conditioned.positions > 0;
             opt.bscan_conditioned = conditioned;
-            rc = uwb_render_bscan_png_opt(path, conditioned ? &cur_a->conditioned : current, v, &opt, err, errlen);
+            rc = uwb_render_bscan_png_opt(path, conditioned ? &cur_a->conditioned : current, v, &opt, err,
+                                          errlen);
             opt.bscan_conditioned = 0;
-        }
-        else
+        } else
             rc = uwb_render_comparison_png_opt(path, cur_a, base_a && base_a->intensity.pix ? base_a : NULL,
                                                v, &opt, err, errlen);
         if (rc != 0)

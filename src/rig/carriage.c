@@ -103,12 +103,13 @@ static int move_steps(struct uwb_carriage *c, long delta, char *err, size_t errl
 static int read_home(struct uwb_carriage *c, int *active, char *err, size_t errlen)
 {
     return uwb_gpio_get(c->gpio, UWB_LINE_HOME, active, err, errlen) == UWB_GPIO_OK ? UWB_RIG_OK
-                                                                                      : UWB_RIG_ERR_GPIO;
+                                                                                    : UWB_RIG_ERR_GPIO;
 }
 
 /* Does the switch read `want` for the whole debounce window? Adds the
  * window to *nominal_s. */
-static int home_settles(struct uwb_carriage *c, int want, int *settled, double *nominal_s, char *err, size_t errlen)
+static int home_settles(struct uwb_carriage *c, int want, int *settled, double *nominal_s, char *err,
+                        size_t errlen)
 {
     struct uwb_pacer p;
     uwb_pacer_start(&p, c->time_scale);
@@ -142,7 +143,7 @@ static int seek_switch(struct uwb_carriage *c, int up, int want, double rate, lo
         return rc;
     struct uwb_pacer p;
     uwb_pacer_start(&p, c->time_scale);
-    long k0 = 0;   /* step count at the pacer's start */
+    long k0 = 0; /* step count at the pacer's start */
     for (long k = 1; k <= limit; k++) {
         if (stopped(c, err, errlen))
             return UWB_RIG_ERR_STOPPED;
@@ -168,7 +169,7 @@ static int seek_switch(struct uwb_carriage *c, int up, int want, double rate, lo
             *found = 1;
             return UWB_RIG_OK;
         }
-        uwb_pacer_start(&p, c->time_scale);   /* a bounce: go on stepping from now */
+        uwb_pacer_start(&p, c->time_scale); /* a bounce: go on stepping from now */
         k0 = k;
     }
     return UWB_RIG_OK;
@@ -199,8 +200,10 @@ int uwb_carriage_home(struct uwb_carriage *c, char *err, size_t errlen)
             return UWB_RIG_ERR_HOME;
         }
         if (!found) {
-            snprintf(err, errlen, "home switch never closed: searched %.1f mm down, more than the travel of %g mm "
-                     "(switch wiring, home_active_low, or DIR reversed?)", c->home_found_mm, cfg->travel_mm);
+            snprintf(err, errlen,
+                     "home switch never closed: searched %.1f mm down, more than the travel of %g mm "
+                     "(switch wiring, home_active_low, or DIR reversed?)",
+                     c->home_found_mm, cfg->travel_mm);
             return UWB_RIG_ERR_HOME;
         }
     }
@@ -214,8 +217,10 @@ int uwb_carriage_home(struct uwb_carriage *c, char *err, size_t errlen)
     if (rc != UWB_RIG_OK)
         return rc;
     if (found <= 0) {
-        snprintf(err, errlen, "home switch stays closed after backing off %.2f mm: stuck, shorted, or "
-                 "home_active_low wrong", (c->position - before) / cfg->steps_per_mm);
+        snprintf(err, errlen,
+                 "home switch stays closed after backing off %.2f mm: stuck, shorted, or "
+                 "home_active_low wrong",
+                 (c->position - before) / cfg->steps_per_mm);
         return UWB_RIG_ERR_HOME;
     }
     long again = (c->position - before) + uwb_carriage_mm_to_steps(cfg, 1.0);
@@ -240,7 +245,8 @@ int uwb_carriage_move_to(struct uwb_carriage *c, double mm, char *err, size_t er
     }
     long target = uwb_carriage_mm_to_steps(&c->cfg, mm);
     long waypoints[2];
-    int n = uwb_carriage_plan(c->position, target, uwb_carriage_mm_to_steps(&c->cfg, c->cfg.backlash_mm), waypoints);
+    int n = uwb_carriage_plan(c->position, target, uwb_carriage_mm_to_steps(&c->cfg, c->cfg.backlash_mm),
+                              waypoints);
     for (int i = 0; i < n; i++) {
         int rc = move_steps(c, waypoints[i] - c->position, err, errlen);
         if (rc != UWB_RIG_OK)
@@ -276,19 +282,21 @@ int uwb_carriage_check_home(struct uwb_carriage *c, double *off_mm, char *err, s
         rc = read_home(c, &active, err, errlen);
     if (rc != UWB_RIG_OK)
         return rc;
-    c->homed = 0;   /* until the switch agrees with the count */
+    c->homed = 0; /* until the switch agrees with the count */
     double nominal_s = 0;
     int found = 0;
     if (active) {
         /* Already closed this high by the count: up slowly until it opens to
          * say by how much. */
-        rc = seek_switch(c, 1, 0, cfg->home_rate_hz / 4.0, uwb_carriage_mm_to_steps(cfg, cfg->travel_mm), &found,
-                         &nominal_s, err, errlen);
+        rc = seek_switch(c, 1, 0, cfg->home_rate_hz / 4.0, uwb_carriage_mm_to_steps(cfg, cfg->travel_mm),
+                         &found, &nominal_s, err, errlen);
         if (rc != UWB_RIG_OK)
             return rc;
         *off_mm = c->position / cfg->steps_per_mm;
-        snprintf(err, errlen, "steps lost: %.2f mm (the home switch opens %.2f mm above the counted home%s; "
-                 "tolerance %.2f mm)", *off_mm, *off_mm, found > 0 ? "" : " or higher", tolerance_mm);
+        snprintf(err, errlen,
+                 "steps lost: %.2f mm (the home switch opens %.2f mm above the counted home%s; "
+                 "tolerance %.2f mm)",
+                 *off_mm, *off_mm, found > 0 ? "" : " or higher", tolerance_mm);
         return UWB_RIG_ERR_HOME;
     }
     /* Down at the homing's slow rate, as the zero was found: the switch
@@ -300,16 +308,20 @@ int uwb_carriage_check_home(struct uwb_carriage *c, double *off_mm, char *err, s
         return rc;
     *off_mm = c->position / cfg->steps_per_mm;
     if (found <= 0) {
-        snprintf(err, errlen, "steps lost: %.2f mm or more (the home switch did not close within %.2f mm below the "
-                 "counted home; tolerance %.2f mm)", -*off_mm, -*off_mm, tolerance_mm);
+        snprintf(err, errlen,
+                 "steps lost: %.2f mm or more (the home switch did not close within %.2f mm below the "
+                 "counted home; tolerance %.2f mm)",
+                 -*off_mm, -*off_mm, tolerance_mm);
         return UWB_RIG_ERR_HOME;
     }
     if (fabs(*off_mm) > tolerance_mm) {
-        snprintf(err, errlen, "steps lost: %.2f mm (the home switch closed %.2f mm %s the counted home; "
-                 "tolerance %.2f mm)", fabs(*off_mm), fabs(*off_mm), *off_mm > 0 ? "above" : "below", tolerance_mm);
+        snprintf(err, errlen,
+                 "steps lost: %.2f mm (the home switch closed %.2f mm %s the counted home; "
+                 "tolerance %.2f mm)",
+                 fabs(*off_mm), fabs(*off_mm), *off_mm > 0 ? "above" : "below", tolerance_mm);
         return UWB_RIG_ERR_HOME;
     }
-    c->position = 0;   /* the switch is the reference again */
+    c->position = 0; /* the switch is the reference again */
     c->homed = 1;
     return UWB_RIG_OK;
 }

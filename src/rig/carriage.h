@@ -61,11 +61,11 @@ struct uwb_carriage {
     struct uwb_carriage_config cfg;
     double time_scale;
     const volatile sig_atomic_t *stop;
-    long position;          /* microsteps above the home switch, valid when homed */
+    long position; /* microsteps above the home switch, valid when homed */
     int homed;
-    int dir;                /* DIR as last set, -1 unknown */
-    long steps_moved;       /* microsteps issued since the counter was last cleared */
-    double home_found_mm;   /* distance the last home search went down */
+    int dir;              /* DIR as last set, -1 unknown */
+    long steps_moved;     /* microsteps issued since the counter was last cleared */
+    double home_found_mm; /* distance the last home search went down */
 };
 
 /* Every function returns an enum uwb_rig_error (OK, ERR_GPIO, ERR_HOME,

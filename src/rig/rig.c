@@ -52,7 +52,8 @@ void uwb_rig_set_progress(struct uwb_rig *rig, uwb_rig_progress_fn progress, voi
     rig->progress_ctx = ctx;
 }
 
-int uwb_rig_open(const struct uwb_rig_config *cfg, struct uwb_rig **out, int *detail, char *err, size_t errlen)
+int uwb_rig_open(const struct uwb_rig_config *cfg, struct uwb_rig **out, int *detail, char *err,
+                 size_t errlen)
 {
     *out = NULL;
     if (detail)
@@ -152,8 +153,9 @@ static int fill_header(struct uwb_rig *rig, const struct timespec *started, stru
     strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", &tm);
     strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%S", &tm);
     snprintf(scan_id, sizeof scan_id, "uwb-%s.%03dZ", stamp, (int)(started->tv_nsec / 1000000));
-    snprintf(source, sizeof source, "%s; digitiser '%s' at %s; gpio %s", cfg->source[0] ? cfg->source : "uwbd",
-             uwb_digitiser_identity(rig->dig), cfg->digitiser.endpoint, cfg->gpio.backend);
+    snprintf(source, sizeof source, "%s; digitiser '%s' at %s; gpio %s",
+             cfg->source[0] ? cfg->source : "uwbd", uwb_digitiser_identity(rig->dig), cfg->digitiser.endpoint,
+             cfg->gpio.backend);
     scan->sample_interval_s = cfg->digitiser.sample_interval_s;
     scan->t0_s = cfg->digitiser.t0_s;
     memcpy(scan->tx_m, cfg->tx_m, sizeof scan->tx_m);
@@ -162,7 +164,8 @@ static int fill_header(struct uwb_rig *rig, const struct timespec *started, stru
     scan->has_target_z = cfg->has_target_z;
     memcpy(scan->target_z_m, cfg->target_z_m, sizeof scan->target_z_m);
     scan->stack = cfg->digitiser.stack;
-    return dup_text(&scan->created, created) || dup_text(&scan->scan_id, scan_id) || dup_text(&scan->source, source);
+    return dup_text(&scan->created, created) || dup_text(&scan->scan_id, scan_id) ||
+           dup_text(&scan->source, source);
 }
 
 /* The traces of one position, averaged over `stack` pulses, into out. */
@@ -192,8 +195,9 @@ static int acquire_position(struct uwb_rig *rig, const volatile sig_atomic_t *st
         uwb_digitiser_get_stats(rig->dig, &st);
         retries_after = st.retries;
         if (retries_after != retries_before)
-            rig_log(rig, LOG_WARNING, "position %d, pulse %d: %lu frame%s bad or missing, fired again", position,
-                    p + 1, retries_after - retries_before, retries_after - retries_before == 1 ? "" : "s");
+            rig_log(rig, LOG_WARNING, "position %d, pulse %d: %lu frame%s bad or missing, fired again",
+                    position, p + 1, retries_after - retries_before,
+                    retries_after - retries_before == 1 ? "" : "s");
         for (int s = 0; s < d->samples; s++)
             sum[s] += trace[s];
     }
@@ -202,8 +206,8 @@ static int acquire_position(struct uwb_rig *rig, const volatile sig_atomic_t *st
     return UWB_RIG_OK;
 }
 
-static int scan_cycle(struct uwb_rig *rig, const volatile sig_atomic_t *stop, struct uwb_scan *scan, char *err,
-                      size_t errlen)
+static int scan_cycle(struct uwb_rig *rig, const volatile sig_atomic_t *stop, struct uwb_scan *scan,
+                      char *err, size_t errlen)
 {
     const struct uwb_rig_config *cfg = &rig->cfg;
     const struct uwb_carriage_config *cc = &cfg->carriage;
@@ -285,8 +289,10 @@ int uwb_rig_scan(struct uwb_rig *rig, const volatile sig_atomic_t *stop, struct 
     rig->scans++;
     struct uwb_digitiser_stats st;
     uwb_digitiser_get_stats(rig->dig, &st);
-    rig_log(rig, LOG_INFO, "scan %s: %d positions x %d pulses, %ld steps; frames so far: %lu good, %lu retried",
-            out->scan_id, rig->cfg.positions, rig->cfg.digitiser.stack, rig->last_scan_steps, st.traces, st.retries);
+    rig_log(rig, LOG_INFO,
+            "scan %s: %d positions x %d pulses, %ld steps; frames so far: %lu good, %lu retried",
+            out->scan_id, rig->cfg.positions, rig->cfg.digitiser.stack, rig->last_scan_steps, st.traces,
+            st.retries);
     return UWB_RIG_OK;
 }
 

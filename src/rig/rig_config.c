@@ -75,7 +75,7 @@ static int check_table_ranges(const struct uwb_rig_config *cfg, char *err, size_
             values[0] = *(const double *)p / k->scale;
         } else if (k->type == KEY_PAIR) {
             if (flag_at && !*(const int *)((const char *)cfg + flag_at))
-                continue;   /* an optional pair not given */
+                continue; /* an optional pair not given */
             // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
             values[0] = ((const double *)p)[0] / k->scale;
             // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
@@ -109,9 +109,12 @@ static int bad(char *err, size_t errlen, const char *field, double value, const 
 
 static int check_carriage(const struct uwb_carriage_config *c, char *err, size_t errlen)
 {
-    REQUIRE(c->park_mm <= c->travel_mm, "carriage.park_mm", c->park_mm, "must lie inside the travel (0..travel_mm)");
-    REQUIRE(c->backlash_mm < c->travel_mm, "carriage.backlash_mm", c->backlash_mm, "must be less than the travel");
-    REQUIRE(c->home_rate_hz <= c->max_rate_hz, "carriage.home_rate_hz", c->home_rate_hz, "must be at most max_rate_hz");
+    REQUIRE(c->park_mm <= c->travel_mm, "carriage.park_mm", c->park_mm,
+            "must lie inside the travel (0..travel_mm)");
+    REQUIRE(c->backlash_mm < c->travel_mm, "carriage.backlash_mm", c->backlash_mm,
+            "must be less than the travel");
+    REQUIRE(c->home_rate_hz <= c->max_rate_hz, "carriage.home_rate_hz", c->home_rate_hz,
+            "must be at most max_rate_hz");
     REQUIRE(c->home_backoff_mm <= c->travel_mm, "carriage.home_backoff_mm", c->home_backoff_mm,
             "must be at most the travel");
     return UWB_RIG_OK;
@@ -140,7 +143,8 @@ static int check_gpio(const struct uwb_gpio_config *g, char *err, size_t errlen)
         return UWB_RIG_OK;
     }
     if (strcmp(g->backend, "libgpiod") != 0) {
-        snprintf(err, errlen, "rig config: gpio.backend '%s' unknown (expected libgpiod or emulated)", g->backend);
+        snprintf(err, errlen, "rig config: gpio.backend '%s' unknown (expected libgpiod or emulated)",
+                 g->backend);
         return UWB_RIG_ERR_CONFIG;
     }
     if (!g->chip[0]) {
@@ -155,8 +159,8 @@ static int check_gpio(const struct uwb_gpio_config *g, char *err, size_t errlen)
         }
         for (int j = 0; j < i; j++)
             if (g->offset[i] >= 0 && g->offset[i] == g->offset[j]) {
-                snprintf(err, errlen, "rig config: gpio %s and %s lines both use offset %d", uwb_gpio_line_name(j),
-                         uwb_gpio_line_name(i), g->offset[i]);
+                snprintf(err, errlen, "rig config: gpio %s and %s lines both use offset %d",
+                         uwb_gpio_line_name(j), uwb_gpio_line_name(i), g->offset[i]);
                 return UWB_RIG_ERR_CONFIG;
             }
     }
@@ -184,7 +188,8 @@ int uwb_rig_config_check(const struct uwb_rig_config *cfg, char *err, size_t err
         double y = cfg->first_position_mm + k * cfg->step_mm;
         double above_home = y - c->home_offset_mm;
         if (above_home < lowest - 1e-9 || above_home > c->travel_mm + 1e-9) {
-            snprintf(err, errlen, "rig config: position %d at y = %g mm is %g mm above the home switch "
+            snprintf(err, errlen,
+                     "rig config: position %d at y = %g mm is %g mm above the home switch "
                      "(home_offset_mm %g); it must lie between %g (backlash overshoot) and travel_mm = %g",
                      k, y, above_home, c->home_offset_mm, lowest, c->travel_mm);
             return UWB_RIG_ERR_CONFIG;

@@ -14,19 +14,18 @@ int uwb_scan_alloc(struct uwb_scan *scan, int positions, int samples, char *err,
     scan->eps_r = 1.0;
     /* The format's limits also bound memory: a scan we hold can always be written. */
     if (positions < 1 || positions > UWBSCAN_MAX_POSITIONS) {
-        uwbscan_fail(err, errlen, "scan", "positions is %d, must be between 1 and %d",
-                     positions, UWBSCAN_MAX_POSITIONS);
+        uwbscan_fail(err, errlen, "scan", "positions is %d, must be between 1 and %d", positions,
+                     UWBSCAN_MAX_POSITIONS);
         return -1;
     }
     if (samples < 1 || samples > UWBSCAN_MAX_SAMPLES) {
-        uwbscan_fail(err, errlen, "scan", "samples is %d, must be between 1 and %d",
-                     samples, UWBSCAN_MAX_SAMPLES);
+        uwbscan_fail(err, errlen, "scan", "samples is %d, must be between 1 and %d", samples,
+                     UWBSCAN_MAX_SAMPLES);
         return -1;
     }
     uint64_t data_bytes = uwbscan_payload_bytes(positions, samples);
     if (data_bytes > SIZE_MAX) {
-        uwbscan_fail(err, errlen, "scan", "%d x %d samples do not fit in memory",
-                     positions, samples);
+        uwbscan_fail(err, errlen, "scan", "%d x %d samples do not fit in memory", positions, samples);
         return -1;
     }
     scan->antenna_y_m = calloc((size_t)positions, sizeof *scan->antenna_y_m);
@@ -34,8 +33,8 @@ int uwb_scan_alloc(struct uwb_scan *scan, int positions, int samples, char *err,
     if (scan->antenna_y_m == NULL || scan->data == NULL) {
         uwb_scan_free(scan);
         scan->eps_r = 1.0;
-        uwbscan_fail(err, errlen, "scan", "cannot allocate %d x %d samples: %s",
-                     positions, samples, strerror(ENOMEM));
+        uwbscan_fail(err, errlen, "scan", "cannot allocate %d x %d samples: %s", positions, samples,
+                     strerror(ENOMEM));
         return -1;
     }
     scan->positions = positions;
@@ -80,8 +79,7 @@ int uwb_scan_copy(struct uwb_scan *dst, const struct uwb_scan *src, char *err, s
     if (src->antenna_y_m)
         memcpy(dst->antenna_y_m, src->antenna_y_m, (size_t)src->positions * sizeof *antenna);
     if (src->data)
-        memcpy(dst->data, src->data,
-               (size_t)src->positions * (size_t)src->samples * sizeof *data);
+        memcpy(dst->data, src->data, (size_t)src->positions * (size_t)src->samples * sizeof *data);
     if (copy_string(&dst->created, src->created) || copy_string(&dst->scan_id, src->scan_id) ||
         copy_string(&dst->source, src->source) || copy_string(&dst->comment, src->comment) ||
         copy_string(&dst->extra_json, src->extra_json)) {

@@ -9,9 +9,8 @@
 #include <cJSON.h>
 
 static const char *const standard_keys[] = {
-    "format", "positions", "samples", "sample_interval_s", "t0_s",
-    "antenna_y_m", "tx_m", "rx_m", "eps_r", "target_z_m",
-    "created", "scan_id", "source", "stack", "comment",
+    "format", "positions",  "samples", "sample_interval_s", "t0_s",   "antenna_y_m", "tx_m",    "rx_m",
+    "eps_r",  "target_z_m", "created", "scan_id",           "source", "stack",       "comment",
 };
 
 void uwbscan_fail(char *err, size_t errlen, const char *name, const char *fmt, ...)
@@ -46,11 +45,17 @@ int uwbscan_utf8_valid(const unsigned char *s, size_t len, size_t *bad_offset)
             i++;
             continue;
         } else if ((c & 0xE0) == 0xC0) {
-            extra = 1; cp = c & 0x1F; min = 0x80;
+            extra = 1;
+            cp = c & 0x1F;
+            min = 0x80;
         } else if ((c & 0xF0) == 0xE0) {
-            extra = 2; cp = c & 0x0F; min = 0x800;
+            extra = 2;
+            cp = c & 0x0F;
+            min = 0x800;
         } else if ((c & 0xF8) == 0xF0) {
-            extra = 3; cp = c & 0x07; min = 0x10000;
+            extra = 3;
+            cp = c & 0x07;
+            min = 0x10000;
         } else {
             goto bad;
         }
@@ -113,8 +118,7 @@ uint64_t uwbscan_payload_bytes(int positions, int samples)
     return (uint64_t)positions * (uint64_t)samples * 4u;
 }
 
-static int check_count(const char *key, int value, int limit, const char *name,
-                       char *err, size_t errlen)
+static int check_count(const char *key, int value, int limit, const char *name, char *err, size_t errlen)
 {
     if (value < 1) {
         uwbscan_fail(err, errlen, name, "%s is %d, must be at least 1", key, value);
@@ -127,8 +131,7 @@ static int check_count(const char *key, int value, int limit, const char *name,
     return 0;
 }
 
-static int check_finite(const char *what, double value, const char *name,
-                        char *err, size_t errlen)
+static int check_finite(const char *what, double value, const char *name, char *err, size_t errlen)
 {
     if (!isfinite(value)) {
         uwbscan_fail(err, errlen, name, "%s is not a finite number", what);
@@ -137,8 +140,7 @@ static int check_finite(const char *what, double value, const char *name,
     return 0;
 }
 
-static int check_string(const char *key, const char *value, const char *name,
-                        char *err, size_t errlen)
+static int check_string(const char *key, const char *value, const char *name, char *err, size_t errlen)
 {
     size_t bad;
     if (value && !uwbscan_utf8_valid((const unsigned char *)value, strlen(value), &bad)) {
@@ -171,8 +173,7 @@ static int check_extra_json(const char *extra, const char *name, char *err, size
         rc = 0;
         for (const cJSON *item = object->child; item; item = item->next) {
             if (uwbscan_is_standard_key(item->string)) {
-                uwbscan_fail(err, errlen, name,
-                             "extra_json key '%s' clashes with a standard header key",
+                uwbscan_fail(err, errlen, name, "extra_json key '%s' clashes with a standard header key",
                              item->string);
                 rc = -1;
                 break;
@@ -189,12 +190,14 @@ static int check_rig_limits(const struct uwb_scan *scan, const char *name, char 
 {
     if (scan->sample_interval_s < UWBSCAN_MIN_SAMPLE_INTERVAL_S ||
         scan->sample_interval_s > UWBSCAN_MAX_SAMPLE_INTERVAL_S) {
-        uwbscan_fail(err, errlen, name, "sample_interval_s is %g s, outside what a UWB digitiser records (%g..%g s)",
+        uwbscan_fail(err, errlen, name,
+                     "sample_interval_s is %g s, outside what a UWB digitiser records (%g..%g s)",
                      scan->sample_interval_s, UWBSCAN_MIN_SAMPLE_INTERVAL_S, UWBSCAN_MAX_SAMPLE_INTERVAL_S);
         return -1;
     }
     if (fabs(scan->t0_s) > UWBSCAN_MAX_ABS_T0_S) {
-        uwbscan_fail(err, errlen, name, "t0_s is %g s, beyond the limit of +-%g s", scan->t0_s, UWBSCAN_MAX_ABS_T0_S);
+        uwbscan_fail(err, errlen, name, "t0_s is %g s, beyond the limit of +-%g s", scan->t0_s,
+                     UWBSCAN_MAX_ABS_T0_S);
         return -1;
     }
     for (int k = 1; k < scan->positions; k++) {
@@ -216,15 +219,16 @@ static int check_rig_limits(const struct uwb_scan *scan, const char *name, char 
     }
     double travel = scan->antenna_y_m[scan->positions - 1] - scan->antenna_y_m[0];
     if (travel > UWBSCAN_MAX_TRAVEL_M) {
-        uwbscan_fail(err, errlen, name, "antenna_y_m spans %g m, over the rig's largest travel of %g m", travel,
-                     UWBSCAN_MAX_TRAVEL_M);
+        uwbscan_fail(err, errlen, name, "antenna_y_m spans %g m, over the rig's largest travel of %g m",
+                     travel, UWBSCAN_MAX_TRAVEL_M);
         return -1;
     }
     const double *offsets[2] = {scan->tx_m, scan->rx_m};
     for (int a = 0; a < 2; a++)
         for (int i = 0; i < 2; i++)
             if (fabs(offsets[a][i]) > UWBSCAN_MAX_ANTENNA_OFFSET_M) {
-                uwbscan_fail(err, errlen, name, "%s[%d] is %g m, over the limit of %g m from the reference point",
+                uwbscan_fail(err, errlen, name,
+                             "%s[%d] is %g m, over the limit of %g m from the reference point",
                              a ? "rx_m" : "tx_m", i, offsets[a][i], UWBSCAN_MAX_ANTENNA_OFFSET_M);
                 return -1;
             }
@@ -240,8 +244,7 @@ static int check_rig_limits(const struct uwb_scan *scan, const char *name, char 
     return 0;
 }
 
-int uwbscan_check_fields(const struct uwb_scan *scan, const char *name,
-                         char *err, size_t errlen)
+int uwbscan_check_fields(const struct uwb_scan *scan, const char *name, char *err, size_t errlen)
 {
     if (check_count("positions", scan->positions, UWBSCAN_MAX_POSITIONS, name, err, errlen) ||
         check_count("samples", scan->samples, UWBSCAN_MAX_SAMPLES, name, err, errlen))
@@ -277,15 +280,13 @@ int uwbscan_check_fields(const struct uwb_scan *scan, const char *name,
             check_finite("target_z_m[1]", scan->target_z_m[1], name, err, errlen))
             return -1;
         if (!(scan->target_z_m[0] < scan->target_z_m[1])) {
-            uwbscan_fail(err, errlen, name,
-                         "target_z_m is [%g, %g], near must be less than far",
+            uwbscan_fail(err, errlen, name, "target_z_m is [%g, %g], near must be less than far",
                          scan->target_z_m[0], scan->target_z_m[1]);
             return -1;
         }
     }
     if (scan->stack < 0) {
-        uwbscan_fail(err, errlen, name, "stack is %d, must be a positive integer (0 = absent)",
-                     scan->stack);
+        uwbscan_fail(err, errlen, name, "stack is %d, must be a positive integer (0 = absent)", scan->stack);
         return -1;
     }
     if (check_rig_limits(scan, name, err, errlen) != 0)
@@ -303,16 +304,15 @@ const char *uwbscan_nonfinite_kind(uint32_t bits)
     return (bits & 0x007FFFFFu) ? "NaN" : "infinite";
 }
 
-int uwbscan_check_samples(const struct uwb_scan *scan, const char *name,
-                          char *err, size_t errlen)
+int uwbscan_check_samples(const struct uwb_scan *scan, const char *name, char *err, size_t errlen)
 {
     if (scan->data == NULL) {
         uwbscan_fail(err, errlen, name, "data is missing");
         return -1;
     }
     if (uwbscan_payload_bytes(scan->positions, scan->samples) > SIZE_MAX) {
-        uwbscan_fail(err, errlen, name, "%d x %d samples do not fit in memory",
-                     scan->positions, scan->samples);
+        uwbscan_fail(err, errlen, name, "%d x %d samples do not fit in memory", scan->positions,
+                     scan->samples);
         return -1;
     }
     size_t count = (size_t)scan->positions * (size_t)scan->samples;

@@ -33,13 +33,11 @@ uint64_t uwbscan_payload_bytes(int positions, int samples);
 /* Every header-level rule of the format, applied to a scan in memory:
  * dimensions, finite numbers, ranges, string encoding and extra_json.
  * The sample values are not looked at (see uwbscan_check_samples). */
-int uwbscan_check_fields(const struct uwb_scan *scan, const char *name,
-                         char *err, size_t errlen);
+int uwbscan_check_fields(const struct uwb_scan *scan, const char *name, char *err, size_t errlen);
 
 /* Every sample finite; message names the first offender as
  * "sample S of position K" (both counted from 0). */
-int uwbscan_check_samples(const struct uwb_scan *scan, const char *name,
-                          char *err, size_t errlen);
+int uwbscan_check_samples(const struct uwb_scan *scan, const char *name, char *err, size_t errlen);
 
 /* Message text for a non-finite binary32 bit pattern's kind. */
 const char *uwbscan_nonfinite_kind(uint32_t bits);

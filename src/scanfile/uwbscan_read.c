@@ -28,8 +28,7 @@ struct reader {
 
 /* ---- header keys ---------------------------------------------------- */
 
-static const cJSON *key_item(const struct reader *rd, const cJSON *root, const char *key,
-                             int required)
+static const cJSON *key_item(const struct reader *rd, const cJSON *root, const char *key, int required)
 {
     const cJSON *item = cJSON_GetObjectItemCaseSensitive(root, key);
     if (item == NULL && required)
@@ -53,8 +52,8 @@ static int read_number(const struct reader *rd, const cJSON *item, const char *k
 
 /* JSON has only one number type; "integer" means a whole value in range.
  * The range is checked on the double so the conversion to int is defined. */
-static int read_integer(const struct reader *rd, const cJSON *item, const char *key,
-                        int min, int max, int *out)
+static int read_integer(const struct reader *rd, const cJSON *item, const char *key, int min, int max,
+                        int *out)
 {
     double value;
     if (read_number(rd, item, key, &value) != 0)
@@ -77,8 +76,8 @@ static int read_integer(const struct reader *rd, const cJSON *item, const char *
 
 static int read_pair(const struct reader *rd, const cJSON *item, const char *key, double out[2])
 {
-    if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != 2 ||
-        !cJSON_IsNumber(item->child) || !cJSON_IsNumber(item->child->next)) {
+    if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != 2 || !cJSON_IsNumber(item->child) ||
+        !cJSON_IsNumber(item->child->next)) {
         FAIL(rd, "header key '%s' must be an array of exactly two numbers", key);
         return -1;
     }
@@ -91,8 +90,7 @@ static int read_pair(const struct reader *rd, const cJSON *item, const char *key
     return 0;
 }
 
-static int read_optional_string(const struct reader *rd, const cJSON *root, const char *key,
-                                char **out)
+static int read_optional_string(const struct reader *rd, const cJSON *root, const char *key, char **out)
 {
     const cJSON *item = key_item(rd, root, key, 0);
     if (item == NULL)
@@ -109,8 +107,7 @@ static int read_optional_string(const struct reader *rd, const cJSON *root, cons
     return 0;
 }
 
-static int read_antenna_heights(const struct reader *rd, const cJSON *root,
-                                struct uwb_scan *scan)
+static int read_antenna_heights(const struct reader *rd, const cJSON *root, struct uwb_scan *scan)
 {
     const cJSON *item = key_item(rd, root, "antenna_y_m", 1);
     if (item == NULL)
@@ -124,8 +121,8 @@ static int read_antenna_heights(const struct reader *rd, const cJSON *root,
     for (const cJSON *v = item->child; v; v = v->next)
         count++;
     if (count != (size_t)scan->positions) {
-        FAIL(rd, "antenna_y_m has %zu value%s, positions is %d", count,
-             count == 1 ? "" : "s", scan->positions);
+        FAIL(rd, "antenna_y_m has %zu value%s, positions is %d", count, count == 1 ? "" : "s",
+             scan->positions);
         return -1;
     }
     // NOLINTNEXTLINE(clang-analyzer-optin.portability.UnixAPI): count == positions >= 1 (read_integer above)
@@ -187,8 +184,7 @@ static int read_header_keys(const struct reader *rd, const cJSON *root, struct u
         return -1;
     }
     if (strcmp(item->valuestring, UWBSCAN_FORMAT) != 0) {
-        FAIL(rd, "header key 'format' is \"%.64s\", expected \"%s\"", item->valuestring,
-             UWBSCAN_FORMAT);
+        FAIL(rd, "header key 'format' is \"%.64s\", expected \"%s\"", item->valuestring, UWBSCAN_FORMAT);
         return -1;
     }
 
@@ -200,16 +196,12 @@ static int read_header_keys(const struct reader *rd, const cJSON *root, struct u
         read_number(rd, item, "sample_interval_s", &scan->sample_interval_s))
         return -1;
     if (scan->sample_interval_s <= 0) {
-        FAIL(rd, "header key 'sample_interval_s' is %.15g, must be > 0",
-             scan->sample_interval_s);
+        FAIL(rd, "header key 'sample_interval_s' is %.15g, must be > 0", scan->sample_interval_s);
         return -1;
     }
-    if ((item = key_item(rd, root, "t0_s", 1)) == NULL ||
-        read_number(rd, item, "t0_s", &scan->t0_s) ||
-        read_antenna_heights(rd, root, scan) ||
-        (item = key_item(rd, root, "tx_m", 1)) == NULL ||
-        read_pair(rd, item, "tx_m", scan->tx_m) ||
-        (item = key_item(rd, root, "rx_m", 1)) == NULL ||
+    if ((item = key_item(rd, root, "t0_s", 1)) == NULL || read_number(rd, item, "t0_s", &scan->t0_s) ||
+        read_antenna_heights(rd, root, scan) || (item = key_item(rd, root, "tx_m", 1)) == NULL ||
+        read_pair(rd, item, "tx_m", scan->tx_m) || (item = key_item(rd, root, "rx_m", 1)) == NULL ||
         read_pair(rd, item, "rx_m", scan->rx_m))
         return -1;
 
@@ -246,16 +238,15 @@ static int read_header_keys(const struct reader *rd, const cJSON *root, struct u
 /* ---- line 1 --------------------------------------------------------- */
 
 /* Finds and parses the header line; *payload_at is where the samples begin. */
-static int read_header(const struct reader *rd, const unsigned char *buf, size_t len,
-                       struct uwb_scan *scan, size_t *payload_at)
+static int read_header(const struct reader *rd, const unsigned char *buf, size_t len, struct uwb_scan *scan,
+                       size_t *payload_at)
 {
     if (len == 0) {
         FAIL(rd, "file is empty (no uwbscan/1 header)");
         return -1;
     }
     /* Bounded search: a file without a newline must not make us walk it all. */
-    size_t window = len < (size_t)UWBSCAN_MAX_HEADER_BYTES + 1 ? len
-                                                                 : UWBSCAN_MAX_HEADER_BYTES + 1;
+    size_t window = len < (size_t)UWBSCAN_MAX_HEADER_BYTES + 1 ? len : UWBSCAN_MAX_HEADER_BYTES + 1;
     const unsigned char *newline = memchr(buf, '\n', window);
     if (newline == NULL) {
         if (len > UWBSCAN_MAX_HEADER_BYTES)
@@ -309,8 +300,7 @@ static int read_header(const struct reader *rd, const unsigned char *buf, size_t
     int rc = -1;
     const char *duplicate;
     if (root == NULL) {
-        FAIL(rd, "header is not valid JSON (error near byte %td)",
-             end ? end - text : (ptrdiff_t)0);
+        FAIL(rd, "header is not valid JSON (error near byte %td)", end ? end - text : (ptrdiff_t)0);
     } else if (end + strspn(end, " \t\r") != text + header_len) {
         FAIL(rd, "header line has text after the JSON value (byte %td)", end - text);
     } else if (!cJSON_IsObject(root)) {
@@ -343,9 +333,8 @@ static int read_payload(const struct reader *rd, const unsigned char *payload, s
             snprintf(why, sizeof why, "too short");
         else
             snprintf(why, sizeof why, "%" PRIu64 " trailing bytes", (uint64_t)have - want);
-        FAIL(rd, "payload has %zu bytes, header promises %d x %d float32 = %" PRIu64
-                 " bytes (%s)",
-             have, scan->positions, scan->samples, want, why);
+        FAIL(rd, "payload has %zu bytes, header promises %d x %d float32 = %" PRIu64 " bytes (%s)", have,
+             scan->positions, scan->samples, want, why);
         return -1;
     }
     /* have == want, so want fits in size_t and the allocation is backed by input. */
@@ -358,9 +347,8 @@ static int read_payload(const struct reader *rd, const unsigned char *payload, s
     for (size_t i = 0; i < count; i++) {
         uint32_t bits = load_le32(payload + 4 * i);
         if ((bits & 0x7F800000u) == 0x7F800000u) {
-            FAIL(rd, "sample %zu of position %zu is not finite (%s)",
-                 i % (size_t)scan->samples, i / (size_t)scan->samples,
-                 uwbscan_nonfinite_kind(bits));
+            FAIL(rd, "sample %zu of position %zu is not finite (%s)", i % (size_t)scan->samples,
+                 i / (size_t)scan->samples, uwbscan_nonfinite_kind(bits));
             return -1;
         }
         memcpy(&scan->data[i], &bits, sizeof bits);
@@ -370,8 +358,8 @@ static int read_payload(const struct reader *rd, const unsigned char *payload, s
 
 /* ---- entry points --------------------------------------------------- */
 
-int uwbscan_parse(const void *buf, size_t len, const char *name,
-                  struct uwb_scan *scan, char *err, size_t errlen)
+int uwbscan_parse(const void *buf, size_t len, const char *name, struct uwb_scan *scan, char *err,
+                  size_t errlen)
 {
     struct reader rd = {name ? name : "uwbscan", err, errlen};
     memset(scan, 0, sizeof *scan);
@@ -390,9 +378,8 @@ int uwbscan_parse(const void *buf, size_t len, const char *name,
 }
 
 /* Largest file that could be valid: header line plus the biggest payload. */
-#define UWBSCAN_MAX_FILE_BYTES                                                        \
-    ((uint64_t)UWBSCAN_MAX_HEADER_BYTES + 1 +                                         \
-     (uint64_t)UWBSCAN_MAX_POSITIONS * UWBSCAN_MAX_SAMPLES * 4u)
+#define UWBSCAN_MAX_FILE_BYTES \
+    ((uint64_t)UWBSCAN_MAX_HEADER_BYTES + 1 + (uint64_t)UWBSCAN_MAX_POSITIONS * UWBSCAN_MAX_SAMPLES * 4u)
 
 int uwbscan_read_file(const char *path, struct uwb_scan *scan, char *err, size_t errlen)
 {

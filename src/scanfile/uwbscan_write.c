@@ -134,8 +134,7 @@ fail:
 }
 
 /* The header line's text (without '\n'), malloc'd, after every check. */
-static char *checked_header(const struct uwb_scan *scan, const char *name,
-                            char *err, size_t errlen)
+static char *checked_header(const struct uwb_scan *scan, const char *name, char *err, size_t errlen)
 {
     if (uwbscan_check_fields(scan, name, err, errlen) != 0 ||
         uwbscan_check_samples(scan, name, err, errlen) != 0)
@@ -149,8 +148,8 @@ static char *checked_header(const struct uwb_scan *scan, const char *name,
     }
     size_t len = strlen(text);
     if (len > UWBSCAN_MAX_HEADER_BYTES) {
-        uwbscan_fail(err, errlen, name, "header would be %zu bytes, over the limit of %zu",
-                     len, UWBSCAN_MAX_HEADER_BYTES);
+        uwbscan_fail(err, errlen, name, "header would be %zu bytes, over the limit of %zu", len,
+                     UWBSCAN_MAX_HEADER_BYTES);
         free(text);
         return NULL;
     }
@@ -174,8 +173,7 @@ static void encode_samples(const float *data, size_t count, unsigned char *out)
 
 /* ---- entry points --------------------------------------------------- */
 
-int uwbscan_serialise(const struct uwb_scan *scan, unsigned char **buf, size_t *len,
-                      char *err, size_t errlen)
+int uwbscan_serialise(const struct uwb_scan *scan, unsigned char **buf, size_t *len, char *err, size_t errlen)
 {
     *buf = NULL;
     *len = 0;
@@ -187,16 +185,15 @@ int uwbscan_serialise(const struct uwb_scan *scan, unsigned char **buf, size_t *
     uint64_t payload = uwbscan_payload_bytes(scan->positions, scan->samples);
     if (payload > SIZE_MAX - header_len - 1) {
         free(header);
-        uwbscan_fail(err, errlen, name, "%d x %d samples do not fit in memory",
-                     scan->positions, scan->samples);
+        uwbscan_fail(err, errlen, name, "%d x %d samples do not fit in memory", scan->positions,
+                     scan->samples);
         return -1;
     }
     size_t total = header_len + 1 + (size_t)payload;
     unsigned char *out = malloc(total);
     if (out == NULL) {
         free(header);
-        uwbscan_fail(err, errlen, name, "cannot allocate %zu bytes: %s", total,
-                     strerror(ENOMEM));
+        uwbscan_fail(err, errlen, name, "cannot allocate %zu bytes: %s", total, strerror(ENOMEM));
         return -1;
     }
     // NOLINTNEXTLINE(bugprone-not-null-terminated-result): bytes of a file, not a C string

@@ -15,8 +15,7 @@
 /* Mode for a file that did not exist before (what umask 022 would give). */
 #define NEW_FILE_MODE 0644
 
-static void set_error(char *err, size_t errlen, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
+static void set_error(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
 static void set_error(char *err, size_t errlen, const char *fmt, ...)
 {
@@ -67,8 +66,8 @@ int uwb_atomic_file_open(struct atomic_file *af, const char *path, char *err, si
         return -1;
     }
     int dir_len = slash ? (int)(slash - path + 1) : 0;
-    int n = snprintf(af->temp_path, sizeof af->temp_path, "%.*s" ATOMIC_FILE_TEMP_PREFIX "%s.XXXXXX" ATOMIC_FILE_TEMP_SUFFIX,
-                     dir_len, path, base);
+    int n = snprintf(af->temp_path, sizeof af->temp_path,
+                     "%.*s" ATOMIC_FILE_TEMP_PREFIX "%s.XXXXXX" ATOMIC_FILE_TEMP_SUFFIX, dir_len, path, base);
     if (strlen(path) >= sizeof af->final_path || n < 0 || (size_t)n >= sizeof af->temp_path) {
         af->temp_path[0] = '\0';
         /* Quote only the start: the whole path would crowd out the reason. */
@@ -86,14 +85,12 @@ int uwb_atomic_file_open(struct atomic_file *af, const char *path, char *err, si
     }
     /* mkstemp gives 0600; keep a replaced file's mode, else a readable default. */
     struct stat st;
-    mode_t mode = stat(path, &st) == 0 && S_ISREG(st.st_mode) ? st.st_mode & 07777
-                                                               : NEW_FILE_MODE;
+    mode_t mode = stat(path, &st) == 0 && S_ISREG(st.st_mode) ? st.st_mode & 07777 : NEW_FILE_MODE;
     if (fchmod(fd, mode) != 0) {
         int e = errno;
         close(fd);
         discard_temp(af);
-        set_error(err, errlen, "%s: cannot set mode of %s: %s", path, af->temp_path,
-                  strerror(e));
+        set_error(err, errlen, "%s: cannot set mode of %s: %s", path, af->temp_path, strerror(e));
         return -1;
     }
     af->fp = fdopen(fd, "wb");
@@ -151,16 +148,15 @@ int uwb_atomic_file_commit(struct atomic_file *af, char *err, size_t errlen)
     int dfd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dfd < 0) {
         e = errno;
-        set_error(err, errlen, "%s: written, but cannot open directory %s to fsync it: %s",
-                  path, dir, strerror(e));
+        set_error(err, errlen, "%s: written, but cannot open directory %s to fsync it: %s", path, dir,
+                  strerror(e));
         return -1;
     }
     /* Some filesystems cannot fsync a directory (EINVAL); nothing more to do there. */
     if (fsync(dfd) != 0 && errno != EINVAL) {
         e = errno;
         close(dfd);
-        set_error(err, errlen, "%s: written, but cannot fsync directory %s: %s",
-                  path, dir, strerror(e));
+        set_error(err, errlen, "%s: written, but cannot fsync directory %s: %s", path, dir, strerror(e));
         return -1;
     }
     close(dfd);

@@ -13,8 +13,8 @@
 /* First buffer when the size is not known beforehand (pipes, sockets, /proc). */
 #define UNKNOWN_SIZE_FIRST_BUFFER 65536
 
-enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, char **out,
-                                 size_t *out_len, char *err, size_t errlen)
+enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, char **out, size_t *out_len,
+                                 char *err, size_t errlen)
 {
     *out = NULL;
     *out_len = 0;
@@ -30,8 +30,8 @@ enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, cha
     /* A regular file tells its size: refuse it before allocating anything. */
     int size_known = S_ISREG(st.st_mode) && st.st_size > 0;
     if (size_known && (uintmax_t)st.st_size > max_bytes) {
-        snprintf(err, errlen, "%s: too big: %jd bytes, over the limit of %zu", name,
-                 (intmax_t)st.st_size, max_bytes);
+        snprintf(err, errlen, "%s: too big: %jd bytes, over the limit of %zu", name, (intmax_t)st.st_size,
+                 max_bytes);
         return UWB_READ_TOO_BIG;
     }
     /* So that max_bytes + 2 below cannot wrap (no such buffer could be allocated anyway). */
@@ -82,8 +82,8 @@ enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, cha
     return UWB_READ_OK;
 }
 
-enum uwb_read_result uwb_read_file(const char *path, size_t max_bytes, char **out, size_t *out_len,
-                                   char *err, size_t errlen)
+enum uwb_read_result uwb_read_file(const char *path, size_t max_bytes, char **out, size_t *out_len, char *err,
+                                   size_t errlen)
 {
     *out = NULL;
     *out_len = 0;

@@ -13,8 +13,7 @@ void uwb_compare_defaults(struct uwb_compare_options *opt)
     opt->baseline_repeatability_m = 0;
 }
 
-int uwb_scans_comparable(const struct uwb_scan *cur, const struct uwb_scan *base,
-                         char *why, size_t whylen)
+int uwb_scans_comparable(const struct uwb_scan *cur, const struct uwb_scan *base, char *why, size_t whylen)
 {
     if (cur->positions != base->positions) {
         snprintf(why, whylen, "baseline has %d antenna positions, this scan %d", base->positions,
@@ -47,13 +46,13 @@ static void copy_reason(struct uwb_verdict *v, const char *prefix, const char *r
 double uwb_displacement_uncertainty(const struct uwb_uncertainty_terms *t)
 {
     return sqrt(t->noise_current_m * t->noise_current_m + t->noise_baseline_m * t->noise_baseline_m +
-                t->clutter_current_m * t->clutter_current_m +
-                t->clutter_baseline_m * t->clutter_baseline_m + t->systematic_m * t->systematic_m +
+                t->clutter_current_m * t->clutter_current_m + t->clutter_baseline_m * t->clutter_baseline_m +
+                t->systematic_m * t->systematic_m +
                 t->baseline_repeatability_m * t->baseline_repeatability_m);
 }
 
-void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur,
-                       const struct uwb_edges *base, const struct uwb_compare_options *opt)
+void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur, const struct uwb_edges *base,
+                       const struct uwb_compare_options *opt)
 {
     uwb_compare_pair(v, cur, base, NULL, opt);
 }

@@ -9,7 +9,7 @@
 
 int uwb_status_from_name(const char *name, enum uwb_status *out)
 {
-    static const enum uwb_status all[] = {UWB_STATUS_EDGES, UWB_STATUS_OK, UWB_STATUS_WATCH,
+    static const enum uwb_status all[] = {UWB_STATUS_EDGES, UWB_STATUS_OK,           UWB_STATUS_WATCH,
                                           UWB_STATUS_ALARM, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR};
     for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
         if (strcmp(name, uwb_status_name(all[i])) == 0) {
@@ -46,8 +46,10 @@ static int parse_utc(const char *text, time_t *out)
     struct tm tm;
     memset(&tm, 0, sizeof tm);
     char zone = 0;
-    if (!text || sscanf(text, "%4d-%2d-%2dT%2d:%2d:%2d%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour,
-                        &tm.tm_min, &tm.tm_sec, &zone) != 7 || zone != 'Z')
+    if (!text ||
+        sscanf(text, "%4d-%2d-%2dT%2d:%2d:%2d%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour,
+               &tm.tm_min, &tm.tm_sec, &zone) != 7 ||
+        zone != 'Z')
         return 0;
     if (tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 || tm.tm_hour > 23 ||
         tm.tm_min > 59 || tm.tm_sec > 60)
@@ -76,7 +78,8 @@ static int read_point(const char *line, struct uwb_trend_point *p)
     copy_text(p->reason, sizeof p->reason, text_of(o, "reason"));
     const cJSON *base = cJSON_GetObjectItemCaseSensitive(o, "baseline");
     copy_text(p->baseline_id, sizeof p->baseline_id, text_of(base, "scan_id"));
-    p->became_baseline = p->baseline_change = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(o, "baseline_set"));
+    p->became_baseline = p->baseline_change =
+        cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(o, "baseline_set"));
     /* A figure only where the verdict made one: an inconclusive or error
      * verdict never becomes a point on the line. */
     int decided = status == UWB_STATUS_OK || status == UWB_STATUS_WATCH || status == UWB_STATUS_ALARM;

@@ -12,36 +12,36 @@
 #define UWB_TREND_ID_MAX 100
 
 struct uwb_trend_point {
-    char created[32];              /* as the verdict says it, "" when missing */
+    char created[32]; /* as the verdict says it, "" when missing */
     int has_time;
-    time_t t;                      /* created, as UTC seconds */
+    time_t t; /* created, as UTC seconds */
     char scan_id[UWB_TREND_ID_MAX + 1];
     enum uwb_status status;
-    int has_displacement;          /* a figure (ok, watch, alarm); otherwise see reason */
-    double displacement_mm, sigma_mm;   /* sigma: 1-sigma, as uncertainty_mm in the verdict */
+    int has_displacement;             /* a figure (ok, watch, alarm); otherwise see reason */
+    double displacement_mm, sigma_mm; /* sigma: 1-sigma, as uncertainty_mm in the verdict */
     int has_height_change;
     double height_change_mm;
-    char baseline_id[UWB_TREND_ID_MAX + 1];   /* the baseline compared against, "" when none */
-    int became_baseline;           /* this scan was made the baseline (baseline_set) */
-    int baseline_change;           /* became_baseline, or compared against another baseline than the scans before */
-    char reason[160];              /* why there is no figure (inconclusive, error), cut short */
+    char baseline_id[UWB_TREND_ID_MAX + 1]; /* the baseline compared against, "" when none */
+    int became_baseline;                    /* this scan was made the baseline (baseline_set) */
+    int baseline_change; /* became_baseline, or compared against another baseline than the scans before */
+    char reason[160];    /* why there is no figure (inconclusive, error), cut short */
 };
 
 /* Least-squares slope of displacement over time, each point weighted by
  * 1/sigma^2, over the figures since the newest baseline change (a new
  * baseline starts a new series). */
 struct uwb_trend_rate {
-    int known;                     /* 0: fewer than two dated figures, or all at one time */
-    int points;                    /* figures it is made of */
+    int known;  /* 0: fewer than two dated figures, or all at one time */
+    int points; /* figures it is made of */
     double mm_per_day;
-    double sigma_mm_per_day;       /* its 1-sigma from the figures' sigmas */
-    double days;                   /* time the figures span */
+    double sigma_mm_per_day; /* its 1-sigma from the figures' sigmas */
+    double days;             /* time the figures span */
 };
 
 struct uwb_trend {
     int count;
-    struct uwb_trend_point *points;   /* oldest first */
-    int unreadable;                /* lines that were not a verdict */
+    struct uwb_trend_point *points; /* oldest first */
+    int unreadable;                 /* lines that were not a verdict */
     struct uwb_trend_rate rate;
 };
 

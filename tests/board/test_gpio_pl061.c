@@ -21,17 +21,17 @@
 /* Where the appliance's lines sit on the PL061 for these tests. */
 static const int line_offset[UWB_LINE_RIG] = {
     [UWB_LINE_TRIGGER] = 0, [UWB_LINE_STEP] = 1, [UWB_LINE_DIR] = 2,
-    [UWB_LINE_ENABLE] = 4, [UWB_LINE_HOME] = 5,
+    [UWB_LINE_ENABLE] = 4,  [UWB_LINE_HOME] = 5,
 };
 
-static int chip_base = -1;     /* global (sysfs) number of offset 0 */
+static int chip_base = -1; /* global (sysfs) number of offset 0 */
 static int chip_lines = 0;
 static char err[512];
 
 struct kernel_line {
     int requested;
     int is_out;
-    int high;                  /* raw level the chip reports */
+    int high; /* raw level the chip reports */
     char consumer[32];
 };
 
@@ -225,7 +225,8 @@ static void test_set_drives_the_kernel_line_and_get_reads_it_back(void)
         enum uwb_gpio_line line = outputs[i];
         for (int level = 1; level >= 0; level--) {
             TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_GPIO_OK, uwb_gpio_set(gpio, line, level, err, sizeof err), err);
-            TEST_ASSERT_EQUAL_INT_MESSAGE(level, kernel_view(line_offset[line]).high, uwb_gpio_line_name(line));
+            TEST_ASSERT_EQUAL_INT_MESSAGE(level, kernel_view(line_offset[line]).high,
+                                          uwb_gpio_line_name(line));
             /* The other outputs stay where they were: no cross-talk between lines. */
             for (size_t j = 0; j < sizeof outputs / sizeof outputs[0]; j++) {
                 if (j != i) {
@@ -234,7 +235,8 @@ static void test_set_drives_the_kernel_line_and_get_reads_it_back(void)
                 }
             }
             int value = -1;
-            TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_GPIO_OK, uwb_gpio_get(gpio, line, &value, err, sizeof err), err);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_GPIO_OK, uwb_gpio_get(gpio, line, &value, err, sizeof err),
+                                          err);
             TEST_ASSERT_EQUAL_INT(level, value);
         }
     }
@@ -254,8 +256,10 @@ static void test_home_input_follows_the_active_low_mapping(void)
         TEST_ASSERT_TRUE(k.requested);
         TEST_ASSERT_FALSE(k.is_out);
         int value = -1;
-        TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_GPIO_OK, uwb_gpio_get(gpio, UWB_LINE_HOME, &value, err, sizeof err), err);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(active_low ? !k.high : k.high, value, active_low ? "active low" : "active high");
+        TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_GPIO_OK, uwb_gpio_get(gpio, UWB_LINE_HOME, &value, err, sizeof err),
+                                      err);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(active_low ? !k.high : k.high, value,
+                                      active_low ? "active low" : "active high");
         uwb_gpio_close(gpio);
     }
 }
@@ -294,7 +298,8 @@ static void test_active_low_enable_is_high_when_the_motor_is_off(void)
     struct uwb_gpio *gpio = open_ok(&cfg);
     TEST_ASSERT_TRUE_MESSAGE(kernel_view(line_offset[UWB_LINE_ENABLE]).high, "motor energised at open");
     TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_GPIO_OK, uwb_gpio_set(gpio, UWB_LINE_ENABLE, 1, err, sizeof err), err);
-    TEST_ASSERT_FALSE_MESSAGE(kernel_view(line_offset[UWB_LINE_ENABLE]).high, "EN not pulled low by enable=1");
+    TEST_ASSERT_FALSE_MESSAGE(kernel_view(line_offset[UWB_LINE_ENABLE]).high,
+                              "EN not pulled low by enable=1");
     uwb_gpio_close(gpio);
     char direction[16];
     int high = -1;
@@ -325,7 +330,7 @@ static void test_offset_beyond_the_chip_is_a_line_error(void)
 {
     struct uwb_gpio_config cfg;
     pl061_config(&cfg, CHIP_LABEL);
-    cfg.offset[UWB_LINE_DIR] = chip_lines;     /* one past the last line */
+    cfg.offset[UWB_LINE_DIR] = chip_lines; /* one past the last line */
     expect_open_error(&cfg, UWB_GPIO_ERR_LINE, uwb_gpio_line_name(UWB_LINE_DIR));
 }
 
@@ -372,7 +377,7 @@ static void test_partly_busy_open_gives_back_what_it_took(void)
     second.offset[UWB_LINE_TRIGGER] = 0;
     second.offset[UWB_LINE_STEP] = 4;
     second.offset[UWB_LINE_DIR] = 5;
-    second.offset[UWB_LINE_ENABLE] = 3;   /* taken: first's TRIGGER */
+    second.offset[UWB_LINE_ENABLE] = 3; /* taken: first's TRIGGER */
     second.offset[UWB_LINE_HOME] = 7;
     expect_open_error(&second, UWB_GPIO_ERR_BUSY, uwb_gpio_line_name(UWB_LINE_ENABLE));
     TEST_ASSERT_FALSE_MESSAGE(kernel_view(0).requested, "offset 0 kept after the failed open");

@@ -48,10 +48,10 @@ static void round_trip(struct uwb_link *link, const uint8_t *out, size_t len)
 {
     uint8_t *back = malloc(len);
     TEST_ASSERT_NOT_NULL(back);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_LINK_OK, uwb_link_write_all(link, out, len, REPLY_TIMEOUT_MS, err, sizeof err),
-                                  err);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_LINK_OK, uwb_link_read_exact(link, back, len, REPLY_TIMEOUT_MS, err, sizeof err),
-                                  err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_LINK_OK,
+                                  uwb_link_write_all(link, out, len, REPLY_TIMEOUT_MS, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        UWB_LINK_OK, uwb_link_read_exact(link, back, len, REPLY_TIMEOUT_MS, err, sizeof err), err);
     for (size_t i = 0; i < len; i++) {
         if ((uint8_t)(back[i] ^ out[i]) != 0xff) {
             char where[96];
@@ -69,7 +69,7 @@ static void test_every_byte_value_crosses_the_uart_unchanged(void)
     TEST_ASSERT_TRUE(uwb_link_fd(link) >= 0);
     uint8_t all[256];
     for (int i = 0; i < 256; i++)
-        all[i] = (uint8_t)i;    /* includes NUL, XON/XOFF, CR, LF, ^C, ^D */
+        all[i] = (uint8_t)i; /* includes NUL, XON/XOFF, CR, LF, ^C, ^D */
     round_trip(link, all, sizeof all);
     uwb_link_close(link);
 }
@@ -80,7 +80,7 @@ static void test_a_block_larger_than_the_buffers_round_trips(void)
     struct uwb_link *link = open_port();
     enum { LEN = 16384 };
     static uint8_t block[LEN];
-    uint32_t x = 2463534242u;   /* xorshift32: reproducible, not periodic in the block */
+    uint32_t x = 2463534242u; /* xorshift32: reproducible, not periodic in the block */
     for (size_t i = 0; i < LEN; i++) {
         x ^= x << 13;
         x ^= x >> 17;

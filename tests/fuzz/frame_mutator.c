@@ -38,7 +38,7 @@ void fuzz_fix_frame_crcs(uint8_t *data, size_t size, unsigned seed)
         put_u32(h + 16, crc_of(h, 16));
         uint32_t length = get_u32(h + 12);
         if (length > UWB_FRAME_MAX_PAYLOAD || uwb_frame_size(length) > size - at)
-            continue;   /* a truncated frame stays truncated */
+            continue; /* a truncated frame stays truncated */
         size_t body = UWB_FRAME_HEADER_BYTES + length;
         put_u32(h + body, crc_of(h, body));
         at += body + UWB_FRAME_TRAILER_BYTES - 1;

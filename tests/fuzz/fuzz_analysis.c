@@ -49,8 +49,8 @@ static int evaluate(const struct uwb_scan *scan, const struct uwb_scan *baseline
         outcome = fuzz_broken(why, whylen, "verdict of status %d", (int)v.status);
     } else if (check_edges(&v.current, why, whylen) == FUZZ_BROKEN) {
         outcome = FUZZ_BROKEN;
-    } else if (baseline && (v.status == UWB_STATUS_OK || v.status == UWB_STATUS_WATCH ||
-                            v.status == UWB_STATUS_ALARM) &&
+    } else if (baseline &&
+               (v.status == UWB_STATUS_OK || v.status == UWB_STATUS_WATCH || v.status == UWB_STATUS_ALARM) &&
                !(fabs(v.axial_displacement_m) <= 1e-9 + 3 * v.uncertainty_m)) {
         outcome = fuzz_broken(why, whylen, "a scan against itself moved %g m +- %g m (status %s)",
                               v.axial_displacement_m, v.uncertainty_m, uwb_status_name(v.status));

@@ -36,15 +36,13 @@ static int parse_line(const char *line, size_t len, int *accepted, char *why, si
             return fuzz_broken(why, whylen, "command without a name");
         ++*accepted;
         return FUZZ_ACCEPTED;
-    case UWB_COMMAND_EMPTY:
-        return FUZZ_ACCEPTED;
+    case UWB_COMMAND_EMPTY: return FUZZ_ACCEPTED;
     case UWB_COMMAND_INVALID:
         if (!err[0])
             return fuzz_broken(why, whylen, "refused without a message");
         snprintf(why, whylen, "%s", err);
         return FUZZ_REJECTED;
-    default:
-        return fuzz_broken(why, whylen, "parser returned %d", rc);
+    default: return fuzz_broken(why, whylen, "parser returned %d", rc);
     }
 }
 

@@ -19,10 +19,10 @@
 static int check_config(const struct uwbd_config *cfg, char *why, size_t whylen)
 {
     const struct uwb_rig_config *r = &cfg->rig;
-    if (!TERMINATED(cfg->state_dir) || !TERMINATED(cfg->console_endpoint) || !TERMINATED(cfg->control_socket) ||
-        !TERMINATED(cfg->control_mode_text) || !TERMINATED(cfg->control_group) || !TERMINATED(r->gpio.backend) ||
-        !TERMINATED(r->gpio.chip) || !TERMINATED(r->gpio.endpoint) || !TERMINATED(r->digitiser.endpoint) ||
-        !TERMINATED(r->source))
+    if (!TERMINATED(cfg->state_dir) || !TERMINATED(cfg->console_endpoint) ||
+        !TERMINATED(cfg->control_socket) || !TERMINATED(cfg->control_mode_text) ||
+        !TERMINATED(cfg->control_group) || !TERMINATED(r->gpio.backend) || !TERMINATED(r->gpio.chip) ||
+        !TERMINATED(r->gpio.endpoint) || !TERMINATED(r->digitiser.endpoint) || !TERMINATED(r->source))
         return fuzz_broken(why, whylen, "accepted with an unterminated string");
     for (int i = 0; i < UWB_LINE_COUNT; i++)
         if (!TERMINATED(r->gpio.name[i]))
@@ -31,18 +31,31 @@ static int check_config(const struct uwbd_config *cfg, char *why, size_t whylen)
         return fuzz_broken(why, whylen, "accepted without state_dir, control.socket or digitiser.endpoint");
     if (cfg->control_mode > 07777)
         return fuzz_broken(why, whylen, "accepted control.mode %o", cfg->control_mode);
-    double numbers[] = {cfg->interval_s, cfg->retention_max_age_days, cfg->evaluate.direct_coupling.window_end_s,
-                        cfg->evaluate.direct_coupling.tolerance_s, r->first_position_mm, r->step_mm, r->tx_m[0], r->tx_m[1],
-                        r->rx_m[0], r->rx_m[1], r->eps_r, r->trigger_pulse_us, r->time_scale,
-                        r->digitiser.sample_interval_s, r->digitiser.t0_s};
+    double numbers[] = {cfg->interval_s,
+                        cfg->retention_max_age_days,
+                        cfg->evaluate.direct_coupling.window_end_s,
+                        cfg->evaluate.direct_coupling.tolerance_s,
+                        r->first_position_mm,
+                        r->step_mm,
+                        r->tx_m[0],
+                        r->tx_m[1],
+                        r->rx_m[0],
+                        r->rx_m[1],
+                        r->eps_r,
+                        r->trigger_pulse_us,
+                        r->time_scale,
+                        r->digitiser.sample_interval_s,
+                        r->digitiser.t0_s};
     for (size_t i = 0; i < sizeof numbers / sizeof numbers[0]; i++)
         if (!isfinite(numbers[i]))
             return fuzz_broken(why, whylen, "accepted a non-finite number (#%zu)", i);
     if (cfg->interval_s < 0 || cfg->retention_max_scans < 0 || cfg->retention_max_age_days < 0)
         return fuzz_broken(why, whylen, "accepted a negative schedule or retention");
     if (r->positions < 1 || r->digitiser.samples < 1 || r->digitiser.samples > UWB_FRAME_MAX_SAMPLES ||
-        !(r->digitiser.sample_interval_s > 0) || r->digitiser.frame_timeout_ms < 1 || r->digitiser.frame_retries < 0)
-        return fuzz_broken(why, whylen, "accepted %d positions, %d samples at %g s, timeout %d ms, %d retries",
+        !(r->digitiser.sample_interval_s > 0) || r->digitiser.frame_timeout_ms < 1 ||
+        r->digitiser.frame_retries < 0)
+        return fuzz_broken(why, whylen,
+                           "accepted %d positions, %d samples at %g s, timeout %d ms, %d retries",
                            r->positions, r->digitiser.samples, r->digitiser.sample_interval_s,
                            r->digitiser.frame_timeout_ms, r->digitiser.frame_retries);
     char err[512];

@@ -65,7 +65,7 @@ static int run_session(struct uwb_digitiser_config *cfg, char *why, size_t whyle
     float trace[SAMPLES];
     for (int t = 0; outcome != FUZZ_BROKEN && t < TRIGGERS; t++) {
         char err[1024] = "";
-        memset(trace, 0xff, sizeof trace);   /* NaN until written */
+        memset(trace, 0xff, sizeof trace); /* NaN until written */
         rc = uwb_digitiser_acquire(dig, fire_nothing, &fired, trace, err, sizeof err);
         if (rc == UWB_DIGITISER_OK) {
             traces++;
@@ -81,8 +81,9 @@ static int run_session(struct uwb_digitiser_config *cfg, char *why, size_t whyle
         uwb_digitiser_get_stats(dig, &st);
         if (st.traces != traces || st.fired != fired || st.retries > st.fired ||
             st.fired > (unsigned long)TRIGGERS * (unsigned long)(cfg->frame_retries + 1))
-            outcome = fuzz_broken(why, whylen, "stats: %lu traces (%u returned), %lu fired (%u fired), %lu retries",
-                                  st.traces, traces, st.fired, fired, st.retries);
+            outcome =
+                fuzz_broken(why, whylen, "stats: %lu traces (%u returned), %lu fired (%u fired), %lu retries",
+                            st.traces, traces, st.fired, fired, st.retries);
         else if (traces == 0) {
             snprintf(why, whylen, "no trace in %lu triggers", st.fired);
             outcome = FUZZ_REJECTED;

@@ -46,8 +46,8 @@ static int check_payload(const struct uwb_frame *f, char *why, size_t whylen)
         double interval;
         int rc = uwb_configure_payload_parse(f, &samples, &interval);
         if ((rc == 0) != (f->length == UWB_FRAME_CONFIGURE_BYTES))
-            return fuzz_broken(why, whylen, "CONFIGURE payload of %u bytes: parse returned %d", (unsigned)f->length,
-                               rc);
+            return fuzz_broken(why, whylen, "CONFIGURE payload of %u bytes: parse returned %d",
+                               (unsigned)f->length, rc);
         return rc == 0 ? FUZZ_ACCEPTED : FUZZ_REJECTED;
     }
     if (f->type == UWB_FRAME_ERROR) {
@@ -97,8 +97,8 @@ static int decode_stream(const uint8_t *stream, size_t size, unsigned long *foun
                 rc = fuzz_broken(why, whylen, "decoder returned %d", status);
                 break;
             }
-            if (f.version != UWB_FRAME_VERSION || f.length > UWB_FRAME_MAX_PAYLOAD ||
-                f.payload < dec.buf || f.payload + f.length > dec.buf + dec.cap) {
+            if (f.version != UWB_FRAME_VERSION || f.length > UWB_FRAME_MAX_PAYLOAD || f.payload < dec.buf ||
+                f.payload + f.length > dec.buf + dec.cap) {
                 rc = fuzz_broken(why, whylen, "frame found outside the decoder's buffer or limits");
                 break;
             }
@@ -125,7 +125,8 @@ static int decode_stream(const uint8_t *stream, size_t size, unsigned long *foun
         }
     }
     if (rc != FUZZ_BROKEN && dec.frames + dec.bad_headers + dec.bad_crcs != statuses)
-        rc = fuzz_broken(why, whylen, "decoder counts %lu frames, %lu bad headers, %lu bad CRCs for %lu results",
+        rc = fuzz_broken(why, whylen,
+                         "decoder counts %lu frames, %lu bad headers, %lu bad CRCs for %lu results",
                          dec.frames, dec.bad_headers, dec.bad_crcs, statuses);
     uwb_frame_decoder_free(&dec);
     return rc;

@@ -17,8 +17,8 @@
 
 static int known_error(int rc)
 {
-    return rc == UWB_GPIO_ERR_CHIP || rc == UWB_GPIO_ERR_LINE || rc == UWB_GPIO_ERR_BUSY || rc == UWB_GPIO_ERR_IO ||
-           rc == UWB_GPIO_ERR_CONFIG;
+    return rc == UWB_GPIO_ERR_CHIP || rc == UWB_GPIO_ERR_LINE || rc == UWB_GPIO_ERR_BUSY ||
+           rc == UWB_GPIO_ERR_IO || rc == UWB_GPIO_ERR_CONFIG;
 }
 
 static int run_session(char *why, size_t whylen)
@@ -44,7 +44,8 @@ static int run_session(char *why, size_t whylen)
         enum uwb_gpio_line line = i % 3 ? UWB_LINE_HOME : (enum uwb_gpio_line)(i / 3 % UWB_LINE_RIG);
         char err[512] = "";
         if (line != UWB_LINE_HOME && (rc = uwb_gpio_set(gpio, line, i & 1, err, sizeof err)) != UWB_GPIO_OK) {
-            outcome = err[0] ? FUZZ_ACCEPTED : fuzz_broken(why, whylen, "set failed (%d) without a message", rc);
+            outcome =
+                err[0] ? FUZZ_ACCEPTED : fuzz_broken(why, whylen, "set failed (%d) without a message", rc);
             break;
         }
         int value = -1;

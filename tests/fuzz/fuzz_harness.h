@@ -50,7 +50,8 @@ void fuzz_link_script(const uint8_t *data, size_t size);
 void fuzz_fix_frame_crcs(uint8_t *data, size_t size, unsigned seed);
 
 /* Writes a message into why and returns FUZZ_BROKEN. */
-static inline int fuzz_broken(char *why, size_t whylen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static inline int fuzz_broken(char *why, size_t whylen, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 static inline int fuzz_broken(char *why, size_t whylen, const char *fmt, ...)
 {
     va_list ap;
@@ -63,27 +64,27 @@ static inline int fuzz_broken(char *why, size_t whylen, const char *fmt, ...)
 #ifdef UWB_LIBFUZZER
 /* The libFuzzer entry point of a `make fuzz` binary: a broken contract
  * is a crash, with the reason on stderr. */
-#define UWB_FUZZ_TARGET(harness)                                                  \
-    int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);                 \
-    int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)                  \
-    {                                                                             \
-        char why[1024] = "";                                                      \
-        if (harness(data, size, why, sizeof why) == FUZZ_BROKEN) {                \
-            fprintf(stderr, "fuzz contract broken: %s\n", why);                   \
-            abort();                                                              \
-        }                                                                         \
-        return 0;                                                                 \
+#define UWB_FUZZ_TARGET(harness) \
+    int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size); \
+    int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) \
+    { \
+        char why[1024] = ""; \
+        if (harness(data, size, why, sizeof why) == FUZZ_BROKEN) { \
+            fprintf(stderr, "fuzz contract broken: %s\n", why); \
+            abort(); \
+        } \
+        return 0; \
     }
 /* For the targets that read digitiser frames: libFuzzer's mutation, then
  * the CRCs made right again (most of the time). */
 size_t LLVMFuzzerMutate(uint8_t *data, size_t size, size_t max_size);
-#define UWB_FUZZ_FRAME_MUTATOR                                                             \
+#define UWB_FUZZ_FRAME_MUTATOR \
     size_t LLVMFuzzerCustomMutator(uint8_t *data, size_t size, size_t max_size, unsigned seed); \
-    size_t LLVMFuzzerCustomMutator(uint8_t *data, size_t size, size_t max_size, unsigned seed)  \
-    {                                                                                      \
-        size = LLVMFuzzerMutate(data, size, max_size);                                     \
-        fuzz_fix_frame_crcs(data, size, seed);                                             \
-        return size;                                                                       \
+    size_t LLVMFuzzerCustomMutator(uint8_t *data, size_t size, size_t max_size, unsigned seed) \
+    { \
+        size = LLVMFuzzerMutate(data, size, max_size); \
+        fuzz_fix_frame_crcs(data, size, seed); \
+        return size; \
     }
 #else
 #define UWB_FUZZ_TARGET(harness)

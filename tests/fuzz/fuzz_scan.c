@@ -25,8 +25,8 @@ static int check_scan(const struct uwb_scan *s, char *why, size_t whylen)
         return fuzz_broken(why, whylen, "accepted without antenna heights or samples");
     if (!(s->sample_interval_s > 0) || !isfinite(s->sample_interval_s) || !isfinite(s->t0_s) ||
         !(s->eps_r >= 1) || !isfinite(s->eps_r))
-        return fuzz_broken(why, whylen, "accepted sample_interval_s %g, t0_s %g, eps_r %g", s->sample_interval_s,
-                           s->t0_s, s->eps_r);
+        return fuzz_broken(why, whylen, "accepted sample_interval_s %g, t0_s %g, eps_r %g",
+                           s->sample_interval_s, s->t0_s, s->eps_r);
     if (s->has_target_z && !(s->target_z_m[0] < s->target_z_m[1]))
         return fuzz_broken(why, whylen, "accepted target_z_m [%g, %g]", s->target_z_m[0], s->target_z_m[1]);
     for (int k = 0; k < s->positions; k++)

@@ -12,7 +12,8 @@
 static const char sample[] =
     "{\"state_dir\": \"run/state\", \"control\": {\"socket\": \"run/control.sock\"},"
     " \"gpio\": {\"backend\": \"emulated\", \"endpoint\": \"unix:run/gpio.sock\"},"
-    " \"digitiser\": {\"endpoint\": \"unix:run/digitiser.sock\", \"samples\": 2048, \"sample_interval_ps\": 10,"
+    " \"digitiser\": {\"endpoint\": \"unix:run/digitiser.sock\", \"samples\": 2048, \"sample_interval_ps\": "
+    "10,"
     " \"t0_ps\": -1000},"
     " \"carriage\": {\"steps_per_mm\": 100, \"travel_mm\": 650, \"home_offset_mm\": -20},"
     " \"scan\": {\"positions\": 21, \"first_position_mm\": 0, \"step_mm\": 30},"

@@ -56,7 +56,7 @@ static int setup(char *why, size_t whylen)
 {
     if (root[0])
         return 0;
-    uwbd_log_setup(0, 0);   /* the repairs' warnings are expected here */
+    uwbd_log_setup(0, 0); /* the repairs' warnings are expected here */
     snprintf(root, sizeof root, "/tmp/uwbd-fuzz-state-XXXXXX");
     char err[512];
     if (!mkdtemp(root) || uwbd_store_open(&store, root, NULL, err, sizeof err) != 0) {

@@ -58,7 +58,7 @@ int __wrap_uwb_link_open(const char *endpoint, struct uwb_link **link, char *err
     for (size_t sent = 0; sent < n;) {
         ssize_t w = send(fds[1], script_data + sent, n - sent, MSG_DONTWAIT | MSG_NOSIGNAL);
         if (w <= 0)
-            break;   /* the buffer is full: the rest is cut, as documented */
+            break; /* the buffer is full: the rest is cut, as documented */
         sent += (size_t)w;
     }
     shutdown(fds[1], SHUT_WR);

@@ -19,13 +19,17 @@
  * with 20. */
 #define PAIRS 20
 /* What the reduced set reaches today (the issue's targets in brackets). */
-#define RATIO_MIN 0.7       /* [0.8] spread / median sigma */
-#define RATIO_MAX 1.5       /* [1.25] */
-#define WITHIN_MIN 0.8      /* [0.9] share of errors within 2 sigma */
-#define CELL_BOUND_MAX 5.0  /* spread / the bound from the face's range cell [1.5, all data] */
+#define RATIO_MIN 0.7      /* [0.8] spread / median sigma */
+#define RATIO_MAX 1.5      /* [1.25] */
+#define WITHIN_MIN 0.8     /* [0.9] share of errors within 2 sigma */
+#define CELL_BOUND_MAX 5.0 /* spread / the bound from the face's range cell [1.5, all data] */
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static void test_noisy_pairs_sigma_is_honest(void)
 {
@@ -36,19 +40,23 @@ static void test_noisy_pairs_sigma_is_honest(void)
         TEST_IGNORE_MESSAGE("too slow under emulation; make accuracy covers it natively");
     int cases = accuracy_case_count;
 #ifdef __SANITIZE_ADDRESS__
-    cases = 2;   /* under ASan (make test SAN=1) the paper pair and one tank pair: memory, not figures */
+    cases = 2; /* under ASan (make test SAN=1) the paper pair and one tank pair: memory, not figures */
 #endif
     for (int c = 0; c < cases; c++) {
         for (int l = 0; l < accuracy_level_count; l++) {
             struct accuracy_row row;
-            unsigned long long seed = 1000000ull * (unsigned long long)(l + 1) + 10000ull * (unsigned long long)c;
-            TEST_ASSERT_EQUAL_INT_MESSAGE(0, accuracy_run_case("tests/fixtures", &accuracy_cases[c],
-                                                               &accuracy_levels[l], PAIRS, seed, &row,
-                                                               err, sizeof err), err);
+            unsigned long long seed =
+                1000000ull * (unsigned long long)(l + 1) + 10000ull * (unsigned long long)c;
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0,
+                                          accuracy_run_case("tests/fixtures", &accuracy_cases[c],
+                                                            &accuracy_levels[l], PAIRS, seed, &row, err,
+                                                            sizeof err),
+                                          err);
             double ratio = row.spread_m / row.median_sigma_m, bound = row.spread_m / row.crb_m;
             double cell = row.spread_m / row.crb_face_cell_m;
             char what[200];
-            snprintf(what, sizeof what, "%s, %.0f dB: spread/sigma %.2f (issue: 0.8-1.25), within 2 sigma "
+            snprintf(what, sizeof what,
+                     "%s, %.0f dB: spread/sigma %.2f (issue: 0.8-1.25), within 2 sigma "
                      "%.0f %% (issue: 90 %%), spread/bound %.1f (issue: 1.5), spread/face-cell bound %.1f",
                      accuracy_cases[c].name, accuracy_levels[l].snr_db, ratio, 100.0 * row.within_2sigma,
                      bound, cell);

@@ -11,8 +11,12 @@
 
 static char err[512];
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static void make(struct uwb_scan *s, float value, int stack)
 {
@@ -32,7 +36,7 @@ static void test_scans_average_weighted_by_their_pulses(void)
     make(&b, 4.0f, 12);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_scan_accumulate(&a, &b, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(16, a.stack);
-    TEST_ASSERT_EQUAL_FLOAT(3.25f, a.data[0]);   /* (4 x 1 + 12 x 4) / 16 */
+    TEST_ASSERT_EQUAL_FLOAT(3.25f, a.data[0]); /* (4 x 1 + 12 x 4) / 16 */
     TEST_ASSERT_EQUAL_FLOAT(3.25f, a.data[23]);
     b.antenna_y_m[2] = 0.07;
     TEST_ASSERT_EQUAL_INT(-1, uwbd_scan_accumulate(&a, &b, err, sizeof err));
@@ -58,14 +62,14 @@ static void test_acquisitions_needed_follow_the_noise_part_alone(void)
      * noise must fall to 0.75 mm: (1.0 / 0.75)^2 = 1.79 times the pulses. */
     v.current.sigma_center_noise_m = 0.0010;
     v.uncertainty_m = sqrt(0.0012 * 0.0012);
-    TEST_ASSERT_EQUAL_INT(1, uwbd_acquisitions_needed(&v, 0.001, 4, 4));   /* 7.1 pulses: one more of 4 */
-    TEST_ASSERT_EQUAL_INT(7, uwbd_acquisitions_needed(&v, 0.001, 16, 2));  /* 28.6 pulses: 12.6 more, 7 of 2 */
-    v.current.sigma_center_noise_m = 0.0003;   /* the rest, 1.16 mm, is over the limit alone */
+    TEST_ASSERT_EQUAL_INT(1, uwbd_acquisitions_needed(&v, 0.001, 4, 4));  /* 7.1 pulses: one more of 4 */
+    TEST_ASSERT_EQUAL_INT(7, uwbd_acquisitions_needed(&v, 0.001, 16, 2)); /* 28.6 pulses: 12.6 more, 7 of 2 */
+    v.current.sigma_center_noise_m = 0.0003; /* the rest, 1.16 mm, is over the limit alone */
     TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed(&v, 0.001, 4, 4));
     v.current.sigma_center_noise_m = 0.0005;
     v.uncertainty_m = 0.0008;
     TEST_ASSERT_EQUAL_INT(0, uwbd_acquisitions_needed(&v, 0.001, 4, 4));
-    v.current.sigma_center_noise_m = 0;   /* no term given: all of it taken as noise, 1.44 x the pulses */
+    v.current.sigma_center_noise_m = 0; /* no term given: all of it taken as noise, 1.44 x the pulses */
     v.uncertainty_m = 0.0012;
     TEST_ASSERT_EQUAL_INT(1, uwbd_acquisitions_needed(&v, 0.001, 4, 4));
 }
@@ -79,7 +83,7 @@ static void test_acquisitions_needed_from_two_measurements(void)
     TEST_ASSERT_EQUAL_INT(0, uwbd_acquisitions_needed_fit(s4, 4, s8, 8, 0.00101, 4));
     TEST_ASSERT_EQUAL_INT(6, uwbd_acquisitions_needed_fit(s4, 4, s8, 8, 0.0008, 4));
     TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed_fit(s4, 4, s8, 8, 0.0007, 4));
-    TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed_fit(s8, 4, s4, 8, 0.001, 4));  /* sigma rose */
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed_fit(s8, 4, s4, 8, 0.001, 4)); /* sigma rose */
 }
 
 static void test_the_baselines_repeatability_enters_the_uncertainty(void)

@@ -4,8 +4,12 @@
 
 #include "integrations/alarm_contacts.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static struct uwbd_contacts c;
 

@@ -12,7 +12,7 @@
 #include "fixture_support.h"
 #include "uwb/analysis.h"
 
-static int real_allocs_to_fail;   /* the next this many fftwf_alloc_real calls return NULL */
+static int real_allocs_to_fail; /* the next this many fftwf_alloc_real calls return NULL */
 
 float *fftwf_alloc_real(size_t n)
 {
@@ -48,8 +48,8 @@ static void test_no_memory_for_the_dominant_frequency_is_a_hard_error(void)
     real_allocs_to_fail = 1;
     int rc = uwb_analyse_scan(&scan, &opt, &a, err, sizeof err);
     char msg[400];
-    snprintf(msg, sizeof msg, "rc %d, found %d, reason \"%s\", err \"%s\"", rc, a.edges.found,
-             a.edges.reason, err);
+    snprintf(msg, sizeof msg, "rc %d, found %d, reason \"%s\", err \"%s\"", rc, a.edges.found, a.edges.reason,
+             err);
     TEST_ASSERT_EQUAL_INT_MESSAGE(-1, rc, msg);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "dominant frequency"), msg);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "out of memory"), msg);
@@ -84,7 +84,8 @@ static void test_display_image_spans_the_optioned_range_about_the_face(void)
         char err[256] = "";
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_analyse_scan(&scan, &opt, &a, err, sizeof err), err);
         TEST_ASSERT_TRUE_MESSAGE(a.edges.found, a.edges.reason);
-        double z_first = a.intensity.z0_m, z_last = a.intensity.z0_m + (a.intensity.nz - 1) * a.intensity.dz_m;
+        double z_first = a.intensity.z0_m,
+               z_last = a.intensity.z0_m + (a.intensity.nz - 1) * a.intensity.dz_m;
         TEST_ASSERT_DOUBLE_WITHIN(a.intensity.dz_m, a.edges.face_z_m - halves[i], z_first);
         TEST_ASSERT_DOUBLE_WITHIN(a.intensity.dz_m, a.edges.face_z_m + halves[i], z_last);
         uwb_analysis_free(&a);

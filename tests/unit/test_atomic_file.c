@@ -171,8 +171,7 @@ static void test_failed_commit_keeps_old_target_and_removes_temp(void)
 
     TEST_ASSERT_EQUAL_INT(-1, uwb_atomic_write_file(path, "new", 3, err, sizeof err));
     char expected[512];
-    snprintf(expected, sizeof expected, "%s: cannot replace with new file: %s", path,
-             strerror(EISDIR));
+    snprintf(expected, sizeof expected, "%s: cannot replace with new file: %s", path, strerror(EISDIR));
     TEST_ASSERT_EQUAL_STRING(expected, err);
     TEST_ASSERT_EQUAL_STRING("old content", read_plain(inner));
     TEST_ASSERT_EQUAL_STRING("target", listing(tmpdir));
@@ -203,8 +202,7 @@ static void test_missing_parent_directory_is_reported(void)
     in_tmp(path, sizeof path, "no/such/dir/out.json");
     TEST_ASSERT_EQUAL_INT(-1, uwb_atomic_write_file(path, "x", 1, err, sizeof err));
     char expected[512];
-    snprintf(expected, sizeof expected, "%s: cannot create temporary file: %s", path,
-             strerror(ENOENT));
+    snprintf(expected, sizeof expected, "%s: cannot create temporary file: %s", path, strerror(ENOENT));
     TEST_ASSERT_EQUAL_STRING(expected, err);
     TEST_ASSERT_EQUAL_STRING("", listing(tmpdir));
 }
@@ -237,7 +235,8 @@ static void test_bare_file_name_uses_current_directory(void)
     TEST_ASSERT_EQUAL_INT(0, chdir(tmpdir));
     struct atomic_file af;
     int rc = uwb_atomic_file_open(&af, "plain.txt", err, sizeof err);
-    int temp_is_local = rc == 0 && strncmp(af.temp_path, ATOMIC_FILE_TEMP_PREFIX "plain.txt.", strlen(ATOMIC_FILE_TEMP_PREFIX "plain.txt.")) == 0;
+    int temp_is_local = rc == 0 && strncmp(af.temp_path, ATOMIC_FILE_TEMP_PREFIX "plain.txt.",
+                                           strlen(ATOMIC_FILE_TEMP_PREFIX "plain.txt.")) == 0;
     if (rc == 0) {
         fputs("here", af.fp);
         rc = uwb_atomic_file_commit(&af, err, sizeof err);

@@ -58,7 +58,7 @@ static void test_positions_spread_over_600_km_are_refused_before_allocating(void
 static void test_a_nanometre_step_is_refused(void)
 {
     for (int k = 0; k < scan.positions; k++)
-        scan.antenna_y_m[k] = k * 1e-9 + k * k * 0.03;   /* first step 1 nm + 30 mm */
+        scan.antenna_y_m[k] = k * 1e-9 + k * k * 0.03; /* first step 1 nm + 30 mm */
     scan.antenna_y_m[1] = scan.antenna_y_m[0] + 1e-9;
     expect_refused("1 nm step");
 }

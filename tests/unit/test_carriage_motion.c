@@ -8,8 +8,12 @@
 #include "rig/carriage.h"
 #include "uwb/rig.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static void check_profile(long steps, double max_hz, double accel)
 {
@@ -57,7 +61,7 @@ static void test_long_move_accelerates_cruises_and_decelerates(void)
 static void test_short_move_is_a_triangle_below_max_rate(void)
 {
     const long steps = 200;
-    const double vmax = 4000, a = 8000;   /* needs 1000 steps to reach vmax */
+    const double vmax = 4000, a = 8000; /* needs 1000 steps to reach vmax */
     check_profile(steps, vmax, a);
     struct uwb_ramp r;
     uwb_ramp_init(&r, steps, vmax, a);
@@ -91,10 +95,11 @@ static void test_every_target_is_approached_from_below(void)
                 TEST_ASSERT_TRUE(n == 1 || n == 2);
                 TEST_ASSERT_EQUAL_INT32(to, w[n - 1]);
                 long last_start = n == 2 ? w[0] : from;
-                TEST_ASSERT_TRUE_MESSAGE(to - last_start >= overshoot, "final segment not upward by the backlash");
-                if (n == 2)   /* the overshoot goes no further than needed */
+                TEST_ASSERT_TRUE_MESSAGE(to - last_start >= overshoot,
+                                         "final segment not upward by the backlash");
+                if (n == 2) /* the overshoot goes no further than needed */
                     TEST_ASSERT_EQUAL_INT32(to - overshoot, w[0]);
-                else          /* no detour when the plain move already comes from below */
+                else /* no detour when the plain move already comes from below */
                     TEST_ASSERT_TRUE(to - from >= overshoot);
             }
         }
@@ -159,7 +164,7 @@ static void test_positions_outside_the_travel_are_refused(void)
 {
     struct uwb_rig_config cfg;
     emulated_config(&cfg);
-    cfg.positions = 30;   /* 0 .. 870 mm, past the 650 mm travel */
+    cfg.positions = 30; /* 0 .. 870 mm, past the 650 mm travel */
     assert_config_error(&cfg, "travel_mm");
     emulated_config(&cfg);
     cfg.first_position_mm = cfg.carriage.home_offset_mm + cfg.carriage.backlash_mm / 2;

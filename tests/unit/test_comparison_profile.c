@@ -12,8 +12,12 @@
 #include "uwb/analysis.h"
 #include "output/render_internal.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 /* The row (fractional) where the polyline crosses column x_half walking out
  * from its rightmost point toward decreasing (dir -1) or increasing (+1)
@@ -48,8 +52,9 @@ static void check_curve_crosses_half_at_edges(const struct uwb_plot *pp, const s
     double row_upper = crossing_row(xs, ys, n, x_half, +1), row_lower = crossing_row(xs, ys, n, x_half, -1);
     double want_lower = uwb_plot_px_y(pp, a->edges.lower_m), want_upper = uwb_plot_px_y(pp, a->edges.upper_m);
     char msg[200];
-    snprintf(msg, sizeof msg, "%s: curve crosses half at rows %.1f / %.1f, edges %.3f / %.3f m at rows %.1f / %.1f",
-             which, row_lower, row_upper, a->edges.lower_m, a->edges.upper_m, want_lower, want_upper);
+    snprintf(msg, sizeof msg,
+             "%s: curve crosses half at rows %.1f / %.1f, edges %.3f / %.3f m at rows %.1f / %.1f", which,
+             row_lower, row_upper, a->edges.lower_m, a->edges.upper_m, want_lower, want_upper);
     printf("%s\n", msg);
     /* A pixel row here is about 1.2 mm; the curve's points are whole pixels. */
     TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(1.5, want_lower, row_lower, msg);

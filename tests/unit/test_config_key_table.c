@@ -42,7 +42,7 @@ void tearDown(void)
  * travel, ...) would refuse the value for a reason that is not its range. */
 struct partner {
     const char *key;
-    int upper;              /* which limit: 0 the lower, 1 the upper */
+    int upper; /* which limit: 0 the lower, 1 the upper */
     const char *other, *value;
 };
 
@@ -180,7 +180,8 @@ static void check_limit(const struct config_key *k, int upper)
         TEST_ASSERT_EQUAL_INT(0, load_with(set, n));
         set_in_rig(&cfg.rig, k, upper, outside);
         snprintf(label, sizeof label, "rig check, %s = %s", k->path, out_text);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_RIG_ERR_CONFIG, uwb_rig_config_check(&cfg.rig, err, sizeof err), label);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_RIG_ERR_CONFIG, uwb_rig_config_check(&cfg.rig, err, sizeof err),
+                                      label);
         assert_named_refusal("rig", k, err);
     }
 }
@@ -257,12 +258,12 @@ static void walk_sample(const char *file, const cJSON *obj, const char *prefix, 
         TEST_ASSERT_NOT_NULL_MESSAGE(k, msg);
         char problem[200] = "";
         if ((k->type == KEY_NUMBER || k->type == KEY_INT) && cJSON_IsNumber(item))
-            TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_key_check_range(k, item->valuedouble, problem,
-                                                                          sizeof problem), msg);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(
+                0, uwbd_config_key_check_range(k, item->valuedouble, problem, sizeof problem), msg);
         if (k->type == KEY_PAIR && cJSON_IsArray(item))
             for (const cJSON *e = item->child; e; e = e->next)
-                TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_key_check_range(k, e->valuedouble, problem,
-                                                                              sizeof problem), msg);
+                TEST_ASSERT_EQUAL_INT_MESSAGE(
+                    0, uwbd_config_key_check_range(k, e->valuedouble, problem, sizeof problem), msg);
         ++*values;
     }
 }

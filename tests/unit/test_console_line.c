@@ -1,6 +1,6 @@
 /* The serial console's line editing (src/daemon/console_line.c): the keys a
  * terminal program sends, the lines that come out, and the echo. */
-#define _GNU_SOURCE   /* memmem */
+#define _GNU_SOURCE /* memmem */
 #include "unity.h"
 
 #include <string.h>
@@ -21,7 +21,9 @@ void setUp(void)
     echo_len = 0;
 }
 
-void tearDown(void) {}
+void tearDown(void)
+{
+}
 
 /* Feeds the keys in chunks of `chunk` bytes, as reads would deliver them. */
 static void type_chunked(const char *keys, size_t n, size_t chunk)
@@ -64,7 +66,7 @@ static void test_cr_lf_and_crlf_each_end_one_line(void)
 
 static void test_crlf_split_across_reads_is_one_line_end(void)
 {
-    type_chunked("status\r\nhelp\r\n", 14, 7);   /* "status\r" | "\nhelp\r\n" */
+    type_chunked("status\r\nhelp\r\n", 14, 7); /* "status\r" | "\nhelp\r\n" */
     TEST_ASSERT_EQUAL_INT(2, n_events);
     TEST_ASSERT_EQUAL_STRING("status", lines[0]);
     TEST_ASSERT_EQUAL_STRING("help", lines[1]);
@@ -72,7 +74,8 @@ static void test_crlf_split_across_reads_is_one_line_end(void)
 
 static void test_backspace_and_del_edit_and_rub_out(void)
 {
-    type("stax\b\x7f" "atus\r");
+    type("stax\b\x7f"
+         "atus\r");
     TEST_ASSERT_EQUAL_INT(1, n_events);
     TEST_ASSERT_EQUAL_STRING("status", lines[0]);
     TEST_ASSERT_EQUAL_MEMORY("stax\b \b\b \batus\r\n", echo, echo_len);
@@ -94,18 +97,20 @@ static void test_cursor_keys_and_control_keys_are_ignored(void)
 
 static void test_ctrl_u_and_ctrl_c_drop_the_line(void)
 {
-    type("bogus\x15help\r" "more\x03verdict\r");
+    type("bogus\x15help\r"
+         "more\x03verdict\r");
     TEST_ASSERT_EQUAL_INT(2, n_events);
     TEST_ASSERT_EQUAL_STRING("help", lines[0]);
     TEST_ASSERT_EQUAL_STRING("verdict", lines[1]);
-    TEST_ASSERT_NOT_NULL(memmem(echo, echo_len, "more^C\r\n" UWBD_CONSOLE_PROMPT, 8 + strlen(UWBD_CONSOLE_PROMPT)));
+    TEST_ASSERT_NOT_NULL(
+        memmem(echo, echo_len, "more^C\r\n" UWBD_CONSOLE_PROMPT, 8 + strlen(UWBD_CONSOLE_PROMPT)));
 }
 
 static void test_an_overlong_line_is_reported_once_and_the_next_is_whole(void)
 {
     char keys[UWB_COMMAND_MAX_LINE + 40];
     memset(keys, 'x', UWB_COMMAND_MAX_LINE + 20);
-    keys[UWB_COMMAND_MAX_LINE + 20] = '\b';   /* too late to fix it */
+    keys[UWB_COMMAND_MAX_LINE + 20] = '\b'; /* too late to fix it */
     strcpy(keys + UWB_COMMAND_MAX_LINE + 21, "\rstatus\r");
     type(keys);
     TEST_ASSERT_EQUAL_INT(2, n_events);

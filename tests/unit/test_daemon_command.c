@@ -12,8 +12,12 @@
 static struct uwb_command cmd;
 static char err[160];
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static int parse(const char *line)
 {
@@ -40,7 +44,7 @@ static void test_every_command(void)
     assert_command("verdict", UWB_COMMAND_VERDICT);
     assert_command("help", UWB_COMMAND_HELP);
     assert_command("baseline set", UWB_COMMAND_BASELINE_SET);
-    TEST_ASSERT_EQUAL_INT(0, cmd.count);   /* the configured baseline.scans */
+    TEST_ASSERT_EQUAL_INT(0, cmd.count); /* the configured baseline.scans */
     assert_command("baseline set 4", UWB_COMMAND_BASELINE_SET);
     TEST_ASSERT_EQUAL_INT(4, cmd.count);
     assert_command("baseline set 16", UWB_COMMAND_BASELINE_SET);
@@ -117,7 +121,8 @@ static void test_bounds_and_bytes(void)
     /* 64 bytes is the limit: a padded "status" of exactly 64 passes, 65 does not. */
     memset(line, ' ', sizeof line);
     memcpy(line, "status", 6);
-    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_OK, uwb_command_parse(line, UWB_COMMAND_MAX_LINE, &cmd, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWB_COMMAND_OK,
+                          uwb_command_parse(line, UWB_COMMAND_MAX_LINE, &cmd, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(UWB_COMMAND_INVALID,
                           uwb_command_parse(line, UWB_COMMAND_MAX_LINE + 1, &cmd, err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "too long"), err);
@@ -182,12 +187,15 @@ static void test_line_buffer_cuts_lines_across_reads(void)
     const char part1[] = "sta", part2[] = "tus\r\nscan\nhis";
     TEST_ASSERT_EQUAL_INT(UWBD_LINE_NONE, uwbd_line_buffer_feed(&lb, part1, 3, &used, &line, &len));
     used = 0;
-    TEST_ASSERT_EQUAL_INT(UWBD_LINE_READY, uwbd_line_buffer_feed(&lb, part2, strlen(part2), &used, &line, &len));
+    TEST_ASSERT_EQUAL_INT(UWBD_LINE_READY,
+                          uwbd_line_buffer_feed(&lb, part2, strlen(part2), &used, &line, &len));
     TEST_ASSERT_EQUAL_STRING("status\r", line);
     TEST_ASSERT_EQUAL_INT(UWB_COMMAND_OK, uwb_command_parse(line, len, &cmd, err, sizeof err));
-    TEST_ASSERT_EQUAL_INT(UWBD_LINE_READY, uwbd_line_buffer_feed(&lb, part2, strlen(part2), &used, &line, &len));
+    TEST_ASSERT_EQUAL_INT(UWBD_LINE_READY,
+                          uwbd_line_buffer_feed(&lb, part2, strlen(part2), &used, &line, &len));
     TEST_ASSERT_EQUAL_STRING("scan", line);
-    TEST_ASSERT_EQUAL_INT(UWBD_LINE_NONE, uwbd_line_buffer_feed(&lb, part2, strlen(part2), &used, &line, &len));
+    TEST_ASSERT_EQUAL_INT(UWBD_LINE_NONE,
+                          uwbd_line_buffer_feed(&lb, part2, strlen(part2), &used, &line, &len));
     TEST_ASSERT_EQUAL_UINT64(strlen(part2), used);
 }
 

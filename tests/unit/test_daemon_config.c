@@ -214,7 +214,8 @@ static void test_check_system_refuses_a_missing_control_group(void)
 {
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("control.group", "\"uwbd-no-such-group-17\""), err);
     TEST_ASSERT_EQUAL_INT(-1, uwbd_config_check_system(&cfg, "test.json", err, sizeof err));
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "test.json: key `control.group`: no group named \"uwbd-no-such-group-17\""), err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(err, "test.json: key `control.group`: no group named \"uwbd-no-such-group-17\""), err);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("control.group", "\"root\""), err);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_check_system(&cfg, "test.json", err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("control.group", "\"\""), err);
@@ -261,22 +262,23 @@ static void test_syntax_errors_name_the_place(void)
 
 static void test_overrides_are_checked_like_the_file(void)
 {
-    struct uwbd_override ok[] = {{"schedule.interval_s", "60"}, {"state_dir", "/srv/uwbd"},
+    struct uwbd_override ok[] = {{"schedule.interval_s", "60"},
+                                 {"state_dir", "/srv/uwbd"},
                                  {"console.endpoint", "\"unix:/tmp/c.sock\""}};
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_parse(sample_text, strlen(sample_text), "f", ok, 3, &cfg, err,
-                                                       sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_config_parse(sample_text, strlen(sample_text), "f", ok, 3, &cfg, err, sizeof err), err);
     TEST_ASSERT_EQUAL_DOUBLE(60.0, cfg.interval_s);
-    TEST_ASSERT_EQUAL_STRING("/srv/uwbd", cfg.state_dir);   /* a bare word is a string */
+    TEST_ASSERT_EQUAL_STRING("/srv/uwbd", cfg.state_dir); /* a bare word is a string */
     TEST_ASSERT_EQUAL_STRING("unix:/tmp/c.sock", cfg.console_endpoint);
 
     struct uwbd_override unknown[] = {{"schedule.intervall_s", "60"}};
-    TEST_ASSERT_EQUAL_INT(-1, uwbd_config_parse(sample_text, strlen(sample_text), "f", unknown, 1, &cfg, err,
-                                                sizeof err));
+    TEST_ASSERT_EQUAL_INT(
+        -1, uwbd_config_parse(sample_text, strlen(sample_text), "f", unknown, 1, &cfg, err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `schedule.intervall_s`: unknown key"), err);
 
     struct uwbd_override bad[] = {{"digitiser.stack", "lots"}};
-    TEST_ASSERT_EQUAL_INT(-1, uwbd_config_parse(sample_text, strlen(sample_text), "f", bad, 1, &cfg, err,
-                                                sizeof err));
+    TEST_ASSERT_EQUAL_INT(
+        -1, uwbd_config_parse(sample_text, strlen(sample_text), "f", bad, 1, &cfg, err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `digitiser.stack`: expected an integer"), err);
 }
 
@@ -309,7 +311,8 @@ static void test_display_half_range_key_sets_the_analysis_option(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("analysis.display_half_range_mm", NULL), err);
     struct uwb_analysis_options defaults;
     uwb_analysis_defaults(&defaults);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-12, defaults.display_half_range_m, cfg.evaluate.analysis.display_half_range_m);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, defaults.display_half_range_m,
+                              cfg.evaluate.analysis.display_half_range_m);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("analysis.display_half_range_mm", "100"), err);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.1, cfg.evaluate.analysis.display_half_range_m);
     assert_refused("analysis.display_half_range_mm", "5", "out of range");

@@ -80,7 +80,8 @@ static void test_open_removes_leftover_temporaries_only(void)
     char p[2048];
     path_in(p, sizeof p, ATOMIC_FILE_TEMP_PREFIX "latest.json.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX);
     scratch_spit(p, "{\"half");
-    path_in(p, sizeof p, "baseline/" ATOMIC_FILE_TEMP_PREFIX "current.uwbscan.zzzzzz" ATOMIC_FILE_TEMP_SUFFIX);
+    path_in(p, sizeof p,
+            "baseline/" ATOMIC_FILE_TEMP_PREFIX "current.uwbscan.zzzzzz" ATOMIC_FILE_TEMP_SUFFIX);
     scratch_spit(p, "half");
     path_in(p, sizeof p, "keep.txt");
     scratch_spit(p, "mine");
@@ -89,7 +90,8 @@ static void test_open_removes_leftover_temporaries_only(void)
     TEST_ASSERT_EQUAL_INT(2, repairs);
     path_in(p, sizeof p, ATOMIC_FILE_TEMP_PREFIX "latest.json.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX);
     TEST_ASSERT_FALSE(scratch_file_exists(p));
-    path_in(p, sizeof p, "baseline/" ATOMIC_FILE_TEMP_PREFIX "current.uwbscan.zzzzzz" ATOMIC_FILE_TEMP_SUFFIX);
+    path_in(p, sizeof p,
+            "baseline/" ATOMIC_FILE_TEMP_PREFIX "current.uwbscan.zzzzzz" ATOMIC_FILE_TEMP_SUFFIX);
     TEST_ASSERT_FALSE(scratch_file_exists(p));
     path_in(p, sizeof p, "keep.txt");
     TEST_ASSERT_TRUE(scratch_file_exists(p));
@@ -101,8 +103,12 @@ static void test_open_removes_leftover_temporaries_only(void)
 static void test_open_touches_nothing_that_is_not_ours(void)
 {
     static const char *const foreign[] = {
-        "home/alice/.bashrc.backup", "etc/.shadow.swp123", ".config/app/.settings.json~1",
-        "var/lib/db/.journal.000001", ".latest.json.Ab12Cd", "baseline/.current.uwbscan.zzzzzz",
+        "home/alice/.bashrc.backup",
+        "etc/.shadow.swp123",
+        ".config/app/.settings.json~1",
+        "var/lib/db/.journal.000001",
+        ".latest.json.Ab12Cd",
+        "baseline/.current.uwbscan.zzzzzz",
         "archive/2026/01/01/.scan.json.Ab12Cd",
         /* our name, but not in a directory uwbd writes */
         "home/alice/" ATOMIC_FILE_TEMP_PREFIX "x.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX,
@@ -122,7 +128,8 @@ static void test_open_touches_nothing_that_is_not_ours(void)
     /* A day directory and baseline/history that are symlinks to elsewhere. */
     scratch_scratch_dir(outside, sizeof outside, "store-outside");
     char victim[256];
-    snprintf(victim, sizeof victim, "%s/" ATOMIC_FILE_TEMP_PREFIX "y.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX, outside);
+    snprintf(victim, sizeof victim, "%s/" ATOMIC_FILE_TEMP_PREFIX "y.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX,
+             outside);
     scratch_spit(victim, "elsewhere");
     path_in(link, sizeof link, "archive/2026/01/02");
     TEST_ASSERT_EQUAL_INT(0, symlink(outside, link));
@@ -225,7 +232,8 @@ static double own_direct_coupling(const struct uwb_scan *scan)
 {
     double arrival = 0;
     char why[160];
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_direct_coupling_arrival(scan, WINDOW_END_S, &arrival, why, sizeof why), why);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwb_direct_coupling_arrival(scan, WINDOW_END_S, &arrival, why, sizeof why), why);
     return arrival;
 }
 
@@ -237,20 +245,21 @@ static void set_baseline(const struct uwb_scan *scan)
     snprintf(info.set_at, sizeof info.set_at, "2030-01-02T04:00:00Z");
     info.has_direct_coupling = 1;
     info.direct_coupling_s = dc_s;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_baseline_set(&store, scan, &info, WINDOW_END_S, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_baseline_set(&store, scan, &info, WINDOW_END_S, err, sizeof err),
+                                  err);
 }
 
 static void test_baseline_set_keeps_the_one_it_replaces(void)
 {
     struct uwb_scan a = {0}, b = {0}, got = {0};
     struct uwbd_baseline_info info;
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_NONE, uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err,
-                                                                 sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_NONE,
+                          uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err, sizeof err));
     make_scan(&a, "scan-a", 100, 0.0f);
     make_scan(&b, "scan-b", 100, 0.25f);
     set_baseline(&a);
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err,
-                                                                   sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED,
+                          uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err, sizeof err));
     TEST_ASSERT_EQUAL_STRING("scan-a", info.scan_id);
     TEST_ASSERT_TRUE(info.has_direct_coupling);
     /* a's pulse peaks at t0 + 100 dt = 0; less its mean, it reaches half height 32.6 ps before */
@@ -258,8 +267,8 @@ static void test_baseline_set_keeps_the_one_it_replaces(void)
     uwb_scan_free(&got);
 
     set_baseline(&b);
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err,
-                                                                   sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED,
+                          uwbd_baseline_load(&store, WINDOW_END_S, &got, &info, NULL, err, sizeof err));
     TEST_ASSERT_EQUAL_STRING("scan-b", info.scan_id);
     TEST_ASSERT_EQUAL_FLOAT(b.data[7], got.data[7]);
     uwb_scan_free(&got);
@@ -289,19 +298,19 @@ static void test_baseline_description_is_rebuilt_after_a_crash(void)
     set_baseline(&a);
     char p[2048];
     path_in(p, sizeof p, "baseline/current.uwbscan");
-    TEST_ASSERT_EQUAL_INT(0, uwbscan_write_file(p, &b, err, sizeof err));   /* the crash: json still says a */
+    TEST_ASSERT_EQUAL_INT(0, uwbscan_write_file(p, &b, err, sizeof err)); /* the crash: json still says a */
     struct uwbd_baseline_info info;
     int repaired = 0;
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired,
-                                                                   err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED,
+                          uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(1, repaired);
     TEST_ASSERT_EQUAL_STRING("scan-b", info.scan_id);
     TEST_ASSERT_TRUE(info.has_direct_coupling);
     /* b's pulse exp(-((i - 150) / 4)^2) peaks at t0 + 150 dt = 0.5 ns; less its mean over the
      * record, it reaches half height 3.26 samples before the peak. */
     TEST_ASSERT_DOUBLE_WITHIN(2e-12, 0.5e-9 - 32.6e-12, info.direct_coupling_s);
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired,
-                                                                   err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED,
+                          uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(0, repaired);
     uwb_scan_free(&a);
     uwb_scan_free(&b);
@@ -326,21 +335,23 @@ static void test_baseline_set_counts_once_its_scan_is_in_place(void)
     snprintf(info.scan_id, sizeof info.scan_id, "scan-b");
     info.has_direct_coupling = 1;
     info.direct_coupling_s = 4.7e-10;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_baseline_set(&store, &b, &info, WINDOW_END_S, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_baseline_set(&store, &b, &info, WINDOW_END_S, err, sizeof err),
+                                  err);
     int repaired = -1;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info,
-                                                                           &repaired, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        UWBD_BASELINE_LOADED,
+        uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired, err, sizeof err), err);
     TEST_ASSERT_EQUAL_STRING("scan-b", info.scan_id);
     TEST_ASSERT_TRUE(info.has_direct_coupling);
-    TEST_ASSERT_DOUBLE_WITHIN(2e-12, 0.5e-9 - 32.6e-12, info.direct_coupling_s);   /* as in the test above */
-    TEST_ASSERT_EQUAL_INT(0, repaired);   /* not written: nothing repaired yet */
+    TEST_ASSERT_DOUBLE_WITHIN(2e-12, 0.5e-9 - 32.6e-12, info.direct_coupling_s); /* as in the test above */
+    TEST_ASSERT_EQUAL_INT(0, repaired); /* not written: nothing repaired yet */
     char p[2048];
     path_in(p, sizeof p, "baseline/history/scan-a.uwbscan");
     TEST_ASSERT_TRUE(scratch_file_exists(p));
 
-    TEST_ASSERT_EQUAL_INT(0, rmdir(info_path));   /* the disk has room again */
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired,
-                                                                   err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, rmdir(info_path)); /* the disk has room again */
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED,
+                          uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(1, repaired);
     char *json = scratch_slurp(info_path, NULL);
     TEST_ASSERT_NOT_NULL(json);
@@ -356,8 +367,8 @@ static void test_damaged_baseline_is_an_error_not_a_silent_replacement(void)
     path_in(p, sizeof p, "baseline/current.uwbscan");
     scratch_spit(p, "{\"format\":\"uwbscan/1\"}\n");
     struct uwbd_baseline_info info;
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_ERROR, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, NULL, err,
-                                                                  sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_ERROR,
+                          uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, NULL, err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "current.uwbscan"), err);
 }
 
@@ -394,13 +405,14 @@ static void test_retention_by_count_deletes_the_oldest_and_spares_baselines(void
     make_scan(&a, "a", 100, 0.0f);
     set_baseline(&a);
     archive_scan("2030/01/01", "a", 5);
-    archive_scan("2030/01/01", "a-2", 4);   /* its name begins like a's: not a's images */
+    archive_scan("2030/01/01", "a-2", 4); /* its name begins like a's: not a's images */
     archive_scan("2030/01/02", "b", 3);
     archive_scan("2030/01/03", "c", 2);
     archive_scan("2030/01/03", "d", 1);
     TEST_ASSERT_EQUAL_INT(5, uwbd_archive_count(&store));
     int removed = 0;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 3, 0, time(NULL), 1, &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_retention_apply(&store, 3, 0, time(NULL), 1, &removed, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(2, removed);
     TEST_ASSERT_EQUAL_INT(3, uwbd_archive_count(&store));
     TEST_ASSERT_FALSE(archived("2030/01/01", "a", ".uwbscan"));
@@ -461,12 +473,14 @@ static void test_retention_by_age_waits_for_a_synchronised_clock(void)
     }
     time_t a_year_ahead = time(NULL) + 365 * 86400;
     int removed = -1;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 0, 30, a_year_ahead, 0, &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_retention_apply(&store, 0, 30, a_year_ahead, 0, &removed, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(0, removed);
     TEST_ASSERT_EQUAL_INT(20, uwbd_archive_count(&store));
     TEST_ASSERT_EQUAL_INT(20, scratch_count_lines(p));
     /* Synchronised, the same clock is trusted, but the newest scan stays. */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 0, 30, a_year_ahead, 1, &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_retention_apply(&store, 0, 30, a_year_ahead, 1, &removed, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(19, removed);
     TEST_ASSERT_EQUAL_INT(1, uwbd_archive_count(&store));
     TEST_ASSERT_TRUE(archived("2030/01/20", "s19", ".json"));
@@ -482,7 +496,7 @@ static void test_retention_never_follows_a_symlink(void)
     for (size_t i = 0; i < 4; i++) {
         snprintf(target, sizeof target, "%s/%s", outside, theirs[i]);
         scratch_spit(target, "not uwbd's");
-        struct timeval tv[2] = {{1000000000, 0}, {1000000000, 0}};   /* 2001: the oldest of all */
+        struct timeval tv[2] = {{1000000000, 0}, {1000000000, 0}}; /* 2001: the oldest of all */
         TEST_ASSERT_EQUAL_INT(0, utimes(target, tv));
     }
     archive_scan("2030/01/01", "mine", 1);
@@ -491,13 +505,14 @@ static void test_retention_never_follows_a_symlink(void)
     snprintf(cmd, sizeof cmd, "mkdir -p '%s' '%s/2001/01/02'", p, store.archive);
     TEST_ASSERT_EQUAL_INT(0, system(cmd));
     path_in(p, sizeof p, "archive/2001/01/01");
-    TEST_ASSERT_EQUAL_INT(0, symlink(outside, p));              /* a day directory elsewhere */
+    TEST_ASSERT_EQUAL_INT(0, symlink(outside, p)); /* a day directory elsewhere */
     snprintf(target, sizeof target, "%s/y.json", outside);
     path_in(p, sizeof p, "archive/2001/01/02/y.json");
-    TEST_ASSERT_EQUAL_INT(0, symlink(target, p));               /* a verdict file elsewhere */
+    TEST_ASSERT_EQUAL_INT(0, symlink(target, p)); /* a verdict file elsewhere */
     TEST_ASSERT_EQUAL_INT(1, uwbd_archive_count(&store));
     int removed = -1;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 1, 30, time(NULL), 1, &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_retention_apply(&store, 1, 30, time(NULL), 1, &removed, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(0, removed);
     for (size_t i = 0; i < 4; i++) {
         snprintf(target, sizeof target, "%s/%s", outside, theirs[i]);
@@ -519,7 +534,7 @@ static void test_verdict_log_and_latest_are_never_written_through_a_symlink(void
     TEST_ASSERT_EQUAL_INT(0, symlink(victim, p));
     TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_append(&store, "{\"scan_id\":\"a\"}", err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "is a symbolic link"), err);
-    TEST_ASSERT_EQUAL_INT(-1, uwbd_state_open(&store, dir, NULL, err, sizeof err));   /* the repair refuses */
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_state_open(&store, dir, NULL, err, sizeof err)); /* the repair refuses */
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "verdicts.jsonl: cannot open: is a symbolic link"), err);
     size_t len = 0;
     char *text = scratch_slurp(victim, &len);
@@ -540,7 +555,7 @@ static void test_scan_ids_become_safe_file_names(void)
 {
     char id[UWBD_SCAN_ID_MAX + 1];
     uwbd_safe_scan_id("../../etc/passwd", id, sizeof id);
-    TEST_ASSERT_EQUAL_STRING("_._.._etc_passwd", id);   /* no slash, no leading dot */
+    TEST_ASSERT_EQUAL_STRING("_._.._etc_passwd", id); /* no slash, no leading dot */
     uwbd_safe_scan_id("uwb-20300101T000000.123Z", id, sizeof id);
     TEST_ASSERT_EQUAL_STRING("uwb-20300101T000000.123Z", id);
     char longer[300];
@@ -570,8 +585,9 @@ static void test_a_wrong_time_zero_in_current_json_is_taken_from_the_scan(void)
     free(json);
     struct uwbd_baseline_info info;
     int repaired = 0;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(UWBD_BASELINE_LOADED,
-                                  uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        UWBD_BASELINE_LOADED,
+        uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, &repaired, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(1, repaired);
     TEST_ASSERT_DOUBLE_WITHIN(1e-15, own_direct_coupling(&a), info.direct_coupling_s);
     json = scratch_slurp(p, NULL);
@@ -593,25 +609,26 @@ static void test_a_damaged_baseline_is_noticed_and_moved_aside(void)
     path_in(p, sizeof p, "baseline/current.uwbscan");
     size_t len = 0;
     char *bytes = scratch_slurp(p, &len);
-    bytes[len - 5] ^= 0x40;   /* inside the last sample */
+    bytes[len - 5] ^= 0x40; /* inside the last sample */
     FILE *f = fopen(p, "wb");
     TEST_ASSERT_NOT_NULL(f);
     TEST_ASSERT_EQUAL_INT((int)len, (int)fwrite(bytes, 1, len, f));
     fclose(f);
     free(bytes);
     struct uwbd_baseline_info info;
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_DAMAGED, uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, NULL, err,
-                                                                    sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_DAMAGED,
+                          uwbd_baseline_load(&store, WINDOW_END_S, NULL, &info, NULL, err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "recorded at commissioning"), err);
     struct uwb_scan got = {0};
     char why[1024];
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_FAULT, uwbd_baseline_watch(&store, WINDOW_END_S, NULL, &got, &info, why,
-                                                                   sizeof why));
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_FAULT,
+                          uwbd_baseline_watch(&store, WINDOW_END_S, NULL, &got, &info, why, sizeof why));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(why, "baseline damaged: "), why);
 
     set_baseline(&b);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(UWBD_BASELINE_LOADED,
-                                  uwbd_baseline_watch(&store, WINDOW_END_S, NULL, &got, &info, why, sizeof why), why);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        UWBD_BASELINE_LOADED, uwbd_baseline_watch(&store, WINDOW_END_S, NULL, &got, &info, why, sizeof why),
+        why);
     TEST_ASSERT_EQUAL_STRING("scan-b", info.scan_id);
     uwb_scan_free(&got);
     path_in(p, sizeof p, "baseline/history/damaged-2030-01-02T04-00-00Z.uwbscan");
@@ -622,8 +639,8 @@ static void test_a_damaged_baseline_is_noticed_and_moved_aside(void)
     /* Which baseline the daemon commissioned: another one in its place is a fault too. */
     struct uwbd_baseline_info expected = info;
     expected.checksum ^= 1;
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_FAULT, uwbd_baseline_watch(&store, WINDOW_END_S, &expected, &got, &info,
-                                                                   why, sizeof why));
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_FAULT,
+                          uwbd_baseline_watch(&store, WINDOW_END_S, &expected, &got, &info, why, sizeof why));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(why, "replaced outside uwbd"), why);
     uwb_scan_free(&a);
     uwb_scan_free(&b);

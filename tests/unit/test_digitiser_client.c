@@ -19,15 +19,15 @@
 #define VOLTS_PER_COUNT 0.001f
 
 enum action {
-    ANSWER = 0,           /* the frame for this trigger; also every unscripted one (peer is zeroed) */
-    STALE_THEN_ANSWER,    /* an old frame first, then this trigger's */
-    JUMP_AHEAD,           /* a sequence 5 beyond (the digitiser counted extra triggers) */
-    WRONG_LENGTH,         /* one sample short */
-    CORRUPT_THEN_ANSWER,  /* a frame failing its CRC, then this trigger's frame */
+    ANSWER = 0,          /* the frame for this trigger; also every unscripted one (peer is zeroed) */
+    STALE_THEN_ANSWER,   /* an old frame first, then this trigger's */
+    JUMP_AHEAD,          /* a sequence 5 beyond (the digitiser counted extra triggers) */
+    WRONG_LENGTH,        /* one sample short */
+    CORRUPT_THEN_ANSWER, /* a frame failing its CRC, then this trigger's frame */
 };
 
 static struct {
-    enum action script[8];   /* what the n-th trigger gets */
+    enum action script[8]; /* what the n-th trigger gets */
     int refuse_configure;
     uint32_t configured_samples;
 } peer;
@@ -71,9 +71,7 @@ static void answer_command(struct uwb_link *link, const struct uwb_frame *f, uin
 {
     uint8_t p[UWB_FRAME_CONFIGURE_BYTES];
     switch (f->type) {
-    case UWB_FRAME_PING:
-        send_frame(link, UWB_FRAME_PONG, f->sequence, "scripted digitiser", 18);
-        break;
+    case UWB_FRAME_PING: send_frame(link, UWB_FRAME_PONG, f->sequence, "scripted digitiser", 18); break;
     case UWB_FRAME_CONFIGURE:
         if (peer.refuse_configure) {
             uint8_t e[64];
@@ -88,8 +86,7 @@ static void answer_command(struct uwb_link *link, const struct uwb_frame *f, uin
         *seq = 0;
         send_frame(link, UWB_FRAME_ARMED, f->sequence, NULL, 0);
         break;
-    default:
-        send_frame(link, f->type | 0x80, f->sequence, NULL, 0);
+    default: send_frame(link, f->type | 0x80, f->sequence, NULL, 0);
     }
 }
 
@@ -105,7 +102,8 @@ static void serve(void)
     uint32_t seq = 0;
     int step = 0;
     for (;;) {
-        struct pollfd fds[2] = {{.fd = uwb_link_fd(link), .events = POLLIN}, {.fd = trigger_pipe[0], .events = POLLIN}};
+        struct pollfd fds[2] = {{.fd = uwb_link_fd(link), .events = POLLIN},
+                                {.fd = trigger_pipe[0], .events = POLLIN}};
         if (poll(fds, 2, 10000) <= 0)
             _exit(4);
         if (fds[0].revents) {
@@ -113,7 +111,7 @@ static void serve(void)
             uint8_t *space = uwb_frame_decoder_space(&dec, &room);
             ssize_t n = uwb_link_read(link, space, room, 0, e, sizeof e);
             if (n < 0)
-                _exit(0);   /* the parent closed: done */
+                _exit(0); /* the parent closed: done */
             uwb_frame_decoder_commit(&dec, (size_t)n);
             struct uwb_frame f;
             int status;
@@ -125,7 +123,8 @@ static void serve(void)
             char byte;
             if (read(trigger_pipe[0], &byte, 1) != 1)
                 _exit(0);
-            enum action a = step < (int)(sizeof peer.script / sizeof peer.script[0]) ? peer.script[step] : ANSWER;
+            enum action a =
+                step < (int)(sizeof peer.script / sizeof peer.script[0]) ? peer.script[step] : ANSWER;
             step++;
             if (a == STALE_THEN_ANSWER && seq > 0)
                 send_trace(link, seq - 1, SAMPLES, 0);
@@ -189,8 +188,11 @@ static int fire(void *ctx, char *e, size_t elen)
 static int start_and_open(int frame_timeout_ms, int frame_retries, struct uwb_digitiser **dig)
 {
     start_peer();
-    struct uwb_digitiser_config cfg = {.samples = SAMPLES, .sample_interval_s = 1e-11, .stack = 1,
-                                       .frame_timeout_ms = frame_timeout_ms, .frame_retries = frame_retries};
+    struct uwb_digitiser_config cfg = {.samples = SAMPLES,
+                                       .sample_interval_s = 1e-11,
+                                       .stack = 1,
+                                       .frame_timeout_ms = frame_timeout_ms,
+                                       .frame_retries = frame_retries};
     snprintf(cfg.endpoint, sizeof cfg.endpoint, "%s", endpoint);
     int detail;
     return uwb_digitiser_open(&cfg, dig, &detail, err, sizeof err);
@@ -208,7 +210,8 @@ static struct uwb_digitiser *open_client(void)
 static void acquire_expecting(struct uwb_digitiser *dig, uint32_t seq)
 {
     float out[SAMPLES];
-    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_DIGITISER_OK, uwb_digitiser_acquire(dig, fire, NULL, out, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_DIGITISER_OK,
+                                  uwb_digitiser_acquire(dig, fire, NULL, out, err, sizeof err), err);
     for (int i = 0; i < SAMPLES; i++)
         TEST_ASSERT_FLOAT_WITHIN(1e-6f, (float)(seq * 100 + (uint32_t)i) * VOLTS_PER_COUNT, out[i]);
 }
@@ -232,7 +235,7 @@ static void test_a_sequence_jump_is_followed(void)
     peer.script[0] = JUMP_AHEAD;
     struct uwb_digitiser *dig = open_client();
     acquire_expecting(dig, 5);
-    acquire_expecting(dig, 6);   /* the count follows the digitiser's */
+    acquire_expecting(dig, 6); /* the count follows the digitiser's */
     struct uwb_digitiser_stats st;
     uwb_digitiser_get_stats(dig, &st);
     TEST_ASSERT_EQUAL_UINT32(1, st.ahead);
@@ -274,7 +277,8 @@ static void test_bad_frames_beyond_the_retries_fail(void)
         peer.script[i] = WRONG_LENGTH;
     struct uwb_digitiser *dig = open_client();
     float out[SAMPLES];
-    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_FRAMES, uwb_digitiser_acquire(dig, fire, NULL, out, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_FRAMES,
+                          uwb_digitiser_acquire(dig, fire, NULL, out, err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "after 3 triggers"), err);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "63 samples"), err);
     uwb_digitiser_close(dig);

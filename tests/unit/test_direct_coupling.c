@@ -19,8 +19,12 @@
 
 static char why[200];
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 /* Ricker wavelet of 2 GHz centred at t. */
 static double ricker(double t)
@@ -44,7 +48,8 @@ static void fill(struct uwb_scan *s, double delay, double amp)
             double t = T0 + i * DT;
             state = state * 6364136223846793005ull + 1442695040888963407ull;
             double noise = ((double)(state >> 11) / 9007199254740992.0 - 0.5) * 0.004;
-            s->data[k * S + i] = (float)(0.3 + amp * ricker(t - delay) + 3.0 * amp * ricker(t - 3e-9) + noise);
+            s->data[k * S + i] =
+                (float)(0.3 + amp * ricker(t - delay) + 3.0 * amp * ricker(t - 3e-9) + noise);
         }
     }
 }
@@ -119,7 +124,8 @@ static void test_simulated_scans_agree_from_seed_to_seed(void)
         struct uwb_scan s;
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, seed, &s, err, sizeof err), err);
         double a;
-        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_direct_coupling_arrival(&s, WINDOW_END, &a, why, sizeof why), why);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_direct_coupling_arrival(&s, WINDOW_END, &a, why, sizeof why),
+                                      why);
         uwb_scan_free(&s);
         TEST_ASSERT_TRUE(a > T0 && a < 0.5e-9);
         if (seed == 1)

@@ -4,8 +4,12 @@
 #include "unity.h"
 #include "uwb/link.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static struct uwb_endpoint ep;
 static char err[512];
@@ -20,7 +24,8 @@ static void parse_ok(const char *text)
 static void parse_bad(const char *text, const char *problem)
 {
     err[0] = '\0';
-    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_LINK_ERR_ENDPOINT, uwb_endpoint_parse(text, &ep, err, sizeof err), text);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_LINK_ERR_ENDPOINT, uwb_endpoint_parse(text, &ep, err, sizeof err),
+                                  text);
     char quoted[300];
     snprintf(quoted, sizeof quoted, "'%s'", text);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, quoted), err);

@@ -24,8 +24,10 @@ void setUp(void)
     fixture_load_scan(FIXTURE_UP20, &up20);
     uwb_evaluate_defaults(&opt);
     char why[200];
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_direct_coupling_arrival(&intact, opt.direct_coupling.window_end_s,
-                                                                 &intact_arrival_s, why, sizeof why), why);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0,
+                                  uwb_direct_coupling_arrival(&intact, opt.direct_coupling.window_end_s,
+                                                              &intact_arrival_s, why, sizeof why),
+                                  why);
 }
 
 void tearDown(void)
@@ -53,17 +55,18 @@ static cJSON *as_json(const struct uwb_verdict *v)
 static void test_a_time_zero_moved_past_the_tolerance_is_not_compared(void)
 {
     /* Recorded 40 ps later than this scan's: twice the default 20 ps. */
-    struct uwb_baseline_record rec = {.scan = &intact, .has_direct_coupling = 1,
-                                      .direct_coupling_s = intact_arrival_s + 40e-12};
+    struct uwb_baseline_record rec = {
+        .scan = &intact, .has_direct_coupling = 1, .direct_coupling_s = intact_arrival_s + 40e-12};
     struct uwb_verdict v;
     evaluate(&rec, &v);
     TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, v.status);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(v.reason, "direct coupling moved -40 ps since the baseline (tolerance 20 ps)"),
-                                 v.reason);
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(v.reason, "direct coupling moved -40 ps since the baseline (tolerance 20 ps)"), v.reason);
     cJSON *o = as_json(&v);
     TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(o, "axial_displacement_mm"));
     TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(o, "baseline"));
-    TEST_ASSERT_DOUBLE_WITHIN(0.05, -40.0, cJSON_GetObjectItemCaseSensitive(o, "direct_coupling_shift_ps")->valuedouble);
+    TEST_ASSERT_DOUBLE_WITHIN(0.05, -40.0,
+                              cJSON_GetObjectItemCaseSensitive(o, "direct_coupling_shift_ps")->valuedouble);
     TEST_ASSERT_TRUE(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(o, "lower_edge_mm")));
     cJSON_Delete(o);
 
@@ -75,8 +78,8 @@ static void test_a_time_zero_moved_past_the_tolerance_is_not_compared(void)
 
 static void test_a_time_zero_within_the_tolerance_is_compared(void)
 {
-    struct uwb_baseline_record rec = {.scan = &intact, .has_direct_coupling = 1,
-                                      .direct_coupling_s = intact_arrival_s - 5e-12};
+    struct uwb_baseline_record rec = {
+        .scan = &intact, .has_direct_coupling = 1, .direct_coupling_s = intact_arrival_s - 5e-12};
     struct uwb_verdict v;
     evaluate(&rec, &v);
     TEST_ASSERT_EQUAL_INT(UWB_STATUS_ALARM, v.status);
@@ -104,8 +107,8 @@ static void test_a_time_zero_not_recorded_is_measured_on_the_baseline(void)
 /* A shift a hair under zero is printed 0, not -0. */
 static void test_a_shift_that_rounds_to_zero_prints_as_zero(void)
 {
-    struct uwb_baseline_record rec = {.scan = &intact, .has_direct_coupling = 1,
-                                      .direct_coupling_s = intact_arrival_s + 0.01e-12};
+    struct uwb_baseline_record rec = {
+        .scan = &intact, .has_direct_coupling = 1, .direct_coupling_s = intact_arrival_s + 0.01e-12};
     struct uwb_verdict v;
     evaluate(&rec, &v);
     TEST_ASSERT_TRUE(v.direct_coupling_shift_s < 0);
@@ -136,7 +139,7 @@ static void test_the_recorded_repeatability_adds_spread_over_root_n(void)
     evaluate(&rec, &plain);
     rec.has_repeatability = 1;
     rec.repeatability_m = 0.0008;
-    rec.scans = 4;   /* the mean of 4 carries 0.4 mm */
+    rec.scans = 4; /* the mean of 4 carries 0.4 mm */
     evaluate(&rec, &repeat);
     double want = sqrt(plain.uncertainty_m * plain.uncertainty_m + 0.0004 * 0.0004);
     TEST_ASSERT_DOUBLE_WITHIN(1e-7, want, repeat.uncertainty_m);

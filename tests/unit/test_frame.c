@@ -10,8 +10,12 @@
 
 #define ASSERT_SIZE(want, got) TEST_ASSERT_EQUAL_UINT64((uint64_t)(want), (uint64_t)(got))
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 /* A DATA frame of `samples` codes (code i = i * 7 - 300 + seq) into out. */
 static size_t make_data_frame(uint32_t sequence, uint32_t samples, uint8_t *out, size_t outlen)
@@ -22,7 +26,8 @@ static size_t make_data_frame(uint32_t sequence, uint32_t samples, uint8_t *out,
     TEST_ASSERT_NOT_NULL(payload);
     for (uint32_t i = 0; i < samples; i++)
         codes[i] = (int16_t)((int)i * 7 - 300 + (int)sequence);
-    size_t plen = uwb_trace_payload_encode(codes, samples, 0.5f / 2048, payload, uwb_trace_payload_size(samples));
+    size_t plen =
+        uwb_trace_payload_encode(codes, samples, 0.5f / 2048, payload, uwb_trace_payload_size(samples));
     ASSERT_SIZE(uwb_trace_payload_size(samples), plen);
     size_t n = uwb_frame_encode(UWB_FRAME_DATA, sequence, payload, plen, out, outlen);
     free(codes);
@@ -76,8 +81,8 @@ static void test_negative_codes_and_extremes_survive(void)
 static void test_encode_refuses_a_too_small_buffer_or_payload(void)
 {
     uint8_t buf[64];
-    ASSERT_SIZE(0, uwb_frame_encode(UWB_FRAME_PING, 1, "abcdefghijklmnopqrstuvwxyzabcdefghijklmnopq", 43,
-                                                 buf, sizeof buf));
+    ASSERT_SIZE(0, uwb_frame_encode(UWB_FRAME_PING, 1, "abcdefghijklmnopqrstuvwxyzabcdefghijklmnopq", 43, buf,
+                                    sizeof buf));
     ASSERT_SIZE(0, uwb_frame_encode(UWB_FRAME_DATA, 1, buf, UWB_FRAME_MAX_PAYLOAD + 1, buf, SIZE_MAX));
 }
 
@@ -93,7 +98,7 @@ static void test_any_flipped_byte_is_rejected(void)
         size_t consumed;
         int status = uwb_frame_decode(bad, n, &f, &consumed);
         TEST_ASSERT_NOT_EQUAL_MESSAGE(UWB_FRAME_FOUND, status, "a corrupted frame was accepted");
-        if (i < UWB_FRAME_SYNC_BYTES) {   /* no sync marker here any more; maybe a false one later */
+        if (i < UWB_FRAME_SYNC_BYTES) { /* no sync marker here any more; maybe a false one later */
             TEST_ASSERT_TRUE(status == UWB_FRAME_NEED_MORE || status == UWB_FRAME_BAD_HEADER);
         } else if (i < UWB_FRAME_HEADER_BYTES) {
             TEST_ASSERT_EQUAL_INT(UWB_FRAME_BAD_HEADER, status);
@@ -111,7 +116,7 @@ static void test_every_truncation_waits_for_more(void)
         struct uwb_frame f;
         size_t consumed = 12345;
         TEST_ASSERT_EQUAL_INT(UWB_FRAME_NEED_MORE, uwb_frame_decode(buf, len, &f, &consumed));
-        ASSERT_SIZE(0, consumed);   /* nothing of a possible frame is thrown away */
+        ASSERT_SIZE(0, consumed); /* nothing of a possible frame is thrown away */
     }
 }
 
@@ -284,7 +289,7 @@ static void test_random_bytes_decode_to_nothing(void)
             x = x * 1103515245u + 12345u;
             chunk[i] = (uint8_t)(x >> 16);
             if (i % 97 == 0)
-                chunk[i] = 0xA5;   /* plenty of sync starts */
+                chunk[i] = 0xA5; /* plenty of sync starts */
         }
         uwb_frame_decoder_feed(&dec, chunk, sizeof chunk);
         struct uwb_frame f;

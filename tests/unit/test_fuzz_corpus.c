@@ -42,8 +42,12 @@ struct tally {
     int files, accepted;
 };
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 /* An exact-size copy of the file (the reader leaves a NUL after the bytes),
  * so ASan sees a harness reading one byte past the end. NULL with err
@@ -112,17 +116,50 @@ static void run_target(const char *name)
     run_dir(t, dir, 0, &regressions);
 }
 
-static void test_scan_corpus(void) { run_target("scan"); }
-static void test_frame_corpus(void) { run_target("frame"); }
-static void test_digitiser_corpus(void) { run_target("digitiser"); }
-static void test_config_corpus(void) { run_target("config"); }
-static void test_command_corpus(void) { run_target("command"); }
-static void test_gpio_reply_corpus(void) { run_target("gpio_reply"); }
-static void test_gpio_board_corpus(void) { run_target("gpio_board"); }
-static void test_analysis_corpus(void) { run_target("analysis"); }
-static void test_state_corpus(void) { run_target("state"); }
-static void test_set_corpus(void) { run_target("set"); }
-static void test_ctl_reply_corpus(void) { run_target("ctl_reply"); }
+static void test_scan_corpus(void)
+{
+    run_target("scan");
+}
+static void test_frame_corpus(void)
+{
+    run_target("frame");
+}
+static void test_digitiser_corpus(void)
+{
+    run_target("digitiser");
+}
+static void test_config_corpus(void)
+{
+    run_target("config");
+}
+static void test_command_corpus(void)
+{
+    run_target("command");
+}
+static void test_gpio_reply_corpus(void)
+{
+    run_target("gpio_reply");
+}
+static void test_gpio_board_corpus(void)
+{
+    run_target("gpio_board");
+}
+static void test_analysis_corpus(void)
+{
+    run_target("analysis");
+}
+static void test_state_corpus(void)
+{
+    run_target("state");
+}
+static void test_set_corpus(void)
+{
+    run_target("set");
+}
+static void test_ctl_reply_corpus(void)
+{
+    run_target("ctl_reply");
+}
 
 /* Every tests/fuzz/fuzz_<name>.c has its entry above. */
 static void test_every_fuzz_target_is_listed(void)

@@ -13,8 +13,12 @@
 
 static char err[1024];
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 #define MISSING_CHIP "gpiochip-uwb-test-absent"
 
@@ -102,7 +106,8 @@ static void test_digitiser_on_a_missing_port_is_a_link_error(void)
     snprintf(cfg.digitiser.endpoint, sizeof cfg.digitiser.endpoint, "serial:/dev/ttyUWBTEST9");
     struct uwb_digitiser *dig = NULL;
     int detail = 0;
-    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_LINK, uwb_digitiser_open(&cfg.digitiser, &dig, &detail, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_LINK,
+                          uwb_digitiser_open(&cfg.digitiser, &dig, &detail, err, sizeof err));
     TEST_ASSERT_NULL(dig);
     TEST_ASSERT_EQUAL_INT(UWB_LINK_ERR_OPEN, detail);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "/dev/ttyUWBTEST9"), err);

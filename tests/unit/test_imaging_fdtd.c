@@ -25,8 +25,8 @@ void tearDown(void)
     uwb_scan_free(&up20);
 }
 
-static void evaluate(enum uwb_migration_kind kind, const struct uwb_scan *cur,
-                     const struct uwb_scan *base, struct uwb_verdict *v)
+static void evaluate(enum uwb_migration_kind kind, const struct uwb_scan *cur, const struct uwb_scan *base,
+                     struct uwb_verdict *v)
 {
     struct uwb_evaluate_options opt;
     uwb_evaluate_defaults(&opt);
@@ -64,8 +64,14 @@ static void displacement_case(enum uwb_migration_kind kind)
     TEST_ASSERT_TRUE(v.uncertainty_m < 0.001);
 }
 
-static void test_fdtd_displacement_fixed_point(void) { displacement_case(UWB_MIGRATE_FIXED); }
-static void test_fdtd_displacement_float(void) { displacement_case(UWB_MIGRATE_FLOAT); }
+static void test_fdtd_displacement_fixed_point(void)
+{
+    displacement_case(UWB_MIGRATE_FIXED);
+}
+static void test_fdtd_displacement_float(void)
+{
+    displacement_case(UWB_MIGRATE_FLOAT);
+}
 
 static void test_fdtd_moving_down_reads_negative(void)
 {

@@ -16,8 +16,12 @@
 
 #define FDTD_SCENE "tools/uwbsim/scenes/fdtd2d-paper.json"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static int emulated(void)
 {
@@ -25,8 +29,7 @@ static int emulated(void)
     return p && *p;
 }
 
-static void simulate(const struct sim_scene *sc, double displacement_m, uint64_t seed,
-                     struct uwb_scan *scan)
+static void simulate(const struct sim_scene *sc, double displacement_m, uint64_t seed, struct uwb_scan *scan)
 {
     char err[256];
     struct sim_scene s = *sc;
@@ -51,7 +54,8 @@ static void verdict(const struct uwb_scan *cur, const struct uwb_scan *base,
     char err[256];
     struct uwb_analysis ca, ba;
     struct uwb_baseline_record rec = {.scan = base};
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(cur, base ? &rec : NULL, opt, v, &ca, &ba, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(cur, base ? &rec : NULL, opt, v, &ca, &ba, err, sizeof err),
+                                  err);
     uwb_analysis_free(&ca);
     uwb_analysis_free(&ba);
 }
@@ -147,9 +151,8 @@ static void check_shifts(const struct sim_scene *sc, const double *shifts_mm, in
         struct uwb_verdict v;
         verdict(&cur, &base, &opt, &v);
         double e = v.axial_displacement_m - shifts_mm[i] / 1000.0;
-        printf("  shift %+6.1f mm: measured %+7.2f mm, error %+5.2f mm, sigma %.2f mm, %s\n",
-               shifts_mm[i], v.axial_displacement_m * 1e3, e * 1e3, v.uncertainty_m * 1e3,
-               uwb_status_name(v.status));
+        printf("  shift %+6.1f mm: measured %+7.2f mm, error %+5.2f mm, sigma %.2f mm, %s\n", shifts_mm[i],
+               v.axial_displacement_m * 1e3, e * 1e3, v.uncertainty_m * 1e3, uwb_status_name(v.status));
         TEST_ASSERT_NOT_EQUAL(UWB_STATUS_INCONCLUSIVE, v.status);
         TEST_ASSERT_EQUAL_INT(expect_side_reflector, v.current.side_reflector);
         TEST_ASSERT_EQUAL_INT(expect_side_reflector, v.baseline.side_reflector);
@@ -257,7 +260,7 @@ int main(void)
     RUN_TEST(test_sim_2d_edges_match_fdtd_up20);
     RUN_TEST(test_jitter_and_drift_are_undone);
     RUN_TEST(test_3d_tank_displacement_within_half_mm);
-    if (!emulated())   /* test_clamp_plate_removal... covers the plate under qemu-user */
+    if (!emulated()) /* test_clamp_plate_removal... covers the plate under qemu-user */
         RUN_TEST(test_3d_tank_with_flush_clamp_plate);
     RUN_TEST(test_clamp_plate_removal_is_what_corrects_it);
     if (!emulated())

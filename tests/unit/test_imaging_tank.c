@@ -58,8 +58,8 @@ static void test_every_tank_shift_within_a_quarter_millimetre_on_a_slope_of_one(
         double truth;
         replay(moved[i], &v, &truth);
         double got = v.axial_displacement_m * 1e3;
-        printf("%s: true %+.1f mm, measured %+.3f mm, error %+.3f mm, sigma %.3f mm, %s\n", moved[i],
-               truth, got, got - truth, v.uncertainty_m * 1e3, uwb_status_name(v.status));
+        printf("%s: true %+.1f mm, measured %+.3f mm, error %+.3f mm, sigma %.3f mm, %s\n", moved[i], truth,
+               got, got - truth, v.uncertainty_m * 1e3, uwb_status_name(v.status));
         TEST_ASSERT_TRUE_MESSAGE(v.current.found && v.baseline.found, v.reason);
         /* A figure, with default settings: no noise, so sigma is the floor. */
         TEST_ASSERT_NOT_EQUAL_MESSAGE(UWB_STATUS_INCONCLUSIVE, v.status, v.reason);

@@ -25,8 +25,8 @@ void tearDown(void)
     uwb_scan_free(&clean);
 }
 
-static void impaired(struct uwb_scan *out, double snr_db, int noise, double jitter_s, double lin,
-                     double rnd, uint64_t seed, struct uwb_impairment_report *rep)
+static void impaired(struct uwb_scan *out, double snr_db, int noise, double jitter_s, double lin, double rnd,
+                     uint64_t seed, struct uwb_impairment_report *rep)
 {
     char err[256];
     TEST_ASSERT_EQUAL_INT(0, uwb_scan_copy(out, &clean, err, sizeof err));
@@ -96,7 +96,7 @@ static void test_drift_scales_each_trace_and_leaves_the_noise_draws_alone(void)
             den += (double)c[i] * c[i];
         }
         double g = 1.0 + num / den;
-        TEST_ASSERT_TRUE(fabs(g - 1.0 - 0.02 * k / (K - 1)) < 0.06);  /* linear plus a 1 % draw */
+        TEST_ASSERT_TRUE(fabs(g - 1.0 - 0.02 * k / (K - 1)) < 0.06); /* linear plus a 1 % draw */
         for (int i = 0; i < S; i += 53)
             TEST_ASSERT_FLOAT_WITHIN(1e-3f * (fabsf(c[i]) + 1.0f), o[i] - c[i], (float)(d[i] - g * c[i]));
     }
@@ -136,8 +136,8 @@ static void test_jitter_delays_each_trace_with_the_given_rms(void)
     int K = clean.positions, S = clean.samples;
     double ss = 0.0;
     for (int k = 0; k < K; k++) {
-        double d = delay_between(clean.data + (size_t)k * S, j.data + (size_t)k * S, S,
-                                 clean.sample_interval_s);
+        double d =
+            delay_between(clean.data + (size_t)k * S, j.data + (size_t)k * S, S, clean.sample_interval_s);
         ss += d * d;
     }
     double rms = sqrt(ss / K);
@@ -181,7 +181,8 @@ static void test_the_program_writes_the_same_file_for_the_same_seed(void)
     free(fa);
     free(fb);
     free(fc);
-    snprintf(cmd, sizeof cmd, "%s %s/uwbimpair --jitter-ps -1 %s %s 2>/dev/null", prefix, UWB_BUILD_DIR, TANK, a);
+    snprintf(cmd, sizeof cmd, "%s %s/uwbimpair --jitter-ps -1 %s %s 2>/dev/null", prefix, UWB_BUILD_DIR, TANK,
+             a);
     TEST_ASSERT_EQUAL_INT(64, WEXITSTATUS(system(cmd)));
     TEST_ASSERT_EQUAL_INT(0, scratch_remove_tree(dir));
 }

@@ -95,7 +95,7 @@ static void test_unix_listener_accepts_one_peer_after_another(void)
     TEST_ASSERT_EQUAL_INT(UWB_LINK_ERR_TIMEOUT, uwb_link_accept(l, &none, 10, err, sizeof err));
     uwb_link_listener_close(l);
     struct stat st;
-    TEST_ASSERT_NOT_EQUAL(0, stat(path, &st));   /* the socket file is gone */
+    TEST_ASSERT_NOT_EQUAL(0, stat(path, &st)); /* the socket file is gone */
 }
 
 static void test_listener_replaces_a_stale_socket_but_not_a_file(void)

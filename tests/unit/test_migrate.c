@@ -10,8 +10,12 @@
 #include "uwb/geometry.h"
 #include "uwb/migrate.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 /* A point scatterer at (yp, zp) seen by a bistatic pair, Ricker 2 GHz. */
 static void point_scan(struct uwb_scan *s, double yp, double zp, double jitter_m)
@@ -63,13 +67,21 @@ static void focus_case(enum uwb_migration_kind kind, double jitter)
     TEST_ASSERT_DOUBLE_WITHIN(0.0015, 0.317, y);
     TEST_ASSERT_DOUBLE_WITHIN(0.0015, 0.55, z);
     /* The sum is coherent there: every trace adds its peak of 1. */
-    TEST_ASSERT_FLOAT_WITHIN(1.5f, 21.0f, fabsf(img.pix[(size_t)lround((y - 0.15) / 0.001) * 201 + (size_t)lround((z - 0.45) / 0.001)]));
+    TEST_ASSERT_FLOAT_WITHIN(
+        1.5f, 21.0f,
+        fabsf(img.pix[(size_t)lround((y - 0.15) / 0.001) * 201 + (size_t)lround((z - 0.45) / 0.001)]));
     uwb_image_free(&img);
     uwb_scan_free(&s);
 }
 
-static void test_float_focuses_a_point(void) { focus_case(UWB_MIGRATE_FLOAT, 0.0); }
-static void test_fixed_focuses_a_point(void) { focus_case(UWB_MIGRATE_FIXED, 0.0); }
+static void test_float_focuses_a_point(void)
+{
+    focus_case(UWB_MIGRATE_FLOAT, 0.0);
+}
+static void test_fixed_focuses_a_point(void)
+{
+    focus_case(UWB_MIGRATE_FIXED, 0.0);
+}
 /* Antenna heights off the pixel grid take the per-trace delay tables. */
 static void test_off_grid_antennas_focus_too(void)
 {

@@ -15,8 +15,12 @@
 #include "../../src/imaging/delay_table.h"
 #include "../../src/imaging/migrate_kernel.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 #define POSITIONS 21
 #define SAMPLES 600
@@ -76,7 +80,7 @@ static int check_table_rows(const struct uwb_scan *s, const struct uwb_image *im
             double d = delay_samples(&g, img->y0_m - y_top + r * img->dy_m, img->z0_m + iz * img->dz_m);
             size_t at = t.row_start[r] + (size_t)iz;
             if (d < 0.0 || d >= SAMPLES - 1 - 1e-6) {
-                if (d < 0.0 || d >= SAMPLES - 1 + 1e-6) {   /* clearly outside: the pad */
+                if (d < 0.0 || d >= SAMPLES - 1 + 1e-6) { /* clearly outside: the pad */
                     TEST_ASSERT_EQUAL_INT32(SAMPLES, t.index[at]);
                     TEST_ASSERT_EQUAL_INT16(0, t.weight_q15[at]);
                 }
@@ -135,7 +139,7 @@ static void test_weight_rounding_carries_into_the_index(void)
     s.antenna_y_m[0] = 0.0;
     struct uwb_geometry g;
     uwb_geometry_from_scan(&g, &s, 0.0);
-    double leg = (100.0 * g.dt_s + g.t0_s) * g.velocity_m_s / 2.0;   /* Tx and Rx legs alike */
+    double leg = (100.0 * g.dt_s + g.t0_s) * g.velocity_m_s / 2.0; /* Tx and Rx legs alike */
     double z_exact = sqrt(leg * leg - 0.02 * 0.02);
     struct uwb_image img;
     fixture_image_grid(&img, 1, 401, 0.0, 0.001, z_exact - 200 * 2e-12, 2e-12);
@@ -146,7 +150,7 @@ static void test_weight_rounding_carries_into_the_index(void)
     for (int iz = 0; iz < img.nz; iz++) {
         double d = delay_samples(&g, 0.0, img.z0_m + iz * img.dz_m);
         double below = d - floor(d);
-        if (below * 32768.0 >= 32767.5) {   /* rounds to 1: the next sample, weight 0 */
+        if (below * 32768.0 >= 32767.5) { /* rounds to 1: the next sample, weight 0 */
             TEST_ASSERT_EQUAL_INT32((int32_t)floor(d) + 1, t.index[iz]);
             TEST_ASSERT_EQUAL_INT16(0, t.weight_q15[iz]);
             carried++;
@@ -252,7 +256,7 @@ static void check_images(double tx_dz, double jitter_m, double y0)
     for (size_t i = 0; i < n; i++) {
         TEST_ASSERT_DOUBLE_WITHIN(1e-4, ref[i], fl.pix[i]);
         TEST_ASSERT_DOUBLE_WITHIN(fixed_bound, ref[i], fx.pix[i]);
-        if (ref[i] == 0.0) {   /* every delay beyond the record: nothing added */
+        if (ref[i] == 0.0) { /* every delay beyond the record: nothing added */
             TEST_ASSERT_EQUAL_FLOAT(0.0f, fx.pix[i]);
             TEST_ASSERT_EQUAL_FLOAT(0.0f, fl.pix[i]);
             zeros++;
@@ -266,15 +270,23 @@ static void check_images(double tx_dz, double jitter_m, double y0)
     uwb_scan_free(&s);
 }
 
-static void test_images_with_mirrored_table(void) { check_images(0.0, 0.0, -0.15); }
-static void test_images_with_unmirrored_table(void) { check_images(0.013, 0.0, -0.15); }
-static void test_images_with_per_trace_tables(void) { check_images(0.0, 0.0041, -0.15); }
+static void test_images_with_mirrored_table(void)
+{
+    check_images(0.0, 0.0, -0.15);
+}
+static void test_images_with_unmirrored_table(void)
+{
+    check_images(0.013, 0.0, -0.15);
+}
+static void test_images_with_per_trace_tables(void)
+{
+    check_images(0.0, 0.0041, -0.15);
+}
 
 static void test_simd_name_is_known(void)
 {
     const char *name = uwb_migration_simd();
-    TEST_ASSERT_TRUE(strcmp(name, "SSE2") == 0 || strcmp(name, "NEON") == 0 ||
-                     strcmp(name, "none") == 0);
+    TEST_ASSERT_TRUE(strcmp(name, "SSE2") == 0 || strcmp(name, "NEON") == 0 || strcmp(name, "none") == 0);
 #if defined(__x86_64__)
     TEST_ASSERT_EQUAL_STRING("SSE2", name);
 #elif defined(__aarch64__)

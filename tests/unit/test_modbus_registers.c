@@ -16,10 +16,12 @@ static uint16_t regs[UWBD_MODBUS_REGISTER_COUNT];
 
 void setUp(void)
 {
-    memset(regs, 0xA5, sizeof regs);   /* every register must be written */
+    memset(regs, 0xA5, sizeof regs); /* every register must be written */
 }
 
-void tearDown(void) {}
+void tearDown(void)
+{
+}
 
 static int32_t reg32(int at)
 {
@@ -36,7 +38,7 @@ static void test_compared_verdict_in_hundredths_of_a_millimetre(void)
     struct uwbd_modbus_status st = {.scan_count = 70000, .has_baseline = 1};
     uwbd_modbus_registers_fill(compared, &st, regs);
     TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_MAP_VERSION, regs[UWBD_MODBUS_REG_MAP_VERSION]);
-    TEST_ASSERT_EQUAL_UINT16(3, regs[UWBD_MODBUS_REG_STATUS]);   /* watch */
+    TEST_ASSERT_EQUAL_UINT16(3, regs[UWBD_MODBUS_REG_STATUS]); /* watch */
     TEST_ASSERT_EQUAL_INT16(-123, (int16_t)regs[UWBD_MODBUS_REG_DISPLACEMENT]);
     TEST_ASSERT_EQUAL_INT16(45, (int16_t)regs[UWBD_MODBUS_REG_SIGMA]);
     TEST_ASSERT_EQUAL_INT16(7, (int16_t)regs[UWBD_MODBUS_REG_HEIGHT_CHANGE]);
@@ -45,8 +47,9 @@ static void test_compared_verdict_in_hundredths_of_a_millimetre(void)
     /* 70000 = 0x0001 0x1170: the high word first */
     TEST_ASSERT_EQUAL_UINT16(1, regs[UWBD_MODBUS_REG_SCAN_COUNT]);
     TEST_ASSERT_EQUAL_UINT16(0x1170, regs[UWBD_MODBUS_REG_SCAN_COUNT + 1]);
-    TEST_ASSERT_EQUAL_INT32(1795498200, reg32(UWBD_MODBUS_REG_SCAN_TIME));   /* date -u -d ... +%s */
-    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_BASELINE | UWBD_MODBUS_HEALTH_VERDICT, regs[UWBD_MODBUS_REG_HEALTH]);
+    TEST_ASSERT_EQUAL_INT32(1795498200, reg32(UWBD_MODBUS_REG_SCAN_TIME)); /* date -u -d ... +%s */
+    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_BASELINE | UWBD_MODBUS_HEALTH_VERDICT,
+                             regs[UWBD_MODBUS_REG_HEALTH]);
     TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_CONTACTS]);
 }
 
@@ -72,13 +75,16 @@ static void test_no_verdict_reads_status_zero_and_none_markers(void)
 static void test_edges_only_verdict_has_edges_but_no_displacement(void)
 {
     struct uwbd_modbus_status st = {.scan_count = 1, .scanning = 1};
-    uwbd_modbus_registers_fill("{\"status\":\"edges\",\"created\":\"2026-11-24T05:30:00Z\",\"lower_edge_mm\":-0.5,"
-                               "\"upper_edge_mm\":700}", &st, regs);
+    uwbd_modbus_registers_fill(
+        "{\"status\":\"edges\",\"created\":\"2026-11-24T05:30:00Z\",\"lower_edge_mm\":-0.5,"
+        "\"upper_edge_mm\":700}",
+        &st, regs);
     TEST_ASSERT_EQUAL_UINT16(1, regs[UWBD_MODBUS_REG_STATUS]);
     TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_DISPLACEMENT]);
     TEST_ASSERT_EQUAL_INT32(-50, reg32(UWBD_MODBUS_REG_LOWER_EDGE));
     TEST_ASSERT_EQUAL_INT32(70000, reg32(UWBD_MODBUS_REG_UPPER_EDGE));
-    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_SCANNING | UWBD_MODBUS_HEALTH_VERDICT, regs[UWBD_MODBUS_REG_HEALTH]);
+    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_SCANNING | UWBD_MODBUS_HEALTH_VERDICT,
+                             regs[UWBD_MODBUS_REG_HEALTH]);
 }
 
 static void test_every_status_has_its_code(void)
@@ -99,7 +105,8 @@ static void test_large_figures_clip_and_never_read_as_none(void)
 {
     struct uwbd_modbus_status st = {0};
     uwbd_modbus_registers_fill("{\"status\":\"alarm\",\"axial_displacement_mm\":-400,\"uncertainty_mm\":400,"
-                               "\"height_change_mm\":-327.68}", &st, regs);
+                               "\"height_change_mm\":-327.68}",
+                               &st, regs);
     TEST_ASSERT_EQUAL_INT16(-32767, (int16_t)regs[UWBD_MODBUS_REG_DISPLACEMENT]);
     TEST_ASSERT_EQUAL_INT16(32767, (int16_t)regs[UWBD_MODBUS_REG_SIGMA]);
     TEST_ASSERT_EQUAL_INT16(-32767, (int16_t)regs[UWBD_MODBUS_REG_HEIGHT_CHANGE]);
@@ -122,7 +129,8 @@ static void test_fault_and_contact_bits(void)
     TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_DEVICE_FAULT | UWBD_MODBUS_HEALTH_VERDICT,
                              regs[UWBD_MODBUS_REG_HEALTH]);
     /* bits outside the map are not passed on */
-    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_CONTACT_ALARM | UWBD_MODBUS_CONTACT_FAULT, regs[UWBD_MODBUS_REG_CONTACTS]);
+    TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_CONTACT_ALARM | UWBD_MODBUS_CONTACT_FAULT,
+                             regs[UWBD_MODBUS_REG_CONTACTS]);
 }
 
 /* README's register table gives every address as the enum has it. */

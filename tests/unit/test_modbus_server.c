@@ -116,7 +116,8 @@ static void test_registers_come_from_the_fill_hook_at_each_request(void)
     uint16_t in[UWBD_MODBUS_REGISTER_COUNT], hold[UWBD_MODBUS_REGISTER_COUNT];
     TEST_ASSERT_EQUAL_INT(UWBD_MODBUS_REGISTER_COUNT,
                           modbus_read_input_registers(master, 0, UWBD_MODBUS_REGISTER_COUNT, in));
-    TEST_ASSERT_EQUAL_INT(UWBD_MODBUS_REGISTER_COUNT, modbus_read_registers(master, 0, UWBD_MODBUS_REGISTER_COUNT, hold));
+    TEST_ASSERT_EQUAL_INT(UWBD_MODBUS_REGISTER_COUNT,
+                          modbus_read_registers(master, 0, UWBD_MODBUS_REGISTER_COUNT, hold));
     for (int i = 0; i < UWBD_MODBUS_REGISTER_COUNT; i++) {
         TEST_ASSERT_EQUAL_UINT16(100 + i, in[i]);
         TEST_ASSERT_EQUAL_UINT16(100 + i, hold[i]);
@@ -167,7 +168,7 @@ static void test_an_unwired_coil_is_illegal_address(void)
     const uint8_t both[UWBD_MODBUS_COIL_COUNT] = {1, 0};
     TEST_ASSERT_EQUAL_INT(-1, modbus_write_bits(master, 0, UWBD_MODBUS_COIL_COUNT, both));
     TEST_ASSERT_EQUAL_INT(EMBXILADD, errno);
-    TEST_ASSERT_EQUAL_INT(0, atomic_load(&acks));   /* nothing done when the request is refused */
+    TEST_ASSERT_EQUAL_INT(0, atomic_load(&acks)); /* nothing done when the request is refused */
     TEST_ASSERT_EQUAL_INT(1, modbus_write_bit(master, UWBD_MODBUS_COIL_ACK, 1));
     TEST_ASSERT_EQUAL_INT(1, atomic_load(&acks));
 }
@@ -211,8 +212,8 @@ static int free_port(void)
 static int connect_to(int port)
 {
     int fd = socket(AF_INET, SOCK_STREAM, 0);
-    struct sockaddr_in a = {.sin_family = AF_INET, .sin_port = htons((uint16_t)port),
-                            .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
+    struct sockaddr_in a = {
+        .sin_family = AF_INET, .sin_port = htons((uint16_t)port), .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
     TEST_ASSERT_EQUAL_INT(0, connect(fd, (struct sockaddr *)&a, sizeof a));
     return fd;
 }
@@ -246,7 +247,7 @@ static void test_a_slow_tcp_master_never_blocks_the_loop(void)
     const uint8_t half[3] = {0x00, 0x01, 0x00};
     TEST_ASSERT_EQUAL_INT(3, (int)send(slow, half, sizeof half, 0));
     TEST_ASSERT_TRUE(serve_for(0.3) < 0.1);
-    TEST_ASSERT_TRUE(uwbd_modbus_server_timeout_ms(server) > 0);   /* its deadline is in poll's timeout */
+    TEST_ASSERT_TRUE(uwbd_modbus_server_timeout_ms(server) > 0); /* its deadline is in poll's timeout */
     int quick = connect_to(port);
     /* read input registers 0..1: MBAP (tid 7, protocol 0, length 6, unit 1), function 4 */
     const uint8_t request[12] = {0x00, 0x07, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x00, 0x00, 0x02};
@@ -258,7 +259,7 @@ static void test_a_slow_tcp_master_never_blocks_the_loop(void)
     const uint8_t expected[13] = {0x00, 0x07, 0x00, 0x00, 0x00, 0x07, 0x01, 0x04, 0x04, 0x00, 100, 0x00, 101};
     TEST_ASSERT_EQUAL_UINT8_ARRAY(expected, reply, 13);
     TEST_ASSERT_TRUE(serve_for(2.0) < 0.1);
-    TEST_ASSERT_EQUAL_INT(0, (int)recv(slow, reply, sizeof reply, MSG_DONTWAIT));   /* dropped: EOF */
+    TEST_ASSERT_EQUAL_INT(0, (int)recv(slow, reply, sizeof reply, MSG_DONTWAIT)); /* dropped: EOF */
     close(slow);
     close(quick);
 }

@@ -29,13 +29,13 @@ static char dir[256];
 
 static struct uwb_image make_image(double lo, double hi)
 {
-    struct uwb_image img = { 0 };
+    struct uwb_image img = {0};
     img.ny = 301;
     img.nz = 161;
     img.y0_m = 0.0;
-    img.dy_m = 0.002;      /* 0 .. 600 mm */
+    img.dy_m = 0.002; /* 0 .. 600 mm */
     img.z0_m = 0.35;
-    img.dz_m = 0.0025;     /* 350 .. 750 mm */
+    img.dz_m = 0.0025; /* 350 .. 750 mm */
     img.pix = calloc((size_t)img.ny * (size_t)img.nz, sizeof *img.pix);
     TEST_ASSERT_NOT_NULL(img.pix);
     for (int iy = 0; iy < img.ny; iy++)
@@ -107,7 +107,7 @@ struct png_rgb {
 
 static struct png_rgb read_png(const char *path)
 {
-    struct png_rgb out = { 0, 0, NULL };
+    struct png_rgb out = {0, 0, NULL};
     png_image image;
     memset(&image, 0, sizeof image);
     image.version = PNG_IMAGE_VERSION;
@@ -125,7 +125,7 @@ static struct uwb_rgb at(const struct png_rgb *p, int x, int y)
 {
     TEST_ASSERT_TRUE(x >= 0 && y >= 0 && x < p->w && y < p->h);
     const unsigned char *q = p->px + ((size_t)y * (size_t)p->w + (size_t)x) * 3;
-    struct uwb_rgb c = { q[0], q[1], q[2] };
+    struct uwb_rgb c = {q[0], q[1], q[2]};
     return c;
 }
 
@@ -209,7 +209,7 @@ static void test_font_table_is_complete_and_glyphs_are_distinct(void)
     TEST_ASSERT_TRUE(uwb_font_table_consistent());
     for (unsigned cp = 32; cp <= 126; cp++)
         TEST_ASSERT_TRUE(uwb_font_has_glyph(cp));
-    TEST_ASSERT_TRUE(uwb_font_has_glyph(0x00B1));   /* ± in captions */
+    TEST_ASSERT_TRUE(uwb_font_has_glyph(0x00B1)); /* ± in captions */
     TEST_ASSERT_FALSE(uwb_font_has_glyph(0x4E00));
 
     /* Every printable glyph leaves ink and no two look the same (a
@@ -219,9 +219,9 @@ static void test_font_table_is_complete_and_glyphs_are_distinct(void)
     char err[128];
     for (int i = 0; i < 95; i++) {
         struct uwb_canvas c;
-        struct uwb_rgb white = { 255, 255, 255 }, black = { 0, 0, 0 };
+        struct uwb_rgb white = {255, 255, 255}, black = {0, 0, 0};
         TEST_ASSERT_EQUAL_INT(0, uwb_canvas_init(&c, W, H, white, err, sizeof err));
-        char s[2] = { (char)(32 + i), 0 };
+        char s[2] = {(char)(32 + i), 0};
         uwb_draw_text(&c, 0, 0, s, 1, black);
         int ink = 0;
         for (int p = 0; p < W * H; p++) {
@@ -242,9 +242,9 @@ static void test_text_width_matches_drawn_extent_and_scales(void)
 {
     char err[128];
     struct uwb_canvas c;
-    struct uwb_rgb white = { 255, 255, 255 }, black = { 0, 0, 0 };
+    struct uwb_rgb white = {255, 255, 255}, black = {0, 0, 0};
     TEST_ASSERT_EQUAL_INT(0, uwb_canvas_init(&c, 200, 40, white, err, sizeof err));
-    const char *text = "H\xc2\xb1M";      /* UTF-8 ± counts as one glyph */
+    const char *text = "H\xc2\xb1M"; /* UTF-8 ± counts as one glyph */
     int advance = uwb_draw_text(&c, 10, 5, text, 2, black);
     TEST_ASSERT_EQUAL_INT(uwb_text_width(text, 2), advance);
     TEST_ASSERT_EQUAL_INT(2 * uwb_text_width(text, 1), uwb_text_width(text, 2));
@@ -269,7 +269,7 @@ static void test_text_width_matches_drawn_extent_and_scales(void)
 static void test_perceptual_map_lightness_rises_monotonically(void)
 {
     double prev = uwb_rgb_lightness(uwb_colormap_perceptual(0.0));
-    TEST_ASSERT_TRUE(prev < 20.0);           /* floor reads dark */
+    TEST_ASSERT_TRUE(prev < 20.0); /* floor reads dark */
     for (int i = 1; i <= 1000; i++) {
         double l = uwb_rgb_lightness(uwb_colormap_perceptual(i / 1000.0));
         /* Rounding a falling channel to 8 bits can cost ~0.1 L* for a
@@ -278,15 +278,15 @@ static void test_perceptual_map_lightness_rises_monotonically(void)
         if (l > prev)
             prev = l;
     }
-    TEST_ASSERT_TRUE(prev > 85.0);           /* peak reads bright */
+    TEST_ASSERT_TRUE(prev > 85.0); /* peak reads bright */
     /* Over steps of 1/50 (under 1 dB on a 30 dB scale) it strictly rises. */
     for (int i = 0; i < 50; i++)
-        TEST_ASSERT_TRUE(uwb_rgb_lightness(uwb_colormap_perceptual((i + 1) / 50.0))
-                         > uwb_rgb_lightness(uwb_colormap_perceptual(i / 50.0)) + 0.5);
+        TEST_ASSERT_TRUE(uwb_rgb_lightness(uwb_colormap_perceptual((i + 1) / 50.0)) >
+                         uwb_rgb_lightness(uwb_colormap_perceptual(i / 50.0)) + 0.5);
     /* Nearly uniform: each eighth of the map adds a similar lightness. */
     for (int i = 0; i < 8; i++) {
-        double d = uwb_rgb_lightness(uwb_colormap_perceptual((i + 1) / 8.0))
-                 - uwb_rgb_lightness(uwb_colormap_perceptual(i / 8.0));
+        double d = uwb_rgb_lightness(uwb_colormap_perceptual((i + 1) / 8.0)) -
+                   uwb_rgb_lightness(uwb_colormap_perceptual(i / 8.0));
         TEST_ASSERT_TRUE(d > 6.0 && d < 13.0);
     }
     TEST_ASSERT_TRUE(same(uwb_colormap_perceptual(-1.0), uwb_colormap_perceptual(0.0)));
@@ -340,7 +340,7 @@ static void test_dashed_line_has_gaps_and_solid_line_has_none(void)
 {
     char err[128];
     struct uwb_canvas c;
-    struct uwb_rgb white = { 255, 255, 255 }, red = { 255, 0, 0 };
+    struct uwb_rgb white = {255, 255, 255}, red = {255, 0, 0};
     TEST_ASSERT_EQUAL_INT(0, uwb_canvas_init(&c, 100, 10, white, err, sizeof err));
     uwb_canvas_line(&c, 0, 2, 99, 2, red, 1, 0, 0);
     uwb_canvas_line(&c, 0, 6, 99, 6, red, 1, 8, 5);
@@ -383,16 +383,17 @@ static void test_migrated_png_edges_sit_on_their_heights(void)
     /* Solid white core exactly on the row of each current edge, black halo
      * right above and below, across the face. */
     int face_col = col_of(&p, FACE_Z);
-    double heights[2] = { FACE_LO, FACE_HI };
+    double heights[2] = {FACE_LO, FACE_HI};
     for (int i = 0; i < 2; i++) {
         int row = row_of(&p, heights[i]);
         for (int dx = -30; dx <= 30; dx++)
-            TEST_ASSERT_TRUE_MESSAGE(same(at(&png, face_col + dx, row), UWB_RGB_CURRENT_EDGE), "current edge core");
+            TEST_ASSERT_TRUE_MESSAGE(same(at(&png, face_col + dx, row), UWB_RGB_CURRENT_EDGE),
+                                     "current edge core");
         TEST_ASSERT_TRUE(same(at(&png, face_col + 20, row - 1), UWB_RGB_HALO));
         TEST_ASSERT_TRUE(same(at(&png, face_col + 20, row + 1), UWB_RGB_HALO));
     }
     /* Baseline edges: on their rows, in their own colour, dashed. */
-    double base_heights[2] = { BASE_LO, BASE_HI };
+    double base_heights[2] = {BASE_LO, BASE_HI};
     for (int i = 0; i < 2; i++) {
         int row = row_of(&p, base_heights[i]);
         int pink = 0, other = 0;
@@ -454,7 +455,8 @@ static void test_migrated_colorbar_runs_from_peak_colour_to_floor_colour(void)
     int bar_x, bar_w;
     uwb_render_migrated_layout(&img, &v, NULL, &p, &bar_x, &bar_w);
     TEST_ASSERT_TRUE(bar_x > p.x + p.w);
-    struct uwb_rgb top = at(&png, bar_x + bar_w / 2, p.y), bottom = at(&png, bar_x + bar_w / 2, p.y + p.h - 1);
+    struct uwb_rgb top = at(&png, bar_x + bar_w / 2, p.y),
+                   bottom = at(&png, bar_x + bar_w / 2, p.y + p.h - 1);
     TEST_ASSERT_TRUE(same(top, uwb_colormap_perceptual(1.0)));
     TEST_ASSERT_TRUE(same(bottom, uwb_colormap_perceptual(0.0)));
     /* and lightness falls steadily down the bar */
@@ -492,15 +494,18 @@ static void test_migrated_axes_have_tick_labels_on_both_axes(void)
     struct uwb_plot p;
     int bar_x, bar_w;
     uwb_render_migrated_layout(&img, NULL, NULL, &p, &bar_x, &bar_w);
-    int half_cap = UWB_FONT_CAP_HEIGHT;   /* font scale 2 by default */
+    int half_cap = UWB_FONT_CAP_HEIGHT; /* font scale 2 by default */
     /* y labels every 50 mm over 0..600: ink left of the axis at the 200 mm
      * tick, none half-way between two labels. */
     int r200 = row_of(&p, 0.200), r225 = row_of(&p, 0.225);
-    TEST_ASSERT_TRUE_MESSAGE(ink_in(&png, p.x - 50, p.x - 12, r200 - half_cap, r200 + half_cap) > 15, "y label 200");
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, ink_in(&png, p.x - 50, p.x - 12, r225 - 3, r225 + 3), "no label between ticks");
+    TEST_ASSERT_TRUE_MESSAGE(ink_in(&png, p.x - 50, p.x - 12, r200 - half_cap, r200 + half_cap) > 15,
+                             "y label 200");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, ink_in(&png, p.x - 50, p.x - 12, r225 - 3, r225 + 3),
+                                  "no label between ticks");
     /* x labels under the axis at 450 mm */
     int c450 = col_of(&p, 0.450);
-    TEST_ASSERT_TRUE_MESSAGE(ink_in(&png, c450 - 20, c450 + 20, p.y + p.h + 6, p.y + p.h + 30) > 15, "x label 450");
+    TEST_ASSERT_TRUE_MESSAGE(ink_in(&png, c450 - 20, c450 + 20, p.y + p.h + 6, p.y + p.h + 30) > 15,
+                             "x label 450");
     free(png.px);
     uwb_image_free(&img);
 }
@@ -541,7 +546,7 @@ static void test_long_reason_wraps_and_pushes_the_plot_down(void)
              "and with it the displacement cannot be established from these scans");
     int long_h = uwb_caption_height(&v, NULL, 960, 2);
     int line = UWB_FONT_LINE_HEIGHT * 2 + 3;
-    TEST_ASSERT_EQUAL_INT(short_h + 2 * line, long_h);     /* the reason takes three lines */
+    TEST_ASSERT_EQUAL_INT(short_h + 2 * line, long_h); /* the reason takes three lines */
     /* a reason of any length stops at three lines */
     memset(v.reason, 'x', sizeof v.reason - 1);
     for (size_t i = 10; i < sizeof v.reason - 1; i += 11)
@@ -556,8 +561,8 @@ static void test_long_reason_wraps_and_pushes_the_plot_down(void)
     TEST_ASSERT_EQUAL_INT(p_short.y + 2 * line, p_long.y);
     struct png_rgb png = render_migrated("long.png", &img, &v, NULL);
     /* The plot really starts lower: its frame is right above p_long.y. */
-    TEST_ASSERT_FALSE(same(at(&png, p_long.x + 5, p_long.y - 1), (struct uwb_rgb){ 255, 255, 255 }));
-    TEST_ASSERT_TRUE(same(at(&png, p_long.x + 5, p_long.y - 5), (struct uwb_rgb){ 255, 255, 255 }));
+    TEST_ASSERT_FALSE(same(at(&png, p_long.x + 5, p_long.y - 1), (struct uwb_rgb){255, 255, 255}));
+    TEST_ASSERT_TRUE(same(at(&png, p_long.x + 5, p_long.y - 5), (struct uwb_rgb){255, 255, 255}));
     free(png.px);
     uwb_image_free(&img);
 }
@@ -586,7 +591,7 @@ static void test_png_description_carries_the_verdict(void)
     TEST_ASSERT_NOT_NULL(description);
     TEST_ASSERT_NOT_NULL(strstr(description, "T1-20240611-0042"));
     TEST_ASSERT_NOT_NULL(strstr(description, "watch"));
-    TEST_ASSERT_NOT_NULL(strstr(description, "+20.00"));   /* displacement in mm */
+    TEST_ASSERT_NOT_NULL(strstr(description, "+20.00")); /* displacement in mm */
     TEST_ASSERT_NOT_NULL(strstr(description, "T1-20230302-0001"));
     png_destroy_read_struct(&png, &info, NULL);
     fclose(fp);
@@ -682,7 +687,8 @@ static void test_bscan_traces_are_at_their_antenna_heights(void)
     c = at(&png, col_of(&p, t_neg), row_of(&p, 0.15));
     struct uwb_rgb want = uwb_colormap_diverging(uwb_signed_db_to_t(-50.0, 100.0, -40.0));
     TEST_ASSERT_INT_WITHIN(2, want.b, c.b);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.5 - 0.5 * (40 - 20 * log10(2.0)) / 40, uwb_signed_db_to_t(-50.0, 100.0, -40.0));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.5 - 0.5 * (40 - 20 * log10(2.0)) / 40,
+                              uwb_signed_db_to_t(-50.0, 100.0, -40.0));
     /* The current lower edge crosses the face's echo time on its row. */
     double t_face = uwb_face_echo_time(&scan, FACE_Z);
     TEST_ASSERT_DOUBLE_WITHIN(1e-13, sqrt(0.9 * 0.9 + 0.04 * 0.04) / 299792458.0, t_face);
@@ -705,7 +711,7 @@ static void test_comparison_shows_both_scans_and_the_shift(void)
     struct uwb_plot pb, pc, pd, pp;
     int bar_x, bar_w;
     uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
-    TEST_ASSERT_TRUE(pb.x + pb.w < pc.x && pc.x + pc.w < pp.x);   /* baseline left, current right */
+    TEST_ASSERT_TRUE(pb.x + pb.w < pc.x && pc.x + pc.w < pp.x); /* baseline left, current right */
     struct uwb_rgb peak = uwb_colormap_perceptual(1.0);
     int fc_b = col_of(&pb, FACE_Z), fc_c = col_of(&pc, FACE_Z);
     /* Each panel shows its own image: the face bright at the heights only
@@ -716,7 +722,7 @@ static void test_comparison_shows_both_scans_and_the_shift(void)
     TEST_ASSERT_FALSE(same(at(&png, fc_b, row_of(&pb, 0.240)), peak));
     /* This scan's panel: its edges solid, the baseline's dashed beside them. */
     int row_cur = row_of(&pc, FACE_LO), row_base = row_of(&pc, BASE_LO);
-    TEST_ASSERT_TRUE(row_base > row_cur + 5);   /* moved up = drawn higher */
+    TEST_ASSERT_TRUE(row_base > row_cur + 5); /* moved up = drawn higher */
     int solid = 0, pink = 0;
     for (int x = pc.x + 2; x < pc.x + pc.w - 2; x++) {
         solid += same(at(&png, x, row_cur), UWB_RGB_CURRENT_EDGE);
@@ -830,8 +836,8 @@ static void test_libpng_failure_keeps_the_old_file_and_no_temporary(void)
     fclose(fp);
     /* A width libpng refuses (over its 1,000,000 px limit) makes it fail
      * inside png_set_IHDR, through the longjmp path. */
-    unsigned char row[3] = { 0, 0, 0 };
-    struct uwb_canvas c = { 2000000, 1, row };
+    unsigned char row[3] = {0, 0, 0};
+    struct uwb_canvas c = {2000000, 1, row};
     TEST_ASSERT_EQUAL_INT(-1, uwb_canvas_write_png(&c, path, NULL, 0, err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, path), err);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "PNG"), err);
@@ -848,7 +854,7 @@ static void test_bad_inputs_are_refused_with_the_path(void)
 {
     char path[512], err[512] = "";
     path_in_dir(path, sizeof path, "bad.png");
-    struct uwb_image empty = { 0 };
+    struct uwb_image empty = {0};
     TEST_ASSERT_EQUAL_INT(-1, uwb_render_migrated_png(path, &empty, NULL, err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(err, path));
     struct uwb_analysis bad = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
@@ -872,7 +878,7 @@ struct png_texts {
     int n;
     char key[MAX_TEXTS][80];
     char text[MAX_TEXTS][2048];
-    int compression[MAX_TEXTS];   /* PNG_TEXT_COMPRESSION_NONE: tEXt; PNG_ITXT_COMPRESSION_NONE: iTXt */
+    int compression[MAX_TEXTS]; /* PNG_TEXT_COMPRESSION_NONE: tEXt; PNG_ITXT_COMPRESSION_NONE: iTXt */
 };
 
 static void read_texts(const char *path, struct png_texts *out)
@@ -930,18 +936,19 @@ static void test_replayed_images_carry_the_file_stem_and_provenance(void)
     free(cur.scan_id);
     cur.scan_id = NULL;
     if (cur.stack <= 0)
-        cur.stack = 64;   /* the fixture may not record it; the images must show what the scan says */
+        cur.stack = 64; /* the fixture may not record it; the images must show what the scan says */
     struct uwb_evaluate_options opt;
     uwb_evaluate_defaults(&opt);
-    struct uwb_baseline_record rec = { .scan = &base };
+    struct uwb_baseline_record rec = {.scan = &base};
     struct uwb_verdict v;
     struct uwb_analysis cur_a, base_a;
     char err[512];
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(&cur, &rec, &opt, &v, &cur_a, &base_a, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(&cur, &rec, &opt, &v, &cur_a, &base_a, err, sizeof err),
+                                  err);
     TEST_ASSERT_EQUAL_STRING("", v.scan_id);
     const char *asset = "Umspannwerk S\u00fcd, phase B";
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_write_images(dir, "site-recording-7", asset, &cur, &cur_a, &base_a, &v,
-                                                      err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwb_write_images(dir, "site-recording-7", asset, &cur, &cur_a, &base_a, &v, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(3, v.n_images);
     /* The B-scan shows the conditioned traces the migration ran on, not
      * the raw ones (whose direct coupling and clutter were taken out). */
@@ -950,8 +957,8 @@ static void test_replayed_images_carry_the_file_stem_and_provenance(void)
     TEST_ASSERT_EQUAL_STRING("uwbd conditioned B-scan", text_of(&bt, "Title", NULL));
     char raw_path[512];
     path_in_dir(raw_path, sizeof raw_path, "raw-bscan.png");
-    struct uwb_provenance prov = { .scan_name = "site-recording-7", .asset = asset, .stack = cur.stack,
-                                   .eps_r = cur.eps_r };
+    struct uwb_provenance prov = {
+        .scan_name = "site-recording-7", .asset = asset, .stack = cur.stack, .eps_r = cur.eps_r};
     struct uwb_render_options ro;
     uwb_render_options_default(&ro);
     ro.provenance = &prov;
@@ -982,7 +989,8 @@ static void test_replayed_images_carry_the_file_stem_and_provenance(void)
         TEST_ASSERT_NULL_MESSAGE(strstr(d, "scan (unknown)"), d);
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "asset Umspannwerk S\u00fcd, phase B"), d);
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "uwbd " UWBD_VERSION), d);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(PNG_ITXT_COMPRESSION_NONE, kind, "the description (with a \u00b1) is UTF-8 iTXt");
+        TEST_ASSERT_EQUAL_INT_MESSAGE(PNG_ITXT_COMPRESSION_NONE, kind,
+                                      "the description (with a \u00b1) is UTF-8 iTXt");
         TEST_ASSERT_EQUAL_STRING(asset, text_of(&t, "Asset", &kind));
         TEST_ASSERT_EQUAL_INT(PNG_ITXT_COMPRESSION_NONE, kind);
         TEST_ASSERT_EQUAL_STRING("uwbd " UWBD_VERSION, text_of(&t, "Software", &kind));
@@ -1013,7 +1021,7 @@ static void test_caption_names_an_id_less_scan_by_its_given_name(void)
     struct uwb_image img = make_image(FACE_LO, FACE_HI);
     struct uwb_verdict v = make_verdict();
     v.scan_id[0] = '\0';
-    struct uwb_provenance prov = { .scan_name = "recording-7", .asset = "phase B", .stack = 64, .eps_r = 3.2 };
+    struct uwb_provenance prov = {.scan_name = "recording-7", .asset = "phase B", .stack = 64, .eps_r = 3.2};
     struct uwb_render_options o;
     uwb_render_options_default(&o);
     struct png_rgb a = render_migrated("anon.png", &img, &v, &o);
@@ -1028,8 +1036,8 @@ static void test_caption_names_an_id_less_scan_by_its_given_name(void)
     TEST_ASSERT_TRUE_MESSAGE(differ > 200, "the name and the source line are drawn");
     char line[512];
     uwb_describe_provenance(&v, &prov, line, sizeof line);
-    TEST_ASSERT_EQUAL_STRING("asset phase B   stack 64 pulses/position   eps_r 3.20   SNR 0.0 dB   uwbd " UWBD_VERSION,
-                             line);
+    TEST_ASSERT_EQUAL_STRING(
+        "asset phase B   stack 64 pulses/position   eps_r 3.20   SNR 0.0 dB   uwbd " UWBD_VERSION, line);
     uwb_describe_provenance(NULL, NULL, line, sizeof line);
     TEST_ASSERT_EQUAL_STRING("asset (not set)   uwbd " UWBD_VERSION, line);
     char summary[2048];
@@ -1072,7 +1080,7 @@ static void test_comparison_without_a_measured_displacement_draws_no_arrow(void)
 {
     struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
     struct uwb_analysis base = make_analysis(BASE_LO, BASE_HI, BASE_LO, BASE_HI);
-    const enum uwb_status statuses[] = { UWB_STATUS_WATCH, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR };
+    const enum uwb_status statuses[] = {UWB_STATUS_WATCH, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR};
     for (int i = 0; i < 3; i++) {
         struct uwb_verdict v = make_verdict();
         v.status = statuses[i];
@@ -1080,7 +1088,8 @@ static void test_comparison_without_a_measured_displacement_draws_no_arrow(void)
             snprintf(v.reason, sizeof v.reason, "uncertainty 3.1 mm exceeds the 1.0 mm allowed");
         char path[512], err[256];
         path_in_dir(path, sizeof path, "cmp-status.png");
-        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, &base, &v, err, sizeof err), err);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, &base, &v, err, sizeof err),
+                                      err);
         struct png_rgb png = read_png(path);
         struct uwb_plot pb, pc, pd, pp;
         int bar_x, bar_w;
@@ -1092,7 +1101,8 @@ static void test_comparison_without_a_measured_displacement_draws_no_arrow(void)
             TEST_ASSERT_EQUAL_INT(0, grey);
         } else {
             TEST_ASSERT_EQUAL_INT_MESSAGE(0, arrow, uwb_status_name(statuses[i]));
-            TEST_ASSERT_TRUE_MESSAGE(arrow_pixels(&png, &pp, &v, UWB_RGB_NOT_MEASURED) > 0, "gap hatched grey");
+            TEST_ASSERT_TRUE_MESSAGE(arrow_pixels(&png, &pp, &v, UWB_RGB_NOT_MEASURED) > 0,
+                                     "gap hatched grey");
             TEST_ASSERT_TRUE_MESSAGE(grey > 2000, "a grey 'not measured' box");
         }
         free(png.px);
@@ -1116,7 +1126,7 @@ static void test_migrated_image_has_equal_scales(void)
     TEST_ASSERT_EQUAL_INT(p.x + p.w + 22, bar_x);
     /* And on the page: the face (20 mm wide, 150 mm tall) spans that many
      * mm in pixels each way. */
-    uwb_render_migrated_layout(&img, NULL, NULL, &p, &bar_x, &bar_w);   /* no overlays on the face */
+    uwb_render_migrated_layout(&img, NULL, NULL, &p, &bar_x, &bar_w); /* no overlays on the face */
     up = (p.y_max - p.y_min) / (p.h - 1);
     struct png_rgb png = render_migrated("aspect.png", &img, NULL, NULL);
     struct uwb_rgb peak = uwb_colormap_perceptual(1.0);
@@ -1149,24 +1159,25 @@ static void test_comparison_difference_panel_shows_the_move(void)
     struct uwb_plot pb, pc, pd, pp;
     int bar_x, bar_w;
     uwb_render_comparison_layout(&cur, &base, &v, NULL, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
-    TEST_ASSERT_TRUE(pc.x + pc.w < pd.x && pd.x + pd.w < pp.x);   /* between this scan and the profiles */
+    TEST_ASSERT_TRUE(pc.x + pc.w < pd.x && pd.x + pd.w < pp.x); /* between this scan and the profiles */
     int fc = col_of(&pd, FACE_Z);
     TEST_ASSERT_TRUE(same(at(&png, fc, row_of(&pd, 0.240)), uwb_colormap_diverging(1.0)));
     TEST_ASSERT_TRUE(same(at(&png, fc, row_of(&pd, 0.090)), uwb_colormap_diverging(0.0)));
     TEST_ASSERT_TRUE(same(at(&png, fc, row_of(&pd, 0.175)), uwb_colormap_diverging(0.5)));
-    TEST_ASSERT_TRUE(same(at(&png, col_of(&pd, FACE_Z + 0.040), row_of(&pd, 0.240)), uwb_colormap_diverging(0.5)));
+    TEST_ASSERT_TRUE(
+        same(at(&png, col_of(&pd, FACE_Z + 0.040), row_of(&pd, 0.240)), uwb_colormap_diverging(0.5)));
     free(png.px);
     unlink(path);
 
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, NULL, &v, err, sizeof err), err);
     png = read_png(path);
     uwb_render_comparison_layout(&cur, NULL, &v, NULL, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
-    struct uwb_rgb grey = { 128, 128, 128 };
+    struct uwb_rgb grey = {128, 128, 128};
     TEST_ASSERT_TRUE(same(at(&png, fc, row_of(&pd, 0.240)), grey));
-    int lettering = 0;   /* "no baseline" in white across the middle */
+    int lettering = 0; /* "no baseline" in white across the middle */
     for (int y = pd.y + pd.h / 2 - 2; y <= pd.y + pd.h / 2 + 16; y++)
         for (int x = pd.x + 2; x < pd.x + pd.w - 2; x++)
-            lettering += same(at(&png, x, y), (struct uwb_rgb){ 255, 255, 255 });
+            lettering += same(at(&png, x, y), (struct uwb_rgb){255, 255, 255});
     TEST_ASSERT_TRUE(lettering > 20);
     free(png.px);
     unlink(path);

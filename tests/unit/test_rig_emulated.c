@@ -28,7 +28,7 @@ extern char **environ;
 
 static char dir[64], gpio_ep[128], dig_ep[128], ctl_ep[128];
 static pid_t emu_pid = -1;
-static int under_emulation;   /* $UWB_EXEC_PREFIX set: everything is ~100x slower */
+static int under_emulation; /* $UWB_EXEC_PREFIX set: everything is ~100x slower */
 static char err[1024];
 
 /* ---- the uwbemu process --------------------------------------------------- */
@@ -125,8 +125,8 @@ static void start_board(void)
     int argc = 0;
     for (char *w = strtok(prefix_copy, " "); w && argc < 8; w = strtok(NULL, " "))
         argv[argc++] = w;
-    char *args[] = {program, "--gpio", gpio_ep, "--digitiser", dig_ep, "--control", ctl_ep,
-                    "--steps-per-mm", steps, "--seed", "7"};
+    char *args[] = {program, "--gpio",         gpio_ep, "--digitiser", dig_ep, "--control",
+                    ctl_ep,  "--steps-per-mm", steps,   "--seed",      "7"};
     for (size_t i = 0; i < sizeof args / sizeof args[0]; i++)
         argv[argc++] = args[i];
     argv[argc] = NULL;
@@ -173,7 +173,8 @@ static void stop_board(void)
 
 void setUp(void)
 {
-    static const char *const faults[] = {"crc", "truncate", "drop", "silent", "disconnect", "home-never", "home-stuck"};
+    static const char *const faults[] = {"crc",        "truncate",   "drop",      "silent",
+                                         "disconnect", "home-never", "home-stuck"};
     char cmd[64];
     if (board_problem)
         TEST_FAIL_MESSAGE(board_problem);
@@ -187,7 +188,9 @@ void setUp(void)
     ctl_ok("log clear");
 }
 
-void tearDown(void) {}
+void tearDown(void)
+{
+}
 
 /* ---- the rig under test --------------------------------------------------- */
 
@@ -259,8 +262,8 @@ static int count_results(const char *result)
     cJSON *log = ctl("log");
     const cJSON *e;
     int n = 0;
-    cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(log, "entries"))
-        n += strcmp(cJSON_GetObjectItemCaseSensitive(e, "result")->valuestring, result) == 0;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(log, "entries")) n +=
+        strcmp(cJSON_GetObjectItemCaseSensitive(e, "result")->valuestring, result) == 0;
     cJSON_Delete(log);
     return n;
 }
@@ -307,8 +310,9 @@ static void assert_traces_match_the_simulator(const struct uwb_scan *scan, int c
             ab += (a[i] - b[i]) * (a[i] - b[i]);
         }
         char msg[160];
-        snprintf(msg, sizeof msg, "position %d: squared distance %.4g at its y, %.4g half a step above (apart %.4g)",
-                 k, to_a, to_b, ab);
+        snprintf(msg, sizeof msg,
+                 "position %d: squared distance %.4g at its y, %.4g half a step above (apart %.4g)", k, to_a,
+                 to_b, ab);
         TEST_ASSERT_TRUE_MESSAGE(to_b - to_a > 0.5 * ab, msg);
     }
     free(a);
@@ -331,7 +335,8 @@ static void test_full_scan_traces_are_computed_where_the_carriage_is(void)
     TEST_ASSERT_EQUAL_INT(cfg.positions, scan.positions);
     TEST_ASSERT_EQUAL_INT(cfg.digitiser.samples, scan.samples);
     for (int k = 0; k < scan.positions; k++)
-        TEST_ASSERT_DOUBLE_WITHIN(1e-9, (cfg.first_position_mm + k * cfg.step_mm) / 1000, scan.antenna_y_m[k]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-9, (cfg.first_position_mm + k * cfg.step_mm) / 1000,
+                                  scan.antenna_y_m[k]);
     /* header */
     TEST_ASSERT_EQUAL_INT(cfg.digitiser.stack, scan.stack);
     TEST_ASSERT_EQUAL_DOUBLE(cfg.digitiser.sample_interval_s, scan.sample_interval_s);
@@ -340,7 +345,7 @@ static void test_full_scan_traces_are_computed_where_the_carriage_is(void)
     TEST_ASSERT_EQUAL_DOUBLE(cfg.tx_m[0], scan.tx_m[0]);
     TEST_ASSERT_EQUAL_DOUBLE(cfg.rx_m[0], scan.rx_m[0]);
     TEST_ASSERT_NOT_NULL(scan.created);
-    TEST_ASSERT_EQUAL_INT(20, (int)strlen(scan.created));   /* 2024-05-01T12:00:00Z */
+    TEST_ASSERT_EQUAL_INT(20, (int)strlen(scan.created)); /* 2024-05-01T12:00:00Z */
     TEST_ASSERT_EQUAL_INT('T', scan.created[10]);
     TEST_ASSERT_EQUAL_INT('Z', scan.created[19]);
     TEST_ASSERT_NOT_NULL(scan.scan_id);
@@ -353,7 +358,8 @@ static void test_full_scan_traces_are_computed_where_the_carriage_is(void)
     assert_board_safe();
     /* parked */
     cJSON *status = ctl("status");
-    TEST_ASSERT_DOUBLE_WITHIN(0.5 / BOARD_STEPS_PER_MM, cfg.carriage.park_mm, status_number(status, "position_mm"));
+    TEST_ASSERT_DOUBLE_WITHIN(0.5 / BOARD_STEPS_PER_MM, cfg.carriage.park_mm,
+                              status_number(status, "position_mm"));
     cJSON_Delete(status);
     struct uwb_rig_stats st;
     uwb_rig_get_stats(rig, &st);
@@ -425,8 +431,8 @@ static void test_bad_and_missing_frames_are_fired_again(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_RIG_OK, uwb_rig_scan(rig, NULL, &scan, err, sizeof err), err);
     struct uwb_rig_stats st;
     uwb_rig_get_stats(rig, &st);
-    TEST_ASSERT_TRUE(st.bad_frames >= 2);      /* crc strikes, the truncated frame overrun */
-    TEST_ASSERT_TRUE(st.timeouts >= 2);        /* drop, truncate */
+    TEST_ASSERT_TRUE(st.bad_frames >= 2); /* crc strikes, the truncated frame overrun */
+    TEST_ASSERT_TRUE(st.timeouts >= 2);   /* drop, truncate */
     TEST_ASSERT_EQUAL_UINT32(st.fired - st.traces, st.retries);
     TEST_ASSERT_EQUAL_UINT32((unsigned)(cfg.positions * cfg.digitiser.stack), st.traces);
     assert_traces_at_requested_positions(&cfg);

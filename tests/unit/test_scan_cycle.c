@@ -30,11 +30,11 @@
  * copied for every cycle. */
 struct fake_rig {
     struct sim_scene scene;
-    int displaced;          /* the winding moved up 12 mm */
-    int delay_samples;      /* the whole record arrives this much later (a longer cable) */
-    int fail;               /* report a lost scan */
-    int stopped;            /* report a stop request */
-    int blank;              /* noise only: no coupling, no winding */
+    int displaced;     /* the winding moved up 12 mm */
+    int delay_samples; /* the whole record arrives this much later (a longer cable) */
+    int fail;          /* report a lost scan */
+    int stopped;       /* report a stop request */
+    int blank;         /* noise only: no coupling, no winding */
 };
 
 static char dir[64];
@@ -45,7 +45,7 @@ static struct fake_rig rig;
 static struct uwbd_cycle_result res;
 static int scans_made;
 
-static struct uwb_scan simulated[2];   /* intact, displaced; kept for the whole run */
+static struct uwb_scan simulated[2]; /* intact, displaced; kept for the whole run */
 
 static int fake_acquire(void *ctx, const volatile sig_atomic_t *stop, struct uwb_scan *out, char *e, size_t n)
 {
@@ -95,13 +95,13 @@ void setUp(void)
 {
     scratch_scratch_dir(dir, sizeof dir, "cycle");
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, NULL, err, sizeof err), err);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_config_load("board/emulated/uwbd.json", NULL, 0, &cfg, err, sizeof err),
-                                  err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_config_load("board/emulated/uwbd.json", NULL, 0, &cfg, err, sizeof err), err);
     memset(&rig, 0, sizeof rig);
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&rig.scene));
     /* A clean scene, so a displacement is measured to a fraction of a millimetre. */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_scene_load_json("tools/uwbsim/scenes/winding-only-3d.json", &rig.scene, err,
-                                                         sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, sim_scene_load_json("tools/uwbsim/scenes/winding-only-3d.json", &rig.scene, err, sizeof err), err);
     set_scene("coupling_gain", "0.05");
     set_scene("noise", "true");
     set_scene("snr_db", "50");
@@ -147,8 +147,9 @@ static int in_state(const char *rel)
 
 static void current_baseline(struct uwbd_baseline_info *info)
 {
-    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED, uwbd_baseline_load(&store, cfg.evaluate.direct_coupling.window_end_s, NULL,
-                                                                   info, NULL, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(UWBD_BASELINE_LOADED,
+                          uwbd_baseline_load(&store, cfg.evaluate.direct_coupling.window_end_s, NULL, info,
+                                             NULL, err, sizeof err));
 }
 
 static void test_a_scan_without_baseline_is_archived_with_edges_only(void)
@@ -157,9 +158,13 @@ static void test_a_scan_without_baseline_is_archived_with_edges_only(void)
     TEST_ASSERT_EQUAL_INT(UWBD_CYCLE_RECORDED, res.outcome);
     TEST_ASSERT_EQUAL_INT(UWB_STATUS_EDGES, res.status);
     TEST_ASSERT_EQUAL_STRING("sim-1", res.scan_id);
-    static const char *const files[] = {DAY_DIR "/sim-1.uwbscan", DAY_DIR "/sim-1.json",
-                                        DAY_DIR "/sim-1-migrated.png", DAY_DIR "/sim-1-bscan.png",
-                                        DAY_DIR "/sim-1-comparison.png", "verdicts.jsonl", "latest.json"};
+    static const char *const files[] = {DAY_DIR "/sim-1.uwbscan",
+                                        DAY_DIR "/sim-1.json",
+                                        DAY_DIR "/sim-1-migrated.png",
+                                        DAY_DIR "/sim-1-bscan.png",
+                                        DAY_DIR "/sim-1-comparison.png",
+                                        "verdicts.jsonl",
+                                        "latest.json"};
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++)
         TEST_ASSERT_TRUE_MESSAGE(in_state(files[i]), files[i]);
     TEST_ASSERT_FALSE(in_state("baseline/current.uwbscan"));
@@ -168,7 +173,8 @@ static void test_a_scan_without_baseline_is_archived_with_edges_only(void)
     TEST_ASSERT_EQUAL_STRING(res.verdict_json, latest);
     free(latest);
     cJSON *v = verdict();
-    TEST_ASSERT_NOT_NULL(strstr(cJSON_GetObjectItemCaseSensitive(v, "scan_file")->valuestring, "sim-1.uwbscan"));
+    TEST_ASSERT_NOT_NULL(
+        strstr(cJSON_GetObjectItemCaseSensitive(v, "scan_file")->valuestring, "sim-1.uwbscan"));
     TEST_ASSERT_TRUE(number(v, "direct_coupling_ps") > -1000 && number(v, "direct_coupling_ps") < 500);
     TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(v, "baseline_set"));
     cJSON_Delete(v);
@@ -199,7 +205,7 @@ static void test_the_baseline_changes_only_when_asked_and_keeps_the_old_one(void
     TEST_ASSERT_DOUBLE_WITHIN(5.0, 0.0, number(v, "direct_coupling_shift_ps"));
     cJSON_Delete(v);
     current_baseline(&info);
-    TEST_ASSERT_EQUAL_STRING("sim-1", info.scan_id);   /* an alarm does not move the baseline */
+    TEST_ASSERT_EQUAL_STRING("sim-1", info.scan_id); /* an alarm does not move the baseline */
 
     /* ...nor does `baseline set` on an alarm: refused for good, with the reason. */
     run_cycle(1);
@@ -209,7 +215,8 @@ static void test_the_baseline_changes_only_when_asked_and_keeps_the_old_one(void
     v = verdict();
     const cJSON *note = cJSON_GetObjectItemCaseSensitive(v, "baseline_note");
     TEST_ASSERT_TRUE(cJSON_IsString(note));
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(note->valuestring, "refused: this scan is an alarm"), note->valuestring);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(note->valuestring, "refused: this scan is an alarm"),
+                                 note->valuestring);
     cJSON_Delete(v);
     current_baseline(&info);
     TEST_ASSERT_EQUAL_STRING("sim-1", info.scan_id);
@@ -236,15 +243,17 @@ static void commission_directly(void)
     info.has_direct_coupling = uwb_direct_coupling_arrival(&scan, cfg.evaluate.direct_coupling.window_end_s,
                                                            &info.direct_coupling_s, err, sizeof err) == 0;
     TEST_ASSERT_TRUE_MESSAGE(info.has_direct_coupling, err);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_baseline_set(&store, &scan, &info, cfg.evaluate.direct_coupling.window_end_s, err,
-                                                       sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0,
+        uwbd_baseline_set(&store, &scan, &info, cfg.evaluate.direct_coupling.window_end_s, err, sizeof err),
+        err);
     uwb_scan_free(&scan);
 }
 
 static void test_moved_direct_coupling_is_inconclusive_not_compared(void)
 {
     commission_directly();
-    rig.delay_samples = 4;   /* 40 ps, twice the tolerance */
+    rig.delay_samples = 4; /* 40 ps, twice the tolerance */
     run_cycle(0);
     TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, res.status);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(res.reason, "direct coupling moved +40 ps"), res.reason);
@@ -255,7 +264,7 @@ static void test_moved_direct_coupling_is_inconclusive_not_compared(void)
     TEST_ASSERT_DOUBLE_WITHIN(1.0, 40.0, number(v, "direct_coupling_shift_ps"));
     cJSON_Delete(v);
 
-    rig.delay_samples = 1;   /* 10 ps: within the tolerance, compared */
+    rig.delay_samples = 1; /* 10 ps: within the tolerance, compared */
     run_cycle(0);
     TEST_ASSERT_EQUAL_INT(UWB_STATUS_OK, res.status);
 }
@@ -287,7 +296,7 @@ static void test_a_lost_scan_is_an_error_verdict_and_the_baseline_stays(void)
     free(latest);
     TEST_ASSERT_EQUAL_INT(1, scratch_count_lines(store.verdict_log));
 
-    rig.fail = 0;   /* the next cycle succeeds once the fault is gone */
+    rig.fail = 0; /* the next cycle succeeds once the fault is gone */
     run_cycle(0);
     TEST_ASSERT_EQUAL_INT(UWB_STATUS_OK, res.status);
 }
@@ -363,7 +372,8 @@ static void test_an_image_the_archive_refuses_is_named_and_the_verdict_kept(void
     free(archived);
     char **lines = NULL;
     int count = 0;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_tail(&store, 1, &lines, &count, NULL, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_tail(&store, 1, &lines, &count, NULL, err, sizeof err),
+                                  err);
     TEST_ASSERT_EQUAL_INT(1, count);
     TEST_ASSERT_EQUAL_STRING(res.verdict_json, lines[0]);
     uwbd_verdict_lines_free(lines, count);
@@ -397,7 +407,7 @@ static void test_a_verdict_the_log_refuses_says_so(void)
  * its verdict, not silently archived out of order. */
 static void test_a_scan_dated_before_the_newest_is_flagged(void)
 {
-    rig.fail = 1;   /* error verdicts are quick, and flagged like any other */
+    rig.fail = 1; /* error verdicts are quick, and flagged like any other */
     struct uwbd_cycle_request req = {.now = CYCLE_TIME};
     TEST_ASSERT_EQUAL_INT(0, uwbd_cycle_run(&cfg, &store, fake_acquire, &rig, NULL, &req, &res));
     TEST_ASSERT_NULL_MESSAGE(strstr(res.verdict_json, "clock_warning"), res.verdict_json);
@@ -407,10 +417,11 @@ static void test_a_scan_dated_before_the_newest_is_flagged(void)
     cJSON *v = verdict();
     const cJSON *w = cJSON_GetObjectItemCaseSensitive(v, "clock_warning");
     TEST_ASSERT_TRUE_MESSAGE(cJSON_IsString(w), res.verdict_json);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(w->valuestring, "earlier than the newest recorded scan"), w->valuestring);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(w->valuestring, "earlier than the newest recorded scan"),
+                                 w->valuestring);
     cJSON_Delete(v);
     uwbd_cycle_result_free(&res);
-    req.now = CYCLE_TIME + 60;   /* later again: no flag */
+    req.now = CYCLE_TIME + 60; /* later again: no flag */
     TEST_ASSERT_EQUAL_INT(0, uwbd_cycle_run(&cfg, &store, fake_acquire, &rig, NULL, &req, &res));
     TEST_ASSERT_NULL_MESSAGE(strstr(res.verdict_json, "clock_warning"), res.verdict_json);
 }

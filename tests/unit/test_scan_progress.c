@@ -6,8 +6,12 @@
 
 #include "daemon/scan_progress.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static void test_nothing_acquired_has_no_estimate(void)
 {

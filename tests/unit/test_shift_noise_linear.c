@@ -23,8 +23,12 @@
 #define SHARE_TOLERANCE 0.25
 #define COMBINED_TOLERANCE 0.15
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 /* The oracle's draws are FFTs: natively 3 s for the whole file, under
  * qemu-user (FFTW two orders of magnitude slower) the paper pair only. */
@@ -47,9 +51,10 @@ static void compare_on(const char *name, const struct uwb_scan *cur, const struc
     double shift;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_measure_shift(&ca, &ba, &shift, err, sizeof err), err);
     struct uwb_shift_noise lin, mc;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_shift_noise(&ca, &ba, &opt.analysis, shift, &lin, err, sizeof err), err);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_shift_noise_draws(&ca, &ba, &opt.analysis, shift, ORACLE_DRAWS, &mc, err,
-                                                           sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_shift_noise(&ca, &ba, &opt.analysis, shift, &lin, err, sizeof err),
+                                  err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwb_shift_noise_draws(&ca, &ba, &opt.analysis, shift, ORACLE_DRAWS, &mc, err, sizeof err), err);
     TEST_ASSERT_TRUE_MESSAGE(lin.measured && mc.measured, name);
     double lin_all = hypot(lin.sigma_current_m, lin.sigma_baseline_m);
     double mc_all = hypot(mc.sigma_current_m, mc.sigma_baseline_m);

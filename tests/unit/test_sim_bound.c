@@ -9,8 +9,12 @@
 #include "unity.h"
 #include "uwbsim/uwbsim.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static struct sim_bound bound_for(const char *stack)
 {
@@ -29,8 +33,8 @@ static struct sim_bound bound_for(const char *stack)
 static void test_single_pulse_at_20_db_bounds_above_half_mm(void)
 {
     struct sim_bound b = bound_for("1");
-    printf("20 dB, 1 pulse: noise %.4g V, bound %.3f mm one scan, %.3f mm displacement\n",
-           b.noise_rms, b.single_scan_m * 1e3, b.displacement_m * 1e3);
+    printf("20 dB, 1 pulse: noise %.4g V, bound %.3f mm one scan, %.3f mm displacement\n", b.noise_rms,
+           b.single_scan_m * 1e3, b.displacement_m * 1e3);
     TEST_ASSERT_TRUE(b.displacement_m > 0.0005);
     TEST_ASSERT_DOUBLE_WITHIN(1e-9, sqrt(2.0) * b.single_scan_m, b.displacement_m);
 }
@@ -61,7 +65,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_single_pulse_at_20_db_bounds_above_half_mm);
     const char *p = getenv("UWB_EXEC_PREFIX");
-    if (!(p && *p))   /* four more scans: minutes under qemu-user */
+    if (!(p && *p)) /* four more scans: minutes under qemu-user */
         RUN_TEST(test_stacking_divides_the_bound_by_root_n);
     RUN_TEST(test_coloured_noise_is_refused);
     return UNITY_END();

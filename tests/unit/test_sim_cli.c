@@ -100,21 +100,33 @@ static void test_writes_scan_and_truth(void)
     char scan[128], truth[128], seedtext[] = "3";
     snprintf(scan, sizeof scan, "%s/a.uwbscan", dir);
     snprintf(truth, sizeof truth, "%s/a.truth.json", dir);
-    char *argv[] = {"uwbsim", "--samples", "100", "--scene", "tools/uwbsim/scenes/fdtd2d-paper.json",
-                    "--displacement-m=0.01", "--seed", seedtext, "-o", scan, "--truth", truth, NULL};
+    char *argv[] = {"uwbsim",
+                    "--samples",
+                    "100",
+                    "--scene",
+                    "tools/uwbsim/scenes/fdtd2d-paper.json",
+                    "--displacement-m=0.01",
+                    "--seed",
+                    seedtext,
+                    "-o",
+                    scan,
+                    "--truth",
+                    truth,
+                    NULL};
     char *out, *err;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(argv, &out, &err), err);
     struct uwb_scan s;
     char msg[512];
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbscan_read_file(scan, &s, msg, sizeof msg), msg);
     TEST_ASSERT_EQUAL_INT(21, s.positions);
-    TEST_ASSERT_EQUAL_INT(1697, s.samples);          /* the scene file came after --samples */
+    TEST_ASSERT_EQUAL_INT(1697, s.samples); /* the scene file came after --samples */
     TEST_ASSERT_EQUAL_DOUBLE(1.0, s.eps_r);
     TEST_ASSERT_NOT_NULL(strstr(s.source, "2-D"));
     /* byte-identical to the library's own scan for the same scene and seed */
     struct sim_scene sc;
     sim_scene_default(&sc);
-    TEST_ASSERT_EQUAL_INT(0, sim_scene_load_json("tools/uwbsim/scenes/fdtd2d-paper.json", &sc, msg, sizeof msg));
+    TEST_ASSERT_EQUAL_INT(0,
+                          sim_scene_load_json("tools/uwbsim/scenes/fdtd2d-paper.json", &sc, msg, sizeof msg));
     sc.displacement_m = 0.01;
     struct uwb_scan lib;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&sc, 3, &lib, msg, sizeof msg), msg);
@@ -131,7 +143,8 @@ static void test_writes_scan_and_truth(void)
     cJSON *o = cJSON_Parse(text);
     TEST_ASSERT_NOT_NULL(o);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.24, cJSON_GetObjectItemCaseSensitive(o, "y1_m")->valuedouble);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 10.0, cJSON_GetObjectItemCaseSensitive(o, "displacement_mm")->valuedouble);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 10.0,
+                              cJSON_GetObjectItemCaseSensitive(o, "displacement_mm")->valuedouble);
     cJSON_Delete(o);
     free(out);
     free(err);
@@ -167,7 +180,7 @@ static void test_usage_errors(void)
     expect_usage_error(a5, "seed");
     char *a6[] = {"uwbsim", "--height-change-m", "-0.05", "-o", scan, NULL};
     expect_usage_error(a6, "height_change_m");
-    TEST_ASSERT_EQUAL_INT(-1, access(scan, F_OK));   /* nothing written on error */
+    TEST_ASSERT_EQUAL_INT(-1, access(scan, F_OK)); /* nothing written on error */
 }
 
 int main(void)

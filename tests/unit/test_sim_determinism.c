@@ -6,8 +6,12 @@
 #include "unity.h"
 #include "uwbsim/uwbsim.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static void serialised(const struct sim_scene *sc, uint64_t seed, unsigned char **buf, size_t *len)
 {
@@ -48,8 +52,9 @@ static void test_other_seed_gives_other_noise(void)
     const unsigned char *nl = memchr(a, '\n', la);
     TEST_ASSERT_NOT_NULL(nl);
     size_t header = (size_t)(nl - a) + 1;
-    TEST_ASSERT_EQUAL_INT(0, memcmp(a, b, header));          /* same scene, same header */
-    const float *fa = (const float *)(const void *)(a + header), *fb = (const float *)(const void *)(b + header);
+    TEST_ASSERT_EQUAL_INT(0, memcmp(a, b, header)); /* same scene, same header */
+    const float *fa = (const float *)(const void *)(a + header),
+                *fb = (const float *)(const void *)(b + header);
     size_t n = (la - header) / sizeof(float), differ = 0;
     float va, vb;
     for (size_t i = 0; i < n; i++) {
@@ -72,7 +77,8 @@ static void test_board_acquisitions(void)
     char err[512];
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_engine_create(&sc, &e, err, sizeof err), err);
     int S = sc.samples;
-    float *a = malloc((size_t)S * sizeof *a), *b = malloc((size_t)S * sizeof *b), *c = malloc((size_t)S * sizeof *c);
+    float *a = malloc((size_t)S * sizeof *a), *b = malloc((size_t)S * sizeof *b),
+          *c = malloc((size_t)S * sizeof *c);
     struct sim_acq acq;
     sim_acq_init(&acq, 9);
     TEST_ASSERT_EQUAL_INT(0, sim_engine_acquire(e, 0.3, 0, &acq, a, err, sizeof err));
@@ -86,7 +92,8 @@ static void test_board_acquisitions(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&sc, 9, &s, err, sizeof err), err);
     sim_acq_init(&acq, 9);
     for (int k = 0; k < sc.positions; k++) {
-        TEST_ASSERT_EQUAL_INT(0, sim_engine_acquire(e, sim_scene_antenna_y_m(&sc, k), 0, &acq, c, err, sizeof err));
+        TEST_ASSERT_EQUAL_INT(
+            0, sim_engine_acquire(e, sim_scene_antenna_y_m(&sc, k), 0, &acq, c, err, sizeof err));
         TEST_ASSERT_EQUAL_INT(0, memcmp(s.data + (size_t)k * S, c, (size_t)S * sizeof *c));
     }
     uwb_scan_free(&s);

@@ -7,8 +7,12 @@
 #include "unity.h"
 #include "uwbsim/uwbsim.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static void quiet(struct sim_scene *sc)
 {
@@ -67,8 +71,8 @@ static void test_snr_is_honoured(void)
         sc.snr_db = snrs[j];
         double peak = winding_peak(&sc), sigma = noise_rms(&sc, 7);
         double measured = 20 * log10(peak / sigma);
-        printf("SNR asked %.1f dB, measured %.2f dB (peak echo %.4f V, noise rms %.5f V)\n", snrs[j], measured,
-               peak, sigma);
+        printf("SNR asked %.1f dB, measured %.2f dB (peak echo %.4f V, noise rms %.5f V)\n", snrs[j],
+               measured, peak, sigma);
         TEST_ASSERT_DOUBLE_WITHIN(0.25, snrs[j], measured);
     }
 }
@@ -92,7 +96,7 @@ static void test_band_limited_noise(void)
     int S = a.samples;
     double below = 0, above = 0;
     for (int k = 0; k < a.positions; k++) {
-        for (int f = 1; f < S / 2; f += 3) {         /* a DFT at every third bin is plenty */
+        for (int f = 1; f < S / 2; f += 3) { /* a DFT at every third bin is plenty */
             double re = 0, im = 0, w = 2 * M_PI * f / S;
             for (int i = 0; i < S; i++) {
                 double x = (double)a.data[(size_t)k * S + i] - b.data[(size_t)k * S + i];
@@ -106,7 +110,8 @@ static void test_band_limited_noise(void)
                 above += pw;
         }
     }
-    printf("band-limited noise: SNR %.2f dB, power above 5 GHz / below 3.5 GHz = %.2e\n", measured, above / below);
+    printf("band-limited noise: SNR %.2f dB, power above 5 GHz / below 3.5 GHz = %.2e\n", measured,
+           above / below);
     TEST_ASSERT_DOUBLE_WITHIN(0.25, 20.0, measured);
     TEST_ASSERT_TRUE(above < 0.01 * below);
     uwb_scan_free(&a);
@@ -129,7 +134,7 @@ static void test_adc_clips_at_full_scale_and_quantises(void)
     struct sim_scene sc;
     quiet(&sc);
     sc.adc_bits = 8;
-    sc.adc_full_scale_v = 0.05;      /* the direct coupling (~0.3 V) overdrives it */
+    sc.adc_full_scale_v = 0.05; /* the direct coupling (~0.3 V) overdrives it */
     struct uwb_scan s;
     make(&sc, 1, &s);
     double lsb = 2 * sc.adc_full_scale_v / 256.0;
@@ -155,7 +160,7 @@ static void test_jitter_rms(void)
     struct sim_scene sc;
     quiet(&sc);
     sc.noise = 0;
-    sc.clutter = 0;              /* the direct coupling is what we time */
+    sc.clutter = 0; /* the direct coupling is what we time */
     sc.positions = 300;
     sc.position_step_m = 0;
     sc.jitter_s = 20e-12;
@@ -171,7 +176,7 @@ static void test_jitter_rms(void)
     for (int i = 0; i < S; i++)
         reff[i] = (float)ref[i];
     double ss = 0;
-    int i1 = (int)((0.8e-9 - sc.t0_s) / sc.sample_interval_s);   /* the direct coupling */
+    int i1 = (int)((0.8e-9 - sc.t0_s) / sc.sample_interval_s); /* the direct coupling */
     for (int k = 0; k < sc.positions; k++) {
         double lag = sim_xcorr_lag(reff, s.data + (size_t)k * S, S, 1, i1, 10) * sc.sample_interval_s;
         ss += lag * lag;

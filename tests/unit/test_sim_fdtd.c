@@ -10,8 +10,12 @@
 
 #define SCENE "tools/uwbsim/scenes/fdtd2d-paper.json"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 /* Simulate the fixture's scene (its displacement from its truth file) and
  * compare position by position. */
@@ -61,10 +65,12 @@ static void compare_with_fixture(const char *stem)
                diff * 1e12, corr, pb / pa);
         worst = fmax(worst, fabs(diff));
         /* Done-when: every position within a tenth of the pulse's period */
-        TEST_ASSERT_TRUE_MESSAGE(fabs(diff) < period / 10, "face echo arrival differs from FDTD by more than T/10");
+        TEST_ASSERT_TRUE_MESSAGE(fabs(diff) < period / 10,
+                                 "face echo arrival differs from FDTD by more than T/10");
         /* and the waveform itself, edges and all, looks like the full-wave one */
         TEST_ASSERT_TRUE_MESSAGE(corr > 0.98, "echo waveform differs from FDTD");
-        TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(0.10, 1.0, pb / pa, "echo amplitude differs from FDTD by over 10 %");
+        TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(0.10, 1.0, pb / pa,
+                                          "echo amplitude differs from FDTD by over 10 %");
     }
     printf("  worst |arrival difference| %.1f ps (limit %.0f ps)\n", worst * 1e12, period / 10 * 1e12);
 
@@ -96,16 +102,17 @@ static void test_physical_optics_alone_is_weaker_at_the_corners(void)
 {
     char err[512];
     struct uwb_scan fd, sim;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbscan_read_file("tests/fixtures/fdtd2d-paper-intact.uwbscan", &fd, err,
-                                                       sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbscan_read_file("tests/fixtures/fdtd2d-paper-intact.uwbscan", &fd, err, sizeof err), err);
     struct sim_scene sc;
     sim_scene_default(&sc);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_scene_load_json(SCENE, &sc, err, sizeof err), err);
     sc.edge_diffraction = 0;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&sc, 1, &sim, err, sizeof err), err);
     int S = fd.samples;
-    int i0 = (int)((2.5e-9 - fd.t0_s) / fd.sample_interval_s), i1 = (int)((4.6e-9 - fd.t0_s) / fd.sample_interval_s);
-    double pa = 0, pb = 0;   /* position 0 (y = 0) sees only the corners */
+    int i0 = (int)((2.5e-9 - fd.t0_s) / fd.sample_interval_s),
+        i1 = (int)((4.6e-9 - fd.t0_s) / fd.sample_interval_s);
+    double pa = 0, pb = 0; /* position 0 (y = 0) sees only the corners */
     for (int i = i0; i < i1; i++) {
         pa = fmax(pa, fabs(fd.data[i]));
         pb = fmax(pb, fabs(sim.data[i]));

@@ -9,8 +9,12 @@
 
 #define C0 299792458.0
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 /* Winding only, nothing random, no window: geometry in its plainest form. */
 static void bare_scene(struct sim_scene *sc)
@@ -95,7 +99,7 @@ static void check_plate(int mode2d, double tolerance)
         double t = sc.t0_s + i * sc.sample_interval_s;
         double x = M_PI * sc.centre_frequency_hz * (t - L / v);
         if (fabs(t - L / v) > 1e-9)
-            continue;       /* the plate's own edges come much later */
+            continue; /* the plate's own edges come much later */
         double expect = -sc.pulse_amplitude * (1 - 2 * x * x) * exp(-x * x) / spread;
         max_err = fmax(max_err, fabs(tr[i] - expect));
         peak = fmax(peak, fabs(expect));
@@ -109,12 +113,12 @@ static void check_plate(int mode2d, double tolerance)
 
 static void test_flat_plate_returns_its_image_3d(void)
 {
-    check_plate(0, 0.002);   /* exact up to discretisation */
+    check_plate(0, 0.002); /* exact up to discretisation */
 }
 
 static void test_flat_plate_returns_its_image_2d(void)
 {
-    check_plate(1, 0.015);   /* far-field Hankel forms: O(1/(8 k R)) */
+    check_plate(1, 0.015); /* far-field Hankel forms: O(1/(8 k R)) */
 }
 
 /* A tall stack seen square-on: the face echo's envelope peaks at the
@@ -161,10 +165,10 @@ static void test_displacement_moves_corner_diffraction(void)
     double path1 = hypot(y1 + d - a.tx_dy_m, z) + hypot(y1 + d - a.rx_dy_m, z);
     double predicted = (path1 - path0) / v;
     int ic = (int)((path0 / v - a.t0_s) / a.sample_interval_s);
-    int half = (int)(0.35e-9 / a.sample_interval_s);   /* the top corner arrives 0.8 ns later */
+    int half = (int)(0.35e-9 / a.sample_interval_s); /* the top corner arrives 0.8 ns later */
     double lag = sim_xcorr_lag(fa, fb, S, ic - half, ic + half, 20) * a.sample_interval_s;
     printf("corner: predicted delay %.2f ps, measured %.2f ps\n", predicted * 1e12, lag * 1e12);
-    TEST_ASSERT_TRUE(predicted > 30e-12);     /* a real, measurable shift */
+    TEST_ASSERT_TRUE(predicted > 30e-12); /* a real, measurable shift */
     TEST_ASSERT_DOUBLE_WITHIN(0.05 * predicted, predicted, lag);
     free(fa);
     free(fb);
@@ -275,7 +279,8 @@ static void test_winding_hides_the_core(void)
     sim_engine_clean_trace(e, sim_scene_nominal_center_y_m(&sc), SIM_PART_CLUTTER, 0.0, tr);
     double level = peak_between(tr, &sc, tc - 0.3e-9, tc + 0.5e-9);
     double winding = sim_engine_peak_echo(e);
-    printf("core: %.4f V below the winding, %.4f V level with it; winding peak %.4f V\n", below, level, winding);
+    printf("core: %.4f V below the winding, %.4f V level with it; winding peak %.4f V\n", below, level,
+           winding);
     TEST_ASSERT_TRUE_MESSAGE(level < 0.5 * below, "the winding does not hide the core behind it");
     TEST_ASSERT_TRUE_MESSAGE(below > winding, "the core leg should out-shine the winding");
     free(tr);
@@ -300,7 +305,8 @@ static void test_polarisation_opens_the_gaps(void)
     sim_engine_clean_trace(ea, y, SIM_PART_WINDING, 0.0, ta);
     sim_engine_clean_trace(eb, y, SIM_PART_WINDING, 0.0, tb);
     double v = C0 / sqrt(a.eps_r), t = 2 * a.face_z_m / v;
-    double pa = peak_between(ta, &a, t - 0.5e-9, t + 0.5e-9), pb = peak_between(tb, &a, t - 0.5e-9, t + 0.5e-9);
+    double pa = peak_between(ta, &a, t - 0.5e-9, t + 0.5e-9),
+           pb = peak_between(tb, &a, t - 0.5e-9, t + 0.5e-9);
     double fill = a.disk_height_m / (a.disk_height_m + a.gap_m);
     printf("polarisation: open/closed face echo %.3f (metal fill factor %.3f)\n", pb / pa, fill);
     TEST_ASSERT_TRUE(pb / pa < 0.97);
@@ -338,7 +344,8 @@ static void test_edges_smooth_across_reflection_boundaries(void)
             prev = p;
             peak_of[pol] = fmax(peak_of[pol], p);
         }
-        printf("%s: peak %.4f V, neighbour ratio %.3f..%.3f\n", pol ? "perpendicular" : "parallel", peak_of[pol], lo, hi);
+        printf("%s: peak %.4f V, neighbour ratio %.3f..%.3f\n", pol ? "perpendicular" : "parallel",
+               peak_of[pol], lo, hi);
         TEST_ASSERT_TRUE(lo > 0.85 && hi < 1.18);
         free(tr);
         sim_engine_free(e);

@@ -9,8 +9,12 @@
 #include "unity.h"
 #include "uwbsim/uwbsim.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static char *scene_json(const struct sim_scene *sc)
 {
@@ -41,7 +45,7 @@ static void test_defaults_are_the_papers_scene(void)
     TEST_ASSERT_EQUAL_DOUBLE(2e9, sc.centre_frequency_hz);
     TEST_ASSERT_TRUE(sc.clutter && sc.core && sc.barrier && sc.clamp && sc.far_wall);
     TEST_ASSERT_TRUE(isnan(sc.target_z_near_m));
-    TEST_ASSERT_EQUAL_STRING("", sc.created);     /* reproducible files by default */
+    TEST_ASSERT_EQUAL_STRING("", sc.created); /* reproducible files by default */
 }
 
 /* Every parameter's value survives text -> value -> text. */
@@ -81,7 +85,7 @@ static void test_cli_spelling_and_errors(void)
     TEST_ASSERT_EQUAL_INT(-1, sim_scene_set(&sc, "clutter", "maybe", err, sizeof err));
     TEST_ASSERT_EQUAL_INT(-1, sim_scene_set(&sc, "face_z_m", "0.4x", err, sizeof err));
     TEST_ASSERT_EQUAL_INT(0, sim_scene_set(&sc, "target_z_near_m", "0.4", err, sizeof err));
-    TEST_ASSERT_EQUAL_INT(-1, sim_scene_validate(&sc, err, sizeof err));    /* near without far */
+    TEST_ASSERT_EQUAL_INT(-1, sim_scene_validate(&sc, err, sizeof err)); /* near without far */
     TEST_ASSERT_NOT_NULL(strstr(err, "target_z"));
 }
 
@@ -91,7 +95,8 @@ static void expect_json_error(const char *text, const char *needle)
     char err[512];
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
     char *before = scene_json(&sc);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(-1, sim_scene_apply_json_text(text, "scene.json", &sc, err, sizeof err), text);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(-1, sim_scene_apply_json_text(text, "scene.json", &sc, err, sizeof err),
+                                  text);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "scene.json"), err);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, needle), err);
     char *after = scene_json(&sc);
@@ -109,7 +114,7 @@ static void test_json_loader_rejects_with_the_key_named(void)
     expect_json_error("{\"pulse\": 2}", "pulse");
     expect_json_error("{\"pulse\": \"square\"}", "pulse");
     expect_json_error("{\"eps_r\": 0.5}", "eps_r");
-    expect_json_error("{\"snr-db\": 20}", "snr-db");            /* JSON uses the underscore names */
+    expect_json_error("{\"snr-db\": 20}", "snr-db"); /* JSON uses the underscore names */
     expect_json_error("[1, 2]", "one JSON object");
     expect_json_error("{\"disks\": 6,,}", "not valid JSON");
 }
@@ -134,8 +139,8 @@ static void test_json_round_trip_and_partial_files(void)
     free(again);
     /* a partial file changes only what it names */
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&b));
-    TEST_ASSERT_EQUAL_INT(0, sim_scene_apply_json_text("{\"snr_db\": 12, \"target_z_near_m\": null}", "p", &b, err,
-                                                       sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, sim_scene_apply_json_text("{\"snr_db\": 12, \"target_z_near_m\": null}", "p", &b,
+                                                       err, sizeof err));
     TEST_ASSERT_EQUAL_DOUBLE(12, b.snr_db);
     TEST_ASSERT_EQUAL_INT(6, b.disks);
     TEST_ASSERT_TRUE(isnan(b.target_z_near_m));
@@ -149,11 +154,11 @@ static void test_validation_names_the_parameters(void)
     struct sim_scene sc;
     char err[256];
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
-    sc.height_change_m = -0.03;     /* five 4 mm gaps cannot lose 30 mm */
+    sc.height_change_m = -0.03; /* five 4 mm gaps cannot lose 30 mm */
     TEST_ASSERT_EQUAL_INT(-1, sim_scene_validate(&sc, err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(err, "height_change_m"));
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
-    sc.sample_interval_s = 1e-10;   /* too coarse for 2 GHz */
+    sc.sample_interval_s = 1e-10; /* too coarse for 2 GHz */
     TEST_ASSERT_EQUAL_INT(-1, sim_scene_validate(&sc, err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(err, "sample_interval_s"));
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));

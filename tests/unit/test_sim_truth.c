@@ -7,8 +7,12 @@
 #include "unity.h"
 #include "uwbsim/uwbsim.h"
 
-void setUp(void) {}
-void tearDown(void) {}
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
 
 static void test_default_truth(void)
 {
@@ -17,7 +21,7 @@ static void test_default_truth(void)
     struct sim_truth t;
     sim_truth(&sc, &t);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.230, t.y1_m);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.382, t.y2_m);      /* 6 x 22 mm + 5 x 4 mm */
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.382, t.y2_m); /* 6 x 22 mm + 5 x 4 mm */
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.306, t.center_m);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.152, t.height_m);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.450, t.z_face_m);
@@ -33,7 +37,7 @@ static void test_displacement_and_height_change(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.250, t.y1_m);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.402, t.y2_m);
     sc.displacement_m = 0;
-    sc.height_change_m = 0.010;      /* elongation about a fixed centre */
+    sc.height_change_m = 0.010; /* elongation about a fixed centre */
     sim_truth(&sc, &t);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.162, t.height_m);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.306, t.center_m);
@@ -45,13 +49,13 @@ static void test_tilt_moves_the_front_corners(void)
     struct sim_scene sc;
     struct sim_truth t;
     TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
-    sc.tilt_deg = 2.0;               /* top toward the antennas */
+    sc.tilt_deg = 2.0; /* top toward the antennas */
     sim_truth(&sc, &t);
     double th = 2.0 * M_PI / 180, h = 0.076, R = 0.15, yc = 0.306;
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, yc - h * cos(th) - R * sin(th), t.y1_m);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, yc + h * cos(th) - R * sin(th), t.y2_m);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.45 + R - R * cos(th), t.z_face_m);
-    sc.tilt_azimuth_deg = 90;        /* sideways: the front corners barely move */
+    sc.tilt_azimuth_deg = 90; /* sideways: the front corners barely move */
     sim_truth(&sc, &t);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, yc - h * cos(th), t.y1_m);
 }

@@ -47,7 +47,7 @@ static void test_every_integration_is_off_by_default(void)
     TEST_ASSERT_FALSE(cfg.site.contacts_enabled);
     TEST_ASSERT_FALSE(cfg.site.event_enabled);
     TEST_ASSERT_FALSE(cfg.site.prometheus_enabled);
-    TEST_ASSERT_EQUAL_UINT(0, cfg.site.io.lines);   /* the site opens no line */
+    TEST_ASSERT_EQUAL_UINT(0, cfg.site.io.lines); /* the site opens no line */
     TEST_ASSERT_TRUE(cfg.site.watch_latch);
     TEST_ASSERT_TRUE(cfg.site.alarm_latch);
 }
@@ -71,25 +71,32 @@ static void test_asset_id_is_checked_and_kept(void)
 
 static void test_an_integration_needs_the_asset_id(void)
 {
-    struct uwbd_override contacts[] = {{"contacts.enabled", "true"}, {"gpio.site_endpoint", "\"unix:run/site.sock\""}};
-    expect_refused(contacts, 2, "key `site.asset_id`: missing: required once an integration is on (contacts.enabled)");
-    struct uwbd_override event[] = {{"event.enabled", "true"}, {"gpio.site_endpoint", "\"unix:run/site.sock\""}};
-    expect_refused(event, 2, "key `site.asset_id`: missing: required once an integration is on (event.enabled)");
+    struct uwbd_override contacts[] = {{"contacts.enabled", "true"},
+                                       {"gpio.site_endpoint", "\"unix:run/site.sock\""}};
+    expect_refused(contacts, 2,
+                   "key `site.asset_id`: missing: required once an integration is on (contacts.enabled)");
+    struct uwbd_override event[] = {{"event.enabled", "true"},
+                                    {"gpio.site_endpoint", "\"unix:run/site.sock\""}};
+    expect_refused(event, 2,
+                   "key `site.asset_id`: missing: required once an integration is on (event.enabled)");
 }
 
 static void test_emulated_contacts_need_the_site_endpoint(void)
 {
     struct uwbd_override none[] = {{"site.asset_id", "T1"}, {"contacts.enabled", "true"}};
     expect_refused(none, 2, "key `gpio.site_endpoint`: missing");
-    struct uwbd_override same[] = {{"site.asset_id", "T1"}, {"contacts.enabled", "true"},
+    struct uwbd_override same[] = {{"site.asset_id", "T1"},
+                                   {"contacts.enabled", "true"},
                                    {"gpio.site_endpoint", "\"unix:run/gpio.sock\""}};
     expect_refused(same, 3, "key `gpio.site_endpoint`: \"unix:run/gpio.sock\" is gpio.endpoint too");
-    struct uwbd_override bad[] = {{"site.asset_id", "T1"}, {"contacts.enabled", "true"},
-                                  {"gpio.site_endpoint", "\"ftp:x\""}};
+    struct uwbd_override bad[] = {
+        {"site.asset_id", "T1"}, {"contacts.enabled", "true"}, {"gpio.site_endpoint", "\"ftp:x\""}};
     expect_refused(bad, 3, "key `gpio.site_endpoint`");
 
-    struct uwbd_override ok[] = {{"site.asset_id", "T1"}, {"contacts.enabled", "true"},
-                                 {"gpio.site_endpoint", "\"unix:run/site.sock\""}, {"contacts.alarm.latch", "false"}};
+    struct uwbd_override ok[] = {{"site.asset_id", "T1"},
+                                 {"contacts.enabled", "true"},
+                                 {"gpio.site_endpoint", "\"unix:run/site.sock\""},
+                                 {"contacts.alarm.latch", "false"}};
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_with(ok, 4), err);
     TEST_ASSERT_EQUAL_STRING("emulated", cfg.site.io.backend);
     TEST_ASSERT_EQUAL_STRING("unix:run/site.sock", cfg.site.io.endpoint);
@@ -104,8 +111,8 @@ static void test_emulated_contacts_need_the_site_endpoint(void)
 /* With libgpiod every enabled line must be named; the rig's are required as before. */
 static const struct uwbd_override libgpiod_rig[] = {
     {"gpio.backend", "libgpiod"}, {"gpio.chip", "gpiochip0"}, {"gpio.endpoint", "\"\""},
-    {"gpio.lines.trigger", "17"}, {"gpio.lines.step", "27"}, {"gpio.lines.dir", "22"},
-    {"gpio.lines.enable", "23"}, {"gpio.lines.home", "24"}, {"site.asset_id", "T1"},
+    {"gpio.lines.trigger", "17"}, {"gpio.lines.step", "27"},  {"gpio.lines.dir", "22"},
+    {"gpio.lines.enable", "23"},  {"gpio.lines.home", "24"},  {"site.asset_id", "T1"},
 };
 #define RIG_N (sizeof libgpiod_rig / sizeof libgpiod_rig[0])
 
@@ -113,7 +120,7 @@ static void test_libgpiod_contacts_and_event_need_their_lines(void)
 {
     struct uwbd_override o[RIG_N + 6];
     memcpy(o, libgpiod_rig, sizeof libgpiod_rig);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_with(o, RIG_N), err);   /* nothing on: no site line needed */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_with(o, RIG_N), err); /* nothing on: no site line needed */
 
     o[RIG_N] = (struct uwbd_override){"contacts.enabled", "true"};
     expect_refused(o, RIG_N + 1, "key `contacts.watch.line`: missing: required with the libgpiod backend");
@@ -129,29 +136,35 @@ static void test_libgpiod_contacts_and_event_need_their_lines(void)
     TEST_ASSERT_TRUE(cfg.site.io.active_low[UWB_LINE_FAULT]);
     TEST_ASSERT_FALSE(cfg.site.io.active_low[UWB_LINE_WATCH]);
     TEST_ASSERT_EQUAL_STRING("gpiochip0", cfg.site.io.chip);
-    TEST_ASSERT_EQUAL_INT(17, cfg.rig.gpio.offset[UWB_LINE_TRIGGER]);   /* the rig's lines stay the rig's */
+    TEST_ASSERT_EQUAL_INT(17, cfg.rig.gpio.offset[UWB_LINE_TRIGGER]); /* the rig's lines stay the rig's */
 
     o[RIG_N + 5] = (struct uwbd_override){"event.enabled", "true"};
-    expect_refused(o, RIG_N + 6, "key `event.line`: missing: required with the libgpiod backend when event.enabled");
+    expect_refused(o, RIG_N + 6,
+                   "key `event.line`: missing: required with the libgpiod backend when event.enabled");
 
     struct uwbd_override endpoint[RIG_N + 1];
     memcpy(endpoint, libgpiod_rig, sizeof libgpiod_rig);
     endpoint[RIG_N] = (struct uwbd_override){"gpio.site_endpoint", "\"unix:x\""};
-    expect_refused(endpoint, RIG_N + 1, "key `gpio.site_endpoint`: only the emulated backend uses an endpoint");
+    expect_refused(endpoint, RIG_N + 1,
+                   "key `gpio.site_endpoint`: only the emulated backend uses an endpoint");
 }
 
 static void test_event_keys(void)
 {
-    struct uwbd_override ok[] = {{"site.asset_id", "T1"}, {"event.enabled", "true"},
-                                 {"gpio.site_endpoint", "\"unix:run/site.sock\""}, {"event.debounce_ms", "20"},
+    struct uwbd_override ok[] = {{"site.asset_id", "T1"},
+                                 {"event.enabled", "true"},
+                                 {"gpio.site_endpoint", "\"unix:run/site.sock\""},
+                                 {"event.debounce_ms", "20"},
                                  {"event.min_interval_s", "30"}};
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_with(ok, 5), err);
     TEST_ASSERT_EQUAL_DOUBLE(0.020, cfg.site.event_debounce_s);
     TEST_ASSERT_EQUAL_DOUBLE(30.0, cfg.site.event_min_interval_s);
     TEST_ASSERT_EQUAL_HEX(UWB_GPIO_LINE_BIT(UWB_LINE_EVENT), cfg.site.io.lines);
 
-    struct uwbd_override slow_poll[] = {{"site.asset_id", "T1"}, {"event.enabled", "true"},
-                                        {"gpio.site_endpoint", "\"unix:run/site.sock\""}, {"event.debounce_ms", "5"},
+    struct uwbd_override slow_poll[] = {{"site.asset_id", "T1"},
+                                        {"event.enabled", "true"},
+                                        {"gpio.site_endpoint", "\"unix:run/site.sock\""},
+                                        {"event.debounce_ms", "5"},
                                         {"event.poll_ms", "20"}};
     expect_refused(slow_poll, 5, "key `event.poll_ms`: 20 ms is above event.debounce_ms (5 ms)");
     struct uwbd_override negative[] = {{"event.debounce_ms", "-1"}};
@@ -160,17 +173,23 @@ static void test_event_keys(void)
 
 static void test_prometheus_needs_a_prom_file(void)
 {
-    struct uwbd_override no_id[] = {{"prometheus.enabled", "true"}, {"prometheus.textfile", "\"/tmp/uwbd.prom\""}};
-    expect_refused(no_id, 2, "key `site.asset_id`: missing: required once an integration is on (prometheus.enabled)");
+    struct uwbd_override no_id[] = {{"prometheus.enabled", "true"},
+                                    {"prometheus.textfile", "\"/tmp/uwbd.prom\""}};
+    expect_refused(no_id, 2,
+                   "key `site.asset_id`: missing: required once an integration is on (prometheus.enabled)");
     struct uwbd_override none[] = {{"site.asset_id", "T1"}, {"prometheus.enabled", "true"}};
     expect_refused(none, 2, "key `prometheus.textfile`: missing: required when prometheus.enabled is true");
-    struct uwbd_override txt[] = {{"site.asset_id", "T1"}, {"prometheus.enabled", "true"},
+    struct uwbd_override txt[] = {{"site.asset_id", "T1"},
+                                  {"prometheus.enabled", "true"},
                                   {"prometheus.textfile", "\"/var/lib/prometheus/node-exporter/uwbd.txt\""}};
-    expect_refused(txt, 3, "key `prometheus.textfile`: \"/var/lib/prometheus/node-exporter/uwbd.txt\": the name must end in .prom");
-    struct uwbd_override bare[] = {{"site.asset_id", "T1"}, {"prometheus.enabled", "true"},
-                                   {"prometheus.textfile", "\"/x/.prom\""}};
+    expect_refused(txt, 3,
+                   "key `prometheus.textfile`: \"/var/lib/prometheus/node-exporter/uwbd.txt\": the name must "
+                   "end in .prom");
+    struct uwbd_override bare[] = {
+        {"site.asset_id", "T1"}, {"prometheus.enabled", "true"}, {"prometheus.textfile", "\"/x/.prom\""}};
     expect_refused(bare, 3, "key `prometheus.textfile`");
-    struct uwbd_override ok[] = {{"site.asset_id", "T1"}, {"prometheus.enabled", "true"},
+    struct uwbd_override ok[] = {{"site.asset_id", "T1"},
+                                 {"prometheus.enabled", "true"},
                                  {"prometheus.textfile", "\"run/uwbd.prom\""}};
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_with(ok, 3), err);
     TEST_ASSERT_EQUAL_STRING("run/uwbd.prom", cfg.site.prometheus_textfile);
@@ -181,13 +200,16 @@ static void test_mqtt_needs_endpoint_and_a_private_password(void)
 {
     struct uwbd_override none[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"}};
     expect_refused(none, 2, "key `mqtt.endpoint`: missing: required when mqtt.enabled is true");
-    struct uwbd_override unix_ep[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
-                                      {"mqtt.endpoint", "\"unix:/run/broker.sock\""}};
+    struct uwbd_override unix_ep[] = {
+        {"site.asset_id", "T1"}, {"mqtt.enabled", "true"}, {"mqtt.endpoint", "\"unix:/run/broker.sock\""}};
     expect_refused(unix_ep, 3, "key `mqtt.endpoint`: \"unix:/run/broker.sock\": the broker is tcp:HOST:PORT");
     struct uwbd_override no_id[] = {{"mqtt.enabled", "true"}, {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""}};
-    expect_refused(no_id, 2, "key `site.asset_id`: missing: required once an integration is on (mqtt.enabled)");
-    struct uwbd_override user[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
-                                   {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""}, {"mqtt.username", "uwbd"}};
+    expect_refused(no_id, 2,
+                   "key `site.asset_id`: missing: required once an integration is on (mqtt.enabled)");
+    struct uwbd_override user[] = {{"site.asset_id", "T1"},
+                                   {"mqtt.enabled", "true"},
+                                   {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""},
+                                   {"mqtt.username", "uwbd"}};
     expect_refused(user, 4, "key `mqtt.password_file`: missing: required with mqtt.username");
 
     char dir[256], secret[300], open_file[300];
@@ -201,22 +223,30 @@ static void test_mqtt_needs_endpoint_and_a_private_password(void)
     snprintf(path, sizeof path, "%s/open", dir);
     scratch_spit(path, "pw\n");
     chmod(path, 0644);
-    struct uwbd_override open_pw[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
-                                      {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""}, {"mqtt.username", "uwbd"},
+    struct uwbd_override open_pw[] = {{"site.asset_id", "T1"},
+                                      {"mqtt.enabled", "true"},
+                                      {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""},
+                                      {"mqtt.username", "uwbd"},
                                       {"mqtt.password_file", open_file}};
     expect_refused(open_pw, 5, "is readable by others (mode 0644)");
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `mqtt.password_file`"), err);
-    struct uwbd_override ok[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
-                                 {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""}, {"mqtt.username", "uwbd"},
+    struct uwbd_override ok[] = {{"site.asset_id", "T1"},
+                                 {"mqtt.enabled", "true"},
+                                 {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""},
+                                 {"mqtt.username", "uwbd"},
                                  {"mqtt.password_file", secret}};
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_with(ok, 5), err);
     TEST_ASSERT_EQUAL_STRING("uwbd", cfg.site.mqtt_topic_prefix);
     TEST_ASSERT_EQUAL_INT(1000, cfg.site.mqtt_queue_max);
-    struct uwbd_override cert[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
-                                   {"mqtt.endpoint", "\"tcp:127.0.0.1:8883\""}, {"mqtt.cert_file", "\"/x.pem\""}};
+    struct uwbd_override cert[] = {{"site.asset_id", "T1"},
+                                   {"mqtt.enabled", "true"},
+                                   {"mqtt.endpoint", "\"tcp:127.0.0.1:8883\""},
+                                   {"mqtt.cert_file", "\"/x.pem\""}};
     expect_refused(cert, 4, "key `mqtt.key_file`: missing: a client certificate needs both");
-    struct uwbd_override wild[] = {{"site.asset_id", "T1"}, {"mqtt.enabled", "true"},
-                                   {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""}, {"mqtt.topic_prefix", "\"plant/#\""}};
+    struct uwbd_override wild[] = {{"site.asset_id", "T1"},
+                                   {"mqtt.enabled", "true"},
+                                   {"mqtt.endpoint", "\"tcp:127.0.0.1:1883\""},
+                                   {"mqtt.topic_prefix", "\"plant/#\""}};
     expect_refused(wild, 4, "key `mqtt.topic_prefix`");
     scratch_remove_tree(dir);
 }

@@ -66,8 +66,12 @@ static void test_bad_values_name_the_key(void)
 static char *status_with(const char *phase, const char *label)
 {
     struct uwbd_status st = {
-        .version = "test", .state = "idle", .state_dir = "/var/lib/uwbd", .rig = "ready",
-        .site_phase = phase, .site_label = label,
+        .version = "test",
+        .state = "idle",
+        .state_dir = "/var/lib/uwbd",
+        .rig = "ready",
+        .site_phase = phase,
+        .site_label = label,
     };
     char *line = uwbd_reply_status(&st);
     TEST_ASSERT_NOT_NULL(line);
@@ -132,14 +136,16 @@ static void test_trend_png_carries_the_site_as_ascii(void)
     scratch_scratch_dir(dir, sizeof dir, "site");
     struct uwbd_store store;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, NULL, err, sizeof err), err);
-    scratch_spit(store.verdict_log, "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S1\",\"created\":"
-                                    "\"2026-03-02T06:00:00Z\",\"axial_displacement_mm\":0.1,\"uncertainty_mm\":0.3}\n");
+    scratch_spit(store.verdict_log,
+                 "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S1\",\"created\":"
+                 "\"2026-03-02T06:00:00Z\",\"axial_displacement_mm\":0.1,\"uncertainty_mm\":0.3}\n");
     cfg.evaluate.compare.thresholds.watch_m = 2e-3;
     cfg.evaluate.compare.thresholds.alarm_m = 5e-3;
     char path[1100], asset[256];
     uwbd_trend_png_path(&store, path, sizeof path);
     /* A UTF-8 label: tEXt is Latin-1, so its other bytes are '?'. */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_trend_png_update(&cfg, &store, "phase B, S\u00fcd GT2", err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_trend_png_update(&cfg, &store, "phase B, S\u00fcd GT2", err, sizeof err), err);
     asset_text(path, asset, sizeof asset);
     TEST_ASSERT_EQUAL_STRING("phase B, S??d GT2", asset);
     TEST_ASSERT_EQUAL_INT(0, uwbd_trend_png_update(&cfg, &store, NULL, err, sizeof err));

@@ -40,16 +40,19 @@ static const char *const log_lines[] = {
     "{\"class\":\"VERDICT\",\"status\":\"edges\",\"scan_id\":\"B1\",\"created\":\"2026-03-01T06:00:00Z\","
     "\"baseline_set\":true,\"lower_edge_mm\":200,\"upper_edge_mm\":600}",
     "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S2\",\"created\":\"2026-03-02T06:00:00Z\","
-    "\"axial_displacement_mm\":0.1,\"uncertainty_mm\":0.3,\"height_change_mm\":0.05,\"baseline\":{\"scan_id\":\"B1\"}}",
+    "\"axial_displacement_mm\":0.1,\"uncertainty_mm\":0.3,\"height_change_mm\":0.05,\"baseline\":{\"scan_"
+    "id\":\"B1\"}}",
     "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S3\",\"created\":\"2026-03-03T06:00:00Z\","
     "\"axial_displacement_mm\":0.2,\"uncertainty_mm\":0.3,\"baseline\":{\"scan_id\":\"B1\"}}",
-    "{\"class\":\"VERDICT\",\"status\":\"inconclusive\",\"scan_id\":\"S4\",\"created\":\"2026-03-04T06:00:00Z\","
+    "{\"class\":\"VERDICT\",\"status\":\"inconclusive\",\"scan_id\":\"S4\",\"created\":\"2026-03-04T06:00:"
+    "00Z\","
     "\"reason\":\"face echo too weak (SNR 3 dB)\",\"axial_displacement_mm\":9.9,\"uncertainty_mm\":0.1}",
     "not a verdict",
     "{\"class\":\"VERDICT\",\"status\":\"error\",\"scan_id\":\"S5\",\"created\":\"2026-03-05T06:00:00Z\","
     "\"reason\":\"digitiser did not answer\"}",
     "{\"class\":\"VERDICT\",\"status\":\"watch\",\"scan_id\":\"S6\",\"created\":\"2026-03-06T06:00:00Z\","
-    "\"axial_displacement_mm\":3.0,\"uncertainty_mm\":0.5,\"height_change_mm\":-0.2,\"baseline\":{\"scan_id\":\"B1\"}}",
+    "\"axial_displacement_mm\":3.0,\"uncertainty_mm\":0.5,\"height_change_mm\":-0.2,\"baseline\":{\"scan_"
+    "id\":\"B1\"}}",
     "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S7\",\"created\":\"2026-03-08T06:00:00Z\","
     "\"axial_displacement_mm\":0.0,\"uncertainty_mm\":0.2,\"baseline\":{\"scan_id\":\"B2\"}}",
     "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S8\",\"created\":\"2026-03-10T06:00:00Z\","
@@ -192,7 +195,7 @@ static void test_trend_reply_reads_as_a_table(void)
     char *reply = uwbd_reply_trend(&t, 20, &th, "/var/lib/uwbd/trend.png");
     TEST_ASSERT_NOT_NULL(reply);
     TEST_ASSERT_NOT_NULL(strstr(reply, "\"class\":\"TREND\""));
-    TEST_ASSERT_NOT_NULL(strstr(reply, "\"mm_per_year\":-73.05"));   /* -0.2 mm/day */
+    TEST_ASSERT_NOT_NULL(strstr(reply, "\"mm_per_year\":-73.05")); /* -0.2 mm/day */
     char *text = trend_as_text(reply);
     /* One line per verdict, oldest first, with what a person needs. */
     const char *ok = strstr(text, "2026-03-02T06:00:00Z");
@@ -330,8 +333,9 @@ static void test_trend_png_shows_bars_thresholds_and_no_figure_marks(void)
     TEST_ASSERT_EQUAL_INT(UWB_TREND_PNG_WIDTH, png.w);
     TEST_ASSERT_EQUAL_INT(UWB_TREND_PNG_HEIGHT, png.h);
     TEST_ASSERT_TRUE_MESSAGE(png.text_ascii, "tEXt is Latin-1: ASCII only");
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(png.description, "8 verdicts: 5 with a figure, 1 inconclusive, 1 error, 1 edges"),
-                                 png.description);
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(png.description, "8 verdicts: 5 with a figure, 1 inconclusive, 1 error, 1 edges"),
+        png.description);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(png.description, "bars +/-2 sigma"), png.description);
 
     struct uwb_trend t;

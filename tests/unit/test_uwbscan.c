@@ -20,10 +20,9 @@
 #define NAME "t.uwbscan"
 
 /* A valid 2 x 3 header; tests edit one key at a time. */
-static const char GOOD_HEADER[] =
-    "{\"format\":\"uwbscan/1\",\"positions\":2,\"samples\":3,"
-    "\"sample_interval_s\":1e-11,\"t0_s\":-2e-10,\"antenna_y_m\":[0,0.1],"
-    "\"tx_m\":[-0.02,0],\"rx_m\":[0.02,0]}";
+static const char GOOD_HEADER[] = "{\"format\":\"uwbscan/1\",\"positions\":2,\"samples\":3,"
+                                  "\"sample_interval_s\":1e-11,\"t0_s\":-2e-10,\"antenna_y_m\":[0,0.1],"
+                                  "\"tx_m\":[-0.02,0],\"rx_m\":[0.02,0]}";
 #define GOOD_FLOATS 6
 
 static char tmpdir[64];
@@ -161,12 +160,11 @@ static void make_full_scan(struct uwb_scan *s, int positions, int samples)
     s->comment = strdup("line one\nline \"two\"\t\\ end");
     s->extra_json = strdup("{\"operator\":\"ana\",\"cal\":{\"gain_db\":[1.5,-3],\"ok\":true},"
                            "\"note\":null}");
-    const float special[] = {0.0f, -0.0f, 1.0f, -2.5f, FLT_MIN, FLT_MIN / 8.0f,
+    const float special[] = {0.0f,      -0.0f,   1.0f,     -2.5f,       FLT_MIN, FLT_MIN / 8.0f,
                              -1.4e-45f, FLT_MAX, -FLT_MAX, 3.14159265f, 1e-30f};
     size_t n = (size_t)positions * (size_t)samples;
     for (size_t i = 0; i < n; i++)
-        s->data[i] = i < sizeof special / sizeof special[0] ? special[i]
-                                                             : (float)sin(0.37 * (double)i);
+        s->data[i] = i < sizeof special / sizeof special[0] ? special[i] : (float)sin(0.37 * (double)i);
 }
 
 static void assert_same_double(double a, double b, const char *what)
@@ -266,8 +264,7 @@ static void test_rejects_header_without_newline(void)
 
 static void test_rejects_malformed_json_header(void)
 {
-    expect_reject("{\"format\":\"uwbscan/1\",\"positions\":2,", GOOD_FLOATS,
-                  "header is not valid JSON");
+    expect_reject("{\"format\":\"uwbscan/1\",\"positions\":2,", GOOD_FLOATS, "header is not valid JSON");
 }
 
 static void test_rejects_header_that_is_not_an_object(void)
@@ -284,9 +281,8 @@ static void test_rejects_text_after_header_object(void)
 
 static void test_rejects_each_missing_required_key(void)
 {
-    static const char *const required[] = {"format", "positions", "samples",
-                                            "sample_interval_s", "t0_s", "antenna_y_m",
-                                            "tx_m", "rx_m"};
+    static const char *const required[] = {"format", "positions",   "samples", "sample_interval_s",
+                                           "t0_s",   "antenna_y_m", "tx_m",    "rx_m"};
     for (size_t i = 0; i < sizeof required / sizeof required[0]; i++) {
         char needle[128];
         snprintf(needle, sizeof needle, NAME ": header key '%s' is missing", required[i]);
@@ -373,21 +369,18 @@ static void test_rejects_zero_positions_and_samples(void)
 
 static void test_rejects_too_many_positions(void)
 {
-    expect_key_reject("positions", "4097",
-                      "header key 'positions' is 4097, over the limit of 4096");
+    expect_key_reject("positions", "4097", "header key 'positions' is 4097, over the limit of 4096");
     expect_key_reject("positions", "1e300", "header key 'positions' is 1e+300, over the limit of 4096");
 }
 
 static void test_rejects_too_many_samples(void)
 {
-    expect_key_reject("samples", "1048577",
-                      "header key 'samples' is 1048577, over the limit of 1048576");
+    expect_key_reject("samples", "1048577", "header key 'samples' is 1048577, over the limit of 1048576");
 }
 
 static void test_rejects_nonpositive_sample_interval(void)
 {
-    expect_key_reject("sample_interval_s", "0",
-                      "header key 'sample_interval_s' is 0, must be > 0");
+    expect_key_reject("sample_interval_s", "0", "header key 'sample_interval_s' is 0, must be > 0");
     expect_key_reject("sample_interval_s", "-4.7e-12",
                       "header key 'sample_interval_s' is -4.7e-12, must be > 0");
 }
@@ -519,8 +512,7 @@ static void test_accepts_integral_number_written_with_exponent(void)
 static void test_rejects_nonfinite_numbers(void)
 {
     /* 1e999 overflows to infinity when parsed. */
-    expect_key_reject("sample_interval_s", "1e999",
-                      "header key 'sample_interval_s' is not a finite number");
+    expect_key_reject("sample_interval_s", "1e999", "header key 'sample_interval_s' is not a finite number");
     expect_key_reject("t0_s", "-1e999", "header key 't0_s' is not a finite number");
     expect_key_reject("antenna_y_m", "[0,1e999]", "antenna_y_m[1] is not a finite number");
     expect_key_reject("tx_m", "[1e999,0]", "header key 'tx_m' holds a number that is not finite");
@@ -528,8 +520,7 @@ static void test_rejects_nonfinite_numbers(void)
 
 static void test_rejects_tx_rx_not_pairs(void)
 {
-    static const char *const bad[] = {"[]", "[0.02]", "[0.02,0,0]", "[0.02,\"0\"]",
-                                      "[[0.02],0]", "[null,0]"};
+    static const char *const bad[] = {"[]", "[0.02]", "[0.02,0,0]", "[0.02,\"0\"]", "[[0.02],0]", "[null,0]"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         expect_key_reject("tx_m", bad[i], "header key 'tx_m' must be an array of exactly two numbers");
         expect_key_reject("rx_m", bad[i], "header key 'rx_m' must be an array of exactly two numbers");
@@ -581,11 +572,13 @@ static void test_rejects_optional_strings_of_wrong_type(void)
  * alarm. The rig's limits (uwb/scan.h) are checked when the file is read. */
 static void test_rejects_what_the_rig_cannot_record(void)
 {
-    expect_key_reject("antenna_y_m", "[0,600]", "antenna_y_m spans 600 m, over the rig's largest travel of 5 m");
+    expect_key_reject("antenna_y_m", "[0,600]",
+                      "antenna_y_m spans 600 m, over the rig's largest travel of 5 m");
     expect_key_reject("antenna_y_m", "[0,1e-9]", "under the smallest step of 1 mm");
     expect_key_reject("antenna_y_m", "[0.1,0.1]", "antenna_y_m[1] = 0.1 m repeats antenna_y_m[0] = 0.1 m");
     expect_key_reject("antenna_y_m", "[0.1,0]", "antenna_y_m[1] = 0 m is below antenna_y_m[0] = 0.1 m");
-    expect_key_reject("sample_interval_s", "1e-3", "sample_interval_s is 0.001 s, outside what a UWB digitiser records");
+    expect_key_reject("sample_interval_s", "1e-3",
+                      "sample_interval_s is 0.001 s, outside what a UWB digitiser records");
     expect_key_reject("sample_interval_s", "1e-300", "outside what a UWB digitiser records");
     expect_key_reject("t0_s", "-1e302", "t0_s is -1e+302 s, beyond the limit");
     expect_key_reject("tx_m", "[-1e302,0]", "tx_m[0] is -1e+302 m, over the limit of 1 m");
@@ -664,8 +657,8 @@ static void test_every_truncation_is_rejected_cleanly(void)
 
 static void test_single_byte_corruptions_never_misbehave(void)
 {
-    static const unsigned char replacements[] = {0x00, '\n', '"', '}', ']', ',', '9',
-                                                 '-', 0xFF, 0xC3, '\\', 'e'};
+    static const unsigned char replacements[] = {0x00, '\n', '"',  '}',  ']',  ',',
+                                                 '9',  '-',  0xFF, 0xC3, '\\', 'e'};
     size_t len;
     unsigned char *buf = build_file(GOOD_HEADER, GOOD_FLOATS, &len);
     size_t header_len = strlen(GOOD_HEADER);
@@ -701,14 +694,14 @@ static void test_samples_are_little_endian_binary32(void)
     struct uwb_scan scan;
     TEST_ASSERT_EQUAL_INT(0, uwb_scan_alloc(&scan, 1, 3, err, sizeof err));
     scan.sample_interval_s = 1e-11;
-    scan.data[0] = 1.0f;        /* 0x3F800000 */
-    scan.data[1] = -2.5f;       /* 0xC0200000 */
-    scan.data[2] = 1.4e-45f;    /* 0x00000001, smallest subnormal */
+    scan.data[0] = 1.0f;     /* 0x3F800000 */
+    scan.data[1] = -2.5f;    /* 0xC0200000 */
+    scan.data[2] = 1.4e-45f; /* 0x00000001, smallest subnormal */
     unsigned char *buf;
     size_t len;
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbscan_serialise(&scan, &buf, &len, err, sizeof err), err);
-    static const unsigned char expected[12] = {0x00, 0x00, 0x80, 0x3F, 0x00, 0x00, 0x20, 0xC0,
-                                               0x01, 0x00, 0x00, 0x00};
+    static const unsigned char expected[12] = {0x00, 0x00, 0x80, 0x3F, 0x00, 0x00,
+                                               0x20, 0xC0, 0x01, 0x00, 0x00, 0x00};
     TEST_ASSERT_TRUE(len > 12);
     TEST_ASSERT_EQUAL_HEX8_ARRAY(expected, buf + len - 12, 12);
     TEST_ASSERT_EQUAL_UINT8('\n', buf[len - 13]);
@@ -779,8 +772,7 @@ static void test_round_trip_minimal_scan_keeps_absent_fields_absent(void)
 static void test_unknown_keys_survive_read_and_rewrite(void)
 {
     char header[512];
-    snprintf(header, sizeof header,
-             "{\"site\":\"Substation 4\",%s", GOOD_HEADER + 1);
+    snprintf(header, sizeof header, "{\"site\":\"Substation 4\",%s", GOOD_HEADER + 1);
     header[strlen(header) - 1] = '\0';
     strcat(header, ",\"temps_c\":[21.5,22],\"Positions\":7}");
     size_t len;
@@ -874,7 +866,7 @@ static void test_writer_refuses_invalid_scans(void)
 
     scan.antenna_y_m[1] = NAN;
     expect_writer_refuses(&scan, "antenna_y_m[1] is not a finite number");
-    scan.antenna_y_m[1] = 0.3;   /* above antenna_y_m[0] = 0.1 */
+    scan.antenna_y_m[1] = 0.3; /* above antenna_y_m[0] = 0.1 */
 
     scan.t0_s = INFINITY;
     expect_writer_refuses(&scan, "t0_s is not a finite number");
@@ -988,8 +980,7 @@ static void check_fixture(const char *path)
     float peak = 0.0f;
     for (size_t i = 0; i < 21 * 1697; i++) {
         const unsigned char *p = payload + 4 * i;
-        uint32_t bits = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
-                        (uint32_t)p[3] << 24;
+        uint32_t bits = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
         TEST_ASSERT_EQUAL_HEX32(bits, float_bits(scan.data[i]));
         if (fabsf(scan.data[i]) > peak)
             peak = fabsf(scan.data[i]);

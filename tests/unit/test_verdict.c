@@ -111,7 +111,7 @@ static void test_winding_beyond_the_travel_is_inconclusive(void)
     TEST_ASSERT_EQUAL_INT(0, uwb_scan_alloc(&cut, 10, up20.samples, err, sizeof err));
     uwb_scan_free(&cut);
     TEST_ASSERT_EQUAL_INT(0, uwb_scan_copy(&cut, &up20, err, sizeof err));
-    cut.positions = 11;   /* positions 0..10: y 0..0.30 m, the face runs to 0.402 */
+    cut.positions = 11; /* positions 0..10: y 0..0.30 m, the face runs to 0.402 */
     struct uwb_verdict v;
     TEST_ASSERT_EQUAL_INT(0, evaluate(&cut, NULL, &v));
     cut.positions = up20.positions;
@@ -130,7 +130,11 @@ static void test_different_antenna_positions_are_not_compared(void)
 
 static void status_for(double displacement_m, double sigma_m, enum uwb_status expected)
 {
-    struct uwb_edges base = {.found = 1, .lower_m = 0.2, .upper_m = 0.4, .center_m = 0.3, .height_m = 0.2,
+    struct uwb_edges base = {.found = 1,
+                             .lower_m = 0.2,
+                             .upper_m = 0.4,
+                             .center_m = 0.3,
+                             .height_m = 0.2,
                              .sigma_center_noise_m = 0.0};
     struct uwb_edges cur = base;
     cur.lower_m += displacement_m;
@@ -171,8 +175,9 @@ static void test_json_has_every_field_an_engineer_reads(void)
     TEST_ASSERT_NOT_NULL(o);
     TEST_ASSERT_EQUAL_STRING("VERDICT", cJSON_GetObjectItem(o, "class")->valuestring);
     TEST_ASSERT_EQUAL_STRING("alarm", cJSON_GetObjectItem(o, "status")->valuestring);
-    const char *numbers[] = {"axial_displacement_mm", "uncertainty_mm", "lower_edge_mm", "upper_edge_mm",
-                             "center_mm", "height_mm", "height_change_mm"};
+    const char *numbers[] = {"axial_displacement_mm", "uncertainty_mm", "lower_edge_mm",
+                             "upper_edge_mm",         "center_mm",      "height_mm",
+                             "height_change_mm"};
     for (size_t i = 0; i < sizeof numbers / sizeof *numbers; i++)
         TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNumber(cJSON_GetObjectItem(o, numbers[i])), numbers[i]);
     TEST_ASSERT_DOUBLE_WITHIN(0.5, 20.0, cJSON_GetObjectItem(o, "axial_displacement_mm")->valuedouble);

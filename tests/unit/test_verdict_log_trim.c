@@ -82,7 +82,8 @@ static void test_count_keeps_the_newest_lines_in_order(void)
         append_verdict(n, 100 - n);
     chmod(store.verdict_log, 0640);
     int dropped = -1;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 4, 0, now, &dropped, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 4, 0, now, &dropped, err, sizeof err),
+                                  err);
     TEST_ASSERT_EQUAL_INT(6, dropped);
     char got[256];
     numbers_in_log(got, sizeof got);
@@ -119,7 +120,8 @@ static void test_age_drops_lines_created_before_the_cutoff(void)
     append_verdict(4, 29L * DAY);
     append_verdict(5, 0);
     int dropped = -1;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 30, now, &dropped, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 30, now, &dropped, err, sizeof err),
+                                  err);
     TEST_ASSERT_EQUAL_INT(3, dropped);
     char got[256];
     numbers_in_log(got, sizeof got);
@@ -130,12 +132,14 @@ static void test_age_drops_lines_created_before_the_cutoff(void)
 static void test_a_line_without_a_time_is_dated_by_its_neighbour(void)
 {
     append_verdict(1, 40L * DAY);
-    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":2,\"created\":\"garbled\"}", err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(
+        0, uwbd_verdict_log_append(&store, "{\"n\":2,\"created\":\"garbled\"}", err, sizeof err));
     append_verdict(3, 10L * DAY);
     TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":4}", err, sizeof err));
     append_verdict(5, 0);
     int dropped = -1;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 30, now, &dropped, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 30, now, &dropped, err, sizeof err),
+                                  err);
     TEST_ASSERT_EQUAL_INT(2, dropped);
     char got[256];
     numbers_in_log(got, sizeof got);
@@ -145,7 +149,7 @@ static void test_a_line_without_a_time_is_dated_by_its_neighbour(void)
 static void test_count_and_age_together_keep_the_smaller_span(void)
 {
     for (int n = 1; n <= 6; n++)
-        append_verdict(n, (7 - n) * (long)DAY);   /* 6 days old ... 1 day old */
+        append_verdict(n, (7 - n) * (long)DAY); /* 6 days old ... 1 day old */
     int dropped = -1;
     TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_trim(&store, 4, 2.5, now, &dropped, err, sizeof err));
     char got[256];
@@ -185,7 +189,8 @@ static void test_retention_trims_the_log_with_the_archive(void)
 {
     struct tm day = {.tm_year = 2030 - 1900, .tm_mon = 0, .tm_mday = 1};
     char day_dir[2300];
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_day_dir(&store, &day, day_dir, sizeof day_dir, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_store_day_dir(&store, &day, day_dir, sizeof day_dir, err, sizeof err), err);
     for (int n = 1; n <= 5; n++) {
         char p[2400];
         snprintf(p, sizeof p, "%s/scan-%d.json", day_dir, n);
@@ -193,7 +198,8 @@ static void test_retention_trims_the_log_with_the_archive(void)
         append_verdict(n, 10 - n);
     }
     int removed = 0;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 2, 0, now, 1, &removed, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_retention_apply(&store, 2, 0, now, 1, &removed, err, sizeof err),
+                                  err);
     TEST_ASSERT_EQUAL_INT(2, uwbd_archive_count(&store));
     char got[256];
     numbers_in_log(got, sizeof got);

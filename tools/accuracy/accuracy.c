@@ -101,8 +101,8 @@ static int impaired(const struct uwb_scan *in, const struct accuracy_level *leve
 {
     if (uwb_scan_copy(out, in, err, errlen) != 0)
         return -1;
-    struct uwb_impairment imp = {1, level->snr_db, level->jitter_s, level->drift_linear,
-                                 level->drift_random, seed};
+    struct uwb_impairment imp = {
+        1, level->snr_db, level->jitter_s, level->drift_linear, level->drift_random, seed};
     if (uwb_impair_scan(out, &imp, NULL, err, errlen) != 0) {
         uwb_scan_free(out);
         return -1;
@@ -206,7 +206,7 @@ int accuracy_run_case(const char *dir, const struct accuracy_case *c, const stru
                 snprintf(pa, sizeof pa, "%s/%s", dir, c->deriv_a);
                 snprintf(pb, sizeof pb, "%s/%s", dir, c->deriv_b);
                 row->crb_m = accuracy_crb_m(pa, pb, c->deriv_shift_m, rep.noise_sigma, &row->crb_face_cell_m,
-                                             err, errlen);
+                                            err, errlen);
                 if (isnan(row->crb_m))
                     rc = -1;
                 uwb_scan_free(&copy);
@@ -237,7 +237,9 @@ void accuracy_print_row(FILE *out, const struct accuracy_case *c, const struct a
                 r->within_2sigma > 0.5 ? "yes" : "no", r->with_figure > 0.5 ? "yes" : "no");
         return;
     }
-    fprintf(out, "| %s | %.0f dB | %d | %+.2f | %.2f | %.2f | %.2f | %.2f | %.0f %% | %.0f %% | %.3f | %.1f | %.3f | %.1f |\n",
+    fprintf(out,
+            "| %s | %.0f dB | %d | %+.2f | %.2f | %.2f | %.2f | %.2f | %.0f %% | %.0f %% | %.3f | %.1f | "
+            "%.3f | %.1f |\n",
             c->name, level->snr_db, r->pairs, r->bias_m * 1e3, r->spread_m * 1e3, r->worst_m * 1e3,
             r->median_sigma_m * 1e3, r->median_sigma_m > 0 ? r->spread_m / r->median_sigma_m : INFINITY,
             100.0 * r->within_2sigma, 100.0 * r->with_figure, r->crb_m * 1e3,

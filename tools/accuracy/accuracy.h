@@ -8,31 +8,31 @@
 #include <stdio.h>
 
 struct accuracy_case {
-    const char *name;          /* "tank 0 -> +10 mm" */
-    const char *baseline;      /* fixture file names (in the fixture directory) */
+    const char *name;     /* "tank 0 -> +10 mm" */
+    const char *baseline; /* fixture file names (in the fixture directory) */
     const char *current;
-    double true_shift_m;       /* from the fixtures' truth, typed here: never read in processing */
+    double true_shift_m; /* from the fixtures' truth, typed here: never read in processing */
     /* The Cramer-Rao bound's derivative: (deriv_b - deriv_a) / deriv_shift_m. */
     const char *deriv_a, *deriv_b;
     double deriv_shift_m;
 };
 
 struct accuracy_level {
-    double snr_db;             /* white noise below the reference peak (tools/impair) */
+    double snr_db; /* white noise below the reference peak (tools/impair) */
     double jitter_s;
     double drift_linear, drift_random;
 };
 
 struct accuracy_row {
-    int pairs;                 /* noisy pairs (1 for the clean replay) */
-    int measured;              /* ...in which both scans established the winding */
+    int pairs;    /* noisy pairs (1 for the clean replay) */
+    int measured; /* ...in which both scans established the winding */
     int noisy;
     double bias_m, spread_m, worst_m;
     double median_sigma_m;
-    double within_2sigma;      /* share of errors within 2 sigma */
-    double with_figure;        /* share not inconclusive (default uncertainty limit) */
-    double crb_m;              /* 0 for the clean replay */
-    double crb_face_cell_m;    /* the bound from the face's range cell alone (see accuracy_crb_m) */
+    double within_2sigma;   /* share of errors within 2 sigma */
+    double with_figure;     /* share not inconclusive (default uncertainty limit) */
+    double crb_m;           /* 0 for the clean replay */
+    double crb_face_cell_m; /* the bound from the face's range cell alone (see accuracy_crb_m) */
 };
 
 /* The Cramer-Rao bound of a displacement measured between two scans that

@@ -1,6 +1,6 @@
 /* uwbaccuracy: the accuracy report (make accuracy). Prints a markdown table;
  * with --readme FILE it also puts the table between FILE's markers. */
-#define _GNU_SOURCE   /* open_memstream */
+#define _GNU_SOURCE /* open_memstream */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,7 +74,8 @@ int main(int argc, char **argv)
         for (int l = -1; l < accuracy_level_count; l++) {
             struct accuracy_row row;
             const struct accuracy_level *level = l < 0 ? NULL : &accuracy_levels[l];
-            unsigned long long seed = 1000000ull * (unsigned long long)(l + 1) + 10000ull * (unsigned long long)c;
+            unsigned long long seed =
+                1000000ull * (unsigned long long)(l + 1) + 10000ull * (unsigned long long)c;
             if (accuracy_run_case(dir, &accuracy_cases[c], level, pairs, seed, &row, err, sizeof err) != 0) {
                 fprintf(stderr, "uwbaccuracy: %s\n", err);
                 fclose(mem);

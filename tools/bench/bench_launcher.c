@@ -22,12 +22,12 @@
 #define MAX_REQUEST 4096
 
 struct launch_reply {
-    int ok;                 /* 0: could not start or wait (message in text) */
-    int status;             /* exit status, or 128 + signal */
+    int ok;     /* 0: could not start or wait (message in text) */
+    int status; /* exit status, or 128 + signal */
     double seconds;
-    double cpu_seconds;     /* user + system, wait4's rusage */
+    double cpu_seconds; /* user + system, wait4's rusage */
     long maxrss_kib;
-    size_t text_len;        /* stdout (or the error message) follows */
+    size_t text_len; /* stdout (or the error message) follows */
 };
 
 static pid_t launcher_pid = -1;
@@ -121,7 +121,7 @@ static void launch_one(char *request, size_t len, int reply_fd)
     }
     rep.ok = 1;
     rep.seconds = uwb_monotonic_s() - t0;
-    rep.maxrss_kib = ru.ru_maxrss;   /* Linux: kibibytes */
+    rep.maxrss_kib = ru.ru_maxrss; /* Linux: kibibytes */
     rep.cpu_seconds = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
                       (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
     rep.status = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : 128 + WTERMSIG(wstatus);
@@ -153,7 +153,7 @@ int bench_launcher_start(char *err, size_t errlen)
         snprintf(err, errlen, "bench: pipe: %s", strerror(errno));
         return -1;
     }
-    fflush(NULL);   /* the launcher must not repeat buffered output */
+    fflush(NULL); /* the launcher must not repeat buffered output */
     pid_t pid = fork();
     if (pid < 0) {
         snprintf(err, errlen, "bench: fork: %s", strerror(errno));

@@ -15,12 +15,24 @@
  * winding (face at 0.45 m): 21 positions 30 mm apart cover 0..0.6 m, 64
  * positions 19 mm apart cover 0..1.2 m. */
 static const struct bench_case small_case = {
-    .name = "21 x 2048 -> 600 x 400", .positions = 21, .samples = 2048, .position_step_m = 0.03,
-    .ny = 600, .nz = 400, .y0_m = 0.0, .z0_m = 0.25,
+    .name = "21 x 2048 -> 600 x 400",
+    .positions = 21,
+    .samples = 2048,
+    .position_step_m = 0.03,
+    .ny = 600,
+    .nz = 400,
+    .y0_m = 0.0,
+    .z0_m = 0.25,
 };
 static const struct bench_case large_case = {
-    .name = "64 x 4096 -> 1200 x 800", .positions = 64, .samples = 4096, .position_step_m = 0.019,
-    .ny = 1200, .nz = 800, .y0_m = 0.0, .z0_m = 0.25,
+    .name = "64 x 4096 -> 1200 x 800",
+    .positions = 64,
+    .samples = 4096,
+    .position_step_m = 0.019,
+    .ny = 1200,
+    .nz = 800,
+    .y0_m = 0.0,
+    .z0_m = 0.25,
 };
 
 /* Targets (issue 7, on one core of the x86 development machine). */
@@ -32,26 +44,25 @@ static const struct bench_case large_case = {
 
 static void usage(FILE *f)
 {
-    fprintf(f,
-        "usage: uwbbench [--quick] [--runs N] [--replay-runs N] [--calls] [--uwbd PATH]\n"
-        "                [--replay CURRENT.uwbscan BASELINE.uwbscan] [--replay-only]\n"
-        "\n"
-        "Prints migration speed (fixed point with its SIMD and its portable inner loop, float,\n"
-        "and a straightforward double-precision yardstick) at 21 x 2048 -> 600 x 400 and\n"
-        "64 x 4096 -> 1200 x 800, the fast paths' SNR against the yardstick, and a whole\n"
-        "replay's time, peak RSS and where its time goes, next to the targets. Figures only:\n"
-        "a slow run does not fail.\n"
-        "\n"
-        "  --quick          one run each, the small size only (for emulators)\n"
-        "  --runs N         repetitions of each migration (default 7; 3 at the large size)\n"
-        "  --replay-runs N  repetitions of the whole replay (default 9)\n"
-        "  --calls          list every timed library call of the replay, with its grid\n"
-        "  --uwbd PATH      the uwbd measured as a child (default: next to uwbbench)\n"
-        "  --replay-only    the whole replay alone (no migration figures)\n"
-        "  --replay CUR BASE  replay these recorded scans (default: a simulated 21 x 2048 pair;\n"
-        "                   make bench passes the paper pair from tests/fixtures)\n"
-        "\n"
-        "UWB_EXEC_PREFIX, if set, is put before uwbd (e.g. \"qemu-aarch64 -L /\").\n");
+    fprintf(f, "usage: uwbbench [--quick] [--runs N] [--replay-runs N] [--calls] [--uwbd PATH]\n"
+               "                [--replay CURRENT.uwbscan BASELINE.uwbscan] [--replay-only]\n"
+               "\n"
+               "Prints migration speed (fixed point with its SIMD and its portable inner loop, float,\n"
+               "and a straightforward double-precision yardstick) at 21 x 2048 -> 600 x 400 and\n"
+               "64 x 4096 -> 1200 x 800, the fast paths' SNR against the yardstick, and a whole\n"
+               "replay's time, peak RSS and where its time goes, next to the targets. Figures only:\n"
+               "a slow run does not fail.\n"
+               "\n"
+               "  --quick          one run each, the small size only (for emulators)\n"
+               "  --runs N         repetitions of each migration (default 7; 3 at the large size)\n"
+               "  --replay-runs N  repetitions of the whole replay (default 9)\n"
+               "  --calls          list every timed library call of the replay, with its grid\n"
+               "  --uwbd PATH      the uwbd measured as a child (default: next to uwbbench)\n"
+               "  --replay-only    the whole replay alone (no migration figures)\n"
+               "  --replay CUR BASE  replay these recorded scans (default: a simulated 21 x 2048 pair;\n"
+               "                   make bench passes the paper pair from tests/fixtures)\n"
+               "\n"
+               "UWB_EXEC_PREFIX, if set, is put before uwbd (e.g. \"qemu-aarch64 -L /\").\n");
 }
 
 static int parse_count(const char *text, int *out)
@@ -137,16 +148,14 @@ static void print_migration(const struct migration_figures *f)
 {
     const char *path[4] = {"fixed", "fixed-port", "float", "yardstick"};
     double ms[4] = {f->fixed_ms, f->portable_ms, f->float_ms, f->yardstick_ms};
-    double best[4] = {f->fixed_best_ms, f->portable_best_ms, f->float_best_ms,
-                      f->yardstick_best_ms};
+    double best[4] = {f->fixed_best_ms, f->portable_best_ms, f->float_best_ms, f->yardstick_best_ms};
     double snr[4] = {f->snr_fixed_db, f->snr_portable_db, f->snr_float_db, 0.0};
     for (int i = 0; i < 4; i++) {
         char snr_text[32] = "(reference)";
         if (i < 3)
             snprintf(snr_text, sizeof snr_text, "%.1f dB", snr[i]);
-        printf("%-24s %-10s %9.2f (%8.2f) %10.3f %9.1fx %14s\n", i == 0 ? f->name : "", path[i],
-               ms[i], best[i], 1e6 * ms[i] / (double)f->pixel_traces, f->yardstick_ms / ms[i],
-               snr_text);
+        printf("%-24s %-10s %9.2f (%8.2f) %10.3f %9.1fx %14s\n", i == 0 ? f->name : "", path[i], ms[i],
+               best[i], 1e6 * ms[i] / (double)f->pixel_traces, f->yardstick_ms / ms[i], snr_text);
     }
 }
 
@@ -157,12 +166,12 @@ static void print_replay(const struct replay_figures *r, int list_calls)
                " peak RSS %.1f MiB (%ld KiB)\n  verdict: %s\n  for scale: uwbd --version peaks at"
                " %.1f MiB RSS (program and shared libraries, no work)\n",
                r->child_ms, r->child_best_ms, r->child_cpu_ms, r->child_cpu_best_ms,
-               r->child_maxrss_kib / 1024.0, r->child_maxrss_kib, r->verdict,
-               r->idle_maxrss_kib / 1024.0);
+               r->child_maxrss_kib / 1024.0, r->child_maxrss_kib, r->verdict, r->idle_maxrss_kib / 1024.0);
     else
         printf("uwbd as a child: not measured (no executable uwbd next to uwbbench; see --uwbd)\n");
     printf("in process (the same library calls): read %.1f ms + evaluate %.1f ms + PNGs %.1f ms"
-           " = %.1f ms\n", r->read_ms, r->evaluate_ms, r->images_ms, r->total_ms);
+           " = %.1f ms\n",
+           r->read_ms, r->evaluate_ms, r->images_ms, r->total_ms);
     printf("  where that time goes (one run near the median):\n");
     double staged = 0.0;
     for (int s = 0; s < STAGE_COUNT; s++) {
@@ -175,8 +184,7 @@ static void print_replay(const struct replay_figures *r, int list_calls)
                    1e6 * ms / (double)r->stages.pixel_traces);
         printf("\n");
     }
-    printf("    %-46s %7.1f ms\n", "everything else (face search, painting, I/O...)",
-           r->total_ms - staged);
+    printf("    %-46s %7.1f ms\n", "everything else (face search, painting, I/O...)", r->total_ms - staged);
     if (!list_calls)
         return;
     printf("  every timed call of that run, in order (grid: rows y x columns z; PNG: height x width):\n");
@@ -216,14 +224,14 @@ int main(int argc, char **argv)
     int n_sizes = opt.replay_only ? 0 : opt.quick ? 1 : 2;
     if (n_sizes > 0)
         printf("\nMigration of a simulated, conditioned scan onto a 1 mm grid (%d run%s at the small "
-           "size, %d at the large)\n", opt.runs_small, opt.runs_small == 1 ? "" : "s",
-           opt.quick ? 0 : opt.runs_large);
+               "size, %d at the large)\n",
+               opt.runs_small, opt.runs_small == 1 ? "" : "s", opt.quick ? 0 : opt.runs_large);
     if (n_sizes > 0)
-        printf("%-24s %-10s %20s %10s %10s %14s\n", "traces x samples -> y x z", "path",
-               "ms/image (best)", "ns/px-tr", "speed", "SNR vs double");
+        printf("%-24s %-10s %20s %10s %10s %14s\n", "traces x samples -> y x z", "path", "ms/image (best)",
+               "ns/px-tr", "speed", "SNR vs double");
     for (int i = 0; i < n_sizes; i++) {
-        if (bench_migration(i ? &large_case : &small_case, i ? opt.runs_large : opt.runs_small,
-                            &mig[i], err, sizeof err) != 0) {
+        if (bench_migration(i ? &large_case : &small_case, i ? opt.runs_large : opt.runs_small, &mig[i], err,
+                            sizeof err) != 0) {
             fprintf(stderr, "uwbbench: %s\n", err);
             return 70;
         }
@@ -232,14 +240,15 @@ int main(int argc, char **argv)
     if (n_sizes > 0)
         printf("(ns/px-tr: ns per pixel and trace, pixels x traces; speed: the yardstick's time over"
                " this path's;\n fixed: the appliance's path, inner loop %s; fixed-port: the same with"
-               " the portable C loop)\n", uwb_migration_simd());
+               " the portable C loop)\n",
+               uwb_migration_simd());
 
     if (opt.replay_current)
         printf("\nWhole replay: %s against %s,", opt.replay_current, opt.replay_baseline);
     else
         printf("\nWhole replay: 21 x 2048 simulated scan (winding moved up 20 mm) against its baseline,");
-    printf("\nread, condition, migrate, envelope, edges, verdict, 3 PNGs (%d run%s)\n",
-           opt.runs_replay, opt.runs_replay == 1 ? "" : "s");
+    printf("\nread, condition, migrate, envelope, edges, verdict, 3 PNGs (%d run%s)\n", opt.runs_replay,
+           opt.runs_replay == 1 ? "" : "s");
     struct replay_figures rep;
     if (bench_replay(&opt, &rep, err, sizeof err) != 0) {
         fprintf(stderr, "uwbbench: %s\n", err);

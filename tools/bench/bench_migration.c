@@ -24,9 +24,8 @@ static double snr_db(const double *ref, const float *test, size_t n)
     return noise > 0.0 ? 10.0 * log10(signal / noise) : INFINITY;
 }
 
-static int timed_migrate(enum uwb_migration_kind kind, const struct uwb_scan *s,
-                         const struct uwb_geometry *g, struct uwb_image *img,
-                         struct bench_series *series, char *err, size_t errlen)
+static int timed_migrate(enum uwb_migration_kind kind, const struct uwb_scan *s, const struct uwb_geometry *g,
+                         struct uwb_image *img, struct bench_series *series, char *err, size_t errlen)
 {
     double t0 = uwb_monotonic_s();
     if (uwb_migrate(kind, s, g, img, err, errlen) != 0)
@@ -35,8 +34,8 @@ static int timed_migrate(enum uwb_migration_kind kind, const struct uwb_scan *s,
     return 0;
 }
 
-int bench_migration(const struct bench_case *c, int runs, struct migration_figures *f,
-                    char *err, size_t errlen)
+int bench_migration(const struct bench_case *c, int runs, struct migration_figures *f, char *err,
+                    size_t errlen)
 {
     struct uwb_scan scan;
     if (bench_simulate(c, 0.0, NULL, &scan, err, errlen) != 0)
@@ -64,8 +63,7 @@ int bench_migration(const struct bench_case *c, int runs, struct migration_figur
     struct bench_series t_fixed = {0}, t_portable = {0}, t_float = {0}, t_yard = {0};
     for (int r = 0; r < runs; r++) {
         if (timed_migrate(UWB_MIGRATE_FIXED, &scan, &g, &fixed, &t_fixed, err, errlen) != 0 ||
-            timed_migrate(UWB_MIGRATE_FIXED_PORTABLE, &scan, &g, &portable, &t_portable, err,
-                          errlen) != 0 ||
+            timed_migrate(UWB_MIGRATE_FIXED_PORTABLE, &scan, &g, &portable, &t_portable, err, errlen) != 0 ||
             timed_migrate(UWB_MIGRATE_FLOAT, &scan, &g, &flt, &t_float, err, errlen) != 0)
             goto done;
         double t0 = uwb_monotonic_s();

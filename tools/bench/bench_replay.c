@@ -24,7 +24,10 @@
 #define MAX_PREFIX_WORDS 8
 
 static const struct bench_case replay_case = {
-    .name = "21 x 2048", .positions = 21, .samples = 2048, .position_step_m = 0.03,
+    .name = "21 x 2048",
+    .positions = 21,
+    .samples = 2048,
+    .position_step_m = 0.03,
 };
 
 struct replay_files {
@@ -91,8 +94,7 @@ static int make_replay_files(const struct bench_options *opt, struct replay_file
             return -1;
     }
     if (mkdir(f->out_child, 0755) != 0 || mkdir(f->out_inproc, 0755) != 0) {
-        snprintf(err, errlen, "bench: cannot create output directories in %s: %s", f->dir,
-                 strerror(errno));
+        snprintf(err, errlen, "bench: cannot create output directories in %s: %s", f->dir, strerror(errno));
         return -1;
     }
     return 0;
@@ -191,8 +193,7 @@ done:
     return rc;
 }
 
-int bench_replay(const struct bench_options *opt, struct replay_figures *fig,
-                 char *err, size_t errlen)
+int bench_replay(const struct bench_options *opt, struct replay_figures *fig, char *err, size_t errlen)
 {
     memset(fig, 0, sizeof *fig);
     struct replay_files f;
@@ -213,8 +214,7 @@ int bench_replay(const struct bench_options *opt, struct replay_figures *fig,
         if (run_uwbd(version, &child, err, errlen) != 0)
             goto done;
         fig->idle_maxrss_kib = child.maxrss_kib;
-        char *replay[] = {uwbd, "--replay", f.current, "--baseline", f.baseline,
-                          "--out", f.out_child, NULL};
+        char *replay[] = {uwbd, "--replay", f.current, "--baseline", f.baseline, "--out", f.out_child, NULL};
         for (int r = 0; r < runs; r++) {
             if (run_uwbd(replay, &child, err, errlen) != 0)
                 goto done;

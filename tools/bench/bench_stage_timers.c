@@ -9,7 +9,7 @@
 #include "uwb/condition.h"
 #include "uwb/envelope.h"
 #include "uwb/migrate.h"
-#include "../../src/output/render_internal.h"   /* the wrapped uwb_canvas_write_png */
+#include "../../src/output/render_internal.h" /* the wrapped uwb_canvas_write_png */
 
 static struct bench_stage_totals totals;
 
@@ -54,38 +54,34 @@ int __real_uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geo
                                  struct uwb_scan *out, char *err, size_t errlen);
 int __real_uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geometry *g,
                                 const struct uwb_condition_options *opt, double dominant_hz,
-                                const struct uwb_target_window *winding, struct uwb_scan *out,
-                                char *err, size_t errlen);
+                                const struct uwb_target_window *winding, struct uwb_scan *out, char *err,
+                                size_t errlen);
 int __real_uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, size_t errlen);
 int __real_uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
-                       const struct uwb_geometry *geom, struct uwb_image *img,
-                       char *err, size_t errlen);
+                       const struct uwb_geometry *geom, struct uwb_image *img, char *err, size_t errlen);
 int __real_uwb_migration_plan_run(struct uwb_migration_plan *p, const struct uwb_scan *scan,
                                   const struct uwb_geometry *geom, struct uwb_image *img, char *err,
                                   size_t errlen);
 int __real_uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen);
 int __real_uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
-                                const struct uwb_png_text *texts, int n_texts,
-                                char *err, size_t errlen);
+                                const struct uwb_png_text *texts, int n_texts, char *err, size_t errlen);
 
 int __wrap_uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *g,
                                  const struct uwb_condition_options *opt, double dominant_hz,
                                  struct uwb_scan *out, char *err, size_t errlen);
 int __wrap_uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geometry *g,
                                 const struct uwb_condition_options *opt, double dominant_hz,
-                                const struct uwb_target_window *winding, struct uwb_scan *out,
-                                char *err, size_t errlen);
+                                const struct uwb_target_window *winding, struct uwb_scan *out, char *err,
+                                size_t errlen);
 int __wrap_uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, size_t errlen);
 int __wrap_uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
-                       const struct uwb_geometry *geom, struct uwb_image *img,
-                       char *err, size_t errlen);
+                       const struct uwb_geometry *geom, struct uwb_image *img, char *err, size_t errlen);
 int __wrap_uwb_migration_plan_run(struct uwb_migration_plan *p, const struct uwb_scan *scan,
                                   const struct uwb_geometry *geom, struct uwb_image *img, char *err,
                                   size_t errlen);
 int __wrap_uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen);
 int __wrap_uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
-                                const struct uwb_png_text *texts, int n_texts,
-                                char *err, size_t errlen);
+                                const struct uwb_png_text *texts, int n_texts, char *err, size_t errlen);
 
 int __wrap_uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geometry *g,
                                  const struct uwb_condition_options *opt, double dominant_hz,
@@ -99,8 +95,8 @@ int __wrap_uwb_condition_prepare(const struct uwb_scan *in, const struct uwb_geo
 
 int __wrap_uwb_condition_finish(const struct uwb_scan *prepared, const struct uwb_geometry *g,
                                 const struct uwb_condition_options *opt, double dominant_hz,
-                                const struct uwb_target_window *winding, struct uwb_scan *out,
-                                char *err, size_t errlen)
+                                const struct uwb_target_window *winding, struct uwb_scan *out, char *err,
+                                size_t errlen)
 {
     double t0 = uwb_monotonic_s();
     int rc = __real_uwb_condition_finish(prepared, g, opt, dominant_hz, winding, out, err, errlen);
@@ -117,8 +113,7 @@ int __wrap_uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char 
 }
 
 int __wrap_uwb_migrate(enum uwb_migration_kind kind, const struct uwb_scan *scan,
-                       const struct uwb_geometry *geom, struct uwb_image *img,
-                       char *err, size_t errlen)
+                       const struct uwb_geometry *geom, struct uwb_image *img, char *err, size_t errlen)
 {
     double t0 = uwb_monotonic_s();
     int rc = __real_uwb_migrate(kind, scan, geom, img, err, errlen);
@@ -147,8 +142,7 @@ int __wrap_uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
 }
 
 int __wrap_uwb_canvas_write_png(const struct uwb_canvas *c, const char *path,
-                                const struct uwb_png_text *texts, int n_texts,
-                                char *err, size_t errlen)
+                                const struct uwb_png_text *texts, int n_texts, char *err, size_t errlen)
 {
     double t0 = uwb_monotonic_s();
     int rc = __real_uwb_canvas_write_png(c, path, texts, n_texts, err, errlen);

@@ -8,9 +8,8 @@
 
 #include <math.h>
 
-void yardstick_migrate(const struct uwb_scan *scan, const struct uwb_geometry *g,
-                       int ny, int nz, double y0_m, double dy_m, double z0_m, double dz_m,
-                       double *out)
+void yardstick_migrate(const struct uwb_scan *scan, const struct uwb_geometry *g, int ny, int nz, double y0_m,
+                       double dy_m, double z0_m, double dz_m, double *out)
 {
     int S = scan->samples;
     for (int iy = 0; iy < ny; iy++) {

@@ -33,7 +33,8 @@ static int alloc_buffers(struct emu_board *b, int samples, char *err, size_t err
 int emu_board_set_scene(struct emu_board *b, const struct sim_scene *scene, char *err, size_t errlen)
 {
     if (scene->samples > UWB_FRAME_MAX_SAMPLES) {
-        snprintf(err, errlen, "samples: %d is more than a frame carries (%d)", scene->samples, UWB_FRAME_MAX_SAMPLES);
+        snprintf(err, errlen, "samples: %d is more than a frame carries (%d)", scene->samples,
+                 UWB_FRAME_MAX_SAMPLES);
         return -1;
     }
     if (sim_scene_validate(scene, err, errlen) != 0)
@@ -44,7 +45,8 @@ int emu_board_set_scene(struct emu_board *b, const struct sim_scene *scene, char
     /* The noise reference costs a pass over the scene's positions: pay it
      * now, not on the first trigger. */
     if (scene->noise && !(sim_engine_peak_echo(engine) > 0)) {
-        snprintf(err, errlen, "snr_db: the winding returns nothing inside the record, so noise has no reference");
+        snprintf(err, errlen,
+                 "snr_db: the winding returns nothing inside the record, so noise has no reference");
         sim_engine_free(engine);
         return -1;
     }
@@ -58,7 +60,8 @@ int emu_board_set_scene(struct emu_board *b, const struct sim_scene *scene, char
     return 0;
 }
 
-int emu_board_init(struct emu_board *b, const struct sim_scene *scene, uint64_t seed, char *err, size_t errlen)
+int emu_board_init(struct emu_board *b, const struct sim_scene *scene, uint64_t seed, char *err,
+                   size_t errlen)
 {
     memset(b, 0, sizeof *b);
     b->steps_per_mm = 100;
@@ -120,6 +123,6 @@ void emu_board_log(struct emu_board *b, long sequence, const char *result)
         .result = result,
     };
     if (b->verbose)
-        fprintf(stderr, "uwbemu: trigger %lu at y = %.4f m (%ld steps): %s\n", b->triggers - 1, emu_board_y_m(b),
-                b->steps, result);
+        fprintf(stderr, "uwbemu: trigger %lu at y = %.4f m (%ld steps): %s\n", b->triggers - 1,
+                emu_board_y_m(b), b->steps, result);
 }

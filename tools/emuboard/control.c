@@ -51,7 +51,8 @@ static char *status(struct emu_board *b)
     cJSON_AddNumberToObject(o, "steps_while_disabled", (double)b->steps_while_disabled);
     cJSON *lines = cJSON_AddObjectToObject(o, "lines");
     for (int i = 0; i < UWB_LINE_COUNT; i++)
-        cJSON_AddNumberToObject(lines, uwb_gpio_line_name(i), i == UWB_LINE_HOME ? emu_board_home_active(b) : b->line[i]);
+        cJSON_AddNumberToObject(lines, uwb_gpio_line_name(i),
+                                i == UWB_LINE_HOME ? emu_board_home_active(b) : b->line[i]);
     cJSON_AddBoolToObject(o, "digitiser_connected", b->digitiser != NULL);
     cJSON_AddBoolToObject(o, "armed", b->armed);
     cJSON_AddNumberToObject(o, "triggers", (double)b->triggers);
@@ -90,7 +91,8 @@ static char *set_scene(struct emu_board *b, const char *key, const char *value)
 {
     struct sim_scene scene = b->scene;
     char err[512];
-    if (sim_scene_set(&scene, key, value, err, sizeof err) != 0 || emu_board_set_scene(b, &scene, err, sizeof err) != 0)
+    if (sim_scene_set(&scene, key, value, err, sizeof err) != 0 ||
+        emu_board_set_scene(b, &scene, err, sizeof err) != 0)
         return reply_error("set: %s%s", err, NULL);
     cJSON *o = reply_ok("set");
     cJSON_AddStringToObject(o, "key", key);
@@ -130,7 +132,8 @@ static char *fault(struct emu_board *b, const char *name, const char *mode, cons
 {
     int id = emu_fault_find(name);
     if (id < 0)
-        return reply_error("fault: no fault '%s' (crc, truncate, drop, silent, disconnect, home-never, home-stuck, lose-steps)%s",
+        return reply_error("fault: no fault '%s' (crc, truncate, drop, silent, disconnect, home-never, "
+                           "home-stuck, lose-steps)%s",
                            name, NULL);
     struct emu_fault f = {0};
     if (strcmp(mode, "on") == 0 && !count[0]) {
@@ -168,8 +171,8 @@ static char *board(struct emu_board *b, const char *key, const char *value)
     } else if (strcmp(key, "position_mm") == 0) {
         b->steps = (long)(v * b->steps_per_mm + (v >= 0 ? 0.5 : -0.5));
     } else {
-        return reply_error("board: '%s' is not steps_per_mm (> 0), home_y_mm, invert_dir (0/1) or position_mm%s",
-                           key, NULL);
+        return reply_error(
+            "board: '%s' is not steps_per_mm (> 0), home_y_mm, invert_dir (0/1) or position_mm%s", key, NULL);
     }
     cJSON *o = reply_ok("board");
     cJSON_AddStringToObject(o, "key", key);
@@ -240,7 +243,8 @@ char *emu_control_command(struct emu_board *b, const char *line)
     if (strcmp(cmd, "board") == 0 && words[1][0] && words[2][0] && !*p)
         return board(b, words[1], words[2]);
     if (strcmp(cmd, "input") == 0 && words[1][0] && words[2][0] && !*p) {
-        if ((strcmp(words[2], "0") != 0 && strcmp(words[2], "1") != 0) || emu_gpio_set_input(b, words[1], words[2][0] - '0') != 0)
+        if ((strcmp(words[2], "0") != 0 && strcmp(words[2], "1") != 0) ||
+            emu_gpio_set_input(b, words[1], words[2][0] - '0') != 0)
             return reply_error("input: say `input event 0` or `input event 1`, not '%.60s'%s", line, NULL);
         cJSON *o = reply_ok("input");
         cJSON_AddStringToObject(o, "line", words[1]);

@@ -15,7 +15,7 @@ void emu_digitiser_attach(struct emu_board *b, struct uwb_link *link)
 {
     emu_digitiser_detach(b);
     b->digitiser = link;
-    b->armed = 0;   /* a new connection starts as a digitiser just powered */
+    b->armed = 0; /* a new connection starts as a digitiser just powered */
     uwb_frame_decoder_reset(&b->decoder);
 }
 
@@ -85,15 +85,12 @@ static int command(struct emu_board *b, const struct uwb_frame *f)
         snprintf(identity, sizeof identity, "uwbemu %s (emulated digitiser)", EMU_VERSION);
         return reply(b, UWB_FRAME_PONG, f->sequence, identity, strlen(identity));
     }
-    case UWB_FRAME_CONFIGURE:
-        return configure(b, f);
+    case UWB_FRAME_CONFIGURE: return configure(b, f);
     case UWB_FRAME_ARM:
         b->armed = 1;
         b->sequence = 0;
         return reply(b, UWB_FRAME_ARMED, f->sequence, NULL, 0);
-    case UWB_FRAME_DISARM:
-        b->armed = 0;
-        return reply(b, UWB_FRAME_DISARMED, f->sequence, NULL, 0);
+    case UWB_FRAME_DISARM: b->armed = 0; return reply(b, UWB_FRAME_DISARMED, f->sequence, NULL, 0);
     default: {
         char text[64];
         snprintf(text, sizeof text, "unknown command type 0x%02x", f->type);
@@ -130,7 +127,7 @@ static float to_codes(struct emu_board *b)
 {
     const struct sim_scene *s = &b->scene;
     double lsb = s->adc_bits > 0 && s->adc_bits <= 16 ? 2.0 * s->adc_full_scale_v / ldexp(1.0, s->adc_bits)
-                                                       : s->adc_full_scale_v / 32767.0;
+                                                      : s->adc_full_scale_v / 32767.0;
     for (int i = 0; i < s->samples; i++) {
         double code = nearbyint(b->trace[i] / lsb);
         b->codes[i] = (int16_t)(code > 32767 ? 32767 : code < -32768 ? -32768 : code);
@@ -170,8 +167,10 @@ void emu_digitiser_trigger(struct emu_board *b)
     b->last_trace_y_m = y;
     float lsb = to_codes(b);
     uint32_t samples = (uint32_t)b->scene.samples;
-    size_t payload_len = uwb_trace_payload_encode(b->codes, samples, lsb, b->payload, uwb_trace_payload_size(samples));
-    size_t n = uwb_frame_encode(UWB_FRAME_DATA, sequence, b->payload, payload_len, b->frame, uwb_frame_size(payload_len));
+    size_t payload_len =
+        uwb_trace_payload_encode(b->codes, samples, lsb, b->payload, uwb_trace_payload_size(samples));
+    size_t n = uwb_frame_encode(UWB_FRAME_DATA, sequence, b->payload, payload_len, b->frame,
+                                uwb_frame_size(payload_len));
     const char *result = "sent";
     if (emu_fault_strikes(&b->fault[EMU_FAULT_TRUNCATE])) {
         n /= 2;

@@ -21,14 +21,14 @@
 #define EMU_END_STOP_BELOW_HOME_MM 3.0
 
 enum emu_fault_id {
-    EMU_FAULT_CRC,          /* corrupt one payload byte after the CRC is computed */
-    EMU_FAULT_TRUNCATE,     /* send only the first half of the frame */
-    EMU_FAULT_DROP,         /* count the trigger, send nothing */
-    EMU_FAULT_SILENT,       /* ignore triggers altogether */
-    EMU_FAULT_DISCONNECT,   /* close the digitiser connection instead of answering */
-    EMU_FAULT_HOME_NEVER,   /* home switch never closes */
-    EMU_FAULT_HOME_STUCK,   /* home switch always closed */
-    EMU_FAULT_LOSE_STEPS,   /* an upward STEP pulse that strikes does not move the carriage (a slipping belt) */
+    EMU_FAULT_CRC,        /* corrupt one payload byte after the CRC is computed */
+    EMU_FAULT_TRUNCATE,   /* send only the first half of the frame */
+    EMU_FAULT_DROP,       /* count the trigger, send nothing */
+    EMU_FAULT_SILENT,     /* ignore triggers altogether */
+    EMU_FAULT_DISCONNECT, /* close the digitiser connection instead of answering */
+    EMU_FAULT_HOME_NEVER, /* home switch never closes */
+    EMU_FAULT_HOME_STUCK, /* home switch always closed */
+    EMU_FAULT_LOSE_STEPS, /* an upward STEP pulse that strikes does not move the carriage (a slipping belt) */
     EMU_FAULT_COUNT
 };
 
@@ -36,18 +36,18 @@ enum emu_fault_mode { EMU_FAULT_OFF, EMU_FAULT_ON, EMU_FAULT_EVERY, EMU_FAULT_NE
 
 struct emu_fault {
     enum emu_fault_mode mode;
-    unsigned n;          /* EVERY: period; NEXT: how many are left */
-    unsigned long seen;  /* events counted for EVERY */
-    unsigned long hits;  /* times it struck */
+    unsigned n;         /* EVERY: period; NEXT: how many are left */
+    unsigned long seen; /* events counted for EVERY */
+    unsigned long hits; /* times it struck */
 };
 
 /* One answered (or not) trigger, for the control `log`. */
 struct emu_log_entry {
-    unsigned long trigger;  /* rising edges of TRIGGER since start */
-    long sequence;          /* DATA sequence, -1 when no frame was due */
-    double y_m;             /* carriage y the trace was (or would have been) computed for */
-    long steps;             /* carriage microsteps above home */
-    const char *result;     /* "sent", "crc", "truncate", "drop", "silent", "disconnect", "unarmed", "error" */
+    unsigned long trigger; /* rising edges of TRIGGER since start */
+    long sequence;         /* DATA sequence, -1 when no frame was due */
+    double y_m;            /* carriage y the trace was (or would have been) computed for */
+    long steps;            /* carriage microsteps above home */
+    const char *result;    /* "sent", "crc", "truncate", "drop", "silent", "disconnect", "unarmed", "error" */
 };
 
 struct emu_board {
@@ -55,20 +55,20 @@ struct emu_board {
     struct sim_scene scene;
     struct sim_engine *engine;
     struct sim_acq acq;
-    float *trace;            /* scene.samples */
+    float *trace; /* scene.samples */
     int16_t *codes;
-    uint8_t *payload;        /* one DATA payload */
-    uint8_t *frame;          /* the frame carrying it */
+    uint8_t *payload; /* one DATA payload */
+    uint8_t *frame;   /* the frame carrying it */
 
     /* the carriage, as the board's mechanics see it */
     double steps_per_mm;
-    double home_y_mm;        /* y of the home switch, scene coordinates, mm */
-    int invert_dir;          /* wiring fault: DIR 1 moves down */
-    long steps;              /* microsteps above home (0 = switch closes) */
+    double home_y_mm; /* y of the home switch, scene coordinates, mm */
+    int invert_dir;   /* wiring fault: DIR 1 moves down */
+    long steps;       /* microsteps above home (0 = switch closes) */
     int line[UWB_LINE_COUNT];
     unsigned long steps_counted, steps_while_disabled;
-    unsigned long steps_stalled;   /* counted, but against the end stop */
-    unsigned long steps_lost;      /* counted, but lost to the lose-steps fault */
+    unsigned long steps_stalled; /* counted, but against the end stop */
+    unsigned long steps_lost;    /* counted, but lost to the lose-steps fault */
 
     /* the digitiser */
     struct uwb_link *digitiser;
@@ -86,7 +86,8 @@ struct emu_board {
 };
 
 /* board.c: scene and engine */
-int emu_board_init(struct emu_board *b, const struct sim_scene *scene, uint64_t seed, char *err, size_t errlen);
+int emu_board_init(struct emu_board *b, const struct sim_scene *scene, uint64_t seed, char *err,
+                   size_t errlen);
 void emu_board_free(struct emu_board *b);
 /* Build the engine for a changed scene; the old one stays on failure. */
 int emu_board_set_scene(struct emu_board *b, const struct sim_scene *scene, char *err, size_t errlen);
@@ -104,8 +105,9 @@ void emu_gpio_released(struct emu_board *b, unsigned lines);
  * control endpoint drives it; -1 for another line or value. */
 int emu_gpio_set_input(struct emu_board *b, const char *name, int value);
 /* The site's lines (alarm contacts, event input): what --site-io serves. */
-#define EMU_SITE_LINES (UWB_GPIO_LINE_BIT(UWB_LINE_WATCH) | UWB_GPIO_LINE_BIT(UWB_LINE_ALARM) | \
-                        UWB_GPIO_LINE_BIT(UWB_LINE_FAULT) | UWB_GPIO_LINE_BIT(UWB_LINE_EVENT))
+#define EMU_SITE_LINES \
+    (UWB_GPIO_LINE_BIT(UWB_LINE_WATCH) | UWB_GPIO_LINE_BIT(UWB_LINE_ALARM) | \
+     UWB_GPIO_LINE_BIT(UWB_LINE_FAULT) | UWB_GPIO_LINE_BIT(UWB_LINE_EVENT))
 
 /* digitiser_server.c */
 void emu_digitiser_attach(struct emu_board *b, struct uwb_link *link);

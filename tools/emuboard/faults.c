@@ -30,14 +30,9 @@ int emu_fault_strikes(struct emu_fault *f)
 {
     int strikes = 0;
     switch (f->mode) {
-    case EMU_FAULT_OFF:
-        break;
-    case EMU_FAULT_ON:
-        strikes = 1;
-        break;
-    case EMU_FAULT_EVERY:
-        strikes = ++f->seen % f->n == 0;
-        break;
+    case EMU_FAULT_OFF: break;
+    case EMU_FAULT_ON: strikes = 1; break;
+    case EMU_FAULT_EVERY: strikes = ++f->seen % f->n == 0; break;
     case EMU_FAULT_NEXT:
         strikes = f->n > 0;
         if (strikes && --f->n == 0)

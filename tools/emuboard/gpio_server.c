@@ -38,7 +38,7 @@ static void set_line(struct emu_board *b, int line, int value)
             return;
         }
         if (up && emu_fault_strikes(&b->fault[EMU_FAULT_LOSE_STEPS])) {
-            b->steps_lost++;   /* the belt slips: the driver stepped, the carriage stayed */
+            b->steps_lost++; /* the belt slips: the driver stepped, the carriage stayed */
             return;
         }
         b->steps += up ? 1 : -1;
@@ -57,7 +57,8 @@ void emu_gpio_line(struct emu_board *b, const char *text, char *reply, size_t re
         int line = find_line(name);
         if (line < 0 || uwb_gpio_line_is_input(line) || (value != 0 && value != 1))
             snprintf(reply, replylen,
-                     "err cannot set '%.60s': outputs are trigger, step, dir, enable, watch, alarm, fault; values 0 or 1\n",
+                     "err cannot set '%.60s': outputs are trigger, step, dir, enable, watch, alarm, fault; "
+                     "values 0 or 1\n",
                      text);
         else
             set_line(b, line, value);
@@ -76,7 +77,8 @@ void emu_gpio_line(struct emu_board *b, const char *text, char *reply, size_t re
         if (strcmp(name, EMU_GPIO_PROTOCOL) == 0)
             snprintf(reply, replylen, "ok %s uwbemu %s\n", EMU_GPIO_PROTOCOL, EMU_VERSION);
         else
-            snprintf(reply, replylen, "err protocol '%.20s' not spoken here; this is %s\n", name, EMU_GPIO_PROTOCOL);
+            snprintf(reply, replylen, "err protocol '%.20s' not spoken here; this is %s\n", name,
+                     EMU_GPIO_PROTOCOL);
         return;
     }
     if (text[0])

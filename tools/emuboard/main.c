@@ -25,43 +25,46 @@ static void on_signal(int sig)
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-"usage: uwbemu --gpio ENDPOINT --digitiser ENDPOINT [--control ENDPOINT] [options]\n"
-"       uwbemu --ctl ENDPOINT 'COMMAND'\n"
-"\n"
-"The emulated board: plays the pulser, the digitiser and the antenna carriage\n"
-"for uwbd. Endpoints are listened on (unix:PATH or tcp:HOST:PORT); a new\n"
-"connection replaces the current one, so a peer that drops can come back.\n"
-"\n"
-"  --gpio ENDPOINT        emulated-GPIO protocol (board/emulated-gpio.md)\n"
-"  --digitiser ENDPOINT   digitiser frame protocol (board/digitiser-protocol.md)\n"
-"  --control ENDPOINT     control commands, one line each, one JSON reply line\n"
-"  --site-io ENDPOINT     the site's lines (alarm contacts watch, alarm, fault; event input)\n"
-"                         on the emulated-GPIO protocol, for uwbd's gpio.site_endpoint\n"
-"  --scene FILE           uwbsim scene JSON (tools/uwbsim/scenes/); default: uwbsim's defaults\n"
-"  --set KEY=VALUE        any uwbsim scene parameter (repeatable), e.g. --set displacement_m=0.012\n"
-"  --seed N               noise seed (default 1)\n"
-"  --steps-per-mm X       the carriage's microsteps per mm (default 100)\n"
-"  --home-y-mm Y          y of the home switch in scene coordinates, mm (default -20)\n"
-"  --start-mm Z           carriage position above home at start, mm (default 50)\n"
-"  --invert-dir           wiring fault: DIR high moves the carriage down\n"
-"  -v, --verbose          log every trigger to stderr\n"
-"  --ctl ENDPOINT CMD     send one control command to a running uwbemu, print the\n"
-"                         reply; exit 0, or 1 if the reply's class is ERROR\n"
-"  --help                 this text\n"
-"\n"
-"Control commands:\n"
-"  status                 carriage position, lines, triggers, frames, faults (class STATUS)\n"
-"  log | log clear        for every trigger: sequence, carriage y_m and steps, result (class LOG)\n"
-"  set KEY VALUE          change a scene parameter and rebuild the simulation (e.g. set displacement_m 0.012)\n"
-"  get KEY                a scene parameter's value\n"
-"  fault NAME MODE        NAME: crc, truncate, drop, silent, disconnect, home-never, home-stuck,\n"
-"                         lose-steps (upward steps that strike do not move the carriage);\n"
-"                         MODE: on, off, every N, next N\n"
-"  board KEY VALUE        steps_per_mm, home_y_mm, invert_dir (0/1), position_mm (move the carriage)\n"
-"  input event 0|1        the event input (a protection relay's trip contact) open or closed\n"
-"  truth                  the scene's true winding edges (class TRUTH)\n"
-"  quit                   stop the board\n");
+    fprintf(
+        out,
+        "usage: uwbemu --gpio ENDPOINT --digitiser ENDPOINT [--control ENDPOINT] [options]\n"
+        "       uwbemu --ctl ENDPOINT 'COMMAND'\n"
+        "\n"
+        "The emulated board: plays the pulser, the digitiser and the antenna carriage\n"
+        "for uwbd. Endpoints are listened on (unix:PATH or tcp:HOST:PORT); a new\n"
+        "connection replaces the current one, so a peer that drops can come back.\n"
+        "\n"
+        "  --gpio ENDPOINT        emulated-GPIO protocol (board/emulated-gpio.md)\n"
+        "  --digitiser ENDPOINT   digitiser frame protocol (board/digitiser-protocol.md)\n"
+        "  --control ENDPOINT     control commands, one line each, one JSON reply line\n"
+        "  --site-io ENDPOINT     the site's lines (alarm contacts watch, alarm, fault; event input)\n"
+        "                         on the emulated-GPIO protocol, for uwbd's gpio.site_endpoint\n"
+        "  --scene FILE           uwbsim scene JSON (tools/uwbsim/scenes/); default: uwbsim's defaults\n"
+        "  --set KEY=VALUE        any uwbsim scene parameter (repeatable), e.g. --set displacement_m=0.012\n"
+        "  --seed N               noise seed (default 1)\n"
+        "  --steps-per-mm X       the carriage's microsteps per mm (default 100)\n"
+        "  --home-y-mm Y          y of the home switch in scene coordinates, mm (default -20)\n"
+        "  --start-mm Z           carriage position above home at start, mm (default 50)\n"
+        "  --invert-dir           wiring fault: DIR high moves the carriage down\n"
+        "  -v, --verbose          log every trigger to stderr\n"
+        "  --ctl ENDPOINT CMD     send one control command to a running uwbemu, print the\n"
+        "                         reply; exit 0, or 1 if the reply's class is ERROR\n"
+        "  --help                 this text\n"
+        "\n"
+        "Control commands:\n"
+        "  status                 carriage position, lines, triggers, frames, faults (class STATUS)\n"
+        "  log | log clear        for every trigger: sequence, carriage y_m and steps, result (class LOG)\n"
+        "  set KEY VALUE          change a scene parameter and rebuild the simulation (e.g. set "
+        "displacement_m 0.012)\n"
+        "  get KEY                a scene parameter's value\n"
+        "  fault NAME MODE        NAME: crc, truncate, drop, silent, disconnect, home-never, home-stuck,\n"
+        "                         lose-steps (upward steps that strike do not move the carriage);\n"
+        "                         MODE: on, off, every N, next N\n"
+        "  board KEY VALUE        steps_per_mm, home_y_mm, invert_dir (0/1), position_mm (move the "
+        "carriage)\n"
+        "  input event 0|1        the event input (a protection relay's trip contact) open or closed\n"
+        "  truth                  the scene's true winding edges (class TRUTH)\n"
+        "  quit                   stop the board\n");
 }
 
 /* A connected peer whose input is split into lines. */
@@ -69,7 +72,7 @@ struct line_peer {
     struct uwb_link *link;
     char buf[LINE_MAX_BYTES];
     size_t len;
-    int overlong;   /* discarding the rest of a line that did not fit */
+    int overlong; /* discarding the rest of a line that did not fit */
 };
 
 typedef void (*line_fn)(struct emu_board *b, struct line_peer *peer, const char *line);
@@ -113,7 +116,8 @@ static int read_lines(struct emu_board *b, struct line_peer *peer, line_fn handl
 static void send_text(struct line_peer *peer, const char *text)
 {
     char err[512];
-    if (peer->link && uwb_link_write_all(peer->link, text, strlen(text), WRITE_TIMEOUT_MS, err, sizeof err) != 0) {
+    if (peer->link &&
+        uwb_link_write_all(peer->link, text, strlen(text), WRITE_TIMEOUT_MS, err, sizeof err) != 0) {
         fprintf(stderr, "uwbemu: %s\n", err);
         uwb_link_close(peer->link);
         peer->link = NULL;
@@ -149,7 +153,8 @@ static int control_client(const char *endpoint, const char *command)
         fprintf(stderr, "uwbemu --ctl: %s\n", err);
         return 1;
     }
-    if (uwb_link_write_all(link, command, strlen(command), WRITE_TIMEOUT_MS, err, sizeof err) != UWB_LINK_OK ||
+    if (uwb_link_write_all(link, command, strlen(command), WRITE_TIMEOUT_MS, err, sizeof err) !=
+            UWB_LINK_OK ||
         uwb_link_write_all(link, "\n", 1, WRITE_TIMEOUT_MS, err, sizeof err) != UWB_LINK_OK) {
         fprintf(stderr, "uwbemu --ctl: %s\n", err);
         uwb_link_close(link);
@@ -354,12 +359,15 @@ static int run(struct emu_board *b, struct uwb_link_listener *gpio_l, struct uwb
         fds[nfds++] = (struct pollfd){.fd = uwb_link_listener_fd(gpio_l), .events = POLLIN};
         fds[nfds++] = (struct pollfd){.fd = uwb_link_listener_fd(dig_l), .events = POLLIN};
         fds[nfds++] = (struct pollfd){.fd = ctl_l ? uwb_link_listener_fd(ctl_l) : -1, .events = POLLIN};
-        fds[nfds++] = (struct pollfd){.fd = gpio.peer.link ? uwb_link_fd(gpio.peer.link) : -1, .events = POLLIN};
+        fds[nfds++] =
+            (struct pollfd){.fd = gpio.peer.link ? uwb_link_fd(gpio.peer.link) : -1, .events = POLLIN};
         fds[nfds++] = (struct pollfd){.fd = b->digitiser ? uwb_link_fd(b->digitiser) : -1, .events = POLLIN};
         for (int i = 0; i < MAX_CONTROL_CLIENTS; i++)
-            fds[nfds++] = (struct pollfd){.fd = control[i].link ? uwb_link_fd(control[i].link) : -1, .events = POLLIN};
+            fds[nfds++] =
+                (struct pollfd){.fd = control[i].link ? uwb_link_fd(control[i].link) : -1, .events = POLLIN};
         fds[nfds++] = (struct pollfd){.fd = site_l ? uwb_link_listener_fd(site_l) : -1, .events = POLLIN};
-        fds[nfds++] = (struct pollfd){.fd = site.peer.link ? uwb_link_fd(site.peer.link) : -1, .events = POLLIN};
+        fds[nfds++] =
+            (struct pollfd){.fd = site.peer.link ? uwb_link_fd(site.peer.link) : -1, .events = POLLIN};
         int n = poll(fds, (nfds_t)nfds, -1);
         if (n < 0) {
             if (errno == EINTR)
@@ -385,7 +393,7 @@ static int run(struct emu_board *b, struct uwb_link_listener *gpio_l, struct uwb
             if (slot >= 0)
                 control[slot] = (struct line_peer){.link = link};
             else if (link)
-                uwb_link_close(link);   /* too many at once: refuse by closing */
+                uwb_link_close(link); /* too many at once: refuse by closing */
         }
         if (fds[3].revents)
             gpio_port_readable(b, &gpio);
@@ -449,8 +457,8 @@ int main(int argc, char **argv)
         sigaction(SIGINT, &sa, NULL);
         sigaction(SIGTERM, &sa, NULL);
         signal(SIGPIPE, SIG_IGN);
-        fprintf(stderr, "uwbemu: listening: gpio %s, digitiser %s%s%s; carriage at %.2f mm above home\n", o.gpio,
-                o.digitiser, o.control ? ", control " : "", o.control ? o.control : "", o.start_mm);
+        fprintf(stderr, "uwbemu: listening: gpio %s, digitiser %s%s%s; carriage at %.2f mm above home\n",
+                o.gpio, o.digitiser, o.control ? ", control " : "", o.control ? o.control : "", o.start_mm);
         rc = run(&board, gpio_l, dig_l, ctl_l, site_l);
     }
     uwb_link_listener_close(gpio_l);

@@ -88,8 +88,10 @@ int uwb_impair_scan(struct uwb_scan *scan, const struct uwb_impairment *imp,
     rep.reference_peak = reference_peak(scan, rep.gate_s);
     if (imp->add_noise) {
         if (!(rep.reference_peak > 0.0)) {
-            snprintf(err, errlen, "impair: the scan is silent after %.3f ns, so the noise has no "
-                     "reference", rep.gate_s * 1e9);
+            snprintf(err, errlen,
+                     "impair: the scan is silent after %.3f ns, so the noise has no "
+                     "reference",
+                     rep.gate_s * 1e9);
             return -1;
         }
         rep.noise_sigma = rep.reference_peak * pow(10.0, -imp->snr_db / 20.0);

@@ -10,19 +10,19 @@
 #include "uwb/scan.h"
 
 struct uwb_impairment {
-    int add_noise;             /* 0: no white noise (snr_db unused) */
-    double snr_db;             /* noise rms this far below the reference peak */
-    double jitter_s;           /* rms of each position's time shift */
-    double drift_linear;       /* gain rises by this from the first position to the last */
-    double drift_random;       /* rms of each position's random gain offset */
+    int add_noise;       /* 0: no white noise (snr_db unused) */
+    double snr_db;       /* noise rms this far below the reference peak */
+    double jitter_s;     /* rms of each position's time shift */
+    double drift_linear; /* gain rises by this from the first position to the last */
+    double drift_random; /* rms of each position's random gain offset */
     uint64_t seed;
 };
 
 /* What was applied (for messages and the header comment). */
 struct uwb_impairment_report {
-    double gate_s;             /* echoes counted from this time on */
-    double reference_peak;     /* largest |sample| from gate_s on, over every position */
-    double noise_sigma;        /* rms of the added noise per sample */
+    double gate_s;         /* echoes counted from this time on */
+    double reference_peak; /* largest |sample| from gate_s on, over every position */
+    double noise_sigma;    /* rms of the added noise per sample */
 };
 
 /* Start of the echoes after the direct coupling: the two-way delay (the

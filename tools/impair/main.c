@@ -128,9 +128,11 @@ int main(int argc, char **argv)
         snprintf(noise, sizeof noise, "noise %.6g rms, %.6g dB below the peak %.6g from %.4g ns on",
                  rep.noise_sigma, imp.snr_db, rep.reference_peak, rep.gate_s * 1e9);
     char note[768];
-    snprintf(note, sizeof note, "%.300s%simpaired by uwbimpair: seed %" PRIu64 ", %s, jitter %.6g ps rms, "
-             "drift %.6g linear + %.6g rms", scan.comment ? scan.comment : "", scan.comment ? "; " : "",
-             imp.seed, noise, imp.jitter_s * 1e12, imp.drift_linear, imp.drift_random);
+    snprintf(note, sizeof note,
+             "%.300s%simpaired by uwbimpair: seed %" PRIu64 ", %s, jitter %.6g ps rms, "
+             "drift %.6g linear + %.6g rms",
+             scan.comment ? scan.comment : "", scan.comment ? "; " : "", imp.seed, noise, imp.jitter_s * 1e12,
+             imp.drift_linear, imp.drift_random);
     char *comment = strdup(note);
     if (!comment) {
         fprintf(stderr, "uwbimpair: out of memory\n");

@@ -13,8 +13,8 @@
 
 /* The scene shifted by shift_m, without jitter, drift or quantisation; with
  * or without its noise; with everything or the winding's echo alone. */
-static int scene_variant(const struct sim_scene *scene, double shift_m, int winding_only,
-                         int noise, struct uwb_scan *scan, char *err, size_t errlen)
+static int scene_variant(const struct sim_scene *scene, double shift_m, int winding_only, int noise,
+                         struct uwb_scan *scan, char *err, size_t errlen)
 {
     struct sim_scene s = *scene;
     s.noise = noise;
@@ -30,8 +30,7 @@ static int scene_variant(const struct sim_scene *scene, double shift_m, int wind
     return sim_make_scan(&s, 1, scan, err, errlen);
 }
 
-int sim_displacement_bound(const struct sim_scene *scene, struct sim_bound *b, char *err,
-                           size_t errlen)
+int sim_displacement_bound(const struct sim_scene *scene, struct sim_bound *b, char *err, size_t errlen)
 {
     if (scene->noise_bandwidth_hz > 0.0) {
         snprintf(err, errlen, "precision bound: only for white noise (noise_bandwidth_hz 0)");

@@ -13,24 +13,23 @@
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: uwbsim [options] --seed N -o FILE.uwbscan [--truth FILE.json]\n"
-            "\n"
-            "Simulates a UWB radar scan of a transformer winding (physical optics) and\n"
-            "writes it as uwbscan/1. Options are applied in order, later ones win.\n"
-            "\n"
-            "  -o, --output FILE      the scan to write (atomically)\n"
-            "  --truth FILE           also write the true edges as JSON\n"
-            "  --seed N               seed of every random draw (default 1): same seed, same file\n"
-            "  --scene FILE           load a JSON scene: one object, keys = the parameters below\n"
-            "  --print-scene          print the effective scene as JSON and exit\n"
-            "  --precision-bound      print the Cramer-Rao bound on the displacement for the\n"
-            "                         scene's noise (snr_db, stack; white noise) as JSON and exit\n"
-            "  --params-markdown      print the parameter table as Markdown and exit\n"
-            "  -h, --help             this text\n"
-            "\n"
-            "Scene parameters: --name VALUE or --name=VALUE; in JSON files the same names\n"
-            "with '_' for '-'. Units in brackets; lengths in m, times in s.\n");
+    fprintf(out, "usage: uwbsim [options] --seed N -o FILE.uwbscan [--truth FILE.json]\n"
+                 "\n"
+                 "Simulates a UWB radar scan of a transformer winding (physical optics) and\n"
+                 "writes it as uwbscan/1. Options are applied in order, later ones win.\n"
+                 "\n"
+                 "  -o, --output FILE      the scan to write (atomically)\n"
+                 "  --truth FILE           also write the true edges as JSON\n"
+                 "  --seed N               seed of every random draw (default 1): same seed, same file\n"
+                 "  --scene FILE           load a JSON scene: one object, keys = the parameters below\n"
+                 "  --print-scene          print the effective scene as JSON and exit\n"
+                 "  --precision-bound      print the Cramer-Rao bound on the displacement for the\n"
+                 "                         scene's noise (snr_db, stack; white noise) as JSON and exit\n"
+                 "  --params-markdown      print the parameter table as Markdown and exit\n"
+                 "  -h, --help             this text\n"
+                 "\n"
+                 "Scene parameters: --name VALUE or --name=VALUE; in JSON files the same names\n"
+                 "with '_' for '-'. Units in brackets; lengths in m, times in s.\n");
     sim_scene_print_help(out);
 }
 

@@ -54,7 +54,8 @@ int sim_engine_acquire(struct sim_engine *e, double y_ref, int stack, struct sim
             return -1;
         }
         if (!(peak > 0)) {
-            snprintf(err, errlen, "snr_db: the winding returns nothing inside the record, so noise has no reference");
+            snprintf(err, errlen,
+                     "snr_db: the winding returns nothing inside the record, so noise has no reference");
             return -1;
         }
         sigma = peak * pow(10.0, -s->snr_db / 20.0);

@@ -86,7 +86,7 @@ double sim_engine_peak_echo(struct sim_engine *e)
         return e->peak_echo;
     /* The SNR's reference: the noiseless winding echo's peak over the scan. */
     const struct sim_scene *s = &e->scene;
-    double *trace = calloc((size_t)s->samples, sizeof *trace);   /* zeroed for the analyzer */
+    double *trace = calloc((size_t)s->samples, sizeof *trace); /* zeroed for the analyzer */
     if (!trace)
         return -1.0;
     double peak = 0.0;
@@ -130,7 +130,7 @@ static int pulse_spectrum(struct sim_engine *e, double complex *F, char *err, si
         return -1;
     int n = e->nfft, nh = n / 2;
     for (int i = 0; i < n; i++) {
-        double t = (i < nh ? i : i - n) * e->dt;   /* circular: negative times at the end */
+        double t = (i < nh ? i : i - n) * e->dt; /* circular: negative times at the end */
         e->rbuf[i] = (float)sim_pulse_value(&pulse, t);
     }
     sim_pulse_free(&pulse);
@@ -146,7 +146,8 @@ static int pulse_spectrum(struct sim_engine *e, double complex *F, char *err, si
     for (int i = 0; i < n; i++)
         peak = fmax(peak, fabs(e->rbuf[i] / n));
     if (!(peak > 0)) {
-        snprintf(err, errlen, "pulse: the radiated pulse is zero on this time grid (sample_interval_s too coarse?)");
+        snprintf(err, errlen,
+                 "pulse: the radiated pulse is zero on this time grid (sample_interval_s too coarse?)");
         return -1;
     }
     for (int k = 0; k <= nh; k++)
@@ -198,7 +199,8 @@ int sim_engine_create(const struct sim_scene *scene, struct sim_engine **out, ch
     e->samples = s->samples;
     int m = (int)ceil(half_span / e->dt) + 8;
     if ((double)s->samples + 4.0 * m > 1e8) {
-        snprintf(err, errlen, "pulse: %g s long at %g s per sample is too many samples", 2 * half_span, e->dt);
+        snprintf(err, errlen, "pulse: %g s long at %g s per sample is too many samples", 2 * half_span,
+                 e->dt);
         sim_engine_free(e);
         return -1;
     }
@@ -219,8 +221,8 @@ int sim_engine_create(const struct sim_scene *scene, struct sim_engine **out, ch
     e->static_direct = calloc((size_t)nh + 1, sizeof *e->static_direct);
     e->static_clutter = calloc((size_t)nh + 1, sizeof *e->static_clutter);
     double complex *F = calloc((size_t)nh + 1, sizeof *F);
-    if (!e->acc || !e->acc_edge || !e->spec || !e->edge_kernel || !e->rbuf || !e->cbuf || !e->surface_kernel || !e->static_direct ||
-        !e->static_clutter || !F) {
+    if (!e->acc || !e->acc_edge || !e->spec || !e->edge_kernel || !e->rbuf || !e->cbuf ||
+        !e->surface_kernel || !e->static_direct || !e->static_clutter || !F) {
         free(F);
         snprintf(err, errlen, "engine: out of memory for a %d-point FFT", e->nfft);
         sim_engine_free(e);
@@ -259,8 +261,7 @@ int sim_engine_create(const struct sim_scene *scene, struct sim_engine **out, ch
     sim_build_statics(e, F);
     free(F);
 
-    e->peak_echo = -1.0;   /* computed when first needed */
+    e->peak_echo = -1.0; /* computed when first needed */
     *out = e;
     return 0;
 }
-

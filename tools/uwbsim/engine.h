@@ -35,8 +35,7 @@
 
 struct sim_engine;
 
-int sim_engine_create(const struct sim_scene *scene, struct sim_engine **engine,
-                      char *err, size_t errlen);
+int sim_engine_create(const struct sim_scene *scene, struct sim_engine **engine, char *err, size_t errlen);
 void sim_engine_free(struct sim_engine *engine);
 
 const struct sim_scene *sim_engine_scene(const struct sim_engine *engine);
@@ -49,13 +48,13 @@ double sim_engine_peak_echo(struct sim_engine *engine);
 /* The noiseless received voltage at one position, `parts` (enum sim_part
  * mask) only, the whole trace delayed by shift_s (jitter). out: samples values.
  * Not thread-safe: an engine owns its FFT buffers. */
-void sim_engine_clean_trace(struct sim_engine *engine, double antenna_y_m, unsigned parts,
-                            double shift_s, double *out);
+void sim_engine_clean_trace(struct sim_engine *engine, double antenna_y_m, unsigned parts, double shift_s,
+                            double *out);
 
 /* The digitiser's state carried from one acquisition to the next. */
 struct sim_acq {
     struct sim_rng rng;
-    double drift_db;        /* current gain offset of the random walk */
+    double drift_db; /* current gain offset of the random walk */
 };
 void sim_acq_init(struct sim_acq *acq, uint64_t seed);
 
@@ -63,7 +62,7 @@ void sim_acq_init(struct sim_acq *acq, uint64_t seed);
  * drift, then `stack` pulses (0: the scene's) each with fresh noise,
  * quantised and clipped, averaged. This is what the emulated board calls
  * for every acquisition. */
-int sim_engine_acquire(struct sim_engine *engine, double antenna_y_m, int stack,
-                       struct sim_acq *acq, float *out, char *err, size_t errlen);
+int sim_engine_acquire(struct sim_engine *engine, double antenna_y_m, int stack, struct sim_acq *acq,
+                       float *out, char *err, size_t errlen);
 
 #endif

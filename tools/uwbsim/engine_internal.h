@@ -3,7 +3,7 @@
 #ifndef UWBSIM_ENGINE_INTERNAL_H
 #define UWBSIM_ENGINE_INTERNAL_H
 
-#include <complex.h>   /* before fftw3.h: fftwf_complex is then float complex */
+#include <complex.h> /* before fftw3.h: fftwf_complex is then float complex */
 #include <fftw3.h>
 
 #include "engine.h"
@@ -14,17 +14,17 @@ struct sim_engine {
     struct sim_scene scene;
     struct sim_geometry geo;
     int mode2d;
-    double n_oil, inv_v;            /* inv_v: s/m in the oil */
-    double beam_n;                  /* pattern cos^n; 0: isotropic */
-    double lambda_c;                /* wavelength in the oil at the centre frequency */
+    double n_oil, inv_v; /* inv_v: s/m in the oil */
+    double beam_n;       /* pattern cos^n; 0: isotropic */
+    double lambda_c;     /* wavelength in the oil at the centre frequency */
     /* tank window, seen from antennas at z = 0 */
     int has_window;
     double win_gap, win_t, n_win;
-    double win_T2;                  /* two-way transmission through its interfaces */
-    double bar_T;                   /* one pass through the barrier */
+    double win_T2; /* two-way transmission through its interfaces */
+    double bar_T;  /* one pass through the barrier */
     /* time grid and FFT */
     int nfft, pad, samples;
-    double dt, grid_t0;             /* buffer index i is time grid_t0 + i dt */
+    double dt, grid_t0; /* buffer index i is time grid_t0 + i dt */
     double *acc, *acc_edge;
     double complex *spec;
     float *rbuf;
@@ -46,7 +46,8 @@ double sim_pattern(const struct sim_engine *e, double cos_theta);
 double sim_window_transmission(const struct sim_scene *s, double n_oil);
 double sim_window_delay(const struct sim_engine *e, double gap, double cz);
 double sim_window_apparent(const struct sim_engine *e, double gap);
-double sim_barrier_leg(const struct sim_engine *e, const double a[3], const double p[3], double r, double *tau);
+double sim_barrier_leg(const struct sim_engine *e, const double a[3], const double p[3], double r,
+                       double *tau);
 double sim_gap_lit(const struct sim_engine *e, const struct sim_element *el, const double a[3]);
 
 /* Wedge diffraction (fringe.c) */

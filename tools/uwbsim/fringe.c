@@ -28,7 +28,7 @@ static double fringe_at(double phi, double phip, double n, int soft, int *near_s
         double den = cos(phi) + cos(phip);
         if (fabs(den) < tiny)
             *near_singular = 1;
-        po += 0.5 * (sin(phi) + sin(phip)) / den;      /* G = -1 folded in */
+        po += 0.5 * (sin(phi) + sin(phip)) / den; /* G = -1 folded in */
     }
     double b = n * M_PI;
     if (sin(b - phi) > 0 && sin(b - phip) > 0) {

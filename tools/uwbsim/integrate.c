@@ -15,8 +15,8 @@ void sim_deposit(const struct sim_engine *e, double *acc, double tau, double amp
     acc[i + 1] += amp * f;
 }
 
-static void integrate_edges(struct sim_engine *e, const double tx[3], const double rx[3],
-                            const double txl[3], const double rxl[3], double tx_gap, double rx_gap)
+static void integrate_edges(struct sim_engine *e, const double tx[3], const double rx[3], const double txl[3],
+                            const double rxl[3], double tx_gap, double rx_gap)
 {
     double tx_app = sim_window_apparent(e, tx_gap), rx_app = sim_window_apparent(e, rx_gap);
     const struct sim_geometry *g = &e->geo;
@@ -38,7 +38,7 @@ static void integrate_edges(struct sim_engine *e, const double tx[3], const doub
         double wedge = ed->wedge_n * M_PI;
         double phip = sim_wedge_angle(ed, u1), phi = sim_wedge_angle(ed, u2);
         if (phip > wedge || phi > wedge)
-            continue;           /* looking at it from inside the metal */
+            continue; /* looking at it from inside the metal */
         if (!e->mode2d) {
             /* hidden behind the stack (the back of the circle)? test a point a
              * hair toward each antenna so the edge itself does not count */
@@ -144,8 +144,9 @@ void sim_integrate_surfaces(struct sim_engine *e, double y_ref, unsigned parts)
         if (el->refl2 != 0) {
             /* thin layer's back face: optical path 2 n t cos(theta_t) later */
             double no = e->n_oil, nb = g->barrier_n;
-            double extra = g->barrier_thickness *
-                           (sqrt(nb * nb - no * no * (1 - c1 * c1)) + sqrt(nb * nb - no * no * (1 - c2 * c2))) / C0;
+            double extra =
+                g->barrier_thickness *
+                (sqrt(nb * nb - no * no * (1 - c1 * c1)) + sqrt(nb * nb - no * no * (1 - c2 * c2))) / C0;
             double back = el->refl2 / el->refl;
             sim_deposit(e, e->acc, tau + extra, amp * obl * back);
             if (near != 0)

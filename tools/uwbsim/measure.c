@@ -13,8 +13,10 @@ int sim_envelope(const float *x, int n, double *env)
     fftwf_plan fwd = fftwf_plan_dft_1d(n, buf, buf, FFTW_FORWARD, FFTW_ESTIMATE);
     fftwf_plan inv = fftwf_plan_dft_1d(n, buf, buf, FFTW_BACKWARD, FFTW_ESTIMATE);
     if (!fwd || !inv) {
-        if (fwd) fftwf_destroy_plan(fwd);
-        if (inv) fftwf_destroy_plan(inv);
+        if (fwd)
+            fftwf_destroy_plan(fwd);
+        if (inv)
+            fftwf_destroy_plan(inv);
         fftwf_free(buf);
         return -1;
     }

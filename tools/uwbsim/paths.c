@@ -59,8 +59,8 @@ double sim_window_apparent(const struct sim_engine *e, double gap)
 
 /* A ray from antenna a to a point p behind the barrier: if it passes through
  * the barrier, add the barrier's extra delay and return its transmission. */
-double sim_barrier_leg(const struct sim_engine *e, const double a[3], const double p[3],
-                          double r, double *tau)
+double sim_barrier_leg(const struct sim_engine *e, const double a[3], const double p[3], double r,
+                       double *tau)
 {
     const struct sim_geometry *g = &e->geo;
     double s, cpsi;
@@ -121,7 +121,7 @@ double sim_gap_lit(const struct sim_engine *e, const struct sim_element *el, con
     }
     if (horiz <= 0)
         return 0.0;
-    double lit = el->gap * horiz / rise;       /* depth the ray reaches before leaving the gap's height */
+    double lit = el->gap * horiz / rise; /* depth the ray reaches before leaving the gap's height */
     double f = (lit - lnear) / (lfar - lnear);
     return f < 0 ? 0.0 : (f > 1 ? 1.0 : f);
 }

@@ -111,12 +111,9 @@ void sim_pulse_free(struct sim_pulse *pulse)
 double sim_pulse_value(const struct sim_pulse *p, double t)
 {
     switch (p->kind) {
-    case SIM_PULSE_RICKER:
-        return ricker(p->fc_hz, t);
-    case SIM_PULSE_MONOCYCLE:
-        return monocycle(p->fc_hz, t);
-    default:
-        break;
+    case SIM_PULSE_RICKER: return ricker(p->fc_hz, t);
+    case SIM_PULSE_MONOCYCLE: return monocycle(p->fc_hz, t);
+    default: break;
     }
     if (t < p->t[0] || t > p->t[p->n - 1])
         return 0.0;

@@ -11,9 +11,9 @@
 #include "scene.h"
 
 struct sim_pulse {
-    int kind;                 /* enum sim_pulse_kind */
+    int kind; /* enum sim_pulse_kind */
     double fc_hz;
-    double *t, *v;            /* file pulse samples, increasing t */
+    double *t, *v; /* file pulse samples, increasing t */
     size_t n;
 };
 

@@ -49,7 +49,7 @@ double sim_rng_normal(struct sim_rng *rng)
         rng->has_spare = 0;
         return rng->spare;
     }
-    double u1 = 1.0 - sim_rng_uniform(rng);     /* (0, 1]: log is finite */
+    double u1 = 1.0 - sim_rng_uniform(rng); /* (0, 1]: log is finite */
     double u2 = sim_rng_uniform(rng);
     double r = sqrt(-2.0 * log(u1));
     double a = 2.0 * M_PI * u2;

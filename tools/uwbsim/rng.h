@@ -11,7 +11,7 @@
 
 struct sim_rng {
     uint64_t s[4];
-    int has_spare;          /* Box-Muller gives normals in pairs */
+    int has_spare; /* Box-Muller gives normals in pairs */
     double spare;
 };
 

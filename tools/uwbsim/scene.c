@@ -13,17 +13,29 @@ static const char *const pulse_choices[] = {"ricker", "monocycle", "file", NULL}
 
 #define OFF(field) offsetof(struct sim_scene, field)
 #define NUM(name, unit, def, group, lo, hi, help) \
-    {#name, SIM_PARAM_NUMBER, unit, def, group, help, OFF(name), lo, hi, NULL}
+    { \
+#name, SIM_PARAM_NUMBER, unit, def, group, help, OFF(name), lo, hi, NULL \
+    }
 #define OPTNUM(name, unit, group, lo, hi, help) \
-    {#name, SIM_PARAM_OPTNUMBER, unit, "none", group, help, OFF(name), lo, hi, NULL}
+    { \
+#name, SIM_PARAM_OPTNUMBER, unit, "none", group, help, OFF(name), lo, hi, NULL \
+    }
 #define INT(name, def, group, lo, hi, help) \
-    {#name, SIM_PARAM_INT, "", def, group, help, OFF(name), lo, hi, NULL}
+    { \
+#name, SIM_PARAM_INT, "", def, group, help, OFF(name), lo, hi, NULL \
+    }
 #define BOOL(name, def, group, help) \
-    {#name, SIM_PARAM_BOOL, "", def, group, help, OFF(name), 0, 1, NULL}
+    { \
+#name, SIM_PARAM_BOOL, "", def, group, help, OFF(name), 0, 1, NULL \
+    }
 #define ENUM(name, def, group, choices, help) \
-    {#name, SIM_PARAM_ENUM, "", def, group, help, OFF(name), 0, 0, choices}
+    { \
+#name, SIM_PARAM_ENUM, "", def, group, help, OFF(name), 0, 0, choices \
+    }
 #define STR(name, group, help) \
-    {#name, SIM_PARAM_STRING, "", "", group, help, OFF(name), 0, 0, NULL}
+    { \
+#name, SIM_PARAM_STRING, "", "", group, help, OFF(name), 0, 0, NULL \
+    }
 
 static const struct sim_param params[] = {
     ENUM(mode, "3d", "general", mode_choices,
@@ -55,8 +67,10 @@ static const struct sim_param params[] = {
     NUM(outer_radius_m, "m", "0.15", "winding", 0.005, 5, "outer radius of the disks"),
     NUM(radial_build_m, "m", "0.06", "winding", 0.001, 5,
         "radial build (outer minus inner radius); in 2d mode, the depth of the disk rectangles"),
-    NUM(face_z_m, "m", "0.45", "winding", 0.01, 20, "range of the winding's front face from the antenna line"),
-    NUM(bottom_y_m, "m", "0.23", "winding", -20, 20, "height of the lowest disk's bottom before displacement"),
+    NUM(face_z_m, "m", "0.45", "winding", 0.01, 20,
+        "range of the winding's front face from the antenna line"),
+    NUM(bottom_y_m, "m", "0.23", "winding", -20, 20,
+        "height of the lowest disk's bottom before displacement"),
     NUM(displacement_m, "m", "0", "winding", -5, 5, "axial displacement of the whole stack, positive up"),
     NUM(height_change_m, "m", "0", "winding", -5, 5,
         "change of the stack height (elongation > 0, compression < 0), shared equally by the gaps; "
@@ -65,16 +79,21 @@ static const struct sim_param params[] = {
     NUM(tilt_azimuth_deg, "deg", "0", "winding", -360, 360,
         "direction the top leans to: 0 = toward the antennas, 90 = sideways (+x); 3d mode only"),
 
-    BOOL(clutter, "true", "clutter", "master switch for the static clutter below (core, barrier, clamp, far wall)"),
+    BOOL(clutter, "true", "clutter",
+         "master switch for the static clutter below (core, barrier, clamp, far wall)"),
     BOOL(core, "true", "clutter", "core leg behind the winding, a flat-fronted steel bar"),
-    NUM(core_front_m, "m", "0.08", "clutter", 0, 5, "core leg's front face: distance in front of the winding axis"),
+    NUM(core_front_m, "m", "0.08", "clutter", 0, 5,
+        "core leg's front face: distance in front of the winding axis"),
     NUM(core_width_m, "m", "0.15", "clutter", 0.001, 5, "width (along x) of the core leg's front face"),
-    NUM(core_y_min_m, "m", "-0.4", "clutter", -20, 20, "lower end of the core leg (the default runs past the aperture)"),
+    NUM(core_y_min_m, "m", "-0.4", "clutter", -20, 20,
+        "lower end of the core leg (the default runs past the aperture)"),
     NUM(core_y_max_m, "m", "1.0", "clutter", -20, 20, "upper end of the core leg"),
     BOOL(barrier, "true", "clutter", "pressboard barrier: a thin dielectric cylinder around the winding"),
-    NUM(barrier_gap_m, "m", "0.015", "clutter", 0.001, 5, "oil between the winding's outer face and the barrier"),
+    NUM(barrier_gap_m, "m", "0.015", "clutter", 0.001, 5,
+        "oil between the winding's outer face and the barrier"),
     NUM(barrier_thickness_m, "m", "0.003", "clutter", 1e-4, 0.1, "barrier thickness"),
-    NUM(barrier_eps_r, "", "4.4", "clutter", 1, 100, "relative permittivity of the oil-impregnated pressboard"),
+    NUM(barrier_eps_r, "", "4.4", "clutter", 1, 100,
+        "relative permittivity of the oil-impregnated pressboard"),
     NUM(barrier_y_min_m, "m", "-0.2", "clutter", -20, 20, "lower end of the barrier"),
     NUM(barrier_y_max_m, "m", "0.8", "clutter", -20, 20, "upper end of the barrier"),
     BOOL(clamp, "true", "clutter", "clamping plate above the winding: a horizontal steel plate"),
@@ -105,7 +124,8 @@ static const struct sim_param params[] = {
     STR(pulse_file, "antennas",
         "measured pulse: text, one 'time_s value' pair per line, '#' comments, t = 0 when the pulse "
         "leaves the transmitter"),
-    NUM(centre_frequency_hz, "Hz", "2e9", "antennas", 1e6, 1e12, "centre (peak spectral) frequency of the pulse"),
+    NUM(centre_frequency_hz, "Hz", "2e9", "antennas", 1e6, 1e12,
+        "centre (peak spectral) frequency of the pulse"),
     NUM(pulse_derivative, "", "0", "antennas", 0, 3,
         "fractional time-derivative order applied to the shape to give the radiated field; 0.5 "
         "reproduces a 2-D FDTD line source driven by that shape"),
@@ -116,9 +136,11 @@ static const struct sim_param params[] = {
 
     NUM(sample_interval_s, "s", "1e-11", "digitiser", 1e-14, 1e-6, "time between samples"),
     INT(samples, "2048", "digitiser", 16, 1048576, "samples per trace"),
-    NUM(t0_s, "s", "-1e-9", "digitiser", -1e-3, 1e-3, "time of sample 0 after the pulse leaves the transmitter"),
+    NUM(t0_s, "s", "-1e-9", "digitiser", -1e-3, 1e-3,
+        "time of sample 0 after the pulse leaves the transmitter"),
     INT(adc_bits, "12", "digitiser", 0, 24, "ADC resolution; 0 = ideal (no quantisation, no clipping)"),
-    NUM(adc_full_scale_v, "V", "0.5", "digitiser", 1e-9, 1e9, "ADC full scale: codes span -FS..+FS, beyond clips"),
+    NUM(adc_full_scale_v, "V", "0.5", "digitiser", 1e-9, 1e9,
+        "ADC full scale: codes span -FS..+FS, beyond clips"),
     INT(stack, "1", "digitiser", 1, 65536, "pulses averaged per trace (each digitised on its own)"),
     BOOL(noise, "true", "digitiser", "add receiver noise"),
     NUM(snr_db, "dB", "30", "digitiser", -40, 200,
@@ -136,7 +158,8 @@ static const struct sim_param params[] = {
     NUM(position_step_m, "m", "0.03", "positions", -10, 10, "distance between positions"),
     NUM(first_position_m, "m", "0", "positions", -20, 20, "height of the first position"),
 
-    OPTNUM(target_z_near_m, "m", "header", 0, 50, "header target_z_m[0]: where the installation expects the face, near"),
+    OPTNUM(target_z_near_m, "m", "header", 0, 50,
+           "header target_z_m[0]: where the installation expects the face, near"),
     OPTNUM(target_z_far_m, "m", "header", 0, 50, "header target_z_m[1], far (both or neither)"),
     STR(created, "header", "header 'created' (ISO-8601); empty = absent, so files stay reproducible"),
     STR(scan_id, "header", "header 'scan_id'; empty = absent"),
@@ -178,8 +201,8 @@ static int parse_double(const char *text, double *out)
     return 0;
 }
 
-static int set_param(struct sim_scene *scene, const struct sim_param *p, const char *value,
-                     char *err, size_t errlen)
+static int set_param(struct sim_scene *scene, const struct sim_param *p, const char *value, char *err,
+                     size_t errlen)
 {
     char *base = (char *)scene + p->offset;
     switch (p->type) {
@@ -255,8 +278,7 @@ static int set_param(struct sim_scene *scene, const struct sim_param *p, const c
     return -1;
 }
 
-int sim_scene_set(struct sim_scene *scene, const char *key, const char *value,
-                  char *err, size_t errlen)
+int sim_scene_set(struct sim_scene *scene, const char *key, const char *value, char *err, size_t errlen)
 {
     const struct sim_param *p = sim_param_find(key);
     if (!p) {
@@ -272,7 +294,7 @@ int sim_scene_default(struct sim_scene *scene)
     memset(scene, 0, sizeof *scene);
     for (size_t i = 0; i < sizeof params / sizeof params[0]; i++)
         if (set_param(scene, &params[i], params[i].def, err, sizeof err) != 0)
-            return -1;   /* a default that its own setter refuses: table bug */
+            return -1; /* a default that its own setter refuses: table bug */
     return 0;
 }
 
@@ -289,18 +311,10 @@ void sim_scene_get(const struct sim_scene *scene, const struct sim_param *p, cha
             snprintf(buf, buflen, "%.17g", v);
         return;
     }
-    case SIM_PARAM_INT:
-        snprintf(buf, buflen, "%d", *(const int *)base);
-        return;
-    case SIM_PARAM_BOOL:
-        snprintf(buf, buflen, "%s", *(const int *)base ? "true" : "false");
-        return;
-    case SIM_PARAM_ENUM:
-        snprintf(buf, buflen, "%s", p->choices[*(const int *)base]);
-        return;
-    case SIM_PARAM_STRING:
-        snprintf(buf, buflen, "%s", base);
-        return;
+    case SIM_PARAM_INT: snprintf(buf, buflen, "%d", *(const int *)base); return;
+    case SIM_PARAM_BOOL: snprintf(buf, buflen, "%s", *(const int *)base ? "true" : "false"); return;
+    case SIM_PARAM_ENUM: snprintf(buf, buflen, "%s", p->choices[*(const int *)base]); return;
+    case SIM_PARAM_STRING: snprintf(buf, buflen, "%s", base); return;
     }
     if (buflen)
         buf[0] = '\0';
@@ -343,17 +357,18 @@ int sim_scene_validate(const struct sim_scene *s, char *err, size_t errlen)
         return -1;
     }
     if (s->radial_build_m > s->outer_radius_m && s->mode == SIM_MODE_3D) {
-        snprintf(err, errlen, "radial_build_m: %g m is more than outer_radius_m = %g m",
-                 s->radial_build_m, s->outer_radius_m);
+        snprintf(err, errlen, "radial_build_m: %g m is more than outer_radius_m = %g m", s->radial_build_m,
+                 s->outer_radius_m);
         return -1;
     }
     if (s->window_gap_m + s->window_thickness_m >= s->face_z_m - 1e-3) {
-        snprintf(err, errlen, "window_gap_m + window_thickness_m: the window reaches the winding's face (face_z_m = %g m)",
+        snprintf(err, errlen,
+                 "window_gap_m + window_thickness_m: the window reaches the winding's face (face_z_m = %g m)",
                  s->face_z_m);
         return -1;
     }
-    if (s->clutter && s->barrier && s->window_gap_m + s->window_thickness_m >=
-                                    s->face_z_m - s->barrier_gap_m - s->barrier_thickness_m) {
+    if (s->clutter && s->barrier &&
+        s->window_gap_m + s->window_thickness_m >= s->face_z_m - s->barrier_gap_m - s->barrier_thickness_m) {
         snprintf(err, errlen, "barrier_gap_m: the barrier would overlap the tank window");
         return -1;
     }
@@ -365,7 +380,9 @@ int sim_scene_validate(const struct sim_scene *s, char *err, size_t errlen)
         snprintf(err, errlen, "barrier_y_min_m: must be below barrier_y_max_m");
         return -1;
     }
-    if (s->clutter && s->far_wall && s->far_wall_z_m <= s->face_z_m + (s->mode == SIM_MODE_3D ? 2 * s->outer_radius_m : s->radial_build_m)) {
+    if (s->clutter && s->far_wall &&
+        s->far_wall_z_m <=
+            s->face_z_m + (s->mode == SIM_MODE_3D ? 2 * s->outer_radius_m : s->radial_build_m)) {
         snprintf(err, errlen, "far_wall_z_m: %g m is not behind the winding", s->far_wall_z_m);
         return -1;
     }

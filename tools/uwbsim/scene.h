@@ -19,10 +19,10 @@ enum sim_pulse_kind { SIM_PULSE_RICKER = 0, SIM_PULSE_MONOCYCLE = 1, SIM_PULSE_F
 
 struct sim_scene {
     /* general */
-    int mode;                      /* enum sim_mode */
-    char description[SIM_TEXT_MAX];/* free text; goes to the truth file only */
-    double element_size_m;         /* 0: automatic */
-    int edge_diffraction;          /* PTD fringe correction at the stack's corners */
+    int mode;                       /* enum sim_mode */
+    char description[SIM_TEXT_MAX]; /* free text; goes to the truth file only */
+    double element_size_m;          /* 0: automatic */
+    int edge_diffraction;           /* PTD fringe correction at the stack's corners */
 
     /* medium and tank wall */
     double eps_r;
@@ -35,7 +35,7 @@ struct sim_scene {
     int disks;
     double disk_height_m;
     double gap_m;
-    double gap_eps_r;              /* 0: same as the medium (oil-filled) */
+    double gap_eps_r; /* 0: same as the medium (oil-filled) */
     double outer_radius_m;
     double radial_build_m;
     double face_z_m;
@@ -46,7 +46,7 @@ struct sim_scene {
     double tilt_azimuth_deg;
 
     /* static clutter */
-    int clutter;                   /* master switch */
+    int clutter; /* master switch */
     int core;
     double core_front_m;
     double core_width_m;
@@ -69,9 +69,9 @@ struct sim_scene {
     /* antennas and pulse */
     double tx_dy_m, tx_dz_m;
     double rx_dy_m, rx_dz_m;
-    double beamwidth_deg;          /* 0: isotropic */
-    int polarisation;              /* enum sim_polarisation: E relative to the disk edges */
-    int pulse;                     /* enum sim_pulse_kind */
+    double beamwidth_deg; /* 0: isotropic */
+    int polarisation;     /* enum sim_polarisation: E relative to the disk edges */
+    int pulse;            /* enum sim_pulse_kind */
     char pulse_file[SIM_TEXT_MAX];
     double centre_frequency_hz;
     double pulse_derivative;
@@ -87,7 +87,7 @@ struct sim_scene {
     int stack;
     int noise;
     double snr_db;
-    double noise_bandwidth_hz;     /* 0: white up to Nyquist */
+    double noise_bandwidth_hz; /* 0: white up to Nyquist */
     double jitter_s;
     double drift_db;
 
@@ -97,31 +97,31 @@ struct sim_scene {
     double first_position_m;
 
     /* header (configuration, never truth) */
-    double target_z_near_m;        /* NaN: absent */
+    double target_z_near_m; /* NaN: absent */
     double target_z_far_m;
-    char created[SIM_TEXT_MAX];    /* "": absent */
+    char created[SIM_TEXT_MAX]; /* "": absent */
     char scan_id[SIM_TEXT_MAX];
     char comment[SIM_TEXT_MAX];
 };
 
 enum sim_param_type {
-    SIM_PARAM_NUMBER,      /* double */
-    SIM_PARAM_OPTNUMBER,   /* double, NaN when absent ("none" / JSON null) */
+    SIM_PARAM_NUMBER,    /* double */
+    SIM_PARAM_OPTNUMBER, /* double, NaN when absent ("none" / JSON null) */
     SIM_PARAM_INT,
-    SIM_PARAM_BOOL,        /* int 0/1 */
-    SIM_PARAM_ENUM,        /* int index into choices */
-    SIM_PARAM_STRING       /* char[SIM_TEXT_MAX] */
+    SIM_PARAM_BOOL,  /* int 0/1 */
+    SIM_PARAM_ENUM,  /* int index into choices */
+    SIM_PARAM_STRING /* char[SIM_TEXT_MAX] */
 };
 
 struct sim_param {
-    const char *name;      /* JSON key; CLI option --name with '_' written '-' */
+    const char *name; /* JSON key; CLI option --name with '_' written '-' */
     enum sim_param_type type;
-    const char *unit;      /* "" when dimensionless */
-    const char *def;       /* default, as the text the setter accepts */
+    const char *unit; /* "" when dimensionless */
+    const char *def;  /* default, as the text the setter accepts */
     const char *group;
     const char *help;
-    size_t offset;         /* into struct sim_scene */
-    double min, max;       /* inclusive limits for numbers and integers */
+    size_t offset;              /* into struct sim_scene */
+    double min, max;            /* inclusive limits for numbers and integers */
     const char *const *choices; /* ENUM: NULL-terminated */
 };
 
@@ -133,11 +133,9 @@ const struct sim_param *sim_param_find(const char *key);
 /* Every parameter at its default. Returns 0 (-1 only if the table is broken). */
 int sim_scene_default(struct sim_scene *scene);
 /* Set one parameter from text (the CLI's way). err: "KEY: problem". */
-int sim_scene_set(struct sim_scene *scene, const char *key, const char *value,
-                  char *err, size_t errlen);
+int sim_scene_set(struct sim_scene *scene, const char *key, const char *value, char *err, size_t errlen);
 /* The current value as text that sim_scene_set accepts back. */
-void sim_scene_get(const struct sim_scene *scene, const struct sim_param *p,
-                   char *buf, size_t buflen);
+void sim_scene_get(const struct sim_scene *scene, const struct sim_param *p, char *buf, size_t buflen);
 /* Checks between parameters (a height change that would close the gaps, a
  * build thicker than the radius...). err names the parameters involved. */
 int sim_scene_validate(const struct sim_scene *scene, char *err, size_t errlen);
@@ -146,8 +144,8 @@ int sim_scene_validate(const struct sim_scene *scene, char *err, size_t errlen);
  * Unknown keys and wrongly typed values are rejected, naming the key.
  * Keys not in the file keep their current value in *scene. */
 int sim_scene_load_json(const char *path, struct sim_scene *scene, char *err, size_t errlen);
-int sim_scene_apply_json_text(const char *text, const char *name, struct sim_scene *scene,
-                              char *err, size_t errlen);
+int sim_scene_apply_json_text(const char *text, const char *name, struct sim_scene *scene, char *err,
+                              size_t errlen);
 /* The whole scene as a JSON object text (malloc'd), loadable again. */
 int sim_scene_to_json(const struct sim_scene *scene, char **json);
 
@@ -156,7 +154,7 @@ void sim_scene_print_help(FILE *out);
 void sim_scene_print_markdown(FILE *out);
 
 /* Derived geometry used by the engine and the truth file. */
-double sim_scene_pitch_m(const struct sim_scene *scene);        /* disk + gap after height change */
+double sim_scene_pitch_m(const struct sim_scene *scene); /* disk + gap after height change */
 double sim_scene_gap_actual_m(const struct sim_scene *scene);
 double sim_scene_stack_height_m(const struct sim_scene *scene);
 double sim_scene_nominal_center_y_m(const struct sim_scene *scene);

@@ -99,7 +99,7 @@ void sim_scene_print_markdown(FILE *out)
         cli_spelling(p->name, cli, sizeof cli);
         choices_text(p, choices, sizeof choices);
         fprintf(out, "| `%s` / `--%s` | %s | %s | %s%s%s%s |\n", p->name, cli, p->unit,
-                p->def[0] ? p->def : "(empty)", p->help,
-                choices[0] ? " (" : "", choices, choices[0] ? ")" : "");
+                p->def[0] ? p->def : "(empty)", p->help, choices[0] ? " (" : "", choices,
+                choices[0] ? ")" : "");
     }
 }

@@ -57,8 +57,8 @@ static int value_text(const struct sim_param *p, const cJSON *v, char *buf, size
     return -1;
 }
 
-int sim_scene_apply_json_text(const char *text, const char *name, struct sim_scene *scene,
-                              char *err, size_t errlen)
+int sim_scene_apply_json_text(const char *text, const char *name, struct sim_scene *scene, char *err,
+                              size_t errlen)
 {
     cJSON *root = cJSON_Parse(text);
     if (!root) {
@@ -83,7 +83,8 @@ int sim_scene_apply_json_text(const char *text, const char *name, struct sim_sce
             if (strcmp(all[i].name, item->string) == 0)
                 p = &all[i];
         if (!p) {
-            snprintf(err, errlen, "%s: unknown key \"%s\" (uwbsim --help lists the parameters)", name, item->string);
+            snprintf(err, errlen, "%s: unknown key \"%s\" (uwbsim --help lists the parameters)", name,
+                     item->string);
             cJSON_Delete(root);
             return -1;
         }
@@ -138,18 +139,10 @@ int sim_scene_to_json(const struct sim_scene *scene, char **json)
             v = isnan(d) ? cJSON_CreateNull() : cJSON_CreateNumber(d);
             break;
         }
-        case SIM_PARAM_INT:
-            v = cJSON_CreateNumber(*(const int *)base);
-            break;
-        case SIM_PARAM_BOOL:
-            v = cJSON_CreateBool(*(const int *)base);
-            break;
-        case SIM_PARAM_ENUM:
-            v = cJSON_CreateString(p->choices[*(const int *)base]);
-            break;
-        case SIM_PARAM_STRING:
-            v = cJSON_CreateString(base);
-            break;
+        case SIM_PARAM_INT: v = cJSON_CreateNumber(*(const int *)base); break;
+        case SIM_PARAM_BOOL: v = cJSON_CreateBool(*(const int *)base); break;
+        case SIM_PARAM_ENUM: v = cJSON_CreateString(p->choices[*(const int *)base]); break;
+        case SIM_PARAM_STRING: v = cJSON_CreateString(base); break;
         }
         if (!v || !cJSON_AddItemToObject(root, p->name, v)) {
             cJSON_Delete(v);

@@ -15,8 +15,8 @@
  * freshly allocated scan (free with uwb_scan_free). The header holds what
  * the appliance would know (geometry of the antennas, eps_r, optional
  * target_z_m, created/scan_id/comment if set) and `source`; never the truth. */
-int sim_make_scan(const struct sim_scene *scene, uint64_t seed, struct uwb_scan *out,
-                  char *err, size_t errlen);
+int sim_make_scan(const struct sim_scene *scene, uint64_t seed, struct uwb_scan *out, char *err,
+                  size_t errlen);
 
 /* The scene's true edges as a JSON object text (malloc'd, caller frees):
  * y1_m, y2_m (front corners of the stack), center_m, height_m, z_face_m,

@@ -19,8 +19,8 @@ static double complex near_field_2d(double kd)
  * `offset` apart: ray parameter found by bisection so the lateral travel
  * matches. Returns delay, unfolded path length and the cosine of the ray's
  * angle in the first layer (for the antenna pattern). */
-static void layered_echo(const double *thick, const double *n, int nl, double offset,
-                         double *delay, double *length, double *cos_first)
+static void layered_echo(const double *thick, const double *n, int nl, double offset, double *delay,
+                         double *length, double *cos_first)
 {
     double pmax = 1e300;
     for (int i = 0; i < nl; i++)
@@ -55,8 +55,8 @@ static void layered_echo(const double *thick, const double *n, int nl, double of
 
 /* Add one static return, amplitude amp at delay tau, with the pulse's shape
  * (image sources and direct coupling need no surface operator). */
-static void add_static(struct sim_engine *e, double complex *dst, const double complex *F,
-                       double amp, double tau, double nf_distance)
+static void add_static(struct sim_engine *e, double complex *dst, const double complex *F, double amp,
+                       double tau, double nf_distance)
 {
     int nh = e->nfft / 2;
     for (int k = 1; k < nh; k++) {

@@ -76,7 +76,7 @@ static void rotate(const double r[3][3], const double v[3], double out[3])
 void sim_geometry_to_local(const struct sim_geometry *g, const double w[3], double l[3])
 {
     double d[3] = {w[0] - g->origin[0], w[1] - g->origin[1], w[2] - g->origin[2]};
-    for (int i = 0; i < 3; i++)   /* rot is orthonormal: inverse = transpose */
+    for (int i = 0; i < 3; i++) /* rot is orthonormal: inverse = transpose */
         l[i] = g->rot[0][i] * d[0] + g->rot[1][i] * d[1] + g->rot[2][i] * d[2];
 }
 
@@ -90,8 +90,8 @@ static int inside_barrier(const struct sim_geometry *g, const double w[3])
 }
 
 /* A winding element given in the stack frame. */
-static void add_local(struct builder *b, const double lp[3], const double ln[3], double area,
-                      double refl, int kind)
+static void add_local(struct builder *b, const double lp[3], const double ln[3], double area, double refl,
+                      int kind)
 {
     struct sim_element *e = new_element(b);
     if (!e)
@@ -110,8 +110,8 @@ static void add_local(struct builder *b, const double lp[3], const double ln[3],
 }
 
 /* A static clutter element given in the world. */
-static struct sim_element *add_world(struct builder *b, const double wp[3], const double wn[3],
-                                     double area, double refl, int shadowable)
+static struct sim_element *add_world(struct builder *b, const double wp[3], const double wn[3], double area,
+                                     double refl, int shadowable)
 {
     struct sim_element *e = new_element(b);
     if (!e)
@@ -139,8 +139,8 @@ static int cells(double length, double size)
 void sim_stack_frame(const struct sim_scene *s, double rot[3][3], double origin[3])
 {
     double th = s->tilt_deg * M_PI / 180.0, az = s->tilt_azimuth_deg * M_PI / 180.0;
-    double d[3] = {sin(az), 0.0, -cos(az)};          /* lean direction */
-    double k[3] = {d[2], 0.0, -d[0]};                /* rotation axis = y x d */
+    double d[3] = {sin(az), 0.0, -cos(az)}; /* lean direction */
+    double k[3] = {d[2], 0.0, -d[0]};       /* rotation axis = y x d */
     double c = cos(th), sn = sin(th), t = 1.0 - c;
     /* Rodrigues: R = c I + sn [k]x + t k k^T */
     double K[3][3] = {{0, -k[2], k[1]}, {k[2], 0, -k[0]}, {-k[1], k[0], 0}};
@@ -248,7 +248,7 @@ static void build_winding_2d(const struct sim_scene *s, struct builder *b)
     double dz = bld / nz;
     double front_n[3] = {0.0, 0.0, -1.0};
     int closed = s->polarisation == SIM_POL_PARALLEL;
-    if (closed) {   /* gaps below cutoff: one continuous front face (see the 3-D case) */
+    if (closed) { /* gaps below cutoff: one continuous front face (see the 3-D case) */
         int nyall = cells(2 * g->half_height, size);
         double dy = 2 * g->half_height / nyall;
         for (int k = 0; k < nyall; k++) {
@@ -327,7 +327,7 @@ static int build_edges(const struct sim_scene *s, struct sim_geometry *g)
         double y = top ? h : -h;
         double na[3] = {0.0, top ? 1.0 : -1.0, 0.0};
         for (int inner = 0; inner < 2; inner++) {
-            double sign = inner ? 1.0 : -1.0;     /* face A runs outward from an inner edge */
+            double sign = inner ? 1.0 : -1.0; /* face A runs outward from an inner edge */
             if (s->mode == SIM_MODE_2D) {
                 double lp[3] = {0.0, y, g->face_local_z + (inner ? g->build : 0.0)};
                 double t[3] = {1, 0, 0}, sa[3] = {0, 0, -sign};
@@ -356,13 +356,13 @@ static int build_edges(const struct sim_scene *s, struct sim_geometry *g)
 
 /* A flat rectangle in the world, normal along one axis, cut into cells:
  * spans [lo, hi] along axes u and v (u, v, w a permutation, w fixed). */
-static void add_rect(struct builder *b, int u, double u0, double u1, int v, double v0, double v1,
-                     int w, double wpos, int nsign, int mode2d, double refl, int shadowable)
+static void add_rect(struct builder *b, int u, double u0, double u1, int v, double v0, double v1, int w,
+                     double wpos, int nsign, int mode2d, double refl, int shadowable)
 {
     double size = b->geo->element_size_m;
     double n[3] = {0, 0, 0};
     n[w] = nsign;
-    if (mode2d) {   /* 2-D: objects run along x; u must be x and is dropped */
+    if (mode2d) { /* 2-D: objects run along x; u must be x and is dropped */
         int nv = cells(v1 - v0, size);
         for (int j = 0; j < nv; j++) {
             double p[3] = {0, 0, 0};
@@ -389,25 +389,25 @@ static void build_clutter(const struct sim_scene *s, struct builder *b)
     struct sim_geometry *g = b->geo;
     int m2 = s->mode == SIM_MODE_2D;
     double size = g->element_size_m;
-    double axis_z = s->face_z_m + s->outer_radius_m;   /* undisplaced winding axis */
+    double axis_z = s->face_z_m + s->outer_radius_m; /* undisplaced winding axis */
     enum { X = 0, Y = 1, Z = 2 };
 
     if (s->core) {
         double w = s->core_width_m;
-        add_rect(b, X, -w / 2, w / 2, Y, s->core_y_min_m, s->core_y_max_m, Z, axis_z - s->core_front_m,
-                 -1, m2, -1.0, 1);
+        add_rect(b, X, -w / 2, w / 2, Y, s->core_y_min_m, s->core_y_max_m, Z, axis_z - s->core_front_m, -1,
+                 m2, -1.0, 1);
     }
     if (s->clamp) {
         double w = s->clamp_width_m, z0 = s->face_z_m + s->clamp_setback_m, z1 = z0 + s->clamp_depth_m;
         double y0 = s->clamp_y_m, y1 = y0 + s->clamp_thickness_m;
-        add_rect(b, X, -w / 2, w / 2, Y, y0, y1, Z, z0, -1, m2, -1.0, 1);      /* front edge face */
-        add_rect(b, X, -w / 2, w / 2, Z, z0, z1, Y, y0, -1, m2, -1.0, 1);      /* underside */
-        add_rect(b, X, -w / 2, w / 2, Z, z0, z1, Y, y1, +1, m2, -1.0, 1);      /* top */
+        add_rect(b, X, -w / 2, w / 2, Y, y0, y1, Z, z0, -1, m2, -1.0, 1); /* front edge face */
+        add_rect(b, X, -w / 2, w / 2, Z, z0, z1, Y, y0, -1, m2, -1.0, 1); /* underside */
+        add_rect(b, X, -w / 2, w / 2, Z, z0, z1, Y, y1, +1, m2, -1.0, 1); /* top */
     }
     if (s->barrier) {
         double n_oil = sqrt(s->eps_r), n_b = sqrt(s->barrier_eps_r);
         double r1 = (n_oil - n_b) / (n_oil + n_b);
-        double back = -r1 * (1.0 - r1 * r1);   /* back face, through the front face twice */
+        double back = -r1 * (1.0 - r1 * r1); /* back face, through the front face twice */
         double y0 = s->barrier_y_min_m, y1 = s->barrier_y_max_m;
         int ny = cells(y1 - y0, size);
         double dy = (y1 - y0) / ny;
@@ -511,8 +511,10 @@ int sim_geometry_blocked(const struct sim_geometry *g, const double a[3], const 
                 t0 = t1;
                 t1 = t;
             }
-            if (t0 > s0) s0 = t0;
-            if (t1 < s1) s1 = t1;
+            if (t0 > s0)
+                s0 = t0;
+            if (t1 < s1)
+                s1 = t1;
             if (s0 >= s1)
                 return 0;
         }
@@ -529,8 +531,10 @@ int sim_geometry_blocked(const struct sim_geometry *g, const double a[3], const 
         return 0;
     double sq = sqrt(disc);
     double s0 = (-ad - sq) / dd, s1 = (-ad + sq) / dd;
-    if (s0 < 0) s0 = 0;
-    if (s1 > 1) s1 = 1;
+    if (s0 < 0)
+        s0 = 0;
+    if (s1 > 1)
+        s1 = 1;
     if (s0 >= s1)
         return 0;
     double y0 = a[1] + s0 * (p[1] - a[1]), y1 = a[1] + s1 * (p[1] - a[1]);
@@ -541,8 +545,8 @@ int sim_geometry_blocked(const struct sim_geometry *g, const double a[3], const 
 /* The part of segment a->p (parameter s in [0, 1]) inside the stack's
  * footprint: a disc of the outer radius (3-D) or the rectangle's depth (2-D).
  * Returns 0 if the segment misses it. */
-static int footprint_span(const struct sim_geometry *g, const double a[3], const double p[3],
-                          double *s0, double *s1)
+static int footprint_span(const struct sim_geometry *g, const double a[3], const double p[3], double *s0,
+                          double *s1)
 {
     if (g->mode == SIM_MODE_2D) {
         double dz = p[2] - a[2];
@@ -580,7 +584,7 @@ double sim_geometry_shadow_weight(const struct sim_geometry *g, const double a[3
     if (!footprint_span(g, a, p, &s0, &s1))
         return 1.0;
     if (s1 >= 1.0 && fabs(p[1]) <= h)
-        return 0.0;             /* inside the stack's own volume, e.g. the core within the winding */
+        return 0.0; /* inside the stack's own volume, e.g. the core within the winding */
     double y0 = a[1] + s0 * (p[1] - a[1]), y1 = a[1] + s1 * (p[1] - a[1]);
     double ylo = fmin(y0, y1), yhi = fmax(y0, y1);
     double clearance;
@@ -589,9 +593,9 @@ double sim_geometry_shadow_weight(const struct sim_geometry *g, const double a[3
     else if (yhi <= -h)
         clearance = -h - yhi;
     else
-        clearance = -fmin(yhi + h, h - ylo);     /* cuts into the stack: negative */
-    double len = sqrt((p[0] - a[0]) * (p[0] - a[0]) + (p[1] - a[1]) * (p[1] - a[1]) +
-                      (p[2] - a[2]) * (p[2] - a[2]));
+        clearance = -fmin(yhi + h, h - ylo); /* cuts into the stack: negative */
+    double len =
+        sqrt((p[0] - a[0]) * (p[0] - a[0]) + (p[1] - a[1]) * (p[1] - a[1]) + (p[2] - a[2]) * (p[2] - a[2]));
     double d1 = fmax(s0 * len, 1e-6), d2 = fmax((1.0 - s0) * len, 1e-6);
     double v = -clearance * sqrt(2.0 * (d1 + d2) / (lambda * d1 * d2));
     if (v <= -0.78)

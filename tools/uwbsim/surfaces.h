@@ -16,28 +16,28 @@
 /* Which contributions a trace holds (bit mask). */
 enum sim_part {
     SIM_PART_WINDING = 1,
-    SIM_PART_CLUTTER = 2,   /* core, barrier, clamp, far wall */
-    SIM_PART_DIRECT = 4,    /* Tx-Rx coupling and the window's own echoes */
+    SIM_PART_CLUTTER = 2, /* core, barrier, clamp, far wall */
+    SIM_PART_DIRECT = 4,  /* Tx-Rx coupling and the window's own echoes */
     SIM_PART_ALL = 7
 };
 
 enum sim_element_kind {
-    SIM_ELEM_PLAIN,         /* lit where it faces both antennas */
-    SIM_ELEM_GAP_UP,        /* top face of a disk, seen only through the gap above it */
-    SIM_ELEM_GAP_DOWN       /* bottom face of a disk, seen only through the gap below it */
+    SIM_ELEM_PLAIN,   /* lit where it faces both antennas */
+    SIM_ELEM_GAP_UP,  /* top face of a disk, seen only through the gap above it */
+    SIM_ELEM_GAP_DOWN /* bottom face of a disk, seen only through the gap below it */
 };
 
 struct sim_element {
-    double pos[3];          /* world */
-    double nrm[3];          /* world, unit, outward */
-    double lpos[3];         /* in the stack frame (gap and shadow tests) */
-    double area;            /* m^2 in 3-D, m in 2-D */
-    double refl;            /* reflection coefficient of the surface */
-    double refl2;           /* thin layer: back face's coefficient (transmissions included), else 0 */
-    double depth0, depth1;  /* gap faces: element's span of depth behind the outer rim */
-    double gap;             /* gap faces: axial gap width */
-    unsigned char kind;     /* enum sim_element_kind */
-    unsigned char part;     /* SIM_PART_WINDING or SIM_PART_CLUTTER */
+    double pos[3];                /* world */
+    double nrm[3];                /* world, unit, outward */
+    double lpos[3];               /* in the stack frame (gap and shadow tests) */
+    double area;                  /* m^2 in 3-D, m in 2-D */
+    double refl;                  /* reflection coefficient of the surface */
+    double refl2;                 /* thin layer: back face's coefficient (transmissions included), else 0 */
+    double depth0, depth1;        /* gap faces: element's span of depth behind the outer rim */
+    double gap;                   /* gap faces: axial gap width */
+    unsigned char kind;           /* enum sim_element_kind */
+    unsigned char part;           /* SIM_PART_WINDING or SIM_PART_CLUTTER */
     unsigned char shadowable;     /* may be hidden behind the winding */
     unsigned char behind_barrier; /* rays to it cross the pressboard barrier */
 };
@@ -51,24 +51,24 @@ struct sim_edge {
     double tangent[3];
     double s_a[3], n_a[3];
     double wedge_n;
-    double length;          /* m in 3-D; 1 in 2-D */
+    double length; /* m in 3-D; 1 in 2-D */
 };
 
 struct sim_geometry {
-    int mode;                       /* enum sim_mode */
+    int mode; /* enum sim_mode */
     double element_size_m;
     /* stack frame: world = origin + rot * local */
     double rot[3][3];
     double origin[3];
-    double half_height;             /* local y of the stack spans [-h, h] */
-    double radius;                  /* outer radius (3-D) */
-    double build;                   /* radial build / 2-D depth */
-    double face_local_z;            /* local z of the front face (= -radius) */
+    double half_height;  /* local y of the stack spans [-h, h] */
+    double radius;       /* outer radius (3-D) */
+    double build;        /* radial build / 2-D depth */
+    double face_local_z; /* local z of the front face (= -radius) */
     /* barrier (static, world): outer face radius about the undisplaced axis */
     int has_barrier;
-    double barrier_axis_z;          /* world z of the undisplaced winding axis */
-    double barrier_outer_r;         /* 3-D radius of the outer face */
-    double barrier_front_z;         /* 2-D: z of the outer (front) face */
+    double barrier_axis_z;  /* world z of the undisplaced winding axis */
+    double barrier_outer_r; /* 3-D radius of the outer face */
+    double barrier_front_z; /* 2-D: z of the outer (front) face */
     double barrier_y_min, barrier_y_max;
     double barrier_thickness, barrier_n;
     struct sim_element *el;

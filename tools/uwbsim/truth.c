@@ -15,7 +15,8 @@ void sim_truth(const struct sim_scene *s, struct sim_truth *t)
     double world[3][3];
     for (int p = 0; p < 3; p++)
         for (int i = 0; i < 3; i++)
-            world[p][i] = origin[i] + rot[i][0] * local[p][0] + rot[i][1] * local[p][1] + rot[i][2] * local[p][2];
+            world[p][i] =
+                origin[i] + rot[i][0] * local[p][0] + rot[i][1] * local[p][1] + rot[i][2] * local[p][2];
     t->y1_m = world[0][1];
     t->y2_m = world[1][1];
     t->center_m = 0.5 * (t->y1_m + t->y2_m);

@@ -153,7 +153,7 @@ static int noread(const char *path, int clients, int repeats)
         fcntl(fd[i], F_SETFL, O_NONBLOCK);
         for (int k = 0; k < repeats; k++)
             if (send(fd[i], "help\n", 5, MSG_NOSIGNAL) != 5)
-                break;   /* the daemon stopped reading it, or dropped it */
+                break; /* the daemon stopped reading it, or dropped it */
     }
     double t = status_time(path);
     printf("status reply: %.2f s\n", t);

@@ -40,9 +40,10 @@
 static char *slurp(const char *path, size_t *len)
 {
     char *text, err[1024];
-    enum uwb_read_result r = strcmp(path, "-") == 0
-                                 ? uwb_read_fd(STDIN_FILENO, "stdin", MAX_FILE_BYTES, &text, len, err, sizeof err)
-                                 : uwb_read_file(path, MAX_FILE_BYTES, &text, len, err, sizeof err);
+    enum uwb_read_result r =
+        strcmp(path, "-") == 0
+            ? uwb_read_fd(STDIN_FILENO, "stdin", MAX_FILE_BYTES, &text, len, err, sizeof err)
+            : uwb_read_file(path, MAX_FILE_BYTES, &text, len, err, sizeof err);
     if (r != UWB_READ_OK) {
         fprintf(stderr, "json_check: %s\n", err);
         return NULL;
@@ -108,12 +109,18 @@ static int parse_number(const char *s, double *out)
 
 static int is_type(const cJSON *v, const char *type)
 {
-    if (strcmp(type, "number") == 0) return cJSON_IsNumber(v);
-    if (strcmp(type, "string") == 0) return cJSON_IsString(v);
-    if (strcmp(type, "bool") == 0) return cJSON_IsBool(v);
-    if (strcmp(type, "null") == 0) return cJSON_IsNull(v);
-    if (strcmp(type, "array") == 0) return cJSON_IsArray(v);
-    if (strcmp(type, "object") == 0) return cJSON_IsObject(v);
+    if (strcmp(type, "number") == 0)
+        return cJSON_IsNumber(v);
+    if (strcmp(type, "string") == 0)
+        return cJSON_IsString(v);
+    if (strcmp(type, "bool") == 0)
+        return cJSON_IsBool(v);
+    if (strcmp(type, "null") == 0)
+        return cJSON_IsNull(v);
+    if (strcmp(type, "array") == 0)
+        return cJSON_IsArray(v);
+    if (strcmp(type, "object") == 0)
+        return cJSON_IsObject(v);
     return -1;
 }
 
@@ -135,14 +142,18 @@ static int holds(const cJSON *root, const char *path, const char *op, const char
 {
     const cJSON *v = lookup(root, path);
     double x, tol;
-    if (strcmp(op, "exists") == 0) return v != NULL;
-    if (strcmp(op, "absent") == 0) return v == NULL;
-    if (strcmp(op, "==") == 0) return cJSON_IsString(v) && strcmp(v->valuestring, arg) == 0;
-    if (strcmp(op, "contains") == 0) return cJSON_IsString(v) && strstr(v->valuestring, arg) != NULL;
+    if (strcmp(op, "exists") == 0)
+        return v != NULL;
+    if (strcmp(op, "absent") == 0)
+        return v == NULL;
+    if (strcmp(op, "==") == 0)
+        return cJSON_IsString(v) && strcmp(v->valuestring, arg) == 0;
+    if (strcmp(op, "contains") == 0)
+        return cJSON_IsString(v) && strstr(v->valuestring, arg) != NULL;
     if (strcmp(op, "matches") == 0 || strcmp(op, "imatches") == 0) {
         int usage = 0;
         int hit = cJSON_IsString(v) && regex_match(v->valuestring, arg, op[0] == 'i', &usage);
-        if (!cJSON_IsString(v))   /* still report a malformed expression */
+        if (!cJSON_IsString(v)) /* still report a malformed expression */
             regex_match("", arg, 0, &usage);
         return usage ? -1 : hit;
     }
@@ -165,16 +176,21 @@ static int holds(const cJSON *root, const char *path, const char *op, const char
     }
     if (strcmp(op, "~") == 0) {
         char xs[64], tols[64], extra;
-        if (sscanf(arg, "%63s %63s %c", xs, tols, &extra) != 2 || !parse_number(xs, &x) || !parse_number(tols, &tol))
+        if (sscanf(arg, "%63s %63s %c", xs, tols, &extra) != 2 || !parse_number(xs, &x) ||
+            !parse_number(tols, &tol))
             return -1;
         return cJSON_IsNumber(v) && fabs(v->valuedouble - x) <= tol;
     }
     if (!parse_number(arg, &x))
         return -1;
-    if (strcmp(op, ">") == 0) return cJSON_IsNumber(v) && v->valuedouble > x;
-    if (strcmp(op, ">=") == 0) return cJSON_IsNumber(v) && v->valuedouble >= x;
-    if (strcmp(op, "<") == 0) return cJSON_IsNumber(v) && v->valuedouble < x;
-    if (strcmp(op, "<=") == 0) return cJSON_IsNumber(v) && v->valuedouble <= x;
+    if (strcmp(op, ">") == 0)
+        return cJSON_IsNumber(v) && v->valuedouble > x;
+    if (strcmp(op, ">=") == 0)
+        return cJSON_IsNumber(v) && v->valuedouble >= x;
+    if (strcmp(op, "<") == 0)
+        return cJSON_IsNumber(v) && v->valuedouble < x;
+    if (strcmp(op, "<=") == 0)
+        return cJSON_IsNumber(v) && v->valuedouble <= x;
     return -1;
 }
 

@@ -45,7 +45,8 @@ static int free_port(void)
     int fd = socket(AF_INET, SOCK_STREAM, 0);
     struct sockaddr_in a = {.sin_family = AF_INET, .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
     socklen_t len = sizeof a;
-    if (fd < 0 || bind(fd, (struct sockaddr *)&a, sizeof a) != 0 || getsockname(fd, (struct sockaddr *)&a, &len) != 0) {
+    if (fd < 0 || bind(fd, (struct sockaddr *)&a, sizeof a) != 0 ||
+        getsockname(fd, (struct sockaddr *)&a, &len) != 0) {
         perror("modbus_client: freeport");
         return 1;
     }
@@ -135,8 +136,8 @@ static int wait_count(modbus_t *ctx, unsigned long want)
     struct timespec tenth = {.tv_sec = 0, .tv_nsec = 100000000L};
     for (int i = 0; i < 1200; i++) {
         uint16_t in[UWBD_MODBUS_REGISTER_COUNT];
-        if (read_map(ctx, in) == 0 &&
-            (((unsigned long)in[UWBD_MODBUS_REG_SCAN_COUNT] << 16) | in[UWBD_MODBUS_REG_SCAN_COUNT + 1]) >= want)
+        if (read_map(ctx, in) == 0 && (((unsigned long)in[UWBD_MODBUS_REG_SCAN_COUNT] << 16) |
+                                       in[UWBD_MODBUS_REG_SCAN_COUNT + 1]) >= want)
             return 0;
         nanosleep(&tenth, NULL);
     }
@@ -198,7 +199,7 @@ int main(int argc, char **argv)
         fd = accept_unix(argv[2]);
         if (fd < 0)
             return 1;
-        ctx = modbus_new_rtu("/dev/null", 115200, 'N', 8, 1);   /* never connected: the socket is set */
+        ctx = modbus_new_rtu("/dev/null", 115200, 'N', 8, 1); /* never connected: the socket is set */
         if (!ctx)
             return 1;
         modbus_set_socket(ctx, fd);
@@ -206,7 +207,8 @@ int main(int argc, char **argv)
     } else if (strcmp(argv[1], "tcp") == 0) {
         ctx = modbus_new_tcp_pi(argv[2], argv[3]);
         if (!ctx || modbus_connect(ctx) != 0) {
-            fprintf(stderr, "modbus_client: connect to %s:%s: %s\n", argv[2], argv[3], modbus_strerror(errno));
+            fprintf(stderr, "modbus_client: connect to %s:%s: %s\n", argv[2], argv[3],
+                    modbus_strerror(errno));
             return 1;
         }
     } else {

@@ -47,7 +47,7 @@
 
 struct tally {
     int problems, json, lines, uwbscan, png, other;
-    int verdict_files;   /* check the files verdict lines name */
+    int verdict_files; /* check the files verdict lines name */
 };
 
 static void problem(struct tally *t, const char *path, const char *what)
@@ -110,7 +110,8 @@ static void check_named_files(struct tally *t, const char *log, int line_no, con
     cJSON_ArrayForEach(image, cJSON_GetObjectItemCaseSensitive(verdict, "images"))
     {
         if (cJSON_IsString(image) && !is_regular_file(image->valuestring)) {
-            snprintf(where, sizeof where, "line %d names %s, which is not there", line_no, image->valuestring);
+            snprintf(where, sizeof where, "line %d names %s, which is not there", line_no,
+                     image->valuestring);
             problem(t, log, where);
         }
     }
@@ -200,7 +201,7 @@ static void check_baseline(struct tally *t, const char *root)
     struct uwb_scan scan = {0};
     char err[1024];
     if (!is_regular_file(scan_path) || uwbscan_read_file(scan_path, &scan, err, sizeof err) != 0)
-        return;   /* no baseline, or already reported */
+        return; /* no baseline, or already reported */
     char id[UWBD_SCAN_ID_MAX + 1];
     uwbd_safe_scan_id(scan.scan_id ? scan.scan_id : "", id, sizeof id);
     uwb_scan_free(&scan);
@@ -252,7 +253,7 @@ static void walk(struct tally *t, const char *dir)
         else if (ends_with(e->d_name, ".png"))
             check_png(t, path);
         else
-            t->other++;   /* uwbd.lock, a test's filler file */
+            t->other++; /* uwbd.lock, a test's filler file */
     }
     closedir(d);
 }
@@ -346,7 +347,8 @@ static int kill_on_write(int argc, char **argv)
     for (int i = 0; i < n_watches; i++) {
         watches[i] = inotify_add_watch(fd, argv[4 + i], IN_CREATE | IN_MODIFY);
         if (watches[i] < 0)
-            fprintf(stderr, "state_check kill-on-write: %s: %s (not watched)\n", argv[4 + i], strerror(errno));
+            fprintf(stderr, "state_check kill-on-write: %s: %s (not watched)\n", argv[4 + i],
+                    strerror(errno));
     }
     char buf[8192] __attribute__((aligned(__alignof__(struct inotify_event))));
     while (uwb_monotonic_s() < deadline && kill(pid, 0) == 0) {

@@ -244,7 +244,7 @@ static int console(const char *path, const char *go_file, const char *out_path, 
             fprintf(stderr, "unix_peer: console: no reply after the echo of '%s'\n", lines[i]);
             break;
         }
-        reply[strcspn(reply, "\r")] = '\0';   /* the console ends lines with CRLF */
+        reply[strcspn(reply, "\r")] = '\0'; /* the console ends lines with CRLF */
         fprintf(out, "%s\n", reply);
         fflush(out);
         free(reply);
@@ -317,7 +317,8 @@ static int terminal(const char *path, const char *go_file, const char *out_path,
         size_t n = unescape_keys(keys[i], bytes);
         size_t prompts_due = 0;
         for (size_t j = 0; j < n; j++) {
-            prompts_due += bytes[j] == '\r' || bytes[j] == 0x03 || (bytes[j] == '\n' && (j == 0 || bytes[j - 1] != '\r'));
+            prompts_due += bytes[j] == '\r' || bytes[j] == 0x03 ||
+                           (bytes[j] == '\n' && (j == 0 || bytes[j - 1] != '\r'));
             if (send_all(conn, bytes + j, 1) != 0)
                 ok = 0;
             sleep_s(0.002);
@@ -375,14 +376,15 @@ static int reply_class_is(int fd, const char *line, const char *want)
     const cJSON *cls = cJSON_GetObjectItemCaseSensitive(o, "class");
     int ok = cJSON_IsString(cls) && strcmp(cls->valuestring, want) == 0;
     if (!ok)
-        fprintf(stderr, "unix_peer: reply to %.*s: %s, want class %s\n", (int)strcspn(line, "\n"), line, reply, want);
+        fprintf(stderr, "unix_peer: reply to %.*s: %s, want class %s\n", (int)strcspn(line, "\n"), line,
+                reply, want);
     cJSON_Delete(o);
     free(reply);
     free(in.buf);
     return ok;
 }
 
-#define FLOOD_UID 65534   /* nobody: neither root nor the daemon's user */
+#define FLOOD_UID 65534 /* nobody: neither root nor the daemon's user */
 #define FLOOD_TICK_S 0.5
 #define FLOOD_HOLD_S 2.5
 
@@ -408,7 +410,8 @@ static int flood_as_nobody(const char *path, int fresh, int ready, int stop)
     for (;;) {
         for (int i = 0; ok && i < fresh; i++)
             if (!reply_class_is(fds[i], "status\n", "STATUS")) {
-                fprintf(stderr, "unix_peer: unprivileged client %d lost its slot after %d rounds\n", i + 1, rounds);
+                fprintf(stderr, "unix_peer: unprivileged client %d lost its slot after %d rounds\n", i + 1,
+                        rounds);
                 ok = 0;
             }
         rounds++;
@@ -425,7 +428,8 @@ static int flood_as_nobody(const char *path, int fresh, int ready, int stop)
                             fresh + 1, reply);
                     ok = 0;
                 } else {
-                    printf("slots: %d unprivileged clients fresh for %.1f s (%d rounds of status); the next: %s\n",
+                    printf("slots: %d unprivileged clients fresh for %.1f s (%d rounds of status); the next: "
+                           "%s\n",
                            fresh, uwb_monotonic_s() - start, rounds, reply);
                     fflush(stdout);
                 }
@@ -443,7 +447,7 @@ static int flood_as_nobody(const char *path, int fresh, int ready, int stop)
         struct pollfd p = {.fd = stop, .events = POLLIN};
         int r = poll(&p, 1, (int)(FLOOD_TICK_S * 1000));
         if (r > 0 || (r < 0 && errno != EINTR))
-            break;   /* the parent is done */
+            break; /* the parent is done */
         if (uwb_monotonic_s() - start > WAIT_S) {
             ok = fail("slots: the parent never finished");
             break;
@@ -484,9 +488,11 @@ static int reserved_slot(const char *path, int n)
         double asked = uwb_monotonic_s();
         ok = admin >= 0 && reply_class_is(admin, "status\n", "STATUS");
         if (ok)
-            printf("slots: root client answered STATUS in %.3f s while they held on\n", uwb_monotonic_s() - asked);
+            printf("slots: root client answered STATUS in %.3f s while they held on\n",
+                   uwb_monotonic_s() - asked);
         else
-            fprintf(stderr, "unix_peer: root was not answered while unprivileged clients held %d slots\n", n - 1);
+            fprintf(stderr, "unix_peer: root was not answered while unprivileged clients held %d slots\n",
+                    n - 1);
         if (admin >= 0)
             close(admin);
     }
@@ -523,7 +529,8 @@ static int slots(const char *path, const char *count)
     const cJSON *msg = cJSON_GetObjectItemCaseSensitive(o, "message");
     if (!cJSON_IsString(cls) || strcmp(cls->valuestring, "ERROR") != 0 || !cJSON_IsString(msg) ||
         !strstr(msg->valuestring, "too many control clients")) {
-        fprintf(stderr, "unix_peer: the client over the limit: %s, want ERROR \"too many control clients\"\n", reply);
+        fprintf(stderr, "unix_peer: the client over the limit: %s, want ERROR \"too many control clients\"\n",
+                reply);
         ok = 0;
     }
     cJSON_Delete(o);
@@ -552,9 +559,10 @@ static int slots(const char *path, const char *count)
     if (!ok)
         return 1;
 
-    sleep_s(0.3);   /* the daemon sees them gone */
+    sleep_s(0.3); /* the daemon sees them gone */
     if (geteuid() != 0) {
-        printf("slots: SKIPPED the slot kept for root: it needs root to connect as another user (uid %d)\n", FLOOD_UID);
+        printf("slots: SKIPPED the slot kept for root: it needs root to connect as another user (uid %d)\n",
+               FLOOD_UID);
         return 0;
     }
     return reserved_slot(path, n);
@@ -586,7 +594,7 @@ static int invert(const char *path, const char *timeout_arg)
         ssize_t n = recv(fd, buf, sizeof buf, 0);
         if (n < 0 && errno == EINTR)
             continue;
-        if (n <= 0)   /* qemu closed the socket (or reset it): the guest is done */
+        if (n <= 0) /* qemu closed the socket (or reset it): the guest is done */
             break;
         for (ssize_t i = 0; i < n; i++)
             buf[i] = (unsigned char)~buf[i];
