@@ -18,6 +18,7 @@
 #                         run of the command it shows (make test checks they match)
 #   make readme-images    redraw the README's example images (tools/readme/images) with
 #                         the replay command it shows
+#   make readme-bench     rewrite the README's `make bench` block from a run of the bench
 #   make soak             SOAK_CYCLES (1000) scan cycles of uwbd on the emulated board:
 #                         RSS, open fds and archive size must stay flat; then
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
@@ -115,13 +116,13 @@ ARM_PREFIX    := aarch64-linux-gnu-
 # flags are computed on a machine that has the libraries.
 SUBMAKE       := $(MAKE) --no-print-directory -f $(abspath $(firstword $(MAKEFILE_LIST)))
 
-ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy readme-verdict readme-images soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
+ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy readme-verdict readme-images readme-bench soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
 ifneq ($(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --exists $(LIBS_PKG) 2>/dev/null && echo ok),ok)
 $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIPLET)); `make $(if $(TRIPLET),deps-arm,deps)` installs them)
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench accuracy readme-verdict readme-images soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy readme-verdict readme-images readme-bench soak install deps deps-arm check-hw-headers clean
 # Programs whose main.c is not written yet are left out, so the library
 # and its tests build meanwhile.
 all: $(if $(wildcard src/main.c),$(BUILD)/uwbd) $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/uwbsim) \
@@ -323,6 +324,11 @@ accuracy: deps
 readme-verdict: deps
 	+@$(SUBMAKE) all $(BUILD)/e2e/state_check
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' bash tools/readme/readme-verdict.sh '$(BUILD)' --write README.md
+
+# The README's `make bench` block, from a run (tools/readme/readme-bench.sh).
+readme-bench: deps
+	+@$(SUBMAKE) all $(BUILD)/uwbbench
+	bash tools/readme/readme-bench.sh '$(BUILD)' README.md
 
 # The README's example images, drawn by the replay command it shows.
 readme-images: deps
