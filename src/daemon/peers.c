@@ -175,8 +175,7 @@ static void send_line(struct daemon *d, struct peer *p, const char *line)
         uwbd_log(UWBD_LOG_ERR, "out of memory sending a reply");
         return;
     }
-    // NOLINTNEXTLINE(bugprone-not-null-terminated-result): a counted reply (newline-framed below), not a C
-    // string
+    // NOLINTNEXTLINE(bugprone-not-null-terminated-result): a counted reply (newline-framed below), not a C string
     memcpy(text, line, n);
     if (p->kind == PEER_CONTROL) {
         text[n] = '\n';

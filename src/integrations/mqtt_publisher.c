@@ -3,6 +3,7 @@
  * guards it; the callbacks only publish and unlink, never block. */
 #include "integrations/mqtt_publisher.h"
 
+#include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
 #include <mosquitto.h>
@@ -25,7 +26,7 @@
 #define QOS 1
 #define CLOSE_WAIT_MS 2000
 #define QUEUE_DIR "mqtt-queue"
-#define VERDICT_MAX (1024 * 1024)
+#define VERDICT_MAX ((size_t)1024 * 1024)
 /* Commands waiting for the main loop; more are refused, not queued. */
 #define COMMANDS_MAX 8
 
@@ -67,7 +68,7 @@ static void send_next(struct uwbd_mqtt *m)
     if (uwb_read_file(path, VERDICT_MAX, &text, &len, err, sizeof err) != UWB_READ_OK) {
         uwbd_log(UWBD_LOG_ERR, "mqtt: queued verdict %s: %s; dropped", path, err);
         unlink(path);
-        memmove(m->queue, m->queue + 1, (m->queued - 1) * sizeof *m->queue);
+        memmove(m->queue, m->queue + 1, (size_t)(m->queued - 1) * sizeof *m->queue);
         m->queued--;
         send_next(m);
         return;
@@ -191,10 +192,12 @@ static int load_queue(struct uwbd_mqtt *m, char *err, size_t errlen)
         return -1;
     }
     for (struct dirent *e; (e = readdir(d));) {
-        unsigned long long seq;
-        char tail[8];
-        if (strlen(e->d_name) == 25 && sscanf(e->d_name, "%20llu%7s", &seq, tail) == 2 &&
-            strcmp(tail, ".json") == 0)
+        /* NNNNNNNNNNNNNNNNNNNN.json: 20 digits, the sequence number */
+        char *end;
+        errno = 0;
+        unsigned long long seq = strtoull(e->d_name, &end, 10);
+        if (strlen(e->d_name) == 25 && isdigit((unsigned char)e->d_name[0]) && end == e->d_name + 20 &&
+            errno == 0 && strcmp(end, ".json") == 0)
             if (push_seq(m, seq) != 0)
                 break;
     }
@@ -293,7 +296,7 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
         uwbd_mqtt_close(m);
         return -1;
     }
-    int rc = mosquitto_connect_async(m->mosq, ep.host, atoi(ep.port), KEEPALIVE_S);
+    int rc = mosquitto_connect_async(m->mosq, ep.host, (int)strtol(ep.port, NULL, 10), KEEPALIVE_S);
     if (rc != MOSQ_ERR_SUCCESS)
         uwbd_log(UWBD_LOG_WARNING, "mqtt: %s: %s; trying again in the background", cfg->mqtt_endpoint,
                  rc == MOSQ_ERR_ERRNO ? strerror(errno) : mosquitto_strerror(rc));

@@ -104,6 +104,7 @@ static void prom_from_verdict(struct uwbd_prometheus_metrics *m, const cJSON *v)
     const cJSON *created = cJSON_GetObjectItemCaseSensitive(v, "created");
     struct tm tm = {0};
     m->created_s = 0;
+    // NOLINTNEXTLINE(cert-err34-c): uwbd's own UTC stamp; anything else fails the count of 6, created_s stays 0
     if (cJSON_IsString(created) && sscanf(created->valuestring, "%d-%d-%dT%d:%d:%dZ", &tm.tm_year, &tm.tm_mon,
                                           &tm.tm_mday, &tm.tm_hour, &tm.tm_min, &tm.tm_sec) == 6) {
         tm.tm_year -= 1900;
