@@ -8,6 +8,14 @@ check() { bash tools/readme/readme-verdict.sh "$UWB_BUILD_DIR" --check "$1"; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
+# The README shows the x86-64 development machine's run. A cross build under
+# qemu rounds a last digit differently (aarch64 fuses multiply-adds: seen as
+# face_range_mm 448.57 against 448.56), so the byte-for-byte check is native.
+if [[ -n ${UWB_EXEC_PREFIX:-} ]]; then
+    echo "SKIP: the README's example is the native build's output; this is a cross build under $UWB_EXEC_PREFIX"
+    exit 77
+fi
+
 check README.md || fail "README.md's example verdict differs from what the command prints: run make readme-verdict"
 # The check notices a typed figure (the one issue 18 found: snr_db 108).
 sed 's/"snr_db":[0-9.]*/"snr_db":108/' README.md > "$tmp/README.md"
