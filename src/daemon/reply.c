@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "daemon/command.h"
+#include "uwb/verdict_json.h"
 
 static char *finish(cJSON *o)
 {
@@ -85,7 +86,7 @@ static cJSON *baseline_object(const struct uwbd_baseline_info *b)
     if (b->set_at[0])
         cJSON_AddStringToObject(o, "set_at", b->set_at);
     if (b->has_direct_coupling)
-        cJSON_AddNumberToObject(o, "direct_coupling_ps", round(b->direct_coupling_s * 1e13) / 10.0);
+        uwb_json_add_ps(o, "direct_coupling_ps", b->direct_coupling_s);
     if (b->scans > 0)
         cJSON_AddNumberToObject(o, "scans", b->scans);
     if (b->has_repeatability)
