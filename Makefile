@@ -43,6 +43,11 @@ CC            := $(CROSS_COMPILE)gcc
 AR            := $(CROSS_COMPILE)ar
 PKG_CONFIG    ?= pkg-config
 LIBS_PKG      := fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto libmodbus
+# The integrations' libraries are loaded when enabled (src/integrations/*_loader.c,
+# dlopen): their headers are compiled against, but uwbd does not link them, so a
+# replay or a site without MQTT/Modbus starts without them (and OpenSSL, libgcrypt...).
+# Test programs that play a broker's client or a Modbus master link them (TEST_LDLIBS).
+LOADED_PKG    := libsystemd libmosquitto libmodbus
 PREFIX        ?= /usr/local
 DESTDIR       ?=
 
@@ -79,7 +84,8 @@ endif
 CFLAGS        ?= -O2 -g
 UWB_CFLAGS    := -std=c11 -Wall -Wextra -Werror -D_DEFAULT_SOURCE -Iinclude \
                  $(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --cflags $(LIBS_PKG) 2>/dev/null)
-UWB_LDLIBS    := $(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --libs $(LIBS_PKG) 2>/dev/null) -lm
+UWB_LDLIBS    := $(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --libs $(filter-out $(LOADED_PKG),$(LIBS_PKG)) 2>/dev/null) -lm
+TEST_LDLIBS   := $(UWB_LDLIBS) $(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --libs $(LOADED_PKG) 2>/dev/null)
 
 LIB_SRC       := $(filter-out src/main.c,$(shell find src -name '*.c' | sort))
 LIB_OBJ       := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
@@ -205,11 +211,11 @@ $(TEST_OBJ) $(TEST_SUPPORT_OBJ): | $(UNITY_SRC)
 
 $(BUILD)/tests/%: $(BUILD)/obj/tests/unit/%.o $(TEST_SUPPORT_OBJ) $(UNITY_OBJ) $(BUILD)/libuwbtools.a $(BUILD)/libuwbsim.a $(BUILD)/libuwb.a
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
+	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(TEST_LDLIBS)
 
 $(E2E_HELPER_BIN): $(BUILD)/e2e/%: $(BUILD)/obj/tests/e2e/helpers/%.o $(BUILD)/libuwb.a
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(UWB_LDLIBS)
+	$(CC) $(LDFLAGS) $(SAN_FLAGS) -o $@ $^ $(TEST_LDLIBS)
 
 # Test programs for the emulated board (make test-board): they need its
 # PL061 GPIO chip and PCI UART, so `make tests` leaves them out.

@@ -14,9 +14,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <modbus/modbus.h>
-
 #include "daemon/log.h"
+#include "integrations/modbus_loader.h"
 #include "uwb/link.h"
 #include "uwb/monotonic.h"
 
@@ -44,6 +43,7 @@
 #define FC_WRITE_AND_READ_REGISTERS 0x17
 
 struct uwbd_modbus_server {
+    const struct uwbd_modbus_api *lib; /* libmodbus, loaded (modbus_loader.h) */
     char endpoint[UWB_ENDPOINT_MAX];
     struct uwb_endpoint ep;
     int unit_id;
@@ -78,7 +78,7 @@ static void rtu_try_open(struct uwbd_modbus_server *s)
         s->failing = 1;
         return;
     }
-    modbus_set_socket(s->rtu, uwb_link_fd(s->link));
+    s->lib->set_socket(s->rtu, uwb_link_fd(s->link));
     uwbd_log(UWBD_LOG_INFO, "modbus: RTU unit %d on %s", s->unit_id, s->endpoint);
     s->failing = 0;
 }
@@ -86,19 +86,19 @@ static void rtu_try_open(struct uwbd_modbus_server *s)
 static void rtu_lost(struct uwbd_modbus_server *s, const char *why)
 {
     uwbd_log(UWBD_LOG_WARNING, "modbus: %s: %s; opening it again in %.0f s", s->endpoint, why, RETRY_S);
-    modbus_set_socket(s->rtu, -1);
+    s->lib->set_socket(s->rtu, -1);
     uwb_link_close(s->link);
     s->link = NULL;
     s->retry_at_s = uwb_monotonic_s() + RETRY_S;
 }
 
-static modbus_t *set_up(modbus_t *ctx, int unit_id)
+static modbus_t *set_up(const struct uwbd_modbus_server *s, modbus_t *ctx, int unit_id)
 {
     if (!ctx)
         return NULL;
-    modbus_set_slave(ctx, unit_id);
-    modbus_set_indication_timeout(ctx, 0, REQUEST_TIMEOUT_US);
-    modbus_set_byte_timeout(ctx, 0, BYTE_TIMEOUT_US);
+    s->lib->set_slave(ctx, unit_id);
+    s->lib->set_indication_timeout(ctx, 0, REQUEST_TIMEOUT_US);
+    s->lib->set_byte_timeout(ctx, 0, BYTE_TIMEOUT_US);
     return ctx;
 }
 
@@ -123,27 +123,32 @@ int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd
         free(s);
         return -1;
     }
-    s->map =
-        modbus_mapping_new(UWBD_MODBUS_COIL_COUNT, 0, UWBD_MODBUS_REGISTER_COUNT, UWBD_MODBUS_REGISTER_COUNT);
+    s->lib = uwbd_modbus_load(err, errlen);
+    if (!s->lib) {
+        free(s);
+        return -1;
+    }
+    s->map = s->lib->mapping_new(UWBD_MODBUS_COIL_COUNT, 0, UWBD_MODBUS_REGISTER_COUNT,
+                                 UWBD_MODBUS_REGISTER_COUNT);
     if (!s->map) {
         snprintf(err, errlen, "modbus: out of memory for the register map");
         free(s);
         return -1;
     }
     if (s->ep.kind == UWB_ENDPOINT_TCP) {
-        s->tcp = set_up(modbus_new_tcp_pi(s->ep.host, s->ep.port), unit_id);
-        if (!s->tcp || (s->listen_fd = modbus_tcp_pi_listen(s->tcp, UWBD_MODBUS_TCP_CLIENTS)) < 0) {
-            snprintf(err, errlen, "modbus: cannot listen on %s: %s", endpoint, modbus_strerror(errno));
+        s->tcp = set_up(s, s->lib->new_tcp_pi(s->ep.host, s->ep.port), unit_id);
+        if (!s->tcp || (s->listen_fd = s->lib->tcp_pi_listen(s->tcp, UWBD_MODBUS_TCP_CLIENTS)) < 0) {
+            snprintf(err, errlen, "modbus: cannot listen on %s: %s", endpoint, s->lib->strerror(errno));
             uwbd_modbus_server_close(s);
             return -1;
         }
         uwbd_log(UWBD_LOG_INFO, "modbus: TCP listening on %s", endpoint);
     } else {
         s->rtu = set_up(
-            modbus_new_rtu(s->ep.path, s->ep.baud > 0 ? s->ep.baud : UWB_SERIAL_DEFAULT_BAUD, 'N', 8, 1),
+            s, s->lib->new_rtu(s->ep.path, s->ep.baud > 0 ? s->ep.baud : UWB_SERIAL_DEFAULT_BAUD, 'N', 8, 1),
             unit_id);
         if (!s->rtu) {
-            snprintf(err, errlen, "modbus: RTU context for %s: %s", endpoint, modbus_strerror(errno));
+            snprintf(err, errlen, "modbus: RTU context for %s: %s", endpoint, s->lib->strerror(errno));
             uwbd_modbus_server_close(s);
             return -1;
         }
@@ -229,7 +234,7 @@ static int run_coils(struct uwbd_modbus_server *s, const uint8_t *pdu, int pdu_l
  * on ctx, its socket set: -1 when the connection is gone. */
 static int answer(struct uwbd_modbus_server *s, modbus_t *ctx, const uint8_t *query, int len)
 {
-    int header = modbus_get_header_length(ctx);
+    int header = s->lib->get_header_length(ctx);
     if (len <= header)
         return 0;
     const uint8_t *pdu = query + header;
@@ -243,13 +248,13 @@ static int answer(struct uwbd_modbus_server *s, modbus_t *ctx, const uint8_t *qu
         exception = run_coils(s, pdu, pdu_len);
     int rc;
     if (exception) {
-        rc = modbus_reply_exception(ctx, query, (unsigned)exception);
+        rc = s->lib->reply_exception(ctx, query, (unsigned)exception);
     } else {
         uint16_t regs[UWBD_MODBUS_REGISTER_COUNT];
         s->h.fill(s->h.ctx, regs);
         memcpy(s->map->tab_input_registers, regs, sizeof regs);
         memcpy(s->map->tab_registers, regs, sizeof regs);
-        rc = modbus_reply(ctx, query, len, s->map);
+        rc = s->lib->reply(ctx, query, len, s->map);
         memset(s->map->tab_bits, 0, UWBD_MODBUS_COIL_COUNT); /* coils are momentary */
     }
     if (rc < 0 && ctx == s->tcp)
@@ -263,13 +268,13 @@ static int answer(struct uwbd_modbus_server *s, modbus_t *ctx, const uint8_t *qu
 static int serve_rtu(struct uwbd_modbus_server *s)
 {
     uint8_t query[MODBUS_RTU_MAX_ADU_LENGTH];
-    int len = modbus_receive(s->rtu, query);
+    int len = s->lib->receive(s->rtu, query);
     if (len == 0)
         return 0; /* a request for another unit on the bus */
     if (len < 0) {
         if (errno == ECONNRESET || errno == EPIPE || errno == EBADF || errno == EIO || errno == ENOTCONN)
             return -1;
-        modbus_flush(s->rtu); /* a bad CRC or a half frame: wait for the next */
+        s->lib->flush(s->rtu); /* a bad CRC or a half frame: wait for the next */
         return 0;
     }
     return answer(s, s->rtu, query, len);
@@ -299,9 +304,9 @@ static int serve_tcp(struct uwbd_modbus_server *s, struct tcp_client *c)
         return 0;
     int len = c->len;
     c->len = 0;
-    modbus_set_socket(s->tcp, c->fd);
+    s->lib->set_socket(s->tcp, c->fd);
     int rc = answer(s, s->tcp, c->frame, len);
-    modbus_set_socket(s->tcp, -1);
+    s->lib->set_socket(s->tcp, -1);
     return rc;
 }
 
@@ -366,19 +371,19 @@ void uwbd_modbus_server_close(struct uwbd_modbus_server *s)
     if (!s)
         return;
     if (s->rtu) {
-        modbus_set_socket(s->rtu, -1); /* the link owns the fd */
-        modbus_free(s->rtu);
+        s->lib->set_socket(s->rtu, -1); /* the link owns the fd */
+        s->lib->free(s->rtu);
     }
     uwb_link_close(s->link);
     if (s->tcp) {
-        modbus_set_socket(s->tcp, -1);
-        modbus_free(s->tcp);
+        s->lib->set_socket(s->tcp, -1);
+        s->lib->free(s->tcp);
     }
     if (s->listen_fd >= 0)
         close(s->listen_fd);
     for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
         if (s->clients[i].fd >= 0)
             close(s->clients[i].fd);
-    modbus_mapping_free(s->map);
+    s->lib->mapping_free(s->map);
     free(s);
 }

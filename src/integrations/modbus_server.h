@@ -31,8 +31,9 @@ struct uwbd_modbus_server;
 /* endpoint: serial:/dev/ttyX[?baud=N] or unix:PATH (RTU; uwbd connects, and
  * connects again every few seconds after the peer went away), or
  * tcp:HOST:PORT (Modbus TCP, listening). unit_id: the RTU address (1-247).
- * 0, or -1 with err naming the endpoint and the problem. A serial or unix
- * endpoint that cannot be opened yet is not an error: it is retried. */
+ * 0, or -1 with err naming the endpoint and the problem, or libmodbus when
+ * it cannot be loaded. A serial or unix endpoint that cannot be opened yet
+ * is not an error: it is retried. */
 int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd_modbus_handlers *handlers,
                             struct uwbd_modbus_server **out, char *err, size_t errlen);
 /* The fds to poll (at most UWBD_MODBUS_POLL_FDS) into fds; returns the count. */

@@ -6,7 +6,6 @@
 #include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
-#include <mosquitto.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,6 +18,7 @@
 
 #include "uwb/atomic_file.h"
 #include "daemon/log.h"
+#include "integrations/mosquitto_loader.h"
 #include "uwb/link.h"
 #include "uwb/read_file.h"
 
@@ -31,6 +31,7 @@
 #define COMMANDS_MAX 8
 
 struct uwbd_mqtt {
+    const struct uwbd_mosquitto_api *lib; /* libmosquitto, loaded (mosquitto_loader.h) */
     struct mosquitto *mosq;
     pthread_mutex_t lock;
     char dir[UWBD_SITE_PATH_MAX + 32];
@@ -74,31 +75,30 @@ static void send_next(struct uwbd_mqtt *m)
         return;
     }
     int mid = 0;
-    int rc = mosquitto_publish(m->mosq, &mid, m->verdict_topic, (int)len, text, QOS, true);
+    int rc = m->lib->publish(m->mosq, &mid, m->verdict_topic, (int)len, text, QOS, true);
     free(text);
     if (rc == MOSQ_ERR_SUCCESS)
         m->inflight_mid = mid;
     else
-        uwbd_log(UWBD_LOG_WARNING, "mqtt: publish: %s (tried again on reconnecting)", mosquitto_strerror(rc));
+        uwbd_log(UWBD_LOG_WARNING, "mqtt: publish: %s (tried again on reconnecting)", m->lib->strerror(rc));
 }
 
 static void on_connect(struct mosquitto *mosq, void *ctx, int rc)
 {
     struct uwbd_mqtt *m = ctx;
     if (rc != 0) {
-        uwbd_log(UWBD_LOG_WARNING, "mqtt: the broker refused the connection: %s",
-                 mosquitto_connack_string(rc));
+        uwbd_log(UWBD_LOG_WARNING, "mqtt: the broker refused the connection: %s", m->lib->connack_string(rc));
         return;
     }
     pthread_mutex_lock(&m->lock);
     m->connected = 1;
     m->was_connected = 1;
     m->inflight_mid = 0; /* a publish cut off by the disconnection is sent again: at least once */
-    mosquitto_publish(mosq, NULL, m->status_topic, 6, "online", QOS, true);
+    m->lib->publish(mosq, NULL, m->status_topic, 6, "online", QOS, true);
     if (m->command_fd >= 0)
-        mosquitto_subscribe(mosq, NULL, m->cmd_topic, QOS);
+        m->lib->subscribe(mosq, NULL, m->cmd_topic, QOS);
     if (m->health)
-        mosquitto_publish(mosq, NULL, m->health_topic, (int)strlen(m->health), m->health, QOS, true);
+        m->lib->publish(mosq, NULL, m->health_topic, (int)strlen(m->health), m->health, QOS, true);
     uwbd_log(UWBD_LOG_NOTICE, "mqtt: connected; %zu verdict(s) queued", m->queued);
     send_next(m);
     pthread_mutex_unlock(&m->lock);
@@ -111,7 +111,7 @@ static void on_disconnect(struct mosquitto *mosq, void *ctx, int rc)
     pthread_mutex_lock(&m->lock);
     if (m->connected && rc != 0)
         uwbd_log(UWBD_LOG_WARNING, "mqtt: connection lost (%s); verdicts are queued until it is back",
-                 mosquitto_strerror(rc));
+                 m->lib->strerror(rc));
     m->connected = 0;
     pthread_mutex_unlock(&m->lock);
 }
@@ -154,7 +154,7 @@ static void on_message(struct mosquitto *mosq, void *ctx, const struct mosquitto
     } else {
         const char *busy =
             "{\"class\":\"ERROR\",\"message\":\"too many commands waiting, or one over 256 bytes\"}";
-        mosquitto_publish(mosq, NULL, m->reply_topic, (int)strlen(busy), busy, QOS, false);
+        m->lib->publish(mosq, NULL, m->reply_topic, (int)strlen(busy), busy, QOS, false);
     }
     pthread_mutex_unlock(&m->lock);
 }
@@ -230,26 +230,26 @@ static int read_password(const char *path, char *out, size_t n, char *err, size_
 
 static int configure(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, char *err, size_t errlen)
 {
-    mosquitto_connect_callback_set(m->mosq, on_connect);
-    mosquitto_disconnect_callback_set(m->mosq, on_disconnect);
-    mosquitto_publish_callback_set(m->mosq, on_publish);
-    mosquitto_message_callback_set(m->mosq, on_message);
-    int rc = mosquitto_will_set(m->mosq, m->status_topic, 7, "offline", QOS, true);
+    m->lib->connect_callback_set(m->mosq, on_connect);
+    m->lib->disconnect_callback_set(m->mosq, on_disconnect);
+    m->lib->publish_callback_set(m->mosq, on_publish);
+    m->lib->message_callback_set(m->mosq, on_message);
+    int rc = m->lib->will_set(m->mosq, m->status_topic, 7, "offline", QOS, true);
     if (rc == MOSQ_ERR_SUCCESS && cfg->mqtt_username[0]) {
         char password[512];
         if (read_password(cfg->mqtt_password_file, password, sizeof password, err, errlen) != 0)
             return -1;
-        rc = mosquitto_username_pw_set(m->mosq, cfg->mqtt_username, password);
+        rc = m->lib->username_pw_set(m->mosq, cfg->mqtt_username, password);
         memset(password, 0, sizeof password);
     }
     if (rc == MOSQ_ERR_SUCCESS && cfg->mqtt_ca_file[0])
-        rc = mosquitto_tls_set(m->mosq, cfg->mqtt_ca_file, NULL,
-                               cfg->mqtt_cert_file[0] ? cfg->mqtt_cert_file : NULL,
-                               cfg->mqtt_key_file[0] ? cfg->mqtt_key_file : NULL, NULL);
+        rc = m->lib->tls_set(m->mosq, cfg->mqtt_ca_file, NULL,
+                             cfg->mqtt_cert_file[0] ? cfg->mqtt_cert_file : NULL,
+                             cfg->mqtt_key_file[0] ? cfg->mqtt_key_file : NULL, NULL);
     if (rc == MOSQ_ERR_SUCCESS)
-        rc = mosquitto_reconnect_delay_set(m->mosq, 1, (unsigned)(cfg->mqtt_reconnect_max_s + 0.5), true);
+        rc = m->lib->reconnect_delay_set(m->mosq, 1, (unsigned)(cfg->mqtt_reconnect_max_s + 0.5), true);
     if (rc != MOSQ_ERR_SUCCESS) {
-        snprintf(err, errlen, "mqtt: %s", mosquitto_strerror(rc));
+        snprintf(err, errlen, "mqtt: %s", m->lib->strerror(rc));
         return -1;
     }
     return 0;
@@ -265,11 +265,16 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
         snprintf(err, errlen, "mqtt.endpoint: %s", why);
         return -1;
     }
+    /* Before anything else: an MQTT site without the library is told so at start. */
+    const struct uwbd_mosquitto_api *lib = uwbd_mosquitto_load(err, errlen);
+    if (!lib)
+        return -1;
     struct uwbd_mqtt *m = calloc(1, sizeof *m);
     if (!m) {
         snprintf(err, errlen, "mqtt: out of memory");
         return -1;
     }
+    m->lib = lib;
     pthread_mutex_init(&m->lock, NULL);
     snprintf(m->dir, sizeof m->dir, "%s/" QUEUE_DIR, state_dir);
     snprintf(m->verdict_topic, sizeof m->verdict_topic, "%s/%s/verdict", cfg->mqtt_topic_prefix,
@@ -286,23 +291,23 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
         free(m);
         return -1;
     }
-    mosquitto_lib_init();
+    m->lib->lib_init();
     char client_id[128];
     snprintf(client_id, sizeof client_id, "uwbd-%s", cfg->asset_id);
-    m->mosq = mosquitto_new(client_id, true, m);
+    m->mosq = m->lib->new (client_id, true, m);
     if (!m->mosq || load_queue(m, err, errlen) != 0 || configure(m, cfg, err, errlen) != 0) {
         if (!m->mosq)
             snprintf(err, errlen, "mqtt: out of memory");
         uwbd_mqtt_close(m);
         return -1;
     }
-    int rc = mosquitto_connect_async(m->mosq, ep.host, (int)strtol(ep.port, NULL, 10), KEEPALIVE_S);
+    int rc = m->lib->connect_async(m->mosq, ep.host, (int)strtol(ep.port, NULL, 10), KEEPALIVE_S);
     if (rc != MOSQ_ERR_SUCCESS)
         uwbd_log(UWBD_LOG_WARNING, "mqtt: %s: %s; trying again in the background", cfg->mqtt_endpoint,
-                 rc == MOSQ_ERR_ERRNO ? strerror(errno) : mosquitto_strerror(rc));
-    rc = mosquitto_loop_start(m->mosq);
+                 rc == MOSQ_ERR_ERRNO ? strerror(errno) : m->lib->strerror(rc));
+    rc = m->lib->loop_start(m->mosq);
     if (rc != MOSQ_ERR_SUCCESS) {
-        snprintf(err, errlen, "mqtt: cannot start its thread: %s", mosquitto_strerror(rc));
+        snprintf(err, errlen, "mqtt: cannot start its thread: %s", m->lib->strerror(rc));
         uwbd_mqtt_close(m);
         return -1;
     }
@@ -369,7 +374,7 @@ char *uwbd_mqtt_next_command(struct uwbd_mqtt *m)
 void uwbd_mqtt_reply(struct uwbd_mqtt *m, const char *reply_json)
 {
     if (m && reply_json)
-        mosquitto_publish(m->mosq, NULL, m->reply_topic, (int)strlen(reply_json), reply_json, QOS, false);
+        m->lib->publish(m->mosq, NULL, m->reply_topic, (int)strlen(reply_json), reply_json, QOS, false);
 }
 
 void uwbd_mqtt_health(struct uwbd_mqtt *m, const char *health_json)
@@ -383,7 +388,7 @@ void uwbd_mqtt_health(struct uwbd_mqtt *m, const char *health_json)
         m->health = copy;
     }
     if (m->connected && m->health)
-        mosquitto_publish(m->mosq, NULL, m->health_topic, (int)strlen(m->health), m->health, QOS, true);
+        m->lib->publish(m->mosq, NULL, m->health_topic, (int)strlen(m->health), m->health, QOS, true);
     pthread_mutex_unlock(&m->lock);
 }
 
@@ -403,7 +408,7 @@ void uwbd_mqtt_close(struct uwbd_mqtt *m)
         pthread_mutex_lock(&m->lock);
         int connected = m->connected;
         if (connected)
-            mosquitto_publish(m->mosq, &m->offline_mid, m->status_topic, 7, "offline", QOS, true);
+            m->lib->publish(m->mosq, &m->offline_mid, m->status_topic, 7, "offline", QOS, true);
         pthread_mutex_unlock(&m->lock);
         for (int waited = 0; connected && waited < CLOSE_WAIT_MS; waited += 10) {
             pthread_mutex_lock(&m->lock);
@@ -413,11 +418,11 @@ void uwbd_mqtt_close(struct uwbd_mqtt *m)
                 break;
             nanosleep(&(struct timespec){.tv_nsec = 10000000L}, NULL);
         }
-        mosquitto_disconnect(m->mosq);
-        mosquitto_loop_stop(m->mosq, true);
-        mosquitto_destroy(m->mosq);
+        m->lib->disconnect(m->mosq);
+        m->lib->loop_stop(m->mosq, true);
+        m->lib->destroy(m->mosq);
     }
-    mosquitto_lib_cleanup();
+    m->lib->lib_cleanup();
     pthread_mutex_destroy(&m->lock);
     for (size_t i = 0; i < m->n_commands; i++)
         free(m->commands[i]);

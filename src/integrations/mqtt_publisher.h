@@ -17,7 +17,7 @@ struct uwbd_mqtt;
 
 /* Starts connecting (in libmosquitto's thread); a broker that is not there
  * yet is no error. Returns 0, or -1 with err (the queue directory, the
- * password file, TLS files, out of memory). */
+ * password file, TLS files, out of memory, libmosquitto missing). */
 int uwbd_mqtt_open(struct uwbd_mqtt **mqtt, const struct uwbd_site_config *cfg, const char *state_dir,
                    char *err, size_t errlen);
 /* Queues one verdict line and sends what the queue holds when it can. */

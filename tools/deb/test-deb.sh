@@ -92,7 +92,10 @@ check "the unit waits for the clock: Wants=systemd-time-wait-sync, After= it and
 check "the drop-in bounding systemd-time-wait-sync (TimeoutStartSec=5min)" \
     grep -qx 'TimeoutStartSec=5min' "$root/lib/systemd/system/systemd-time-wait-sync.service.d/uwbd.conf"
 check "the package recommends an NTP client (systemd-timesyncd | time-daemon)" \
-    bash -c "chroot '$root' dpkg-query -W -f='\${Recommends}' uwbd | grep -qx 'systemd-timesyncd | time-daemon'"
+    bash -c "chroot '$root' dpkg-query -W -f='\${Recommends}' uwbd | grep -qE '^systemd-timesyncd \| time-daemon(, |$)'"
+check "the dlopened libraries: Depends libsystemd0, Recommends libmosquitto1 and libmodbus5" \
+    bash -c "chroot '$root' dpkg-query -W -f='\${Depends}\\n\${Recommends}\\n' uwbd |
+             awk 'NR == 1 && /(^|, )libsystemd0(,|$)/ { d = 1 } NR == 2 && /libmosquitto1 / && /libmodbus5 / { r = 1 } END { exit !(d && r) }'"
 check "udev rules in /lib/udev/rules.d" test -f "$root/lib/udev/rules.d/99-uwbd-gpio.rules" -a \
     -f "$root/lib/udev/rules.d/99-uwbd-digitiser.rules"
 check "manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1)" test -f "$root/usr/share/man/man8/uwbd.8.gz" -a \
