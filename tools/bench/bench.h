@@ -1,5 +1,5 @@
 /* uwbbench: what `make bench` prints. Shared declarations of the bench's
- * files; figures only, nothing here asserts a time. */
+ * files; figures, and with --assert-budget the replay budget's verdict. */
 #ifndef UWBBENCH_BENCH_H
 #define UWBBENCH_BENCH_H
 
@@ -20,6 +20,9 @@ struct bench_options {
     int replay_only;       /* the whole replay alone, no migration figures */
     const char *uwbd_path; /* the program measured as a child; NULL: next to uwbbench */
     const char *replay_current, *replay_baseline; /* recorded scans to replay; NULL: simulate a pair */
+    int assert_budget;                            /* exit 1 when the replay is over its budget (make bench) */
+    double budget_ms;                             /* the replay's time budget (issue 18: 100 ms) */
+    double budget_mib;                            /* uwbd's peak RSS budget during it (issue 18: 16 MiB) */
 };
 
 /* ---- clock ------------------------------------------------------------- */
@@ -46,8 +49,12 @@ struct bench_child {
     double seconds;     /* fork to wait4 */
     double cpu_seconds; /* its user + system time (wait4's rusage): what a shared machine's load does not
                            inflate */
-    long maxrss_kib;    /* wait4's ru_maxrss */
-    int status;         /* exit status, or 128 + signal */
+    /* Time it was ready to run but waited for a CPU (the kernel's run_delay,
+     * /proc/PID/schedstat): on a shared machine, the part of `seconds` that
+     * other programs took. -1: not known (a kernel without schedstat). */
+    double queue_wait_seconds;
+    long maxrss_kib;                 /* wait4's ru_maxrss */
+    int status;                      /* exit status, or 128 + signal */
     char output[BENCH_CHILD_OUTPUT]; /* its stdout (truncated) */
 };
 int bench_launcher_start(char *err, size_t errlen);
@@ -119,6 +126,10 @@ struct replay_figures {
     int child_measured; /* 0: uwbd could not be run, in-process figures only */
     double child_ms, child_best_ms;
     double child_cpu_ms, child_cpu_best_ms; /* its CPU time, median and best */
+    /* Wall time less the run-queue wait: the replay on one core of its own
+     * (median and best); child_own_known 0 when the kernel does not say. */
+    double child_own_ms, child_own_best_ms;
+    int child_own_known;
     long child_maxrss_kib;
     long idle_maxrss_kib; /* uwbd --version: the program and its libraries, no work */
     int child_status;     /* exit status of the last run */

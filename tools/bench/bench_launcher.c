@@ -6,7 +6,8 @@
  * charged for them. So at start-up, before any big allocation, the bench
  * forks a small launcher; later it sends the launcher argument lists
  * through a pipe, and the launcher forks and execs them, waits with wait4
- * and sends back the time, the peak RSS and the program's stdout. */
+ * and sends back the time, the time it waited for a CPU, the peak RSS and
+ * the program's stdout. */
 #include "bench.h"
 
 #include <errno.h>
@@ -27,7 +28,8 @@ struct launch_reply {
     double seconds;
     double cpu_seconds; /* user + system, wait4's rusage */
     long maxrss_kib;
-    size_t text_len; /* stdout (or the error message) follows */
+    double queue_wait_seconds; /* -1: not known */
+    size_t text_len;           /* stdout (or the error message) follows */
 };
 
 static pid_t launcher_pid = -1;
@@ -61,6 +63,21 @@ static int read_all(int fd, void *buf, size_t n)
         n -= (size_t)r;
     }
     return 0;
+}
+
+/* The time `pid` (exited, not yet reaped) waited on a run queue for a CPU:
+ * the second field of /proc/PID/schedstat, in ns; -1 when there is none. */
+static double queue_wait_of(pid_t pid)
+{
+    char path[64];
+    snprintf(path, sizeof path, "/proc/%d/schedstat", (int)pid);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1.0;
+    unsigned long long on_cpu_ns, waited_ns;
+    int n = fscanf(f, "%llu %llu", &on_cpu_ns, &waited_ns);
+    fclose(f);
+    return n == 2 ? 1e-9 * (double)waited_ns : -1.0;
 }
 
 /* In the launcher: run one argument list, reply. */
@@ -110,6 +127,12 @@ static void launch_one(char *request, size_t len, int reply_fd)
             used += (size_t)got;
     }
     close(out[0]);
+    /* Exited but not reaped, so that its schedstat can still be read. */
+    siginfo_t exited;
+    while (waitid(P_PID, (id_t)pid, &exited, WEXITED | WNOWAIT) < 0 && errno == EINTR)
+        ;
+    double seconds = uwb_monotonic_s() - t0;
+    rep.queue_wait_seconds = queue_wait_of(pid);
     int wstatus;
     struct rusage ru;
     pid_t waited;
@@ -120,7 +143,7 @@ static void launch_one(char *request, size_t len, int reply_fd)
         goto reply;
     }
     rep.ok = 1;
-    rep.seconds = uwb_monotonic_s() - t0;
+    rep.seconds = seconds;
     rep.maxrss_kib = ru.ru_maxrss; /* Linux: kibibytes */
     rep.cpu_seconds = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
                       (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
@@ -205,6 +228,7 @@ int bench_launcher_run(char *const args[], struct bench_child *out, char *err, s
     out->seconds = rep.seconds;
     out->maxrss_kib = rep.maxrss_kib;
     out->cpu_seconds = rep.cpu_seconds;
+    out->queue_wait_seconds = rep.queue_wait_seconds;
     out->status = rep.status;
     return 0;
 }

@@ -4,7 +4,8 @@
 # replaces the text between "<!-- make readme-bench: begin" and
 # "<!-- make readme-bench: end -->" with what `make bench` prints.
 # `make readme-bench` runs it. Times are the machine's at that moment
-# (the block says its load); they are figures, never assertions.
+# (the block says its load). make bench fails when the paper pair's replay
+# is over budget; here a run over budget is written down as it is.
 set -euo pipefail
 [[ $# == 2 ]] || { echo "usage: $0 BUILD_DIR README" >&2; exit 64; }
 build=$1 readme=$2
@@ -14,8 +15,9 @@ trap 'rm -rf "$work"' EXIT
     echo '```'
     echo '$ make bench'
     "$build/uwbbench"
-    "$build/uwbbench" --replay-only --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan \
-        tests/fixtures/fdtd2d-paper-intact.uwbscan
+    "$build/uwbbench" --replay-only --assert-budget --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan \
+        tests/fixtures/fdtd2d-paper-intact.uwbscan ||
+        echo "(make bench fails here: the replay is over its budget)"
     echo "(load average when run: $(cut -d' ' -f1-3 /proc/loadavg))"
     echo '```'
 } > "$work/block"
