@@ -31,6 +31,7 @@
     X(strerror)
 
 struct uwbd_modbus_api {
+// NOLINTNEXTLINE(bugprone-macro-parentheses): name is a member's name, not an expression
 #define UWBD_MODBUS_ENTRY(name) __typeof__(modbus_##name) *name;
     UWBD_MODBUS_FUNCTIONS(UWBD_MODBUS_ENTRY)
 #undef UWBD_MODBUS_ENTRY

@@ -35,6 +35,7 @@
     X(connack_string)
 
 struct uwbd_mosquitto_api {
+// NOLINTNEXTLINE(bugprone-macro-parentheses): name is a member's name, not an expression
 #define UWBD_MOSQUITTO_ENTRY(name) __typeof__(mosquitto_##name) *name;
     UWBD_MOSQUITTO_FUNCTIONS(UWBD_MOSQUITTO_ENTRY)
 #undef UWBD_MOSQUITTO_ENTRY

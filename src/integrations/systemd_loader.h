@@ -18,6 +18,7 @@
     X(watchdog_enabled)
 
 struct uwbd_systemd_api {
+// NOLINTNEXTLINE(bugprone-macro-parentheses): name is a member's name, not an expression
 #define UWBD_SYSTEMD_ENTRY(name) __typeof__(sd_##name) *name;
     UWBD_SYSTEMD_FUNCTIONS(UWBD_SYSTEMD_ENTRY)
 #undef UWBD_SYSTEMD_ENTRY

@@ -74,10 +74,16 @@ static double queue_wait_of(pid_t pid)
     FILE *f = fopen(path, "r");
     if (!f)
         return -1.0;
-    unsigned long long on_cpu_ns, waited_ns;
-    int n = fscanf(f, "%llu %llu", &on_cpu_ns, &waited_ns);
+    char line[128];
+    int got = fgets(line, sizeof line, f) != NULL;
     fclose(f);
-    return n == 2 ? 1e-9 * (double)waited_ns : -1.0;
+    if (!got)
+        return -1.0;
+    char *after_on_cpu, *end;
+    strtoull(line, &after_on_cpu, 10); /* the time on a CPU, first */
+    errno = 0;
+    unsigned long long waited_ns = strtoull(after_on_cpu, &end, 10);
+    return end != after_on_cpu && errno == 0 ? 1e-9 * (double)waited_ns : -1.0;
 }
 
 /* In the launcher: run one argument list, reply. */
