@@ -99,6 +99,15 @@ int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_an
                                struct uwb_migration_plan *plan, struct uwb_face_profile *p,
                                double *z_face_out, char *err, size_t errlen);
 
+/* The aperture taper (a Tukey window about y_centre reaching to the nearer
+ * end of the travel lo..hi) the face measurement weighs positions with. */
+void uwb_taper_weights(const struct uwb_scan *in, double y_centre, double lo, double hi, double *weight);
+
+/* The winding's centre on a profile as the analysis reads it (the mirror
+ * symmetry about its crossings of fraction * peak); with guess_m not NAN,
+ * searched within search_m of it. NAN when the profile does not fall off. */
+double uwb_profile_centre(const struct uwb_face_profile *p, double fraction, double guess_m, double search_m);
+
 /* uwb_condition in its two parts: what depends on the scan alone (band-pass,
  * alignment on the direct coupling), done once per analysis, and what
  * depends on where the winding is (static clutter removal, early gate). */
