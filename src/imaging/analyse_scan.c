@@ -699,3 +699,12 @@ double uwb_profile_centre(const struct uwb_face_profile *p, double fraction, dou
                                        SYMMETRY_SPAN * 0.5 * (e.upper_m - e.lower_m),
                                        isnan(guess_m) ? SYMMETRY_SEARCH_M : search_m);
 }
+
+int uwb_profile_centre_gradient(const struct uwb_face_profile *p, double fraction, double c_m, double *grad)
+{
+    struct profile_edges e;
+    uwb_profile_edges(p, fraction, &e);
+    if (!e.ok)
+        return -1;
+    return uwb_profile_symmetry_centre_gradient(p, c_m, SYMMETRY_SPAN * 0.5 * (e.upper_m - e.lower_m), grad);
+}

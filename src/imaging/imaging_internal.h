@@ -69,6 +69,12 @@ void uwb_profile_edges(const struct uwb_face_profile *p, double fraction, struct
 double uwb_profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
                                    double search_m);
 
+/* How that centre c_m (the asymmetry's minimum) moves with each profile
+ * value, added to grad (p->n long): implicit differentiation of the
+ * asymmetry's slope. Returns 0, or -1 where it has no curvature. */
+int uwb_profile_symmetry_centre_gradient(const struct uwb_face_profile *p, double c_m, double half_span_m,
+                                         double *grad);
+
 /* The shift d that best maps base onto cur: cur(y + d) against g * base(y)
  * on the squared envelope, y within +-half_span_m of base_centre_m, searched
  * within 5 mm of guess_m (profile_shift.c says why). NAN when out of memory. */
@@ -107,6 +113,9 @@ void uwb_taper_weights(const struct uwb_scan *in, double y_centre, double lo, do
  * symmetry about its crossings of fraction * peak); with guess_m not NAN,
  * searched within search_m of it. NAN when the profile does not fall off. */
 double uwb_profile_centre(const struct uwb_face_profile *p, double fraction, double guess_m, double search_m);
+/* Its gradient at c_m with each profile value, added to grad (the mirror
+ * span held at the crossings'). Returns 0, or -1 (edges, curvature). */
+int uwb_profile_centre_gradient(const struct uwb_face_profile *p, double fraction, double c_m, double *grad);
 
 /* uwb_condition in its two parts: what depends on the scan alone (band-pass,
  * alignment on the direct coupling), done once per analysis, and what
