@@ -624,8 +624,8 @@ static int shares_by_draws(const struct uwb_analysis *ca, const struct uwb_analy
         struct uwb_face_profile p;
         if (!a->has_taper)
             continue;
-        rc = measure_retapered(a, opt, a->taper_centre_m, NULL, 0.0, s->y_lo, s->y_hi, &plan[which], &work, &p,
-                               err, errlen);
+        rc = measure_retapered(a, opt, a->taper_centre_m, NULL, 0.0, s->y_lo, s->y_hi, &plan[which], &work,
+                               &p, err, errlen);
         if (rc == 0)
             c0[which] = uwb_profile_centre(&p, opt->edge_fraction, NAN, 0.0);
         free(p.value);
@@ -637,8 +637,8 @@ static int shares_by_draws(const struct uwb_analysis *ca, const struct uwb_analy
             noise_draw(&s->source[which], &noise, a->weight, &state);
             if (which < which_lo || which > which_hi)
                 continue; /* the draw is still taken: the other scan's draws stay the same */
-            rc = measure_noisy(a, opt, &noise, s->rms, c0[which], s->y_lo, s->y_hi, &plan[which], &work, &p, err,
-                               errlen);
+            rc = measure_noisy(a, opt, &noise, s->rms, c0[which], s->y_lo, s->y_hi, &plan[which], &work, &p,
+                               err, errlen);
             if (rc != 0)
                 break;
             double d = which == 0 ? uwb_analysis_shift(&p, &ba->profile, ba, shift_m)

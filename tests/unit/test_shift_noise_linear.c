@@ -115,7 +115,6 @@ static void test_linear_sigma_agrees_with_the_draws_on_a_noisy_tank_pair(void)
     uwb_scan_free(&base);
 }
 
-
 /* The taper's path needs how the winding's centre (the profile's mirror
  * symmetry) moves with each profile value: the implicit derivative must
  * agree with re-reading the centre after nudging one value, on a lopsided

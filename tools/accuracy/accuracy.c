@@ -108,8 +108,8 @@ static int impaired(const struct uwb_scan *in, const struct accuracy_level *leve
 {
     if (uwb_scan_copy(out, in, err, errlen) != 0)
         return -1;
-    struct uwb_impairment imp = {
-        level->snr_db > 0.0, level->snr_db, level->jitter_s, level->drift_linear, level->drift_random, seed};
+    struct uwb_impairment imp = {level->snr_db > 0.0, level->snr_db,       level->jitter_s,
+                                 level->drift_linear, level->drift_random, seed};
     if (uwb_impair_scan(out, &imp, NULL, err, errlen) != 0) {
         uwb_scan_free(out);
         return -1;

@@ -58,16 +58,18 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--pair-errors"))
             accuracy_log_pairs(stderr);
         else if (!strcmp(argv[i], "--impair") && i + 4 < argc) {
-            /* SNR_DB (0: no white noise) JITTER_PS DRIFT_LINEAR DRIFT_RANDOM: one level instead of the report's */
+            /* SNR_DB (0: no white noise) JITTER_PS DRIFT_LINEAR DRIFT_RANDOM: one level instead of the
+             * report's */
             custom = 1;
             level_custom.snr_db = atof(argv[++i]);
             level_custom.jitter_s = atof(argv[++i]) * 1e-12;
             level_custom.drift_linear = atof(argv[++i]);
             level_custom.drift_random = atof(argv[++i]);
-        }
-        else {
-            fprintf(stderr, "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE] [--case N] [--pair-errors]\n"
-                            "       [--impair SNR_DB JITTER_PS DRIFT_LINEAR DRIFT_RANDOM]\n");
+        } else {
+            fprintf(
+                stderr,
+                "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE] [--case N] [--pair-errors]\n"
+                "       [--impair SNR_DB JITTER_PS DRIFT_LINEAR DRIFT_RANDOM]\n");
             return 64;
         }
     }
