@@ -175,8 +175,8 @@ int accuracy_run_case(const char *dir, const struct accuracy_case *c, const stru
         sigma[measured] = v.uncertainty_m;
         within += fabs(error[measured]) <= 2.0 * sigma[measured];
         if (pair_log && level)
-            fprintf(pair_log, "%s pair %d: error %+.3f sigma %.3f side reflector %d/%d ratio %+.2f\n", c->name,
-                    j, error[measured] * 1e3, sigma[measured] * 1e3, v.current.side_reflector,
+            fprintf(pair_log, "%s pair %d: error %+.3f sigma %.3f side reflector %d/%d ratio %+.2f\n",
+                    c->name, j, error[measured] * 1e3, sigma[measured] * 1e3, v.current.side_reflector,
                     v.baseline.side_reflector, error[measured] / sigma[measured]);
         measured++;
     }
