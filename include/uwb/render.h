@@ -24,6 +24,10 @@ struct uwb_provenance {
     const char *asset;     /* the asset as the site names it (site.phase, site.label) */
     int stack;             /* pulses averaged per antenna position */
     double eps_r;          /* relative permittivity the image was focused with */
+    /* What the verdict was judged by: the watch and alarm thresholds, drawn
+     * as zones around the baseline centre and named in the caption (NULL:
+     * not drawn). */
+    const struct uwb_thresholds *thresholds;
 };
 
 /* ------------------------------------------------------------------ */

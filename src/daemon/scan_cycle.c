@@ -20,6 +20,7 @@
 #include "daemon/verdict_log.h"
 #include "uwb/evaluate.h"
 #include "uwb/monotonic.h"
+#include "uwb/render.h"
 #include "uwb/verdict_json.h"
 
 struct cycle {
@@ -449,7 +450,8 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     }
     char asset[128];
     uwbd_trend_site_text(c->cfg, asset, sizeof asset);
-    if (uwb_write_images(c->day_dir, c->id, asset, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
+    struct uwb_provenance site = {.asset = asset, .thresholds = &c->cfg->evaluate.compare.thresholds};
+    if (uwb_write_images(c->day_dir, c->id, &site, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
         archive_problem(c, "images", err);
     uwb_analysis_free(&cur_a);
     uwb_analysis_free(&base_a);

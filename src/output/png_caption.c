@@ -151,10 +151,14 @@ void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenanc
     uwb_describe_edges(&v->current, now, sizeof now);
     if (v->has_baseline)
         uwb_describe_edges(&v->baseline, base, sizeof base);
-    snprintf(buf, len, "scan %s created %s; status %s; %s; edges %s%s%s%s%s; %s", scan_name(v, prov),
+    char limits[160] = "";
+    if (prov && uwb_thresholds_usable(prov->thresholds))
+        snprintf(limits, sizeof limits, "; thresholds watch %.2f mm, alarm %.2f mm",
+                 prov->thresholds->watch_m * 1e3, prov->thresholds->alarm_m * 1e3);
+    snprintf(buf, len, "scan %s created %s; status %s; %s; edges %s%s%s%s%s%s; %s", scan_name(v, prov),
              or_unknown(v->created), uwb_status_name(v->status), disp, now,
              v->has_baseline ? "; baseline " : "", v->has_baseline ? or_unknown(v->baseline_scan_id) : "",
-             v->has_baseline ? " edges " : "", v->has_baseline ? base : "", source);
+             v->has_baseline ? " edges " : "", v->has_baseline ? base : "", limits, source);
 }
 
 /* Bytes of the first n of `text` that fit in max_w pixels, cut at a code
@@ -191,6 +195,8 @@ static void fit_text(char *text, int max_w, int scale)
 struct pen {
     struct uwb_canvas *c;
     int width, scale, x, y;
+    int has_meter; /* set by threshold_line */
+    struct uwb_meter meter;
 };
 
 static void pen_text(struct pen *p, int x, int y, const char *text, int scale, struct uwb_rgb colour)
@@ -235,12 +241,39 @@ static void labelled_text(struct pen *p, const char *label, const char *text, st
     }
 }
 
+/* The thresholds as three words in their zones' colours,
+ * "ok < 2.00   watch >= 2.00   alarm >= 5.00 mm", then the displacement
+ * meter in the same colours filling the rest of the line. */
+static void threshold_line(struct pen *p, const struct uwb_verdict *v, const struct uwb_thresholds *th)
+{
+    const char *label = "limits  ";
+    int x = p->x + uwb_text_width(label, p->scale) + UWB_FONT_ADVANCE * p->scale;
+    pen_text(p, p->x, p->y, label, p->scale, muted);
+    char part[3][64];
+    snprintf(part[0], sizeof part[0], "ok < %.2f", th->watch_m * 1e3);
+    snprintf(part[1], sizeof part[1], "watch >= %.2f", th->watch_m * 1e3);
+    snprintf(part[2], sizeof part[2], "alarm >= %.2f mm", th->alarm_m * 1e3);
+    static const enum uwb_status zone[3] = {UWB_STATUS_OK, UWB_STATUS_WATCH, UWB_STATUS_ALARM};
+    for (int i = 0; i < 3; i++) {
+        pen_text(p, x, p->y, part[i], p->scale, uwb_status_colour(zone[i]));
+        x += uwb_text_width(part[i], p->scale) + 3 * UWB_FONT_ADVANCE * p->scale;
+    }
+    int right = p->width - 12, h = UWB_FONT_CAP_HEIGHT * p->scale;
+    p->has_meter = right - x >= 60;
+    if (p->has_meter) {
+        uwb_meter_layout(v, th, x, p->y, right - x, h, &p->meter);
+        if (p->c)
+            uwb_draw_meter(p->c, &p->meter, v, th);
+    }
+    p->y += line_step(p->scale);
+}
+
 #define REASON_LINES 3 /* a reason longer than this is in the JSON verdict */
 
 static int caption(struct uwb_canvas *c, int width, const char *title, const struct uwb_verdict *v,
-                   const struct uwb_provenance *prov, int scale)
+                   const struct uwb_provenance *prov, int scale, struct uwb_meter *meter)
 {
-    struct pen p = {c, width, scale, 12, CAPTION_TOP};
+    struct pen p = {c, width, scale, 12, CAPTION_TOP, 0, {0, 0, 0, 0, 0.0}};
     int title_scale = scale + 1;
     char a[1024];
     snprintf(a, sizeof a, "%s", title ? title : "");
@@ -284,9 +317,16 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
         } else {
             labelled_text(&p, "baseline", "none given", ink, 1);
         }
+        if (prov && uwb_thresholds_usable(prov->thresholds))
+            threshold_line(&p, v, prov->thresholds);
     }
     uwb_describe_provenance(v, prov, a, sizeof a);
     labelled_text(&p, "source  ", a, muted, 1);
+    if (meter) {
+        *meter = p.meter;
+        if (!p.has_meter)
+            meter->w = 0;
+    }
     int height = p.y + 8;
     if (c)
         uwb_canvas_fill_rect(c, 0, height - 4, width, 1, rule);
@@ -296,13 +336,21 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
 int uwb_caption_height(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,
                        int font_scale)
 {
-    return caption(NULL, width, "", v, prov, font_scale);
+    return caption(NULL, width, "", v, prov, font_scale, NULL);
 }
 
 int uwb_draw_caption(struct uwb_canvas *c, const char *title, const struct uwb_verdict *v,
                      const struct uwb_provenance *prov, int font_scale)
 {
-    return caption(c, c->width, title, v, prov, font_scale);
+    return caption(c, c->width, title, v, prov, font_scale, NULL);
+}
+
+int uwb_caption_meter(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,
+                      int font_scale, struct uwb_meter *m)
+{
+    memset(m, 0, sizeof *m);
+    caption(NULL, width, "", v, prov, font_scale, m);
+    return m->w > 0;
 }
 
 int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const char *title,

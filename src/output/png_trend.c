@@ -15,6 +15,7 @@
 #define MARKER 4 /* half-size of a figure's square, px */
 #define CAP 5    /* half-width of a bar's cap, px */
 #define X_TICKS 6
+#define ZONE_TINT 0.12 /* the zones' colour over the white page */
 
 static const struct uwb_rgb white = {255, 255, 255};
 static const struct uwb_rgb ink = {25, 25, 25};
@@ -318,6 +319,9 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
 
     uwb_canvas_fill_rect(c, p->x, l.strip_y, p->w, l.strip_h, strip_fill);
     uwb_draw_text(c, 8, l.strip_y + (l.strip_h - UWB_FONT_CAP_HEIGHT) / 2, "no figure", 1, muted);
+    /* The watch and alarm zones tinted (the lines bound them), as in the
+     * comparison image: a figure in the red is an alarm. */
+    uwb_tint_threshold_zones(c, p, 0.0, th, 1000.0, ZONE_TINT);
     thresholds(c, p, th);
 
     /* Baseline changes first, so the figures stay on top of them. */

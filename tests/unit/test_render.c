@@ -947,8 +947,11 @@ static void test_replayed_images_carry_the_file_stem_and_provenance(void)
                                   err);
     TEST_ASSERT_EQUAL_STRING("", v.scan_id);
     const char *asset = "Umspannwerk S\u00fcd, phase B";
-    TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, uwb_write_images(dir, "site-recording-7", asset, &cur, &cur_a, &base_a, &v, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0,
+                                  uwb_write_images(dir, "site-recording-7",
+                                                   &(struct uwb_provenance){.asset = asset}, &cur, &cur_a,
+                                                   &base_a, &v, err, sizeof err),
+                                  err);
     TEST_ASSERT_EQUAL_INT(3, v.n_images);
     /* The B-scan shows the conditioned traces the migration ran on, not
      * the raw ones (whose direct coupling and clutter were taken out). */
@@ -1185,6 +1188,62 @@ static void test_comparison_difference_panel_shows_the_move(void)
     uwb_analysis_free(&base);
 }
 
+/* The watch and alarm thresholds: a caption line names them in their
+ * zones' colours and a meter on the displacement's own scale (on the
+ * height axis 5 mm is a few pixels) shows the zones with this scan's
+ * displacement and its 95 % interval; the Description says them too. No
+ * thresholds given: no line, no meter. */
+static void test_images_show_the_watch_and_alarm_zones(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
+    struct uwb_analysis base = make_analysis(BASE_LO, BASE_HI, BASE_LO, BASE_HI);
+    struct uwb_verdict v = make_verdict(); /* +20 mm, sigma 0.4 mm */
+    struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
+    struct uwb_provenance prov = {.scan_name = "x", .thresholds = &th};
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.provenance = &prov;
+    struct uwb_meter m;
+    TEST_ASSERT_TRUE(uwb_caption_meter(&v, &prov, o.width, o.font_scale, &m));
+    TEST_ASSERT_TRUE(m.w > 100);
+    TEST_ASSERT_TRUE(m.half_range_m >= v.axial_displacement_m + 2 * v.uncertainty_m);
+    TEST_ASSERT_TRUE(uwb_caption_height(&v, &prov, o.width, 2) > uwb_caption_height(&v, NULL, o.width, 2));
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "cmp-zones.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwb_render_comparison_png_opt(path, &cur, &base, &v, &o, err, sizeof err), err);
+    struct png_rgb images[2] = {render_migrated("mig-zones.png", &img, &v, &o), read_png(path)};
+    const struct uwb_rgb ink = {25, 25, 25};
+    for (int i = 0; i < 2; i++) {
+        const struct png_rgb *png = &images[i];
+        int top = m.y + 1; /* a row of the bar clear of the interval bar in the middle */
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, 0.001), top), uwb_status_colour(UWB_STATUS_OK)));
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, -0.0035), top), uwb_status_colour(UWB_STATUS_WATCH)));
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, 0.0035), top), uwb_status_colour(UWB_STATUS_WATCH)));
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, -0.007), top), uwb_status_colour(UWB_STATUS_ALARM)));
+        /* The displacement's mark, and its 95 % interval's ends (+/-2 sigma). */
+        int mid = m.y + m.h / 2;
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, v.axial_displacement_m), top), ink));
+        TEST_ASSERT_TRUE(
+            same(at(png, uwb_meter_col(&m, v.axial_displacement_m + 2 * v.uncertainty_m), mid - 3), ink));
+        TEST_ASSERT_TRUE(
+            same(at(png, uwb_meter_col(&m, v.axial_displacement_m - 2 * v.uncertainty_m), mid - 3), ink));
+        free(images[i].px);
+    }
+    struct png_texts t;
+    read_texts(path, &t);
+    const char *d = text_of(&t, "Description", NULL);
+    TEST_ASSERT_NOT_NULL(d);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "thresholds watch 2.00 mm, alarm 5.00 mm"), d);
+    /* Without thresholds: no meter. */
+    prov.thresholds = NULL;
+    TEST_ASSERT_FALSE(uwb_caption_meter(&v, &prov, o.width, o.font_scale, &m));
+    uwb_image_free(&img);
+    uwb_analysis_free(&cur);
+    uwb_analysis_free(&base);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -1215,5 +1274,6 @@ int main(void)
     RUN_TEST(test_comparison_without_a_measured_displacement_draws_no_arrow);
     RUN_TEST(test_migrated_image_has_equal_scales);
     RUN_TEST(test_comparison_difference_panel_shows_the_move);
+    RUN_TEST(test_images_show_the_watch_and_alarm_zones);
     return UNITY_END();
 }
