@@ -109,7 +109,8 @@ void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t le
         snprintf(buf, len, "no verdict");
     } else if (displacement_known(v)) {
         double d = MM(v->axial_displacement_m);
-        snprintf(buf, len, "displacement %+.2f \u00b1 %.2f mm (%s)   height change %+.2f mm", d,
+        /* The ± is one sigma; the 95 % interval has its own line beside the meter. */
+        snprintf(buf, len, "displacement %+.2f \u00b1 %.2f mm (1\u03c3) %s  height change %+.2f mm", d,
                  MM(v->uncertainty_m),
                  d > 0   ? "up"
                  : d < 0 ? "down"
@@ -133,8 +134,8 @@ void uwb_describe_edges(const struct uwb_edges *e, char *buf, size_t len)
     }
     /* The centre is what the displacement is made of, so it alone gets its
      * uncertainty here; the JSON has the others. */
-    snprintf(buf, len, "lower %.1f  upper %.1f  centre %.1f \u00b1 %.1f mm  face z %.1f mm", MM(e->lower_m),
-             MM(e->upper_m), MM(e->center_m), MM(e->sigma_center_m), MM(e->face_z_m));
+    snprintf(buf, len, "lower %.1f  upper %.1f  centre %.1f \u00b1 %.1f mm (1\u03c3)  face z %.1f mm",
+             MM(e->lower_m), MM(e->upper_m), MM(e->center_m), MM(e->sigma_center_m), MM(e->face_z_m));
 }
 
 void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf,
@@ -152,6 +153,11 @@ void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenanc
     if (v->has_baseline)
         uwb_describe_edges(&v->baseline, base, sizeof base);
     char limits[160] = "";
+    if (uwb_displacement_measured(v)) {
+        double d = v->axial_displacement_m * 1e3, s95 = UWB_SIGMAS_95 * v->uncertainty_m * 1e3;
+        size_t n = strlen(disp);
+        snprintf(disp + n, sizeof disp - n, "; 95 %% interval %+.2f..%+.2f mm", d - s95, d + s95);
+    }
     if (prov && uwb_thresholds_usable(prov->thresholds))
         snprintf(limits, sizeof limits, "; thresholds watch %.2f mm, alarm %.2f mm",
                  prov->thresholds->watch_m * 1e3, prov->thresholds->alarm_m * 1e3);
@@ -266,6 +272,14 @@ static void threshold_line(struct pen *p, const struct uwb_verdict *v, const str
             uwb_draw_meter(p->c, &p->meter, v, th);
     }
     p->y += line_step(p->scale);
+    if (uwb_displacement_measured(v)) {
+        double d = v->axial_displacement_m * 1e3, s95 = UWB_SIGMAS_95 * v->uncertainty_m * 1e3;
+        char interval[160];
+        snprintf(interval, sizeof interval,
+                 "%+.2f .. %+.2f mm (\u00b1%.0f\u03c3: the black bar on the meter)", d - s95, d + s95,
+                 UWB_SIGMAS_95);
+        labelled_text(p, "95 %    ", interval, ink, 1);
+    }
 }
 
 #define REASON_LINES 3 /* a reason longer than this is in the JSON verdict */

@@ -52,7 +52,7 @@ struct uwb_png_text {
 int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path, const struct uwb_png_text *texts,
                          int n_texts, char *err, size_t errlen);
 
-/* Bitmap font: printable ASCII plus a few signs (UTF-8 "±", "°", "Δ").
+/* Bitmap font: printable ASCII plus a few signs (UTF-8 "±", "°", "Δ", "σ").
  * Glyph box is 5x7 above the baseline with 2 rows of descender, on a 6 px
  * advance and an 11 px line, times `scale`. Returns the advance width. */
 #define UWB_FONT_ADVANCE 6

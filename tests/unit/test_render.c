@@ -1244,6 +1244,33 @@ static void test_images_show_the_watch_and_alarm_zones(void)
     uwb_analysis_free(&base);
 }
 
+/* The ± is named: one sigma, and the 95 % interval (UWB_SIGMAS_95 sigma
+ * either side) is given in figures, in the caption (a line beside the
+ * meter) and in the Description, as `ctl --text` gives them. */
+static void test_the_plus_minus_says_what_it_is(void)
+{
+    struct uwb_verdict v = make_verdict(); /* +20.00 mm, sigma 0.40 mm */
+    char line[512], summary[2048];
+    TEST_ASSERT_TRUE(uwb_font_has_glyph(0x03C3));
+    uwb_describe_displacement(&v, line, sizeof line);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(line, "+20.00 \u00b1 0.40 mm (1\u03c3)"), line);
+    uwb_describe_edges(&v.current, line, sizeof line);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(line, "\u00b1 0.3 mm (1\u03c3)"), line);
+    uwb_verdict_summary(&v, NULL, summary, sizeof summary);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(summary, "95 % interval +19.20..+20.80 mm"), summary);
+    struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
+    struct uwb_provenance prov = {.thresholds = &th};
+    int line_h = UWB_FONT_LINE_HEIGHT * 2 + 3;
+    /* limits + 95 % lines when measured; limits alone when not */
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + 2 * line_h,
+                          uwb_caption_height(&v, &prov, 960, 2));
+    v.status = UWB_STATUS_INCONCLUSIVE;
+    uwb_verdict_summary(&v, NULL, summary, sizeof summary);
+    TEST_ASSERT_NULL_MESSAGE(strstr(summary, "95 %"), summary);
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + line_h,
+                          uwb_caption_height(&v, &prov, 960, 2));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -1275,5 +1302,6 @@ int main(void)
     RUN_TEST(test_migrated_image_has_equal_scales);
     RUN_TEST(test_comparison_difference_panel_shows_the_move);
     RUN_TEST(test_images_show_the_watch_and_alarm_zones);
+    RUN_TEST(test_the_plus_minus_says_what_it_is);
     return UNITY_END();
 }
