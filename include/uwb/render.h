@@ -28,6 +28,7 @@ struct uwb_provenance {
      * as zones around the baseline centre and named in the caption (NULL:
      * not drawn). */
     const struct uwb_thresholds *thresholds;
+    int became_baseline; /* this scan was made the baseline (a commissioning scan): the captions say so */
 };
 
 /* ------------------------------------------------------------------ */

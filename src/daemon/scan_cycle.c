@@ -448,13 +448,6 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
         record_error(c, "evaluation failed: %s", err);
         return;
     }
-    char asset[128];
-    uwbd_trend_site_text(c->cfg, asset, sizeof asset);
-    struct uwb_provenance site = {.asset = asset, .thresholds = &c->cfg->evaluate.compare.thresholds};
-    if (uwb_write_images(c->day_dir, c->id, &site, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
-        archive_problem(c, "images", err);
-    uwb_analysis_free(&cur_a);
-    uwb_analysis_free(&base_a);
     uwb_scan_free(&base);
 
     if (c->req->make_baseline)
@@ -470,6 +463,17 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
             c->fault = "baseline";
         }
     }
+    /* The images after the baseline was set, so a commissioning scan's
+     * say it became the baseline (not "none given"). */
+    char asset[128];
+    uwbd_trend_site_text(c->cfg, asset, sizeof asset);
+    struct uwb_provenance site = {.asset = asset,
+                                  .thresholds = &c->cfg->evaluate.compare.thresholds,
+                                  .became_baseline = c->res->baseline_set};
+    if (uwb_write_images(c->day_dir, c->id, &site, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
+        archive_problem(c, "images", err);
+    uwb_analysis_free(&cur_a);
+    uwb_analysis_free(&base_a);
     cJSON *o = uwb_verdict_object(&v);
     if (o)
         add_cycle_fields(c, o, scan_path, scan->stack);

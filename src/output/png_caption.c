@@ -103,6 +103,23 @@ int uwb_displacement_measured(const struct uwb_verdict *v)
     return v && displacement_known(v);
 }
 
+/* A commissioning scan: it had no baseline and became the baseline. */
+static int became_baseline(const struct uwb_verdict *v, const struct uwb_provenance *prov)
+{
+    return prov && prov->became_baseline && v && !v->has_baseline;
+}
+
+/* The displacement in words; a commissioning scan says what became of it
+ * rather than that no baseline was given. */
+static void describe_result(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf,
+                            size_t len)
+{
+    if (became_baseline(v, prov) && v->status == UWB_STATUS_EDGES)
+        snprintf(buf, len, "edges only: this scan became the baseline");
+    else
+        uwb_describe_displacement(v, buf, len);
+}
+
 void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t len)
 {
     if (!v) {
@@ -148,7 +165,7 @@ void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenanc
         return;
     }
     char disp[320], now[320], base[320];
-    uwb_describe_displacement(v, disp, sizeof disp);
+    describe_result(v, prov, disp, sizeof disp);
     uwb_describe_edges(&v->current, now, sizeof now);
     if (v->has_baseline)
         uwb_describe_edges(&v->baseline, base, sizeof base);
@@ -161,10 +178,11 @@ void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenanc
     if (prov && uwb_thresholds_usable(prov->thresholds))
         snprintf(limits, sizeof limits, "; thresholds watch %.2f mm, alarm %.2f mm",
                  prov->thresholds->watch_m * 1e3, prov->thresholds->alarm_m * 1e3);
-    snprintf(buf, len, "scan %s created %s; status %s; %s; edges %s%s%s%s%s%s; %s", scan_name(v, prov),
+    snprintf(buf, len, "scan %s created %s; status %s; %s; edges %s%s%s%s%s%s%s; %s", scan_name(v, prov),
              or_unknown(v->created), uwb_status_name(v->status), disp, now,
              v->has_baseline ? "; baseline " : "", v->has_baseline ? or_unknown(v->baseline_scan_id) : "",
-             v->has_baseline ? " edges " : "", v->has_baseline ? base : "", limits, source);
+             v->has_baseline ? " edges " : "", v->has_baseline ? base : "",
+             prov && prov->became_baseline ? "; this scan became the baseline" : "", limits, source);
 }
 
 /* Bytes of the first n of `text` that fit in max_w pixels, cut at a code
@@ -317,7 +335,7 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
         }
         struct pen after_badge = p;
         after_badge.x = bx + bw + 8 * scale - UWB_FONT_ADVANCE * scale; /* text column after the badge */
-        uwb_describe_displacement(v, a, sizeof a);
+        describe_result(v, prov, a, sizeof a);
         labelled_text(&after_badge, "", a, ink, REASON_LINES);
         p.y = after_badge.y;
 
@@ -325,9 +343,14 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
         labelled_text(&p, "edges   ", a, ink, 2);
         if (v->has_baseline) {
             /* The colour ties these lines to the dashed baseline overlay. */
-            labelled_text(&p, "baseline", or_unknown(v->baseline_scan_id), baseline_ink, 1);
+            char id[300];
+            snprintf(id, sizeof id, "%s%s", or_unknown(v->baseline_scan_id),
+                     prov && prov->became_baseline ? "   (replaced by this scan)" : "");
+            labelled_text(&p, "baseline", id, baseline_ink, 1);
             uwb_describe_edges(&v->baseline, a, sizeof a);
             labelled_text(&p, "        ", a, baseline_ink, 2);
+        } else if (became_baseline(v, prov)) {
+            labelled_text(&p, "baseline", "none before: this scan is now the baseline", baseline_ink, 1);
         } else {
             labelled_text(&p, "baseline", "none given", ink, 1);
         }

@@ -319,6 +319,9 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
 
     uwb_draw_caption(&c, "uwbd comparison - baseline vs this scan", v, o.provenance, s);
 
+    /* Without a baseline the empty panels say why: none yet, or this scan
+     * is the baseline from now on (commissioning). */
+    const char *no_baseline = o.provenance && o.provenance->became_baseline ? "new baseline" : "no baseline";
     /* Baseline panel. */
     if (baseline) {
         uwb_paint_image_db(&c, &L.base, baseline, uwb_image_peak(baseline), o.floor_db);
@@ -327,8 +330,8 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
                            s);
     } else {
         uwb_canvas_fill_rect(&c, L.base.x, L.base.y, L.base.w, L.base.h, no_data);
-        int w = uwb_text_width("no baseline", s);
-        uwb_draw_text(&c, L.base.x + (L.base.w - w) / 2, L.base.y + L.base.h / 2, "no baseline", s, page);
+        int w = uwb_text_width(no_baseline, s);
+        uwb_draw_text(&c, L.base.x + (L.base.w - w) / 2, L.base.y + L.base.h / 2, no_baseline, s, page);
     }
     panel_title(&c, &L.base, "baseline", s, baseline_ink);
 
@@ -355,8 +358,8 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
         }
     } else {
         uwb_canvas_fill_rect(&c, L.diff.x, L.diff.y, L.diff.w, L.diff.h, no_data);
-        int w = uwb_text_width("no baseline", s);
-        uwb_draw_text(&c, L.diff.x + (L.diff.w - w) / 2, L.diff.y + L.diff.h / 2, "no baseline", s, page);
+        int w = uwb_text_width(no_baseline, s);
+        uwb_draw_text(&c, L.diff.x + (L.diff.w - w) / 2, L.diff.y + L.diff.h / 2, no_baseline, s, page);
     }
     panel_title(&c, &L.diff, "now - base", s, ink);
 
