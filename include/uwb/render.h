@@ -29,6 +29,10 @@ struct uwb_provenance {
      * not drawn). */
     const struct uwb_thresholds *thresholds;
     int became_baseline; /* this scan was made the baseline (a commissioning scan): the captions say so */
+    /* The antenna's travel (lowest and highest position), hatched beyond on
+     * the images whose height axis reaches past it (has_travel 0: not drawn). */
+    int has_travel;
+    double travel_lo_m, travel_hi_m;
 };
 
 /* ------------------------------------------------------------------ */

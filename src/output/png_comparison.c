@@ -325,6 +325,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     /* Baseline panel. */
     if (baseline) {
         uwb_paint_image_db(&c, &L.base, baseline, uwb_image_peak(baseline), o.floor_db);
+        uwb_mark_antenna_travel(&c, &L.base, o.provenance, 0);
         if (eb)
             uwb_draw_edges(&c, &L.base, eb, UWB_EDGE_BASELINE, L.base.x_min, L.base.x_max, eb->face_z_m, 0,
                            s);
@@ -337,6 +338,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
 
     /* This scan's panel: its edges solid, the baseline's dashed under them. */
     uwb_paint_image_db(&c, &L.cur, current, uwb_image_peak(current), o.floor_db);
+    uwb_mark_antenna_travel(&c, &L.cur, o.provenance, 0);
     if (eb)
         uwb_draw_edges(&c, &L.cur, eb, UWB_EDGE_BASELINE, L.cur.x_min, L.cur.x_max, eb->face_z_m, 0, s);
     if (ec)
@@ -346,6 +348,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     /* This scan minus the baseline. */
     if (baseline) {
         double largest = uwb_paint_difference(&c, &L.diff, current, baseline);
+        uwb_mark_antenna_travel(&c, &L.diff, o.provenance, 0);
         int ks = s > 1 ? s - 1 : 1;
         char full[48];
         snprintf(full, sizeof full, "full colour: %.0f%% of peak", 100.0 * largest);

@@ -238,6 +238,13 @@ double uwb_signed_db_to_t(double value, double peak, double floor_db);
 /* Two-way time of the specular echo of a plane face at range face_z_m
  * for this scan's antenna pair and medium. */
 double uwb_face_echo_time(const struct uwb_scan *scan, double face_z_m);
+/* Hatch the plot's rows outside prov's antenna travel, dash its ends and
+ * (label_scale > 0) say "beyond antenna travel" where there is room. */
+void uwb_mark_antenna_travel(struct uwb_canvas *c, const struct uwb_plot *p,
+                             const struct uwb_provenance *prov, int label_scale);
+/* Its inverse: the range of a face whose echo arrives at t_s; NAN before
+ * the earliest possible echo. */
+double uwb_face_range_at_time(const struct uwb_scan *scan, double t_s);
 
 /* Where uwb_render_migrated_png puts its plot for this image and options (data
  * units: metres). For tests and for anyone annotating the PNG afterwards. */

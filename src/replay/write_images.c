@@ -17,6 +17,11 @@ int uwb_write_images(const char *dir, const char *stem, const struct uwb_provena
     prov.scan_name = stem;
     prov.stack = current->stack;
     prov.eps_r = current->eps_r;
+    if (current->positions > 0 && current->antenna_y_m) {
+        prov.has_travel = 1;
+        prov.travel_lo_m = current->antenna_y_m[0]; /* strictly increasing (uwb/scan.h) */
+        prov.travel_hi_m = current->antenna_y_m[current->positions - 1];
+    }
     struct uwb_render_options opt;
     uwb_render_options_default(&opt);
     opt.provenance = &prov;

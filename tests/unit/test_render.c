@@ -1271,6 +1271,74 @@ static void test_the_plus_minus_says_what_it_is(void)
                           uwb_caption_height(&v, &prov, 960, 2));
 }
 
+/* The migrated image's height axis reaches past the antenna's travel:
+ * rows beyond it are hatched (and say so), rows within are untouched. */
+static void test_migrated_image_marks_what_lies_beyond_the_antenna_travel(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI); /* 0 .. 600 mm */
+    struct uwb_verdict v = make_verdict();
+    struct uwb_provenance prov = {
+        .scan_name = "t", .has_travel = 1, .travel_lo_m = 0.05, .travel_hi_m = 0.50};
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.provenance = &prov;
+    struct png_rgb with = render_migrated("travel.png", &img, &v, &o);
+    prov.has_travel = 0;
+    struct png_rgb without = render_migrated("no-travel.png", &img, &v, &o);
+    struct uwb_plot p;
+    int bx, bw;
+    uwb_render_migrated_layout(&img, &v, &o, &p, &bx, &bw);
+    const struct uwb_rgb hatch = {215, 215, 215};
+    int beyond = 0, within_changed = 0, hatch_without = 0;
+    for (int row = row_of(&p, 0.59); row <= row_of(&p, 0.52); row++)
+        for (int x = p.x; x < p.x + p.w; x++) {
+            beyond += same(at(&with, x, row), hatch);
+            hatch_without += same(at(&without, x, row), hatch);
+        }
+    for (int row = row_of(&p, 0.45); row <= row_of(&p, 0.30); row++)
+        for (int x = p.x; x < p.x + p.w; x++)
+            within_changed += !same(at(&with, x, row), at(&without, x, row));
+    TEST_ASSERT_TRUE_MESSAGE(beyond > (row_of(&p, 0.52) - row_of(&p, 0.59)) * p.w / 10, "hatched beyond");
+    TEST_ASSERT_EQUAL_INT(0, hatch_without);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, within_changed, "nothing drawn within the travel");
+    int below = 0; /* and below the lowest position (0 .. 50 mm) */
+    for (int x = p.x; x < p.x + p.w; x++)
+        below += same(at(&with, x, row_of(&p, 0.02)), hatch);
+    TEST_ASSERT_TRUE(below > p.w / 10);
+    free(with.px);
+    free(without.px);
+    uwb_image_free(&img);
+}
+
+/* The B-scan has a range axis along the top: a face at range z echoes at
+ * uwb_face_echo_time(z), and its tick sits in that time's column. */
+static void test_bscan_has_a_range_axis(void)
+{
+    struct uwb_scan scan;
+    fixture_load_scan("tests/fixtures/fdtd2d-paper-intact.uwbscan", &scan);
+    for (double z = 0.2; z < 1.0; z += 0.1)
+        TEST_ASSERT_DOUBLE_WITHIN(1e-9, z, uwb_face_range_at_time(&scan, uwb_face_echo_time(&scan, z)));
+    TEST_ASSERT_TRUE(isnan(uwb_face_range_at_time(&scan, -1e-9)));
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "bscan-range.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_bscan_png(path, &scan, NULL, err, sizeof err), err);
+    struct png_rgb png = read_png(path);
+    struct uwb_plot p;
+    int bx, bw;
+    uwb_render_bscan_layout(&scan, NULL, NULL, &p, &bx, &bw);
+    const struct uwb_rgb tick = {120, 120, 120}, white = {255, 255, 255};
+    int col = col_of(&p, uwb_face_echo_time(&scan, 0.400));
+    TEST_ASSERT_TRUE_MESSAGE(same(at(&png, col, p.y - 4), tick), "a tick at 400 mm of range above the plot");
+    TEST_ASSERT_TRUE(same(at(&png, col + 3, p.y - 4), white));
+    int lettering = 0; /* its label above it */
+    for (int y = p.y - 30; y < p.y - 8; y++)
+        for (int x = col - 20; x <= col + 20; x++)
+            lettering += !same(at(&png, x, y), white);
+    TEST_ASSERT_TRUE(lettering > 20);
+    free(png.px);
+    uwb_scan_free(&scan);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -1303,5 +1371,7 @@ int main(void)
     RUN_TEST(test_comparison_difference_panel_shows_the_move);
     RUN_TEST(test_images_show_the_watch_and_alarm_zones);
     RUN_TEST(test_the_plus_minus_says_what_it_is);
+    RUN_TEST(test_migrated_image_marks_what_lies_beyond_the_antenna_travel);
+    RUN_TEST(test_bscan_has_a_range_axis);
     return UNITY_END();
 }
