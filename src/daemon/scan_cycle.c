@@ -64,6 +64,15 @@ static void choose_id(struct cycle *c, const char *wanted)
         gmtime_r(&c->req->now, &tm);
         strftime(base, sizeof base, "uwbd-%Y%m%dT%H%M%SZ", &tm);
     }
+    /* The asset in the id, so every archive file, verdict and log line of
+     * the scan names it ("T3-north-uwbd-20300102T000000Z"). */
+    const char *asset = c->cfg->site.asset_id;
+    size_t asset_len = strlen(asset);
+    if (asset_len && !(strncmp(base, asset, asset_len) == 0 && base[asset_len] == '-')) {
+        char with_asset[2 * (UWBD_SCAN_ID_MAX + 1)];
+        snprintf(with_asset, sizeof with_asset, "%s-%s", asset, base);
+        uwbd_safe_scan_id(with_asset, base, sizeof base);
+    }
     snprintf(c->id, sizeof c->id, "%s", base);
     for (int n = 2;
          c->have_day_dir && n < 10000 &&
@@ -465,7 +474,7 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     }
     /* The images after the baseline was set, so a commissioning scan's
      * say it became the baseline (not "none given"). */
-    char asset[128];
+    char asset[256];
     uwbd_trend_site_text(c->cfg, asset, sizeof asset);
     struct uwb_provenance site = {.asset = asset,
                                   .thresholds = &c->cfg->evaluate.compare.thresholds,

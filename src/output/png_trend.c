@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "uwb/version.h"
+
 #define FONT_SCALE 2
 #define MARGIN_LEFT 110
 #define MARGIN_RIGHT 30
@@ -383,19 +385,15 @@ int uwb_render_trend_png(const char *path, const struct uwb_trend *t, const stru
     if (uwb_canvas_init(&c, UWB_TREND_PNG_WIDTH, UWB_TREND_PNG_HEIGHT, white, err, errlen) != 0)
         return -1;
     draw(&c, t, th, site);
-    char summary[1024], asset[256];
+    char summary[1024];
     uwb_trend_summary(t, th, summary, sizeof summary);
-    /* A site label may be UTF-8; tEXt is Latin-1: other bytes become '?'. */
-    snprintf(asset, sizeof asset, "%s", site ? site : "");
-    for (char *c = asset; *c; c++)
-        if ((unsigned char)*c < 0x20 || (unsigned char)*c > 0x7e)
-            *c = '?';
-    /* tEXt is Latin-1: ASCII only here ("+/-", "sigma"). */
+    /* The description is ASCII ("+/-", "sigma"); a site label may be UTF-8,
+     * which uwb_canvas_write_png stores as iTXt (tEXt is Latin-1). */
     struct uwb_png_text texts[] = {
         {"Title", "uwbd trend: axial displacement"},
         {"Description", summary},
-        {"Asset", asset[0] ? asset : NULL},
-        {"Software", "uwbd"},
+        {"Asset", site && site[0] ? site : NULL},
+        {"Software", "uwbd " UWBD_VERSION},
     };
     int rc = uwb_canvas_write_png(&c, path, texts, 4, err, errlen);
     uwb_canvas_free(&c);

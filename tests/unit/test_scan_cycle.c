@@ -493,12 +493,38 @@ static void test_a_commissioning_scan_s_images_say_it_became_the_baseline(void)
     }
 }
 
+/* With site.asset_id set, the scan's id starts with it, so the archive's
+ * file names, the verdict's scan_id and every log line about the scan
+ * (they name it by its id) say which asset it is; the images' Asset text
+ * names it too. */
+static void test_the_asset_id_names_the_scan_and_its_archive_files(void)
+{
+    snprintf(cfg.site.asset_id, sizeof cfg.site.asset_id, "T3-north");
+    run_cycle(0);
+    cfg.site.asset_id[0] = '\0';
+    TEST_ASSERT_EQUAL_STRING("T3-north-sim-1", res.scan_id);
+    static const char *const files[] = {DAY_DIR "/T3-north-sim-1.uwbscan", DAY_DIR "/T3-north-sim-1.json",
+                                        DAY_DIR "/T3-north-sim-1-migrated.png",
+                                        DAY_DIR "/T3-north-sim-1-comparison.png"};
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++)
+        TEST_ASSERT_TRUE_MESSAGE(in_state(files[i]), files[i]);
+    TEST_ASSERT_FALSE(in_state(DAY_DIR "/sim-1.uwbscan"));
+    cJSON *v = verdict();
+    TEST_ASSERT_EQUAL_STRING("T3-north-sim-1", cJSON_GetObjectItemCaseSensitive(v, "scan_id")->valuestring);
+    cJSON_Delete(v);
+    char d[4096];
+    png_description(DAY_DIR "/T3-north-sim-1-migrated.png", d, sizeof d);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "scan T3-north-sim-1 "), d);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "asset T3-north"), d);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_a_scan_without_baseline_is_archived_with_edges_only);
     RUN_TEST(test_the_baseline_changes_only_when_asked_and_keeps_the_old_one);
     RUN_TEST(test_a_commissioning_scan_s_images_say_it_became_the_baseline);
+    RUN_TEST(test_the_asset_id_names_the_scan_and_its_archive_files);
     RUN_TEST(test_moved_direct_coupling_is_inconclusive_not_compared);
     RUN_TEST(test_a_lost_scan_is_an_error_verdict_and_the_baseline_stays);
     RUN_TEST(test_a_scan_without_winding_or_coupling_does_not_become_the_baseline);
