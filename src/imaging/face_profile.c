@@ -33,6 +33,18 @@ int uwb_face_profile_measure(const struct uwb_image *img, double z_face_m, doubl
             if (v > best)
                 best = v;
         }
+        /* Samples near the float range (the format allows any finite value)
+         * overflow the image; a face made of infinities has no edges. */
+        if (!isfinite(best)) {
+            snprintf(err, errlen,
+                     "the image of the face overflows single precision at y = %.3f m: the scan's "
+                     "samples are too large to image",
+                     img->y0_m + iy * img->dy_m);
+            free(p->value);
+            p->value = NULL;
+            p->n = 0;
+            return -1;
+        }
         p->value[iy] = best;
     }
     return 0;
