@@ -26,33 +26,6 @@ static int line_step(int scale)
     return UWB_FONT_LINE_HEIGHT * scale + 3;
 }
 
-struct uwb_rgb uwb_status_colour(enum uwb_status status)
-{
-    switch (status) {
-    case UWB_STATUS_OK: {
-        struct uwb_rgb c = {30, 125, 60};
-        return c;
-    }
-    case UWB_STATUS_WATCH: {
-        struct uwb_rgb c = {205, 125, 0};
-        return c;
-    }
-    case UWB_STATUS_ALARM: {
-        struct uwb_rgb c = {195, 30, 30};
-        return c;
-    }
-    case UWB_STATUS_EDGES: {
-        struct uwb_rgb c = {60, 85, 130};
-        return c;
-    }
-    case UWB_STATUS_INCONCLUSIVE:
-    default: {
-        struct uwb_rgb c = {105, 105, 105};
-        return c;
-    }
-    }
-}
-
 static const char *or_unknown(const char *s)
 {
     return s && *s ? s : "(unknown)";
@@ -285,9 +258,9 @@ static void threshold_line(struct pen *p, const struct uwb_verdict *v, const str
     int right = p->width - 12, h = UWB_FONT_CAP_HEIGHT * p->scale;
     p->has_meter = right - x >= 60;
     if (p->has_meter) {
-        uwb_meter_layout(v, th, x, p->y, right - x, h, &p->meter);
+        uwb_meter_layout(v, uwb_displacement_measured(v), th, x, p->y, right - x, h, &p->meter);
         if (p->c)
-            uwb_draw_meter(p->c, &p->meter, v, th);
+            uwb_draw_meter(p->c, &p->meter, v, uwb_displacement_measured(v), th);
     }
     p->y += line_step(p->scale);
     if (uwb_displacement_measured(v)) {

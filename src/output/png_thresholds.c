@@ -59,15 +59,15 @@ void uwb_tint_threshold_zones(struct uwb_canvas *c, const struct uwb_plot *p, do
  * displacement, coloured by zone, with this scan's displacement and its
  * 95 % interval marked. On the images' own height scale the zones are a
  * few pixels (5 mm of 800); the meter gives them room. */
-void uwb_meter_layout(const struct uwb_verdict *v, const struct uwb_thresholds *th, int x, int y, int w,
-                      int h, struct uwb_meter *m)
+void uwb_meter_layout(const struct uwb_verdict *v, int measured, const struct uwb_thresholds *th, int x,
+                      int y, int w, int h, struct uwb_meter *m)
 {
     m->x = x;
     m->y = y;
     m->w = w;
     m->h = h;
     double half = 1.6 * th->alarm_m;
-    if (uwb_displacement_measured(v))
+    if (measured)
         half = fmax(half, 1.1 * (fabs(v->axial_displacement_m) + UWB_SIGMAS_95 * v->uncertainty_m));
     m->half_range_m = half;
 }
@@ -79,7 +79,7 @@ int uwb_meter_col(const struct uwb_meter *m, double displacement_m)
 }
 
 void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
-                    const struct uwb_thresholds *th)
+                    int measured, const struct uwb_thresholds *th)
 {
     for (int col = 0; col < m->w; col++) {
         double d = -m->half_range_m + 2.0 * m->half_range_m * col / (m->w > 1 ? m->w - 1 : 1);
@@ -87,7 +87,7 @@ void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struc
     }
     static const struct uwb_rgb ink = {25, 25, 25};
     uwb_canvas_fill_rect(c, uwb_meter_col(m, 0.0), m->y, 1, m->h, UWB_RGB_HALO); /* zero */
-    if (!uwb_displacement_measured(v))
+    if (!measured)
         return;
     /* The 95 % interval as a bar with caps across the middle, the figure
      * as a tall mark, both on a white halo so they read on any zone. */

@@ -218,16 +218,16 @@ void uwb_tint_threshold_zones(struct uwb_canvas *c, const struct uwb_plot *p, do
  * the alarm threshold, or more to hold this displacement and its 95 %
  * interval), each column in its zone's colour, zero marked; a measured
  * displacement drawn as a mark with its 95 % interval (UWB_SIGMAS_95
- * sigma) as a capped bar. */
+ * sigma) as a capped bar (measured: uwb_displacement_measured(v)). */
 struct uwb_meter {
     int x, y, w, h;
     double half_range_m;
 };
-void uwb_meter_layout(const struct uwb_verdict *v, const struct uwb_thresholds *th, int x, int y, int w,
-                      int h, struct uwb_meter *m);
+void uwb_meter_layout(const struct uwb_verdict *v, int measured, const struct uwb_thresholds *th, int x,
+                      int y, int w, int h, struct uwb_meter *m);
 int uwb_meter_col(const struct uwb_meter *m, double displacement_m);
 void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
-                    const struct uwb_thresholds *th);
+                    int measured, const struct uwb_thresholds *th);
 /* 1 and the meter's place if this caption has one (thresholds given). */
 int uwb_caption_meter(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,
                       int font_scale, struct uwb_meter *m);
