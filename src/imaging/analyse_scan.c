@@ -89,6 +89,13 @@
  * verdict's JSON. */
 #define NOISELESS_SNR_DB 200.0
 
+/* The largest |sample| the analysis images. It works in single precision,
+ * and its intensity is a square of sums over up to 4096 positions:
+ * (1e12 x 4096)^2 stays far below FLT_MAX (3.4e38). The format allows any
+ * finite sample; a digitiser frame carries at most 32767 counts x 1e6 V per
+ * count (3.3e10). */
+#define MAX_SAMPLE_MAGNITUDE 1e12
+
 void uwb_analysis_defaults(struct uwb_analysis_options *opt)
 {
     memset(opt, 0, sizeof *opt);
@@ -310,6 +317,16 @@ struct analysis_run {
 static enum step read_scan_basics(struct analysis_run *r)
 {
     struct uwb_analysis *out = r->out;
+    size_t count = (size_t)r->scan->positions * (size_t)r->scan->samples;
+    for (size_t i = 0; i < count; i++)
+        if (fabsf(r->scan->data[i]) > MAX_SAMPLE_MAGNITUDE) {
+            snprintf(r->err, r->errlen,
+                     "sample %zu of position %zu is %g: beyond the %g the analysis can image in single "
+                     "precision",
+                     i % (size_t)r->scan->samples, i / (size_t)r->scan->samples, (double)r->scan->data[i],
+                     MAX_SAMPLE_MAGNITUDE);
+            return STEP_FAILED;
+        }
     uwb_geometry_from_scan(&r->g, r->scan, r->opt->time_zero_offset_s);
     aperture(r->scan, &out->aperture_lo_m, &out->aperture_hi_m);
     if (uwb_dominant_frequency(r->scan, &out->dominant_hz, r->err, r->errlen) != 0)

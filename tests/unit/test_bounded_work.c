@@ -63,11 +63,37 @@ static void test_a_nanometre_step_is_refused(void)
     expect_refused("1 nm step");
 }
 
+/* The format allows any finite sample; the analysis squares sums of them in
+ * single precision. A sample that would overflow is refused by name; one
+ * a digitiser frame can carry (32767 counts x 1e6 V per count) is not. */
+static void test_a_sample_too_large_to_image_is_refused_by_name(void)
+{
+    struct uwb_analysis_options opt;
+    uwb_analysis_defaults(&opt);
+    struct uwb_analysis a;
+    scan.data[(size_t)3 * scan.samples + 7] = -2e12f;
+    int rc = uwb_analyse_scan(&scan, &opt, &a, err, sizeof err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(-1, rc, "a sample of -2e12 was imaged");
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "sample 7 of position 3 is -2e+12"), err);
+
+    float peak = 0.0f;
+    for (size_t i = 0; i < (size_t)scan.positions * scan.samples; i++)
+        peak = fmaxf(peak, fabsf(scan.data[i] = i == (size_t)3 * scan.samples + 7 ? 0.0f : scan.data[i]));
+    for (size_t i = 0; i < (size_t)scan.positions * scan.samples; i++)
+        scan.data[i] *= 3.3e10f / peak;
+    rc = uwb_analyse_scan(&scan, &opt, &a, err, sizeof err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, rc, err);
+    TEST_ASSERT_TRUE_MESSAGE(a.edges.found, a.edges.reason);
+    TEST_ASSERT_TRUE(isfinite(a.edges.center_m) && isfinite(a.edges.sigma_center_m));
+    uwb_analysis_free(&a);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_positions_spread_over_1e302_m_are_refused);
     RUN_TEST(test_positions_spread_over_600_km_are_refused_before_allocating);
     RUN_TEST(test_a_nanometre_step_is_refused);
+    RUN_TEST(test_a_sample_too_large_to_image_is_refused_by_name);
     return UNITY_END();
 }
