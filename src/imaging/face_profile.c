@@ -101,7 +101,10 @@ static double profile_at(const struct uwb_face_profile *p, double y)
 static double asymmetry(const struct uwb_face_profile *p, double c, double half_span)
 {
     double sum = 0.0;
-    for (double u = 0.5 * p->dy_m; u <= half_span; u += p->dy_m) {
+    /* Offsets u = (k + 1/2) dy up to half_span, counted, not accumulated. */
+    int terms = (int)floor(half_span / p->dy_m + 0.5);
+    for (int k = 0; k < terms; k++) {
+        double u = (k + 0.5) * p->dy_m;
         double d = profile_at(p, c + u) - profile_at(p, c - u);
         sum += d * d;
     }
