@@ -26,7 +26,7 @@ static int replace_block(const char *path, const char *table, char *err, size_t 
     }
     begin += strlen(BEGIN_MARK);
     size_t head = (size_t)(begin - text), tail = len - (size_t)(end - text), body = strlen(table);
-    char *out = malloc(head + body + tail);
+    char *out = malloc(head + body + tail + 1); /* NUL-terminated, though written by length */
     if (!out) {
         snprintf(err, errlen, "out of memory");
         free(text);
@@ -35,6 +35,7 @@ static int replace_block(const char *path, const char *table, char *err, size_t 
     memcpy(out, text, head);
     memcpy(out + head, table, body);
     memcpy(out + head + body, end, tail);
+    out[head + body + tail] = '\0';
     int rc = uwb_atomic_write_file(path, out, head + body + tail, err, errlen);
     free(out);
     free(text);
@@ -48,18 +49,21 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--fixtures") && i + 1 < argc)
             dir = argv[++i];
-        else if (!strcmp(argv[i], "--pairs") && i + 1 < argc)
-            pairs = atoi(argv[++i]);
-        else if (!strcmp(argv[i], "--readme") && i + 1 < argc)
+        else if (!strcmp(argv[i], "--pairs") && i + 1 < argc) {
+            char *end;
+            long n = strtol(argv[++i], &end, 10);
+            if (end == argv[i] || *end || n < 2 || n > 100000) {
+                fprintf(stderr, "uwbaccuracy: --pairs: '%s' is not a whole number from 2 to 100000\n",
+                        argv[i]);
+                return 64;
+            }
+            pairs = (int)n;
+        } else if (!strcmp(argv[i], "--readme") && i + 1 < argc)
             readme = argv[++i];
         else {
             fprintf(stderr, "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE]\n");
             return 64;
         }
-    }
-    if (pairs < 2) {
-        fprintf(stderr, "uwbaccuracy: --pairs must be at least 2\n");
-        return 64;
     }
     char err[512], *table = NULL;
     size_t table_len = 0;
