@@ -403,14 +403,12 @@ format-check: dev-deps
 # change (not its headers: `rm -rf build-lint` after a header-only change).
 LINT_BUILD    := build-lint
 LINT_SRC      := $(sort $(shell find src tools -name '*.c' 2>/dev/null))
-# Files whose findings wait for another branch's rework: tools/lint/tidy-baseline.
-LINT_BASELINE := $(shell sed -e 's/\#.*//' tools/lint/tidy-baseline 2>/dev/null)
-TIDY_STAMPS   := $(patsubst %.c,$(LINT_BUILD)/tidy/%.ok,$(filter-out $(LINT_BASELINE),$(LINT_SRC)))
+TIDY_STAMPS   := $(patsubst %.c,$(LINT_BUILD)/tidy/%.ok,$(LINT_SRC))
 lint: dev-deps
 	+@$(SUBMAKE) compile_commands.json
 	+@nice $(SUBMAKE) lint-tidy
 	+@nice $(SUBMAKE) lint-cppcheck
-	@echo "lint: clang-tidy and cppcheck clean on $(words $(TIDY_STAMPS)) files$(if $(LINT_BASELINE), ($(words $(LINT_BASELINE)) in tools/lint/tidy-baseline left out))"
+	@echo "lint: clang-tidy and cppcheck clean on $(words $(TIDY_STAMPS)) files"
 
 lint-tidy: $(TIDY_STAMPS)
 
@@ -424,7 +422,7 @@ $(LINT_BUILD)/tidy/%.ok: %.c .clang-tidy compile_commands.json
 # clang-tidy's job); inline suppressions "// cppcheck-suppress id  why".
 lint-cppcheck:
 	cppcheck --quiet --error-exitcode=1 --enable=warning,portability,performance --inline-suppr \
-	    --std=c11 --suppress=missingIncludeSystem $(if $(LINT_BASELINE),$(LINT_BASELINE:%=--suppress=*:%)) \
+	    --std=c11 --suppress=missingIncludeSystem \
 	    -j2 -D__GNUC__ -Iinclude -Isrc -Itools --library=tools/lint/cjson.cfg src tools
 
 # Coverage: the whole make test with gcov in its own build directory, then
