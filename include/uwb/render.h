@@ -24,6 +24,15 @@ struct uwb_provenance {
     const char *asset;     /* the asset as the site names it (site.phase, site.label) */
     int stack;             /* pulses averaged per antenna position */
     double eps_r;          /* relative permittivity the image was focused with */
+    /* What the verdict was judged by: the watch and alarm thresholds, drawn
+     * as zones around the baseline centre and named in the caption (NULL:
+     * not drawn). */
+    const struct uwb_thresholds *thresholds;
+    int became_baseline; /* this scan was made the baseline (a commissioning scan): the captions say so */
+    /* The antenna's travel (lowest and highest position), hatched beyond on
+     * the images whose height axis reaches past it (has_travel 0: not drawn). */
+    int has_travel;
+    double travel_lo_m, travel_hi_m;
 };
 
 /* ------------------------------------------------------------------ */

@@ -38,6 +38,10 @@ struct uwb_thresholds {
     double alarm_m; /* from which it is alarm (default 5 mm) */
 };
 
+/* Sigmas either side of a figure for its 95 % interval: the images, `ctl
+ * --text` and the trend say "1 sigma" and "95 %" with these figures. */
+#define UWB_SIGMAS_95 2.0
+
 #define UWB_MAX_IMAGES 4
 
 struct uwb_verdict {
@@ -51,6 +55,7 @@ struct uwb_verdict {
     char baseline_scan_id[128];
     double axial_displacement_m; /* Yc - Yc(baseline), positive = up */
     double uncertainty_m;        /* 1-sigma of the displacement */
+    /* (the 95 % interval is UWB_SIGMAS_95 of these either side) */
     double height_change_m;
     /* Time zero: the direct coupling's arrival in this scan and, against a
      * baseline, how far it moved since the baseline's. */

@@ -17,6 +17,7 @@
 #include "daemon/baseline_store.h"
 #include "daemon/daemon.h"
 #include "uwb/evaluate.h"
+#include "uwb/render.h"
 #include "uwb/scan.h"
 #include "uwb/verdict_json.h"
 
@@ -354,7 +355,8 @@ int uwbd_replay_main(int argc, char **argv)
     } else {
         char stem[128];
         image_stem(&current, replay, stem, sizeof stem);
-        if (out_dir && uwb_write_images(out_dir, stem, NULL, &current, &cur_a, &base_a, &verdict, err,
+        struct uwb_provenance site = {.thresholds = &opt.compare.thresholds};
+        if (out_dir && uwb_write_images(out_dir, stem, &site, &current, &cur_a, &base_a, &verdict, err,
                                         sizeof err) != 0) {
             fprintf(stderr, "uwbd: %s\n", err);
             rc = EX_CANTCREAT;

@@ -8,6 +8,7 @@
 #include <cjson/cJSON.h>
 
 #include "uwb/cli.h"
+#include "uwb/verdict.h"
 
 static const cJSON *item(const cJSON *o, const char *key)
 {
@@ -42,7 +43,9 @@ int uwbd_verdict_text(const char *reply, FILE *out)
     fputs("status ", out);
     print_upper(out, status->valuestring);
     if (number(v, "axial_displacement_mm", &d) && number(v, "uncertainty_mm", &u)) {
-        fprintf(out, ": displacement %+.2f \u00b1 %.2f mm", d, u);
+        /* uncertainty_mm is one sigma; the 95 % interval is what is acted on. */
+        fprintf(out, ": displacement %+.2f \u00b1 %.2f mm 1\u03c3, 95 %%: %+.2f..%+.2f mm", d, u,
+                d - UWB_SIGMAS_95 * u, d + UWB_SIGMAS_95 * u);
         if (number(v, "lower_edge_mm", &lo) && number(v, "upper_edge_mm", &hi) &&
             number(baseline, "lower_edge_mm", &base_lo) && number(baseline, "upper_edge_mm", &base_hi))
             fprintf(out, " (edges %.1f..%.1f mm, baseline %.1f..%.1f mm)", lo, hi, base_lo, base_hi);

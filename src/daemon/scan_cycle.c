@@ -20,6 +20,7 @@
 #include "daemon/verdict_log.h"
 #include "uwb/evaluate.h"
 #include "uwb/monotonic.h"
+#include "uwb/render.h"
 #include "uwb/verdict_json.h"
 
 struct cycle {
@@ -62,6 +63,15 @@ static void choose_id(struct cycle *c, const char *wanted)
         struct tm tm;
         gmtime_r(&c->req->now, &tm);
         strftime(base, sizeof base, "uwbd-%Y%m%dT%H%M%SZ", &tm);
+    }
+    /* The asset in the id, so every archive file, verdict and log line of
+     * the scan names it ("T3-north-uwbd-20300102T000000Z"). */
+    const char *asset = c->cfg->site.asset_id;
+    size_t asset_len = strlen(asset);
+    if (asset_len && !(strncmp(base, asset, asset_len) == 0 && base[asset_len] == '-')) {
+        char with_asset[2 * (UWBD_SCAN_ID_MAX + 1)];
+        snprintf(with_asset, sizeof with_asset, "%s-%s", asset, base);
+        uwbd_safe_scan_id(with_asset, base, sizeof base);
     }
     snprintf(c->id, sizeof c->id, "%s", base);
     for (int n = 2;
@@ -447,12 +457,6 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
         record_error(c, "evaluation failed: %s", err);
         return;
     }
-    char asset[128];
-    uwbd_trend_site_text(c->cfg, asset, sizeof asset);
-    if (uwb_write_images(c->day_dir, c->id, asset, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
-        archive_problem(c, "images", err);
-    uwb_analysis_free(&cur_a);
-    uwb_analysis_free(&base_a);
     uwb_scan_free(&base);
 
     if (c->req->make_baseline)
@@ -468,6 +472,17 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
             c->fault = "baseline";
         }
     }
+    /* The images after the baseline was set, so a commissioning scan's
+     * say it became the baseline (not "none given"). */
+    char asset[256];
+    uwbd_trend_site_text(c->cfg, asset, sizeof asset);
+    struct uwb_provenance site = {.asset = asset,
+                                  .thresholds = &c->cfg->evaluate.compare.thresholds,
+                                  .became_baseline = c->res->baseline_set};
+    if (uwb_write_images(c->day_dir, c->id, &site, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
+        archive_problem(c, "images", err);
+    uwb_analysis_free(&cur_a);
+    uwb_analysis_free(&base_a);
     cJSON *o = uwb_verdict_object(&v);
     if (o)
         add_cycle_fields(c, o, scan_path, scan->stack);

@@ -26,8 +26,9 @@ int uwbd_trend_read(const struct uwbd_store *store, int n, struct uwb_trend *t, 
 
 void uwbd_trend_site_text(const struct uwbd_config *cfg, char *buf, size_t n)
 {
-    const char *phase = cfg->site_phase, *label = cfg->site_label;
-    snprintf(buf, n, "%s%s%s%s", phase[0] ? "phase " : "", phase, phase[0] && label[0] ? ", " : "", label);
+    const char *asset = cfg->site.asset_id, *phase = cfg->site_phase, *label = cfg->site_label;
+    snprintf(buf, n, "%s%s%s%s%s%s", asset, asset[0] && (phase[0] || label[0]) ? ", " : "",
+             phase[0] ? "phase " : "", phase, phase[0] && label[0] ? ", " : "", label);
 }
 
 int uwbd_trend_png_path(const struct uwbd_store *store, char *path, size_t n)

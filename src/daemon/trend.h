@@ -22,8 +22,9 @@ int uwbd_trend_read(const struct uwbd_store *store, int n, struct uwb_trend *t, 
  * site names the asset in the caption (NULL: none). 0, or -1 with err. */
 int uwbd_trend_png_update(const struct uwbd_config *cfg, const struct uwbd_store *store, const char *site,
                           char *err, size_t errlen);
-/* Who the trend belongs to, for its caption: "phase B, Hillside GT2"
- * from site.phase and site.label; "" when neither is set. */
+/* Who the trend (and every image) belongs to, for captions and the Asset
+ * text: "T3-north, phase B, Hillside GT2" from site.asset_id, site.phase
+ * and site.label; "" when none is set. */
 void uwbd_trend_site_text(const struct uwbd_config *cfg, char *buf, size_t n);
 /* Its path: 0, or -1 if it does not fit. */
 int uwbd_trend_png_path(const struct uwbd_store *store, char *path, size_t n);

@@ -132,7 +132,7 @@ static void *worker_main(void *arg)
     uwbd_cycle_run(&d->cfg, &d->store, acquire_from_rig, d, &scan_stop, &d->job.request, &d->job.result);
     if (d->job.result.outcome == UWBD_CYCLE_RECORDED) {
         /* trend.png follows every verdict; here, off the main loop. */
-        char err[512], site[128];
+        char err[512], site[256];
         uwbd_trend_site_text(&d->cfg, site, sizeof site);
         if (uwbd_trend_png_update(&d->cfg, &d->store, site, err, sizeof err) != 0)
             uwbd_log(UWBD_LOG_WARNING, "trend image not updated: %s", err);

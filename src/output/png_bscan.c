@@ -14,6 +14,7 @@
 
 #define SPEED_OF_LIGHT 299792458.0
 #define FACE_REGION_FRACTION 0.12
+#define UWB_RANGE_TICK 6
 
 static const struct uwb_rgb page = {255, 255, 255};
 static const struct uwb_rgb ink = {25, 25, 25};
@@ -70,6 +71,52 @@ double uwb_face_echo_time(const struct uwb_scan *scan, double face_z_m)
     double dz = 2.0 * face_z_m - scan->tx_m[1] - scan->rx_m[1];
     double dy = scan->rx_m[0] - scan->tx_m[0];
     return sqrt(dz * dz + dy * dy) / v;
+}
+
+/* The range of a plane face whose specular echo arrives at time t (the
+ * inverse of uwb_face_echo_time); NAN before the earliest such echo. */
+double uwb_face_range_at_time(const struct uwb_scan *scan, double t_s)
+{
+    double eps = scan->eps_r > 0 ? scan->eps_r : 1.0;
+    double path = t_s * SPEED_OF_LIGHT / sqrt(eps);
+    double dy = scan->rx_m[0] - scan->tx_m[0];
+    if (!(path >= fabs(dy)))
+        return NAN;
+    return 0.5 * (sqrt(path * path - dy * dy) + scan->tx_m[1] + scan->rx_m[1]);
+}
+
+/* A second axis along the top: the range a face would be at for its echo
+ * to arrive at that time (this scan's antenna pair and eps_r), so the
+ * winding's face can be read off the traces in millimetres. */
+static void draw_range_axis(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_scan *scan,
+                            int s)
+{
+    double z_lo = uwb_face_range_at_time(scan, p->x_min), z_hi = uwb_face_range_at_time(scan, p->x_max);
+    if (!isfinite(z_lo))
+        z_lo = uwb_face_range_at_time(scan, fabs(scan->rx_m[0] - scan->tx_m[0]) *
+                                                sqrt(scan->eps_r > 0 ? scan->eps_r : 1.0) / SPEED_OF_LIGHT);
+    if (!isfinite(z_lo) || !isfinite(z_hi) || !(z_hi > z_lo))
+        return;
+    double ticks[64], step;
+    int n = uwb_nice_ticks(z_lo * 1000.0, z_hi * 1000.0, 8, ticks, 64, &step);
+    static const struct uwb_rgb grey = {120, 120, 120};
+    char label[32];
+    int text_h = UWB_FONT_CAP_HEIGHT * s, last_right = -1000;
+    for (int i = 0; i < n; i++) {
+        int col = uwb_plot_col(p, uwb_face_echo_time(scan, ticks[i] / 1000.0));
+        if (col < p->x || col >= p->x + p->w)
+            continue;
+        uwb_canvas_fill_rect(c, col, p->y - 1 - UWB_RANGE_TICK, 1, UWB_RANGE_TICK, grey);
+        uwb_format_tick(label, sizeof label, ticks[i], step);
+        int w = uwb_text_width(label, s);
+        if (col - w / 2 < last_right + 6 * s) /* the ticks bunch up near the direct path */
+            continue;
+        uwb_draw_text(c, col - w / 2, p->y - 1 - UWB_RANGE_TICK - 4 - text_h, label, s, ink);
+        last_right = col - w / 2 + w;
+    }
+    const char *title = "range z of a face echo (mm)";
+    uwb_draw_text(c, p->x + (p->w - uwb_text_width(title, s)) / 2,
+                  p->y - 1 - UWB_RANGE_TICK - 4 - text_h - 6 - text_h, title, s, ink);
 }
 
 /* The trace whose antenna height is nearest y. */
@@ -185,6 +232,12 @@ void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdi
         margin = 0.015;
     plot->y_min = lo - margin;
     plot->y_max = hi + margin;
+    /* Room above the plot for the range axis: ticks, labels, title. */
+    int room = UWB_RANGE_TICK + 4 + 2 * UWB_FONT_CAP_HEIGHT * o.font_scale + 6 + 4;
+    plot->y += room;
+    plot->h -= room;
+    if (plot->h < 16)
+        plot->h = 16;
 }
 
 int uwb_render_bscan_png(const char *path, const struct uwb_scan *scan, const struct uwb_verdict *v,
@@ -251,6 +304,7 @@ int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, cons
                                   .x_title = "time after the pulse leaves Tx (ns)",
                                   .y_title = "antenna height y (mm)"};
     uwb_draw_axes(&c, &plot, &axes);
+    draw_range_axis(&c, &plot, scan, s);
     draw_signed_colorbar(&c, bar_x, plot.y, bar_w, plot.h, o.bscan_floor_db, s);
     uwb_draw_edge_legend(&c, plot.x, uwb_layout_legend_y(&plot, s), v && v->current.found,
                          v && v->has_baseline && v->baseline.found, s);

@@ -26,33 +26,6 @@ static int line_step(int scale)
     return UWB_FONT_LINE_HEIGHT * scale + 3;
 }
 
-struct uwb_rgb uwb_status_colour(enum uwb_status status)
-{
-    switch (status) {
-    case UWB_STATUS_OK: {
-        struct uwb_rgb c = {30, 125, 60};
-        return c;
-    }
-    case UWB_STATUS_WATCH: {
-        struct uwb_rgb c = {205, 125, 0};
-        return c;
-    }
-    case UWB_STATUS_ALARM: {
-        struct uwb_rgb c = {195, 30, 30};
-        return c;
-    }
-    case UWB_STATUS_EDGES: {
-        struct uwb_rgb c = {60, 85, 130};
-        return c;
-    }
-    case UWB_STATUS_INCONCLUSIVE:
-    default: {
-        struct uwb_rgb c = {105, 105, 105};
-        return c;
-    }
-    }
-}
-
 static const char *or_unknown(const char *s)
 {
     return s && *s ? s : "(unknown)";
@@ -103,13 +76,31 @@ int uwb_displacement_measured(const struct uwb_verdict *v)
     return v && displacement_known(v);
 }
 
+/* A commissioning scan: it had no baseline and became the baseline. */
+static int became_baseline(const struct uwb_verdict *v, const struct uwb_provenance *prov)
+{
+    return prov && prov->became_baseline && v && !v->has_baseline;
+}
+
+/* The displacement in words; a commissioning scan says what became of it
+ * rather than that no baseline was given. */
+static void describe_result(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf,
+                            size_t len)
+{
+    if (became_baseline(v, prov) && v->status == UWB_STATUS_EDGES)
+        snprintf(buf, len, "edges only: this scan became the baseline");
+    else
+        uwb_describe_displacement(v, buf, len);
+}
+
 void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t len)
 {
     if (!v) {
         snprintf(buf, len, "no verdict");
     } else if (displacement_known(v)) {
         double d = MM(v->axial_displacement_m);
-        snprintf(buf, len, "displacement %+.2f \u00b1 %.2f mm (%s)   height change %+.2f mm", d,
+        /* The ± is one sigma; the 95 % interval has its own line beside the meter. */
+        snprintf(buf, len, "displacement %+.2f \u00b1 %.2f mm (1\u03c3) %s  height change %+.2f mm", d,
                  MM(v->uncertainty_m),
                  d > 0   ? "up"
                  : d < 0 ? "down"
@@ -133,8 +124,8 @@ void uwb_describe_edges(const struct uwb_edges *e, char *buf, size_t len)
     }
     /* The centre is what the displacement is made of, so it alone gets its
      * uncertainty here; the JSON has the others. */
-    snprintf(buf, len, "lower %.1f  upper %.1f  centre %.1f \u00b1 %.1f mm  face z %.1f mm", MM(e->lower_m),
-             MM(e->upper_m), MM(e->center_m), MM(e->sigma_center_m), MM(e->face_z_m));
+    snprintf(buf, len, "lower %.1f  upper %.1f  centre %.1f \u00b1 %.1f mm (1\u03c3)  face z %.1f mm",
+             MM(e->lower_m), MM(e->upper_m), MM(e->center_m), MM(e->sigma_center_m), MM(e->face_z_m));
 }
 
 void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf,
@@ -147,14 +138,24 @@ void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenanc
         return;
     }
     char disp[320], now[320], base[320];
-    uwb_describe_displacement(v, disp, sizeof disp);
+    describe_result(v, prov, disp, sizeof disp);
     uwb_describe_edges(&v->current, now, sizeof now);
     if (v->has_baseline)
         uwb_describe_edges(&v->baseline, base, sizeof base);
-    snprintf(buf, len, "scan %s created %s; status %s; %s; edges %s%s%s%s%s; %s", scan_name(v, prov),
+    char limits[160] = "";
+    if (uwb_displacement_measured(v)) {
+        double d = v->axial_displacement_m * 1e3, s95 = UWB_SIGMAS_95 * v->uncertainty_m * 1e3;
+        size_t n = strlen(disp);
+        snprintf(disp + n, sizeof disp - n, "; 95 %% interval %+.2f..%+.2f mm", d - s95, d + s95);
+    }
+    if (prov && uwb_thresholds_usable(prov->thresholds))
+        snprintf(limits, sizeof limits, "; thresholds watch %.2f mm, alarm %.2f mm",
+                 prov->thresholds->watch_m * 1e3, prov->thresholds->alarm_m * 1e3);
+    snprintf(buf, len, "scan %s created %s; status %s; %s; edges %s%s%s%s%s%s%s; %s", scan_name(v, prov),
              or_unknown(v->created), uwb_status_name(v->status), disp, now,
              v->has_baseline ? "; baseline " : "", v->has_baseline ? or_unknown(v->baseline_scan_id) : "",
-             v->has_baseline ? " edges " : "", v->has_baseline ? base : "", source);
+             v->has_baseline ? " edges " : "", v->has_baseline ? base : "",
+             prov && prov->became_baseline ? "; this scan became the baseline" : "", limits, source);
 }
 
 /* Bytes of the first n of `text` that fit in max_w pixels, cut at a code
@@ -191,6 +192,8 @@ static void fit_text(char *text, int max_w, int scale)
 struct pen {
     struct uwb_canvas *c;
     int width, scale, x, y;
+    int has_meter; /* set by threshold_line */
+    struct uwb_meter meter;
 };
 
 static void pen_text(struct pen *p, int x, int y, const char *text, int scale, struct uwb_rgb colour)
@@ -235,12 +238,47 @@ static void labelled_text(struct pen *p, const char *label, const char *text, st
     }
 }
 
+/* The thresholds as three words in their zones' colours,
+ * "ok < 2.00   watch >= 2.00   alarm >= 5.00 mm", then the displacement
+ * meter in the same colours filling the rest of the line. */
+static void threshold_line(struct pen *p, const struct uwb_verdict *v, const struct uwb_thresholds *th)
+{
+    const char *label = "limits  ";
+    int x = p->x + uwb_text_width(label, p->scale) + UWB_FONT_ADVANCE * p->scale;
+    pen_text(p, p->x, p->y, label, p->scale, muted);
+    char part[3][64];
+    snprintf(part[0], sizeof part[0], "ok < %.2f", th->watch_m * 1e3);
+    snprintf(part[1], sizeof part[1], "watch >= %.2f", th->watch_m * 1e3);
+    snprintf(part[2], sizeof part[2], "alarm >= %.2f mm", th->alarm_m * 1e3);
+    static const enum uwb_status zone[3] = {UWB_STATUS_OK, UWB_STATUS_WATCH, UWB_STATUS_ALARM};
+    for (int i = 0; i < 3; i++) {
+        pen_text(p, x, p->y, part[i], p->scale, uwb_status_colour(zone[i]));
+        x += uwb_text_width(part[i], p->scale) + 3 * UWB_FONT_ADVANCE * p->scale;
+    }
+    int right = p->width - 12, h = UWB_FONT_CAP_HEIGHT * p->scale;
+    p->has_meter = right - x >= 60;
+    if (p->has_meter) {
+        uwb_meter_layout(v, uwb_displacement_measured(v), th, x, p->y, right - x, h, &p->meter);
+        if (p->c)
+            uwb_draw_meter(p->c, &p->meter, v, uwb_displacement_measured(v), th);
+    }
+    p->y += line_step(p->scale);
+    if (uwb_displacement_measured(v)) {
+        double d = v->axial_displacement_m * 1e3, s95 = UWB_SIGMAS_95 * v->uncertainty_m * 1e3;
+        char interval[160];
+        snprintf(interval, sizeof interval,
+                 "%+.2f .. %+.2f mm (\u00b1%.0f\u03c3: the black bar on the meter)", d - s95, d + s95,
+                 UWB_SIGMAS_95);
+        labelled_text(p, "95 %    ", interval, ink, 1);
+    }
+}
+
 #define REASON_LINES 3 /* a reason longer than this is in the JSON verdict */
 
 static int caption(struct uwb_canvas *c, int width, const char *title, const struct uwb_verdict *v,
-                   const struct uwb_provenance *prov, int scale)
+                   const struct uwb_provenance *prov, int scale, struct uwb_meter *meter)
 {
-    struct pen p = {c, width, scale, 12, CAPTION_TOP};
+    struct pen p = {c, width, scale, 12, CAPTION_TOP, 0, {0, 0, 0, 0, 0.0}};
     int title_scale = scale + 1;
     char a[1024];
     snprintf(a, sizeof a, "%s", title ? title : "");
@@ -270,7 +308,7 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
         }
         struct pen after_badge = p;
         after_badge.x = bx + bw + 8 * scale - UWB_FONT_ADVANCE * scale; /* text column after the badge */
-        uwb_describe_displacement(v, a, sizeof a);
+        describe_result(v, prov, a, sizeof a);
         labelled_text(&after_badge, "", a, ink, REASON_LINES);
         p.y = after_badge.y;
 
@@ -278,15 +316,27 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
         labelled_text(&p, "edges   ", a, ink, 2);
         if (v->has_baseline) {
             /* The colour ties these lines to the dashed baseline overlay. */
-            labelled_text(&p, "baseline", or_unknown(v->baseline_scan_id), baseline_ink, 1);
+            char id[300];
+            snprintf(id, sizeof id, "%s%s", or_unknown(v->baseline_scan_id),
+                     prov && prov->became_baseline ? "   (replaced by this scan)" : "");
+            labelled_text(&p, "baseline", id, baseline_ink, 1);
             uwb_describe_edges(&v->baseline, a, sizeof a);
             labelled_text(&p, "        ", a, baseline_ink, 2);
+        } else if (became_baseline(v, prov)) {
+            labelled_text(&p, "baseline", "none before: this scan is now the baseline", baseline_ink, 1);
         } else {
             labelled_text(&p, "baseline", "none given", ink, 1);
         }
+        if (prov && uwb_thresholds_usable(prov->thresholds))
+            threshold_line(&p, v, prov->thresholds);
     }
     uwb_describe_provenance(v, prov, a, sizeof a);
     labelled_text(&p, "source  ", a, muted, 1);
+    if (meter) {
+        *meter = p.meter;
+        if (!p.has_meter)
+            meter->w = 0;
+    }
     int height = p.y + 8;
     if (c)
         uwb_canvas_fill_rect(c, 0, height - 4, width, 1, rule);
@@ -296,13 +346,21 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
 int uwb_caption_height(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,
                        int font_scale)
 {
-    return caption(NULL, width, "", v, prov, font_scale);
+    return caption(NULL, width, "", v, prov, font_scale, NULL);
 }
 
 int uwb_draw_caption(struct uwb_canvas *c, const char *title, const struct uwb_verdict *v,
                      const struct uwb_provenance *prov, int font_scale)
 {
-    return caption(c, c->width, title, v, prov, font_scale);
+    return caption(c, c->width, title, v, prov, font_scale, NULL);
+}
+
+int uwb_caption_meter(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,
+                      int font_scale, struct uwb_meter *m)
+{
+    memset(m, 0, sizeof *m);
+    caption(NULL, width, "", v, prov, font_scale, m);
+    return m->w > 0;
 }
 
 int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const char *title,

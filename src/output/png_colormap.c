@@ -87,3 +87,31 @@ double uwb_rgb_lightness(struct uwb_rgb c)
     double f = y > 216.0 / 24389.0 ? cbrt(y) : (24389.0 / 27.0 * y + 16.0) / 116.0;
     return 116.0 * f - 16.0;
 }
+
+/* A verdict status's colour: the captions' badge, the trend's markers, the threshold zones. */
+struct uwb_rgb uwb_status_colour(enum uwb_status status)
+{
+    switch (status) {
+    case UWB_STATUS_OK: {
+        struct uwb_rgb c = {30, 125, 60};
+        return c;
+    }
+    case UWB_STATUS_WATCH: {
+        struct uwb_rgb c = {205, 125, 0};
+        return c;
+    }
+    case UWB_STATUS_ALARM: {
+        struct uwb_rgb c = {195, 30, 30};
+        return c;
+    }
+    case UWB_STATUS_EDGES: {
+        struct uwb_rgb c = {60, 85, 130};
+        return c;
+    }
+    case UWB_STATUS_INCONCLUSIVE:
+    default: {
+        struct uwb_rgb c = {105, 105, 105};
+        return c;
+    }
+    }
+}

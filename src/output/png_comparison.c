@@ -319,21 +319,26 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
 
     uwb_draw_caption(&c, "uwbd comparison - baseline vs this scan", v, o.provenance, s);
 
+    /* Without a baseline the empty panels say why: none yet, or this scan
+     * is the baseline from now on (commissioning). */
+    const char *no_baseline = o.provenance && o.provenance->became_baseline ? "new baseline" : "no baseline";
     /* Baseline panel. */
     if (baseline) {
         uwb_paint_image_db(&c, &L.base, baseline, uwb_image_peak(baseline), o.floor_db);
+        uwb_mark_antenna_travel(&c, &L.base, o.provenance, 0);
         if (eb)
             uwb_draw_edges(&c, &L.base, eb, UWB_EDGE_BASELINE, L.base.x_min, L.base.x_max, eb->face_z_m, 0,
                            s);
     } else {
         uwb_canvas_fill_rect(&c, L.base.x, L.base.y, L.base.w, L.base.h, no_data);
-        int w = uwb_text_width("no baseline", s);
-        uwb_draw_text(&c, L.base.x + (L.base.w - w) / 2, L.base.y + L.base.h / 2, "no baseline", s, page);
+        int w = uwb_text_width(no_baseline, s);
+        uwb_draw_text(&c, L.base.x + (L.base.w - w) / 2, L.base.y + L.base.h / 2, no_baseline, s, page);
     }
     panel_title(&c, &L.base, "baseline", s, baseline_ink);
 
     /* This scan's panel: its edges solid, the baseline's dashed under them. */
     uwb_paint_image_db(&c, &L.cur, current, uwb_image_peak(current), o.floor_db);
+    uwb_mark_antenna_travel(&c, &L.cur, o.provenance, 0);
     if (eb)
         uwb_draw_edges(&c, &L.cur, eb, UWB_EDGE_BASELINE, L.cur.x_min, L.cur.x_max, eb->face_z_m, 0, s);
     if (ec)
@@ -343,6 +348,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     /* This scan minus the baseline. */
     if (baseline) {
         double largest = uwb_paint_difference(&c, &L.diff, current, baseline);
+        uwb_mark_antenna_travel(&c, &L.diff, o.provenance, 0);
         int ks = s > 1 ? s - 1 : 1;
         char full[48];
         snprintf(full, sizeof full, "full colour: %.0f%% of peak", 100.0 * largest);
@@ -355,8 +361,8 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
         }
     } else {
         uwb_canvas_fill_rect(&c, L.diff.x, L.diff.y, L.diff.w, L.diff.h, no_data);
-        int w = uwb_text_width("no baseline", s);
-        uwb_draw_text(&c, L.diff.x + (L.diff.w - w) / 2, L.diff.y + L.diff.h / 2, "no baseline", s, page);
+        int w = uwb_text_width(no_baseline, s);
+        uwb_draw_text(&c, L.diff.x + (L.diff.w - w) / 2, L.diff.y + L.diff.h / 2, no_baseline, s, page);
     }
     panel_title(&c, &L.diff, "now - base", s, ink);
 

@@ -76,6 +76,7 @@ int uwb_render_migrated_png_opt(const char *path, const struct uwb_image *intens
     uwb_paint_image_db(&c, &plot, intensity, peak, o.floor_db);
     if (!(peak > 0))
         uwb_draw_text(&c, plot.x + 10, plot.y + 10, "image is empty (all zero)", s, UWB_RGB_CURRENT_EDGE);
+    uwb_mark_antenna_travel(&c, &plot, o.provenance, s > 1 ? s - 1 : 1);
 
     double half = FACE_REGION_FRACTION * (plot.x_max - plot.x_min);
     if (v && v->has_baseline && v->baseline.found)

@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "uwb/version.h"
+
 #define FONT_SCALE 2
 #define MARGIN_LEFT 110
 #define MARGIN_RIGHT 30
@@ -15,6 +17,7 @@
 #define MARKER 4 /* half-size of a figure's square, px */
 #define CAP 5    /* half-width of a bar's cap, px */
 #define X_TICKS 6
+#define ZONE_TINT 0.12 /* the zones' colour over the white page */
 
 static const struct uwb_rgb white = {255, 255, 255};
 static const struct uwb_rgb ink = {25, 25, 25};
@@ -318,6 +321,9 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
 
     uwb_canvas_fill_rect(c, p->x, l.strip_y, p->w, l.strip_h, strip_fill);
     uwb_draw_text(c, 8, l.strip_y + (l.strip_h - UWB_FONT_CAP_HEIGHT) / 2, "no figure", 1, muted);
+    /* The watch and alarm zones tinted (the lines bound them), as in the
+     * comparison image: a figure in the red is an alarm. */
+    uwb_tint_threshold_zones(c, p, 0.0, th, 1000.0, ZONE_TINT);
     thresholds(c, p, th);
 
     /* Baseline changes first, so the figures stay on top of them. */
@@ -379,19 +385,15 @@ int uwb_render_trend_png(const char *path, const struct uwb_trend *t, const stru
     if (uwb_canvas_init(&c, UWB_TREND_PNG_WIDTH, UWB_TREND_PNG_HEIGHT, white, err, errlen) != 0)
         return -1;
     draw(&c, t, th, site);
-    char summary[1024], asset[256];
+    char summary[1024];
     uwb_trend_summary(t, th, summary, sizeof summary);
-    /* A site label may be UTF-8; tEXt is Latin-1: other bytes become '?'. */
-    snprintf(asset, sizeof asset, "%s", site ? site : "");
-    for (char *c = asset; *c; c++)
-        if ((unsigned char)*c < 0x20 || (unsigned char)*c > 0x7e)
-            *c = '?';
-    /* tEXt is Latin-1: ASCII only here ("+/-", "sigma"). */
+    /* The description is ASCII ("+/-", "sigma"); a site label may be UTF-8,
+     * which uwb_canvas_write_png stores as iTXt (tEXt is Latin-1). */
     struct uwb_png_text texts[] = {
         {"Title", "uwbd trend: axial displacement"},
         {"Description", summary},
-        {"Asset", asset[0] ? asset : NULL},
-        {"Software", "uwbd"},
+        {"Asset", site && site[0] ? site : NULL},
+        {"Software", "uwbd " UWBD_VERSION},
     };
     int rc = uwb_canvas_write_png(&c, path, texts, 4, err, errlen);
     uwb_canvas_free(&c);

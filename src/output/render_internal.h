@@ -52,7 +52,7 @@ struct uwb_png_text {
 int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path, const struct uwb_png_text *texts,
                          int n_texts, char *err, size_t errlen);
 
-/* Bitmap font: printable ASCII plus a few signs (UTF-8 "±", "°", "Δ").
+/* Bitmap font: printable ASCII plus a few signs (UTF-8 "±", "°", "Δ", "σ").
  * Glyph box is 5x7 above the baseline with 2 rows of descender, on a 6 px
  * advance and an 11 px line, times `scale`. Returns the advance width. */
 #define UWB_FONT_ADVANCE 6
@@ -199,12 +199,52 @@ int uwb_layout_legend_y(const struct uwb_plot *plot, int font_scale);
 /* The intensity colour bar: 0 dB (peak) at the top, floor_db at the bottom. */
 void uwb_draw_db_colorbar(struct uwb_canvas *c, int x, int y, int w, int h, double floor_db, int font_scale);
 
+/* ------------------------------------------------------------------ */
+/* Watch and alarm thresholds (png_thresholds.c)                       */
+/* ------------------------------------------------------------------ */
+
+/* 1 if th is set and sane (0 < watch <= alarm). */
+int uwb_thresholds_usable(const struct uwb_thresholds *th);
+/* ok, watch or alarm for a displacement, by the thresholds alone. */
+enum uwb_status uwb_threshold_zone(double displacement_m, const struct uwb_thresholds *th);
+struct uwb_rgb uwb_rgb_blend(struct uwb_rgb under, struct uwb_rgb over, double alpha);
+/* Tint the plot's rows whose distance from `centre` (plot y units;
+ * data_per_m of them to a metre) is in the watch or the alarm zone with
+ * that status's colour at `alpha`; the ok zone is left alone. */
+void uwb_tint_threshold_zones(struct uwb_canvas *c, const struct uwb_plot *p, double centre,
+                              const struct uwb_thresholds *th, double data_per_m, double alpha);
+/* The displacement meter in the captions' limits line: a bar at (x, y,
+ * w, h) spanning -half_range_m .. +half_range_m of displacement (1.6 x
+ * the alarm threshold, or more to hold this displacement and its 95 %
+ * interval), each column in its zone's colour, zero marked; a measured
+ * displacement drawn as a mark with its 95 % interval (UWB_SIGMAS_95
+ * sigma) as a capped bar (measured: uwb_displacement_measured(v)). */
+struct uwb_meter {
+    int x, y, w, h;
+    double half_range_m;
+};
+void uwb_meter_layout(const struct uwb_verdict *v, int measured, const struct uwb_thresholds *th, int x,
+                      int y, int w, int h, struct uwb_meter *m);
+int uwb_meter_col(const struct uwb_meter *m, double displacement_m);
+void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
+                    int measured, const struct uwb_thresholds *th);
+/* 1 and the meter's place if this caption has one (thresholds given). */
+int uwb_caption_meter(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,
+                      int font_scale, struct uwb_meter *m);
+
 /* B-scan: colour-map position of a signed amplitude on the signed dB
  * scale (0.5 = zero or below floor_db, 1 = +peak, 0 = -peak). */
 double uwb_signed_db_to_t(double value, double peak, double floor_db);
 /* Two-way time of the specular echo of a plane face at range face_z_m
  * for this scan's antenna pair and medium. */
 double uwb_face_echo_time(const struct uwb_scan *scan, double face_z_m);
+/* Hatch the plot's rows outside prov's antenna travel, dash its ends and
+ * (label_scale > 0) say "beyond antenna travel" where there is room. */
+void uwb_mark_antenna_travel(struct uwb_canvas *c, const struct uwb_plot *p,
+                             const struct uwb_provenance *prov, int label_scale);
+/* Its inverse: the range of a face whose echo arrives at t_s; NAN before
+ * the earliest possible echo. */
+double uwb_face_range_at_time(const struct uwb_scan *scan, double t_s);
 
 /* Where uwb_render_migrated_png puts its plot for this image and options (data
  * units: metres). For tests and for anyone annotating the PNG afterwards. */

@@ -16,7 +16,7 @@
 #define UWB_TREND_PNG_WIDTH 1000
 #define UWB_TREND_PNG_HEIGHT 620
 /* The bars' half-length in sigmas of the verdict's uncertainty. */
-#define UWB_TREND_BAR_SIGMAS 2.0
+#define UWB_TREND_BAR_SIGMAS UWB_SIGMAS_95
 
 /* Where uwb_render_trend_png draws: plot.x data is (time - t_ref) / unit_s,
  * plot.y data is displacement in mm; the strip of verdicts without a

@@ -4,15 +4,24 @@
 
 #include "uwb/render.h"
 
-int uwb_write_images(const char *dir, const char *stem, const char *asset, const struct uwb_scan *current,
-                     const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
-                     struct uwb_verdict *v, char *err, size_t errlen)
+int uwb_write_images(const char *dir, const char *stem, const struct uwb_provenance *site,
+                     const struct uwb_scan *current, const struct uwb_analysis *cur_a,
+                     const struct uwb_analysis *base_a, struct uwb_verdict *v, char *err, size_t errlen)
 {
     static const char *const kinds[] = {"migrated", "bscan", "comparison"};
     v->n_images = 0;
     /* The stem names a scan that has no id (a replayed file). */
-    struct uwb_provenance prov = {
-        .scan_name = stem, .asset = asset, .stack = current->stack, .eps_r = current->eps_r};
+    struct uwb_provenance prov = {0};
+    if (site)
+        prov = *site;
+    prov.scan_name = stem;
+    prov.stack = current->stack;
+    prov.eps_r = current->eps_r;
+    if (current->positions > 0 && current->antenna_y_m) {
+        prov.has_travel = 1;
+        prov.travel_lo_m = current->antenna_y_m[0]; /* strictly increasing (uwb/scan.h) */
+        prov.travel_hi_m = current->antenna_y_m[current->positions - 1];
+    }
     struct uwb_render_options opt;
     uwb_render_options_default(&opt);
     opt.provenance = &prov;

@@ -947,8 +947,11 @@ static void test_replayed_images_carry_the_file_stem_and_provenance(void)
                                   err);
     TEST_ASSERT_EQUAL_STRING("", v.scan_id);
     const char *asset = "Umspannwerk S\u00fcd, phase B";
-    TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, uwb_write_images(dir, "site-recording-7", asset, &cur, &cur_a, &base_a, &v, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0,
+                                  uwb_write_images(dir, "site-recording-7",
+                                                   &(struct uwb_provenance){.asset = asset}, &cur, &cur_a,
+                                                   &base_a, &v, err, sizeof err),
+                                  err);
     TEST_ASSERT_EQUAL_INT(3, v.n_images);
     /* The B-scan shows the conditioned traces the migration ran on, not
      * the raw ones (whose direct coupling and clutter were taken out). */
@@ -1185,6 +1188,157 @@ static void test_comparison_difference_panel_shows_the_move(void)
     uwb_analysis_free(&base);
 }
 
+/* The watch and alarm thresholds: a caption line names them in their
+ * zones' colours and a meter on the displacement's own scale (on the
+ * height axis 5 mm is a few pixels) shows the zones with this scan's
+ * displacement and its 95 % interval; the Description says them too. No
+ * thresholds given: no line, no meter. */
+static void test_images_show_the_watch_and_alarm_zones(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
+    struct uwb_analysis base = make_analysis(BASE_LO, BASE_HI, BASE_LO, BASE_HI);
+    struct uwb_verdict v = make_verdict(); /* +20 mm, sigma 0.4 mm */
+    struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
+    struct uwb_provenance prov = {.scan_name = "x", .thresholds = &th};
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.provenance = &prov;
+    struct uwb_meter m;
+    TEST_ASSERT_TRUE(uwb_caption_meter(&v, &prov, o.width, o.font_scale, &m));
+    TEST_ASSERT_TRUE(m.w > 100);
+    TEST_ASSERT_TRUE(m.half_range_m >= v.axial_displacement_m + 2 * v.uncertainty_m);
+    TEST_ASSERT_TRUE(uwb_caption_height(&v, &prov, o.width, 2) > uwb_caption_height(&v, NULL, o.width, 2));
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "cmp-zones.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwb_render_comparison_png_opt(path, &cur, &base, &v, &o, err, sizeof err), err);
+    struct png_rgb images[2] = {render_migrated("mig-zones.png", &img, &v, &o), read_png(path)};
+    const struct uwb_rgb ink = {25, 25, 25};
+    for (int i = 0; i < 2; i++) {
+        const struct png_rgb *png = &images[i];
+        int top = m.y + 1; /* a row of the bar clear of the interval bar in the middle */
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, 0.001), top), uwb_status_colour(UWB_STATUS_OK)));
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, -0.0035), top), uwb_status_colour(UWB_STATUS_WATCH)));
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, 0.0035), top), uwb_status_colour(UWB_STATUS_WATCH)));
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, -0.007), top), uwb_status_colour(UWB_STATUS_ALARM)));
+        /* The displacement's mark, and its 95 % interval's ends (+/-2 sigma). */
+        int mid = m.y + m.h / 2;
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, v.axial_displacement_m), top), ink));
+        TEST_ASSERT_TRUE(
+            same(at(png, uwb_meter_col(&m, v.axial_displacement_m + 2 * v.uncertainty_m), mid - 3), ink));
+        TEST_ASSERT_TRUE(
+            same(at(png, uwb_meter_col(&m, v.axial_displacement_m - 2 * v.uncertainty_m), mid - 3), ink));
+        free(images[i].px);
+    }
+    struct png_texts t;
+    read_texts(path, &t);
+    const char *d = text_of(&t, "Description", NULL);
+    TEST_ASSERT_NOT_NULL(d);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "thresholds watch 2.00 mm, alarm 5.00 mm"), d);
+    /* Without thresholds: no meter. */
+    prov.thresholds = NULL;
+    TEST_ASSERT_FALSE(uwb_caption_meter(&v, &prov, o.width, o.font_scale, &m));
+    uwb_image_free(&img);
+    uwb_analysis_free(&cur);
+    uwb_analysis_free(&base);
+}
+
+/* The ± is named: one sigma, and the 95 % interval (UWB_SIGMAS_95 sigma
+ * either side) is given in figures, in the caption (a line beside the
+ * meter) and in the Description, as `ctl --text` gives them. */
+static void test_the_plus_minus_says_what_it_is(void)
+{
+    struct uwb_verdict v = make_verdict(); /* +20.00 mm, sigma 0.40 mm */
+    char line[512], summary[2048];
+    TEST_ASSERT_TRUE(uwb_font_has_glyph(0x03C3));
+    uwb_describe_displacement(&v, line, sizeof line);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(line, "+20.00 \u00b1 0.40 mm (1\u03c3)"), line);
+    uwb_describe_edges(&v.current, line, sizeof line);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(line, "\u00b1 0.3 mm (1\u03c3)"), line);
+    uwb_verdict_summary(&v, NULL, summary, sizeof summary);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(summary, "95 % interval +19.20..+20.80 mm"), summary);
+    struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
+    struct uwb_provenance prov = {.thresholds = &th};
+    int line_h = UWB_FONT_LINE_HEIGHT * 2 + 3;
+    /* limits + 95 % lines when measured; limits alone when not */
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + 2 * line_h,
+                          uwb_caption_height(&v, &prov, 960, 2));
+    v.status = UWB_STATUS_INCONCLUSIVE;
+    uwb_verdict_summary(&v, NULL, summary, sizeof summary);
+    TEST_ASSERT_NULL_MESSAGE(strstr(summary, "95 %"), summary);
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + line_h,
+                          uwb_caption_height(&v, &prov, 960, 2));
+}
+
+/* The migrated image's height axis reaches past the antenna's travel:
+ * rows beyond it are hatched (and say so), rows within are untouched. */
+static void test_migrated_image_marks_what_lies_beyond_the_antenna_travel(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI); /* 0 .. 600 mm */
+    struct uwb_verdict v = make_verdict();
+    struct uwb_provenance prov = {
+        .scan_name = "t", .has_travel = 1, .travel_lo_m = 0.05, .travel_hi_m = 0.50};
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.provenance = &prov;
+    struct png_rgb with = render_migrated("travel.png", &img, &v, &o);
+    prov.has_travel = 0;
+    struct png_rgb without = render_migrated("no-travel.png", &img, &v, &o);
+    struct uwb_plot p;
+    int bx, bw;
+    uwb_render_migrated_layout(&img, &v, &o, &p, &bx, &bw);
+    const struct uwb_rgb hatch = {215, 215, 215};
+    int beyond = 0, within_changed = 0, hatch_without = 0;
+    for (int row = row_of(&p, 0.59); row <= row_of(&p, 0.52); row++)
+        for (int x = p.x; x < p.x + p.w; x++) {
+            beyond += same(at(&with, x, row), hatch);
+            hatch_without += same(at(&without, x, row), hatch);
+        }
+    for (int row = row_of(&p, 0.45); row <= row_of(&p, 0.30); row++)
+        for (int x = p.x; x < p.x + p.w; x++)
+            within_changed += !same(at(&with, x, row), at(&without, x, row));
+    TEST_ASSERT_TRUE_MESSAGE(beyond > (row_of(&p, 0.52) - row_of(&p, 0.59)) * p.w / 10, "hatched beyond");
+    TEST_ASSERT_EQUAL_INT(0, hatch_without);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, within_changed, "nothing drawn within the travel");
+    int below = 0; /* and below the lowest position (0 .. 50 mm) */
+    for (int x = p.x; x < p.x + p.w; x++)
+        below += same(at(&with, x, row_of(&p, 0.02)), hatch);
+    TEST_ASSERT_TRUE(below > p.w / 10);
+    free(with.px);
+    free(without.px);
+    uwb_image_free(&img);
+}
+
+/* The B-scan has a range axis along the top: a face at range z echoes at
+ * uwb_face_echo_time(z), and its tick sits in that time's column. */
+static void test_bscan_has_a_range_axis(void)
+{
+    struct uwb_scan scan;
+    fixture_load_scan("tests/fixtures/fdtd2d-paper-intact.uwbscan", &scan);
+    for (double z = 0.2; z < 1.0; z += 0.1)
+        TEST_ASSERT_DOUBLE_WITHIN(1e-9, z, uwb_face_range_at_time(&scan, uwb_face_echo_time(&scan, z)));
+    TEST_ASSERT_TRUE(isnan(uwb_face_range_at_time(&scan, -1e-9)));
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "bscan-range.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_bscan_png(path, &scan, NULL, err, sizeof err), err);
+    struct png_rgb png = read_png(path);
+    struct uwb_plot p;
+    int bx, bw;
+    uwb_render_bscan_layout(&scan, NULL, NULL, &p, &bx, &bw);
+    const struct uwb_rgb tick = {120, 120, 120}, white = {255, 255, 255};
+    int col = col_of(&p, uwb_face_echo_time(&scan, 0.400));
+    TEST_ASSERT_TRUE_MESSAGE(same(at(&png, col, p.y - 4), tick), "a tick at 400 mm of range above the plot");
+    TEST_ASSERT_TRUE(same(at(&png, col + 3, p.y - 4), white));
+    int lettering = 0; /* its label above it */
+    for (int y = p.y - 30; y < p.y - 8; y++)
+        for (int x = col - 20; x <= col + 20; x++)
+            lettering += !same(at(&png, x, y), white);
+    TEST_ASSERT_TRUE(lettering > 20);
+    free(png.px);
+    uwb_scan_free(&scan);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -1215,5 +1369,9 @@ int main(void)
     RUN_TEST(test_comparison_without_a_measured_displacement_draws_no_arrow);
     RUN_TEST(test_migrated_image_has_equal_scales);
     RUN_TEST(test_comparison_difference_panel_shows_the_move);
+    RUN_TEST(test_images_show_the_watch_and_alarm_zones);
+    RUN_TEST(test_the_plus_minus_says_what_it_is);
+    RUN_TEST(test_migrated_image_marks_what_lies_beyond_the_antenna_travel);
+    RUN_TEST(test_bscan_has_a_range_axis);
     return UNITY_END();
 }

@@ -5,6 +5,7 @@
 
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -447,11 +448,83 @@ static void test_retention_runs_after_each_cycle(void)
     TEST_ASSERT_EQUAL_INT(2, scratch_count_lines(store.verdict_log));
 }
 
+/* The Description text of an archived PNG ("" when there is none). */
+static void png_description(const char *rel, char *out, size_t n)
+{
+    char p[2048];
+    snprintf(p, sizeof p, "%s/%s", store.root, rel);
+    out[0] = '\0';
+    FILE *fp = fopen(p, "rb");
+    TEST_ASSERT_NOT_NULL_MESSAGE(fp, p);
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    TEST_ASSERT_EQUAL_INT(0, setjmp(png_jmpbuf(png)));
+    png_init_io(png, fp);
+    png_read_info(png, info);
+    png_textp texts;
+    int count = 0;
+    png_get_text(png, info, &texts, &count);
+    for (int i = 0; i < count; i++)
+        if (!strcmp(texts[i].key, "Description"))
+            snprintf(out, n, "%s", texts[i].text);
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+}
+
+/* A commissioning scan's images say it became the baseline, not that none
+ * was given; a scan without a baseline that was not asked to become one
+ * still says "no baseline given". */
+static void test_a_commissioning_scan_s_images_say_it_became_the_baseline(void)
+{
+    char d[4096];
+    run_cycle(0);
+    png_description(DAY_DIR "/sim-1-comparison.png", d, sizeof d);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "no baseline given"), d);
+    TEST_ASSERT_NULL_MESSAGE(strstr(d, "became the baseline"), d);
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(1, res.baseline_set);
+    static const char *const kinds[] = {"migrated", "bscan", "comparison"};
+    for (int i = 0; i < 3; i++) {
+        char rel[256];
+        snprintf(rel, sizeof rel, DAY_DIR "/%s-%s.png", res.scan_id, kinds[i]);
+        png_description(rel, d, sizeof d);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "edges only: this scan became the baseline"), d);
+        TEST_ASSERT_NULL_MESSAGE(strstr(d, "no baseline given"), d);
+    }
+}
+
+/* With site.asset_id set, the scan's id starts with it, so the archive's
+ * file names, the verdict's scan_id and every log line about the scan
+ * (they name it by its id) say which asset it is; the images' Asset text
+ * names it too. */
+static void test_the_asset_id_names_the_scan_and_its_archive_files(void)
+{
+    snprintf(cfg.site.asset_id, sizeof cfg.site.asset_id, "T3-north");
+    run_cycle(0);
+    cfg.site.asset_id[0] = '\0';
+    TEST_ASSERT_EQUAL_STRING("T3-north-sim-1", res.scan_id);
+    static const char *const files[] = {DAY_DIR "/T3-north-sim-1.uwbscan", DAY_DIR "/T3-north-sim-1.json",
+                                        DAY_DIR "/T3-north-sim-1-migrated.png",
+                                        DAY_DIR "/T3-north-sim-1-comparison.png"};
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++)
+        TEST_ASSERT_TRUE_MESSAGE(in_state(files[i]), files[i]);
+    TEST_ASSERT_FALSE(in_state(DAY_DIR "/sim-1.uwbscan"));
+    cJSON *v = verdict();
+    TEST_ASSERT_EQUAL_STRING("T3-north-sim-1", cJSON_GetObjectItemCaseSensitive(v, "scan_id")->valuestring);
+    cJSON_Delete(v);
+    char d[4096];
+    png_description(DAY_DIR "/T3-north-sim-1-migrated.png", d, sizeof d);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "scan T3-north-sim-1 "), d);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "asset T3-north"), d);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_a_scan_without_baseline_is_archived_with_edges_only);
     RUN_TEST(test_the_baseline_changes_only_when_asked_and_keeps_the_old_one);
+    RUN_TEST(test_a_commissioning_scan_s_images_say_it_became_the_baseline);
+    RUN_TEST(test_the_asset_id_names_the_scan_and_its_archive_files);
     RUN_TEST(test_moved_direct_coupling_is_inconclusive_not_compared);
     RUN_TEST(test_a_lost_scan_is_an_error_verdict_and_the_baseline_stays);
     RUN_TEST(test_a_scan_without_winding_or_coupling_does_not_become_the_baseline);

@@ -108,6 +108,14 @@ static void test_trend_caption_names_the_site(void)
     cfg.site_label[0] = '\0';
     uwbd_trend_site_text(&cfg, text, sizeof text);
     TEST_ASSERT_EQUAL_STRING("", text);
+    /* The asset id first, when set. */
+    snprintf(cfg.site.asset_id, sizeof cfg.site.asset_id, "T3-north");
+    uwbd_trend_site_text(&cfg, text, sizeof text);
+    TEST_ASSERT_EQUAL_STRING("T3-north", text);
+    snprintf(cfg.site_phase, sizeof cfg.site_phase, "B");
+    snprintf(cfg.site_label, sizeof cfg.site_label, "Hillside GT2");
+    uwbd_trend_site_text(&cfg, text, sizeof text);
+    TEST_ASSERT_EQUAL_STRING("T3-north, phase B, Hillside GT2", text);
 }
 
 /* The Asset text chunk of a PNG, "" when there is none. */
@@ -131,7 +139,7 @@ static void asset_text(const char *path, char *out, size_t n)
     fclose(fp);
 }
 
-static void test_trend_png_carries_the_site_as_ascii(void)
+static void test_trend_png_carries_the_asset_and_site(void)
 {
     scratch_scratch_dir(dir, sizeof dir, "site");
     struct uwbd_store store;
@@ -143,11 +151,16 @@ static void test_trend_png_carries_the_site_as_ascii(void)
     cfg.evaluate.compare.thresholds.alarm_m = 5e-3;
     char path[1100], asset[256];
     uwbd_trend_png_path(&store, path, sizeof path);
-    /* A UTF-8 label: tEXt is Latin-1, so its other bytes are '?'. */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, uwbd_trend_png_update(&cfg, &store, "phase B, S\u00fcd GT2", err, sizeof err), err);
+    /* The asset id leads, and a UTF-8 label stays UTF-8 (in an iTXt
+     * chunk: tEXt is Latin-1). */
+    snprintf(cfg.site.asset_id, sizeof cfg.site.asset_id, "T3-north");
+    snprintf(cfg.site_phase, sizeof cfg.site_phase, "B");
+    snprintf(cfg.site_label, sizeof cfg.site_label, "S\u00fcd GT2");
+    char site[256];
+    uwbd_trend_site_text(&cfg, site, sizeof site);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_trend_png_update(&cfg, &store, site, err, sizeof err), err);
     asset_text(path, asset, sizeof asset);
-    TEST_ASSERT_EQUAL_STRING("phase B, S??d GT2", asset);
+    TEST_ASSERT_EQUAL_STRING("T3-north, phase B, S\u00fcd GT2", asset);
     TEST_ASSERT_EQUAL_INT(0, uwbd_trend_png_update(&cfg, &store, NULL, err, sizeof err));
     asset_text(path, asset, sizeof asset);
     TEST_ASSERT_EQUAL_STRING("", asset);
@@ -167,6 +180,6 @@ int main(void)
     RUN_TEST(test_bad_values_name_the_key);
     RUN_TEST(test_status_shows_the_site);
     RUN_TEST(test_trend_caption_names_the_site);
-    RUN_TEST(test_trend_png_carries_the_site_as_ascii);
+    RUN_TEST(test_trend_png_carries_the_asset_and_site);
     return UNITY_END();
 }

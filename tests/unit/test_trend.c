@@ -356,10 +356,12 @@ static void test_trend_png_shows_bars_thresholds_and_no_figure_marks(void)
     TEST_ASSERT_TRUE(is(pixel(&png, col, row), ink));
     TEST_ASSERT_FALSE(is(pixel(&png, col + 2, row), ink));
     TEST_ASSERT_FALSE(is(pixel(&png, col - 2, row), ink));
-    /* The cap at +2 sigma (4.0 mm), and nothing of the bar above it. */
+    /* The cap at +2 sigma (4.0 mm), and nothing of the bar above it: the
+     * page there is as it is beside the bar (tinted: the watch zone). */
     int cap = row_of(p, 3.0 + 2.0 * 0.5);
     TEST_ASSERT_TRUE(is(pixel(&png, col + 4, cap), ink));
-    TEST_ASSERT_TRUE(is(pixel(&png, col, cap - 3), white));
+    TEST_ASSERT_TRUE(is(pixel(&png, col, cap - 3), pixel(&png, col + 30, cap - 3)));
+    TEST_ASSERT_FALSE(is(pixel(&png, col, cap - 3), ink));
     /* Its marker is in the watch colour. */
     TEST_ASSERT_TRUE(is(pixel(&png, col, row_of(p, 3.0)), uwb_status_colour(UWB_STATUS_WATCH)));
 
@@ -367,6 +369,17 @@ static void test_trend_png_shows_bars_thresholds_and_no_figure_marks(void)
     int alarm_rows[2] = {row_of(p, 5.0), row_of(p, -5.0)};
     for (int k = 0; k < 2; k++)
         TEST_ASSERT_TRUE(is(pixel(&png, p->x + 5, alarm_rows[k]), uwb_status_colour(UWB_STATUS_ALARM)));
+    /* The zones between the lines are tinted: watch (2..5 mm either way)
+     * and alarm (beyond 5 mm) in their colours over the page, ok not. */
+    int clear = p->x + 3;
+    TEST_ASSERT_TRUE(is(pixel(&png, clear, row_of(p, 1.0)), white));
+    TEST_ASSERT_TRUE(is(pixel(&png, clear, row_of(p, -1.0)), white));
+    for (int sign = -1; sign <= 1; sign += 2) {
+        TEST_ASSERT_TRUE(is(pixel(&png, clear, row_of(p, sign * 3.5)),
+                            uwb_rgb_blend(white, uwb_status_colour(UWB_STATUS_WATCH), 0.12)));
+        TEST_ASSERT_TRUE(is(pixel(&png, clear, row_of(p, sign * 5.6)),
+                            uwb_rgb_blend(white, uwb_status_colour(UWB_STATUS_ALARM), 0.12)));
+    }
 
     /* S4, inconclusive with numbers in its line: nothing in the plot at
      * its time (no marker, no bar), a grey mark in the strip above. */

@@ -40,10 +40,11 @@ static void test_a_displacement_has_status_figure_edges_and_images(void)
                   "\"uncertainty_mm\":0.234,\"lower_edge_mm\":212.04,\"upper_edge_mm\":612.49,"
                   "\"baseline\":{\"lower_edge_mm\":200.0,\"upper_edge_mm\":600.46},"
                   "\"images\":[\"/s/a.png\",\"/s/b.png\"]}"));
-    TEST_ASSERT_EQUAL_STRING("status ALARM: displacement +12.04 \u00b1 0.23 mm "
-                             "(edges 212.0..612.5 mm, baseline 200.0..600.5 mm)\n"
-                             "image: /s/a.png\nimage: /s/b.png\n",
-                             text);
+    TEST_ASSERT_EQUAL_STRING(
+        "status ALARM: displacement +12.04 \u00b1 0.23 mm 1\u03c3, 95 %: +11.58..+12.51 mm "
+        "(edges 212.0..612.5 mm, baseline 200.0..600.5 mm)\n"
+        "image: /s/a.png\nimage: /s/b.png\n",
+        text);
 }
 
 static void test_a_downward_shift_keeps_its_sign(void)
@@ -51,7 +52,8 @@ static void test_a_downward_shift_keeps_its_sign(void)
     TEST_ASSERT_EQUAL_INT(0,
                           render("{\"class\":\"VERDICT\",\"status\":\"watch\",\"axial_displacement_mm\":-3.5,"
                                  "\"uncertainty_mm\":0.4}"));
-    TEST_ASSERT_EQUAL_STRING("status WATCH: displacement -3.50 \u00b1 0.40 mm\n", text);
+    TEST_ASSERT_EQUAL_STRING(
+        "status WATCH: displacement -3.50 \u00b1 0.40 mm 1\u03c3, 95 %: -4.30..-2.70 mm\n", text);
 }
 
 static void test_edges_only_says_where_the_winding_is_and_whether_it_became_the_baseline(void)

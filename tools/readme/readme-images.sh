@@ -1,10 +1,12 @@
 #!/bin/sh
 # The README's example images: the three PNGs `uwbd --replay` writes for the
 # paper pair (the command the README shows), copied to tools/readme/images.
-# Usage: readme-images.sh BUILD_DIR   (make readme-images)
+# Usage: readme-images.sh BUILD_DIR [OUT_DIR]   (make readme-images; OUT_DIR
+# defaults to tools/readme/images, tests/e2e/test_readme_images.sh draws
+# them into a temporary one and compares)
 set -eu
-build=${1:?usage: readme-images.sh BUILD_DIR}
-out=tools/readme/images
+build=${1:?usage: readme-images.sh BUILD_DIR [OUT_DIR]}
+out=${2:-tools/readme/images}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 ${UWB_EXEC_PREFIX:-} "$build/uwbd" --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan \
