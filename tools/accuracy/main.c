@@ -42,10 +42,24 @@ static int replace_block(const char *path, const char *table, char *err, size_t 
     return rc;
 }
 
+/* A number argument in [lo, hi], the whole text read (strtod). */
+static int number_arg(const char *what, const char *text, double lo, double hi, double *out)
+{
+    char *end;
+    double v = strtod(text, &end);
+    if (end == text || *end || !(v >= lo && v <= hi)) {
+        fprintf(stderr, "uwbaccuracy: %s: '%s' is not a number from %g to %g\n", what, text, lo, hi);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = "tests/fixtures", *readme = NULL;
-    int pairs = 30;
+    int pairs = 30, only_case = -1, custom = 0;
+    struct accuracy_level level_custom = {0};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--fixtures") && i + 1 < argc)
             dir = argv[++i];
@@ -60,10 +74,39 @@ int main(int argc, char **argv)
             pairs = (int)n;
         } else if (!strcmp(argv[i], "--readme") && i + 1 < argc)
             readme = argv[++i];
-        else {
-            fprintf(stderr, "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE]\n");
+        else if (!strcmp(argv[i], "--case") && i + 1 < argc) {
+            double n;
+            if (number_arg("--case", argv[++i], 0, accuracy_case_count - 1, &n) != 0)
+                return 64;
+            if (n != (int)n) {
+                fprintf(stderr, "uwbaccuracy: --case: '%s' is not a whole number\n", argv[i]);
+                return 64;
+            }
+            only_case = (int)n;
+        } else if (!strcmp(argv[i], "--pair-errors"))
+            accuracy_log_pairs(stderr);
+        else if (!strcmp(argv[i], "--impair") && i + 4 < argc) {
+            /* SNR_DB (0: no white noise) JITTER_PS DRIFT_LINEAR DRIFT_RANDOM: one level instead of the
+             * report's */
+            custom = 1;
+            double jitter_ps;
+            if (number_arg("--impair SNR_DB", argv[++i], -100, 200, &level_custom.snr_db) != 0 ||
+                number_arg("--impair JITTER_PS", argv[++i], 0, 1e6, &jitter_ps) != 0 ||
+                number_arg("--impair DRIFT_LINEAR", argv[++i], 0, 1, &level_custom.drift_linear) != 0 ||
+                number_arg("--impair DRIFT_RANDOM", argv[++i], 0, 1, &level_custom.drift_random) != 0)
+                return 64;
+            level_custom.jitter_s = jitter_ps * 1e-12;
+        } else {
+            fprintf(
+                stderr,
+                "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE] [--case N] [--pair-errors]\n"
+                "       [--impair SNR_DB JITTER_PS DRIFT_LINEAR DRIFT_RANDOM]\n");
             return 64;
         }
+    }
+    if (readme && (custom || only_case >= 0)) {
+        fprintf(stderr, "uwbaccuracy: --readme takes the whole report, not --case or --impair\n");
+        return 64;
     }
     char err[512], *table = NULL;
     size_t table_len = 0;
@@ -75,9 +118,11 @@ int main(int argc, char **argv)
     accuracy_print_header(stdout);
     accuracy_print_header(mem);
     for (int c = 0; c < accuracy_case_count; c++) {
-        for (int l = -1; l < accuracy_level_count; l++) {
+        if (only_case >= 0 && c != only_case)
+            continue;
+        for (int l = custom ? 0 : -1; l < (custom ? 1 : accuracy_level_count); l++) {
             struct accuracy_row row;
-            const struct accuracy_level *level = l < 0 ? NULL : &accuracy_levels[l];
+            const struct accuracy_level *level = custom ? &level_custom : l < 0 ? NULL : &accuracy_levels[l];
             unsigned long long seed =
                 1000000ull * (unsigned long long)(l + 1) + 10000ull * (unsigned long long)c;
             if (accuracy_run_case(dir, &accuracy_cases[c], level, pairs, seed, &row, err, sizeof err) != 0) {
