@@ -75,6 +75,7 @@ static int add_override(struct uwbd_options *o, const char *key, const char *val
 /* --set KEY=VALUE: the key is cut out of argv in place. */
 static int add_set(struct uwbd_options *o, char *arg)
 {
+    // NOLINTNEXTLINE(clang-analyzer-core.NonNullParamChecker): getopt_long sets optarg for a required_argument
     char *eq = strchr(arg, '=');
     if (!eq || eq == arg) {
         fprintf(stderr, "uwbd: --set: '%s' is not KEY=VALUE\n", arg);

@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <getopt.h>
 #include <malloc.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -81,6 +82,20 @@ static int parse_number(const char *opt, const char *text, double *out)
     }
     *out = v;
     return 0;
+}
+
+/* --target-z NEAR:FAR, metres, 0 <= NEAR < FAR, both finite. */
+static int parse_target_z(const char *text, double *near_m, double *far_m)
+{
+    char *colon, *end;
+    errno = 0;
+    *near_m = strtod(text, &colon);
+    if (errno || colon == text || *colon != ':')
+        return -1;
+    *far_m = strtod(colon + 1, &end);
+    if (errno || end == colon + 1 || *end != '\0')
+        return -1;
+    return isfinite(*near_m) && isfinite(*far_m) && *near_m >= 0.0 && *far_m > *near_m ? 0 : -1;
 }
 
 static int read_scan(const char *path, struct uwb_scan *scan)
@@ -240,9 +255,7 @@ int uwbd_replay_main(int argc, char **argv)
             break;
         case OPT_TARGET_Z: {
             double near_m, far_m;
-            char tail;
-            if (sscanf(optarg, "%lf:%lf%c", &near_m, &far_m, &tail) != 2 || !(near_m >= 0.0) ||
-                !(far_m > near_m)) {
+            if (parse_target_z(optarg, &near_m, &far_m) != 0) {
                 fprintf(stderr, "uwbd: --target-z: '%s' is not NEAR:FAR with 0 <= NEAR < FAR (metres)\n",
                         optarg);
                 return EX_USAGE;

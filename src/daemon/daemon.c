@@ -28,6 +28,7 @@
 #include "daemon/test_hang.h"
 #include "daemon/verdict_log.h"
 #include "uwb/monotonic.h"
+#include "uwb/utc_time.h"
 
 static void worker_beat(struct daemon *d);
 static void report_status(struct daemon *d);
@@ -136,12 +137,9 @@ static void schedule_first(struct daemon *d)
     double wait = d->cfg.interval_s;
     cJSON *latest = d->latest_verdict ? cJSON_Parse(d->latest_verdict) : NULL;
     const cJSON *created = cJSON_GetObjectItemCaseSensitive(latest, "created");
-    struct tm tm = {0};
-    if (cJSON_IsString(created) && sscanf(created->valuestring, "%d-%d-%dT%d:%d:%dZ", &tm.tm_year, &tm.tm_mon,
-                                          &tm.tm_mday, &tm.tm_hour, &tm.tm_min, &tm.tm_sec) == 6) {
-        tm.tm_year -= 1900;
-        tm.tm_mon -= 1;
-        double elapsed = difftime(time(NULL), timegm(&tm));
+    time_t created_s;
+    if (cJSON_IsString(created) && uwb_utc_parse(created->valuestring, &created_s) == 0) {
+        double elapsed = difftime(time(NULL), created_s);
         if (elapsed >= 0) /* a clock set back says nothing about the schedule */
             wait = elapsed >= wait ? 0 : wait - elapsed;
     }
@@ -225,12 +223,18 @@ static void reload(struct daemon *d)
     next.control_mode = d->cfg.control_mode;
     next.allow_root = d->cfg.allow_root;
 
+    /* Byte comparisons on purpose: a member list would miss a field added
+     * later. Both sides are exact byte images of a configuration that
+     * apply_defaults() zeroed (padding included) before filling, as they
+     * are copied with memcpy below, never by assignment. */
+    // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison,cert-exp42-c,cert-flp37-c): padding zeroed, see above
     int rig_changed = memcmp(&next.rig, &d->cfg.rig, sizeof next.rig) != 0;
     int console_changed = strcmp(next.console_endpoint, d->cfg.console_endpoint) != 0;
+    // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison,cert-exp42-c,cert-flp37-c): padding zeroed, see above
     int site_changed = memcmp(&next.site, &d->cfg.site, sizeof next.site) != 0;
     static struct uwbd_config previous; /* static: a configuration is large */
-    previous = d->cfg;
-    d->cfg = next;
+    memcpy(&previous, &d->cfg, sizeof previous);
+    memcpy(&d->cfg, &next, sizeof d->cfg);
     if (rig_changed) {
         if (d->rig)
             uwb_rig_close(d->rig);
@@ -239,7 +243,7 @@ static void reload(struct daemon *d)
         if (uwbd_rig_open_logged(d, &detail, err, sizeof err) != UWB_RIG_OK) {
             /* A reload is whole or not at all: the log never says both that
              * the new rig cannot be reached and that the reload happened. */
-            d->cfg = previous;
+            memcpy(&d->cfg, &previous, sizeof d->cfg);
             char old_err[512];
             if (uwbd_rig_open_logged(d, &detail, old_err, sizeof old_err) != UWB_RIG_OK)
                 uwbd_log(UWBD_LOG_WARNING, "rig: %s (tried again at the next scan)", old_err);
@@ -345,8 +349,12 @@ enum {
 static double worker_stall_limit_s(const struct uwbd_config *cfg)
 {
     const char *test = getenv("UWBD_TEST_SCAN_STALL_S");
-    if (test && atof(test) > 0)
-        return atof(test);
+    if (test) {
+        char *end;
+        double test_s = strtod(test, &end);
+        if (end != test && *end == '\0' && test_s > 0)
+            return test_s;
+    }
     const struct uwb_rig_config *r = &cfg->rig;
     double position_s =
         r->digitiser.stack * (r->digitiser.frame_retries + 1.0) * r->digitiser.frame_timeout_ms / 1e3 +

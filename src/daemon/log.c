@@ -1,6 +1,7 @@
 /* Levelled log lines to stderr and, when asked, syslog. */
 #include "daemon/log.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,8 +20,15 @@ static int detect_journal(void)
 {
     const char *js = getenv("JOURNAL_STREAM");
     struct stat st;
-    unsigned long long dev, ino;
-    if (!js || sscanf(js, "%llu:%llu", &dev, &ino) != 2 || fstat(STDERR_FILENO, &st) != 0)
+    if (!js || js[0] < '0' || js[0] > '9')
+        return 0;
+    char *colon, *end;
+    errno = 0;
+    unsigned long long dev = strtoull(js, &colon, 10);
+    if (errno || *colon != ':' || colon[1] < '0' || colon[1] > '9')
+        return 0;
+    unsigned long long ino = strtoull(colon + 1, &end, 10);
+    if (errno || *end != '\0' || fstat(STDERR_FILENO, &st) != 0)
         return 0;
     return (unsigned long long)st.st_dev == dev && (unsigned long long)st.st_ino == ino;
 }

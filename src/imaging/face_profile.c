@@ -98,10 +98,19 @@ static double profile_at(const struct uwb_face_profile *p, double y)
                 t * (2.0 * v[0] - 5.0 * v[1] + 4.0 * v[2] - v[3] + t * (3.0 * (v[1] - v[2]) + v[3] - v[0])));
 }
 
+/* The asymmetry's offsets u = (k + 1/2) dy, k = 0 .. terms - 1, up to
+ * half_span: counted, not accumulated, the same in the sum and its slope. */
+static int asymmetry_terms(const struct uwb_face_profile *p, double half_span)
+{
+    return (int)floor(half_span / p->dy_m + 0.5);
+}
+
 static double asymmetry(const struct uwb_face_profile *p, double c, double half_span)
 {
     double sum = 0.0;
-    for (double u = 0.5 * p->dy_m; u <= half_span; u += p->dy_m) {
+    int terms = asymmetry_terms(p, half_span);
+    for (int k = 0; k < terms; k++) {
+        double u = (k + 0.5) * p->dy_m;
         double d = profile_at(p, c + u) - profile_at(p, c - u);
         sum += d * d;
     }
@@ -161,7 +170,9 @@ static double asymmetry_slope(const struct uwb_face_profile *p, double c, double
                               double scale)
 {
     double slope = 0.0;
-    for (double u = 0.5 * p->dy_m; u <= half_span; u += p->dy_m) {
+    int terms = asymmetry_terms(p, half_span);
+    for (int k = 0; k < terms; k++) {
+        double u = (k + 0.5) * p->dy_m;
         int ia[4], ib[4];
         double wa[4], dwa[4], wb[4], dwb[4], pa = 0, pb = 0, sa = 0, sb = 0;
         profile_weights(p, c + u, ia, wa, dwa);

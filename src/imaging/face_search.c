@@ -20,6 +20,7 @@
 double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row)
 {
     double best = -1.0;
+    *row = 0; /* an image without rows: -1 at row 0 */
     for (int iy = 0; iy < img->ny; iy++) {
         double v = img->pix[(size_t)iy * img->nz + iz];
         if (v > best) {
@@ -69,7 +70,7 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
     int sep = (int)ceil(CANDIDATE_SEPARATION_M / img->dz_m);
     int found = 0;
     double strongest_rejected_z = -1.0;
-    struct face_candidate seen[MAX_CANDIDATES];
+    struct face_candidate seen[MAX_CANDIDATES] = {{0}};
     int n_seen = 0;
     double strongest_seen = 0.0;
     for (int c = 0; c < MAX_CANDIDATES; c++) {

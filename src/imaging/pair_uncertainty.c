@@ -122,14 +122,14 @@ static void noise_source_free(struct noise_source *ns)
     fftwf_free(ns->trace);
     fftwf_free(ns->spec);
     free(ns->gain);
-    memset(ns, 0, sizeof *ns);
+    *ns = (struct noise_source){0};
 }
 
 static int noise_source_init(struct noise_source *ns, const struct uwb_scan *shape,
                              const struct uwb_analysis *a, const struct uwb_analysis_options *opt, char *err,
                              size_t errlen)
 {
-    memset(ns, 0, sizeof *ns);
+    *ns = (struct noise_source){0};
     ns->n = 2;
     while (ns->n < shape->samples)
         ns->n *= 2;

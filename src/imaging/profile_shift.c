@@ -68,21 +68,27 @@ struct span {
     double bb;
 };
 
+static double span_offset(const struct span *s, int k)
+{
+    return -s->half_m + k * FIT_STEP_M;
+}
+
 static int span_of(const struct energy *base, double centre_m, double half_span_m, struct span *s)
 {
     s->n = 0;
     s->centre_m = centre_m;
     s->half_m = half_span_m;
     s->bb = 0.0;
-    for (double u = -half_span_m; u <= half_span_m + 1e-12; u += FIT_STEP_M)
-        s->n++;
+    /* Points u = -half + k FIT_STEP_M up to +half (1e-12: the end itself
+     * counts despite rounding); loops count k and compute u, never
+     * accumulate it. */
+    s->n = half_span_m >= 0.0 ? (int)floor((2.0 * half_span_m + 1e-12) / FIT_STEP_M) + 1 : 0;
     s->base = malloc((size_t)(s->n > 0 ? s->n : 1) * sizeof *s->base);
     if (!s->base)
         return -1;
-    int k = 0;
-    for (double u = -half_span_m; u <= half_span_m + 1e-12; u += FIT_STEP_M) {
-        double b = energy_at(base, centre_m + u);
-        s->base[k++] = b;
+    for (int k = 0; k < s->n; k++) {
+        double b = energy_at(base, centre_m + span_offset(s, k));
+        s->base[k] = b;
         s->bb += b * b;
     }
     return 0;
@@ -92,9 +98,8 @@ static int span_of(const struct energy *base, double centre_m, double half_span_
 static double misfit(const struct energy *cur, const struct span *s, double d)
 {
     double cc = 0.0, cb = 0.0;
-    int k = 0;
-    for (double u = -s->half_m; u <= s->half_m + 1e-12; u += FIT_STEP_M) {
-        double c = energy_at(cur, s->centre_m + d + u), b = s->base[k++];
+    for (int k = 0; k < s->n; k++) {
+        double c = energy_at(cur, s->centre_m + d + span_offset(s, k)), b = s->base[k];
         cc += c * c;
         cb += c * b;
     }
@@ -210,10 +215,9 @@ struct misfit_sums {
 static struct misfit_sums sums_at(const struct energy *cur, const struct span *s, double d)
 {
     struct misfit_sums m = {0};
-    int k = 0;
-    for (double u = -s->half_m; u <= s->half_m + 1e-12; u += FIT_STEP_M, k++) {
+    for (int k = 0; k < s->n; k++) {
         double t, w[4], dw[4], c = 0.0, c1 = 0.0;
-        int i = cell_of(cur, s->centre_m + d + u, &t);
+        int i = cell_of(cur, s->centre_m + d + span_offset(s, k), &t);
         if (i >= 0) {
             catmull_rom_weights(t, w, dw);
             for (int j = 0; j < 4; j++) {
@@ -264,8 +268,8 @@ int uwb_profile_shift_gradient(const struct uwb_face_profile *cur_profile,
     if (grad_base)
         for (int i = 0; i < base_profile->n; i++)
             grad_base[i] = 0.0;
-    int k = 0;
-    for (double u = -half_span_m; rc == 0 && u <= half_span_m + 1e-12; u += FIT_STEP_M, k++) {
+    for (int k = 0; rc == 0 && k < span.n; k++) {
+        double u = span_offset(&span, k);
         double t, w[4], dw[4], c = 0.0, c1 = 0.0, b = span.base[k];
         int i = cell_of(&cur, base_centre_m + d_m + u, &t);
         if (i >= 0) {

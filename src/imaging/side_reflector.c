@@ -226,9 +226,11 @@ int uwb_side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, 
      * previous pass found it (the plate stays put while the centre settles). */
     struct fit best = {0};
     if (isnan(near_y_m)) {
-        for (double off = from; off <= to; off += COARSE_STEP_M)
-            try_position(r, s, weight, g, tau_up, tau_down, a, a_energy, nu, centre + side * off, z_face, b,
-                         &best);
+        /* Offsets from, from + step, ... up to to: counted, not accumulated. */
+        int coarse = to >= from ? (int)floor((to - from) / COARSE_STEP_M + 1e-9) + 1 : 0;
+        for (int k = 0; k < coarse; k++)
+            try_position(r, s, weight, g, tau_up, tau_down, a, a_energy, nu,
+                         centre + side * (from + k * COARSE_STEP_M), z_face, b, &best);
     } else {
         best.y = near_y_m;
         best.score = 1.0; /* only marks "have a start"; scores below replace it */
@@ -236,9 +238,12 @@ int uwb_side_reflector_find(const struct uwb_scan *s, const struct uwb_scan *q, 
     if (best.score > 0.0) {
         double y0 = best.y;
         best.score = 0.0;
-        for (double y = y0 - COARSE_STEP_M; y <= y0 + COARSE_STEP_M + 1e-12; y += FINE_STEP_M)
+        int fine = (int)lround(2.0 * COARSE_STEP_M / FINE_STEP_M); /* one coarse step each side */
+        for (int k = 0; k <= fine; k++) {
+            double y = y0 - COARSE_STEP_M + k * FINE_STEP_M;
             if (fabs(y - centre) >= from)
                 try_position(r, s, weight, g, tau_up, tau_down, a, a_energy, nu, y, z_face, b, &best);
+        }
     }
     /* Its image's peak: the antisymmetric part's, where the mirror term is small. */
     double peak = 0.0;

@@ -9,6 +9,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "uwb/utc_time.h"
+
 static const char *const status_names[] = {"edges", "ok", "watch", "alarm", "inconclusive", "error"};
 
 static uint16_t status_code(const cJSON *verdict)
@@ -61,19 +63,10 @@ static void mm32(uint16_t *regs, const cJSON *obj, const char *key)
 static uint32_t created_seconds(const cJSON *verdict)
 {
     const cJSON *created = cJSON_GetObjectItemCaseSensitive(verdict, "created");
-    if (!cJSON_IsString(created))
+    time_t t;
+    if (!cJSON_IsString(created) || uwb_utc_parse(created->valuestring, &t) != 0)
         return 0;
-    struct tm tm;
-    memset(&tm, 0, sizeof tm);
-    char zone = 0, extra = 0;
-    if (sscanf(created->valuestring, "%4d-%2d-%2dT%2d:%2d:%2d%c%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday,
-               &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &zone, &extra) != 7 ||
-        zone != 'Z')
-        return 0;
-    tm.tm_year -= 1900;
-    tm.tm_mon -= 1;
-    time_t t = timegm(&tm);
-    return t < 0 ? 0 : (uint32_t)t;
+    return t < 0 || t > (time_t)UINT32_MAX ? 0 : (uint32_t)t;
 }
 
 void uwbd_modbus_registers_fill(const char *verdict_json, const struct uwbd_modbus_status *status,

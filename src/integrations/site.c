@@ -21,6 +21,7 @@
 #include "integrations/prometheus_textfile.h"
 #include "uwb/gpio.h"
 #include "uwb/monotonic.h"
+#include "uwb/utc_time.h"
 
 /* How often a failed handle is opened again when nothing else ticks. */
 #define REOPEN_S 5.0
@@ -102,15 +103,10 @@ static void prom_from_verdict(struct uwbd_prometheus_metrics *m, const cJSON *v)
     m->has_height_change = cJSON_IsNumber(h);
     m->height_change_m = m->has_height_change ? h->valuedouble / 1e3 : 0;
     const cJSON *created = cJSON_GetObjectItemCaseSensitive(v, "created");
-    struct tm tm = {0};
+    time_t created_s;
     m->created_s = 0;
-    // NOLINTNEXTLINE(cert-err34-c): uwbd's own UTC stamp; anything else fails the count of 6, created_s stays 0
-    if (cJSON_IsString(created) && sscanf(created->valuestring, "%d-%d-%dT%d:%d:%dZ", &tm.tm_year, &tm.tm_mon,
-                                          &tm.tm_mday, &tm.tm_hour, &tm.tm_min, &tm.tm_sec) == 6) {
-        tm.tm_year -= 1900;
-        tm.tm_mon -= 1;
-        m->created_s = (double)timegm(&tm);
-    }
+    if (cJSON_IsString(created) && uwb_utc_parse(created->valuestring, &created_s) == 0)
+        m->created_s = (double)created_s;
 }
 
 static void write_textfile(struct uwbd_site *s)

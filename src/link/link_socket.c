@@ -127,9 +127,7 @@ static int connect_bounded(int fd, const struct sockaddr *addr, socklen_t addrle
         socklen_t elen = sizeof error;
         if (ready == 0)
             error = ETIMEDOUT;
-        else if (ready < 0)
-            error = errno;
-        else if (getsockopt(fd, SOL_SOCKET, SO_ERROR, &error, &elen) < 0)
+        else if (ready < 0 || getsockopt(fd, SOL_SOCKET, SO_ERROR, &error, &elen) < 0)
             error = errno;
     }
     if (!error && fcntl(fd, F_SETFL, flags) < 0)

@@ -56,8 +56,11 @@ int uwb_nice_ticks(double lo, double hi, int target, double *ticks, int max_tick
     double step = frac < 1.5 ? mag : frac < 3.5 ? 2 * mag : frac < 7.5 ? 5 * mag : 10 * mag;
     double first = ceil(lo / step - 1e-9) * step;
     int n = 0;
-    for (double v = first; v <= hi + step * 1e-9 && n < max_ticks; v = first + n * step) {
-        ticks[n++] = fabs(v) < step * 1e-9 ? 0.0 : v;
+    for (; n < max_ticks; n++) {
+        double v = first + n * step;
+        if (v > hi + step * 1e-9)
+            break;
+        ticks[n] = fabs(v) < step * 1e-9 ? 0.0 : v;
     }
     if (step_out)
         *step_out = step;
@@ -128,8 +131,11 @@ void uwb_draw_axes(struct uwb_canvas *c, const struct uwb_plot *p, const struct 
      * 2 x 10^n) so heights read to a few mm without a ruler. */
     double lead = step / pow(10.0, floor(log10(step) + 1e-9));
     double minor = lead > 1.5 && lead < 3.5 ? step / 4 : step / 5;
-    for (double m = ceil(p->y_min * ys / minor - 1e-9) * minor; m <= p->y_max * ys + minor * 1e-9;
-         m += minor) {
+    double first_minor = ceil(p->y_min * ys / minor - 1e-9);
+    for (int i = 0;; i++) {
+        double m = (first_minor + i) * minor;     /* counted, not accumulated */
+        if (!(m <= p->y_max * ys + minor * 1e-9)) /* NaN limits too: no ticks */
+            break;
         int row = uwb_plot_row(p, m / ys);
         if (s->y_labels_left)
             uwb_canvas_fill_rect(c, p->x - 1 - MINOR_LEN, row, MINOR_LEN, 1, frame_grey);

@@ -194,7 +194,7 @@ void uwb_render_trend_layout(const struct uwb_trend *t, const struct uwb_thresho
     out->unit_s = 86400.0;
     if (first_last_time(t, &first, &last)) {
         out->t_ref = first - first % 86400;
-        if (last - first < 2 * 86400)
+        if (last - first < (time_t)2 * 86400)
             out->unit_s = 3600.0;
         double span = (double)(last - first) / out->unit_s;
         double pad = fmax(0.04 * span, 0.5);

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "uwb/utc_time.h"
+
 int uwb_status_from_name(const char *name, enum uwb_status *out)
 {
     static const enum uwb_status all[] = {UWB_STATUS_EDGES, UWB_STATUS_OK,           UWB_STATUS_WATCH,
@@ -40,26 +42,6 @@ static void copy_text(char *dst, size_t n, const char *src)
     snprintf(dst, n, "%s", src ? src : "");
 }
 
-/* "YYYY-MM-DDTHH:MM:SSZ" (what uwbd writes) to UTC seconds. */
-static int parse_utc(const char *text, time_t *out)
-{
-    struct tm tm;
-    memset(&tm, 0, sizeof tm);
-    char zone = 0;
-    if (!text ||
-        sscanf(text, "%4d-%2d-%2dT%2d:%2d:%2d%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour,
-               &tm.tm_min, &tm.tm_sec, &zone) != 7 ||
-        zone != 'Z')
-        return 0;
-    if (tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 || tm.tm_hour > 23 ||
-        tm.tm_min > 59 || tm.tm_sec > 60)
-        return 0;
-    tm.tm_year -= 1900;
-    tm.tm_mon -= 1;
-    *out = timegm(&tm);
-    return 1;
-}
-
 static int read_point(const char *line, struct uwb_trend_point *p)
 {
     cJSON *o = line ? cJSON_Parse(line) : NULL;
@@ -73,7 +55,7 @@ static int read_point(const char *line, struct uwb_trend_point *p)
     memset(p, 0, sizeof *p);
     p->status = status;
     copy_text(p->created, sizeof p->created, text_of(o, "created"));
-    p->has_time = parse_utc(text_of(o, "created"), &p->t);
+    p->has_time = uwb_utc_parse(text_of(o, "created"), &p->t) == 0;
     copy_text(p->scan_id, sizeof p->scan_id, text_of(o, "scan_id"));
     copy_text(p->reason, sizeof p->reason, text_of(o, "reason"));
     const cJSON *base = cJSON_GetObjectItemCaseSensitive(o, "baseline");

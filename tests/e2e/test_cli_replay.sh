@@ -39,6 +39,17 @@ set -e
 [[ $rc_missing -eq 66 ]] || fail "missing file exit $rc_missing, want 66"
 [[ $rc_bad -eq 65 ]] || fail "malformed file exit $rc_bad, want 65"
 [[ $rc_usage -eq 64 ]] || fail "bad option exit $rc_usage, want 64"
+# --target-z is NEAR:FAR, both finite, 0 <= NEAR < FAR: anything else is a
+# usage error naming the text (parsed with strtod, not sscanf).
+for bad in "5" "5:" ":6" "5:6x" "5x:6" "6:5" "-1:2" "0:inf" "nan:1" "5::6" ""; do
+    set +e
+    uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan --target-z "$bad" > "$out/otz" 2> "$out/etz"
+    rc=$?
+    set -e
+    [[ $rc -eq 64 ]] || fail "--target-z '$bad': exit $rc, want 64"
+    grep -qF -- "--target-z: '$bad' is not NEAR:FAR" "$out/etz" || fail "--target-z '$bad': message $(cat "$out/etz")"
+    [[ ! -s "$out/otz" ]] || fail "--target-z '$bad': stdout written"
+done
 grep -q "missing.uwbscan" "$out/e1" || fail "error does not name the missing file"
 grep -q "short.uwbscan" "$out/e2" || fail "error does not name the malformed file"
 [[ ! -s "$out/o1" && ! -s "$out/o2" ]] || fail "stdout written on error"

@@ -247,10 +247,15 @@ grep -q "stopped; hardware left safe" uwbd.log || fail "no shutdown log line"
 pass "SIGHUP reloaded (scan slowed); SIGTERM mid-scan: exit 0, pulser idle, motor disabled, nothing written"
 
 # ---- it starts again on the same state and scans -----------------------------------
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" --set scan.time_scale=0 > uwbd2.log 2>&1 &
+# With a schedule now, the first scheduled scan counts from the latest
+# verdict's "created" time (written seconds ago), not from the start.
+${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" --set scan.time_scale=0 --interval 3600 \
+    > uwbd2.log 2>&1 &
 daemon_pid=$!
 pids+=($daemon_pid)
 wait_for ctl status || fail "uwbd does not come back"
+next_s=$(sed -n 's/.*next scheduled scan in \([0-9]*\) s (the schedule carries on from the latest verdict).*/\1/p' uwbd2.log)
+[[ -n $next_s && $next_s -lt 3600 && $next_s -gt 3000 ]] || fail "restart: schedule not carried on from the latest verdict: $(cat uwbd2.log)"
 ctl status > status2.json
 json_check status2.json "baseline.scan_id == $base_id" 'latest.status == alarm' || fail "after restart: $(cat status2.json)"
 ctl scan > scan3.json || fail "scan after restart: $(cat scan3.json)"
@@ -258,6 +263,6 @@ json_check scan3.json 'status == alarm' || fail "scan after restart: $(cat scan3
 kill -TERM "$daemon_pid"
 set +e; wait "$daemon_pid"; rc=$?; set -e
 [[ $rc == 0 ]] || fail "SIGTERM when idle: exit $rc"
-pass "restart on the same state: baseline and latest verdict kept, next scan fine, idle SIGTERM exit 0"
+pass "restart on the same state: baseline and latest verdict kept, schedule carried on (next in $next_s s), next scan fine, idle SIGTERM exit 0"
 
 echo "$passed passed, 0 failed"

@@ -7,10 +7,13 @@
 #include "unity.h"
 
 #include <fftw3.h>
+#include <math.h>
 #include <string.h>
 
 #include "fixture_support.h"
 #include "uwb/analysis.h"
+#include "uwb/image.h"
+#include "imaging/imaging_internal.h"
 
 static int real_allocs_to_fail; /* the next this many fftwf_alloc_real calls return NULL */
 
@@ -92,11 +95,32 @@ static void test_display_image_spans_the_optioned_range_about_the_face(void)
     }
 }
 
+/* A range column with no usable pixel (all NaN, e.g. from a damaged
+ * scan) has no peak: -1, and its row is set (0), never left unset for
+ * the face search to read. */
+static void test_column_peak_of_a_column_without_numbers_is_minus_one_at_row_0(void)
+{
+    struct uwb_image img = {0};
+    char err[128];
+    TEST_ASSERT_EQUAL_INT(0, uwb_image_alloc(&img, 4, 2, err, sizeof err));
+    for (int iy = 0; iy < 4; iy++) {
+        img.pix[iy * 2 + 0] = (float)NAN;
+        img.pix[iy * 2 + 1] = (float)(iy == 2 ? 5.0 : 1.0);
+    }
+    int row = 12345;
+    TEST_ASSERT_EQUAL_DOUBLE(-1.0, uwb_image_column_peak(&img, 0, &row));
+    TEST_ASSERT_EQUAL_INT(0, row);
+    TEST_ASSERT_EQUAL_DOUBLE(5.0, uwb_image_column_peak(&img, 1, &row));
+    TEST_ASSERT_EQUAL_INT(2, row);
+    uwb_image_free(&img);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_no_memory_for_the_dominant_frequency_is_a_hard_error);
     RUN_TEST(test_with_memory_the_scan_is_analysed);
     RUN_TEST(test_display_image_spans_the_optioned_range_about_the_face);
+    RUN_TEST(test_column_peak_of_a_column_without_numbers_is_minus_one_at_row_0);
     return UNITY_END();
 }

@@ -119,6 +119,13 @@ static void test_time_without_zone_or_malformed_is_zero(void)
     TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
     uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"yesterday\"}", &st, regs);
     TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
+    /* A field out of range, and a time past what 32 bits of seconds hold. */
+    uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"2026-13-24T05:30:00Z\"}", &st, regs);
+    TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
+    uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"2200-01-01T00:00:00Z\"}", &st, regs);
+    TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
+    uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"2106-02-07T06:28:15Z\"}", &st, regs);
+    TEST_ASSERT_EQUAL_UINT32(4294967295u, (uint32_t)reg32(UWBD_MODBUS_REG_SCAN_TIME));
 }
 
 static void test_fault_and_contact_bits(void)

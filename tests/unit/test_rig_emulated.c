@@ -581,6 +581,56 @@ static void test_emulated_gpio_backend_drives_the_board(void)
     cJSON_Delete(status);
 }
 
+/* One line of the board's GPIO protocol; the reply line ("" when none
+ * comes within 300 ms: a good `set` is not answered). */
+static void gpio_exchange(struct uwb_link *link, const char *line, char *reply, size_t n)
+{
+    TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, uwb_link_write_all(link, line, strlen(line), 5000, err, sizeof err));
+    size_t len = 0;
+    reply[0] = '\0';
+    while (len + 1 < n && !strchr(reply, '\n')) {
+        ssize_t got =
+            uwb_link_read(link, reply + len, n - len - 1, under_emulation ? 3000 : 300, err, sizeof err);
+        if (got <= 0)
+            break;
+        len += (size_t)got;
+        reply[len] = '\0';
+    }
+}
+
+/* The board's `set LINE LEVEL`: a level is exactly 0 or 1 (no sign, no
+ * leading zero, nothing after it), anything else is refused and the line
+ * keeps its level. */
+static void test_emulated_gpio_protocol_takes_levels_0_and_1_only(void)
+{
+    struct uwb_link *link;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_LINK_OK, uwb_link_open(gpio_ep, &link, err, sizeof err), err);
+    char reply[256];
+    gpio_exchange(link, "hello uwb-gpio/1\n", reply, sizeof reply);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(reply, "ok uwb-gpio/1", 13), reply);
+    gpio_exchange(link, "get enable\n", reply, sizeof reply);
+    TEST_ASSERT_EQUAL_STRING("val enable 0\n", reply);
+    static const char *const refused[] = {"set enable 2\n",  "set enable 01\n", "set enable +1\n",
+                                          "set enable -1\n", "set enable 1x\n", "set enable x\n",
+                                          "set home 1\n",    "set nosuch 1\n"};
+    for (size_t i = 0; i < sizeof refused / sizeof refused[0]; i++) {
+        gpio_exchange(link, refused[i], reply, sizeof reply);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(reply, "err cannot set", 14), refused[i]);
+    }
+    gpio_exchange(link, "set enable 1 2\n", reply, sizeof reply);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(reply, "err unknown command", 19), reply);
+    gpio_exchange(link, "get enable\n", reply, sizeof reply);
+    TEST_ASSERT_EQUAL_STRING("val enable 0\n", reply);
+    gpio_exchange(link, "set enable 1\n", reply, sizeof reply);
+    TEST_ASSERT_EQUAL_STRING("", reply);
+    gpio_exchange(link, "get enable\n", reply, sizeof reply);
+    TEST_ASSERT_EQUAL_STRING("val enable 1\n", reply);
+    gpio_exchange(link, "set enable 0\n", reply, sizeof reply);
+    gpio_exchange(link, "get enable\n", reply, sizeof reply);
+    TEST_ASSERT_EQUAL_STRING("val enable 0\n", reply);
+    uwb_link_close(link);
+}
+
 static void test_rig_open_without_a_digitiser_is_a_link_error(void)
 {
     struct uwb_rig_config cfg;
@@ -614,6 +664,7 @@ int main(void)
     RUN_TEST(test_home_switch_stuck_closed_is_a_home_error);
     RUN_TEST(test_stop_request_ends_the_scan_safely);
     RUN_TEST(test_emulated_gpio_backend_drives_the_board);
+    RUN_TEST(test_emulated_gpio_protocol_takes_levels_0_and_1_only);
     RUN_TEST(test_rig_open_without_a_digitiser_is_a_link_error);
     stop_board();
     return UNITY_END();

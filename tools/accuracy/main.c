@@ -26,7 +26,7 @@ static int replace_block(const char *path, const char *table, char *err, size_t 
     }
     begin += strlen(BEGIN_MARK);
     size_t head = (size_t)(begin - text), tail = len - (size_t)(end - text), body = strlen(table);
-    char *out = malloc(head + body + tail);
+    char *out = malloc(head + body + tail + 1); /* NUL-terminated, though written by length */
     if (!out) {
         snprintf(err, errlen, "out of memory");
         free(text);
@@ -35,10 +35,24 @@ static int replace_block(const char *path, const char *table, char *err, size_t 
     memcpy(out, text, head);
     memcpy(out + head, table, body);
     memcpy(out + head + body, end, tail);
+    out[head + body + tail] = '\0';
     int rc = uwb_atomic_write_file(path, out, head + body + tail, err, errlen);
     free(out);
     free(text);
     return rc;
+}
+
+/* A number argument in [lo, hi], the whole text read (strtod). */
+static int number_arg(const char *what, const char *text, double lo, double hi, double *out)
+{
+    char *end;
+    double v = strtod(text, &end);
+    if (end == text || *end || !(v >= lo && v <= hi)) {
+        fprintf(stderr, "uwbaccuracy: %s: '%s' is not a number from %g to %g\n", what, text, lo, hi);
+        return -1;
+    }
+    *out = v;
+    return 0;
 }
 
 int main(int argc, char **argv)
@@ -49,22 +63,39 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--fixtures") && i + 1 < argc)
             dir = argv[++i];
-        else if (!strcmp(argv[i], "--pairs") && i + 1 < argc)
-            pairs = atoi(argv[++i]);
-        else if (!strcmp(argv[i], "--readme") && i + 1 < argc)
+        else if (!strcmp(argv[i], "--pairs") && i + 1 < argc) {
+            char *end;
+            long n = strtol(argv[++i], &end, 10);
+            if (end == argv[i] || *end || n < 2 || n > 100000) {
+                fprintf(stderr, "uwbaccuracy: --pairs: '%s' is not a whole number from 2 to 100000\n",
+                        argv[i]);
+                return 64;
+            }
+            pairs = (int)n;
+        } else if (!strcmp(argv[i], "--readme") && i + 1 < argc)
             readme = argv[++i];
-        else if (!strcmp(argv[i], "--case") && i + 1 < argc)
-            only_case = atoi(argv[++i]);
-        else if (!strcmp(argv[i], "--pair-errors"))
+        else if (!strcmp(argv[i], "--case") && i + 1 < argc) {
+            double n;
+            if (number_arg("--case", argv[++i], 0, accuracy_case_count - 1, &n) != 0)
+                return 64;
+            if (n != (int)n) {
+                fprintf(stderr, "uwbaccuracy: --case: '%s' is not a whole number\n", argv[i]);
+                return 64;
+            }
+            only_case = (int)n;
+        } else if (!strcmp(argv[i], "--pair-errors"))
             accuracy_log_pairs(stderr);
         else if (!strcmp(argv[i], "--impair") && i + 4 < argc) {
             /* SNR_DB (0: no white noise) JITTER_PS DRIFT_LINEAR DRIFT_RANDOM: one level instead of the
              * report's */
             custom = 1;
-            level_custom.snr_db = atof(argv[++i]);
-            level_custom.jitter_s = atof(argv[++i]) * 1e-12;
-            level_custom.drift_linear = atof(argv[++i]);
-            level_custom.drift_random = atof(argv[++i]);
+            double jitter_ps;
+            if (number_arg("--impair SNR_DB", argv[++i], -100, 200, &level_custom.snr_db) != 0 ||
+                number_arg("--impair JITTER_PS", argv[++i], 0, 1e6, &jitter_ps) != 0 ||
+                number_arg("--impair DRIFT_LINEAR", argv[++i], 0, 1, &level_custom.drift_linear) != 0 ||
+                number_arg("--impair DRIFT_RANDOM", argv[++i], 0, 1, &level_custom.drift_random) != 0)
+                return 64;
+            level_custom.jitter_s = jitter_ps * 1e-12;
         } else {
             fprintf(
                 stderr,
@@ -75,10 +106,6 @@ int main(int argc, char **argv)
     }
     if (readme && (custom || only_case >= 0)) {
         fprintf(stderr, "uwbaccuracy: --readme takes the whole report, not --case or --impair\n");
-        return 64;
-    }
-    if (pairs < 2) {
-        fprintf(stderr, "uwbaccuracy: --pairs must be at least 2\n");
         return 64;
     }
     char err[512], *table = NULL;

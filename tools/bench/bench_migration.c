@@ -37,6 +37,10 @@ static int timed_migrate(enum uwb_migration_kind kind, const struct uwb_scan *s,
 int bench_migration(const struct bench_case *c, int runs, struct migration_figures *f, char *err,
                     size_t errlen)
 {
+    if (runs < 1) { /* the SNRs read the yardstick image the runs fill */
+        snprintf(err, errlen, "bench: %d runs: at least 1 is needed", runs);
+        return -1;
+    }
     struct uwb_scan scan;
     if (bench_simulate(c, 0.0, NULL, &scan, err, errlen) != 0)
         return -1;

@@ -9,7 +9,7 @@ readme="${2:-}"
 [[ -r "$csv" ]] || { echo "coverage summary: $csv: cannot read (run make coverage)" >&2; exit 1; }
 
 # gcovr 5 CSV: filename,line_total,line_covered,line_percent,branch_total,branch_covered,...
-table="$(printf "%-16s %15s %8s %17s %8s\n" folder lines "" branches "";
+table="$(printf "%-16s %15s %8s %17s\n" folder lines "" branches;
     awk -F, 'NR > 1 && $1 ~ /^src\// {
         dir = $1; sub(/\/[^\/]*$/, "", dir)
         lt[dir] += $2; lc[dir] += $3; bt[dir] += $5; bc[dir] += $6

@@ -49,13 +49,14 @@ static void set_line(struct emu_board *b, int line, int value)
 
 void emu_gpio_line(struct emu_board *b, const char *text, char *reply, size_t replylen)
 {
-    char cmd[16], name[16], extra[2];
-    int value;
+    /* Words only: a level is the one character 0 or 1, nothing to convert. */
+    char cmd[16], name[16], level[16], extra[2];
     reply[0] = '\0';
-    int n = sscanf(text, "%15s %15s %d %1s", cmd, name, &value, extra);
+    int n = sscanf(text, "%15s %15s %15s %1s", cmd, name, level, extra);
     if (n == 3 && strcmp(cmd, "set") == 0) {
         int line = find_line(name);
-        if (line < 0 || uwb_gpio_line_is_input(line) || (value != 0 && value != 1))
+        int value = strcmp(level, "1") == 0 ? 1 : strcmp(level, "0") == 0 ? 0 : -1;
+        if (line < 0 || uwb_gpio_line_is_input(line) || value < 0)
             snprintf(reply, replylen,
                      "err cannot set '%.60s': outputs are trigger, step, dir, enable, watch, alarm, fault; "
                      "values 0 or 1\n",

@@ -53,7 +53,7 @@ double sim_envelope_peak(const float *x, int n, int i0, int i1)
         i1 = n - 1;
     if (i0 >= i1)
         return -1;
-    double *env = malloc((size_t)n * sizeof *env);
+    double *env = calloc((size_t)n, sizeof *env);
     if (!env || sim_envelope(x, n, env) != 0) {
         free(env);
         return -1;

@@ -210,7 +210,8 @@ static int set_param(struct sim_scene *scene, const struct sim_param *p, const c
     case SIM_PARAM_OPTNUMBER: {
         double v;
         if (p->type == SIM_PARAM_OPTNUMBER && (strcmp(value, "none") == 0 || strcmp(value, "null") == 0)) {
-            *(double *)base = NAN;
+            double none = NAN;
+            memcpy(base, &none, sizeof none); /* the field is a double at p->offset */
             return 0;
         }
         if (parse_double(value, &v) != 0) {
@@ -223,7 +224,7 @@ static int set_param(struct sim_scene *scene, const struct sim_param *p, const c
                      p->unit[0] ? " " : "", p->unit);
             return -1;
         }
-        *(double *)base = v;
+        memcpy(base, &v, sizeof v);
         return 0;
     }
     case SIM_PARAM_INT: {
@@ -271,7 +272,7 @@ static int set_param(struct sim_scene *scene, const struct sim_param *p, const c
             snprintf(err, errlen, "%s: text longer than %d bytes", p->name, SIM_TEXT_MAX - 1);
             return -1;
         }
-        strcpy(base, value);
+        memcpy(base, value, strlen(value) + 1); /* length checked above */
         return 0;
     }
     snprintf(err, errlen, "%s: parameter of unknown type", p->name);
@@ -304,7 +305,8 @@ void sim_scene_get(const struct sim_scene *scene, const struct sim_param *p, cha
     switch (p->type) {
     case SIM_PARAM_NUMBER:
     case SIM_PARAM_OPTNUMBER: {
-        double v = *(const double *)base;
+        double v;
+        memcpy(&v, base, sizeof v);
         if (isnan(v))
             snprintf(buf, buflen, "none");
         else
