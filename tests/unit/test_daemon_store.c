@@ -146,6 +146,66 @@ static void test_open_touches_nothing_that_is_not_ours(void)
     scratch_remove_tree(outside);
 }
 
+/* A state directory that cannot be used is refused with its name and the
+ * reason, before anything is written: a path too long for the store's
+ * buffers, a file where a directory must be, and an archive day
+ * directory that would not fit the caller's buffer. */
+static void test_unusable_state_paths_are_refused_by_name(void)
+{
+    char longdir[1200];
+    int w = snprintf(longdir, sizeof longdir, "%s/", dir);
+    memset(longdir + w, 'a', sizeof longdir - (size_t)w - 1);
+    longdir[sizeof longdir - 1] = '\0';
+    struct uwbd_store other;
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_open(&other, longdir, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "...: path too long"), err);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(err, dir, strlen(dir)));
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_lock(longdir, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "...: path too long"), err);
+
+    char file[128];
+    snprintf(file, sizeof file, "%s/plain-file", dir);
+    scratch_spit(file, "not a directory");
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_open(&other, file, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "plain-file: exists but is not a directory"), err);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_lock(file, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "plain-file"), err);
+
+    struct tm day = {.tm_year = 126, .tm_mon = 10, .tm_mday = 24};
+    char small[16];
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_day_dir(&store, &day, small, sizeof small, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "archive path too long"), err);
+    char fits[2048];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_day_dir(&store, &day, fits, sizeof fits, err, sizeof err),
+                                  err);
+    TEST_ASSERT_NOT_NULL(strstr(fits, "/archive/2026/11/24"));
+    struct stat st;
+    TEST_ASSERT_EQUAL_INT(0, stat(fits, &st));
+    TEST_ASSERT_TRUE(S_ISDIR(st.st_mode));
+}
+
+/* Past the first few, foreign files are counted, not each named; all are
+ * left alone. */
+static void test_many_foreign_files_are_all_left_alone(void)
+{
+    char p[2048];
+    for (int i = 0; i < 12; i++) {
+        char rel[32];
+        snprintf(rel, sizeof rel, ".foreign-%d", i);
+        path_in(p, sizeof p, rel);
+        scratch_spit(p, "not uwbd's");
+    }
+    int repairs = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(0, repairs);
+    for (int i = 0; i < 12; i++) {
+        char rel[32];
+        snprintf(rel, sizeof rel, ".foreign-%d", i);
+        path_in(p, sizeof p, rel);
+        TEST_ASSERT_TRUE_MESSAGE(scratch_file_exists(p), rel);
+    }
+}
+
 static void test_verdict_log_appends_whole_lines_and_reads_the_tail(void)
 {
     char line[64];
@@ -652,6 +712,8 @@ int main(void)
     RUN_TEST(test_open_makes_the_layout);
     RUN_TEST(test_open_removes_leftover_temporaries_only);
     RUN_TEST(test_open_touches_nothing_that_is_not_ours);
+    RUN_TEST(test_unusable_state_paths_are_refused_by_name);
+    RUN_TEST(test_many_foreign_files_are_all_left_alone);
     RUN_TEST(test_verdict_log_appends_whole_lines_and_reads_the_tail);
     RUN_TEST(test_torn_and_damaged_lines_are_tolerated_and_repaired);
     RUN_TEST(test_tail_reads_far_back_through_long_files);

@@ -226,6 +226,7 @@ void setUp(void)
 
 void tearDown(void)
 {
+    cJSON_InitHooks(NULL); /* a failed test may leave the failing allocator in place */
     scratch_remove_tree(tmpdir);
 }
 
@@ -751,6 +752,60 @@ static void test_round_trip_in_memory_is_exact(void)
     uwb_scan_free(&scan);
 }
 
+/* cJSON's allocations fail after this many succeed (-1: never). */
+static long allocations_left = -1;
+
+static void *failing_malloc(size_t n)
+{
+    if (allocations_left == 0)
+        return NULL;
+    if (allocations_left > 0)
+        allocations_left--;
+    return malloc(n);
+}
+
+/* Every allocation the header needs failing in turn (cJSON's hooks): each
+ * failure is a clean -1 naming the scan and the cause, nothing returned
+ * (ASan: nothing leaked), and once enough succeed the very same bytes. */
+static void test_header_out_of_memory_at_each_allocation_fails_cleanly(void)
+{
+    struct uwb_scan scan;
+    make_full_scan(&scan, 5, 7);
+    unsigned char *want, *buf;
+    size_t want_len, len;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbscan_serialise(&scan, &want, &want_len, err, sizeof err), err);
+    cJSON_Hooks hooks = {.malloc_fn = failing_malloc, .free_fn = free};
+    cJSON_InitHooks(&hooks);
+    int failures = 0, header_failures = 0;
+    for (long n = 0; n < 10000; n++) {
+        allocations_left = n;
+        buf = (unsigned char *)"untouched";
+        int rc = uwbscan_serialise(&scan, &buf, &len, err, sizeof err);
+        if (rc == 0)
+            break;
+        failures++;
+        TEST_ASSERT_EQUAL_INT(-1, rc);
+        TEST_ASSERT_NULL(buf);
+        TEST_ASSERT_EQUAL_UINT64(0, len);
+        /* The field checks parse extra_json first, and cJSON_Parse says NULL
+         * alike for bad JSON and for no memory: those failures read as
+         * extra_json's. The rest are the header's own. */
+        if (strstr(err, "scan: cannot build header: "))
+            header_failures++;
+        else
+            TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "scan: extra_json is not valid JSON"), err);
+    }
+    cJSON_InitHooks(NULL);
+    allocations_left = -1;
+    TEST_ASSERT_TRUE_MESSAGE(header_failures > 20 && failures > header_failures,
+                             "fewer failures than allocations");
+    TEST_ASSERT_EQUAL_UINT64(want_len, len);
+    TEST_ASSERT_EQUAL_INT(0, memcmp(want, buf, len));
+    free(buf);
+    free(want);
+    uwb_scan_free(&scan);
+}
+
 static void test_round_trip_minimal_scan_keeps_absent_fields_absent(void)
 {
     struct uwb_scan scan, back;
@@ -1109,5 +1164,6 @@ int main(void)
     RUN_TEST(test_reads_fdtd_fixture_up20mm);
     RUN_TEST(test_alloc_zeroes_and_checks_limits);
     RUN_TEST(test_copy_is_deep);
+    RUN_TEST(test_header_out_of_memory_at_each_allocation_fails_cleanly);
     return UNITY_END();
 }
