@@ -244,6 +244,45 @@ static void test_face_profiles_outside_the_image_or_overflowing_are_refused(void
     TEST_ASSERT_EQUAL_INT(0, p.n);
     uwb_image_free(&img);
 }
+
+/* A scan with no spectrum, and a dominant frequency that is none (zero,
+ * or at or past Nyquist), are refused by conditioning with the figures;
+ * nothing is left allocated in the output. */
+static void test_conditioning_refuses_scans_without_a_spectrum(void)
+{
+    struct uwb_scan s;
+    char err[256];
+    double hz = -1.0;
+    TEST_ASSERT_EQUAL_INT(0, uwb_scan_alloc(&s, 3, 1, err, sizeof err));
+    s.sample_interval_s = 10e-12;
+    TEST_ASSERT_EQUAL_INT(-1, uwb_dominant_frequency(&s, &hz, err, sizeof err));
+    TEST_ASSERT_EQUAL_STRING("dominant frequency: a scan of 3 positions x 1 samples has no spectrum", err);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, hz);
+    uwb_scan_free(&s);
+    TEST_ASSERT_EQUAL_INT(0, uwb_scan_alloc(&s, 3, 64, err, sizeof err)); /* sample interval 0 */
+    TEST_ASSERT_EQUAL_INT(-1, uwb_dominant_frequency(&s, &hz, err, sizeof err));
+    TEST_ASSERT_EQUAL_STRING("dominant frequency: a scan of 3 positions x 64 samples has no spectrum", err);
+
+    s.sample_interval_s = 10e-12; /* Nyquist 50 GHz */
+    struct uwb_geometry g;
+    uwb_geometry_from_scan(&g, &s, 0.0);
+    struct uwb_condition_options opt;
+    uwb_condition_defaults(&opt);
+    const double no_signal[] = {0.0, -1e9, 50e9, NAN};
+    for (size_t i = 0; i < sizeof no_signal / sizeof no_signal[0]; i++) {
+        struct uwb_scan out;
+        TEST_ASSERT_EQUAL_INT(-1, uwb_condition_prepare(&s, &g, &opt, no_signal[i], &out, err, sizeof err));
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "conditioning: no usable signal spectrum"), err);
+        TEST_ASSERT_NULL(out.data);
+    }
+    /* a scan that cannot be copied is refused by both steps */
+    uwb_scan_free(&s);
+    struct uwb_scan out;
+    TEST_ASSERT_EQUAL_INT(-1, uwb_condition_prepare(&s, &g, &opt, 2e9, &out, err, sizeof err));
+    TEST_ASSERT_EQUAL_STRING("scan: positions is 0, must be between 1 and 4096", err);
+    TEST_ASSERT_EQUAL_INT(-1, uwb_condition_finish(&s, &g, &opt, 2e9, NULL, &out, err, sizeof err));
+    TEST_ASSERT_EQUAL_STRING("scan: positions is 0, must be between 1 and 4096", err);
+}
 int main(void)
 {
     UNITY_BEGIN();
@@ -256,5 +295,6 @@ int main(void)
     RUN_TEST(test_a_permittivity_below_one_is_taken_as_vacuum);
     RUN_TEST(test_imaging_grids_span_the_travel_and_refuse_degenerate_pixels);
     RUN_TEST(test_face_profiles_outside_the_image_or_overflowing_are_refused);
+    RUN_TEST(test_conditioning_refuses_scans_without_a_spectrum);
     return UNITY_END();
 }
