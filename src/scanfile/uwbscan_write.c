@@ -58,12 +58,16 @@ static cJSON *pair_item(const double pair[2])
     return array;
 }
 
-/* Adds item under key; -1 when item could not be made (NULL). */
+/* Adds item under key; -1 when item could not be made (NULL) or cJSON had
+ * no memory for the key's copy (then item is freed here). */
 static int add(cJSON *object, const char *key, cJSON *item)
 {
     if (item == NULL)
         return -1;
-    cJSON_AddItemToObject(object, key, item);
+    if (!cJSON_AddItemToObject(object, key, item)) {
+        cJSON_Delete(item);
+        return -1;
+    }
     return 0;
 }
 
@@ -96,8 +100,10 @@ static cJSON *header_object(const struct uwb_scan *scan)
         add(root, "sample_interval_s", number_item(scan->sample_interval_s)) ||
         add(root, "t0_s", number_item(scan->t0_s)))
         goto fail;
-    cJSON_AddItemToObject(root, "antenna_y_m", antenna);
-    antenna = NULL;
+    cJSON *antenna_item = antenna;
+    antenna = NULL; /* add() owns it from here, added or freed */
+    if (add(root, "antenna_y_m", antenna_item))
+        goto fail;
     if (add(root, "tx_m", pair_item(scan->tx_m)) || add(root, "rx_m", pair_item(scan->rx_m)) ||
         add(root, "eps_r", number_item(scan->eps_r)))
         goto fail;
