@@ -283,6 +283,29 @@ static void test_conditioning_refuses_scans_without_a_spectrum(void)
     TEST_ASSERT_EQUAL_INT(-1, uwb_condition_finish(&s, &g, &opt, 2e9, NULL, &out, err, sizeof err));
     TEST_ASSERT_EQUAL_STRING("scan: positions is 0, must be between 1 and 4096", err);
 }
+
+/* A shift needs the winding in both scans: edges not found on either side,
+ * or a profile missing, is refused and the shift left alone. */
+static void test_a_shift_needs_the_winding_in_both_scans(void)
+{
+    static float values[8];
+    struct uwb_analysis found, missing;
+    memset(&found, 0, sizeof found);
+    memset(&missing, 0, sizeof missing);
+    found.edges.found = 1;
+    found.profile.n = 8;
+    found.profile.dy_m = 0.001;
+    found.profile.value = values;
+    char err[128];
+    double shift = 42.0;
+    TEST_ASSERT_EQUAL_INT(-1, uwb_measure_shift(&found, &missing, &shift, err, sizeof err));
+    TEST_ASSERT_EQUAL_STRING("shift: the winding is not established in both scans", err);
+    TEST_ASSERT_EQUAL_INT(-1, uwb_measure_shift(&missing, &found, &shift, err, sizeof err));
+    missing.edges.found = 1; /* edges, but no profile */
+    TEST_ASSERT_EQUAL_INT(-1, uwb_measure_shift(&found, &missing, &shift, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_measure_shift(&missing, &found, &shift, err, sizeof err));
+    TEST_ASSERT_EQUAL_DOUBLE(42.0, shift);
+}
 int main(void)
 {
     UNITY_BEGIN();
@@ -296,5 +319,6 @@ int main(void)
     RUN_TEST(test_imaging_grids_span_the_travel_and_refuse_degenerate_pixels);
     RUN_TEST(test_face_profiles_outside_the_image_or_overflowing_are_refused);
     RUN_TEST(test_conditioning_refuses_scans_without_a_spectrum);
+    RUN_TEST(test_a_shift_needs_the_winding_in_both_scans);
     return UNITY_END();
 }
