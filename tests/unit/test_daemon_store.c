@@ -216,6 +216,10 @@ static void test_verdict_log_appends_whole_lines_and_reads_the_tail(void)
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_append(&store, line, err, sizeof err), err);
     }
     TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_append(&store, "{\"a\":1}\n{\"b\":2}", err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(err, "verdicts.jsonl: refusing to append an empty or multi-line record"), err);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_append(&store, "", err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "refusing to append an empty or multi-line record"), err);
     TEST_ASSERT_EQUAL_INT(5, scratch_count_lines(store.verdict_log));
     char **lines;
     int count, skipped;
