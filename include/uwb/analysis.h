@@ -50,6 +50,10 @@ struct uwb_analysis {
     struct uwb_scan conditioned;
     struct uwb_scan measured;
     double *weight; /* per position, 0..1 (1 everywhere before any taper pass) */
+    /* The centre the taper (weight) was built about: the winding's centre
+     * on the pass before, so it moves with the scan's noise too. */
+    int has_taper;
+    double taper_centre_m;
 };
 
 /* Returns 0 when the analysis ran (edges.found tells whether the winding

@@ -236,7 +236,7 @@ static double symmetric_centre(const struct uwb_face_profile *p, const struct pr
  * the travel and a displacement reads short by a few per cent. A Tukey
  * window (flat centre, cosine shoulders) reaching to the nearer end of the
  * travel removes that lean and moves smoothly as the winding moves. */
-static void taper_weights(const struct uwb_scan *in, double y_centre, double lo, double hi, double *weight)
+void uwb_taper_weights(const struct uwb_scan *in, double y_centre, double lo, double hi, double *weight)
 {
     double half = fmin(y_centre - lo, hi - y_centre);
     double step = antenna_step(in);
@@ -501,8 +501,10 @@ static enum step taper_passes(struct analysis_run *r)
         double centre;
         if (!usable_centre(r, &centre))
             return STEP_DONE;
-        taper_weights(&r->out->conditioned, centre, r->out->aperture_lo_m, r->out->aperture_hi_m,
-                      r->out->weight);
+        uwb_taper_weights(&r->out->conditioned, centre, r->out->aperture_lo_m, r->out->aperture_hi_m,
+                          r->out->weight);
+        r->out->has_taper = 1;
+        r->out->taper_centre_m = centre;
         struct side_reflector none = {0};
         if (measure_weighted(r, &none, 0) != STEP_NEXT)
             return STEP_FAILED;
@@ -528,7 +530,8 @@ static enum step side_reflector_passes(struct analysis_run *r)
         if (pass > 0 && (isnan(side_y) || fabs(centre - last_centre) < SIDE_SETTLED_M))
             break;
         last_centre = centre;
-        taper_weights(&out->conditioned, centre, out->aperture_lo_m, out->aperture_hi_m, out->weight);
+        uwb_taper_weights(&out->conditioned, centre, out->aperture_lo_m, out->aperture_hi_m, out->weight);
+        out->taper_centre_m = centre;
         struct side_reflector side = {0};
         if (uwb_side_reflector_find(&out->conditioned, &r->quadrature, out->weight, &r->g, r->z_face_m,
                                     centre, 0.5 * (r->pe.upper_m - r->pe.lower_m), out->dominant_hz, side_y,
@@ -684,4 +687,24 @@ int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_an
     if (z_face_out)
         *z_face_out = z_face;
     return rc;
+}
+
+double uwb_profile_centre(const struct uwb_face_profile *p, double fraction, double guess_m, double search_m)
+{
+    struct profile_edges e;
+    uwb_profile_edges(p, fraction, &e);
+    if (!e.ok)
+        return NAN;
+    return uwb_profile_symmetry_centre(p, isnan(guess_m) ? 0.5 * (e.lower_m + e.upper_m) : guess_m,
+                                       SYMMETRY_SPAN * 0.5 * (e.upper_m - e.lower_m),
+                                       isnan(guess_m) ? SYMMETRY_SEARCH_M : search_m);
+}
+
+int uwb_profile_centre_gradient(const struct uwb_face_profile *p, double fraction, double c_m, double *grad)
+{
+    struct profile_edges e;
+    uwb_profile_edges(p, fraction, &e);
+    if (!e.ok)
+        return -1;
+    return uwb_profile_symmetry_centre_gradient(p, c_m, SYMMETRY_SPAN * 0.5 * (e.upper_m - e.lower_m), grad);
 }

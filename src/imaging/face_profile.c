@@ -133,3 +133,66 @@ double uwb_profile_symmetry_centre(const struct uwb_face_profile *p, double gues
     }
     return best_c;
 }
+
+/* Catmull-Rom weights of the four values profile_at reads at x (in
+ * pixels), and of its slope per pixel; idx gets their (clamped) indices. */
+static void profile_weights(const struct uwb_face_profile *p, double y, int idx[4], double w[4], double dw[4])
+{
+    double x = (y - p->y0_m) / p->dy_m;
+    int i = (int)floor(x);
+    double t = x - i;
+    for (int j = 0; j < 4; j++) {
+        int k = i - 1 + j;
+        idx[j] = k < 0 ? 0 : k > p->n - 1 ? p->n - 1 : k;
+    }
+    w[0] = 0.5 * (-t + 2.0 * t * t - t * t * t);
+    w[1] = 1.0 + 0.5 * (-5.0 * t * t + 3.0 * t * t * t);
+    w[2] = 0.5 * (t + 4.0 * t * t - 3.0 * t * t * t);
+    w[3] = 0.5 * (-t * t + t * t * t);
+    dw[0] = 0.5 * (-1.0 + 4.0 * t - 3.0 * t * t);
+    dw[1] = 0.5 * (-10.0 * t + 9.0 * t * t);
+    dw[2] = 0.5 * (1.0 + 8.0 * t - 9.0 * t * t);
+    dw[3] = 0.5 * (-2.0 * t + 3.0 * t * t);
+}
+
+/* dA/dc of the asymmetry at c (per metre), and when grad is not NULL its
+ * derivative with each profile value added to grad times scale. */
+static double asymmetry_slope(const struct uwb_face_profile *p, double c, double half_span, double *grad,
+                              double scale)
+{
+    double slope = 0.0;
+    for (double u = 0.5 * p->dy_m; u <= half_span; u += p->dy_m) {
+        int ia[4], ib[4];
+        double wa[4], dwa[4], wb[4], dwb[4], pa = 0, pb = 0, sa = 0, sb = 0;
+        profile_weights(p, c + u, ia, wa, dwa);
+        profile_weights(p, c - u, ib, wb, dwb);
+        for (int j = 0; j < 4; j++) {
+            pa += wa[j] * p->value[ia[j]];
+            pb += wb[j] * p->value[ib[j]];
+            sa += dwa[j] * p->value[ia[j]] / p->dy_m;
+            sb += dwb[j] * p->value[ib[j]] / p->dy_m;
+        }
+        double d = pa - pb, ds = sa - sb;
+        slope += 2.0 * d * ds;
+        if (!grad)
+            continue;
+        for (int j = 0; j < 4; j++) {
+            grad[ia[j]] += scale * 2.0 * (wa[j] * ds + d * dwa[j] / p->dy_m);
+            grad[ib[j]] -= scale * 2.0 * (wb[j] * ds + d * dwb[j] / p->dy_m);
+        }
+    }
+    return slope;
+}
+
+int uwb_profile_symmetry_centre_gradient(const struct uwb_face_profile *p, double c_m, double half_span_m,
+                                         double *grad)
+{
+    double eps = 0.01 * p->dy_m;
+    double curvature = (asymmetry_slope(p, c_m + eps, half_span_m, NULL, 0.0) -
+                        asymmetry_slope(p, c_m - eps, half_span_m, NULL, 0.0)) /
+                       (2.0 * eps);
+    if (!(curvature > 0.0))
+        return -1;
+    asymmetry_slope(p, c_m, half_span_m, grad, -1.0 / curvature);
+    return 0;
+}

@@ -69,6 +69,12 @@ void uwb_profile_edges(const struct uwb_face_profile *p, double fraction, struct
 double uwb_profile_symmetry_centre(const struct uwb_face_profile *p, double guess_m, double half_span_m,
                                    double search_m);
 
+/* How that centre c_m (the asymmetry's minimum) moves with each profile
+ * value, added to grad (p->n long): implicit differentiation of the
+ * asymmetry's slope. Returns 0, or -1 where it has no curvature. */
+int uwb_profile_symmetry_centre_gradient(const struct uwb_face_profile *p, double c_m, double half_span_m,
+                                         double *grad);
+
 /* The shift d that best maps base onto cur: cur(y + d) against g * base(y)
  * on the squared envelope, y within +-half_span_m of base_centre_m, searched
  * within 5 mm of guess_m (profile_shift.c says why). NAN when out of memory. */
@@ -98,6 +104,18 @@ int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_an
                                const struct uwb_scan *added, double scale, double y_lo_m, double y_hi_m,
                                struct uwb_migration_plan *plan, struct uwb_face_profile *p,
                                double *z_face_out, char *err, size_t errlen);
+
+/* The aperture taper (a Tukey window about y_centre reaching to the nearer
+ * end of the travel lo..hi) the face measurement weighs positions with. */
+void uwb_taper_weights(const struct uwb_scan *in, double y_centre, double lo, double hi, double *weight);
+
+/* The winding's centre on a profile as the analysis reads it (the mirror
+ * symmetry about its crossings of fraction * peak); with guess_m not NAN,
+ * searched within search_m of it. NAN when the profile does not fall off. */
+double uwb_profile_centre(const struct uwb_face_profile *p, double fraction, double guess_m, double search_m);
+/* Its gradient at c_m with each profile value, added to grad (the mirror
+ * span held at the crossings'). Returns 0, or -1 (edges, curvature). */
+int uwb_profile_centre_gradient(const struct uwb_face_profile *p, double fraction, double c_m, double *grad);
 
 /* uwb_condition in its two parts: what depends on the scan alone (band-pass,
  * alignment on the direct coupling), done once per analysis, and what

@@ -115,9 +115,48 @@ static void test_linear_sigma_agrees_with_the_draws_on_a_noisy_tank_pair(void)
     uwb_scan_free(&base);
 }
 
+/* The taper's path needs how the winding's centre (the profile's mirror
+ * symmetry) moves with each profile value: the implicit derivative must
+ * agree with re-reading the centre after nudging one value, on a lopsided
+ * bump (a plateau with unequal shoulders, as a winding beside a plate). */
+static void test_centre_gradient_agrees_with_nudged_profiles(void)
+{
+    struct uwb_face_profile p = {.n = 400, .y0_m = 0.0, .dy_m = 0.001};
+    p.value = malloc((size_t)p.n * sizeof *p.value);
+    TEST_ASSERT_NOT_NULL(p.value);
+    for (int i = 0; i < p.n; i++) {
+        double y = i * p.dy_m, lo = 0.12, hi = 0.27;
+        double rise = 1.0 / (1.0 + exp(-(y - lo) / 0.006)), fall = 1.0 / (1.0 + exp((y - hi) / 0.011));
+        p.value[i] = (float)(1000.0 * rise * fall * (1.0 + 0.3 * sin(y / 0.013)));
+    }
+    double c = uwb_profile_centre(&p, 0.5, NAN, 0.0);
+    TEST_ASSERT_TRUE(isfinite(c));
+    double *g = calloc((size_t)p.n, sizeof *g);
+    TEST_ASSERT_NOT_NULL(g);
+    TEST_ASSERT_EQUAL_INT(0, uwb_profile_centre_gradient(&p, 0.5, c, g));
+    double worst = 0.0, scale = 0.0;
+    for (int i = 0; i < p.n; i++)
+        scale = fmax(scale, fabs(g[i]));
+    TEST_ASSERT_TRUE(scale > 0.0);
+    for (int i = 60; i < 340; i += 7) {
+        float v = p.value[i];
+        p.value[i] = v + 1.0f;
+        double up = uwb_profile_centre(&p, 0.5, c, 0.002);
+        p.value[i] = v - 1.0f;
+        double down = uwb_profile_centre(&p, 0.5, c, 0.002);
+        p.value[i] = v;
+        worst = fmax(worst, fabs((up - down) / 2.0 - g[i]));
+    }
+    printf("centre gradient: largest %.3g m per unit, worst disagreement %.3g\n", scale, worst);
+    TEST_ASSERT_TRUE_MESSAGE(worst < 0.05 * scale, "the centre's gradient disagrees with nudged profiles");
+    free(g);
+    free(p.value);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
+    RUN_TEST(test_centre_gradient_agrees_with_nudged_profiles);
     RUN_TEST(test_linear_sigma_agrees_with_the_draws_on_the_paper_pair);
     RUN_TEST(test_linear_sigma_agrees_with_the_draws_on_every_tank_pair);
     RUN_TEST(test_linear_sigma_agrees_with_the_draws_on_a_noisy_tank_pair);

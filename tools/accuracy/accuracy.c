@@ -90,6 +90,13 @@ double accuracy_crb_m(const char *path_a, const char *path_b, double shift_m, do
     return sqrt(2.0) * noise_sigma / sqrt(all);
 }
 
+static FILE *pair_log;
+
+void accuracy_log_pairs(FILE *out)
+{
+    pair_log = out;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -101,8 +108,8 @@ static int impaired(const struct uwb_scan *in, const struct accuracy_level *leve
 {
     if (uwb_scan_copy(out, in, err, errlen) != 0)
         return -1;
-    struct uwb_impairment imp = {
-        1, level->snr_db, level->jitter_s, level->drift_linear, level->drift_random, seed};
+    struct uwb_impairment imp = {level->snr_db > 0.0, level->snr_db,       level->jitter_s,
+                                 level->drift_linear, level->drift_random, seed};
     if (uwb_impair_scan(out, &imp, NULL, err, errlen) != 0) {
         uwb_scan_free(out);
         return -1;
@@ -167,6 +174,10 @@ int accuracy_run_case(const char *dir, const struct accuracy_case *c, const stru
         error[measured] = v.axial_displacement_m - c->true_shift_m;
         sigma[measured] = v.uncertainty_m;
         within += fabs(error[measured]) <= 2.0 * sigma[measured];
+        if (pair_log && level)
+            fprintf(pair_log, "%s pair %d: error %+.3f sigma %.3f side reflector %d/%d ratio %+.2f\n",
+                    c->name, j, error[measured] * 1e3, sigma[measured] * 1e3, v.current.side_reflector,
+                    v.baseline.side_reflector, error[measured] / sigma[measured]);
         measured++;
     }
     if (rc == 0 && measured == 0) {
@@ -192,7 +203,7 @@ int accuracy_run_case(const char *dir, const struct accuracy_case *c, const stru
         row->spread_m = pairs > 1 ? sqrt(ss / (pairs - 1)) : 0.0;
         row->worst_m = worst;
         row->median_sigma_m = pairs % 2 ? sigma[pairs / 2] : 0.5 * (sigma[pairs / 2 - 1] + sigma[pairs / 2]);
-        row->within_2sigma = (double)within / all;
+        row->within_2sigma = (double)within / measured; /* of the errors: a pair without one gave no figure */
         row->with_figure = (double)figure / all;
         if (level) {
             struct uwb_impairment_report rep;
@@ -231,6 +242,11 @@ void accuracy_print_header(FILE *out)
 void accuracy_print_row(FILE *out, const struct accuracy_case *c, const struct accuracy_level *level,
                         const struct accuracy_row *r)
 {
+    char pairs[48];
+    if (r->measured == r->pairs)
+        snprintf(pairs, sizeof pairs, "%d", r->pairs);
+    else /* the winding not established in some: they have no error */
+        snprintf(pairs, sizeof pairs, "%d (%d measured)", r->pairs, r->measured);
     if (!level) {
         fprintf(out, "| %s | none | 1 | %+.2f | — | %.2f | %.2f | — | %s | %s | — | — | — | — |\n", c->name,
                 r->bias_m * 1e3, r->worst_m * 1e3, r->median_sigma_m * 1e3,
@@ -238,9 +254,9 @@ void accuracy_print_row(FILE *out, const struct accuracy_case *c, const struct a
         return;
     }
     fprintf(out,
-            "| %s | %.0f dB | %d | %+.2f | %.2f | %.2f | %.2f | %.2f | %.0f %% | %.0f %% | %.3f | %.1f | "
+            "| %s | %.0f dB | %s | %+.2f | %.2f | %.2f | %.2f | %.2f | %.0f %% | %.0f %% | %.3f | %.1f | "
             "%.3f | %.1f |\n",
-            c->name, level->snr_db, r->pairs, r->bias_m * 1e3, r->spread_m * 1e3, r->worst_m * 1e3,
+            c->name, level->snr_db, pairs, r->bias_m * 1e3, r->spread_m * 1e3, r->worst_m * 1e3,
             r->median_sigma_m * 1e3, r->median_sigma_m > 0 ? r->spread_m / r->median_sigma_m : INFINITY,
             100.0 * r->within_2sigma, 100.0 * r->with_figure, r->crb_m * 1e3,
             r->crb_m > 0 ? r->spread_m / r->crb_m : INFINITY, r->crb_face_cell_m * 1e3,

@@ -29,7 +29,7 @@ struct accuracy_row {
     int noisy;
     double bias_m, spread_m, worst_m;
     double median_sigma_m;
-    double within_2sigma;   /* share of errors within 2 sigma */
+    double within_2sigma;   /* share of the errors (measured pairs) within 2 sigma */
     double with_figure;     /* share not inconclusive (default uncertainty limit) */
     double crb_m;           /* 0 for the clean replay */
     double crb_face_cell_m; /* the bound from the face's range cell alone (see accuracy_crb_m) */
@@ -57,6 +57,10 @@ extern const struct accuracy_case accuracy_cases[];
 extern const int accuracy_case_count;
 extern const struct accuracy_level accuracy_levels[];
 extern const int accuracy_level_count;
+
+/* When set, accuracy_run_case prints each noisy pair's error and sigma
+ * there (mm, one line per pair): the error distribution behind a row. */
+void accuracy_log_pairs(FILE *out);
 
 /* One markdown table row, and the table's header. */
 void accuracy_print_header(FILE *out);

@@ -44,7 +44,8 @@ static int replace_block(const char *path, const char *table, char *err, size_t 
 int main(int argc, char **argv)
 {
     const char *dir = "tests/fixtures", *readme = NULL;
-    int pairs = 30;
+    int pairs = 30, only_case = -1, custom = 0;
+    struct accuracy_level level_custom = {0};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--fixtures") && i + 1 < argc)
             dir = argv[++i];
@@ -52,10 +53,29 @@ int main(int argc, char **argv)
             pairs = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--readme") && i + 1 < argc)
             readme = argv[++i];
-        else {
-            fprintf(stderr, "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE]\n");
+        else if (!strcmp(argv[i], "--case") && i + 1 < argc)
+            only_case = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--pair-errors"))
+            accuracy_log_pairs(stderr);
+        else if (!strcmp(argv[i], "--impair") && i + 4 < argc) {
+            /* SNR_DB (0: no white noise) JITTER_PS DRIFT_LINEAR DRIFT_RANDOM: one level instead of the
+             * report's */
+            custom = 1;
+            level_custom.snr_db = atof(argv[++i]);
+            level_custom.jitter_s = atof(argv[++i]) * 1e-12;
+            level_custom.drift_linear = atof(argv[++i]);
+            level_custom.drift_random = atof(argv[++i]);
+        } else {
+            fprintf(
+                stderr,
+                "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE] [--case N] [--pair-errors]\n"
+                "       [--impair SNR_DB JITTER_PS DRIFT_LINEAR DRIFT_RANDOM]\n");
             return 64;
         }
+    }
+    if (readme && (custom || only_case >= 0)) {
+        fprintf(stderr, "uwbaccuracy: --readme takes the whole report, not --case or --impair\n");
+        return 64;
     }
     if (pairs < 2) {
         fprintf(stderr, "uwbaccuracy: --pairs must be at least 2\n");
@@ -71,9 +91,11 @@ int main(int argc, char **argv)
     accuracy_print_header(stdout);
     accuracy_print_header(mem);
     for (int c = 0; c < accuracy_case_count; c++) {
-        for (int l = -1; l < accuracy_level_count; l++) {
+        if (only_case >= 0 && c != only_case)
+            continue;
+        for (int l = custom ? 0 : -1; l < (custom ? 1 : accuracy_level_count); l++) {
             struct accuracy_row row;
-            const struct accuracy_level *level = l < 0 ? NULL : &accuracy_levels[l];
+            const struct accuracy_level *level = custom ? &level_custom : l < 0 ? NULL : &accuracy_levels[l];
             unsigned long long seed =
                 1000000ull * (unsigned long long)(l + 1) + 10000ull * (unsigned long long)c;
             if (accuracy_run_case(dir, &accuracy_cases[c], level, pairs, seed, &row, err, sizeof err) != 0) {
