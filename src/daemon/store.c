@@ -194,6 +194,7 @@ int uwbd_store_lock(const char *state_dir, char *err, size_t errlen)
     if (make_dirs(state_dir, err, errlen) != 0)
         return -1;
     char path[UWBD_PATH_MAX + 16];
+    /* Unreachable on purpose: make_dirs refused a state_dir this long. */
     if (uwbd_path_join(path, sizeof path, state_dir, "uwbd.lock") != 0) {
         snprintf(err, errlen, "%.64s...: state directory path too long", state_dir);
         return -1;

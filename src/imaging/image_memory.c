@@ -15,7 +15,7 @@ int uwb_image_alloc(struct uwb_image *img, int ny, int nz, char *err, size_t err
             snprintf(err, errlen, "image: size %d x %d, both must be at least 1", ny, nz);
         return -1;
     }
-    if ((uint64_t)ny * (uint64_t)nz > SIZE_MAX / sizeof *img->pix) {
+    if ((uint64_t)ny * (uint64_t)nz > SIZE_MAX / sizeof *img->pix) { /* only with a 32-bit size_t */
         if (err && errlen)
             snprintf(err, errlen, "image: %d x %d pixels do not fit in memory", ny, nz);
         return -1;

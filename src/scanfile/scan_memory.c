@@ -24,7 +24,7 @@ int uwb_scan_alloc(struct uwb_scan *scan, int positions, int samples, char *err,
         return -1;
     }
     uint64_t data_bytes = uwbscan_payload_bytes(positions, samples);
-    if (data_bytes > SIZE_MAX) {
+    if (data_bytes > SIZE_MAX) { /* only a 32-bit size_t gets here: the limits make 16 GiB */
         uwbscan_fail(err, errlen, "scan", "%d x %d samples do not fit in memory", positions, samples);
         return -1;
     }

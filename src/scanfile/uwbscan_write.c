@@ -189,7 +189,7 @@ int uwbscan_serialise(const struct uwb_scan *scan, unsigned char **buf, size_t *
         return -1;
     size_t header_len = strlen(header);
     uint64_t payload = uwbscan_payload_bytes(scan->positions, scan->samples);
-    if (payload > SIZE_MAX - header_len - 1) {
+    if (payload > SIZE_MAX - header_len - 1) { /* only a 32-bit size_t gets here */
         free(header);
         uwbscan_fail(err, errlen, name, "%d x %d samples do not fit in memory", scan->positions,
                      scan->samples);

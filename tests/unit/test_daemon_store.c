@@ -7,8 +7,10 @@
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/time.h>
 #include <unistd.h>
@@ -214,6 +216,10 @@ static void test_verdict_log_appends_whole_lines_and_reads_the_tail(void)
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_append(&store, line, err, sizeof err), err);
     }
     TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_append(&store, "{\"a\":1}\n{\"b\":2}", err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(err, "verdicts.jsonl: refusing to append an empty or multi-line record"), err);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_append(&store, "", err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "refusing to append an empty or multi-line record"), err);
     TEST_ASSERT_EQUAL_INT(5, scratch_count_lines(store.verdict_log));
     char **lines;
     int count, skipped;
@@ -706,6 +712,285 @@ static void test_a_damaged_baseline_is_noticed_and_moved_aside(void)
     uwb_scan_free(&b);
 }
 
+/* Only one uwbd per state directory: a second lock is refused with the
+ * directory's name and granted again once the first holder lets go; a
+ * directory where the lock file must be is refused by the lock's path. */
+static void test_a_second_lock_on_the_state_directory_is_refused(void)
+{
+    int first = uwbd_store_lock(dir, err, sizeof err);
+    TEST_ASSERT_TRUE_MESSAGE(first >= 0, err);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_lock(dir, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "another uwbd is using this state directory"), err);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(err, dir, strlen(dir)));
+    close(first);
+    int again = uwbd_store_lock(dir, err, sizeof err);
+    TEST_ASSERT_TRUE_MESSAGE(again >= 0, err);
+    close(again);
+
+    char other[128], lock[160];
+    snprintf(other, sizeof other, "%s/lock-is-a-dir", dir);
+    snprintf(lock, sizeof lock, "%s/uwbd.lock", other);
+    TEST_ASSERT_EQUAL_INT(0, mkdir(other, 0755));
+    TEST_ASSERT_EQUAL_INT(0, mkdir(lock, 0755));
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_lock(other, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "lock-is-a-dir/uwbd.lock: cannot open"), err);
+}
+
+/* The rooms of the state directory must be directories; a name the file
+ * system cannot hold is refused with the system's reason; a short path
+ * (a symlink) that resolves to one too long for the store is refused. */
+static void test_state_directories_that_cannot_be_made_are_refused_by_name(void)
+{
+    static const char *const rooms[] = {"archive", "baseline", "baseline/history"};
+    struct uwbd_store other;
+    for (size_t i = 0; i < 3; i++) {
+        char state[128], room[192];
+        snprintf(state, sizeof state, "%s/state-%zu", dir, i);
+        TEST_ASSERT_EQUAL_INT(0, mkdir(state, 0755));
+        if (i == 2) {
+            snprintf(room, sizeof room, "%s/baseline", state);
+            TEST_ASSERT_EQUAL_INT(0, mkdir(room, 0755));
+        }
+        snprintf(room, sizeof room, "%s/%s", state, rooms[i]);
+        scratch_spit(room, "a file where a directory belongs");
+        TEST_ASSERT_EQUAL_INT(-1, uwbd_store_open(&other, state, NULL, err, sizeof err));
+        char want[64];
+        snprintf(want, sizeof want, "/%s: exists but is not a directory", rooms[i]);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, want), err);
+    }
+
+    /* a file part-way along the path */
+    char below_file[192];
+    snprintf(below_file, sizeof below_file, "%s/state-0/archive/deeper", dir);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_open(&other, below_file, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "state-0/archive: exists but is not a directory"), err);
+
+    char toolong[400];
+    int w = snprintf(toolong, sizeof toolong, "%s/", dir);
+    memset(toolong + w, 'n', 300);
+    toolong[w + 300] = '\0';
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_open(&other, toolong, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "nnn: cannot create directory: File name too long"), err);
+
+    /* 6 levels of 200 characters: beyond the store's 1024 once resolved. */
+    char deep[1400], link[128];
+    size_t used = (size_t)snprintf(deep, sizeof deep, "%s", dir);
+    for (int level = 0; level < 6; level++) {
+        deep[used++] = '/';
+        memset(deep + used, (char)('a' + level), 200);
+        used += 200;
+        deep[used] = '\0';
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, mkdir(deep, 0755), deep);
+    }
+    snprintf(link, sizeof link, "%s/short", dir);
+    TEST_ASSERT_EQUAL_INT(0, symlink(deep, link));
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_store_open(&other, link, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "...: state directory path too long"), err);
+}
+
+/* Under archive/ only YYYY/MM/DD directories are uwbd's: a temporary name
+ * in a directory whose name only looks like a year is left alone. */
+static void test_archive_directories_not_named_by_date_are_not_cleaned(void)
+{
+    static const char *const lookalikes[] = {"archive/20a6", "archive/2026/1x", "archive/2026/01/0"};
+    char p[2048], file[2100];
+    for (size_t i = 0; i < 3; i++) {
+        path_in(p, sizeof p, lookalikes[i]);
+        for (char *s = p + strlen(store.root) + 1; *s; s++)
+            if (*s == '/') {
+                *s = '\0';
+                mkdir(p, 0755);
+                *s = '/';
+            }
+        mkdir(p, 0755);
+        snprintf(file, sizeof file, "%s/" ATOMIC_FILE_TEMP_PREFIX "x.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX, p);
+        scratch_spit(file, "not in a day directory");
+    }
+    int repairs = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, &repairs, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(0, repairs);
+    for (size_t i = 0; i < 3; i++) {
+        path_in(p, sizeof p, lookalikes[i]);
+        snprintf(file, sizeof file, "%s/" ATOMIC_FILE_TEMP_PREFIX "x.Ab12Cd" ATOMIC_FILE_TEMP_SUFFIX, p);
+        TEST_ASSERT_TRUE_MESSAGE(scratch_file_exists(file), file);
+    }
+}
+
+/* A JSON file that cannot be written is an error naming it; no file
+ * appears. */
+static void test_a_json_file_in_a_missing_directory_is_refused_by_name(void)
+{
+    char p[2048];
+    path_in(p, sizeof p, "no-such-dir/latest.json");
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_write_json_file(p, "{\"a\":1}", err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "no-such-dir"), err);
+    TEST_ASSERT_FALSE(scratch_file_exists(p));
+}
+
+/* A verdict that does not fit (the disk full, here the file-size limit)
+ * is refused by the log's name and leaves no torn line: a partial write
+ * is cut back, so the log holds exactly the records before it. */
+static void test_a_verdict_that_does_not_fit_leaves_the_log_as_it_was(void)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_append(&store, "{\"n\":1}", err, sizeof err), err);
+    size_t before_len = 0;
+    char *before = scratch_slurp(store.verdict_log, &before_len);
+    TEST_ASSERT_NOT_NULL(before);
+
+    struct rlimit saved;
+    TEST_ASSERT_EQUAL_INT(0, getrlimit(RLIMIT_FSIZE, &saved));
+    void (*old_handler)(int) = signal(SIGXFSZ, SIG_IGN);
+    struct rlimit tight = saved;
+    /* room for 4 more bytes: a short write. Then none: the write fails. */
+    tight.rlim_cur = (rlim_t)before_len + 4;
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &tight));
+    int short_rc = uwbd_verdict_log_append(&store, "{\"n\":2,\"long\":\"enough\"}", err, sizeof err);
+    char short_err[sizeof err];
+    snprintf(short_err, sizeof short_err, "%s", err);
+    tight.rlim_cur = (rlim_t)before_len;
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &tight));
+    int full_rc = uwbd_verdict_log_append(&store, "{\"n\":3}", err, sizeof err);
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &saved));
+    signal(SIGXFSZ, old_handler);
+
+    TEST_ASSERT_EQUAL_INT(-1, short_rc);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(short_err, "verdicts.jsonl: cannot append a verdict: short write"),
+                                 short_err);
+    TEST_ASSERT_EQUAL_INT(-1, full_rc);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "verdicts.jsonl: cannot append a verdict: File too large"), err);
+    size_t after_len = 0;
+    char *after = scratch_slurp(store.verdict_log, &after_len);
+    TEST_ASSERT_EQUAL_UINT64(before_len, after_len);
+    TEST_ASSERT_EQUAL_STRING(before, after);
+    free(before);
+    free(after);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_append(&store, "{\"n\":4}", err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(2, scratch_count_lines(store.verdict_log));
+}
+
+/* The tail's edges: no lines asked, no log yet, a line with a NUL inside
+ * (skipped: it would cut the line short for every reader), and a line too
+ * long to be a verdict (never half-returned). */
+static void test_the_tail_skips_what_is_not_one_whole_verdict(void)
+{
+    char **lines = NULL;
+    int count = -1, skipped = -1;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 0, &lines, &count, &skipped, err, sizeof err));
+    TEST_ASSERT_NULL(lines);
+    TEST_ASSERT_EQUAL_INT(0, count);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 5, &lines, &count, &skipped, err, sizeof err));
+    TEST_ASSERT_NULL(lines);
+    TEST_ASSERT_EQUAL_INT(0, count);
+    char created[32] = "unchanged";
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_latest_created(&store, created, sizeof created));
+    TEST_ASSERT_EQUAL_STRING("", created); /* no log yet */
+
+    FILE *f = fopen(store.verdict_log, "wb");
+    TEST_ASSERT_NOT_NULL(f);
+    fputs("{\"n\":1}\n", f);
+    static const char with_nul[] = "{\"n\":2,\"x\":\"a\0b\"}\n";
+    fwrite(with_nul, 1, sizeof with_nul - 1, f);
+    fputs("{\"n\":3}\n", f);
+    fclose(f);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 5, &lines, &count, &skipped, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(2, count);
+    TEST_ASSERT_EQUAL_INT(1, skipped);
+    TEST_ASSERT_EQUAL_STRING("{\"n\":1}", lines[0]);
+    TEST_ASSERT_EQUAL_STRING("{\"n\":3}", lines[1]);
+    uwbd_verdict_lines_free(lines, count);
+
+    /* 600 KiB of one line (past 2 verdicts' bound), then a verdict: asked for 2,
+     * only the verdict comes; the long line is not read to its start. */
+    size_t big = 600 * 1024;
+    char *text = malloc(big + 32);
+    TEST_ASSERT_NOT_NULL(text);
+    memset(text, 'x', big);
+    text[0] = '{';
+    memcpy(text + big - 1, "}\n{\"n\":9}\n", 11);
+    scratch_spit(store.verdict_log, text);
+    free(text);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 2, &lines, &count, &skipped, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(1, count);
+    TEST_ASSERT_EQUAL_STRING("{\"n\":9}", lines[0]);
+    uwbd_verdict_lines_free(lines, count);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_latest_created(&store, created, sizeof created));
+    TEST_ASSERT_EQUAL_STRING("", created); /* the newest line has no "created" */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0,
+        uwbd_verdict_log_append(&store, "{\"n\":10,\"created\":\"2030-01-02T03:04:05Z\"}", err, sizeof err),
+        err);
+    TEST_ASSERT_EQUAL_INT(1, uwbd_verdict_log_latest_created(&store, created, sizeof created));
+    TEST_ASSERT_EQUAL_STRING("2030-01-02T03:04:05Z", created);
+}
+
+/* A crash mid-line with no newline anywhere (over several read blocks):
+ * the repair cuts it all, and says how much. */
+static void test_repair_of_a_log_without_any_whole_line_empties_it(void)
+{
+    char *text = malloc(10001);
+    TEST_ASSERT_NOT_NULL(text);
+    memset(text, 'x', 10000);
+    text[0] = '{';
+    text[10000] = '\0';
+    scratch_spit(store.verdict_log, text);
+    free(text);
+    long dropped = 0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_repair(&store, &dropped, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(10000, (int)dropped);
+    struct stat st;
+    TEST_ASSERT_EQUAL_INT(0, stat(store.verdict_log, &st));
+    TEST_ASSERT_EQUAL_INT(0, (int)st.st_size);
+}
+
+/* latest.json: missing is no error and no text; trailing line ends are
+ * dropped; anything but one JSON object (an array, a NUL inside) is
+ * refused by its name. */
+static void test_latest_json_must_be_one_object(void)
+{
+    char *json = (char *)"unchanged";
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_read(&store, &json, err, sizeof err));
+    TEST_ASSERT_NULL(json);
+    scratch_spit(store.latest, "{\"status\":\"ok\"}\r\n\n");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_latest_read(&store, &json, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_STRING("{\"status\":\"ok\"}", json);
+    free(json);
+    scratch_spit(store.latest, "[1,2]\n");
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_latest_read(&store, &json, err, sizeof err));
+    TEST_ASSERT_NULL(json);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "latest.json: not one JSON object"), err);
+    FILE *f = fopen(store.latest, "wb");
+    TEST_ASSERT_NOT_NULL(f);
+    fwrite("{\"a\":\"\0\"}", 1, 9, f);
+    fclose(f);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_latest_read(&store, &json, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "latest.json: not one JSON object"), err);
+}
+
+/* A directory where verdicts.jsonl must be: every reader and writer
+ * refuses it with the log's name and the system's reason, none loses it. */
+static void test_a_directory_in_place_of_the_verdict_log_is_refused_by_name(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, mkdir(store.verdict_log, 0755));
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_append(&store, "{\"n\":1}", err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "verdicts.jsonl: cannot open for appending: Is a directory"),
+                                 err);
+    long dropped = -1;
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_repair(&store, &dropped, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "verdicts.jsonl: cannot open: Is a directory"), err);
+    char **lines = NULL;
+    int count = -1;
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_tail(&store, 3, &lines, &count, NULL, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "verdicts.jsonl: cannot read: Is a directory"), err);
+    TEST_ASSERT_NULL(lines);
+    int trimmed = -1;
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_verdict_log_trim(&store, 1, 0, time(NULL), &trimmed, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "verdicts.jsonl: cannot read for trimming: Is a directory"),
+                                 err);
+    TEST_ASSERT_EQUAL_INT(0, trimmed);
+    struct stat st;
+    TEST_ASSERT_EQUAL_INT(0, stat(store.verdict_log, &st));
+    TEST_ASSERT_TRUE(S_ISDIR(st.st_mode));
+}
 int main(void)
 {
     UNITY_BEGIN();
@@ -731,5 +1016,14 @@ int main(void)
     RUN_TEST(test_retention_never_follows_a_symlink);
     RUN_TEST(test_verdict_log_and_latest_are_never_written_through_a_symlink);
     RUN_TEST(test_scan_ids_become_safe_file_names);
+    RUN_TEST(test_a_second_lock_on_the_state_directory_is_refused);
+    RUN_TEST(test_state_directories_that_cannot_be_made_are_refused_by_name);
+    RUN_TEST(test_archive_directories_not_named_by_date_are_not_cleaned);
+    RUN_TEST(test_a_json_file_in_a_missing_directory_is_refused_by_name);
+    RUN_TEST(test_a_verdict_that_does_not_fit_leaves_the_log_as_it_was);
+    RUN_TEST(test_the_tail_skips_what_is_not_one_whole_verdict);
+    RUN_TEST(test_repair_of_a_log_without_any_whole_line_empties_it);
+    RUN_TEST(test_latest_json_must_be_one_object);
+    RUN_TEST(test_a_directory_in_place_of_the_verdict_log_is_refused_by_name);
     return UNITY_END();
 }

@@ -2,6 +2,7 @@
  * stale frames, a sequence that jumps ahead, a wrong record length, a
  * corrupted frame, refused or altered configurations. The fire callback
  * tells the child about each trigger through a pipe. */
+#include <math.h>
 #include <poll.h>
 #include <signal.h>
 #include <stdio.h>
@@ -24,11 +25,20 @@ enum action {
     JUMP_AHEAD,          /* a sequence 5 beyond (the digitiser counted extra triggers) */
     WRONG_LENGTH,        /* one sample short */
     CORRUPT_THEN_ANSWER, /* a frame failing its CRC, then this trigger's frame */
+    OTHER_THEN_ANSWER,   /* a frame that is not DATA with this trigger's sequence first */
+    BAD_PAYLOAD,         /* a DATA frame whose payload is shorter than its header */
+    HANG_UP,             /* the digitiser goes away instead of answering */
 };
+
+/* How the scripted digitiser answers ARM. */
+enum arm_reply { ARM_ANSWERED = 0, ARM_REFUSED, ARM_IGNORED, ARM_HUNG_UP };
 
 static struct {
     enum action script[8]; /* what the n-th trigger gets */
     int refuse_configure;
+    int malformed_configured; /* a CONFIGURED reply too short to hold its fields */
+    int noise_before_pong;    /* a reply to another sequence and a DATA frame before PONG */
+    enum arm_reply arm;
     uint32_t configured_samples;
 } peer;
 
@@ -71,7 +81,13 @@ static void answer_command(struct uwb_link *link, const struct uwb_frame *f, uin
 {
     uint8_t p[UWB_FRAME_CONFIGURE_BYTES];
     switch (f->type) {
-    case UWB_FRAME_PING: send_frame(link, UWB_FRAME_PONG, f->sequence, "scripted digitiser", 18); break;
+    case UWB_FRAME_PING:
+        if (peer.noise_before_pong) {
+            send_frame(link, UWB_FRAME_PONG, f->sequence + 7, "someone else", 12);
+            send_trace(link, 0, SAMPLES, 0);
+        }
+        send_frame(link, UWB_FRAME_PONG, f->sequence, "scripted\001digitiser", 18);
+        break;
     case UWB_FRAME_CONFIGURE:
         if (peer.refuse_configure) {
             uint8_t e[64];
@@ -79,12 +95,20 @@ static void answer_command(struct uwb_link *link, const struct uwb_frame *f, uin
             send_frame(link, UWB_FRAME_ERROR, f->sequence, e, n);
         } else {
             uwb_configure_payload_encode(peer.configured_samples, 1e-11, p);
-            send_frame(link, UWB_FRAME_CONFIGURED, f->sequence, p, sizeof p);
+            send_frame(link, UWB_FRAME_CONFIGURED, f->sequence, p, peer.malformed_configured ? 3 : sizeof p);
         }
         break;
     case UWB_FRAME_ARM:
         *seq = 0;
-        send_frame(link, UWB_FRAME_ARMED, f->sequence, NULL, 0);
+        if (peer.arm == ARM_REFUSED) {
+            uint8_t e[64];
+            size_t n = uwb_error_payload_encode(9, "trigger input not wired", e, sizeof e);
+            send_frame(link, UWB_FRAME_ERROR, f->sequence, e, n);
+        } else if (peer.arm == ARM_HUNG_UP) {
+            _exit(0);
+        } else if (peer.arm == ARM_ANSWERED) {
+            send_frame(link, UWB_FRAME_ARMED, f->sequence, NULL, 0);
+        }
         break;
     default: send_frame(link, f->type | 0x80, f->sequence, NULL, 0);
     }
@@ -132,6 +156,15 @@ static void serve(void)
                 seq += 5;
             if (a == CORRUPT_THEN_ANSWER)
                 send_trace(link, seq, SAMPLES, 1);
+            if (a == OTHER_THEN_ANSWER)
+                send_frame(link, UWB_FRAME_PONG, seq, "not data", 8);
+            if (a == HANG_UP)
+                _exit(0);
+            if (a == BAD_PAYLOAD) {
+                send_frame(link, UWB_FRAME_DATA, seq, "abc", 3);
+                seq++;
+                continue;
+            }
             send_trace(link, seq, a == WRONG_LENGTH ? SAMPLES - 1 : SAMPLES, 0);
             seq++;
         }
@@ -202,7 +235,8 @@ static struct uwb_digitiser *open_client(void)
 {
     struct uwb_digitiser *dig;
     TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_DIGITISER_OK, start_and_open(3000, 2, &dig), err);
-    TEST_ASSERT_EQUAL_STRING("scripted digitiser", uwb_digitiser_identity(dig));
+    /* it ends up in file headers: a control byte becomes '?' */
+    TEST_ASSERT_EQUAL_STRING("scripted?digitiser", uwb_digitiser_identity(dig));
     return dig;
 }
 
@@ -301,6 +335,112 @@ static void test_a_different_record_length_in_force_is_refused(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "runs 1024 samples"), err);
 }
 
+/* Frames that are not the reply sought are passed over: a reply to
+ * another sequence and a DATA frame before PONG, a frame that is not DATA
+ * before the trace. */
+static void test_frames_that_answer_something_else_are_passed_over(void)
+{
+    peer.noise_before_pong = 1;
+    peer.script[0] = OTHER_THEN_ANSWER;
+    struct uwb_digitiser *dig = open_client();
+    acquire_expecting(dig, 0);
+    struct uwb_digitiser_stats st;
+    uwb_digitiser_get_stats(dig, &st);
+    TEST_ASSERT_EQUAL_UINT32(1, st.fired);
+    TEST_ASSERT_EQUAL_UINT32(0, st.bad_frames);
+    uwb_digitiser_close(dig);
+}
+
+/* A DATA frame whose payload cannot be a trace costs a retry, counted. */
+static void test_a_data_frame_too_short_for_its_header_is_fired_again(void)
+{
+    peer.script[0] = BAD_PAYLOAD;
+    struct uwb_digitiser *dig = open_client();
+    acquire_expecting(dig, 1);
+    struct uwb_digitiser_stats st;
+    uwb_digitiser_get_stats(dig, &st);
+    TEST_ASSERT_EQUAL_UINT32(1, st.bad_payloads);
+    TEST_ASSERT_EQUAL_UINT32(1, st.retries);
+    uwb_digitiser_close(dig);
+}
+
+/* A digitiser that goes away mid-scan: with no retries left the error
+ * names it and says the link closed. */
+static void test_a_digitiser_that_hangs_up_fails_the_trace_by_name(void)
+{
+    peer.script[0] = HANG_UP;
+    struct uwb_digitiser *dig;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_DIGITISER_OK, start_and_open(3000, 0, &dig), err);
+    float out[SAMPLES];
+    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_FRAMES,
+                          uwb_digitiser_acquire(dig, fire, NULL, out, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, endpoint), err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "no good frame after 1 trigger;"), err);
+    uwb_digitiser_close(dig);
+}
+
+static void test_a_malformed_configured_reply_is_refused(void)
+{
+    peer.malformed_configured = 1;
+    struct uwb_digitiser *dig = (struct uwb_digitiser *)(void *)&peer;
+    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_PROTOCOL, start_and_open(1000, 0, &dig));
+    TEST_ASSERT_NULL(dig);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "malformed CONFIGURED reply"), err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, endpoint), err);
+}
+
+/* ARM refused, hung up on and never answered: each is its own error,
+ * naming the command (and, unanswered, the time waited). */
+static void test_arm_refused_hung_up_or_unanswered_is_reported(void)
+{
+    struct uwb_digitiser *dig;
+    peer.arm = ARM_REFUSED;
+    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_PROTOCOL, start_and_open(1000, 0, &dig));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "refused ARM: "), err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "trigger input not wired"), err);
+    tearDown();
+    setUp();
+    peer.arm = ARM_HUNG_UP;
+    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_LINK, start_and_open(1000, 0, &dig));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "digitiser ARM: "), err);
+    tearDown();
+    setUp();
+    peer.arm = ARM_IGNORED; /* the shortest wait for a command is 5 s */
+    TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_PROTOCOL, start_and_open(1000, 0, &dig));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "no reply to ARM within 5000 ms"), err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, endpoint), err);
+}
+
+/* A configuration the protocol cannot carry is refused before any link. */
+static void test_an_impossible_configuration_is_refused_before_connecting(void)
+{
+    const struct uwb_digitiser_config good = {.samples = SAMPLES,
+                                              .sample_interval_s = 1e-11,
+                                              .stack = 1,
+                                              .frame_timeout_ms = 100,
+                                              .frame_retries = 0};
+    struct uwb_digitiser_config bad[5];
+    for (int i = 0; i < 5; i++) {
+        bad[i] = good;
+        snprintf(bad[i].endpoint, sizeof bad[i].endpoint, "%s", endpoint);
+    }
+    bad[0].samples = 0;
+    bad[1].samples = UWB_FRAME_MAX_SAMPLES + 1;
+    bad[2].sample_interval_s = NAN;
+    bad[3].frame_timeout_ms = 0;
+    bad[4].frame_retries = -1;
+    for (int i = 0; i < 5; i++) {
+        struct uwb_digitiser *dig = (struct uwb_digitiser *)(void *)&peer;
+        int detail = -1;
+        TEST_ASSERT_EQUAL_INT(UWB_DIGITISER_ERR_PROTOCOL,
+                              uwb_digitiser_open(&bad[i], &dig, &detail, err, sizeof err));
+        TEST_ASSERT_NULL(dig);
+        TEST_ASSERT_EQUAL_INT(UWB_LINK_OK, detail);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "digitiser config: samples must be 1.."), err);
+    }
+    uwb_digitiser_close(NULL);
+}
+
 int main(void)
 {
     signal(SIGPIPE, SIG_IGN);
@@ -312,5 +452,11 @@ int main(void)
     RUN_TEST(test_bad_frames_beyond_the_retries_fail);
     RUN_TEST(test_a_refused_configuration_is_reported_with_the_reason);
     RUN_TEST(test_a_different_record_length_in_force_is_refused);
+    RUN_TEST(test_frames_that_answer_something_else_are_passed_over);
+    RUN_TEST(test_a_data_frame_too_short_for_its_header_is_fired_again);
+    RUN_TEST(test_a_digitiser_that_hangs_up_fails_the_trace_by_name);
+    RUN_TEST(test_a_malformed_configured_reply_is_refused);
+    RUN_TEST(test_arm_refused_hung_up_or_unanswered_is_reported);
+    RUN_TEST(test_an_impossible_configuration_is_refused_before_connecting);
     return UNITY_END();
 }

@@ -6,10 +6,12 @@
 #include <dirent.h>
 #include <float.h>
 #include <math.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -1107,6 +1109,62 @@ static void test_copy_is_deep(void)
     uwb_scan_free(&scan);
 }
 
+/* A copy of a scan without its optional strings has none either; a scan
+ * that could not be held is refused, by its limits, before any copying;
+ * freeing nothing is harmless. */
+static void test_copy_keeps_absent_strings_absent_and_refuses_bad_sizes(void)
+{
+    struct uwb_scan scan, copy;
+    TEST_ASSERT_EQUAL_INT(0, uwb_scan_alloc(&scan, 2, 3, err, sizeof err));
+    scan.data[5] = 7.5f;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_scan_copy(&copy, &scan, err, sizeof err), err);
+    TEST_ASSERT_NULL(copy.created);
+    TEST_ASSERT_NULL(copy.scan_id);
+    TEST_ASSERT_NULL(copy.source);
+    TEST_ASSERT_NULL(copy.comment);
+    TEST_ASSERT_NULL(copy.extra_json);
+    TEST_ASSERT_TRUE(copy.data[5] == 7.5f);
+    uwb_scan_free(&copy);
+    uwb_scan_free(&scan); /* now all zero: positions 0 */
+    TEST_ASSERT_EQUAL_INT(-1, uwb_scan_copy(&copy, &scan, err, sizeof err));
+    TEST_ASSERT_EQUAL_STRING("scan: positions is 0, must be between 1 and 4096", err);
+    TEST_ASSERT_NULL(copy.data);
+    TEST_ASSERT_NULL(copy.antenna_y_m);
+    uwb_scan_free(NULL);
+}
+
+/* The writer names the path when the temporary file cannot be made or
+ * written (the disk full, here the file-size limit); the file already
+ * there stays as it was and no temporary is left beside it. */
+static void test_write_file_failures_name_the_path_and_keep_the_old_file(void)
+{
+    struct uwb_scan scan;
+    make_full_scan(&scan, 4, 3000);
+    char path[128];
+    snprintf(path, sizeof path, "%s/missing-dir/scan.uwbscan", tmpdir);
+    TEST_ASSERT_EQUAL_INT(-1, uwbscan_write_file(path, &scan, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "missing-dir/scan.uwbscan"), err);
+
+    snprintf(path, sizeof path, "%s/scan.uwbscan", tmpdir);
+    scratch_spit(path, "the scan before");
+    struct rlimit saved, tight;
+    TEST_ASSERT_EQUAL_INT(0, getrlimit(RLIMIT_FSIZE, &saved));
+    void (*old_handler)(int) = signal(SIGXFSZ, SIG_IGN);
+    tight = saved;
+    tight.rlim_cur = 20000; /* the scan is 48000 bytes of samples */
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &tight));
+    int rc = uwbscan_write_file(path, &scan, err, sizeof err);
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &saved));
+    signal(SIGXFSZ, old_handler);
+    TEST_ASSERT_EQUAL_INT(-1, rc);
+    TEST_ASSERT_TRUE_MESSAGE(strncmp(err, path, strlen(path)) == 0, err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "cannot write temporary file: File too large"), err);
+    char *text = scratch_slurp(path, NULL);
+    TEST_ASSERT_EQUAL_STRING("the scan before", text);
+    free(text);
+    TEST_ASSERT_EQUAL_INT(1, count_entries(tmpdir));
+    uwb_scan_free(&scan);
+}
 int main(void)
 {
     UNITY_BEGIN();
@@ -1164,6 +1222,8 @@ int main(void)
     RUN_TEST(test_reads_fdtd_fixture_up20mm);
     RUN_TEST(test_alloc_zeroes_and_checks_limits);
     RUN_TEST(test_copy_is_deep);
+    RUN_TEST(test_copy_keeps_absent_strings_absent_and_refuses_bad_sizes);
+    RUN_TEST(test_write_file_failures_name_the_path_and_keep_the_old_file);
     RUN_TEST(test_header_out_of_memory_at_each_allocation_fails_cleanly);
     return UNITY_END();
 }

@@ -4,14 +4,18 @@
  * the log to the same span. */
 #include "unity.h"
 
+#include <dirent.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "scratch_support.h"
+#include "uwb/atomic_file.h"
 #include "daemon/retention.h"
 #include "daemon/store.h"
 #include "daemon/verdict_log.h"
@@ -146,6 +150,34 @@ static void test_a_line_without_a_time_is_dated_by_its_neighbour(void)
     TEST_ASSERT_EQUAL_STRING("3,4,5", got);
 }
 
+/* Leading lines without a time take the first known one; a log where no
+ * line has a time is never trimmed by age (only by count). */
+static void test_lines_without_any_time_are_dated_by_the_first_known(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":1}", err, sizeof err));
+    append_verdict(2, 40L * DAY);
+    append_verdict(3, 0);
+    int dropped = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 30, now, &dropped, err, sizeof err),
+                                  err);
+    TEST_ASSERT_EQUAL_INT(2, dropped);
+    char got[256];
+    numbers_in_log(got, sizeof got);
+    TEST_ASSERT_EQUAL_STRING("3", got);
+
+    scratch_spit(store.verdict_log, "{\"n\":1}\n{\"n\":2,\"created\":7}\n{\"n\":3}\n");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 1, now, &dropped, err, sizeof err),
+                                  err);
+    TEST_ASSERT_EQUAL_INT(0, dropped);
+    numbers_in_log(got, sizeof got);
+    TEST_ASSERT_EQUAL_STRING("1,2,3", got);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 2, 1, now, &dropped, err, sizeof err),
+                                  err);
+    TEST_ASSERT_EQUAL_INT(1, dropped);
+    numbers_in_log(got, sizeof got);
+    TEST_ASSERT_EQUAL_STRING("2,3", got);
+}
+
 static void test_count_and_age_together_keep_the_smaller_span(void)
 {
     for (int n = 1; n <= 6; n++)
@@ -166,6 +198,44 @@ static void test_a_torn_last_line_does_not_survive_a_rewrite(void)
     char *text = scratch_slurp(store.verdict_log, NULL);
     TEST_ASSERT_EQUAL_STRING("{\"n\":2}\n{\"n\":3}\n", text);
     free(text);
+}
+
+/* A trim that cannot write its new log (the disk full, here the file-size
+ * limit) is an error naming the log, which stays whole; no temporary is
+ * left behind. */
+static void test_a_trim_that_cannot_write_leaves_the_log_whole(void)
+{
+    for (int n = 1; n <= 200; n++)
+        append_verdict(n, 0);
+    size_t before_len = 0;
+    char *before = scratch_slurp(store.verdict_log, &before_len);
+    TEST_ASSERT_NOT_NULL(before);
+    TEST_ASSERT_TRUE(before_len > 8192); /* past stdio's buffer: fwrite itself fails */
+    struct rlimit saved, tight;
+    TEST_ASSERT_EQUAL_INT(0, getrlimit(RLIMIT_FSIZE, &saved));
+    void (*old_handler)(int) = signal(SIGXFSZ, SIG_IGN);
+    tight = saved;
+    tight.rlim_cur = 1000;
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &tight));
+    int dropped = -1;
+    int rc = uwbd_verdict_log_trim(&store, 150, 0, now, &dropped, err, sizeof err);
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &saved));
+    signal(SIGXFSZ, old_handler);
+    TEST_ASSERT_EQUAL_INT(-1, rc);
+    TEST_ASSERT_EQUAL_INT(0, dropped);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "verdicts.jsonl: cannot write the trimmed log: File too large"),
+                                 err);
+    size_t after_len = 0;
+    char *after = scratch_slurp(store.verdict_log, &after_len);
+    TEST_ASSERT_EQUAL_UINT64(before_len, after_len);
+    TEST_ASSERT_EQUAL_STRING(before, after);
+    free(before);
+    free(after);
+    DIR *d = opendir(store.root);
+    TEST_ASSERT_NOT_NULL(d);
+    for (struct dirent *e = readdir(d); e; e = readdir(d))
+        TEST_ASSERT_FALSE_MESSAGE(uwb_atomic_file_is_temporary_name(e->d_name), e->d_name);
+    closedir(d);
 }
 
 static void test_no_log_yet_is_nothing_to_trim(void)
@@ -213,6 +283,8 @@ int main(void)
     RUN_TEST(test_a_log_within_the_limits_is_not_rewritten);
     RUN_TEST(test_age_drops_lines_created_before_the_cutoff);
     RUN_TEST(test_a_line_without_a_time_is_dated_by_its_neighbour);
+    RUN_TEST(test_lines_without_any_time_are_dated_by_the_first_known);
+    RUN_TEST(test_a_trim_that_cannot_write_leaves_the_log_whole);
     RUN_TEST(test_count_and_age_together_keep_the_smaller_span);
     RUN_TEST(test_a_torn_last_line_does_not_survive_a_rewrite);
     RUN_TEST(test_no_log_yet_is_nothing_to_trim);
