@@ -18,7 +18,14 @@ else
     HOST_BUILD=$BUILD
     HOST_PREFIX=${UWB_EXEC_PREFIX:-}
 fi
-uwbemu() { $HOST_PREFIX "$HOST_BUILD/uwbemu" "$@"; }
+# Started in the background (a subshell: $BASHPID is not $$) it execs, so
+# $! is the emulator itself and the cleanup's kill reaches it.
+uwbemu() {
+    if [[ $BASHPID != "$$" ]]; then
+        exec $HOST_PREFIX "$HOST_BUILD/uwbemu" "$@"
+    fi
+    $HOST_PREFIX "$HOST_BUILD/uwbemu" "$@"
+}
 
 root_flag=()
 [[ $(id -u) == 0 ]] && root_flag=(--allow-root)
