@@ -3,7 +3,7 @@
 #include <stddef.h>
 
 /* Lengths one installation meets: its record length, a few envelope row
- * lengths and the noise draws' length, times three kinds. */
+ * lengths and the noise draws' length, times two kinds. */
 #define CACHED_PLANS 32
 
 static struct {
@@ -16,13 +16,6 @@ static int cached;
 static fftwf_plan make_plan(enum fft_kind kind, int n)
 {
     fftwf_plan plan = NULL;
-    if (kind == FFT_C2C_BACKWARD_IN_PLACE) {
-        fftwf_complex *buf = fftwf_alloc_complex((size_t)n);
-        if (buf)
-            plan = fftwf_plan_dft_1d(n, buf, buf, FFTW_BACKWARD, FFTW_ESTIMATE);
-        fftwf_free(buf);
-        return plan;
-    }
     float *real = fftwf_alloc_real((size_t)n);
     fftwf_complex *spec = fftwf_alloc_complex((size_t)n / 2 + 1);
     if (real && spec)

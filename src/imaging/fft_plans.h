@@ -5,8 +5,7 @@
  * both, and the replay of one pair asks for the same few lengths about 250
  * times. So each (kind, length) is planned once and reused through FFTW's
  * new-array execute functions, whose arrays must come from fftwf_alloc_*
- * (the alignment the plan was made for) and be out of place for R2C and
- * C2R, in place for C2C.
+ * (the alignment the plan was made for) and be out of place.
  *
  * Like FFTW's planner itself, this is for one thread at a time: the daemon
  * analyses in one worker thread at a time (src/daemon/worker.c). */
@@ -16,9 +15,8 @@
 #include <fftw3.h>
 
 enum fft_kind {
-    FFT_R2C,                   /* n reals -> n/2+1 complex, out of place */
-    FFT_C2R,                   /* n/2+1 complex -> n reals, out of place (destroys its input) */
-    FFT_C2C_BACKWARD_IN_PLACE, /* n complex, in place, unnormalised inverse */
+    FFT_R2C, /* n reals -> n/2+1 complex, out of place */
+    FFT_C2R, /* n/2+1 complex -> n reals, out of place (destroys its input) */
 };
 
 /* A plan for this kind and length: a cached one, or (when the cache is
