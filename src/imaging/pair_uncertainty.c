@@ -355,12 +355,13 @@ static double fit_with(const struct uwb_face_profile *p, int which, const struct
 }
 
 /* Add the taper's path to grad (dd/dp over p0's rows): grad += s / (1 - k)
- * * dC/dp, s = dd/dc_tap and k = dC/dc_tap by central differences.
+ * * dC/dp, s = dd/dc_tap and k = dC/dc_tap by central differences. plan:
+ * p0's, on the same grid (its delay table is not built again).
  * Returns 0 (grad unchanged when the scan had no taper), -1 on error. */
 static int add_taper_path(const struct uwb_analysis *a, const struct uwb_analysis *ca,
                           const struct uwb_analysis *ba, int which, const struct uwb_analysis_options *opt,
                           double y_lo, double y_hi, double shift_m, const struct uwb_face_profile *p0,
-                          double *grad, char *err, size_t errlen)
+                          struct uwb_migration_plan *plan, double *grad, char *err, size_t errlen)
 {
     if (!a->has_taper)
         return 0;
@@ -370,21 +371,18 @@ static int add_taper_path(const struct uwb_analysis *a, const struct uwb_analysi
     struct uwb_scan work = {0};
     if (uwb_scan_copy(&work, &a->measured, err, errlen) != 0)
         return -1;
-    struct uwb_migration_plan plan;
-    memset(&plan, 0, sizeof plan);
     double d[2], c[2];
     int rc = 0;
     for (int side = 0; side < 2 && rc == 0; side++) {
         struct uwb_face_profile p;
         double centre = a->taper_centre_m + (side ? TAPER_STEP_M : -TAPER_STEP_M);
-        rc = measure_retapered(a, opt, centre, NULL, 0.0, y_lo, y_hi, &plan, &work, &p, err, errlen);
+        rc = measure_retapered(a, opt, centre, NULL, 0.0, y_lo, y_hi, plan, &work, &p, err, errlen);
         if (rc != 0)
             break;
         d[side] = fit_with(&p, which, ca, ba, shift_m);
         c[side] = uwb_profile_centre(&p, opt->edge_fraction, c_ref, CENTRE_SEARCH_M);
         free(p.value);
     }
-    uwb_migration_plan_free(&plan);
     uwb_scan_free(&work);
     if (rc != 0)
         return -1;
@@ -444,7 +442,7 @@ static int share_linear(const struct uwb_analysis *a, const struct uwb_analysis 
         rc = 1;
         goto done;
     }
-    if (add_taper_path(a, ca, ba, which, opt, y_lo, y_hi, shift_m, &p0, grad, err, errlen) != 0)
+    if (add_taper_path(a, ca, ba, which, opt, y_lo, y_hi, shift_m, &p0, &plan, grad, err, errlen) != 0)
         goto done;
     if (uwb_face_grid(&a->measured, &g, a->edges.face_z_m, a->dominant_hz, y_lo, y_hi, &real, err, errlen) !=
         0)

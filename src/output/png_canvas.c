@@ -59,9 +59,16 @@ void uwb_canvas_fill_rect(struct uwb_canvas *c, int x, int y, int w, int h, stru
     int x0 = x < 0 ? 0 : x, y0 = y < 0 ? 0 : y;
     int x1 = x + w > c->width ? c->width : x + w;
     int y1 = y + h > c->height ? c->height : y + h;
-    for (int yy = y0; yy < y1; yy++)
-        for (int xx = x0; xx < x1; xx++)
-            uwb_canvas_put(c, xx, yy, colour);
+    if (x0 >= x1 || y0 >= y1)
+        return;
+    /* One row pixel by pixel, the others copied from it: whole canvases
+     * are filled several times a PNG. */
+    size_t stride = (size_t)c->width * 3, row_bytes = (size_t)(x1 - x0) * 3;
+    unsigned char *first = c->rgb + (size_t)y0 * stride + (size_t)x0 * 3;
+    for (int xx = x0; xx < x1; xx++)
+        uwb_canvas_put(c, xx, y0, colour);
+    for (int yy = y0 + 1; yy < y1; yy++)
+        memcpy(first + (size_t)(yy - y0) * stride, first, row_bytes);
 }
 
 void uwb_canvas_frame_rect(struct uwb_canvas *c, int x, int y, int w, int h, struct uwb_rgb colour)

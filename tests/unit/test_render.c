@@ -362,6 +362,30 @@ static void test_dashed_line_has_gaps_and_solid_line_has_none(void)
     uwb_canvas_free(&c);
 }
 
+/* A rectangle fills exactly its pixels, clipped to the canvas, whatever
+ * part of it lies outside; an empty one draws nothing. */
+static void test_filled_rectangle_covers_exactly_its_clipped_pixels(void)
+{
+    char err[128];
+    struct uwb_canvas c;
+    struct uwb_rgb white = {255, 255, 255}, blue = {0, 0, 255};
+    const struct {
+        int x, y, w, h;
+    } rects[] = {{3, 2, 5, 4},     {-4, -3, 6, 5}, {17, 9, 10, 10},
+                 {-50, 4, 200, 1}, {5, 5, 0, 3},   {5, 5, 3, -2}};
+    for (size_t r = 0; r < sizeof rects / sizeof rects[0]; r++) {
+        TEST_ASSERT_EQUAL_INT(0, uwb_canvas_init(&c, 20, 12, white, err, sizeof err));
+        uwb_canvas_fill_rect(&c, rects[r].x, rects[r].y, rects[r].w, rects[r].h, blue);
+        for (int y = 0; y < 12; y++)
+            for (int x = 0; x < 20; x++) {
+                int inside = x >= rects[r].x && x < rects[r].x + rects[r].w && y >= rects[r].y &&
+                             y < rects[r].y + rects[r].h;
+                TEST_ASSERT_EQUAL_INT_MESSAGE(inside, same(uwb_canvas_get(&c, x, y), blue), "pixel");
+            }
+        uwb_canvas_free(&c);
+    }
+}
+
 /* ---------- migrated image ---------- */
 
 static void test_migrated_png_edges_sit_on_their_heights(void)
@@ -1348,6 +1372,7 @@ int main(void)
     RUN_TEST(test_diverging_map_is_symmetric_in_lightness);
     RUN_TEST(test_nice_ticks_and_labels);
     RUN_TEST(test_dashed_line_has_gaps_and_solid_line_has_none);
+    RUN_TEST(test_filled_rectangle_covers_exactly_its_clipped_pixels);
     RUN_TEST(test_migrated_png_edges_sit_on_their_heights);
     RUN_TEST(test_migrated_png_puts_the_face_where_the_axis_says);
     RUN_TEST(test_migrated_colorbar_runs_from_peak_colour_to_floor_colour);
