@@ -154,14 +154,7 @@ static void profile_weights(const struct uwb_face_profile *p, double y, int idx[
         int k = i - 1 + j;
         idx[j] = k < 0 ? 0 : k > p->n - 1 ? p->n - 1 : k;
     }
-    w[0] = 0.5 * (-t + 2.0 * t * t - t * t * t);
-    w[1] = 1.0 + 0.5 * (-5.0 * t * t + 3.0 * t * t * t);
-    w[2] = 0.5 * (t + 4.0 * t * t - 3.0 * t * t * t);
-    w[3] = 0.5 * (-t * t + t * t * t);
-    dw[0] = 0.5 * (-1.0 + 4.0 * t - 3.0 * t * t);
-    dw[1] = 0.5 * (-10.0 * t + 9.0 * t * t);
-    dw[2] = 0.5 * (1.0 + 8.0 * t - 9.0 * t * t);
-    dw[3] = 0.5 * (-2.0 * t + 3.0 * t * t);
+    uwb_catmull_rom_weights(t, w, dw);
 }
 
 /* dA/dc of the asymmetry at c (per metre), and when grad is not NULL its

@@ -60,6 +60,22 @@ struct profile_edges {
  * interpolated between samples. ok = 0 when a side never drops below it. */
 void uwb_profile_edges(const struct uwb_face_profile *p, double fraction, struct profile_edges *e);
 
+/* Catmull-Rom weights of v[i-1..i+2] at fraction t of the way from v[i]
+ * to v[i+1], and of its slope (per pixel): the interpolation the face
+ * profile and the shift fit read between rows, term by term for their
+ * gradients. */
+static inline void uwb_catmull_rom_weights(double t, double w[4], double dw[4])
+{
+    w[0] = 0.5 * (-t + 2.0 * t * t - t * t * t);
+    w[1] = 1.0 + 0.5 * (-5.0 * t * t + 3.0 * t * t * t);
+    w[2] = 0.5 * (t + 4.0 * t * t - 3.0 * t * t * t);
+    w[3] = 0.5 * (-t * t + t * t * t);
+    dw[0] = 0.5 * (-1.0 + 4.0 * t - 3.0 * t * t);
+    dw[1] = 0.5 * (-10.0 * t + 9.0 * t * t);
+    dw[2] = 0.5 * (1.0 + 8.0 * t - 9.0 * t * t);
+    dw[3] = 0.5 * (-2.0 * t + 3.0 * t * t);
+}
+
 /* The profile's centre of mirror symmetry: the c that minimises
  * sum over u in (0, half_span] of (P(c+u) - P(c-u))^2, searched within
  * +-search_m of guess_m. It weighs every point of both shoulders, where a

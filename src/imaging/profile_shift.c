@@ -182,20 +182,6 @@ int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis 
 
 /* ---- the fit's sensitivity to each profile value -------------------------- */
 
-/* Catmull-Rom weights of v[i-1..i+2] at fraction t, and of its slope (per
- * pixel): energy_at's interpolation, term by term. */
-static void catmull_rom_weights(double t, double w[4], double dw[4])
-{
-    w[0] = 0.5 * (-t + 2.0 * t * t - t * t * t);
-    w[1] = 1.0 + 0.5 * (-5.0 * t * t + 3.0 * t * t * t);
-    w[2] = 0.5 * (t + 4.0 * t * t - 3.0 * t * t * t);
-    w[3] = 0.5 * (-t * t + t * t * t);
-    dw[0] = 0.5 * (-1.0 + 4.0 * t - 3.0 * t * t);
-    dw[1] = 0.5 * (-10.0 * t + 9.0 * t * t);
-    dw[2] = 0.5 * (1.0 + 8.0 * t - 9.0 * t * t);
-    dw[3] = 0.5 * (-2.0 * t + 3.0 * t * t);
-}
-
 /* Where y falls among a profile's pixels: the first of the four it reads,
  * or -1 where energy_at reads 0. */
 static int cell_of(const struct energy *p, double y, double *t)
@@ -219,7 +205,7 @@ static struct misfit_sums sums_at(const struct energy *cur, const struct span *s
         double t, w[4], dw[4], c = 0.0, c1 = 0.0;
         int i = cell_of(cur, s->centre_m + d + span_offset(s, k), &t);
         if (i >= 0) {
-            catmull_rom_weights(t, w, dw);
+            uwb_catmull_rom_weights(t, w, dw);
             for (int j = 0; j < 4; j++) {
                 c += w[j] * cur->value[i + j];
                 c1 += dw[j] * cur->value[i + j] / cur->dy_m;
@@ -273,7 +259,7 @@ int uwb_profile_shift_gradient(const struct uwb_face_profile *cur_profile,
         double t, w[4], dw[4], c = 0.0, c1 = 0.0, b = span.base[k];
         int i = cell_of(&cur, base_centre_m + d_m + u, &t);
         if (i >= 0) {
-            catmull_rom_weights(t, w, dw);
+            uwb_catmull_rom_weights(t, w, dw);
             for (int j = 0; j < 4; j++) {
                 c += w[j] * cur.value[i + j];
                 c1 += dw[j] * cur.value[i + j] / cur.dy_m;
@@ -291,7 +277,7 @@ int uwb_profile_shift_gradient(const struct uwb_face_profile *cur_profile,
         double dFdb = -2.0 * (c * m.c1b + m.cb * c1) / span.bb + 4.0 * m.cb * m.c1b * b / (span.bb * span.bb);
         int ib = cell_of(&base, base_centre_m + u, &t);
         if (ib >= 0) {
-            catmull_rom_weights(t, w, dw);
+            uwb_catmull_rom_weights(t, w, dw);
             for (int j = 0; j < 4; j++)
                 grad_base[ib + j] += -dFdb * w[j] / curvature;
         }
