@@ -347,6 +347,8 @@ static int measure_retapered(const struct uwb_analysis *a, const struct uwb_anal
     return uwb_analysis_measure_again(a, opt, work, 1.0, y_lo, y_hi, plan, p, NULL, err, errlen);
 }
 
+/* The displacement with p in place of scan `which`'s own profile (0: the
+ * current scan's, 1: the baseline's). */
 static double fit_with(const struct uwb_face_profile *p, int which, const struct uwb_analysis *ca,
                        const struct uwb_analysis *ba, double shift_m)
 {
@@ -639,8 +641,7 @@ static int shares_by_draws(const struct uwb_analysis *ca, const struct uwb_analy
                                err, errlen);
             if (rc != 0)
                 break;
-            double d = which == 0 ? uwb_analysis_shift(&p, &ba->profile, ba, shift_m)
-                                  : uwb_analysis_shift(&ca->profile, &p, ba, shift_m);
+            double d = fit_with(&p, which, ca, ba, shift_m);
             free(p.value);
             if (isnan(d)) {
                 snprintf(err, errlen, "pair uncertainty: out of memory for the profiles' fit");
