@@ -53,6 +53,16 @@ char *scratch_slurp(const char *path, size_t *len)
     return text;
 }
 
+void scratch_assert_file_holds(const char *path, const char *expected, size_t len)
+{
+    size_t got_len = 0;
+    char *got = scratch_slurp(path, &got_len);
+    TEST_ASSERT_NOT_NULL_MESSAGE(got, path);
+    TEST_ASSERT_EQUAL_UINT64_MESSAGE(len, got_len, path);
+    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(expected, got, len, path);
+    free(got);
+}
+
 void scratch_spit(const char *path, const char *text)
 {
     FILE *f = fopen(path, "wb");
