@@ -5,8 +5,11 @@
 
 BUILD=$(cd "${UWB_BUILD_DIR:?run through tests/run-tests.sh}" && pwd)
 REPO=$(pwd)
-# Foreground helpers; programs started in the background are written out in
-# full so that $! is the program itself, not a shell running a function.
+# Foreground helpers: a function started in the background is a subshell
+# running it, so $! would not be the program and the cleanup's kill would
+# miss it; programs started in the background are written out in full
+# (start_emulated_board below). The wrappers do not exec: a subshell may
+# have more to do after them.
 uwbd() { ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" "$@"; }
 # The emulated board and the scripts' own checkers stand in for hardware and
 # the tester: with UWB_HOST_BUILD_DIR (make test-arm) they run natively from
@@ -18,13 +21,17 @@ else
     HOST_BUILD=$BUILD
     HOST_PREFIX=${UWB_EXEC_PREFIX:-}
 fi
-# Started in the background (a subshell: $BASHPID is not $$) it execs, so
-# $! is the emulator itself and the cleanup's kill reaches it.
-uwbemu() {
-    if [[ $BASHPID != "$$" ]]; then
-        exec $HOST_PREFIX "$HOST_BUILD/uwbemu" "$@"
-    fi
-    $HOST_PREFIX "$HOST_BUILD/uwbemu" "$@"
+uwbemu() { $HOST_PREFIX "$HOST_BUILD/uwbemu" "$@"; }
+
+# start_emulated_board [UWBEMU ARGS...]: the emulated board in the background
+# on run/gpio.sock, run/digitiser.sock and run/emu.sock (its log emu.log),
+# stopped at exit; returns once it listens, its pid in $emu_pid.
+start_emulated_board() {
+    $HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
+        --control unix:run/emu.sock "$@" > emu.log 2>&1 &
+    emu_pid=$!
+    pids+=($emu_pid)
+    wait_for test -S run/emu.sock || fail "uwbemu did not come up"
 }
 
 root_flag=()

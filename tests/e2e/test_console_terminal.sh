@@ -11,10 +11,7 @@ e2e_workdir uwbd-console
 
 config="$work/uwbd.json"
 cp "$REPO/board/emulated/uwbd.json" "$config"
-$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
-    --control unix:run/emu.sock > emu.log 2>&1 &
-pids+=($!)
-wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+start_emulated_board
 
 keys=(
     'status\r'                 # 1 minicom/picocom: Enter is CR

@@ -27,11 +27,7 @@ emu() { uwbemu --ctl unix:run/emu.sock "$*"; }
 attack() { $HOST_PREFIX "$HOST_BUILD/e2e/ctl_attack" "$@"; }
 get() { $HOST_PREFIX "$HOST_BUILD/e2e/state_check" get "$@"; }
 
-$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
-    --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 11 \
-    --start-mm 5 --steps-per-mm 10 > emu.log 2>&1 &
-pids+=($!)
-wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 11 --start-mm 5 --steps-per-mm 10
 # Break 1 and 9 at the command line: --check-config refuses a state_dir
 # that is / or a system directory, and a control.group that does not exist.
 cp "$REPO/board/emulated/uwbd.json" uwbd.json

@@ -16,12 +16,7 @@ emu() { uwbemu --ctl unix:run/emu.sock "$@"; }
 get() { json_get "$@"; }
 
 start_emu() {   # extra uwbemu arguments
-    $HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
-        --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --seed 5 "$@" \
-        > emu.log 2>&1 &
-    emu_pid=$!
-    pids+=($emu_pid)
-    wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+    start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --seed 5 "$@"
     wait_for emu status || fail "uwbemu does not answer"
 }
 stop_emu() { kill -TERM "$emu_pid"; wait "$emu_pid" 2>/dev/null || true; rm -f run/emu.sock; }

@@ -21,12 +21,7 @@ emu() { uwbemu --ctl unix:run/emu.sock "$*"; }
 # link small.
 frame_timeout_ms=300 home_timeout_s=3
 [[ -n ${UWB_EXEC_PREFIX:-} ]] && { frame_timeout_ms=4000; home_timeout_s=10; }
-$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
-    --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 11 \
-    --start-mm 5 --steps-per-mm 10 \
-    > emu.log 2>&1 &
-pids+=($!)
-wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 11 --start-mm 5 --steps-per-mm 10
 wait_for emu status || fail "uwbemu does not answer"
 
 ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$REPO/board/emulated/uwbd.json" "${root_flag[@]}" -v \

@@ -56,11 +56,7 @@ pass "missing GPIO chip (libgpiod backend) -> exit 69: $(grep -o "gpio chip 'gpi
 # The emulated board: the tank scene (window, core leg, barrier, far wall,
 # jitter, drift), with 40 dB per pulse on top of the config's 64 pulses per
 # position; tests/e2e/test_daemon_baseline.sh runs the sample config at 20 dB.
-emu_args=(--gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock --control unix:run/emu.sock
-          --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7)
-$HOST_PREFIX "$HOST_BUILD/uwbemu" "${emu_args[@]}" > emu.log 2>&1 &
-pids+=($!)
-wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7
 wait_for uwbemu --ctl unix:run/emu.sock status || fail "uwbemu does not answer"
 
 set +e

@@ -72,11 +72,7 @@ verdict_matches() {
     [[ $(field "$dump" version) == 1 ]] || { echo "map version $(field "$dump" version)"; return 1; }
 }
 
-$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
-    --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7 \
-    > emu.log 2>&1 &
-pids+=($!)
-wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7
 wait_for emu status || fail "uwbemu does not answer"
 
 # ---- RTU over the socket endpoint -------------------------------------------

@@ -14,11 +14,7 @@ config="$work/uwbd.json"
 cp "$REPO/board/emulated/uwbd.json" "$config"
 ctl() { uwbd ctl --socket run/control.sock "$@"; }
 
-$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
-    --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7 \
-    > emu.log 2>&1 &
-pids+=($!)
-wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7
 wait_for uwbemu --ctl unix:run/emu.sock status || fail "uwbemu does not answer"
 
 # Paced so that a scan of 21 positions lasts a few seconds: time to look.

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The e2e scripts' cleanup stops what a script started in the background,
-# also when it was started through the uwbemu wrapper function (there $! is
-# the shell that runs the function): no emulator outlives its test and
-# keeps a core busy for the rest of the run.
+# The e2e scripts' cleanup stops what a script started in the background
+# with the helpers (start_emulated_board): no emulator outlives its test
+# and keeps a core busy for the rest of the run. (Started as 'uwbemu ... &'
+# through the wrapper function, $! was the shell running it, and three
+# scripts left their emulators running.)
 set -euo pipefail
 source "$(dirname "$0")/daemon_e2e.sh"
 e2e_workdir uwbd-e2e-cleanup
@@ -21,10 +22,8 @@ processes_in() {
     source tests/e2e/daemon_e2e.sh
     e2e_workdir uwbd-e2e-cleanup-inner
     echo "$work" > "$1/inner-work"
-    uwbemu --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
-        --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" > emu.log 2>&1 &
-    pids+=($!)
-    wait_for test -S run/digitiser.sock || exit 3
+    start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json"
+    [[ -n $emu_pid ]] || exit 3
 ' _ "$work") || fail "the inner script: exit $?"
 inner=$(cat inner-work)
 [[ ! -d $inner ]] || fail "the inner script's directory $inner is still there"
@@ -38,6 +37,6 @@ if [[ -n $left ]]; then
     for pid in $left; do kill "$pid" 2>/dev/null || true; done
     fail "uwbemu outlived its test: pid(s) $left still in $inner"
 fi
-pass "an emulator started through the uwbemu function is stopped at the script's exit"
+pass "an emulator started by start_emulated_board is stopped at the script's exit"
 
 echo "$passed passed"

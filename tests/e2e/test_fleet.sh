@@ -79,7 +79,7 @@ E2E_WAIT_TRIES=600 wait_for grep -q subscribed historian.err || fail "the histor
 cp "$REPO/board/emulated/uwbd.json" uwbd.json
 for asset in T1 T2; do
     d="run/$asset"
-    uwbemu --gpio "unix:$d/gpio.sock" --digitiser "unix:$d/digitiser.sock" \
+    $HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio "unix:$d/gpio.sock" --digitiser "unix:$d/digitiser.sock" \
         --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7 > "emu-$asset.log" 2>&1 &
     pids+=($!)
     wait_for test -S "$d/digitiser.sock" || fail "uwbemu $asset did not come up"

@@ -21,10 +21,7 @@ pass "uwbd is not linked with libmosquitto, libmodbus or libsystemd ($(echo $nee
 
 config="$work/uwbd.json"
 cp "$REPO/board/emulated/uwbd.json" "$config"
-$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
-    --control unix:run/emu.sock > emu.log 2>&1 &
-pids+=($!)
-wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+start_emulated_board
 missing=$work/missing
 
 # refused NAME ENV=LIB ARGS...: uwbd must stop by itself with an error; its

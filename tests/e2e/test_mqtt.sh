@@ -74,10 +74,7 @@ cp run/mqtt.pw open.pw && chmod 644 open.pw
 [[ $(check "${mqtt[@]}") == 0 ]] || fail "the MQTT config refused: $(cat check.out)"
 pass "--check-config: MQTT without endpoint, asset id or a private password file refused (exit 78) naming the key"
 
-uwbemu --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock --control unix:run/emu.sock \
-    --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7 > emu.log 2>&1 &
-pids+=($!)
-wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7
 start_daemon() {
     ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" "${mqtt[@]}" -v > "$1" 2>&1 &
     daemon_pid=$!

@@ -41,11 +41,7 @@ check() { uwbd --check-config "$config" "$@" > check.out 2>&1 && echo 0 || echo 
 pass "--check-config: an integration without the asset id or its endpoint refused (exit 78) naming the key"
 
 mkdir run/metrics
-uwbemu --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock --control unix:run/emu.sock \
-    --site-io unix:run/site.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7 \
-    > emu.log 2>&1 &
-pids+=($!)
-wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+start_emulated_board --site-io unix:run/site.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7
 [[ $(contacts) == "0 0 0" ]] || fail "contacts before uwbd: $(contacts)"
 
 start_daemon() {

@@ -12,10 +12,7 @@ e2e_workdir uwbd-notify
 
 config="$work/uwbd.json"
 cp "$REPO/board/emulated/uwbd.json" "$config"
-$HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
-    --control unix:run/emu.sock > emu.log 2>&1 &
-pids+=($!)
-wait_for test -S run/emu.sock || fail "uwbemu did not come up"
+start_emulated_board
 
 # A ping every 200 ms (half of WatchdogSec=0.4 s).
 export WATCHDOG_USEC=400000
