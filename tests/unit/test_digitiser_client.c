@@ -250,44 +250,44 @@ static void acquire_expecting(struct uwb_digitiser *dig, uint32_t seq)
         TEST_ASSERT_FLOAT_WITHIN(1e-6f, (float)(seq * 100 + (uint32_t)i) * VOLTS_PER_COUNT, out[i]);
 }
 
+/* Open a client, take one trace per entry of `seqs` (each answering that
+ * trigger), and return the client's counters at the end. */
+static struct uwb_digitiser_stats stats_after_traces(const uint32_t *seqs, int n)
+{
+    struct uwb_digitiser *dig = open_client();
+    for (int i = 0; i < n; i++)
+        acquire_expecting(dig, seqs[i]);
+    struct uwb_digitiser_stats st;
+    uwb_digitiser_get_stats(dig, &st);
+    uwb_digitiser_close(dig);
+    return st;
+}
+
 static void test_stale_frames_are_skipped(void)
 {
     peer.script[1] = STALE_THEN_ANSWER;
-    struct uwb_digitiser *dig = open_client();
-    acquire_expecting(dig, 0);
-    acquire_expecting(dig, 1);
-    struct uwb_digitiser_stats st;
-    uwb_digitiser_get_stats(dig, &st);
+    struct uwb_digitiser_stats st = stats_after_traces((const uint32_t[]){0, 1}, 2);
     TEST_ASSERT_EQUAL_UINT32(1, st.stale);
     TEST_ASSERT_EQUAL_UINT32(0, st.retries);
     TEST_ASSERT_EQUAL_UINT32(2, st.traces);
-    uwb_digitiser_close(dig);
 }
 
 static void test_a_sequence_jump_is_followed(void)
 {
     peer.script[0] = JUMP_AHEAD;
-    struct uwb_digitiser *dig = open_client();
-    acquire_expecting(dig, 5);
-    acquire_expecting(dig, 6); /* the count follows the digitiser's */
-    struct uwb_digitiser_stats st;
-    uwb_digitiser_get_stats(dig, &st);
+    /* the count follows the digitiser's: 5, then 6 */
+    struct uwb_digitiser_stats st = stats_after_traces((const uint32_t[]){5, 6}, 2);
     TEST_ASSERT_EQUAL_UINT32(1, st.ahead);
     TEST_ASSERT_EQUAL_UINT32(0, st.stale);
-    uwb_digitiser_close(dig);
 }
 
 static void test_a_wrong_record_length_is_fired_again(void)
 {
     peer.script[0] = WRONG_LENGTH;
-    struct uwb_digitiser *dig = open_client();
-    acquire_expecting(dig, 1);
-    struct uwb_digitiser_stats st;
-    uwb_digitiser_get_stats(dig, &st);
+    struct uwb_digitiser_stats st = stats_after_traces((const uint32_t[]){1}, 1);
     TEST_ASSERT_EQUAL_UINT32(1, st.bad_payloads);
     TEST_ASSERT_EQUAL_UINT32(1, st.retries);
     TEST_ASSERT_EQUAL_UINT32(2, st.fired);
-    uwb_digitiser_close(dig);
 }
 
 /* The corrupt frame costs a retry; the good frame that followed it then
@@ -295,14 +295,10 @@ static void test_a_wrong_record_length_is_fired_again(void)
 static void test_a_corrupt_frame_is_fired_again(void)
 {
     peer.script[0] = CORRUPT_THEN_ANSWER;
-    struct uwb_digitiser *dig = open_client();
-    acquire_expecting(dig, 1);
-    struct uwb_digitiser_stats st;
-    uwb_digitiser_get_stats(dig, &st);
+    struct uwb_digitiser_stats st = stats_after_traces((const uint32_t[]){1}, 1);
     TEST_ASSERT_EQUAL_UINT32(1, st.bad_frames);
     TEST_ASSERT_EQUAL_UINT32(1, st.retries);
     TEST_ASSERT_EQUAL_UINT32(1, st.stale);
-    uwb_digitiser_close(dig);
 }
 
 static void test_bad_frames_beyond_the_retries_fail(void)
@@ -342,26 +338,18 @@ static void test_frames_that_answer_something_else_are_passed_over(void)
 {
     peer.noise_before_pong = 1;
     peer.script[0] = OTHER_THEN_ANSWER;
-    struct uwb_digitiser *dig = open_client();
-    acquire_expecting(dig, 0);
-    struct uwb_digitiser_stats st;
-    uwb_digitiser_get_stats(dig, &st);
+    struct uwb_digitiser_stats st = stats_after_traces((const uint32_t[]){0}, 1);
     TEST_ASSERT_EQUAL_UINT32(1, st.fired);
     TEST_ASSERT_EQUAL_UINT32(0, st.bad_frames);
-    uwb_digitiser_close(dig);
 }
 
 /* A DATA frame whose payload cannot be a trace costs a retry, counted. */
 static void test_a_data_frame_too_short_for_its_header_is_fired_again(void)
 {
     peer.script[0] = BAD_PAYLOAD;
-    struct uwb_digitiser *dig = open_client();
-    acquire_expecting(dig, 1);
-    struct uwb_digitiser_stats st;
-    uwb_digitiser_get_stats(dig, &st);
+    struct uwb_digitiser_stats st = stats_after_traces((const uint32_t[]){1}, 1);
     TEST_ASSERT_EQUAL_UINT32(1, st.bad_payloads);
     TEST_ASSERT_EQUAL_UINT32(1, st.retries);
-    uwb_digitiser_close(dig);
 }
 
 /* A digitiser that goes away mid-scan: with no retries left the error

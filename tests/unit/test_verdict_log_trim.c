@@ -80,24 +80,32 @@ static int hidden_files_in_root(void)
     return system(cmd) != 0;
 }
 
+/* Trim to max_lines (0: any) and max_days, and check how many lines went
+ * and which stayed. */
+static void expect_trim(int max_lines, double max_days, int expect_dropped, const char *expect_kept)
+{
+    int dropped = -1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_verdict_log_trim(&store, max_lines, max_days, now, &dropped, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(expect_dropped, dropped);
+    char got[256];
+    numbers_in_log(got, sizeof got);
+    TEST_ASSERT_EQUAL_STRING(expect_kept, got);
+}
+
 static void test_count_keeps_the_newest_lines_in_order(void)
 {
     for (int n = 1; n <= 10; n++)
         append_verdict(n, 100 - n);
     chmod(store.verdict_log, 0640);
-    int dropped = -1;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 4, 0, now, &dropped, err, sizeof err),
-                                  err);
-    TEST_ASSERT_EQUAL_INT(6, dropped);
-    char got[256];
-    numbers_in_log(got, sizeof got);
-    TEST_ASSERT_EQUAL_STRING("7,8,9,10", got);
+    expect_trim(4, 0, 6, "7,8,9,10");
     struct stat st;
     TEST_ASSERT_EQUAL_INT(0, stat(store.verdict_log, &st));
     TEST_ASSERT_EQUAL_UINT(0640, st.st_mode & 07777);
     TEST_ASSERT_FALSE_MESSAGE(hidden_files_in_root(), "a temporary file was left beside verdicts.jsonl");
     /* Appending goes on at the end of the new file. */
     append_verdict(11, 0);
+    char got[256];
     numbers_in_log(got, sizeof got);
     TEST_ASSERT_EQUAL_STRING("7,8,9,10,11", got);
 }
@@ -123,13 +131,7 @@ static void test_age_drops_lines_created_before_the_cutoff(void)
     append_verdict(3, 31L * DAY);
     append_verdict(4, 29L * DAY);
     append_verdict(5, 0);
-    int dropped = -1;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 30, now, &dropped, err, sizeof err),
-                                  err);
-    TEST_ASSERT_EQUAL_INT(3, dropped);
-    char got[256];
-    numbers_in_log(got, sizeof got);
-    TEST_ASSERT_EQUAL_STRING("4,5", got);
+    expect_trim(0, 30, 3, "4,5");
 }
 
 /* A line without a readable time goes or stays with the line before it. */
@@ -141,13 +143,7 @@ static void test_a_line_without_a_time_is_dated_by_its_neighbour(void)
     append_verdict(3, 10L * DAY);
     TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":4}", err, sizeof err));
     append_verdict(5, 0);
-    int dropped = -1;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 30, now, &dropped, err, sizeof err),
-                                  err);
-    TEST_ASSERT_EQUAL_INT(2, dropped);
-    char got[256];
-    numbers_in_log(got, sizeof got);
-    TEST_ASSERT_EQUAL_STRING("3,4,5", got);
+    expect_trim(0, 30, 2, "3,4,5");
 }
 
 /* Leading lines without a time take the first known one; a log where no
@@ -157,25 +153,11 @@ static void test_lines_without_any_time_are_dated_by_the_first_known(void)
     TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":1}", err, sizeof err));
     append_verdict(2, 40L * DAY);
     append_verdict(3, 0);
-    int dropped = -1;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 30, now, &dropped, err, sizeof err),
-                                  err);
-    TEST_ASSERT_EQUAL_INT(2, dropped);
-    char got[256];
-    numbers_in_log(got, sizeof got);
-    TEST_ASSERT_EQUAL_STRING("3", got);
+    expect_trim(0, 30, 2, "3");
 
     scratch_spit(store.verdict_log, "{\"n\":1}\n{\"n\":2,\"created\":7}\n{\"n\":3}\n");
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 0, 1, now, &dropped, err, sizeof err),
-                                  err);
-    TEST_ASSERT_EQUAL_INT(0, dropped);
-    numbers_in_log(got, sizeof got);
-    TEST_ASSERT_EQUAL_STRING("1,2,3", got);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_trim(&store, 2, 1, now, &dropped, err, sizeof err),
-                                  err);
-    TEST_ASSERT_EQUAL_INT(1, dropped);
-    numbers_in_log(got, sizeof got);
-    TEST_ASSERT_EQUAL_STRING("2,3", got);
+    expect_trim(0, 1, 0, "1,2,3");
+    expect_trim(2, 1, 1, "2,3");
 }
 
 static void test_count_and_age_together_keep_the_smaller_span(void)
