@@ -326,9 +326,10 @@ demo: deps
 	UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh
 
 # The accuracy report (tools/accuracy): the full-wave fixtures clean and over
-# ACCURACY_PAIRS noisy pairs per case; the table also replaces the README's block
-# between its "make accuracy" markers, so the README shows what the command printed.
-ACCURACY_PAIRS ?= 30
+# ACCURACY_PAIRS noisy pairs per case (150: the tool's REPORT_PAIRS says why); the
+# table also replaces the README's block between its "make accuracy" markers, so
+# the README shows what the command printed.
+ACCURACY_PAIRS ?= 150
 accuracy: deps
 	+@$(SUBMAKE) all $(BUILD)/uwbaccuracy
 	$(TEST_RUNNER) $(BUILD)/uwbaccuracy --pairs $(ACCURACY_PAIRS) --readme README.md

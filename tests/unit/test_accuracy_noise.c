@@ -1,4 +1,4 @@
-/* The accuracy report's reduced set (make accuracy runs 30 pairs): each
+/* The accuracy report's reduced set (make accuracy runs 150 pairs): each
  * full-wave pair over 20 noisy pairs with fixed seeds at 20 and 32 dB (3 ps
  * jitter, 2 % + 2 % drift). What is asserted: the reported sigma is honest
  * (spread / median sigma and the share of errors within 2 sigma), and the

@@ -55,10 +55,16 @@ static int number_arg(const char *what, const char *text, double lo, double hi, 
     return 0;
 }
 
+/* Noisy pairs per case. The issue asks for at least 30, but over 30 pairs a
+ * spread scatters by about 13 % of itself and a share by about 5 %, as wide
+ * as the gaps the report is read for (spread / sigma up to 1.25, 90 %
+ * within 2 sigma); over 150 it is about 6 % and 2.5 %, in some 3 minutes. */
+#define REPORT_PAIRS 150
+
 int main(int argc, char **argv)
 {
     const char *dir = "tests/fixtures", *readme = NULL;
-    int pairs = 30, only_case = -1, custom = 0;
+    int pairs = REPORT_PAIRS, only_case = -1, custom = 0;
     struct accuracy_level level_custom = {0};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--fixtures") && i + 1 < argc)
