@@ -164,12 +164,7 @@ static void test_count_and_age_together_keep_the_smaller_span(void)
 {
     for (int n = 1; n <= 6; n++)
         append_verdict(n, (7 - n) * (long)DAY); /* 6 days old ... 1 day old */
-    int dropped = -1;
-    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_trim(&store, 4, 2.5, now, &dropped, err, sizeof err));
-    char got[256];
-    numbers_in_log(got, sizeof got);
-    TEST_ASSERT_EQUAL_STRING("5,6", got);
-    TEST_ASSERT_EQUAL_INT(4, dropped);
+    expect_trim(4, 2.5, 4, "5,6");
 }
 
 static void test_a_torn_last_line_does_not_survive_a_rewrite(void)
