@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "scratch_support.h"
 #include "daemon/config.h"
@@ -251,6 +252,52 @@ static void test_mqtt_needs_endpoint_and_a_private_password(void)
     scratch_remove_tree(dir);
 }
 
+/* issue 27, break 8: a TLS file that is missing, not a file or not
+ * readable passed --check-config; the start then failed in libmosquitto
+ * with "Invalid function arguments provided." and no file named. */
+static void test_mqtt_tls_files_must_be_readable_files(void)
+{
+    char dir[256], missing[320], dir_value[320], ca[300], ca_value[320], key[300], key_value[320];
+    scratch_scratch_dir(dir, sizeof dir, "mqtt-tls");
+    snprintf(missing, sizeof missing, "\"%s/no-such-ca.crt\"", dir);
+    snprintf(dir_value, sizeof dir_value, "\"%s\"", dir);
+    snprintf(ca, sizeof ca, "%s/ca.crt", dir);
+    scratch_spit(ca, "-----BEGIN CERTIFICATE-----\n");
+    snprintf(ca_value, sizeof ca_value, "\"%s\"", ca);
+    snprintf(key, sizeof key, "%s/client.key", dir);
+    scratch_spit(key, "key\n");
+    chmod(key, 0600);
+    snprintf(key_value, sizeof key_value, "\"%s\"", key);
+
+    struct uwbd_override no_ca[] = {{"site.asset_id", "T1"},
+                                    {"mqtt.enabled", "true"},
+                                    {"mqtt.endpoint", "\"tcp:127.0.0.1:8883\""},
+                                    {"mqtt.ca_file", missing}};
+    expect_refused(no_ca, 4, "key `mqtt.ca_file`");
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "no-such-ca.crt\": No such file or directory"), err);
+    struct uwbd_override ca_dir[] = {{"site.asset_id", "T1"},
+                                     {"mqtt.enabled", "true"},
+                                     {"mqtt.endpoint", "\"tcp:127.0.0.1:8883\""},
+                                     {"mqtt.ca_file", dir_value}};
+    expect_refused(ca_dir, 4, "key `mqtt.ca_file`");
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "is not a regular file"), err);
+    struct uwbd_override no_cert[] = {
+        {"site.asset_id", "T1"},    {"mqtt.enabled", "true"},    {"mqtt.endpoint", "\"tcp:127.0.0.1:8883\""},
+        {"mqtt.ca_file", ca_value}, {"mqtt.cert_file", missing}, {"mqtt.key_file", key_value}};
+    expect_refused(no_cert, 6, "key `mqtt.cert_file`");
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "No such file or directory"), err);
+    struct uwbd_override ok[] = {
+        {"site.asset_id", "T1"},    {"mqtt.enabled", "true"},     {"mqtt.endpoint", "\"tcp:127.0.0.1:8883\""},
+        {"mqtt.ca_file", ca_value}, {"mqtt.cert_file", ca_value}, {"mqtt.key_file", key_value}};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_with(ok, 6), err);
+    if (geteuid() != 0) { /* root reads a mode-000 file */
+        chmod(ca, 0);
+        expect_refused(ok, 6, "key `mqtt.ca_file`");
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "Permission denied"), err);
+    }
+    scratch_remove_tree(dir);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -262,5 +309,6 @@ int main(void)
     RUN_TEST(test_event_keys);
     RUN_TEST(test_prometheus_needs_a_prom_file);
     RUN_TEST(test_mqtt_needs_endpoint_and_a_private_password);
+    RUN_TEST(test_mqtt_tls_files_must_be_readable_files);
     return UNITY_END();
 }
