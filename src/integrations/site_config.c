@@ -4,9 +4,11 @@
 #include "integrations/site_config.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "daemon/config.h"
 #include "uwb/link.h"
@@ -102,19 +104,40 @@ static int check_textfile(const struct uwbd_site_config *s, const char **key, ch
     return 0;
 }
 
+/* A file the daemon reads at start (a CA, a certificate, a key, the
+ * password): it must be there, be a regular file and be readable by this
+ * user, or libmosquitto refuses it later without naming it. The open does
+ * not block (a FIFO) nor follow a final symlink out of reach unseen: fstat
+ * says what it is. */
+static int check_readable_file(const char *path, const char *name, const char **key, char *why, size_t whylen,
+                               struct stat *st)
+{
+    *key = name;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) {
+        snprintf(why, whylen, "\"%s\": %s", path, strerror(errno));
+        return -1;
+    }
+    int rc = fstat(fd, st);
+    int saved = errno;
+    close(fd);
+    if (rc != 0) {
+        snprintf(why, whylen, "\"%s\": %s", path, strerror(saved));
+        return -1;
+    }
+    if (!S_ISREG(st->st_mode)) {
+        snprintf(why, whylen, "\"%s\" is not a regular file", path);
+        return -1;
+    }
+    return 0;
+}
+
 /* A file only the service may read: the broker's password, a TLS key. */
 static int check_secret_file(const char *path, const char *name, const char **key, char *why, size_t whylen)
 {
     struct stat st;
-    *key = name;
-    if (stat(path, &st) != 0) {
-        snprintf(why, whylen, "\"%s\": %s", path, strerror(errno));
+    if (check_readable_file(path, name, key, why, whylen, &st) != 0)
         return -1;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        snprintf(why, whylen, "\"%s\" is not a file", path);
-        return -1;
-    }
     if (st.st_mode & 077) {
         snprintf(why, whylen,
                  "\"%s\" is readable by others (mode %04o): make it the service's only "
@@ -164,6 +187,12 @@ static int check_mqtt(const struct uwbd_site_config *s, const char **key, char *
         snprintf(why, whylen, "missing: a client certificate is for TLS, which mqtt.ca_file turns on");
         return -1;
     }
+    struct stat st;
+    if (s->mqtt_ca_file[0] && check_readable_file(s->mqtt_ca_file, "mqtt.ca_file", key, why, whylen, &st))
+        return -1;
+    if (s->mqtt_cert_file[0] &&
+        check_readable_file(s->mqtt_cert_file, "mqtt.cert_file", key, why, whylen, &st))
+        return -1;
     if (s->mqtt_key_file[0] && check_secret_file(s->mqtt_key_file, "mqtt.key_file", key, why, whylen))
         return -1;
     const char *prefix = s->mqtt_topic_prefix;
