@@ -83,6 +83,30 @@ for name in spread600m:"over the rig's largest travel of 5 m" step1nm:"under the
     [[ ! -s "$out/o-$file" ]] || fail "$file: a verdict was printed"
 done
 
+# Issue 27, break 10: data the format takes but the analysis cannot (a
+# sample of 3e38, beyond single precision's squares; one sample per trace,
+# no spectrum) is bad input, exit 65 with the reason, not an internal
+# error (70).
+fixture=tests/fixtures/fdtd2d-paper-intact.uwbscan
+header_bytes=$(head -n 1 "$fixture" | wc -c)
+{ head -n 1 "$fixture" | sed -e 's/"samples":1697,/"samples":1,/'
+  head -c $((header_bytes + 21 * 4)) "$fixture" | tail -c $((21 * 4)); } > "$out/one-sample.uwbscan"
+cp "$fixture" "$out/huge-sample.uwbscan"
+# 3e38 as little-endian binary32 over sample 100 of position 0
+printf '\xe6\xb1\x61\x7f' | dd of="$out/huge-sample.uwbscan" bs=1 seek=$((header_bytes + 400)) \
+    conv=notrunc status=none
+for name in one-sample:"positions x 1 samples" huge-sample:"sample 100 of position 0 is 3e+38"; do
+    file=${name%%:*} want=${name#*:}
+    for role in replay baseline; do
+        if [[ $role == replay ]]; then args=(--replay "$out/$file.uwbscan")
+        else args=(--replay "$fixture" --baseline "$out/$file.uwbscan"); fi
+        set +e; uwbd "${args[@]}" > "$out/o-$file" 2> "$out/e-$file"; rc=$?; set -e
+        [[ $rc -eq 65 ]] || fail "$file as --$role: exit $rc, want 65 ($(cat "$out/e-$file"))"
+        grep -q "$file.uwbscan: .*$want" "$out/e-$file" || fail "$file as --$role: message: $(cat "$out/e-$file")"
+        [[ ! -s "$out/o-$file" ]] || fail "$file as --$role: a verdict was printed"
+    done
+done
+
 # --help documents every option the parser accepts.
 help=$(uwbd --help)
 for opt in --replay --baseline --out --migration --target-z --time-zero-offset-ps --watch-mm \
