@@ -56,6 +56,18 @@ struct uwb_analysis {
     double taper_centre_m;
 };
 
+/* What the analysis refuses in a scan the format takes (bad input, not a
+ * fault): a |sample| over UWB_ANALYSIS_MAX_SAMPLE_MAGNITUDE (it images in
+ * single precision, and its intensity squares sums over up to 4096
+ * positions: (1e12 x 4096)^2 stays far below FLT_MAX; a digitiser frame
+ * carries at most 32767 counts x 1e6 V per count, 3.3e10), or fewer than
+ * UWB_ANALYSIS_MIN_SAMPLES per trace (no spectrum). */
+#define UWB_ANALYSIS_MAX_SAMPLE_MAGNITUDE 1e12
+#define UWB_ANALYSIS_MIN_SAMPLES 2
+/* 0 when the analysis can take the scan's data, -1 with the reason, so
+ * that a caller tells bad input (exit 65) from an internal fault. */
+int uwb_analysis_check_input(const struct uwb_scan *scan, char *err, size_t errlen);
+
 /* Returns 0 when the analysis ran (edges.found tells whether the winding
  * was established, with edges.reason otherwise), -1 on a hard error (out
  * then holds nothing to free). */

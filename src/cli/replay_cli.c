@@ -98,13 +98,21 @@ static int parse_target_z(const char *text, double *near_m, double *far_m)
     return isfinite(*near_m) && isfinite(*far_m) && *near_m >= 0.0 && *far_m > *near_m ? 0 : -1;
 }
 
+/* Reads a scan the analysis can take: what the format or the analysis
+ * refuses is bad input (65), so that 70 is left to internal faults. */
 static int read_scan(const char *path, struct uwb_scan *scan)
 {
     char err[512];
-    if (uwbscan_read_file(path, scan, err, sizeof err) == 0)
-        return 0;
-    fprintf(stderr, "uwbd: %s\n", err);
-    return access(path, R_OK) != 0 ? EX_NOINPUT : EX_DATAERR;
+    if (uwbscan_read_file(path, scan, err, sizeof err) != 0) {
+        fprintf(stderr, "uwbd: %s\n", err);
+        return access(path, R_OK) != 0 ? EX_NOINPUT : EX_DATAERR;
+    }
+    if (uwb_analysis_check_input(scan, err, sizeof err) != 0) {
+        fprintf(stderr, "uwbd: %s: %s\n", path, err);
+        uwb_scan_free(scan);
+        return EX_DATAERR;
+    }
+    return 0;
 }
 
 /* File stem for images: the scan id if it is a safe file name, else the

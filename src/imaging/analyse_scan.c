@@ -89,12 +89,8 @@
  * verdict's JSON. */
 #define NOISELESS_SNR_DB 200.0
 
-/* The largest |sample| the analysis images. It works in single precision,
- * and its intensity is a square of sums over up to 4096 positions:
- * (1e12 x 4096)^2 stays far below FLT_MAX (3.4e38). The format allows any
- * finite sample; a digitiser frame carries at most 32767 counts x 1e6 V per
- * count (3.3e10). */
-#define MAX_SAMPLE_MAGNITUDE 1e12
+/* The largest |sample| the analysis images (see uwb/analysis.h). */
+#define MAX_SAMPLE_MAGNITUDE UWB_ANALYSIS_MAX_SAMPLE_MAGNITUDE
 
 void uwb_analysis_defaults(struct uwb_analysis_options *opt)
 {
