@@ -107,6 +107,38 @@ for name in one-sample:"positions x 1 samples" huge-sample:"sample 100 of positi
     done
 done
 
+# Issue 27, break 11: a replay's memory grew with the file (a 268 MB scan
+# took 1.37 GB and 23 s). A scan past 64 MiB of samples is refused at its
+# header, at once, exit 65, the limit named; one at the limit replays
+# within the README's bound (400 MiB peak). The payloads are sparse zeros.
+# sized_scan NAME POSITIONS SAMPLES: the fixture's header with that shape.
+sized_scan() {
+    local ys
+    ys=$(awk -v k="$2" 'BEGIN { for (i = 0; i < k; i++) printf "%s%.6f", (i ? "," : ""), i * 0.6 / (k - 1) }')
+    head -n 1 "$fixture" | sed -e "s/\"positions\":21,/\"positions\":$2,/; s/\"samples\":1697,/\"samples\":$3,/" \
+        -e "s/\"antenna_y_m\":\[[^]]*\]/\"antenna_y_m\":[$ys]/" > "$out/$1.uwbscan"
+    truncate -s $(($(wc -c < "$out/$1.uwbscan") + $2 * $3 * 4)) "$out/$1.uwbscan"
+}
+sized_scan past-limit 512 32769
+started=$(date +%s%N)
+set +e; uwbd --replay "$out/past-limit.uwbscan" > "$out/o-past" 2> "$out/e-past"; rc=$?; set -e
+elapsed_ms=$((($(date +%s%N) - started) / 1000000))
+[[ $rc -eq 65 ]] || fail "a scan past the limit: exit $rc, want 65 ($(cat "$out/e-past"))"
+grep -q "past-limit.uwbscan: .*over the limit of 16777216 (64 MiB of float32)" "$out/e-past" ||
+    fail "a scan past the limit: message: $(cat "$out/e-past")"
+(( elapsed_ms < 2000 )) || fail "a scan past the limit took $elapsed_ms ms to refuse"
+sized_scan at-limit 128 131072
+set +e
+"$UWB_BUILD_DIR/e2e/peak_rss" "$out/rss" 120 ${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" --replay "$out/at-limit.uwbscan" \
+    > "$out/o-at" 2> "$out/e-at"
+rc=$?
+set -e
+[[ $rc -eq 0 ]] || fail "a scan at the limit: exit $rc ($(cat "$out/e-at"))"
+# Sanitizers and an emulator (UWB_EXEC_PREFIX) measure their own memory, not uwbd's.
+if [[ -z ${UWB_EXEC_PREFIX:-} ]] && ! grep -qa __asan_init "$UWB_BUILD_DIR/uwbd"; then
+    (( $(cat "$out/rss") <= 400 * 1024 )) || fail "a scan at the limit peaked at $(cat "$out/rss") KiB, over 400 MiB"
+fi
+
 # --help documents every option the parser accepts.
 help=$(uwbd --help)
 for opt in --replay --baseline --out --migration --target-z --time-zero-offset-ps --watch-mm \

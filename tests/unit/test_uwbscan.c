@@ -620,9 +620,38 @@ static void test_huge_dimensions_are_checked_without_overflow(void)
     char *header = cJSON_PrintUnformatted(root);
     cJSON_Delete(root);
     expect_reject(header, 2,
-                  "payload has 8 bytes, header promises 4096 x 1048576 float32 = "
-                  "17179869184 bytes (too short)");
+                  "4096 positions x 1048576 samples = 4294967296 samples, over the limit of 16777216");
     free(header);
+}
+
+static void expect_writer_refuses(const struct uwb_scan *scan, const char *needle);
+
+/* issue 27, break 11: a replay's memory grew with the file (a 268 MB scan
+ * took 1.37 GB); the format allowed 16 GiB. A scan past 64 MiB of samples
+ * is refused at its header, before its payload is allocated, and the
+ * writer never writes one. */
+static void test_scans_past_64_mib_of_samples_are_refused(void)
+{
+    cJSON *root = cJSON_Parse(GOOD_HEADER);
+    TEST_ASSERT_NOT_NULL(root);
+    cJSON_ReplaceItemInObjectCaseSensitive(root, "positions", cJSON_CreateNumber(512));
+    cJSON_ReplaceItemInObjectCaseSensitive(root, "samples", cJSON_CreateNumber(32769));
+    cJSON *ys = cJSON_CreateArray();
+    for (int k = 0; k < 512; k++)
+        cJSON_AddItemToArray(ys, cJSON_CreateNumber(k * 0.001));
+    cJSON_ReplaceItemInObjectCaseSensitive(root, "antenna_y_m", ys);
+    char *header = cJSON_PrintUnformatted(root);
+    cJSON_Delete(root);
+    expect_reject(header, 2,
+                  "512 positions x 32769 samples = 16777728 samples, over the limit of 16777216 (64 MiB "
+                  "of float32)");
+    free(header);
+
+    struct uwb_scan scan = {0};
+    scan.positions = 4096;
+    scan.samples = 4097;
+    scan.sample_interval_s = 1e-11;
+    expect_writer_refuses(&scan, "4096 positions x 4097 samples = 16781312 samples, over the limit");
 }
 
 static void test_error_buffer_may_be_small_or_absent(void)
@@ -1205,6 +1234,7 @@ int main(void)
     RUN_TEST(test_rejects_optional_strings_of_wrong_type);
     RUN_TEST(test_rejects_what_the_rig_cannot_record);
     RUN_TEST(test_huge_dimensions_are_checked_without_overflow);
+    RUN_TEST(test_scans_past_64_mib_of_samples_are_refused);
     RUN_TEST(test_error_buffer_may_be_small_or_absent);
     /* bounds safety */
     RUN_TEST(test_every_truncation_is_rejected_cleanly);
