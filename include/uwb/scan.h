@@ -10,6 +10,12 @@
 #define UWBSCAN_MAX_POSITIONS 4096
 #define UWBSCAN_MAX_SAMPLES 1048576
 #define UWBSCAN_MAX_HEADER_BYTES ((size_t)1024 * 1024)
+/* positions x samples at most: 64 MiB of float32, so that reading and
+ * replaying one is bounded (README "What the reader refuses": a replay at
+ * the limit peaks under 400 MiB). The biggest scan this rig makes (650 mm
+ * at 1 mm steps, 4096 samples) is 2.7 Mi samples. */
+#define UWBSCAN_MAX_SAMPLE_MIB 64
+#define UWBSCAN_MAX_SAMPLE_COUNT ((size_t)UWBSCAN_MAX_SAMPLE_MIB * 1024 * 1024 / sizeof(float))
 
 /* What this rig can record, so that every accepted scan is bounded work
  * (the imaging grids scale with travel / step and range / pixel):

@@ -249,6 +249,14 @@ int uwbscan_check_fields(const struct uwb_scan *scan, const char *name, char *er
     if (check_count("positions", scan->positions, UWBSCAN_MAX_POSITIONS, name, err, errlen) ||
         check_count("samples", scan->samples, UWBSCAN_MAX_SAMPLES, name, err, errlen))
         return -1;
+    uint64_t count = (uint64_t)scan->positions * (uint64_t)scan->samples;
+    if (count > UWBSCAN_MAX_SAMPLE_COUNT) {
+        uwbscan_fail(err, errlen, name,
+                     "%d positions x %d samples = %llu samples, over the limit of %zu (%d MiB of float32)",
+                     scan->positions, scan->samples, (unsigned long long)count, UWBSCAN_MAX_SAMPLE_COUNT,
+                     UWBSCAN_MAX_SAMPLE_MIB);
+        return -1;
+    }
     if (!isfinite(scan->sample_interval_s) || scan->sample_interval_s <= 0) {
         uwbscan_fail(err, errlen, name, "sample_interval_s is %g, must be a finite number > 0",
                      scan->sample_interval_s);

@@ -377,9 +377,10 @@ int uwbscan_parse(const void *buf, size_t len, const char *name, struct uwb_scan
     return 0;
 }
 
-/* Largest file that could be valid: header line plus the biggest payload. */
+/* Largest file that could be valid: header line plus the biggest payload.
+ * A bigger one is refused by its size, before anything is read. */
 #define UWBSCAN_MAX_FILE_BYTES \
-    ((uint64_t)UWBSCAN_MAX_HEADER_BYTES + 1 + (uint64_t)UWBSCAN_MAX_POSITIONS * UWBSCAN_MAX_SAMPLES * 4u)
+    ((uint64_t)UWBSCAN_MAX_HEADER_BYTES + 1 + (uint64_t)UWBSCAN_MAX_SAMPLE_COUNT * 4u)
 
 int uwbscan_read_file(const char *path, struct uwb_scan *scan, char *err, size_t errlen)
 {
@@ -390,7 +391,10 @@ int uwbscan_read_file(const char *path, struct uwb_scan *scan, char *err, size_t
     enum uwb_read_result read_result = uwb_read_file(path, max_bytes, &buf, &len, err, errlen);
     if (read_result == UWB_READ_TOO_BIG && err != NULL && errlen > 0) {
         size_t used = strlen(err);
-        snprintf(err + used, errlen - used, ": larger than any valid uwbscan/1 file");
+        snprintf(err + used, errlen - used,
+                 ": larger than any scan uwbd reads (over the limit of %zu samples, %d MiB of float32, "
+                 "and a 1 MiB header)",
+                 UWBSCAN_MAX_SAMPLE_COUNT, UWBSCAN_MAX_SAMPLE_MIB);
     }
     if (read_result != UWB_READ_OK)
         return -1;
