@@ -195,6 +195,24 @@ static void test_keys_that_depend_on_others(void)
     assert_refused("scan.positions", "4000", "over the largest travel a scan file may hold (5000 mm)");
 }
 
+/* Issue 27, break 11: a rig whose scan is over the 64 MiB of samples a
+ * scan file may hold would record what no reader takes back. */
+static void test_a_rig_whose_scan_the_reader_refuses_is_refused(void)
+{
+    struct uwbd_override o[] = {
+        {"scan.step_mm", "1"}, {"scan.positions", "300"}, {"digitiser.samples", "65536"}};
+    TEST_ASSERT_EQUAL_INT(
+        -1, uwbd_config_parse(sample_text, strlen(sample_text), "test.json", o, 3, &cfg, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err,
+                                        "key `digitiser.samples`: 65536 samples x 300 positions = 19660800 "
+                                        "samples per scan, over the limit of 16777216 (64 MiB of float32)"),
+                                 err);
+    o[1].value = "256"; /* 256 x 65536 is the limit itself */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_config_parse(sample_text, strlen(sample_text), "test.json", o, 3, &cfg, err, sizeof err),
+        err);
+}
+
 /* Issue 17, break 1: state_dir "/" passed --check-config, and the start-up
  * cleanup then walked the whole tree. */
 static void test_state_dir_must_be_a_directory_of_its_own(void)
@@ -329,6 +347,7 @@ int main(void)
     RUN_TEST(test_out_of_range_and_bad_choices_are_errors);
     RUN_TEST(test_missing_required_keys_are_errors);
     RUN_TEST(test_keys_that_depend_on_others);
+    RUN_TEST(test_a_rig_whose_scan_the_reader_refuses_is_refused);
     RUN_TEST(test_state_dir_must_be_a_directory_of_its_own);
     RUN_TEST(test_check_system_refuses_a_missing_control_group);
     RUN_TEST(test_libgpiod_needs_chip_and_lines);
