@@ -546,6 +546,15 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
              r->positions, r->step_mm, (r->positions - 1) * r->step_mm, UWBSCAN_MAX_TRAVEL_M * 1e3);
         return -1;
     }
+    size_t samples_per_scan = (size_t)r->positions * (size_t)r->digitiser.samples;
+    if (samples_per_scan > UWBSCAN_MAX_SAMPLE_COUNT) {
+        fail(ctx, "digitiser.samples",
+             "%d samples x %d positions = %zu samples per scan, over the limit of %zu (%d MiB of float32) a "
+             "scan file may hold",
+             r->digitiser.samples, r->positions, samples_per_scan, UWBSCAN_MAX_SAMPLE_COUNT,
+             UWBSCAN_MAX_SAMPLE_MIB);
+        return -1;
+    }
     if (last > highest + 1e-9) {
         fail(ctx, "scan.positions",
              "the last position, %g mm, lies beyond the travel (home_offset_mm + travel_mm = %g mm)", last,
