@@ -206,6 +206,8 @@ static char *status_reply(struct daemon *d)
 {
     struct uwbd_scan_progress progress;
     int has_progress = uwbd_scan_progress_now(d, &progress);
+    struct uwbd_mqtt_link mqtt;
+    int has_mqtt = uwbd_site_mqtt_link(d->site, &mqtt);
     struct uwbd_status st = {
         .version = UWBD_VERSION,
         .state = d->stopping   ? "stopping"
@@ -229,6 +231,7 @@ static char *status_reply(struct daemon *d)
         .progress = has_progress ? &progress : NULL,
         .site_phase = d->cfg.site_phase,
         .site_label = d->cfg.site_label,
+        .mqtt = has_mqtt ? &mqtt : NULL,
     };
     return uwbd_reply_status(&st);
 }

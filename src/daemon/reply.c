@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "daemon/command.h"
+#include "integrations/mqtt_publisher.h"
 #include "uwb/verdict_json.h"
 
 static char *finish(cJSON *o)
@@ -136,6 +137,13 @@ char *uwbd_reply_status(const struct uwbd_status *st)
         cJSON_AddStringToObject(site, "phase", st->site_phase);
     if (site && has_label)
         cJSON_AddStringToObject(site, "label", st->site_label);
+    cJSON *mqtt = st->mqtt ? cJSON_AddObjectToObject(o, "mqtt") : NULL;
+    if (mqtt) {
+        cJSON_AddStringToObject(mqtt, "link", st->mqtt->state);
+        if (st->mqtt->reason[0])
+            cJSON_AddStringToObject(mqtt, "reason", st->mqtt->reason);
+        cJSON_AddNumberToObject(mqtt, "queued", (double)st->mqtt->queued);
+    }
     cJSON_AddStringToObject(o, "state_dir", st->state_dir);
     cJSON_AddStringToObject(o, "rig", st->rig);
     if (st->console)

@@ -13,6 +13,8 @@
 #define UWBD_PROTOCOL_MAJOR 1
 #define UWBD_PROTOCOL_MINOR 0
 
+struct uwbd_mqtt_link;
+
 struct uwbd_status {
     const char *version;
     const char *state; /* "idle", "scanning", "stopping" */
@@ -32,6 +34,7 @@ struct uwbd_status {
     const char *fault;                         /* a device fault (the baseline failed its check), or NULL */
     const struct uwbd_scan_progress *progress; /* while scanning, or NULL */
     const char *site_phase, *site_label;       /* site.phase, site.label; "" or NULL: not set */
+    const struct uwbd_mqtt_link *mqtt;         /* the MQTT link and queue, or NULL when MQTT is off */
 };
 
 char *uwbd_reply_error(const char *message);

@@ -24,10 +24,11 @@
     X(will_set) \
     X(username_pw_set) \
     X(tls_set) \
-    X(reconnect_delay_set) \
+    X(log_callback_set) \
+    X(threaded_set) \
     X(connect_async) \
-    X(loop_start) \
-    X(loop_stop) \
+    X(reconnect_async) \
+    X(loop) \
     X(disconnect) \
     X(publish) \
     X(subscribe) \

@@ -1,6 +1,10 @@
-/* MQTT publishing through libmosquitto's own network thread (see the
- * header). The queue is shared with that thread's callbacks: one mutex
- * guards it; the callbacks only publish and unlink, never block. */
+/* MQTT publishing through libmosquitto, driven by a network thread of our
+ * own (see the header). The queue is shared with that thread's callbacks:
+ * one mutex guards it; the callbacks only publish and unlink, never block.
+ * The thread is ours, not mosquitto_loop_start's, because that one ends
+ * silently for good after a failed TLS handshake, and retries a refused
+ * or unreachable broker without a word: here every attempt's outcome is
+ * seen, each kind of failure logged once, and `status` shows the link. */
 #include "integrations/mqtt_publisher.h"
 
 #include <ctype.h>
@@ -23,6 +27,13 @@
 #include "uwb/read_file.h"
 
 #define KEEPALIVE_S 60
+/* An attempt that has not connected by then has failed (a broker that
+ * drops the packets, a half-open TLS port). */
+#define CONNECT_TIMEOUT_S 10
+/* How long one mosquitto_loop call waits: also how soon a stop is seen. */
+#define LOOP_MS 100
+/* The sentinel for an attempt that timed out (not a libmosquitto code). */
+#define LINK_TIMED_OUT (-1000)
 #define QOS 1
 #define CLOSE_WAIT_MS 2000
 #define QUEUE_DIR "mqtt-queue"
@@ -44,6 +55,25 @@ struct uwbd_mqtt {
     int inflight_mid; /* the queue head's publish, 0 = none */
     int offline_mid, offline_acked;
     int was_connected; /* log a lost broker once */
+    /* The network thread and what it says about the link (under lock). */
+    pthread_t thread;
+    int thread_started;
+    int closing, stopping; /* close(): say goodbye, then end the thread */
+    int thread_done;
+    char host[256];
+    int port;
+    char endpoint[UWB_ENDPOINT_MAX];
+    int tls;
+    double reconnect_max_s;
+    int failing; /* the last attempt failed: reason says why */
+    char reason[512];
+    unsigned logged; /* a bit per failure kind logged since the last connection */
+    int refused_rc;  /* this attempt's CONNACK refusal, -1 none */
+    /* libmosquitto's latest error log line this attempt (OpenSSL's reason
+     * for a failed handshake). Its own lock: libmosquitto logs from inside
+     * calls the main thread makes holding `lock`. */
+    pthread_mutex_t error_lock;
+    char lib_error[256];
     char cmd_topic[256], reply_topic[256];
     char health_topic[256];
     char *health;                 /* the latest health report, sent on every connection */
@@ -86,13 +116,17 @@ static void send_next(struct uwbd_mqtt *m)
 static void on_connect(struct mosquitto *mosq, void *ctx, int rc)
 {
     struct uwbd_mqtt *m = ctx;
-    if (rc != 0) {
-        uwbd_log(UWBD_LOG_WARNING, "mqtt: the broker refused the connection: %s", m->lib->connack_string(rc));
+    pthread_mutex_lock(&m->lock);
+    if (rc != 0) { /* logged by the network thread, once */
+        m->refused_rc = rc;
+        pthread_mutex_unlock(&m->lock);
         return;
     }
-    pthread_mutex_lock(&m->lock);
     m->connected = 1;
     m->was_connected = 1;
+    m->failing = 0;
+    m->reason[0] = '\0';
+    m->logged = 0;
     m->inflight_mid = 0; /* a publish cut off by the disconnection is sent again: at least once */
     m->lib->publish(mosq, NULL, m->status_topic, 6, "online", QOS, true);
     if (m->command_fd >= 0)
@@ -114,6 +148,17 @@ static void on_disconnect(struct mosquitto *mosq, void *ctx, int rc)
                  m->lib->strerror(rc));
     m->connected = 0;
     pthread_mutex_unlock(&m->lock);
+}
+
+static void on_log(struct mosquitto *mosq, void *ctx, int level, const char *text)
+{
+    (void)mosq;
+    struct uwbd_mqtt *m = ctx;
+    if (!(level & MOSQ_LOG_ERR) || !text)
+        return;
+    pthread_mutex_lock(&m->error_lock);
+    snprintf(m->lib_error, sizeof m->lib_error, "%s", text);
+    pthread_mutex_unlock(&m->error_lock);
 }
 
 static void on_publish(struct mosquitto *mosq, void *ctx, int mid)
@@ -234,6 +279,7 @@ static int configure(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, ch
     m->lib->disconnect_callback_set(m->mosq, on_disconnect);
     m->lib->publish_callback_set(m->mosq, on_publish);
     m->lib->message_callback_set(m->mosq, on_message);
+    m->lib->log_callback_set(m->mosq, on_log);
     int rc = m->lib->will_set(m->mosq, m->status_topic, 7, "offline", QOS, true);
     if (rc == MOSQ_ERR_SUCCESS && cfg->mqtt_username[0]) {
         char password[512];
@@ -247,12 +293,151 @@ static int configure(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, ch
                              cfg->mqtt_cert_file[0] ? cfg->mqtt_cert_file : NULL,
                              cfg->mqtt_key_file[0] ? cfg->mqtt_key_file : NULL, NULL);
     if (rc == MOSQ_ERR_SUCCESS)
-        rc = m->lib->reconnect_delay_set(m->mosq, 1, (unsigned)(cfg->mqtt_reconnect_max_s + 0.5), true);
+        rc = m->lib->threaded_set(m->mosq, true); /* our network thread, not mosquitto_loop_start's */
     if (rc != MOSQ_ERR_SUCCESS) {
         snprintf(err, errlen, "mqtt: %s", m->lib->strerror(rc));
         return -1;
     }
     return 0;
+}
+
+/* ---- the network thread ------------------------------------------------- */
+
+enum failure_kind { FAILURE_TLS, FAILURE_REFUSED, FAILURE_UNREACHABLE };
+
+static int flag(struct uwbd_mqtt *m, const int *which)
+{
+    pthread_mutex_lock(&m->lock);
+    int v = *which;
+    pthread_mutex_unlock(&m->lock);
+    return v;
+}
+
+static double seconds_since(const struct timespec *t)
+{
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    return (double)(now.tv_sec - t->tv_sec) + (double)(now.tv_nsec - t->tv_nsec) * 1e-9;
+}
+
+/* Runs one connection until it ends: the libmosquitto code that ended it,
+ * LINK_TIMED_OUT, or MOSQ_ERR_SUCCESS when stopped. *was_up: it connected. */
+static int run_link(struct uwbd_mqtt *m, int *was_up)
+{
+    struct timespec start;
+    clock_gettime(CLOCK_MONOTONIC, &start);
+    *was_up = 0;
+    for (;;) {
+        if (flag(m, &m->stopping))
+            return MOSQ_ERR_SUCCESS;
+        int rc = m->lib->loop(m->mosq, LOOP_MS, 1);
+        if (flag(m, &m->connected))
+            *was_up = 1;
+        if (rc != MOSQ_ERR_SUCCESS)
+            return rc;
+        if (!*was_up && !flag(m, &m->closing) && seconds_since(&start) > CONNECT_TIMEOUT_S)
+            return LINK_TIMED_OUT;
+    }
+}
+
+/* Why an attempt that never connected failed, and its kind. */
+static enum failure_kind classify(struct uwbd_mqtt *m, int rc, int err_no, char *why, size_t n)
+{
+    char lib_error[sizeof m->lib_error];
+    pthread_mutex_lock(&m->error_lock);
+    snprintf(lib_error, sizeof lib_error, "%s", m->lib_error);
+    pthread_mutex_unlock(&m->error_lock);
+    int refused = flag(m, &m->refused_rc);
+    if (refused >= 0) {
+        snprintf(why, n, "refused by the broker: %s (CONNACK code %d)", m->lib->connack_string(refused),
+                 refused);
+        return FAILURE_REFUSED;
+    }
+    if (m->tls && rc != LINK_TIMED_OUT &&
+        (rc == MOSQ_ERR_TLS || strstr(lib_error, "SSL") || (rc == MOSQ_ERR_ERRNO && err_no == EPROTO))) {
+        snprintf(why, n, "TLS handshake failed: %s (is the broker's port TLS? mqtt.ca_file turns TLS on)",
+                 lib_error[0] ? lib_error : m->lib->strerror(rc));
+        return FAILURE_TLS;
+    }
+    if (rc == LINK_TIMED_OUT)
+        snprintf(why, n, "no connection within %d s (unreachable, or the packets are dropped)",
+                 CONNECT_TIMEOUT_S);
+    else
+        snprintf(why, n, "unreachable: %s",
+                 rc == MOSQ_ERR_ERRNO && err_no ? strerror(err_no)
+                 : lib_error[0]                 ? lib_error
+                                                : m->lib->strerror(rc));
+    return FAILURE_UNREACHABLE;
+}
+
+/* A failed attempt: its reason for `status`, and the log once per kind
+ * until the link is up again (a retry every few seconds says nothing new). */
+static void note_failure(struct uwbd_mqtt *m, int rc, int err_no)
+{
+    char why[sizeof m->reason];
+    enum failure_kind kind = classify(m, rc, err_no, why, sizeof why);
+    pthread_mutex_lock(&m->lock);
+    m->failing = 1;
+    snprintf(m->reason, sizeof m->reason, "%s", why);
+    if (!(m->logged & (1u << kind))) {
+        m->logged |= 1u << kind;
+        uwbd_log(UWBD_LOG_WARNING, "mqtt: %s: %s; %zu verdict(s) queued, trying again every %g s at most",
+                 m->endpoint, why, m->queued, m->reconnect_max_s);
+    }
+    pthread_mutex_unlock(&m->lock);
+}
+
+/* Sleeps `seconds` in steps, back early when asked to close. */
+static void back_off(struct uwbd_mqtt *m, double seconds)
+{
+    long steps = (long)(seconds * 1e3 / LOOP_MS + 0.5);
+    for (long i = 0; i < steps; i++) {
+        if (flag(m, &m->closing) || flag(m, &m->stopping))
+            return;
+        nanosleep(&(struct timespec){.tv_nsec = LOOP_MS * 1000000L}, NULL);
+    }
+}
+
+static void *network_main(void *arg)
+{
+    struct uwbd_mqtt *m = arg;
+    double delay_s = 1.0;
+    for (int attempt = 0; !flag(m, &m->closing) && !flag(m, &m->stopping); attempt++) {
+        pthread_mutex_lock(&m->lock);
+        m->refused_rc = -1;
+        pthread_mutex_unlock(&m->lock);
+        pthread_mutex_lock(&m->error_lock);
+        m->lib_error[0] = '\0';
+        pthread_mutex_unlock(&m->error_lock);
+        errno = 0;
+        int rc = attempt == 0 ? m->lib->connect_async(m->mosq, m->host, m->port, KEEPALIVE_S)
+                              : m->lib->reconnect_async(m->mosq);
+        int err_no = errno, was_up = 0;
+        if (rc == MOSQ_ERR_SUCCESS) {
+            rc = run_link(m, &was_up);
+            err_no = errno;
+        }
+        if (flag(m, &m->closing) || flag(m, &m->stopping))
+            break;
+        if (was_up) /* the loss is on_disconnect's to log */
+            delay_s = 1.0;
+        else
+            note_failure(m, rc, err_no);
+        back_off(m, delay_s);
+        delay_s = delay_s * 2 < m->reconnect_max_s ? delay_s * 2 : m->reconnect_max_s;
+        if (delay_s < 1.0)
+            delay_s = 1.0;
+    }
+    /* Closing: let libmosquitto send its DISCONNECT, briefly. */
+    struct timespec start;
+    clock_gettime(CLOCK_MONOTONIC, &start);
+    while (!flag(m, &m->stopping) && seconds_since(&start) < 1.0 &&
+           m->lib->loop(m->mosq, LOOP_MS, 1) == MOSQ_ERR_SUCCESS) {
+    }
+    pthread_mutex_lock(&m->lock);
+    m->thread_done = 1;
+    pthread_mutex_unlock(&m->lock);
+    return NULL;
 }
 
 int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, const char *state_dir,
@@ -276,6 +461,13 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
     }
     m->lib = lib;
     pthread_mutex_init(&m->lock, NULL);
+    pthread_mutex_init(&m->error_lock, NULL);
+    m->refused_rc = -1;
+    snprintf(m->host, sizeof m->host, "%s", ep.host);
+    m->port = (int)strtol(ep.port, NULL, 10);
+    snprintf(m->endpoint, sizeof m->endpoint, "%s", cfg->mqtt_endpoint);
+    m->tls = cfg->mqtt_ca_file[0] != '\0';
+    m->reconnect_max_s = cfg->mqtt_reconnect_max_s;
     snprintf(m->dir, sizeof m->dir, "%s/" QUEUE_DIR, state_dir);
     snprintf(m->verdict_topic, sizeof m->verdict_topic, "%s/%s/verdict", cfg->mqtt_topic_prefix,
              cfg->asset_id);
@@ -288,6 +480,7 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
     if (cfg->mqtt_commands && m->command_fd < 0) {
         snprintf(err, errlen, "mqtt: eventfd: %s", strerror(errno));
         pthread_mutex_destroy(&m->lock);
+        pthread_mutex_destroy(&m->error_lock);
         free(m);
         return -1;
     }
@@ -301,16 +494,13 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
         uwbd_mqtt_close(m);
         return -1;
     }
-    int rc = m->lib->connect_async(m->mosq, ep.host, (int)strtol(ep.port, NULL, 10), KEEPALIVE_S);
-    if (rc != MOSQ_ERR_SUCCESS)
-        uwbd_log(UWBD_LOG_WARNING, "mqtt: %s: %s; trying again in the background", cfg->mqtt_endpoint,
-                 rc == MOSQ_ERR_ERRNO ? strerror(errno) : m->lib->strerror(rc));
-    rc = m->lib->loop_start(m->mosq);
-    if (rc != MOSQ_ERR_SUCCESS) {
-        snprintf(err, errlen, "mqtt: cannot start its thread: %s", m->lib->strerror(rc));
+    int rc = pthread_create(&m->thread, NULL, network_main, m);
+    if (rc != 0) {
+        snprintf(err, errlen, "mqtt: cannot start its thread: %s", strerror(rc));
         uwbd_mqtt_close(m);
         return -1;
     }
+    m->thread_started = 1;
     uwbd_log(UWBD_LOG_INFO, "mqtt: publishing to %s on %s (%zu verdict(s) queued from before)",
              m->verdict_topic, cfg->mqtt_endpoint, m->queued);
     *out = m;
@@ -400,6 +590,15 @@ size_t uwbd_mqtt_queued(struct uwbd_mqtt *m)
     return n;
 }
 
+void uwbd_mqtt_link(struct uwbd_mqtt *m, struct uwbd_mqtt_link *out)
+{
+    pthread_mutex_lock(&m->lock);
+    out->state = m->connected ? "connected" : m->failing ? "failing" : "connecting";
+    snprintf(out->reason, sizeof out->reason, "%s", m->connected ? "" : m->reason);
+    out->queued = m->queued;
+    pthread_mutex_unlock(&m->lock);
+}
+
 void uwbd_mqtt_close(struct uwbd_mqtt *m)
 {
     if (!m)
@@ -418,12 +617,24 @@ void uwbd_mqtt_close(struct uwbd_mqtt *m)
                 break;
             nanosleep(&(struct timespec){.tv_nsec = 10000000L}, NULL);
         }
+        pthread_mutex_lock(&m->lock);
+        m->closing = 1;
+        pthread_mutex_unlock(&m->lock);
         m->lib->disconnect(m->mosq);
-        m->lib->loop_stop(m->mosq, true);
+        /* The thread sends the DISCONNECT (a second at most), then ends. */
+        for (int waited = 0; m->thread_started && !flag(m, &m->thread_done) && waited < CLOSE_WAIT_MS;
+             waited += 10)
+            nanosleep(&(struct timespec){.tv_nsec = 10000000L}, NULL);
+        pthread_mutex_lock(&m->lock);
+        m->stopping = 1;
+        pthread_mutex_unlock(&m->lock);
+        if (m->thread_started)
+            pthread_join(m->thread, NULL);
         m->lib->destroy(m->mosq);
     }
     m->lib->lib_cleanup();
     pthread_mutex_destroy(&m->lock);
+    pthread_mutex_destroy(&m->error_lock);
     for (size_t i = 0; i < m->n_commands; i++)
         free(m->commands[i]);
     free(m->health);

@@ -5,7 +5,8 @@
  * on a clean stop. Every verdict goes to an on-disk queue first
  * (STATE_DIR/mqtt-queue, bounded) and leaves it when the broker has
  * acknowledged it, one at a time and in order, so none is lost while the
- * broker is away or the daemon restarts. Reconnecting backs off from 1 s. */
+ * broker is away or the daemon restarts. Reconnecting backs off from 1 s
+ * to mqtt.reconnect_max_s. */
 #ifndef UWB_DAEMON_MQTT_PUBLISHER_H
 #define UWB_DAEMON_MQTT_PUBLISHER_H
 
@@ -33,6 +34,17 @@ void uwbd_mqtt_reply(struct uwbd_mqtt *mqtt, const char *reply_json);
 void uwbd_mqtt_health(struct uwbd_mqtt *mqtt, const char *health_json);
 /* Verdicts waiting for the broker. */
 size_t uwbd_mqtt_queued(struct uwbd_mqtt *mqtt);
+/* The link as `status` shows it: "connected", "connecting" (the first
+ * attempt, or again after a loss) or "failing" with the last attempt's
+ * reason (TLS handshake, refused by the broker with its code, unreachable
+ * or no answer within 10 s), and the verdicts queued. Each kind of failure
+ * is logged once until the link is up again. */
+struct uwbd_mqtt_link {
+    const char *state;
+    char reason[512]; /* "" unless failing */
+    size_t queued;
+};
+void uwbd_mqtt_link(struct uwbd_mqtt *mqtt, struct uwbd_mqtt_link *out);
 /* Says "offline" (briefly waiting for the broker's acknowledgement) and
  * disconnects; what is queued stays on disk for the next start. NULL is a no-op. */
 void uwbd_mqtt_close(struct uwbd_mqtt *mqtt);

@@ -360,6 +360,14 @@ char *uwbd_site_next_command(struct uwbd_site *s)
     return s ? uwbd_mqtt_next_command(s->mqtt) : NULL;
 }
 
+int uwbd_site_mqtt_link(struct uwbd_site *s, struct uwbd_mqtt_link *out)
+{
+    if (!s || !s->mqtt)
+        return 0;
+    uwbd_mqtt_link(s->mqtt, out);
+    return 1;
+}
+
 void uwbd_site_reply(struct uwbd_site *s, const char *reply_json)
 {
     if (s)

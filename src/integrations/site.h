@@ -9,6 +9,7 @@
 #include <stddef.h>
 
 #include "daemon/config.h"
+#include "integrations/mqtt_publisher.h"
 
 struct uwbd_site;
 
@@ -39,6 +40,8 @@ int uwbd_site_tick(struct uwbd_site *site);
 int uwbd_site_command_fd(const struct uwbd_site *site);
 char *uwbd_site_next_command(struct uwbd_site *site);
 void uwbd_site_reply(struct uwbd_site *site, const char *reply_json);
+/* The MQTT link for `status`: 1 with *out filled, 0 when MQTT is off. */
+int uwbd_site_mqtt_link(struct uwbd_site *site, struct uwbd_mqtt_link *out);
 /* Drives the contacts de-energised (the fault contact opens: the monitor
  * is stopping) and releases the lines. NULL is a no-op. */
 void uwbd_site_close(struct uwbd_site *site);
