@@ -15,7 +15,12 @@
  *   ctl_attack send SOCKET TEXT LINES TIMEOUT_S
  *       Sends TEXT (with \n escapes) on one connection, prints the reply
  *       lines as they come; exit 0 when LINES lines came, 1 when TIMEOUT_S
- *       passed or the daemon closed first. */
+ *       passed or the daemon closed first.
+ *   ctl_attack backlog SOCKET SECONDS
+ *       A daemon that stopped accepting (issue 27, break 3): listens on
+ *       SOCKET with a backlog of 0, never accepts, and fills the backlog
+ *       with its own connections; prints "backlog full: N queued" and holds
+ *       it for SECONDS. */
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
@@ -163,6 +168,38 @@ static int noread(const char *path, int clients, int repeats)
     return t < UNANSWERED_S ? 0 : 1;
 }
 
+static int full_backlog(const char *path, double seconds)
+{
+    struct sockaddr_un a = {.sun_family = AF_UNIX};
+    if (strlen(path) >= sizeof a.sun_path)
+        return 2;
+    memcpy(a.sun_path, path, strlen(path) + 1);
+    int listener = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    unlink(path);
+    if (listener < 0 || bind(listener, (struct sockaddr *)&a, sizeof a) != 0 || listen(listener, 0) != 0) {
+        fprintf(stderr, "ctl_attack: %s: cannot listen: %s\n", path, strerror(errno));
+        return 1;
+    }
+    int queued[MAX_ATTACKERS], n = 0;
+    while (n < MAX_ATTACKERS) {
+        int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+        if (fd < 0 || connect(fd, (struct sockaddr *)&a, sizeof a) != 0) {
+            if (fd >= 0)
+                close(fd);
+            break; /* EAGAIN: the backlog is full */
+        }
+        queued[n++] = fd;
+    }
+    printf("backlog full: %d queued\n", n);
+    fflush(stdout);
+    usleep((useconds_t)(seconds * 1e6));
+    for (int i = 0; i < n; i++)
+        close(queued[i]);
+    close(listener);
+    unlink(path);
+    return n > 0 ? 0 : 1;
+}
+
 /* TEXT with "\n" written as backslash-n on the command line. */
 static void unescape(char *s)
 {
@@ -184,6 +221,8 @@ int main(int argc, char **argv)
         return trickle(argv[2], atoi(argv[3]), atof(argv[4]));
     if (argc == 5 && strcmp(argv[1], "noread") == 0 && atoi(argv[3]) <= MAX_ATTACKERS)
         return noread(argv[2], atoi(argv[3]), atoi(argv[4]));
+    if (argc == 4 && strcmp(argv[1], "backlog") == 0)
+        return full_backlog(argv[2], atof(argv[3]));
     if (argc == 6 && strcmp(argv[1], "send") == 0) {
         int fd = connect_to(argv[2]);
         if (fd < 0) {
@@ -197,6 +236,7 @@ int main(int argc, char **argv)
         return got >= want ? 0 : 1;
     }
     fprintf(stderr, "usage: ctl_attack trickle|noread SOCKET CLIENTS SECONDS|REPEATS\n"
-                    "       ctl_attack send SOCKET TEXT LINES TIMEOUT_S\n");
+                    "       ctl_attack send SOCKET TEXT LINES TIMEOUT_S\n"
+                    "       ctl_attack backlog SOCKET SECONDS\n");
     return 2;
 }
