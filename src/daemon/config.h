@@ -25,6 +25,7 @@ struct uwbd_modbus_config {
     int enabled;
     char endpoint[UWB_ENDPOINT_MAX]; /* serial:|unix: RTU, tcp: listening; required when enabled */
     int unit_id;                     /* RTU address, 1-247 */
+    double idle_timeout_s;           /* TCP: a master with nothing pending this long is closed */
 };
 
 struct uwbd_config {

@@ -370,6 +370,10 @@ const struct config_key uwbd_config_keys[] = {
            "required when modbus.enabled"),
     INTEGER("modbus.unit_id", modbus.unit_id, "", 1, 247, 1,
             "the RTU unit (slave) address this appliance answers on the bus; Modbus TCP answers any"),
+    NUMBER_ABOVE("modbus.idle_timeout_s", modbus.idle_timeout_s, "s", 1, 0, 86400, 60,
+                 "Modbus TCP: a master that sends nothing for this long is disconnected (it may connect "
+                 "again); of the 4 connections at once, a fifth master takes the slot of the one idle "
+                 "longest (2 s or more), and keepalive finds a vanished master within 2 minutes"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];
