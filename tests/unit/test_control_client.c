@@ -49,7 +49,8 @@ static void test_a_full_backlog_times_out_within_the_timeout(void)
     int fd = uwbd_control_connect(path, 0.3, err, sizeof err);
     double took = uwb_monotonic_s() - t0;
     TEST_ASSERT_EQUAL_INT(UWBD_CONTROL_CONNECT_TIMEOUT, fd);
-    TEST_ASSERT_TRUE_MESSAGE(took >= 0.25 && took < 1.0, "the wait is the timeout");
+    TEST_ASSERT_TRUE_MESSAGE(took >= 0.25 && took < 2.0,
+                             "the wait is the timeout (slack for a loaded machine)");
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "did not accept the connection within 0.3 s"), err);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, path), err);
     close(queued);
