@@ -432,9 +432,10 @@ static void feed(struct daemon *d, struct peer *p, const char *buf, size_t n)
 /* With every slot the newcomer may use taken, the client whose current
  * command line began longest ago, at least CLIENT_IDLE_EVICT_S before (and
  * that is not waiting for a scan), makes room; only an ordinary one when
- * ordinary clients are at their limit, only one of the newcomer's own
- * (`own`, else NULL) when its user is at control.max_clients_per_user. Counted from its last complete line,
- * not its last byte: clients that trickle a byte a second or say nothing
+ * ordinary clients are at their limit, and only one of the newcomer's own
+ * user (`own`; NULL: anyone's) when that user is at its share,
+ * control.max_clients_per_user. Counted from its last complete line, not
+ * its last byte: clients that trickle a byte a second or say nothing
  * cannot lock the operators out for more than that. */
 static struct peer *client_to_drop(struct daemon *d, double now, int ordinary_only, const uid_t *own)
 {
