@@ -38,15 +38,16 @@ void uwbd_ctl_usage(FILE *f)
         "\n"
         "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
         "  --config FILE    take the socket's path from this configuration\n"
-        "  --timeout S      wait at most S seconds for the reply (default %d for scan, %d otherwise)\n"
+        "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
+        "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
         "  --text           print a verdict as lines for people (status, displacement or\n"
         "                   edges or reason, images), and a trend as a table (time, status,\n"
         "                   displacement \u00b1 1 sigma, height change, rate, image), instead\n"
         "                   of its JSON line\n"
         "\n"
         "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
-        "69 no daemon on the socket; 75 no reply in time.\n",
-        SCAN_TIMEOUT_S, OTHER_TIMEOUT_S);
+        "69 no daemon on the socket; 75 not accepted or no reply in time.\n",
+        SCAN_TIMEOUT_S, OTHER_TIMEOUT_S, OTHER_TIMEOUT_S);
 }
 
 static int is_error_reply(const char *line)
@@ -233,7 +234,14 @@ int uwbd_ctl_main(int argc, char **argv)
     if (timeout_s <= 0)
         timeout_s = cmd.kind == UWB_COMMAND_SCAN ? SCAN_TIMEOUT_S : OTHER_TIMEOUT_S;
 
-    int fd = uwbd_control_connect(socket_path, err, sizeof err);
+    /* Connecting waits for a daemon whose backlog is full: --timeout bounds
+     * that too (without one, the shorter default). */
+    int fd =
+        uwbd_control_connect(socket_path, explicit_timeout ? timeout_s : OTHER_TIMEOUT_S, err, sizeof err);
+    if (fd == UWBD_CONTROL_CONNECT_TIMEOUT) {
+        fprintf(stderr, "uwbd ctl: %s\n", err);
+        return UWBD_CTL_TIMEOUT;
+    }
     if (fd < 0) {
         fprintf(stderr, "uwbd ctl: %s (is uwbd running?)\n", err);
         return UWBD_CTL_NO_DAEMON;
@@ -244,11 +252,19 @@ int uwbd_ctl_main(int argc, char **argv)
     static const char progress_first[] = "watch progress\n";
     int scan_progress = cmd.kind == UWB_COMMAND_SCAN;
     int following = cmd.kind == UWB_COMMAND_WATCH && cmd.watch != 0;
-    if ((scan_progress && send(fd, progress_first, sizeof progress_first - 1, MSG_NOSIGNAL) !=
-                              (ssize_t)(sizeof progress_first - 1)) ||
-        send(fd, line, len, MSG_NOSIGNAL) != (ssize_t)len) {
-        fprintf(stderr, "uwbd ctl: %s: cannot send: %s\n", socket_path, strerror(errno));
+    char refusal[1024];
+    if ((scan_progress &&
+         uwbd_control_send(fd, progress_first, sizeof progress_first - 1, refusal, sizeof refusal) != 0) ||
+        uwbd_control_send(fd, line, len, refusal, sizeof refusal) != 0) {
+        int e = errno;
         close(fd);
+        if (refusal[0]) {
+            /* The daemon turned the connection away and said why (e.g. too
+             * many clients): that is its reply, as if it had come after. */
+            puts(refusal);
+            return is_error_reply(refusal) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
+        }
+        fprintf(stderr, "uwbd ctl: %s: cannot send: %s\n", socket_path, strerror(e));
         return UWBD_CTL_NO_DAEMON;
     }
     struct reply_reader reader = {.fd = fd};

@@ -25,6 +25,7 @@ struct uwbd_modbus_config {
     int enabled;
     char endpoint[UWB_ENDPOINT_MAX]; /* serial:|unix: RTU, tcp: listening; required when enabled */
     int unit_id;                     /* RTU address, 1-247 */
+    double idle_timeout_s;           /* TCP: a master with nothing pending this long is closed */
 };
 
 struct uwbd_config {
@@ -40,6 +41,8 @@ struct uwbd_config {
     char control_mode_text[8]; /* as written, e.g. "0660" */
     unsigned control_mode;
     char control_group[UWBD_GROUP_MAX]; /* "": the daemon's own group */
+    int control_max_clients_per_user;   /* control slots one ordinary user may hold */
+    double control_scan_min_interval_s; /* an ordinary user's scans at most once per this; 0: no limit */
     int baseline_scans;                 /* `baseline set` without N averages this many scans */
     double reacquire_budget_s;          /* time a cycle may spend acquiring again to be decisive; 0: never */
     char site_phase[8];                 /* site.phase: the phase as the site names it ("B", "L2"); "": none */

@@ -128,6 +128,12 @@ const struct config_key uwbd_config_keys[] = {
     STRING("control.group", control_group, "",
            "group owning the control socket (engineers in it may use `uwbd ctl`); "
            "empty = the daemon's own group"),
+    INTEGER("control.max_clients_per_user", control_max_clients_per_user, "", 1, 15, 8,
+            "control connections one user other than root and the daemon's user may hold at once (of the 15 "
+            "such users share); one more is refused, or takes the place of that user's own idle one"),
+    NUMBER("control.scan_min_interval_s", control_scan_min_interval_s, "s", 1, 0, 86400, 60,
+           "a user other than root and the daemon's user may start a scan (`scan`, `event`) at most once per "
+           "this long; sooner is refused, naming when the next is allowed; 0 = no limit"),
 
     STRING("console.endpoint", console_endpoint, "",
            "serial console for line commands: serial:/dev/ttyS0?baud=115200, or tcp:HOST:PORT / "
@@ -370,6 +376,10 @@ const struct config_key uwbd_config_keys[] = {
            "required when modbus.enabled"),
     INTEGER("modbus.unit_id", modbus.unit_id, "", 1, 247, 1,
             "the RTU unit (slave) address this appliance answers on the bus; Modbus TCP answers any"),
+    NUMBER_ABOVE("modbus.idle_timeout_s", modbus.idle_timeout_s, "s", 1, 0, 86400, 60,
+                 "Modbus TCP: a master that sends nothing for this long is disconnected (it may connect "
+                 "again); of the 4 connections at once, a fifth master takes the slot of the one idle "
+                 "longest (2 s or more), and keepalive finds a vanished master within 2 minutes"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];

@@ -2,7 +2,9 @@
 #include "daemon/control_socket.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <grp.h>
+#include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,7 +13,15 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include "uwb/monotonic.h"
+
 #define BACKLOG 8
+/* A listener whose backlog is full answers a non-blocking connect with
+ * EAGAIN (a unix socket never says EINPROGRESS, so there is nothing to
+ * poll): connecting is tried again this often until the deadline. */
+#define CONNECT_RETRY_MS 20
+/* Whether another uwbd listens on the path: a full backlog counts as yes. */
+#define PROBE_TIMEOUT_S 1.0
 
 static int fill_address(struct sockaddr_un *addr, const char *path)
 {
@@ -23,24 +33,73 @@ static int fill_address(struct sockaddr_un *addr, const char *path)
     return 0;
 }
 
-int uwbd_control_connect(const char *path, char *err, size_t errlen)
+int uwbd_control_connect(const char *path, double timeout_s, char *err, size_t errlen)
 {
     struct sockaddr_un addr;
     if (fill_address(&addr, path) != 0) {
         snprintf(err, errlen, "%.64s...: socket path too long", path);
-        return -1;
+        return UWBD_CONTROL_CONNECT_FAILED;
     }
-    int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
     if (fd < 0) {
         snprintf(err, errlen, "socket: %s", strerror(errno));
-        return -1;
+        return UWBD_CONTROL_CONNECT_FAILED;
     }
-    if (connect(fd, (struct sockaddr *)&addr, sizeof addr) != 0) {
-        snprintf(err, errlen, "%s: cannot connect: %s", path, strerror(errno));
-        close(fd);
-        return -1;
+    double deadline = uwb_monotonic_s() + timeout_s;
+    while (connect(fd, (struct sockaddr *)&addr, sizeof addr) != 0) {
+        if (errno == EINTR)
+            continue;
+        if (errno != EAGAIN) {
+            snprintf(err, errlen, "%s: cannot connect: %s", path, strerror(errno));
+            close(fd);
+            return UWBD_CONTROL_CONNECT_FAILED;
+        }
+        double left_ms = (deadline - uwb_monotonic_s()) * 1000.0;
+        if (left_ms <= 0) {
+            snprintf(err, errlen,
+                     "%s: the daemon did not accept the connection within %g s (its backlog is full: hung or "
+                     "overloaded?)",
+                     path, timeout_s);
+            close(fd);
+            return UWBD_CONTROL_CONNECT_TIMEOUT;
+        }
+        poll(NULL, 0, left_ms < CONNECT_RETRY_MS ? (int)left_ms + 1 : CONNECT_RETRY_MS);
     }
+    /* The replies are read with poll() against their own deadline. */
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
     return fd;
+}
+
+/* What the daemon wrote before it closed (e.g. "too many control clients"):
+ * already in our receive queue, so it is read without waiting. */
+static void read_refusal(int fd, char *reason, size_t reason_len)
+{
+    ssize_t got = recv(fd, reason, reason_len - 1, MSG_DONTWAIT);
+    reason[got > 0 ? got : 0] = '\0';
+    char *nl = strchr(reason, '\n');
+    if (nl)
+        *nl = '\0';
+}
+
+int uwbd_control_send(int fd, const char *text, size_t n, char *reason, size_t reason_len)
+{
+    reason[0] = '\0';
+    size_t sent = 0;
+    while (sent < n) {
+        ssize_t w = send(fd, text + sent, n - sent, MSG_NOSIGNAL);
+        if (w > 0) {
+            sent += (size_t)w;
+            continue;
+        }
+        if (w < 0 && errno == EINTR)
+            continue;
+        int e = w < 0 ? errno : EPIPE;
+        if (e == EPIPE || e == ECONNRESET)
+            read_refusal(fd, reason, reason_len);
+        errno = e;
+        return -1;
+    }
+    return 0;
 }
 
 static int lookup_group(const char *group, gid_t *gid, char *err, size_t errlen)
@@ -109,10 +168,12 @@ int uwbd_control_listen(struct uwbd_control_socket *cs, const char *path, unsign
             return UWBD_CONTROL_ERR_CREATE;
         }
         char ignored[256];
-        int other = uwbd_control_connect(path, ignored, sizeof ignored);
-        if (other >= 0) {
-            close(other);
-            snprintf(err, errlen, "%s: another uwbd is listening there", path);
+        int other = uwbd_control_connect(path, PROBE_TIMEOUT_S, ignored, sizeof ignored);
+        if (other >= 0 || other == UWBD_CONTROL_CONNECT_TIMEOUT) {
+            if (other >= 0)
+                close(other);
+            snprintf(err, errlen, "%s: another uwbd is listening there%s", path,
+                     other >= 0 ? "" : " (not accepting: its backlog is full)");
             return UWBD_CONTROL_ERR_CREATE;
         }
     }

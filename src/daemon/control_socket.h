@@ -27,7 +27,17 @@ int uwbd_control_listen(struct uwbd_control_socket *cs, const char *path, unsign
 /* Close and remove the socket file if it is still ours. */
 void uwbd_control_close(struct uwbd_control_socket *cs);
 
-/* Client side: connect to the daemon's socket. Returns the fd or -1. */
-int uwbd_control_connect(const char *path, char *err, size_t errlen);
+enum {
+    UWBD_CONTROL_CONNECT_FAILED = -1,  /* no such socket, refused, ...: err says why */
+    UWBD_CONTROL_CONNECT_TIMEOUT = -2, /* the daemon did not accept within the timeout */
+};
+/* Client side: connect to the daemon's socket, waiting at most timeout_s
+ * for a daemon whose backlog is full. Returns the fd (blocking), or one of
+ * the codes above with err naming the path and the problem. */
+int uwbd_control_connect(const char *path, double timeout_s, char *err, size_t errlen);
+/* Client side: send n bytes of text. 0, or -1 with errno; when the daemon
+ * had closed the connection (EPIPE, ECONNRESET), reason holds the line it
+ * wrote before closing (its refusal), "" when none. */
+int uwbd_control_send(int fd, const char *text, size_t n, char *reason, size_t reason_len);
 
 #endif

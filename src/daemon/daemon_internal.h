@@ -9,6 +9,7 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <signal.h>
+#include <sys/types.h>
 #include <time.h>
 
 #include "daemon/baseline_store.h"
@@ -65,6 +66,13 @@ struct peer {
     size_t out_len, out_cap;
     double out_progress_s; /* CLOCK_MONOTONIC of the queue's last progress */
     int privileged;        /* connected as root or the daemon's own user (SO_PEERCRED) */
+    uid_t uid;             /* its user (SO_PEERCRED); (uid_t)-1 unknown */
+};
+
+/* When each ordinary user last started a scan (control.scan_min_interval_s). */
+struct scan_start {
+    uid_t uid;
+    double at_s; /* CLOCK_MONOTONIC; 0: a free entry */
 };
 
 struct scan_job {
@@ -89,6 +97,7 @@ struct daemon {
     struct uwbd_control_socket control;
     struct peer clients[MAX_CLIENTS];
     struct peer console;
+    struct scan_start scan_starts[MAX_CLIENTS]; /* ordinary users' latest scans */
 
     int scanning; /* a worker thread exists */
     struct scan_job job;

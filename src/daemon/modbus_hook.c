@@ -62,8 +62,11 @@ int uwbd_modbus_open(struct daemon *d, char *err, size_t errlen)
     struct uwbd_modbus_handlers h = {.ctx = d, .fill = fill_registers};
     h.coil[UWBD_MODBUS_COIL_EVENT] = coil_event;
     h.coil[UWBD_MODBUS_COIL_ACK] = coil_ack;
-    return uwbd_modbus_server_open(d->cfg.modbus.endpoint, d->cfg.modbus.unit_id, &h, &d->modbus, err,
-                                   errlen);
+    if (uwbd_modbus_server_open(d->cfg.modbus.endpoint, d->cfg.modbus.unit_id, &h, &d->modbus, err, errlen) !=
+        0)
+        return -1;
+    uwbd_modbus_server_set_idle_timeout(d->modbus, d->cfg.modbus.idle_timeout_s);
+    return 0;
 }
 
 void uwbd_modbus_close(struct daemon *d)
@@ -74,8 +77,14 @@ void uwbd_modbus_close(struct daemon *d)
 
 void uwbd_modbus_reload(struct daemon *d, const struct uwbd_modbus_config *previous)
 {
-    if (memcmp(previous, &d->cfg.modbus, sizeof *previous) == 0)
+    const struct uwbd_modbus_config *now = &d->cfg.modbus;
+    if (previous->enabled == now->enabled && previous->unit_id == now->unit_id &&
+        strcmp(previous->endpoint, now->endpoint) == 0) {
+        /* The same server: a new idle timeout applies to the masters connected. */
+        if (d->modbus)
+            uwbd_modbus_server_set_idle_timeout(d->modbus, now->idle_timeout_s);
         return;
+    }
     uwbd_modbus_close(d);
     char err[512];
     if (uwbd_modbus_open(d, err, sizeof err) != 0)

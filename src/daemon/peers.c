@@ -251,8 +251,41 @@ static char *trend_reply(struct daemon *d, int n)
     return line;
 }
 
+/* control.scan_min_interval_s: an ordinary user (not root, not the daemon's
+ * user, not the console) starts a scan at most once per interval, so one
+ * member cannot keep the carriage running. 0, or -1 with the refusal in why. */
+static int scan_allowed(struct daemon *d, const struct peer *p, char *why, size_t n)
+{
+    double interval = d->cfg.control_scan_min_interval_s;
+    if (p->kind != PEER_CONTROL || p->privileged || interval <= 0)
+        return 0;
+    double now = uwb_monotonic_s();
+    struct scan_start *entry = NULL, *oldest = &d->scan_starts[0];
+    for (int i = 0; i < MAX_CLIENTS; i++) {
+        struct scan_start *e = &d->scan_starts[i];
+        if (e->at_s > 0 && e->uid == p->uid)
+            entry = e;
+        if (e->at_s < oldest->at_s)
+            oldest = e;
+    }
+    if (entry && now - entry->at_s < interval) {
+        snprintf(
+            why, n,
+            "scan refused: uid %u may start a scan once per %g s (control.scan_min_interval_s); the next "
+            "is allowed in %.0f s",
+            (unsigned)p->uid, interval, interval - (now - entry->at_s) + 0.5);
+        return -1;
+    }
+    if (!entry)
+        entry = oldest; /* a free entry, or the one longest past */
+    entry->uid = p->uid;
+    entry->at_s = now;
+    return 0;
+}
+
 static void run_command(struct daemon *d, struct peer *p, const struct uwb_command *cmd)
 {
+    char limited[200];
     switch (cmd->kind) {
     case UWB_COMMAND_STATUS: reply(d, p, status_reply(d)); return;
     case UWB_COMMAND_HELP: reply(d, p, uwbd_reply_help()); return;
@@ -292,6 +325,11 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
                   uwbd_reply_error("a scan is already pending on this connection; wait for its verdict"));
             return;
         }
+        if (scan_allowed(d, p, limited, sizeof limited) != 0) {
+            uwbd_log(UWBD_LOG_DEBUG, "control: %s", limited); /* a flood must not flood the log */
+            reply(d, p, uwbd_reply_error(limited));
+            return;
+        }
         /* The peer waits for the cycle that starts now, or the one queued after the running one. */
         p->waiting_for = d->cycles_started + 1;
         uwbd_scan_request(d, TRIGGER_COMMAND);
@@ -310,6 +348,11 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
     case UWB_COMMAND_EVENT:
         if (d->stopping) {
             reply(d, p, uwbd_reply_error("the daemon is stopping; no new scan"));
+            return;
+        }
+        if (scan_allowed(d, p, limited, sizeof limited) != 0) {
+            uwbd_log(UWBD_LOG_DEBUG, "control: %s", limited); /* a flood must not flood the log */
+            reply(d, p, uwbd_reply_error(limited));
             return;
         }
         uwbd_log(UWBD_LOG_NOTICE, "%s: event: a scan follows as soon as possible",
@@ -392,16 +435,18 @@ static void feed(struct daemon *d, struct peer *p, const char *buf, size_t n)
 /* With every slot the newcomer may use taken, the client whose current
  * command line began longest ago, at least CLIENT_IDLE_EVICT_S before (and
  * that is not waiting for a scan), makes room; only an ordinary one when
- * ordinary clients are at their limit. Counted from its last complete line,
- * not its last byte: clients that trickle a byte a second or say nothing
+ * ordinary clients are at their limit, and only one of the newcomer's own
+ * user (`own`; NULL: anyone's) when that user is at its share,
+ * control.max_clients_per_user. Counted from its last complete line, not
+ * its last byte: clients that trickle a byte a second or say nothing
  * cannot lock the operators out for more than that. */
-static struct peer *client_to_drop(struct daemon *d, double now, int ordinary_only)
+static struct peer *client_to_drop(struct daemon *d, double now, int ordinary_only, const uid_t *own)
 {
     struct peer *oldest = NULL;
     for (int i = 0; i < MAX_CLIENTS; i++) {
         struct peer *p = &d->clients[i];
         if (!p->in_use || p->waiting_for || now - p->line_since_s < CLIENT_IDLE_EVICT_S ||
-            (ordinary_only && p->privileged))
+            (ordinary_only && p->privileged) || (own && (p->privileged || p->uid != *own)))
             continue;
         if (!oldest || p->line_since_s < oldest->line_since_s)
             oldest = p;
@@ -409,13 +454,16 @@ static struct peer *client_to_drop(struct daemon *d, double now, int ordinary_on
     return oldest;
 }
 
-/* Root and the daemon's own user; an unknown peer counts as ordinary. */
-static int peer_is_privileged(int fd)
+/* Root and the daemon's own user are privileged; an unknown peer counts as
+ * ordinary, with uid (uid_t)-1. */
+static int peer_is_privileged(int fd, uid_t *uid)
 {
     struct ucred cred;
     socklen_t len = sizeof cred;
+    *uid = (uid_t)-1;
     if (getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) != 0 || len != sizeof cred)
         return 0;
+    *uid = cred.uid;
     return cred.uid == 0 || cred.uid == geteuid();
 }
 
@@ -433,32 +481,49 @@ void uwbd_peer_accept(struct daemon *d)
         return;
     }
     double now = uwb_monotonic_s();
-    int privileged = peer_is_privileged(fd), ordinary = 0;
+    uid_t uid;
+    int privileged = peer_is_privileged(fd, &uid), ordinary = 0, mine = 0;
     struct peer *slot = NULL;
     for (int i = 0; i < MAX_CLIENTS; i++) {
         if (!d->clients[i].in_use && !slot)
             slot = &d->clients[i];
         ordinary += d->clients[i].in_use && !d->clients[i].privileged;
+        mine += d->clients[i].in_use && !d->clients[i].privileged && d->clients[i].uid == uid;
     }
+    /* One user cannot hold every ordinary slot: over its share, only one of
+     * its own idle clients may make room. */
+    int per_user = d->cfg.control_max_clients_per_user;
+    int user_full = !privileged && per_user > 0 && mine >= per_user;
     int ordinary_full = !privileged && ordinary >= MAX_ORDINARY_CLIENTS;
-    if (ordinary_full)
+    if (ordinary_full || user_full)
         slot = NULL;
-    if (!slot && (slot = client_to_drop(d, now, ordinary_full)) != NULL) {
-        uwbd_log(UWBD_LOG_NOTICE,
-                 "control: %d clients connected; dropping one idle for %.1f s (no complete command line) to "
-                 "make room",
-                 ordinary_full ? MAX_ORDINARY_CLIENTS : MAX_CLIENTS, now - slot->line_since_s);
+    if (!slot && (slot = client_to_drop(d, now, ordinary_full, user_full ? &uid : NULL)) != NULL) {
+        uwbd_log(
+            UWBD_LOG_NOTICE,
+            "control: %d clients connected%s; dropping one idle for %.1f s (no complete command line) to "
+            "make room",
+            user_full       ? mine
+            : ordinary_full ? MAX_ORDINARY_CLIENTS
+                            : MAX_CLIENTS,
+            user_full ? " of this user" : "", now - slot->line_since_s);
         uwbd_peer_close(slot);
     }
     if (slot) {
         slot->in_use = 1;
         slot->fd = fd;
         slot->privileged = privileged;
+        slot->uid = uid;
         slot->last_active_s = slot->line_since_s = now;
         return;
     }
-    char why[160];
-    if (ordinary_full)
+    char why[200];
+    if (user_full && !ordinary_full)
+        snprintf(
+            why, sizeof why,
+            "too many control clients for uid %u (%d, its limit: control.max_clients_per_user); close one "
+            "or try again later",
+            (unsigned)uid, mine);
+    else if (ordinary_full)
         snprintf(why, sizeof why,
                  "too many control clients (%d of %d; the last is kept for root and the daemon's user); try "
                  "again later",

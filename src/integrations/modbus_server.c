@@ -8,6 +8,8 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +35,15 @@
  * connection. The loop never waits for a TCP master. */
 #define TCP_FRAME_S 2.0
 #define MBAP_HEADER 7
+/* With every slot taken, a new master evicts the one idle longest, if it
+ * has been idle at least this long (so four busy masters are not churned). */
+#define TCP_EVICT_IDLE_S 2.0
+/* TCP keepalive on accepted sockets: a master that vanished (a reboot, a
+ * cut cable) leaves a half-open socket that is found dead after
+ * KEEPIDLE + KEEPCNT x KEEPINTVL = 2 minutes, even within the idle timeout. */
+#define TCP_KEEPIDLE_S 60
+#define TCP_KEEPINTVL_S 10
+#define TCP_KEEPCNT 6
 
 /* Function codes that write registers: the map is read-only. */
 #define FC_WRITE_SINGLE_COIL 0x05
@@ -49,6 +60,7 @@ struct uwbd_modbus_server {
     int unit_id;
     struct uwbd_modbus_handlers h;
     modbus_mapping_t *map;
+    double idle_timeout_s; /* a TCP master with nothing pending this long is closed */
 
     /* RTU */
     modbus_t *rtu;
@@ -64,6 +76,7 @@ struct uwbd_modbus_server {
         uint8_t frame[MODBUS_TCP_MAX_ADU_LENGTH];
         int len;          /* bytes of the current request so far */
         double started_s; /* CLOCK_MONOTONIC of its first byte */
+        double active_s;  /* CLOCK_MONOTONIC of its connection or last byte */
     } clients[UWBD_MODBUS_TCP_CLIENTS];
 };
 
@@ -112,6 +125,7 @@ int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd
         return -1;
     }
     s->listen_fd = -1;
+    s->idle_timeout_s = UWBD_MODBUS_IDLE_TIMEOUT_S;
     for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
         s->clients[i].fd = -1;
     s->unit_id = unit_id;
@@ -158,6 +172,12 @@ int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd
     return 0;
 }
 
+void uwbd_modbus_server_set_idle_timeout(struct uwbd_modbus_server *s, double seconds)
+{
+    if (seconds > 0)
+        s->idle_timeout_s = seconds;
+}
+
 int uwbd_modbus_server_poll_fds(struct uwbd_modbus_server *s, struct pollfd *fds, int max)
 {
     int n = 0;
@@ -183,9 +203,10 @@ int uwbd_modbus_server_timeout_ms(const struct uwbd_modbus_server *s)
     if (s->rtu && !s->link)
         ms = ms_until(s->retry_at_s);
     for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++) {
-        if (s->clients[i].fd < 0 || s->clients[i].len == 0)
+        if (s->clients[i].fd < 0)
             continue;
-        int left = ms_until(s->clients[i].started_s + TCP_FRAME_S);
+        int left = s->clients[i].len ? ms_until(s->clients[i].started_s + TCP_FRAME_S)
+                                     : ms_until(s->clients[i].active_s + s->idle_timeout_s);
         if (ms < 0 || left < ms)
             ms = left;
     }
@@ -290,8 +311,9 @@ static int serve_tcp(struct uwbd_modbus_server *s, struct tcp_client *c)
         return -1;
     if (n < 0)
         return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : -1;
+    c->active_s = uwb_monotonic_s();
     if (c->len == 0)
-        c->started_s = uwb_monotonic_s();
+        c->started_s = c->active_s;
     c->len += (int)n;
     if (c->len == MBAP_HEADER) {
         int length = (c->frame[4] << 8) | c->frame[5];
@@ -317,6 +339,33 @@ static void drop_client(struct tcp_client *c)
     c->len = 0;
 }
 
+/* Keepalive probes on an accepted socket; a failure only loses the early
+ * detection (the idle timeout still closes it), so it is logged, not fatal. */
+static void keep_alive(int fd)
+{
+    int on = 1, idle = TCP_KEEPIDLE_S, interval = TCP_KEEPINTVL_S, count = TCP_KEEPCNT;
+    if (setsockopt(fd, SOL_SOCKET, SO_KEEPALIVE, &on, sizeof on) != 0 ||
+        setsockopt(fd, IPPROTO_TCP, TCP_KEEPIDLE, &idle, sizeof idle) != 0 ||
+        setsockopt(fd, IPPROTO_TCP, TCP_KEEPINTVL, &interval, sizeof interval) != 0 ||
+        setsockopt(fd, IPPROTO_TCP, TCP_KEEPCNT, &count, sizeof count) != 0)
+        uwbd_log(UWBD_LOG_WARNING, "modbus: TCP keepalive on a master's socket: %s", strerror(errno));
+}
+
+/* The master idle longest (nothing pending), if it has been idle
+ * TCP_EVICT_IDLE_S or more; NULL when every master is busy. */
+static struct tcp_client *longest_idle(struct uwbd_modbus_server *s, double now_s)
+{
+    struct tcp_client *oldest = NULL;
+    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++) {
+        struct tcp_client *c = &s->clients[i];
+        if (c->fd < 0 || c->len > 0 || now_s - c->active_s < TCP_EVICT_IDLE_S)
+            continue;
+        if (!oldest || c->active_s < oldest->active_s)
+            oldest = c;
+    }
+    return oldest;
+}
+
 static void accept_client(struct uwbd_modbus_server *s)
 {
     int fd = accept(s->listen_fd, NULL, NULL);
@@ -326,14 +375,28 @@ static void accept_client(struct uwbd_modbus_server *s)
     /* Replies are sent without blocking too: a master that does not read
      * them is dropped when its socket's buffer is full. */
     fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
-    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
-        if (s->clients[i].fd < 0) {
-            s->clients[i].fd = fd;
-            s->clients[i].len = 0;
-            return;
-        }
-    uwbd_log(UWBD_LOG_WARNING, "modbus: a TCP master refused: %d already connected", UWBD_MODBUS_TCP_CLIENTS);
-    close(fd);
+    keep_alive(fd);
+    double now_s = uwb_monotonic_s();
+    struct tcp_client *slot = NULL;
+    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS && !slot; i++)
+        if (s->clients[i].fd < 0)
+            slot = &s->clients[i];
+    if (!slot && (slot = longest_idle(s, now_s)) != NULL) {
+        uwbd_log(UWBD_LOG_NOTICE,
+                 "modbus: %d TCP masters connected; dropping one idle for %.0f s for a new one",
+                 UWBD_MODBUS_TCP_CLIENTS, now_s - slot->active_s);
+        drop_client(slot);
+    }
+    if (!slot) {
+        uwbd_log(UWBD_LOG_WARNING,
+                 "modbus: a TCP master refused: %d already connected, each busy within %.0f s",
+                 UWBD_MODBUS_TCP_CLIENTS, TCP_EVICT_IDLE_S);
+        close(fd);
+        return;
+    }
+    slot->fd = fd;
+    slot->len = 0;
+    slot->active_s = now_s;
 }
 
 void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd *fds, int n)
@@ -355,13 +418,19 @@ void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd 
                 drop_client(&s->clients[c]);
     }
     double now_s = uwb_monotonic_s();
-    for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++)
-        if (s->clients[c].fd >= 0 && s->clients[c].len > 0 &&
-            now_s - s->clients[c].started_s >= TCP_FRAME_S) {
+    for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++) {
+        if (s->clients[c].fd < 0)
+            continue;
+        if (s->clients[c].len > 0 && now_s - s->clients[c].started_s >= TCP_FRAME_S) {
             uwbd_log(UWBD_LOG_WARNING, "modbus: a TCP master dropped: no whole request within %.0f s",
                      TCP_FRAME_S);
             drop_client(&s->clients[c]);
+        } else if (s->clients[c].len == 0 && now_s - s->clients[c].active_s >= s->idle_timeout_s) {
+            uwbd_log(UWBD_LOG_INFO, "modbus: a TCP master dropped: idle for %g s (modbus.idle_timeout_s)",
+                     s->idle_timeout_s);
+            drop_client(&s->clients[c]);
         }
+    }
     if (s->rtu && !s->link && uwb_monotonic_s() >= s->retry_at_s)
         rtu_try_open(s);
 }

@@ -12,8 +12,12 @@
 
 #include "integrations/modbus_registers.h"
 
-/* More TCP masters at once are refused (closed on accept). */
+/* TCP masters at once; a fifth evicts the one idle longest (2 s or more),
+ * else it is refused (closed on accept). */
 #define UWBD_MODBUS_TCP_CLIENTS 4
+/* A TCP master with nothing pending for this long is closed (the default
+ * of modbus.idle_timeout_s). */
+#define UWBD_MODBUS_IDLE_TIMEOUT_S 60.0
 #define UWBD_MODBUS_POLL_FDS (1 + UWBD_MODBUS_TCP_CLIENTS)
 
 struct uwbd_modbus_handlers {
@@ -36,12 +40,15 @@ struct uwbd_modbus_server;
  * is not an error: it is retried. */
 int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd_modbus_handlers *handlers,
                             struct uwbd_modbus_server **out, char *err, size_t errlen);
+/* TCP: close a master with nothing pending for `seconds` (> 0; else unchanged). */
+void uwbd_modbus_server_set_idle_timeout(struct uwbd_modbus_server *s, double seconds);
 /* The fds to poll (at most UWBD_MODBUS_POLL_FDS) into fds; returns the count. */
 int uwbd_modbus_server_poll_fds(struct uwbd_modbus_server *s, struct pollfd *fds, int max);
 /* After poll(): fds/n as poll_fds filled them. Also opens a lost RTU link
  * again once its retry time came. */
 void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd *fds, int n);
-/* Milliseconds until the server needs serve() without any fd (a retry); -1: never. */
+/* Milliseconds until the server needs serve() without any fd (a retry, a
+ * master's deadline); -1: never. */
 int uwbd_modbus_server_timeout_ms(const struct uwbd_modbus_server *s);
 /* NULL is a no-op. */
 void uwbd_modbus_server_close(struct uwbd_modbus_server *s);

@@ -32,6 +32,23 @@ one_line_error extra-value 64 "option '--help' takes no value; see uwbd --help" 
 one_line_error short-unknown 64 "unknown option '-q'; see uwbd --help" uwbd --replay x -q
 pass "a wrong option: one line naming it (and the option meant), then 'see --help'"
 
+# Issue 27, break 3: --timeout covers connecting. A daemon that stopped
+# accepting (its backlog full) made `uwbd ctl --timeout 1 status` wait in
+# connect() until killed; now exit 75 within the timeout, saying so.
+$HOST_PREFIX "$HOST_BUILD/e2e/ctl_attack" backlog backlog.sock 20 > backlog.out 2>&1 &
+backlog_pid=$!
+pids+=($backlog_pid)
+wait_for grep -q "backlog full" backlog.out || fail "no full backlog: $(cat backlog.out)"
+t0=$(date +%s%N)
+timeout 10 ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" ctl --socket backlog.sock --timeout 1 status > backlog-ctl.out 2> backlog-ctl.err
+rc=$?
+ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+[[ $rc == 75 ]] || fail "ctl against a full backlog: exit $rc after $ms ms, want 75: $(cat backlog-ctl.err)"
+(( ms < 2500 )) || fail "ctl --timeout 1 against a full backlog took $ms ms"
+grep -q "did not accept the connection within 1 s" backlog-ctl.err || fail "ctl's message: $(cat backlog-ctl.err)"
+kill "$backlog_pid" 2> /dev/null
+pass "uwbd ctl --timeout 1 against a full backlog ($(cat backlog.out)): exit 75 in $ms ms: $(cat backlog-ctl.err)"
+
 one_line_error watch-above-alarm 64 "alarm-mm 5 \(the default\) is below --watch-mm 6" \
     uwbd --replay "$REPO/tests/fixtures/fdtd2d-paper-intact.uwbscan" --watch-mm 6
 one_line_error both-given 64 "alarm-mm 3 is below --watch-mm 4:" \

@@ -16,7 +16,11 @@
 #     next scan re-homes and is ordinary (break 8);
 #   - a SIGHUP reload whose rig cannot be reached is refused whole (the log
 #     said both "cannot connect" and "reloaded") (break 9);
-#   - a corrupt latest.json: `verdict` falls back to verdicts.jsonl (break 9).
+#   - a corrupt latest.json: `verdict` falls back to verdicts.jsonl (break 9);
+#   - issue 27, break 7 (as root): 15 connections of one control-group
+#     member re-sending `scan` after each verdict: another member's
+#     `status` is still answered, that user holds at most 8 slots, and its
+#     scans are rate-limited with the time of the next one named.
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
@@ -45,7 +49,12 @@ mkdir -p run/state/home/alice run/state/baseline run/state/archive/2026/01/01
 for f in home/alice/.bashrc.backup baseline/.current.uwbscan.zzzzzz archive/2026/01/01/.scan.json.Ab12Cd \
          .uwbd-tmp.latest.json.Ab12Cd.part; do echo "someone's" > "run/state/$f"; done
 ln -s /etc run/state/archive/2026/01/02
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config uwbd.json "${root_flag[@]}" -v \
+# As root the socket goes to group nogroup, so that ctl_attack scanhold can
+# act as two unprivileged control-group members (reaching run/ through this
+# work directory, hence its o+x).
+group_flag=()
+if [[ $(id -u) == 0 ]]; then group_flag=(--set control.group='"nogroup"'); chmod o+x "$work"; fi
+${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config uwbd.json "${root_flag[@]}" "${group_flag[@]}" -v \
     --set carriage.steps_per_mm=10 > uwbd.log 2>&1 &
 daemon_pid=$!
 pids+=($daemon_pid)
@@ -86,6 +95,22 @@ sed -n 1p pipeline.out | get message | grep -q "already pending on this connecti
     fail "refusal does not say why: $(cat pipeline.out)"
 [[ $(sed -n 2p pipeline.out | get class) == VERDICT ]] || fail "no verdict for the first scan: $(cat pipeline.out)"
 pass "scan\\nscan\\n on one connection: a refusal for the second, then the first one's verdict"
+
+# Issue 27, break 7: one control-group member's 15 connections re-sending
+# `scan` after each verdict held every ordinary slot (scan waiters are never
+# evicted): 21 scan cycles in 25 s, and other members were turned away.
+if [[ $(id -u) == 0 ]]; then
+    attack scanhold run/control.sock 15 8 > scanhold.out 2> scanhold.err ||
+        fail "a member's scan re-senders locked another member out: $(cat scanhold.out scanhold.err)"
+    held=$(sed -n 's/^attacker: \([0-9]*\) of 15 connections held, \([0-9]*\) verdicts.*/\1 \2/p' scanhold.out)
+    [[ -n $held ]] || fail "no attacker summary: $(cat scanhold.out scanhold.err)"
+    (( ${held% *} <= 8 )) || fail "one user held ${held% *} control slots: $(cat scanhold.out)"
+    (( ${held#* } <= 2 )) || fail "one user's scans were not rate-limited: $(cat scanhold.out)"
+    grep -q "first refusal: .*the next is allowed in" scanhold.out || fail "scan refusal names no time: $(cat scanhold.out)"
+    pass "15 scan re-senders of one member: $(tr '\n' ' ' < scanhold.out | cut -c1-300)"
+else
+    pass "scan re-senders of one member locking out another: skipped, not root"
+fi
 
 # Issue 17, break 8: steps lost on the way up (the emulated belt slips on
 # every 50th upward step: 12 mm over the 600 mm travel) put every trace

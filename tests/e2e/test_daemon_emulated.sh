@@ -78,9 +78,13 @@ wait_for test -S run/console.sock || fail "console listener did not come up"
 
 # ---- the daemon ------------------------------------------------------------
 # As root the socket goes to group nogroup, so that unix_peer slots can act
-# as an unprivileged control-group member (uid 65534) below.
+# as an unprivileged control-group member (uid 65534) below; that one user
+# fills all 15 ordinary slots, so its per-user share is raised to 15 here
+# (test_daemon_attacks.sh tests the default share of 8).
 group_flag=()
-if [[ $(id -u) == 0 ]]; then group_flag=(--set control.group='"nogroup"'); fi
+if [[ $(id -u) == 0 ]]; then
+    group_flag=(--set control.group='"nogroup"' --set control.max_clients_per_user=15)
+fi
 ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" "${group_flag[@]}" --console unix:run/console.sock -v \
     --set site.phase='"B"' --set site.label='"Hillside GT2, north window"' > uwbd.log 2>&1 &
 daemon_pid=$!

@@ -5,8 +5,9 @@
 # 127.0.0.1 port after a reload; the registers after each verdict equal
 # that verdict's JSON in 0.01 mm; the `event` coil starts a scan; `ack` is
 # refused while not wired; registers are read-only; another RTU unit is not
-# answered; disabling closes the port; enabling without an endpoint is
-# refused at --check-config naming the key.
+# answered; four idle TCP masters do not lock a fifth out; disabling closes
+# the port; enabling without an endpoint is refused at --check-config naming
+# the key.
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
@@ -134,6 +135,18 @@ why=$(verdict_matches "$last" event.json) || fail "TCP after the event scan: $wh
     fail "TCP refusals: $(cat tcp.out)"
 [[ $(tcp_sockets) -ge 1 ]] || fail "no TCP socket held while Modbus TCP is on (the check below would prove nothing)"
 pass "Modbus TCP on 127.0.0.1:$port after SIGHUP: a 4 mm verdict in the registers ($first); event coil scanned"
+
+# ---- issue 27, break 1: four idle masters do not lock Modbus out ----------------
+# Four connections that say nothing (bash's /dev/tcp) hold every slot; past
+# 2 s idle, a fifth master evicts the longest-idle and is answered (it was
+# refused for good: "a TCP master refused: 4 already connected").
+exec 3<> "/dev/tcp/127.0.0.1/$port" 4<> "/dev/tcp/127.0.0.1/$port" 5<> "/dev/tcp/127.0.0.1/$port" \
+    6<> "/dev/tcp/127.0.0.1/$port"
+sleep 2.5
+mbc tcp 127.0.0.1 "$port" probe > fifth.out 2>&1 || fail "a fifth master behind four idle ones: $(cat fifth.out)"
+grep -q "dropping one idle" uwbd.log || fail "no log line for the evicted idle master"
+exec 3>&- 4>&- 5>&- 6>&-
+pass "four idle Modbus TCP masters held: a fifth is answered ($(grep -o 'dropping one idle.*' uwbd.log | head -n 1))"
 
 # ---- disabled: nothing listens --------------------------------------------------
 json_edit "$config" "$config" 'modbus.enabled=false'

@@ -9,6 +9,7 @@
 #include <arpa/inet.h>
 #include <errno.h>
 #include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <poll.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -285,6 +286,88 @@ static void test_a_tcp_peer_that_speaks_no_modbus_is_dropped(void)
     close(fd);
 }
 
+/* Read input registers 0..1 (tid 7, unit 1) on fd; 1 when the 13-byte
+ * answer came within a served 0.3 s. */
+static int answered(int fd)
+{
+    const uint8_t request[12] = {0x00, 0x07, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x00, 0x00, 0x02};
+    if (send(fd, request, sizeof request, MSG_NOSIGNAL) != (ssize_t)sizeof request)
+        return 0;
+    serve_for(0.3);
+    uint8_t reply[64];
+    return recv(fd, reply, sizeof reply, MSG_DONTWAIT) == 13;
+}
+
+/* 1 when the server closed fd's connection (EOF or reset), 0 while it is open. */
+static int closed_by_server(int fd)
+{
+    uint8_t byte;
+    ssize_t n = recv(fd, &byte, 1, MSG_DONTWAIT);
+    return n == 0 || (n < 0 && errno == ECONNRESET);
+}
+
+/* Issue 27, break 1: four masters that connect and then say nothing (a
+ * SCADA master rebooted four times, leaving half-open sockets) held every
+ * slot for ever; a fifth was refused. Now a fifth evicts the longest-idle
+ * one and is answered; the others keep their connections. */
+static void test_a_full_house_evicts_the_longest_idle_master(void)
+{
+    char tcp[64];
+    int port = free_port();
+    snprintf(tcp, sizeof tcp, "tcp:127.0.0.1:%d", port);
+    struct uwbd_modbus_handlers h = {.fill = fill};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_modbus_server_open(tcp, 1, &h, &server, err, sizeof err), err);
+    int idle[UWBD_MODBUS_TCP_CLIENTS];
+    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++) {
+        idle[i] = connect_to(port);
+        serve_for(0.1); /* accepted in this order: idle[0] has been idle longest */
+    }
+    serve_for(2.5);
+    int fifth = connect_to(port);
+    TEST_ASSERT_TRUE_MESSAGE(answered(fifth), "the fifth master got no answer");
+    TEST_ASSERT_TRUE_MESSAGE(closed_by_server(idle[0]), "the longest-idle master was not the one dropped");
+    for (int i = 1; i < UWBD_MODBUS_TCP_CLIENTS; i++)
+        TEST_ASSERT_TRUE_MESSAGE(answered(idle[i]), "a master other than the longest-idle lost its slot");
+    for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
+        close(idle[i]);
+    close(fifth);
+}
+
+/* A master that says nothing for modbus.idle_timeout_s is closed (here
+ * 0.5 s); one that keeps asking is not. Accepted sockets have keepalive on,
+ * with probes that find a vanished master within minutes. */
+static void test_an_idle_master_is_closed_and_sockets_keep_alive(void)
+{
+    char tcp[64];
+    int port = free_port();
+    snprintf(tcp, sizeof tcp, "tcp:127.0.0.1:%d", port);
+    struct uwbd_modbus_handlers h = {.fill = fill};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_modbus_server_open(tcp, 1, &h, &server, err, sizeof err), err);
+    uwbd_modbus_server_set_idle_timeout(server, 0.5);
+    int silent = connect_to(port), busy = connect_to(port);
+    serve_for(0.1);
+    struct pollfd fds[UWBD_MODBUS_POLL_FDS];
+    int n = uwbd_modbus_server_poll_fds(server, fds, UWBD_MODBUS_POLL_FDS);
+    TEST_ASSERT_EQUAL_INT(3, n); /* the listener and the two masters */
+    for (int i = 1; i < n; i++) {
+        int on = 0, idle = 0, interval = 0, count = 0;
+        socklen_t len = sizeof on;
+        TEST_ASSERT_EQUAL_INT(0, getsockopt(fds[i].fd, SOL_SOCKET, SO_KEEPALIVE, &on, &len));
+        TEST_ASSERT_EQUAL_INT(0, getsockopt(fds[i].fd, IPPROTO_TCP, TCP_KEEPIDLE, &idle, &len));
+        TEST_ASSERT_EQUAL_INT(0, getsockopt(fds[i].fd, IPPROTO_TCP, TCP_KEEPINTVL, &interval, &len));
+        TEST_ASSERT_EQUAL_INT(0, getsockopt(fds[i].fd, IPPROTO_TCP, TCP_KEEPCNT, &count, &len));
+        TEST_ASSERT_EQUAL_INT(1, on);
+        TEST_ASSERT_TRUE_MESSAGE(idle + interval * count <= 300, "a dead master found within 5 minutes");
+    }
+    TEST_ASSERT_TRUE(uwbd_modbus_server_timeout_ms(server) <= 500); /* its deadline is in poll's timeout */
+    for (int i = 0; i < 4; i++)
+        TEST_ASSERT_TRUE(answered(busy)); /* 0.3 s each: 1.2 s in all, asking all along */
+    TEST_ASSERT_TRUE_MESSAGE(closed_by_server(silent), "an idle master kept its connection");
+    TEST_ASSERT_FALSE_MESSAGE(closed_by_server(busy), "a master that keeps asking was closed");
+    close(silent);
+    close(busy);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -296,5 +379,7 @@ int main(void)
     RUN_TEST(test_bad_endpoint_and_unbindable_address_are_errors);
     RUN_TEST(test_a_slow_tcp_master_never_blocks_the_loop);
     RUN_TEST(test_a_tcp_peer_that_speaks_no_modbus_is_dropped);
+    RUN_TEST(test_a_full_house_evicts_the_longest_idle_master);
+    RUN_TEST(test_an_idle_master_is_closed_and_sockets_keep_alive);
     return UNITY_END();
 }
