@@ -68,6 +68,13 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
 int uwb_measure_shift(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                       double *shift_m, char *err, size_t errlen);
 
+/* The same fit on each shoulder alone (the baseline's lower and upper edge,
+ * a quarter of the height either side): how far each end moved. Their
+ * difference is a second reading of the height change, independent of the
+ * half-peak crossings. Returns 0, or -1 with err filled. */
+int uwb_measure_shoulder_shifts(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                                double *lower_m, double *upper_m, char *err, size_t errlen);
+
 /* The noise of that displacement (src/imaging/pair_uncertainty.c): the noise
  * rms per sample read on the two scans' difference where the winding cannot
  * reply, and the displacement's rms change when noise of that rms is added

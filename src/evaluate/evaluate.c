@@ -281,6 +281,13 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
         pair.noise_measured = noise.measured;
         pair.sigma_noise_current_m = noise.sigma_current_m;
         pair.sigma_noise_baseline_m = noise.sigma_baseline_m;
+        if (noise.measured && cur_a->noise_sigma > 0.0 && base_a->noise_sigma > 0.0) {
+            /* A pair with no noise at all reads a ratio of 0: the floor stands. */
+            pair.noise_ratio_current = fmax(noise.noise_rms / cur_a->noise_sigma, 1e-9);
+            pair.noise_ratio_baseline = fmax(noise.noise_rms / base_a->noise_sigma, 1e-9);
+        }
+        pair.has_shoulders = uwb_measure_shoulder_shifts(cur_a, base_a, &pair.lower_shift_m,
+                                                         &pair.upper_shift_m, err, errlen) == 0;
     }
     uwb_compare_pair(v, &cur_a->edges, &base_a->edges, &pair, &copt);
     return 0;

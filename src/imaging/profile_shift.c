@@ -180,6 +180,31 @@ int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis 
     return 0;
 }
 
+/* Each shoulder's fit spans this fraction of the winding's height either
+ * side of the baseline's edge: past the half-peak crossing into the
+ * floor, and in to a quarter of the face, where the other shoulder has no
+ * say. */
+#define SHOULDER_HALF_SPAN 0.25
+
+int uwb_measure_shoulder_shifts(const struct uwb_analysis *cur, const struct uwb_analysis *base,
+                                double *lower_m, double *upper_m, char *err, size_t errlen)
+{
+    if (!cur->edges.found || !base->edges.found || !cur->profile.value || !base->profile.value) {
+        snprintf(err, errlen, "shoulder shifts: the winding is not established in both scans");
+        return -1;
+    }
+    double half = SHOULDER_HALF_SPAN * base->edges.height_m;
+    *lower_m = uwb_profile_shift_fit(&cur->profile, &base->profile, base->edges.lower_m, half,
+                                     cur->edges.lower_m - base->edges.lower_m);
+    *upper_m = uwb_profile_shift_fit(&cur->profile, &base->profile, base->edges.upper_m, half,
+                                     cur->edges.upper_m - base->edges.upper_m);
+    if (isnan(*lower_m) || isnan(*upper_m)) {
+        snprintf(err, errlen, "shoulder shifts: out of memory for the profiles' fit");
+        return -1;
+    }
+    return 0;
+}
+
 /* ---- the fit's sensitivity to each profile value -------------------------- */
 
 /* Where y falls among a profile's pixels: the first of the four it reads,
