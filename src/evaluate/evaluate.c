@@ -269,8 +269,18 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
         return 0;
     }
     struct uwb_pair_figures pair = {0};
-    if (cur_a->edges.found && base_a->edges.found &&
-        uwb_measure_shift(cur_a, base_a, &pair.displacement_m, err, errlen) == 0) {
+    int fit = cur_a->edges.found && base_a->edges.found
+                  ? uwb_measure_shift(cur_a, base_a, &pair.displacement_m, why, sizeof why)
+                  : -1;
+    if (fit == 1) {
+        /* No shift maps one face onto the other: whatever figure the search
+         * stopped at is not a measurement. */
+        uwb_compare_edges(v, &cur_a->edges, &base_a->edges, &copt);
+        v->status = UWB_STATUS_INCONCLUSIVE;
+        snprintf(v->reason, sizeof v->reason, "%.200s; figures withheld", why);
+        return 0;
+    }
+    if (fit == 0) {
         pair.valid = 1;
         struct uwb_shift_noise noise;
         if (uwb_shift_noise(cur_a, base_a, &opt->analysis, pair.displacement_m, &noise, err, errlen) != 0) {
