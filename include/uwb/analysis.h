@@ -76,9 +76,18 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
 /* The displacement between two analysed scans of one installation: the
  * shift that best maps the baseline's face profile onto the current one
  * (src/imaging/profile_shift.c). Both analyses must have found the winding.
- * Returns 0, or -1 with err filled. */
+ * Returns 0; 1 with err saying why when the fit's best lies on the edge of
+ * its search (no minimum: the profiles are not one face shifted; *shift_m
+ * holds where the search stopped); or -1 with err filled. */
 int uwb_measure_shift(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                       double *shift_m, char *err, size_t errlen);
+
+/* The same fit on each shoulder alone (the baseline's lower and upper edge,
+ * a quarter of the height either side): how far each end moved. Their
+ * difference is a second reading of the height change, independent of the
+ * half-peak crossings. Returns 0, or -1 with err filled. */
+int uwb_measure_shoulder_shifts(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                                double *lower_m, double *upper_m, char *err, size_t errlen);
 
 /* The noise of that displacement (src/imaging/pair_uncertainty.c): the noise
  * rms per sample read on the two scans' difference where the winding cannot

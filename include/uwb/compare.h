@@ -12,6 +12,7 @@ struct uwb_compare_options {
     struct uwb_thresholds thresholds;
     double systematic_displacement_m; /* 1-sigma floor of a displacement between two scans */
     double max_uncertainty_m;         /* above this 1-sigma the verdict is inconclusive */
+    double max_height_uncertainty_m;  /* above this 1-sigma the height change is withheld */
     double baseline_repeatability_m;  /* 1-sigma of the baseline's centre from the spread of its commissioning
                                          scans */
 };
@@ -33,6 +34,14 @@ struct uwb_pair_figures {
     double displacement_m;
     int noise_measured; /* the two noise terms below replace the per-scan ones */
     double sigma_noise_current_m, sigma_noise_baseline_m;
+    /* The shift fitted on each shoulder alone (uwb_measure_shoulder_shifts):
+     * upper - lower reads the height change a second way. */
+    int has_shoulders;
+    double lower_shift_m, upper_shift_m;
+    /* Per scan, the noise read on the pair's difference over the noise the
+     * scan's own edges were judged with (0: not measured): on its own a scan
+     * takes the static scene's echoes for noise. */
+    double noise_ratio_current, noise_ratio_baseline;
 };
 
 /* The terms of a displacement's 1-sigma uncertainty, all independent. */

@@ -57,6 +57,8 @@ struct uwb_verdict {
     double uncertainty_m;        /* 1-sigma of the displacement */
     /* (the 95 % interval is UWB_SIGMAS_95 of these either side) */
     double height_change_m;
+    double height_change_uncertainty_m; /* its 1-sigma: the edges' noise and the model term */
+    char height_change_withheld[192];   /* why the height change is not given, or empty */
     /* Time zero: the direct coupling's arrival in this scan and, against a
      * baseline, how far it moved since the baseline's. */
     int has_direct_coupling;

@@ -59,6 +59,12 @@ int uwbd_verdict_text(const char *reply, FILE *out)
         fprintf(out, ": %s", reason->valuestring);
     }
     fputc('\n', out);
+    double h, hs;
+    const cJSON *withheld = item(v, "height_change_withheld");
+    if (number(v, "height_change_mm", &h) && number(v, "height_change_uncertainty_mm", &hs))
+        fprintf(out, "height change %+.2f \u00b1 %.2f mm 1\u03c3\n", h, hs);
+    else if (cJSON_IsString(withheld))
+        fprintf(out, "height change withheld: %s\n", withheld->valuestring);
     const cJSON *image;
     cJSON_ArrayForEach(image, item(v, "images"))
     {

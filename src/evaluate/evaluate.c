@@ -68,6 +68,102 @@ static int keep_common_side_reflector(const struct uwb_scan *cur, const struct u
     return 0;
 }
 
+/* Both scans must describe one reflector: the faces within this many
+ * wavelengths in range (a quarter: the fine measurement's own range cell,
+ * far more than a radial bulge moves the face), and searched again within
+ * half a wavelength of the other scan's face when they are not. A plate's
+ * edge or a barrier is 20-130 mm from the face in the full-wave tank family,
+ * 0.2-1.5 wavelengths. */
+#define SAME_FACE_WAVELENGTHS 0.25
+#define SEARCH_NEAR_WAVELENGTHS 0.5
+/* ...and heights within this fraction of each other: on pure shifts the
+ * height read changes by up to 3.1 % (full-wave tank, +30 mm), a squeezed
+ * spacer by 1.3-3 % in the full-wave family; a face read on another
+ * reflector differs by a third (a plate below the winding, 3-D family). */
+#define SAME_HEIGHT_FRACTION 0.10
+
+static double face_wavelength(const struct uwb_analysis *a, const struct uwb_scan *scan)
+{
+    return a->dominant_hz > 0.0 ? 299792458.0 / sqrt(scan->eps_r) / a->dominant_hz : 0.1;
+}
+
+/* Analyse `scan` again with its face searched within half a wavelength of
+ * `near` (another scan's face); the new analysis replaces *a when it finds
+ * the winding there. */
+static int analyse_near(const struct uwb_scan *scan, const struct uwb_analysis_options *aopt,
+                        const struct uwb_analysis *near, const struct uwb_scan *near_scan,
+                        struct uwb_analysis *a, char *err, size_t errlen)
+{
+    double half = SEARCH_NEAR_WAVELENGTHS * face_wavelength(near, near_scan);
+    /* Within the range the scan would be searched anyway (the options'
+     * target, else the header's, else the whole search range). */
+    double lo = aopt->search_z_min_m, hi = aopt->search_z_max_m;
+    if (aopt->has_target_z) {
+        lo = aopt->target_z_m[0];
+        hi = aopt->target_z_m[1];
+    } else if (scan->has_target_z) {
+        lo = scan->target_z_m[0];
+        hi = scan->target_z_m[1];
+    }
+    struct uwb_analysis_options o = *aopt;
+    o.has_target_z = 1;
+    o.target_z_m[0] = fmax(lo, near->edges.face_z_m - half);
+    o.target_z_m[1] = fmin(hi, near->edges.face_z_m + half);
+    if (o.target_z_m[1] <= o.target_z_m[0])
+        return 0;
+    struct uwb_analysis again;
+    if (uwb_analyse_scan(scan, &o, &again, err, errlen) != 0)
+        return -1;
+    if (!again.edges.found && a->edges.found) {
+        uwb_analysis_free(&again);
+        return 0;
+    }
+    uwb_analysis_free(a);
+    *a = again;
+    return 0;
+}
+
+static int same_face(const struct uwb_analysis *ca, const struct uwb_analysis *ba,
+                     const struct uwb_scan *base)
+{
+    return fabs(ca->edges.face_z_m - ba->edges.face_z_m) <= SAME_FACE_WAVELENGTHS * face_wavelength(ba, base);
+}
+
+/* The winding's face once for the pair: each scan searched on its own may
+ * settle on different reflectors (a plate's edge in one, the winding in the
+ * other), and their edges then compare two things. The current scan is
+ * searched again near the baseline's face, or, when the baseline found
+ * none, the baseline near the current's. */
+static int match_faces(const struct uwb_scan *cur, const struct uwb_scan *base,
+                       const struct uwb_analysis_options *aopt, struct uwb_analysis *ca,
+                       struct uwb_analysis *ba, char *err, size_t errlen)
+{
+    if (ba->edges.found && (!ca->edges.found || !same_face(ca, ba, base)))
+        return analyse_near(cur, aopt, ba, base, ca, err, errlen);
+    if (!ba->edges.found && ca->edges.found)
+        return analyse_near(base, aopt, ca, cur, ba, err, errlen);
+    return 0;
+}
+
+/* Why the two scans' faces cannot be taken for one reflector, or "". */
+static void faces_differ(const struct uwb_analysis *ca, const struct uwb_analysis *ba,
+                         const struct uwb_scan *base, char *why, size_t n)
+{
+    why[0] = '\0';
+    const struct uwb_edges *c = &ca->edges, *b = &ba->edges;
+    if (!c->found || !b->found)
+        return;
+    int range_differs = !same_face(ca, ba, base);
+    int height_differs =
+        fabs(c->height_m - b->height_m) > SAME_HEIGHT_FRACTION * fmax(c->height_m, b->height_m);
+    if (range_differs || height_differs)
+        snprintf(why, n,
+                 "not the same reflector in both scans: this scan's face at %.0f mm range, %.0f..%.0f mm, "
+                 "the baseline's at %.0f mm, %.0f..%.0f mm; figures withheld",
+                 c->face_z_m * 1e3, c->lower_m * 1e3, c->upper_m * 1e3, b->face_z_m * 1e3, b->lower_m * 1e3,
+                 b->upper_m * 1e3);
+}
+
 /* Why this scan must not be compared with the baseline for its time zero,
  * or "" when it may: its direct coupling must be found and within the
  * tolerance of the one recorded with the baseline (else a cable or an
@@ -153,6 +249,7 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
         return 0;
     }
     if (uwb_analyse_scan(baseline->scan, &opt->analysis, base_a, err, errlen) != 0 ||
+        match_faces(current, baseline->scan, &opt->analysis, cur_a, base_a, err, errlen) != 0 ||
         keep_common_side_reflector(current, baseline->scan, &opt->analysis, cur_a, base_a, err, errlen) !=
             0) {
         uwb_analysis_free(cur_a);
@@ -164,9 +261,26 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
     if (baseline->has_repeatability)
         copt.baseline_repeatability_m =
             baseline->repeatability_m / sqrt(baseline->scans > 1 ? baseline->scans : 1);
+    faces_differ(cur_a, base_a, baseline->scan, why, sizeof why);
+    if (why[0]) {
+        uwb_compare_edges(v, &cur_a->edges, &base_a->edges, &copt);
+        v->status = UWB_STATUS_INCONCLUSIVE;
+        snprintf(v->reason, sizeof v->reason, "%s", why);
+        return 0;
+    }
     struct uwb_pair_figures pair = {0};
-    if (cur_a->edges.found && base_a->edges.found &&
-        uwb_measure_shift(cur_a, base_a, &pair.displacement_m, err, errlen) == 0) {
+    int fit = cur_a->edges.found && base_a->edges.found
+                  ? uwb_measure_shift(cur_a, base_a, &pair.displacement_m, why, sizeof why)
+                  : -1;
+    if (fit == 1) {
+        /* No shift maps one face onto the other: whatever figure the search
+         * stopped at is not a measurement. */
+        uwb_compare_edges(v, &cur_a->edges, &base_a->edges, &copt);
+        v->status = UWB_STATUS_INCONCLUSIVE;
+        snprintf(v->reason, sizeof v->reason, "%.200s; figures withheld", why);
+        return 0;
+    }
+    if (fit == 0) {
         pair.valid = 1;
         struct uwb_shift_noise noise;
         if (uwb_shift_noise(cur_a, base_a, &opt->analysis, pair.displacement_m, &noise, err, errlen) != 0) {
@@ -177,6 +291,13 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
         pair.noise_measured = noise.measured;
         pair.sigma_noise_current_m = noise.sigma_current_m;
         pair.sigma_noise_baseline_m = noise.sigma_baseline_m;
+        if (noise.measured && cur_a->noise_sigma > 0.0 && base_a->noise_sigma > 0.0) {
+            /* A pair with no noise at all reads a ratio of 0: the floor stands. */
+            pair.noise_ratio_current = fmax(noise.noise_rms / cur_a->noise_sigma, 1e-9);
+            pair.noise_ratio_baseline = fmax(noise.noise_rms / base_a->noise_sigma, 1e-9);
+        }
+        pair.has_shoulders = uwb_measure_shoulder_shifts(cur_a, base_a, &pair.lower_shift_m,
+                                                         &pair.upper_shift_m, err, errlen) == 0;
     }
     uwb_compare_pair(v, &cur_a->edges, &base_a->edges, &pair, &copt);
     return 0;

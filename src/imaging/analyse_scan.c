@@ -88,6 +88,12 @@
  * scan): far above any real scan's and still a finite number for the
  * verdict's JSON. */
 #define NOISELESS_SNR_DB 200.0
+/* Reflectors measured as the winding at most: the search's pick, then the
+ * next ones when the pick's fine profile does not fall off inside the
+ * travel or is too weak (a barrier or a plate's edge can pass the coarse
+ * test; on the full-wave tank family a plate 20-130 mm in front of the face
+ * did in three tanks of eight). Each costs one analysis. */
+#define MAX_FACE_TRIES 3
 
 /* The largest |sample| the analysis images (see uwb/analysis.h). */
 #define MAX_SAMPLE_MAGNITUDE UWB_ANALYSIS_MAX_SAMPLE_MAGNITUDE
@@ -308,6 +314,11 @@ struct analysis_run {
     int passes;
     double pass_z_centre_m;
     struct side_reflector pass_side;
+    /* Reflectors measured before and rejected (passed over by the search),
+     * and whether this one was rejected too (worth trying the next). */
+    const double *excluded_z_m;
+    int n_excluded;
+    int face_rejected;
 };
 
 static enum step read_scan_basics(struct analysis_run *r)
@@ -383,7 +394,8 @@ static enum step search_for_face(struct analysis_run *r)
     if (rc != 0)
         return STEP_FAILED;
     if (uwb_face_search(&out->intensity, out->aperture_lo_m, out->aperture_hi_m, antenna_step(r->scan),
-                        &r->face, out->edges.reason, sizeof out->edges.reason) != 0)
+                        r->excluded_z_m, r->n_excluded, &r->face, out->edges.reason,
+                        sizeof out->edges.reason) != 0)
         return STEP_DONE;
     return STEP_NEXT;
 }
@@ -590,12 +602,24 @@ static enum step judge_edges(struct analysis_run *r)
                  "edge outside the seen aperture: the face at %.3f m does not fall off inside the "
                  "antenna travel %.3f..%.3f m",
                  r->z_face_m, ap_lo, ap_hi);
+        r->face_rejected = 1;
+        return STEP_DONE;
+    }
+    /* Each pass takes the brightest column within a quarter wavelength of
+     * the last: a face that crept out of the range searched is another
+     * reflector's. */
+    if (r->z_face_m < r->z_lo_m - r->wavelength / 4 || r->z_face_m > r->z_hi_m + r->wavelength / 4) {
+        snprintf(edges->reason, sizeof edges->reason,
+                 "the face measured at %.3f m lies outside the range searched, %.3f..%.3f m", r->z_face_m,
+                 r->z_lo_m, r->z_hi_m);
+        r->face_rejected = 1;
         return STEP_DONE;
     }
     if (edges->snr_db < opt->min_snr_db) {
         snprintf(edges->reason, sizeof edges->reason,
                  "too little SNR: face echo %.1f dB over the noise, at least %.1f dB needed", edges->snr_db,
                  opt->min_snr_db);
+        r->face_rejected = 1;
         return STEP_DONE;
     }
     /* Noise moves a crossing by noise / slope. An absolute edge also carries
@@ -620,11 +644,19 @@ static enum step judge_edges(struct analysis_run *r)
     return STEP_DONE;
 }
 
-int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_options *opt,
-                     struct uwb_analysis *out, char *err, size_t errlen)
+/* One attempt: every step on the search's pick, passing over `excluded`. */
+static int analyse_once(const struct uwb_scan *scan, const struct uwb_analysis_options *opt,
+                        const double *excluded_z_m, int n_excluded, struct uwb_analysis *out,
+                        double *face_z_m, int *rejected, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
-    struct analysis_run run = {.scan = scan, .opt = opt, .out = out, .err = err, .errlen = errlen};
+    struct analysis_run run = {.scan = scan,
+                               .opt = opt,
+                               .out = out,
+                               .err = err,
+                               .errlen = errlen,
+                               .excluded_z_m = excluded_z_m,
+                               .n_excluded = n_excluded};
     static enum step (*const steps[])(struct analysis_run *) = {
         read_scan_basics, choose_search_range, search_for_face, condition_around_face,
         measure_face,     image_for_display,   judge_edges,
@@ -638,6 +670,31 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
     if (rc == STEP_FAILED) {
         uwb_analysis_free(out);
         return -1;
+    }
+    *face_z_m = run.face.z_m;
+    *rejected = run.face_rejected;
+    return 0;
+}
+
+int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_options *opt,
+                     struct uwb_analysis *out, char *err, size_t errlen)
+{
+    double excluded[MAX_FACE_TRIES];
+    char first_reason[sizeof out->edges.reason] = "";
+    for (int n = 0; n < MAX_FACE_TRIES; n++) {
+        int rejected = 0;
+        if (analyse_once(scan, opt, excluded, n, out, &excluded[n], &rejected, err, errlen) != 0)
+            return -1;
+        if (out->edges.found || !rejected || n + 1 == MAX_FACE_TRIES) {
+            /* None held: say why the first pick (the likeliest) was rejected. */
+            if (!out->edges.found && first_reason[0])
+                snprintf(out->edges.reason, sizeof out->edges.reason, "%.200s (and %d more tried)",
+                         first_reason, n);
+            return 0;
+        }
+        if (n == 0)
+            snprintf(first_reason, sizeof first_reason, "%s", out->edges.reason);
+        uwb_analysis_free(out);
     }
     return 0;
 }

@@ -46,8 +46,19 @@ static int ends_seen(const struct uwb_image *img, int iz, int peak_row, double p
     return lower_ok && upper_ok;
 }
 
+/* Whether range z lies within a candidate's separation of one already
+ * measured and rejected. */
+static int excluded_range(double z_m, const double *excluded_z_m, int n_excluded)
+{
+    for (int i = 0; i < n_excluded; i++)
+        if (fabs(z_m - excluded_z_m[i]) <= CANDIDATE_SEPARATION_M)
+            return 1;
+    return 0;
+}
+
 int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double aperture_hi_m, double step_m,
-                    struct face_candidate *face, char *reason, size_t reasonlen)
+                    const double *excluded_z_m, int n_excluded, struct face_candidate *face, char *reason,
+                    size_t reasonlen)
 {
     double inner_lo = aperture_lo_m + END_MARGIN_STEPS * step_m;
     double inner_hi = aperture_hi_m - END_MARGIN_STEPS * step_m;
@@ -83,6 +94,8 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
         for (int iz = best - sep; iz <= best + sep; iz++)
             if (iz >= 0 && iz < img->nz)
                 used[iz] = 1;
+        if (excluded_range(img->z0_m + best * img->dz_m, excluded_z_m, n_excluded))
+            continue;
         if (ends_seen(img, best, row[best], peak[best], inner_lo, inner_hi)) {
             seen[n_seen].z_m = img->z0_m + best * img->dz_m;
             seen[n_seen].peak = peak[best];
@@ -104,7 +117,12 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
             found = 1;
         }
     if (!found) {
-        if (strongest_rejected_z >= 0.0)
+        if (n_excluded > 0)
+            snprintf(reason, reasonlen,
+                     "winding not found: no reflector between %.3f and %.3f m range besides the %d measured "
+                     "and rejected",
+                     img->z0_m, img->z0_m + (img->nz - 1) * img->dz_m, n_excluded);
+        else if (strongest_rejected_z >= 0.0)
             snprintf(reason, reasonlen,
                      "winding not found: no reflector between %.3f and %.3f m range has both ends inside "
                      "the antenna travel (strongest, at %.3f m, runs past it)",

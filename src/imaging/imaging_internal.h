@@ -40,10 +40,13 @@ struct face_candidate {
 
 /* The winding's face range: the strongest reflector in [z_lo, z_hi] whose
  * profile along y falls off before both ends of the antenna travel (at
- * least two antenna steps inside them).
+ * least two antenna steps inside them), passing over the n_excluded ranges
+ * (reflectors already measured and rejected; excluded_z_m may be NULL when
+ * n_excluded is 0).
  * Returns 0 and fills *face, or 1 with reason filled when none qualifies. */
 int uwb_face_search(const struct uwb_image *intensity, double aperture_lo_m, double aperture_hi_m,
-                    double step_m, struct face_candidate *face, char *reason, size_t reasonlen);
+                    double step_m, const double *excluded_z_m, int n_excluded, struct face_candidate *face,
+                    char *reason, size_t reasonlen);
 
 /* Profile along y at the face: the largest envelope within +-half_width_m of z_face. */
 int uwb_face_profile_measure(const struct uwb_image *intensity, double z_face_m, double half_width_m,

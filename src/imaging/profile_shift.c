@@ -106,9 +106,12 @@ static double misfit(const struct energy *cur, const struct span *s, double d)
     return s->bb > 0.0 ? cc - cb * cb / s->bb : cc;
 }
 
-double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile,
-                             const struct uwb_face_profile *base_profile, double base_centre_m,
-                             double half_span_m, double guess_m)
+/* The fit, and whether its best lies inside the search (*interior): a best
+ * on the search's edge is no minimum of the misfit, only where the search
+ * stopped. */
+static double shift_fit(const struct uwb_face_profile *cur_profile,
+                        const struct uwb_face_profile *base_profile, double base_centre_m, double half_span_m,
+                        double guess_m, int *interior)
 {
     struct energy cur, base;
     struct span span = {0};
@@ -124,14 +127,16 @@ double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile,
         return NAN;
     }
     double best_d = guess_m, best = INFINITY;
-    int n = (int)ceil(FIT_SEARCH_M / COARSE_STEP_M);
+    int n = (int)ceil(FIT_SEARCH_M / COARSE_STEP_M), best_i = 0;
     for (int i = -n; i <= n; i++) {
         double d = guess_m + i * COARSE_STEP_M, r = misfit(&cur, &span, d);
         if (r < best) {
             best = r;
             best_d = d;
+            best_i = i;
         }
     }
+    *interior = best_i > -n && best_i < n;
     double centre = best_d;
     for (int i = -10; i <= 10; i++) {
         double d = centre + i * FINE_STEP_M, r = misfit(&cur, &span, d);
@@ -154,6 +159,14 @@ double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile,
     return best_d;
 }
 
+double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile,
+                             const struct uwb_face_profile *base_profile, double base_centre_m,
+                             double half_span_m, double guess_m)
+{
+    int interior;
+    return shift_fit(cur_profile, base_profile, base_centre_m, half_span_m, guess_m, &interior);
+}
+
 /* The fit compares the profiles over the baseline's winding, edge to edge
  * at half its peak: beyond, the winding's image falls off and the static
  * scene's share of the row grows. */
@@ -171,10 +184,44 @@ int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis 
         snprintf(err, errlen, "shift: the winding is not established in both scans");
         return -1;
     }
-    *shift_m =
-        uwb_analysis_shift(&cur->profile, &base->profile, base, cur->edges.center_m - base->edges.center_m);
+    double guess = cur->edges.center_m - base->edges.center_m;
+    int interior;
+    *shift_m = shift_fit(&cur->profile, &base->profile, base->edges.center_m, 0.5 * base->edges.height_m,
+                         guess, &interior);
     if (isnan(*shift_m)) {
         snprintf(err, errlen, "shift: out of memory for the profiles' fit");
+        return -1;
+    }
+    if (!interior) {
+        snprintf(err, errlen,
+                 "no shift within %.0f mm of the centres' difference (%+.2f mm) maps the baseline's face "
+                 "profile onto this scan's: the fit ran to the edge of its search at %+.2f mm",
+                 FIT_SEARCH_M * 1e3, guess * 1e3, *shift_m * 1e3);
+        return 1;
+    }
+    return 0;
+}
+
+/* Each shoulder's fit spans this fraction of the winding's height either
+ * side of the baseline's edge: past the half-peak crossing into the
+ * floor, and in to a quarter of the face, where the other shoulder has no
+ * say. */
+#define SHOULDER_HALF_SPAN 0.25
+
+int uwb_measure_shoulder_shifts(const struct uwb_analysis *cur, const struct uwb_analysis *base,
+                                double *lower_m, double *upper_m, char *err, size_t errlen)
+{
+    if (!cur->edges.found || !base->edges.found || !cur->profile.value || !base->profile.value) {
+        snprintf(err, errlen, "shoulder shifts: the winding is not established in both scans");
+        return -1;
+    }
+    double half = SHOULDER_HALF_SPAN * base->edges.height_m;
+    *lower_m = uwb_profile_shift_fit(&cur->profile, &base->profile, base->edges.lower_m, half,
+                                     cur->edges.lower_m - base->edges.lower_m);
+    *upper_m = uwb_profile_shift_fit(&cur->profile, &base->profile, base->edges.upper_m, half,
+                                     cur->edges.upper_m - base->edges.upper_m);
+    if (isnan(*lower_m) || isnan(*upper_m)) {
+        snprintf(err, errlen, "shoulder shifts: out of memory for the profiles' fit");
         return -1;
     }
     return 0;

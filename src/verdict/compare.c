@@ -10,6 +10,9 @@ void uwb_compare_defaults(struct uwb_compare_options *opt)
     opt->thresholds.alarm_m = 0.005;
     opt->systematic_displacement_m = 0.0001;
     opt->max_uncertainty_m = 0.001;
+    /* The height change should tell a squeezed spacer (2 mm) from none:
+     * past 1 mm of 1-sigma it cannot. */
+    opt->max_height_uncertainty_m = 0.001;
     opt->baseline_repeatability_m = 0;
 }
 
@@ -51,6 +54,41 @@ double uwb_displacement_uncertainty(const struct uwb_uncertainty_terms *t)
                 t->baseline_repeatability_m * t->baseline_repeatability_m);
 }
 
+/* The height change's 1-sigma, or withheld (why filled): each scan's noise
+ * at its two crossings (scaled to the noise the pair's difference shows,
+ * when measured), and the model term: how far the crossings' reading
+ * disagrees with the shoulders' own fits (upper minus lower shift). Both
+ * read the same height change when the profile's ends only move; where the
+ * disks' sampling or a reflector beside the winding changes a shoulder's
+ * shape, they part. */
+static void height_change_uncertainty(struct uwb_verdict *v, const struct uwb_edges *cur,
+                                      const struct uwb_edges *base, const struct uwb_pair_figures *pair,
+                                      const struct uwb_compare_options *opt)
+{
+    v->height_change_uncertainty_m = 0.0;
+    v->height_change_withheld[0] = '\0';
+    if (!pair || !pair->valid || !pair->has_shoulders) {
+        snprintf(v->height_change_withheld, sizeof v->height_change_withheld,
+                 "the shoulders could not be fitted: no check of the crossings' height");
+        return;
+    }
+    /* 2 sigma_center_noise = the two crossings' noise in quadrature. */
+    double ratio_c = pair->noise_ratio_current > 0.0 ? pair->noise_ratio_current : 1.0;
+    double ratio_b = pair->noise_ratio_baseline > 0.0 ? pair->noise_ratio_baseline : 1.0;
+    double noise_c = 2.0 * cur->sigma_center_noise_m * ratio_c;
+    double noise_b = 2.0 * base->sigma_center_noise_m * ratio_b;
+    double model = fabs((pair->upper_shift_m - pair->lower_shift_m) - v->height_change_m);
+    v->height_change_uncertainty_m =
+        sqrt(noise_c * noise_c + noise_b * noise_b + model * model +
+             2.0 * opt->systematic_displacement_m * opt->systematic_displacement_m);
+    if (v->height_change_uncertainty_m > opt->max_height_uncertainty_m)
+        snprintf(v->height_change_withheld, sizeof v->height_change_withheld,
+                 "height change uncertainty %.2f mm exceeds %.2f mm (crossings read %+.2f mm, shoulders "
+                 "%+.2f mm)",
+                 v->height_change_uncertainty_m * 1e3, opt->max_height_uncertainty_m * 1e3,
+                 v->height_change_m * 1e3, (pair->upper_shift_m - pair->lower_shift_m) * 1e3);
+}
+
 void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur, const struct uwb_edges *base,
                        const struct uwb_compare_options *opt)
 {
@@ -81,6 +119,7 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
     }
     v->axial_displacement_m = pair && pair->valid ? pair->displacement_m : cur->center_m - base->center_m;
     v->height_change_m = cur->height_m - base->height_m;
+    height_change_uncertainty(v, cur, base, pair, opt);
     /* Both scans blur their edges alike, so only their noise, what removing
      * a plate beside the winding may leave, and a floor for what the two
      * scans do not share (sampling, drift) enter, and what the baseline's

@@ -57,8 +57,12 @@ cJSON *uwb_verdict_object(const struct uwb_verdict *v)
     }
     if (v->current.found) {
         add_edges(o, &v->current);
-        if (compared)
+        if (compared && !v->height_change_withheld[0]) {
             add_mm(o, "height_change_mm", v->height_change_m);
+            add_mm(o, "height_change_uncertainty_mm", v->height_change_uncertainty_m);
+        } else if (compared) {
+            cJSON_AddStringToObject(o, "height_change_withheld", v->height_change_withheld);
+        }
         add_mm(o, "face_range_mm", v->current.face_z_m);
         cJSON_AddNumberToObject(o, "snr_db", round(v->current.snr_db * 10.0) / 10.0);
         add_mm(o, "edge_uncertainty_mm", fmax(v->current.sigma_lower_m, v->current.sigma_upper_m));

@@ -15,7 +15,7 @@ uwbd --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan \
 [[ $(wc -l < "$out/stdout") -eq 1 ]] || fail "stdout is not exactly one line"
 json_check "$out/stdout" 'class == VERDICT' 'status == alarm' 'axial_displacement_mm ~ 20.0 0.5' \
     'uncertainty_mm is number' 'lower_edge_mm is number' 'upper_edge_mm is number' 'center_mm is number' \
-    'height_mm is number' 'height_change_mm is number' 'baseline.lower_edge_mm exists' \
+    'height_mm is number' 'height_change_withheld exists' 'baseline.lower_edge_mm exists' \
     'baseline.upper_edge_mm exists' 'baseline.center_mm exists' 'images len 3' || fail "verdict JSON: $(cat "$out/stdout")"
 for i in 0 1 2; do
     png=$(json_get "images.$i" < "$out/stdout")

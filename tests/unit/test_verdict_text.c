@@ -56,6 +56,25 @@ static void test_a_downward_shift_keeps_its_sign(void)
         "status WATCH: displacement -3.50 \u00b1 0.40 mm 1\u03c3, 95 %: -4.30..-2.70 mm\n", text);
 }
 
+static void test_a_height_change_is_given_with_its_sigma(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, render("{\"class\":\"VERDICT\",\"status\":\"ok\",\"axial_displacement_mm\":1.16,"
+                                    "\"uncertainty_mm\":0.1,\"height_change_mm\":-1.8,"
+                                    "\"height_change_uncertainty_mm\":0.22}"));
+    TEST_ASSERT_EQUAL_STRING("status OK: displacement +1.16 \u00b1 0.10 mm 1\u03c3, 95 %: +0.96..+1.36 mm\n"
+                             "height change -1.80 \u00b1 0.22 mm 1\u03c3\n",
+                             text);
+}
+
+static void test_a_withheld_height_change_says_why(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, render("{\"class\":\"VERDICT\",\"status\":\"ok\",\"axial_displacement_mm\":1.16,"
+                                    "\"uncertainty_mm\":0.1,\"height_change_withheld\":\"too uncertain\"}"));
+    TEST_ASSERT_EQUAL_STRING("status OK: displacement +1.16 \u00b1 0.10 mm 1\u03c3, 95 %: +0.96..+1.36 mm\n"
+                             "height change withheld: too uncertain\n",
+                             text);
+}
+
 static void test_edges_only_says_where_the_winding_is_and_whether_it_became_the_baseline(void)
 {
     TEST_ASSERT_EQUAL_INT(0,
@@ -90,6 +109,8 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_a_displacement_has_status_figure_edges_and_images);
     RUN_TEST(test_a_downward_shift_keeps_its_sign);
+    RUN_TEST(test_a_height_change_is_given_with_its_sigma);
+    RUN_TEST(test_a_withheld_height_change_says_why);
     RUN_TEST(test_edges_only_says_where_the_winding_is_and_whether_it_became_the_baseline);
     RUN_TEST(test_an_error_verdict_gives_its_reason);
     RUN_TEST(test_other_replies_are_not_rendered);

@@ -31,7 +31,7 @@ figure=$(awk -v m="$measured" -v t="$truth" -v lo="$lower" -v up="$upper" -v y1=
             printf "`tests/fixtures/`), uwbd measures **%.2f mm** (error %.2f mm), with both\n", m, abs(m - t)
             printf "edges within %.2f mm of the truth:\n", (e1 > e2 ? e1 : e2) }')
 { echo '```json'
-  sed -e 's/,"\(lower_edge_mm\|height_change_mm\|baseline\|direct_coupling_ps\|images\)"/,\n "\1"/g' \
+  sed -e 's/,"\(lower_edge_mm\|height_change_mm\|height_change_withheld\|face_range_mm\|baseline\|direct_coupling_ps\|images\)"/,\n "\1"/g' \
       -e 's/,"\(\/tmp\/uwbd-out\/\)/,\n "\1/g' "$work/line"
   echo '```'; } > "$work/verdict-block"
 printf '%s\n' "$figure" > "$work/figure-block"
