@@ -4,6 +4,7 @@
 #ifndef UWB_DAEMON_RETENTION_H
 #define UWB_DAEMON_RETENTION_H
 
+#include <signal.h>
 #include <stddef.h>
 #include <time.h>
 
@@ -18,6 +19,27 @@
  * counts deleted scans. */
 int uwbd_retention_apply(const struct uwbd_store *store, int max_scans, double max_age_days, time_t now,
                          int clock_synchronised, int *removed, char *err, size_t errlen);
+
+/* What one scan cycle may spend on retention: the rest waits for the next
+ * cycle, so a huge archive is cleaned over several cycles while the
+ * daemon stays responsive and the worker well within its stall limit. */
+#define UWBD_RETENTION_SCANS_PER_CYCLE 10000
+#define UWBD_RETENTION_SECONDS_PER_CYCLE 5.0
+
+struct uwbd_retention_budget {
+    int max_deletions;                 /* scans deleted per call at most, the oldest; 0: no limit */
+    double max_seconds;                /* per call, looked at between two scans; 0: no limit */
+    const volatile sig_atomic_t *stop; /* raised: end between two scans (NULL: never) */
+    int cut_short;                     /* out: 1 when scans due for deletion are left for later */
+};
+
+/* uwbd_retention_apply within a budget (NULL: none). Each day directory is
+ * read once, whatever its size; a scan's verdict record is its last file
+ * to go, so a scan cut short is still listed next time. When stopped,
+ * verdicts.jsonl is not trimmed this time. */
+int uwbd_retention_apply_within(const struct uwbd_store *store, int max_scans, double max_age_days,
+                                time_t now, int clock_synchronised, struct uwbd_retention_budget *budget,
+                                int *removed, char *err, size_t errlen);
 
 /* 1 when the kernel says the system clock is synchronised (ntp_adjtime:
  * not TIME_ERROR, STA_UNSYNC clear), as NTP or systemd-timesyncd sets it. */

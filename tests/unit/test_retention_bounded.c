@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/time.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -107,11 +108,94 @@ static void test_twenty_thousand_files_in_one_day_are_cleaned_in_bounded_time(vo
     TEST_ASSERT_TRUE(in_day("scan-09950.uwbscan"));
     TEST_ASSERT_TRUE(in_day("scan-09999.json"));
     TEST_ASSERT_TRUE(in_day(".notes"));
+    printf("%s\n", what);
+}
+
+static volatile sig_atomic_t stop_flag;
+
+static void raise_stop(int sig)
+{
+    (void)sig;
+    stop_flag = 1;
+}
+
+/* A stop request (the worker's SIGUSR1 on SIGTERM) during the clean-up
+ * ends it between two scans: promptly, with scans left for later and every
+ * scan that remains still listed (no image left without its record); the
+ * next call finishes. The request comes once the listing (timed first) is
+ * taken again, so it lands among the deletions. */
+static void test_a_stop_request_ends_the_clean_up_promptly(void)
+{
+    fill_one_day();
+    double listing_s = uwb_monotonic_s();
+    TEST_ASSERT_EQUAL_INT(SCANS, uwbd_archive_count(&store));
+    listing_s = uwb_monotonic_s() - listing_s;
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = raise_stop;
+    sa.sa_flags = SA_RESTART;
+    sigemptyset(&sa.sa_mask);
+    TEST_ASSERT_EQUAL_INT(0, sigaction(SIGALRM, &sa, NULL));
+    stop_flag = 0;
+    double stop_after_s = 1.5 * listing_s + 0.005;
+    struct itimerval later = {
+        .it_value = {.tv_sec = (time_t)stop_after_s,
+                     .tv_usec = (suseconds_t)((stop_after_s - (time_t)stop_after_s) * 1e6)}};
+    struct uwbd_retention_budget budget = {.stop = &stop_flag};
+    int removed = -1;
+    double started_s = uwb_monotonic_s();
+    TEST_ASSERT_EQUAL_INT(0, setitimer(ITIMER_REAL, &later, NULL));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_retention_apply_within(&store, KEEP, 0, time(NULL), 1, &budget, &removed, err, sizeof err),
+        err);
+    double took_s = uwb_monotonic_s() - started_s;
+    char what[128];
+    snprintf(what, sizeof what, "stop requested at %.3f s, ended at %.3f s with %d scans deleted",
+             stop_after_s, took_s, removed);
+    TEST_ASSERT_TRUE_MESSAGE(stop_flag, what);                   /* the stop came before the end */
+    TEST_ASSERT_TRUE_MESSAGE(took_s < stop_after_s + 0.3, what); /* the stop, then one scan at most */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, budget.cut_short, what);
+    TEST_ASSERT_TRUE_MESSAGE(removed < SCANS - KEEP, what);
+    TEST_ASSERT_EQUAL_INT(SCANS - removed, uwbd_archive_count(&store));
+    printf("%s\n", what);
+
+    budget.stop = NULL;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_retention_apply_within(&store, KEEP, 0, time(NULL), 1, &budget, &removed, err, sizeof err),
+        err);
+    TEST_ASSERT_EQUAL_INT(0, budget.cut_short);
+    TEST_ASSERT_EQUAL_INT(KEEP, uwbd_archive_count(&store));
+    TEST_ASSERT_TRUE(in_day("scan-09950.json"));
+}
+
+/* A cycle's share: at most max_deletions scans, the oldest, per call. */
+static void test_a_cycle_deletes_at_most_its_share_and_the_next_continues(void)
+{
+    fill_one_day();
+    struct uwbd_retention_budget budget = {.max_deletions = 4000};
+    int removed = 0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_retention_apply_within(&store, KEEP, 0, time(NULL), 1, &budget, &removed, err, sizeof err),
+        err);
+    TEST_ASSERT_EQUAL_INT(4000, removed);
+    TEST_ASSERT_EQUAL_INT(1, budget.cut_short);
+    TEST_ASSERT_FALSE(in_day("scan-03999.json")); /* the oldest went first */
+    TEST_ASSERT_TRUE(in_day("scan-04000.json"));
+    int calls = 1;
+    while (budget.cut_short && calls++ < 10)
+        TEST_ASSERT_EQUAL_INT_MESSAGE(
+            0,
+            uwbd_retention_apply_within(&store, KEEP, 0, time(NULL), 1, &budget, &removed, err, sizeof err),
+            err);
+    TEST_ASSERT_EQUAL_INT(3, calls);
+    TEST_ASSERT_EQUAL_INT(KEEP, uwbd_archive_count(&store));
 }
 
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_twenty_thousand_files_in_one_day_are_cleaned_in_bounded_time);
+    RUN_TEST(test_a_stop_request_ends_the_clean_up_promptly);
+    RUN_TEST(test_a_cycle_deletes_at_most_its_share_and_the_next_continues);
     return UNITY_END();
 }
