@@ -401,12 +401,34 @@ static int list_scans(const struct uwbd_store *store, struct scan_list *list)
     return 0;
 }
 
-int uwbd_clock_synchronised(void)
+int uwbd_clock_synchronised_from(const char *timesync_flag, const char **how)
 {
+    const char *said = NULL;
     struct timex t;
     memset(&t, 0, sizeof t); /* modes 0: read only */
     int state = ntp_adjtime(&t);
-    return state >= 0 && state != TIME_ERROR && !(t.status & STA_UNSYNC);
+    int synchronised = 0;
+    if (state >= 0) {
+        said = "the kernel says so (adjtimex)";
+        synchronised = state != TIME_ERROR && !(t.status & STA_UNSYNC);
+    } else {
+        /* A sandbox that filters the clock syscalls (ProtectClock=yes, or a
+         * SystemCallFilter= without them) refuses even this read. Then
+         * systemd-timesyncd's flag, which it creates once it has set the
+         * clock, is the next best witness. */
+        struct stat st;
+        synchronised = timesync_flag != NULL && stat(timesync_flag, &st) == 0;
+        said = synchronised ? "systemd-timesyncd says so (its flag file; adjtimex is filtered)"
+                            : "adjtimex is filtered (a sandbox) and systemd-timesyncd has not said so";
+    }
+    if (how)
+        *how = said;
+    return synchronised;
+}
+
+int uwbd_clock_synchronised(void)
+{
+    return uwbd_clock_synchronised_from(UWBD_TIMESYNC_FLAG, NULL);
 }
 
 int uwbd_retention_apply_within(const struct uwbd_store *store, int max_scans, double max_age_days,

@@ -41,8 +41,17 @@ int uwbd_retention_apply_within(const struct uwbd_store *store, int max_scans, d
                                 time_t now, int clock_synchronised, struct uwbd_retention_budget *budget,
                                 int *removed, char *err, size_t errlen);
 
-/* 1 when the kernel says the system clock is synchronised (ntp_adjtime:
- * not TIME_ERROR, STA_UNSYNC clear), as NTP or systemd-timesyncd sets it. */
+/* systemd-timesyncd creates this once it has synchronised the clock. */
+#define UWBD_TIMESYNC_FLAG "/run/systemd/timesync/synchronized"
+
+/* 1 when the kernel says the system clock is synchronised (ntp_adjtime,
+ * read only: not TIME_ERROR, STA_UNSYNC clear), as NTP or
+ * systemd-timesyncd sets it. When a syscall filter refuses even that
+ * read, 1 when timesync_flag (may be NULL) exists. *how (may be NULL)
+ * gets who said so, in words for the log. */
+int uwbd_clock_synchronised_from(const char *timesync_flag, const char **how);
+
+/* uwbd_clock_synchronised_from(UWBD_TIMESYNC_FLAG, NULL). */
 int uwbd_clock_synchronised(void);
 
 /* Number of scans in the archive (for status and tests). */

@@ -538,11 +538,14 @@ int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store
         process_scan(&c, &scan);
         uwb_scan_free(&scan);
     }
-    int removed = 0, synchronised = uwbd_clock_synchronised();
+    const char *clock_how = NULL;
+    int removed = 0, synchronised = uwbd_clock_synchronised_from(UWBD_TIMESYNC_FLAG, &clock_how);
     static int said_unsynchronised; /* once per run, not once per scan */
     if (cfg->retention_max_age_days > 0 && !synchronised && !said_unsynchronised++)
-        uwbd_log(UWBD_LOG_NOTICE, "retention: the system clock is not synchronised: "
-                                  "retention.max_age_days waits for it (max_scans still applies)");
+        uwbd_log(UWBD_LOG_NOTICE,
+                 "retention: the system clock is not synchronised (%s): "
+                 "retention.max_age_days waits for it (max_scans still applies)",
+                 clock_how);
     struct uwbd_retention_budget budget = {.max_deletions = UWBD_RETENTION_SCANS_PER_CYCLE,
                                            .max_seconds = UWBD_RETENTION_SECONDS_PER_CYCLE,
                                            .stop = stop};

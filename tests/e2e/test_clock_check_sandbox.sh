@@ -71,4 +71,19 @@ grep -qx "synchronised: $outside" inside.txt ||
     fail "the clock check says $(sed -n 's/^synchronised: //p' inside.txt) under the unit's filter, $outside outside it"
 pass "the clock check gets the kernel's answer ($outside) $how"
 
+# A sandbox stricter than the unit (a drop-in with ProtectClock=yes, or a
+# container's filter) refuses every @clock syscall: then systemd-timesyncd's
+# flag file is the witness, and without it the clock counts as not
+# synchronised, with the reason given.
+strict=()
+for s in $(expand @clock); do strict+=(--deny "$s"); done
+: > synchronized
+check "${strict[@]}" --timesync-flag "$work/synchronized" > flagged.txt || fail "clock_check with the flag failed"
+grep -qx "synchronised: 1" flagged.txt && grep -q "^how: systemd-timesyncd says so" flagged.txt ||
+    fail "adjtimex filtered, timesyncd's flag present: $(tr '\n' ' ' < flagged.txt)"
+check "${strict[@]}" --timesync-flag "$work/no-such-flag" > unflagged.txt || fail "clock_check without the flag failed"
+grep -qx "synchronised: 0" unflagged.txt && grep -q "^how: adjtimex is filtered" unflagged.txt ||
+    fail "adjtimex filtered, no flag: $(tr '\n' ' ' < unflagged.txt)"
+pass "with every @clock syscall filtered: systemd-timesyncd's flag says synchronised, its absence not (reason given)"
+
 echo "$passed passed"

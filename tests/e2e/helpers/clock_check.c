@@ -1,11 +1,13 @@
 /* uwbd's clock check under a syscall filter like a systemd unit's
  * (tests/e2e/test_clock_check_sandbox.sh):
- *   clock_check [--deny SYSCALL]...
+ *   clock_check [--deny SYSCALL]... [--timesync-flag PATH]
  * installs a seccomp filter that fails each named syscall with EPERM, as
  * SystemCallFilter= with SystemCallErrorNumber=EPERM (or ProtectClock=)
  * does, then prints
  *   kernel: answered | refused: REASON   (ntp_adjtime, modes 0: read only)
  *   synchronised: 0 | 1                  (uwbd_clock_synchronised)
+ *   how: WORDS                           (with --timesync-flag: the check
+ *                                         with that flag file, and who said)
  * Names this architecture lacks (clock_adjtime64 on a 64-bit one) are
  * skipped. Exit 2 on a usage or seccomp error. */
 #include <errno.h>
@@ -90,9 +92,14 @@ int main(int argc, char **argv)
 {
     long nrs[MAX_DENIED];
     int count = 0;
+    const char *flag = NULL;
     for (int i = 1; i < argc; i++) {
+        if (i + 1 < argc && strcmp(argv[i], "--timesync-flag") == 0) {
+            flag = argv[++i];
+            continue;
+        }
         if (strcmp(argv[i], "--deny") != 0 || i + 1 == argc) {
-            fprintf(stderr, "usage: clock_check [--deny SYSCALL]...\n");
+            fprintf(stderr, "usage: clock_check [--deny SYSCALL]... [--timesync-flag PATH]\n");
             return 2;
         }
         const char *name = argv[++i];
@@ -108,6 +115,12 @@ int main(int argc, char **argv)
         printf("kernel: refused: %s\n", strerror(errno));
     else
         printf("kernel: answered\n");
-    printf("synchronised: %d\n", uwbd_clock_synchronised());
+    if (!flag) {
+        printf("synchronised: %d\n", uwbd_clock_synchronised());
+        return 0;
+    }
+    const char *how = NULL;
+    printf("synchronised: %d\n", uwbd_clock_synchronised_from(flag, &how));
+    printf("how: %s\n", how);
     return 0;
 }
