@@ -12,8 +12,9 @@
  * in the state directory. Returns the fd, or -1 with errno set and
  * *problem (never NULL then) saying why in words to follow "PATH: ":
  * strerror(errno) (ENOENT, EACCES, EISDIR for a directory...), "is a
- * symbolic link, which uwbd does not follow" (O_NOFOLLOW), or "is a FIFO,
- * not a regular file" (likewise a socket or a device; errno EINVAL). */
+ * symbolic link, which uwbd does not follow in its state directory"
+ * (O_NOFOLLOW: meant for state files), or "is a FIFO, not a regular
+ * file" (likewise a socket or a device; errno EINVAL). */
 int uwb_open_regular(const char *path, int flags, mode_t mode, const char **problem);
 
 #endif

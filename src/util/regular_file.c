@@ -28,7 +28,7 @@ static const char *not_regular(mode_t mode)
 static int explain_failure(const char *path, int flags, int e, const char **problem)
 {
     if (e == ELOOP && (flags & O_NOFOLLOW)) {
-        *problem = "is a symbolic link, which uwbd does not follow";
+        *problem = "is a symbolic link, which uwbd does not follow in its state directory";
         errno = ELOOP;
         return -1;
     }
