@@ -38,10 +38,11 @@ void setUp(void)
 {
     scratch_scratch_dir(dir, sizeof dir, "retention-bounded");
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_store_open(&store, dir, NULL, err, sizeof err), err);
-    snprintf(day_dir, sizeof day_dir, "%s/%s", store.archive, DAY);
-    char cmd[2400];
-    snprintf(cmd, sizeof cmd, "mkdir -p '%s'", day_dir);
-    TEST_ASSERT_EQUAL_INT(0, system(cmd));
+    static const char *const levels[] = {"2030", "2030/01", DAY};
+    for (size_t i = 0; i < 3; i++) {
+        snprintf(day_dir, sizeof day_dir, "%s/%s", store.archive, levels[i]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, mkdir(day_dir, 0755), day_dir);
+    }
 }
 
 void tearDown(void)
