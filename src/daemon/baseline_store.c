@@ -82,7 +82,7 @@ int uwbd_baseline_info_read(const char *path, struct uwbd_baseline_info *info, c
     memset(info, 0, sizeof *info);
     char *text = NULL;
     size_t len = 0;
-    if (uwb_read_file(path, INFO_MAX, &text, &len, err, errlen) != UWB_READ_OK)
+    if (uwb_read_file_nofollow(path, INFO_MAX, &text, &len, err, errlen) != UWB_READ_OK)
         return access(path, F_OK) != 0 && errno == ENOENT ? 1 : -1;
     cJSON *o = cJSON_ParseWithLength(text, len);
     free(text);
@@ -156,7 +156,7 @@ int uwbd_baseline_load(const struct uwbd_store *store, double window_end_s, stru
     }
     char *bytes = NULL;
     size_t len = 0;
-    if (uwb_read_file(p.scan, BASELINE_MAX_BYTES, &bytes, &len, err, errlen) != UWB_READ_OK)
+    if (uwb_read_file_nofollow(p.scan, BASELINE_MAX_BYTES, &bytes, &len, err, errlen) != UWB_READ_OK)
         return UWBD_BASELINE_ERROR;
     unsigned long crc = checksum_of(bytes, len);
     struct uwb_scan scan = {0};
@@ -370,7 +370,7 @@ int uwbd_baseline_pending_read(const struct uwbd_store *store, int *scans, int *
     current_paths(store, &p);
     char *text = NULL;
     size_t len = 0;
-    if (uwb_read_file(p.pending, INFO_MAX, &text, &len, err, errlen) != UWB_READ_OK)
+    if (uwb_read_file_nofollow(p.pending, INFO_MAX, &text, &len, err, errlen) != UWB_READ_OK)
         return access(p.pending, F_OK) != 0 && errno == ENOENT ? 0 : -1;
     cJSON *o = cJSON_ParseWithLength(text, len);
     free(text);

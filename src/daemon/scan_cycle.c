@@ -538,16 +538,25 @@ int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store
         process_scan(&c, &scan);
         uwb_scan_free(&scan);
     }
-    int removed = 0, synchronised = uwbd_clock_synchronised();
+    const char *clock_how = NULL;
+    int removed = 0, synchronised = uwbd_clock_synchronised_from(UWBD_TIMESYNC_FLAG, &clock_how);
     static int said_unsynchronised; /* once per run, not once per scan */
     if (cfg->retention_max_age_days > 0 && !synchronised && !said_unsynchronised++)
-        uwbd_log(UWBD_LOG_NOTICE, "retention: the system clock is not synchronised: "
-                                  "retention.max_age_days waits for it (max_scans still applies)");
-    if (uwbd_retention_apply(store, cfg->retention_max_scans, cfg->retention_max_age_days, req->now,
-                             synchronised, &removed, err, sizeof err) != 0)
+        uwbd_log(UWBD_LOG_NOTICE,
+                 "retention: the system clock is not synchronised (%s): "
+                 "retention.max_age_days waits for it (max_scans still applies)",
+                 clock_how);
+    struct uwbd_retention_budget budget = {.max_deletions = UWBD_RETENTION_SCANS_PER_CYCLE,
+                                           .max_seconds = UWBD_RETENTION_SECONDS_PER_CYCLE,
+                                           .stop = stop};
+    if (uwbd_retention_apply_within(store, cfg->retention_max_scans, cfg->retention_max_age_days, req->now,
+                                    synchronised, &budget, &removed, err, sizeof err) != 0)
         uwbd_log(UWBD_LOG_ERR, "retention: %s", err);
-    else if (removed)
-        uwbd_log(UWBD_LOG_INFO, "retention: deleted %d archived scan%s", removed, removed == 1 ? "" : "s");
+    else if (removed || budget.cut_short)
+        uwbd_log(UWBD_LOG_INFO, "retention: deleted %d archived scan%s%s", removed, removed == 1 ? "" : "s",
+                 budget.cut_short ? *stop ? "; stopped, the rest at the next cycle"
+                                          : "; the rest at the next cycle (a cycle's share is done)"
+                                  : "");
     return 0;
 }
 

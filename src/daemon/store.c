@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "uwb/atomic_file.h"
+#include "uwb/regular_file.h"
 #include "daemon/log.h"
 
 int uwbd_path_join(char *out, size_t n, const char *dir, const char *name)
@@ -199,9 +200,10 @@ int uwbd_store_lock(const char *state_dir, char *err, size_t errlen)
         snprintf(err, errlen, "%.64s...: state directory path too long", state_dir);
         return -1;
     }
-    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    const char *problem = NULL;
+    int fd = uwb_open_regular(path, O_RDWR | O_CREAT | O_NOFOLLOW, 0644, &problem);
     if (fd < 0) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        snprintf(err, errlen, "%s: cannot open: %s", path, problem);
         return -1;
     }
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {

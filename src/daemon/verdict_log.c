@@ -14,18 +14,17 @@
 #include <unistd.h>
 
 #include "uwb/atomic_file.h"
+#include "uwb/regular_file.h"
 
 #define TAIL_BLOCK 65536
 /* A verdict line is a few kilobytes; a "line" longer than this is damage. */
 #define MAX_LINE ((size_t)256 * 1024)
 
-/* Every file of the state directory is opened with O_NOFOLLOW: a symlink
- * put in place of verdicts.jsonl or latest.json is refused, never written
- * through (appends and trims would otherwise reach another file). */
-static const char *open_problem(int e)
-{
-    return e == ELOOP ? "is a symbolic link, which uwbd does not follow in its state directory" : strerror(e);
-}
+/* Every file of the state directory is opened with O_NOFOLLOW and must be
+ * a regular file (uwb_open_regular): a symlink put in place of
+ * verdicts.jsonl or latest.json is refused, never written through (appends
+ * and trims would otherwise reach another file), and a FIFO is refused
+ * rather than waited on for ever. */
 
 int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, char *err, size_t errlen)
 {
@@ -34,9 +33,10 @@ int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, ch
         snprintf(err, errlen, "%s: refusing to append an empty or multi-line record", store->verdict_log);
         return -1;
     }
-    int fd = open(store->verdict_log, O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+    const char *problem = NULL;
+    int fd = uwb_open_regular(store->verdict_log, O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW, 0644, &problem);
     if (fd < 0) {
-        snprintf(err, errlen, "%s: cannot open for appending: %s", store->verdict_log, open_problem(errno));
+        snprintf(err, errlen, "%s: cannot open for appending: %s", store->verdict_log, problem);
         return -1;
     }
     struct stat st;
@@ -68,11 +68,12 @@ int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, ch
  * (nothing logged), 0 with *fd open, or -1 with err filled. */
 static int open_log(const struct uwbd_store *store, int flags, int *fd, off_t *size, char *err, size_t errlen)
 {
-    *fd = open(store->verdict_log, flags | O_NOFOLLOW | O_CLOEXEC);
+    const char *problem = NULL;
+    *fd = uwb_open_regular(store->verdict_log, flags | O_NOFOLLOW, 0, &problem);
     if (*fd < 0) {
         if (errno == ENOENT)
             return 1;
-        snprintf(err, errlen, "%s: cannot open: %s", store->verdict_log, open_problem(errno));
+        snprintf(err, errlen, "%s: cannot open: %s", store->verdict_log, problem);
         return -1;
     }
     struct stat st;
@@ -407,7 +408,8 @@ int uwbd_latest_write(const struct uwbd_store *store, const char *json, char *er
 int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, size_t errlen)
 {
     *json = NULL;
-    int fd = open(store->latest, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    const char *problem = NULL;
+    int fd = uwb_open_regular(store->latest, O_RDONLY | O_NOFOLLOW, 0, &problem);
     FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
     if (!f) {
         int e = errno;
@@ -415,7 +417,7 @@ int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, siz
             close(fd);
         if (e == ENOENT)
             return 0;
-        snprintf(err, errlen, "%s: cannot open: %s", store->latest, open_problem(e));
+        snprintf(err, errlen, "%s: cannot open: %s", store->latest, problem ? problem : strerror(e));
         return -1;
     }
     char *text = malloc(MAX_LINE + 1);

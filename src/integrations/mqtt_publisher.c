@@ -96,7 +96,7 @@ static void send_next(struct uwbd_mqtt *m)
     file_of(m, m->queue[0], path, sizeof path);
     char *text;
     size_t len;
-    if (uwb_read_file(path, VERDICT_MAX, &text, &len, err, sizeof err) != UWB_READ_OK) {
+    if (uwb_read_file_nofollow(path, VERDICT_MAX, &text, &len, err, sizeof err) != UWB_READ_OK) {
         uwbd_log(UWBD_LOG_ERR, "mqtt: queued verdict %s: %s; dropped", path, err);
         unlink(path);
         memmove(m->queue, m->queue + 1, (size_t)(m->queued - 1) * sizeof *m->queue);

@@ -1,5 +1,6 @@
 /* The one bounded whole-file reader (see uwb/read_file.h). */
 #include "uwb/read_file.h"
+#include "uwb/regular_file.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -82,17 +83,30 @@ enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, cha
     return UWB_READ_OK;
 }
 
-enum uwb_read_result uwb_read_file(const char *path, size_t max_bytes, char **out, size_t *out_len, char *err,
-                                   size_t errlen)
+static enum uwb_read_result read_regular(const char *path, int flags, size_t max_bytes, char **out,
+                                         size_t *out_len, char *err, size_t errlen)
 {
     *out = NULL;
     *out_len = 0;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    const char *problem = NULL;
+    int fd = uwb_open_regular(path, O_RDONLY | flags, 0, &problem);
     if (fd < 0) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        snprintf(err, errlen, "%s: cannot open: %s", path, problem);
         return UWB_READ_FAILED;
     }
     enum uwb_read_result rc = uwb_read_fd(fd, path, max_bytes, out, out_len, err, errlen);
     close(fd);
     return rc;
+}
+
+enum uwb_read_result uwb_read_file(const char *path, size_t max_bytes, char **out, size_t *out_len, char *err,
+                                   size_t errlen)
+{
+    return read_regular(path, 0, max_bytes, out, out_len, err, errlen);
+}
+
+enum uwb_read_result uwb_read_file_nofollow(const char *path, size_t max_bytes, char **out, size_t *out_len,
+                                            char *err, size_t errlen)
+{
+    return read_regular(path, O_NOFOLLOW, max_bytes, out, out_len, err, errlen);
 }

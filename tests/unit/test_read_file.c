@@ -108,7 +108,7 @@ static void test_directory_is_refused(void)
     TEST_ASSERT_EQUAL_INT(UWB_READ_FAILED, uwb_read_file(tmpdir, 64, &buf, &len, err, sizeof err));
     TEST_ASSERT_NULL(buf);
     TEST_ASSERT_TRUE_MESSAGE(strncmp(err, tmpdir, strlen(tmpdir)) == 0, err);
-    assert_err_contains("cannot read: Is a directory");
+    assert_err_contains("cannot open: Is a directory");
 }
 
 /* Byte i of the streams below: its period (251, a prime) divides no power
