@@ -18,6 +18,7 @@ struct uwb_rig_check {
     double sigma_m;    /* 1-sigma of shift_m from the residual */
     double similarity; /* normalised correlation of the static scenes at shift_m (1 = alike) */
     double structure_current, structure_baseline; /* the static scene's height-varying power / the noise's */
+    double below_winding_db;                      /* the baseline's, against the winding's peak power (dB) */
     char why[256];
 };
 
