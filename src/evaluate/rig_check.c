@@ -21,11 +21,11 @@
 #define SHIFT_STEP_M 0.0005  /* the search's grid, refined by a parabola */
 #define MIN_SAMPLES 500      /* fewer before the winding replies: nothing to check */
 #define MIN_STRUCTURE 4.0    /* the static scene's height-varying power over the noise's, at least */
-#define MIN_BELOW_WINDING_DB \
-    (-45.0)                 /* and over this against the winding's peak power: under it, \
-                               the winding's own sidelobes and what conditioning leaves of it \
-                               (-57...-77 dB on the simulated tank at 20-60 dB of SNR, -65 dB \
-                               for the paper's pair in air; a real static scene -26...-37 dB) */
+/* The window before the winding also holds the winding's own sidelobes and
+ * what conditioning leaves of it, which move with it: -57...-77 dB under its
+ * peak power on the simulated tank at 20-60 dB of SNR, -65 dB on the paper's
+ * pair in air; a real static scene lies at -26...-37 dB. */
+#define MIN_BELOW_WINDING_DB (-45.0)
 #define MIN_SIMILARITY 0.5  /* below, the static scene is not the baseline's */
 #define SIGMAS 5.0          /* a shift this many sigma off zero is the rig's */
 #define MIN_SHIFT_M 0.003   /* and never less: the fit's floor on noiseless scans */
