@@ -63,4 +63,37 @@ json_check moved.json 'status == alarm' 'axial_displacement_mm ~ 12 1' ||
 wait_for test "$(contacts)" == "1 1 1" || fail "winding moved: contacts $(contacts), want 1 1 1"
 pass "winding moved 12 mm with the rig right: alarm $(json_get axial_displacement_mm < moved.json) mm, fault contact healthy"
 
+# The default scene (uwbsim's defaults, nothing static before the winding,
+# where the static-scene check stands aside): the scale error drives the
+# carriage 9 mm for every mm commanded, into the rig's top end stop. The
+# steps the stalled motor loses are found when the carriage comes back down
+# to the home switch: error, the fault contact open, never a displacement.
+kill "$daemon_pid" "$emu_pid" 2>/dev/null || true
+wait "$daemon_pid" "$emu_pid" 2>/dev/null || true
+rm -rf run && mkdir run
+start_emulated_board --site-io unix:run/site.sock --seed 5
+${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$REPO/board/emulated/uwbd.json" "${root_flag[@]}" -v \
+    --set site.asset_id=T1 --set contacts.enabled=true --set gpio.site_endpoint=unix:run/site.sock \
+    --set carriage.home_timeout_s=20 --set baseline.scans=2 > uwbd.log 2>&1 &
+daemon_pid=$!
+pids+=($daemon_pid)
+wait_for ctl status || fail "uwbd does not answer on its control socket (default scene)"
+ctl baseline set > /dev/null
+ctl scan > commission-default.json || fail "commissioning scan, default scene: $(cat commission-default.json)"
+json_check commission-default.json 'baseline_set = true' ||
+    fail "commissioning scan, default scene: $(cat commission-default.json)"
+
+emu board steps_per_mm 11 > /dev/null
+ctl scan > scale-default.json || true
+json_check scale-default.json 'class == VERDICT' 'status == error' 'reason imatches steps lost' \
+    'reason imatches travel|end stop' ||
+    fail "default scene, steps_per_mm 11: want an error naming lost steps: $(cat scale-default.json)"
+! grep -q axial_displacement_mm scale-default.json ||
+    fail "default scene, steps_per_mm 11: the error verdict carries a displacement: $(cat scale-default.json)"
+wait_for test "$(contacts)" == "0 0 0" ||
+    fail "default scene, steps_per_mm 11: contacts (watch alarm fault) $(contacts), want 0 0 0"
+emu status > emu-status.json
+json_check emu-status.json 'y_m < 0.7' || fail "default scene: the carriage went past the rig's top: $(cat emu-status.json)"
+pass "default scene, steps_per_mm 11: error, fault contact open ($(json_get reason < scale-default.json))"
+
 echo "$passed passed, 0 failed"
