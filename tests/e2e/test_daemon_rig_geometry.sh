@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # A slipped rig (issue 27, break 6): after a baseline, the emulated board's
-# carriage is given a wrong scale (`board steps_per_mm 11` against the
-# daemon's 100: a microstepping mismatch) and then a wrong home
-# (`board home_y_mm -10` against -20: the home switch's bracket slipped).
-# Each scan must be an `error` verdict naming the rig's geometry, with
-# `fault: "rig"` and the fault contact open, never a displacement alarm;
-# an ordinary winding move (12 mm, as make demo) stays a displacement.
+# carriage is given a wrong scale (`board steps_per_mm 95` against the
+# daemon's 100, inside the travel) and then a wrong home (`board home_y_mm
+# -10` against -20: the home switch's bracket slipped). Each scan must be
+# an `error` verdict naming the rig's geometry, with `fault: "rig"` and the
+# fault contact open, never a displacement alarm; an ordinary winding move
+# (12 mm, as make demo) stays a displacement. A scale past the travel
+# (`steps_per_mm 11`, a microstepping mismatch) stalls the carriage on its
+# top stop, and the steps it loses end the scan before any analysis: that
+# part runs on the default scene, where the static-scene check stands aside.
 #
 # The tank scene's pressboard barrier is brought 200 mm in front of the
 # face with both its ends in view (y 50 and 550 mm): a static echo before
@@ -46,8 +49,8 @@ expect_rig_fault() {
     pass "$what: error, fault rig, fault contact open ($(json_get reason < "$out"))"
 }
 
-emu board steps_per_mm 11 > /dev/null
-expect_rig_fault "steps_per_mm 11 on the board, 100 in the daemon" scale.json
+emu board steps_per_mm 95 > /dev/null
+expect_rig_fault "steps_per_mm 95 on the board, 100 in the daemon" scale.json
 emu board steps_per_mm 100 > /dev/null
 
 emu board home_y_mm -10 > /dev/null
