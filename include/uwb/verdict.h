@@ -47,6 +47,7 @@ struct uwb_thresholds {
 struct uwb_verdict {
     enum uwb_status status;
     char reason[256]; /* why inconclusive, or empty */
+    char fault[16];   /* with status error: what failed ("baseline", "rig"), or empty */
     char scan_id[128];
     char created[64];
     struct uwb_edges current;

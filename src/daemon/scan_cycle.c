@@ -44,7 +44,6 @@ struct cycle {
     char reacquire_note[256]; /* why no more were acquired while inconclusive */
     char clock_note[200];     /* "" unless the clock went back (issue 17) */
     char baseline_note[256];  /* after `baseline set`: why it was not set, or how */
-    const char *fault;        /* "baseline" when the baseline failed its check */
 };
 
 static int file_exists_in(const char *dir, const char *id, const char *suffix)
@@ -126,8 +125,6 @@ static int write_verdict_file(struct cycle *c, const char *text, char *err, size
 static void add_cycle_fields(const struct cycle *c, cJSON *o, const char *scan_file, int pulses)
 {
     cJSON_AddStringToObject(o, "scan_file", scan_file);
-    if (c->fault)
-        cJSON_AddStringToObject(o, "fault", c->fault);
     if (c->req->make_baseline) {
         cJSON_AddBoolToObject(o, "baseline_set", c->res->baseline_set);
         if (c->baseline_note[0])
@@ -469,7 +466,7 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
         } else {
             v.status = UWB_STATUS_ERROR;
             snprintf(v.reason, sizeof v.reason, "fault: %.240s", c->res->fault);
-            c->fault = "baseline";
+            snprintf(v.fault, sizeof v.fault, "baseline");
         }
     }
     /* The images after the baseline was set, so a commissioning scan's

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "uwb/direct_coupling.h"
+#include "uwb/rig_check.h"
 
 void uwb_evaluate_defaults(struct uwb_evaluate_options *opt)
 {
@@ -208,6 +209,26 @@ static void not_compared(struct uwb_verdict *v, const struct uwb_edges *cur, con
     snprintf(v->reason, sizeof v->reason, "%.200s%s%.50s", why, edges_reason[0] ? "; " : "", edges_reason);
 }
 
+/* A rig whose home or scale changed moves the static scene with the winding
+ * (uwb/rig_check.h): an error with the fault contact open, not a
+ * displacement. -1 (analyses freed) on a hard error. */
+static int rig_unchanged(struct uwb_analysis *cur_a, struct uwb_analysis *base_a,
+                         const struct uwb_pair_figures *pair, struct uwb_verdict *v, char *err, size_t errlen)
+{
+    struct uwb_rig_check rig;
+    if (uwb_rig_check(cur_a, base_a, pair->valid ? &pair->displacement_m : NULL, &rig, err, errlen) != 0) {
+        uwb_analysis_free(cur_a);
+        uwb_analysis_free(base_a);
+        return -1;
+    }
+    if (rig.moved) {
+        v->status = UWB_STATUS_ERROR;
+        snprintf(v->reason, sizeof v->reason, "%s", rig.why);
+        snprintf(v->fault, sizeof v->fault, "rig");
+    }
+    return 0;
+}
+
 int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_record *baseline,
                  const struct uwb_evaluate_options *opt, struct uwb_verdict *v, struct uwb_analysis *cur_a,
                  struct uwb_analysis *base_a, char *err, size_t errlen)
@@ -300,5 +321,5 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
                                                          &pair.upper_shift_m, err, errlen) == 0;
     }
     uwb_compare_pair(v, &cur_a->edges, &base_a->edges, &pair, &copt);
-    return 0;
+    return rig_unchanged(cur_a, base_a, &pair, v, err, errlen);
 }

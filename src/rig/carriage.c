@@ -292,10 +292,14 @@ int uwb_carriage_check_home(struct uwb_carriage *c, double *off_mm, char *err, s
                          &found, &nominal_s, err, errlen);
         if (rc != UWB_RIG_OK)
             return rc;
+        /* The way down may have pressed the carriage into its bottom stop,
+         * so this is the least that was lost; the causes are named because
+         * a scale error shows up here too, once the top stop stalls it. */
         *off_mm = c->position / cfg->steps_per_mm;
         snprintf(err, errlen,
-                 "steps lost: %.2f mm (the home switch opens %.2f mm above the counted home%s; "
-                 "tolerance %.2f mm)",
+                 "steps lost: %.2f mm or more (the home switch opens %.2f mm above the counted home%s; "
+                 "tolerance %.2f mm): stalled or slipped going up (obstruction, belt, or past the travel "
+                 "into the top stop: steps_per_mm?)",
                  *off_mm, *off_mm, found > 0 ? "" : " or higher", tolerance_mm);
         return UWB_RIG_ERR_HOME;
     }

@@ -45,12 +45,14 @@ cJSON *uwb_verdict_object(const struct uwb_verdict *v)
     cJSON_AddStringToObject(o, "status", uwb_status_name(v->status));
     if (v->reason[0])
         cJSON_AddStringToObject(o, "reason", v->reason);
+    if (v->fault[0])
+        cJSON_AddStringToObject(o, "fault", v->fault);
     if (v->scan_id[0])
         cJSON_AddStringToObject(o, "scan_id", v->scan_id);
     if (v->created[0])
         cJSON_AddStringToObject(o, "created", v->created);
-    int compared =
-        v->has_baseline && v->current.found && v->baseline.found && v->status != UWB_STATUS_INCONCLUSIVE;
+    int compared = v->has_baseline && v->current.found && v->baseline.found &&
+                   v->status != UWB_STATUS_INCONCLUSIVE && v->status != UWB_STATUS_ERROR;
     if (compared) {
         add_mm(o, "axial_displacement_mm", v->axial_displacement_m);
         add_mm(o, "uncertainty_mm", v->uncertainty_m);

@@ -379,11 +379,11 @@ static void test_full_scan_traces_are_computed_where_the_carriage_is(void)
     uwb_rig_close(rig);
 }
 
-/* The daemon thinks 10 steps/mm, the mechanics do 8: homing works, but the
+/* The daemon thinks 10 steps/mm, the mechanics do 12: homing works, but the
  * traces come from the wrong heights, and the board's log shows it. */
 static void test_wrong_steps_per_mm_gives_traces_from_wrong_heights(void)
 {
-    ctl_ok("board steps_per_mm 8");
+    ctl_ok("board steps_per_mm 12");
     struct uwb_rig_config cfg;
     rig_config(&cfg, 5);
     cfg.digitiser.stack = 1;
@@ -395,9 +395,38 @@ static void test_wrong_steps_per_mm_gives_traces_from_wrong_heights(void)
     double worst = 0;
     for (int k = 0; k < 5; k++)
         worst = fmax(worst, fabs(ys[k] - scan.antenna_y_m[k]));
-    /* the last position, 620 mm above home, is really 775 mm up: off by 155 mm */
-    TEST_ASSERT_DOUBLE_WITHIN(0.002, 0.155, worst);
+    /* the last position, 620 mm above home, is really 516.7 mm up: off by 103.3 mm */
+    TEST_ASSERT_DOUBLE_WITHIN(0.002, 0.1033, worst);
     uwb_scan_free(&scan);
+    uwb_rig_close(rig);
+}
+
+/* The daemon thinks 10 steps/mm, the mechanics do 8: the last positions lie
+ * past the travel, where the carriage meets its top stop (670 mm above the
+ * switch); the stalled steps are lost, and the home check says so. */
+static void test_a_scale_past_the_travel_stalls_at_the_top_stop(void)
+{
+    ctl_ok("board steps_per_mm 8");
+    struct uwb_rig_config cfg;
+    rig_config(&cfg, 5);
+    cfg.digitiser.stack = 1;
+    struct uwb_rig *rig = open_rig(&cfg);
+    struct uwb_scan scan;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_RIG_ERR_HOME, uwb_rig_scan(rig, NULL, &scan, err, sizeof err), err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "steps lost"), err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "top stop"), err);
+    double ys[64];
+    int n = sent_ys(ys, 64);
+    TEST_ASSERT_EQUAL_INT(5, n);
+    double highest = 0;
+    for (int k = 0; k < n; k++)
+        highest = fmax(highest, ys[k]);
+    /* y = home_y_mm (-20) + 670 mm: the stop, not 775 mm up */
+    TEST_ASSERT_DOUBLE_WITHIN(0.001, 0.650, highest);
+    cJSON *status = ctl("status");
+    TEST_ASSERT_TRUE(status_number(status, "steps_stalled") > 0);
+    cJSON_Delete(status);
+    assert_board_safe();
     uwb_rig_close(rig);
 }
 
@@ -656,6 +685,7 @@ int main(void)
     start_board();
     RUN_TEST(test_full_scan_traces_are_computed_where_the_carriage_is);
     RUN_TEST(test_wrong_steps_per_mm_gives_traces_from_wrong_heights);
+    RUN_TEST(test_a_scale_past_the_travel_stalls_at_the_top_stop);
     RUN_TEST(test_inverted_dir_is_caught_by_the_home_search);
     RUN_TEST(test_bad_and_missing_frames_are_fired_again);
     RUN_TEST(test_a_dropped_digitiser_link_is_reopened);

@@ -19,6 +19,10 @@
 #define EMU_GPIO_PROTOCOL "uwb-gpio/1"
 /* The carriage's hard stop, this far below the home switch (mm). */
 #define EMU_END_STOP_BELOW_HOME_MM 3.0
+/* Its hard stop at the top, this far above the home switch (mm): the
+ * emulated rig's travel (board/emulated/uwbd.json, carriage.travel_mm 650)
+ * and 20 mm of clearance, so a daemon that steps too far stalls there. */
+#define EMU_END_STOP_ABOVE_HOME_MM 670.0
 
 enum emu_fault_id {
     EMU_FAULT_CRC,        /* corrupt one payload byte after the CRC is computed */
@@ -67,7 +71,7 @@ struct emu_board {
     long steps;       /* microsteps above home (0 = switch closes) */
     int line[UWB_LINE_COUNT];
     unsigned long steps_counted, steps_while_disabled;
-    unsigned long steps_stalled; /* counted, but against the end stop */
+    unsigned long steps_stalled; /* counted, but against an end stop */
     unsigned long steps_lost;    /* counted, but lost to the lose-steps fault */
 
     /* the digitiser */

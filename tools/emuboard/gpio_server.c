@@ -1,7 +1,8 @@
 /* The board's side of the emulated-GPIO protocol (board/emulated-gpio.md):
  * STEP rising edges move the carriage one microstep in the DIR direction
- * while ENABLE is high, a TRIGGER rising edge fires the pulser, HOME reads
- * closed at or below the switch. */
+ * while ENABLE is high, between the end stops below the switch and above
+ * the travel; a TRIGGER rising edge fires the pulser, HOME reads closed at
+ * or below the switch. */
 #include <stdio.h>
 #include <string.h>
 
@@ -30,10 +31,15 @@ static void set_line(struct emu_board *b, int line, int value)
         }
         int up = b->line[UWB_LINE_DIR] ^ b->invert_dir;
         b->steps_counted++;
-        /* The carriage's mechanical stop a little below the switch: a home
-         * search with a dead switch stalls there, as on a real rig, instead
-         * of driving on without end. */
+        /* The carriage's mechanical stops, a little below the switch and
+         * just above the travel: a home search with a dead switch, or a
+         * daemon stepping too far up, stalls there as on a real rig instead
+         * of driving on without end; the stalled motor does not move. */
         if (!up && b->steps <= -(long)(EMU_END_STOP_BELOW_HOME_MM * b->steps_per_mm)) {
+            b->steps_stalled++;
+            return;
+        }
+        if (up && b->steps >= (long)(EMU_END_STOP_ABOVE_HOME_MM * b->steps_per_mm)) {
             b->steps_stalled++;
             return;
         }
