@@ -680,22 +680,36 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
                      struct uwb_analysis *out, char *err, size_t errlen)
 {
     double excluded[MAX_FACE_TRIES];
-    char first_reason[sizeof out->edges.reason] = "";
+    /* The first pick's analysis, kept while the next reflectors are tried:
+     * when none holds it is the answer, with its conditioned traces and
+     * images, which the rig check and the B-scan still need (a later try
+     * can stop before conditioning). */
+    struct uwb_analysis first;
+    memset(&first, 0, sizeof first);
     for (int n = 0; n < MAX_FACE_TRIES; n++) {
         int rejected = 0;
-        if (analyse_once(scan, opt, excluded, n, out, &excluded[n], &rejected, err, errlen) != 0)
+        if (analyse_once(scan, opt, excluded, n, out, &excluded[n], &rejected, err, errlen) != 0) {
+            uwb_analysis_free(&first);
             return -1;
-        if (out->edges.found || !rejected || n + 1 == MAX_FACE_TRIES) {
-            /* None held: say why the first pick (the likeliest) was rejected. */
-            if (!out->edges.found && first_reason[0])
-                snprintf(out->edges.reason, sizeof out->edges.reason, "%.200s (and %d more tried)",
-                         first_reason, n);
+        }
+        if (out->edges.found || (n == 0 && !rejected)) {
+            uwb_analysis_free(&first);
             return 0;
         }
         if (n == 0)
-            snprintf(first_reason, sizeof first_reason, "%s", out->edges.reason);
-        uwb_analysis_free(out);
+            first = *out;
+        else
+            uwb_analysis_free(out);
+        if (n > 0 && (!rejected || n + 1 == MAX_FACE_TRIES)) {
+            /* None held: the first pick (the likeliest), and why it was rejected. */
+            *out = first;
+            size_t len = strlen(out->edges.reason);
+            snprintf(out->edges.reason + len, sizeof out->edges.reason - len, " (and %d more tried)", n);
+            return 0;
+        }
+        memset(out, 0, sizeof *out);
     }
+    *out = first;
     return 0;
 }
 
