@@ -606,19 +606,26 @@ static void test_rejects_what_the_rig_cannot_record(void)
     free(header);
 }
 
-static void test_huge_dimensions_are_checked_without_overflow(void)
+/* GOOD_HEADER for a scan of `positions` x `samples`, positions 1 mm apart. */
+static char *header_shaped(int positions, int samples)
 {
-    /* 4096 x 1048576 x 4 = 2^34 bytes: must be reported, not wrapped or allocated. */
-    char *h1 = header_with("positions", "4096");
-    cJSON *root = cJSON_Parse(h1);
-    free(h1);
-    cJSON_ReplaceItemInObjectCaseSensitive(root, "samples", cJSON_CreateNumber(1048576));
+    cJSON *root = cJSON_Parse(GOOD_HEADER);
+    TEST_ASSERT_NOT_NULL(root);
+    cJSON_ReplaceItemInObjectCaseSensitive(root, "positions", cJSON_CreateNumber(positions));
+    cJSON_ReplaceItemInObjectCaseSensitive(root, "samples", cJSON_CreateNumber(samples));
     cJSON *ys = cJSON_CreateArray();
-    for (int k = 0; k < 4096; k++)
+    for (int k = 0; k < positions; k++)
         cJSON_AddItemToArray(ys, cJSON_CreateNumber(k * 0.001));
     cJSON_ReplaceItemInObjectCaseSensitive(root, "antenna_y_m", ys);
     char *header = cJSON_PrintUnformatted(root);
     cJSON_Delete(root);
+    return header;
+}
+
+static void test_huge_dimensions_are_checked_without_overflow(void)
+{
+    /* 4096 x 1048576 x 4 = 2^34 bytes: must be reported, not wrapped or allocated. */
+    char *header = header_shaped(4096, 1048576);
     expect_reject(header, 2,
                   "4096 positions x 1048576 samples = 4294967296 samples, over the limit of 16777216");
     free(header);
@@ -632,16 +639,7 @@ static void expect_writer_refuses(const struct uwb_scan *scan, const char *needl
  * writer never writes one. */
 static void test_scans_past_64_mib_of_samples_are_refused(void)
 {
-    cJSON *root = cJSON_Parse(GOOD_HEADER);
-    TEST_ASSERT_NOT_NULL(root);
-    cJSON_ReplaceItemInObjectCaseSensitive(root, "positions", cJSON_CreateNumber(512));
-    cJSON_ReplaceItemInObjectCaseSensitive(root, "samples", cJSON_CreateNumber(32769));
-    cJSON *ys = cJSON_CreateArray();
-    for (int k = 0; k < 512; k++)
-        cJSON_AddItemToArray(ys, cJSON_CreateNumber(k * 0.001));
-    cJSON_ReplaceItemInObjectCaseSensitive(root, "antenna_y_m", ys);
-    char *header = cJSON_PrintUnformatted(root);
-    cJSON_Delete(root);
+    char *header = header_shaped(512, 32769);
     expect_reject(header, 2,
                   "512 positions x 32769 samples = 16777728 samples, over the limit of 16777216 (64 MiB "
                   "of float32)");
