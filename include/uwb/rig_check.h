@@ -3,7 +3,11 @@
  * clamp plate, a reference target on the rig's frame) must image at the
  * same heights as in the baseline. A home switch that slipped shifts the
  * whole image, the winding with it; a steps-per-mm mismatch stretches it;
- * either would otherwise read as a displacement of the winding. */
+ * either would otherwise read as a displacement of the winding. The
+ * appliance carries a fixed reference target for this (a small metal strip
+ * on the window frame, clear of the winding's edges; uwbsim's `reference`,
+ * on in scenes/tank-3d.json): without a static echo that varies with height
+ * the check stands aside and a slipped home reads as a displacement. */
 #ifndef UWB_RIG_CHECK_H
 #define UWB_RIG_CHECK_H
 

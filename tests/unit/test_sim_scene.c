@@ -165,6 +165,13 @@ static void test_validation_names_the_parameters(void)
     sc.pulse = SIM_PULSE_FILE;
     TEST_ASSERT_EQUAL_INT(-1, sim_scene_validate(&sc, err, sizeof err));
     TEST_ASSERT_NOT_NULL(strstr(err, "pulse_file"));
+    TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&sc));
+    sc.reference = 1;
+    sc.reference_z_m = sc.face_z_m; /* the reference target stands in front of the barrier */
+    TEST_ASSERT_EQUAL_INT(-1, sim_scene_validate(&sc, err, sizeof err));
+    TEST_ASSERT_NOT_NULL(strstr(err, "reference_z_m"));
+    sc.reference_z_m = 0.2;
+    TEST_ASSERT_EQUAL_INT(0, sim_scene_validate(&sc, err, sizeof err));
 }
 
 /* The example scenes shipped in tools/uwbsim/scenes load, validate and run. */

@@ -80,7 +80,7 @@ static const struct sim_param params[] = {
         "direction the top leans to: 0 = toward the antennas, 90 = sideways (+x); 3d mode only"),
 
     BOOL(clutter, "true", "clutter",
-         "master switch for the static clutter below (core, barrier, clamp, far wall)"),
+         "master switch for the static clutter below (core, barrier, clamp, reference target, far wall)"),
     BOOL(core, "true", "clutter", "core leg behind the winding, a flat-fronted steel bar"),
     NUM(core_front_m, "m", "0.08", "clutter", 0, 5,
         "core leg's front face: distance in front of the winding axis"),
@@ -103,6 +103,17 @@ static const struct sim_param params[] = {
     NUM(clamp_depth_m, "m", "0.25", "clutter", 0.001, 5, "clamping plate depth along z"),
     NUM(clamp_setback_m, "m", "0", "clutter", -1, 5,
         "range of the plate's front edge behind the winding's (undisplaced) face"),
+    BOOL(reference, "false", "clutter",
+         "the rig's fixed reference target: a small flat metal strip facing the antennas, fixed to the "
+         "window frame in front of the winding, so the static scene varies with height and the rig "
+         "check sees a slipped home switch; put it above or below the winding (level with the face it "
+         "is taken for the face)"),
+    NUM(reference_y_m, "m", "0.55", "clutter", -20, 20, "height of the reference target's centre"),
+    NUM(reference_z_m, "m", "0.2", "clutter", 0.01, 20,
+        "range of the reference target's face from the antenna line (between the window and the "
+        "barrier)"),
+    NUM(reference_height_m, "m", "0.025", "clutter", 0.001, 1, "reference target's height (along y)"),
+    NUM(reference_width_m, "m", "0.05", "clutter", 0.001, 5, "reference target's width (along x)"),
     BOOL(far_wall, "true", "clutter", "the tank's far wall, a flat steel plane"),
     NUM(far_wall_z_m, "m", "1.4", "clutter", 0.01, 50, "range of the far wall"),
     NUM(far_wall_reflectivity, "", "0.3", "clutter", 0, 1,
@@ -372,6 +383,13 @@ int sim_scene_validate(const struct sim_scene *s, char *err, size_t errlen)
     if (s->clutter && s->barrier &&
         s->window_gap_m + s->window_thickness_m >= s->face_z_m - s->barrier_gap_m - s->barrier_thickness_m) {
         snprintf(err, errlen, "barrier_gap_m: the barrier would overlap the tank window");
+        return -1;
+    }
+    if (s->clutter && s->reference &&
+        (s->reference_z_m <= s->window_gap_m + s->window_thickness_m ||
+         s->reference_z_m >= s->face_z_m - (s->barrier ? s->barrier_gap_m + s->barrier_thickness_m : 0))) {
+        snprintf(err, errlen, "reference_z_m: %g m is not between the tank window and the barrier or winding",
+                 s->reference_z_m);
         return -1;
     }
     if (s->core_y_min_m >= s->core_y_max_m) {

@@ -62,6 +62,11 @@ struct sim_scene {
     double clamp_width_m;
     double clamp_depth_m;
     double clamp_setback_m;
+    int reference; /* the rig's fixed reference target */
+    double reference_y_m;
+    double reference_z_m;
+    double reference_height_m;
+    double reference_width_m;
     int far_wall;
     double far_wall_z_m;
     double far_wall_reflectivity;

@@ -404,6 +404,11 @@ static void build_clutter(const struct sim_scene *s, struct builder *b)
         add_rect(b, X, -w / 2, w / 2, Z, z0, z1, Y, y0, -1, m2, -1.0, 1); /* underside */
         add_rect(b, X, -w / 2, w / 2, Z, z0, z1, Y, y1, +1, m2, -1.0, 1); /* top */
     }
+    if (s->reference) { /* a flat metal strip facing the antennas */
+        double w = s->reference_width_m, y0 = s->reference_y_m - s->reference_height_m / 2;
+        add_rect(b, X, -w / 2, w / 2, Y, y0, y0 + s->reference_height_m, Z, s->reference_z_m, -1, m2, -1.0,
+                 1);
+    }
     if (s->barrier) {
         double n_oil = sqrt(s->eps_r), n_b = sqrt(s->barrier_eps_r);
         double r1 = (n_oil - n_b) / (n_oil + n_b);
