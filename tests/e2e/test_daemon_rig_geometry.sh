@@ -16,6 +16,8 @@
 # target on the rig's frame gives (the scene's own reference target is
 # off there). The shipped 3-D tank scene, as make demo runs it, carries the
 # rig's fixed reference target: a home slip there must be a rig fault too,
+# and so must a scale error inside the travel (steps_per_mm 105 and 95: the
+# target moves by its height times the error, more than the winding),
 # and a 12 mm winding move still an alarm (the target is not taken for the
 # winding's face). uwbsim's defaults have nothing static before the winding,
 # and there the check stands aside (README).
@@ -28,18 +30,27 @@ ctl() { uwbd ctl --socket run/control.sock --timeout 300 "$@"; }
 emu() { uwbemu --ctl unix:run/emu.sock "$*"; }
 contacts() { emu status | json_get lines.watch lines.alarm lines.fault | paste -sd ' '; }
 
-start_emulated_board --site-io unix:run/site.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" \
-    --set barrier_y_min_m=0.05 --set barrier_y_max_m=0.55 --set barrier_gap_m=0.2 --set reference=false --seed 5
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$REPO/board/emulated/uwbd.json" "${root_flag[@]}" -v \
-    --set site.asset_id=T1 --set contacts.enabled=true --set gpio.site_endpoint=unix:run/site.sock \
-    --set carriage.home_timeout_s=20 --set baseline.scans=2 > uwbd.log 2>&1 &
-daemon_pid=$!
-pids+=($daemon_pid)
-wait_for ctl status || fail "uwbd does not answer on its control socket"
+# start_pair ARGS...: a fresh emulated board (ARGS) and daemon, commissioned.
+start_pair() {
+    if [[ -n ${daemon_pid:-} ]]; then
+        kill "$daemon_pid" "$emu_pid" 2>/dev/null || true
+        wait "$daemon_pid" "$emu_pid" 2>/dev/null || true
+    fi
+    rm -rf run && mkdir run
+    start_emulated_board --site-io unix:run/site.sock "$@"
+    ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$REPO/board/emulated/uwbd.json" "${root_flag[@]}" -v \
+        --set site.asset_id=T1 --set contacts.enabled=true --set gpio.site_endpoint=unix:run/site.sock \
+        --set carriage.home_timeout_s=20 --set baseline.scans=2 > uwbd.log 2>&1 &
+    daemon_pid=$!
+    pids+=($daemon_pid)
+    wait_for ctl status || fail "uwbd does not answer on its control socket ($*)"
+    ctl baseline set > /dev/null
+    ctl scan > commission-pair.json || fail "commissioning scan ($*): $(cat commission-pair.json)"
+    json_check commission-pair.json 'baseline_set = true' || fail "commissioning scan ($*): $(cat commission-pair.json)"
+}
 
-ctl baseline set > /dev/null
-ctl scan > commission.json || fail "commissioning scan: $(cat commission.json)"
-json_check commission.json 'baseline_set = true' || fail "commissioning scan: $(cat commission.json)"
+start_pair --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set barrier_y_min_m=0.05 \
+    --set barrier_y_max_m=0.55 --set barrier_gap_m=0.2 --set reference=false --seed 5
 
 # A scan through a faulty rig: error, the reason, fault "rig", no displacement, fault contact open.
 expect_rig_fault() {
@@ -70,22 +81,6 @@ json_check moved.json 'status == alarm' 'axial_displacement_mm ~ 12 1' ||
 wait_for test "$(contacts)" == "1 1 1" || fail "winding moved: contacts $(contacts), want 1 1 1"
 pass "winding moved 12 mm with the rig right: alarm $(json_get axial_displacement_mm < moved.json) mm, fault contact healthy"
 
-# start_pair ARGS...: a fresh emulated board (ARGS) and daemon, commissioned.
-start_pair() {
-    kill "$daemon_pid" "$emu_pid" 2>/dev/null || true
-    wait "$daemon_pid" "$emu_pid" 2>/dev/null || true
-    rm -rf run && mkdir run
-    start_emulated_board --site-io unix:run/site.sock "$@"
-    ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$REPO/board/emulated/uwbd.json" "${root_flag[@]}" -v \
-        --set site.asset_id=T1 --set contacts.enabled=true --set gpio.site_endpoint=unix:run/site.sock \
-        --set carriage.home_timeout_s=20 --set baseline.scans=2 > uwbd.log 2>&1 &
-    daemon_pid=$!
-    pids+=($daemon_pid)
-    wait_for ctl status || fail "uwbd does not answer on its control socket ($*)"
-    ctl baseline set > /dev/null
-    ctl scan > commission-pair.json || fail "commissioning scan ($*): $(cat commission-pair.json)"
-    json_check commission-pair.json 'baseline_set = true' || fail "commissioning scan ($*): $(cat commission-pair.json)"
-}
 
 # The shipped tank scene with its reference target (a 25 mm metal strip on
 # the window frame, 200 mm out, 550 mm up): the home slip moves it along y.
@@ -93,6 +88,13 @@ start_pair --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --seed 5
 emu board home_y_mm -10 > /dev/null
 expect_rig_fault "tank scene with its reference target, home switch at -10 mm, the daemon's -20" home-ref.json
 emu board home_y_mm -20 > /dev/null
+# A scale error inside the travel (a wrong pulley or belt pitch) moves the
+# target by its height times the error, the winding by less: 5 % either way.
+emu board steps_per_mm 105 > /dev/null
+expect_rig_fault "tank scene with its reference target, steps_per_mm 105 on the board, 100 in the daemon" scale-up-ref.json
+emu board steps_per_mm 95 > /dev/null
+expect_rig_fault "tank scene with its reference target, steps_per_mm 95 on the board, 100 in the daemon" scale-down-ref.json
+emu board steps_per_mm 100 > /dev/null
 emu set displacement_m 0.012 > /dev/null
 ctl scan > moved-ref.json || fail "reference target, winding moved: $(cat moved-ref.json)"
 json_check moved-ref.json 'status == alarm' 'axial_displacement_mm ~ 12 1' 'face_range_mm > 420' ||
@@ -104,20 +106,7 @@ pass "tank scene with its reference target, winding moved 12 mm: alarm $(json_ge
 # carriage 9 mm for every mm commanded, into the rig's top end stop. The
 # steps the stalled motor loses are found when the carriage comes back down
 # to the home switch: error, the fault contact open, never a displacement.
-kill "$daemon_pid" "$emu_pid" 2>/dev/null || true
-wait "$daemon_pid" "$emu_pid" 2>/dev/null || true
-rm -rf run && mkdir run
-start_emulated_board --site-io unix:run/site.sock --seed 5
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$REPO/board/emulated/uwbd.json" "${root_flag[@]}" -v \
-    --set site.asset_id=T1 --set contacts.enabled=true --set gpio.site_endpoint=unix:run/site.sock \
-    --set carriage.home_timeout_s=20 --set baseline.scans=2 > uwbd.log 2>&1 &
-daemon_pid=$!
-pids+=($daemon_pid)
-wait_for ctl status || fail "uwbd does not answer on its control socket (default scene)"
-ctl baseline set > /dev/null
-ctl scan > commission-default.json || fail "commissioning scan, default scene: $(cat commission-default.json)"
-json_check commission-default.json 'baseline_set = true' ||
-    fail "commissioning scan, default scene: $(cat commission-default.json)"
+start_pair --seed 5
 
 emu board steps_per_mm 11 > /dev/null
 ctl scan > scale-default.json || true
