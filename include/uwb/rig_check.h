@@ -29,10 +29,11 @@ struct uwb_rig_check {
 /* Compare the static scene of two analysed scans of one rig (their
  * conditioned traces, same positions and samples) before the baseline's
  * winding, moved by up to 60 mm, can reply; the baseline must have found
- * the winding. displacement_m (NULL: not measured) is the winding's: a rig
- * fault moves the static scene with it. checked = 0 when that part holds
- * no echo that varies with height (under 4 x the noise power, or under
- * -45 dB of the winding's peak). Returns 0, or -1 with err (memory). */
+ * the winding. displacement_m (NULL: not measured) is the winding's, named
+ * in the reason: any significant shift of the static scene is a rig fault,
+ * whatever the winding read. checked = 0 when that part holds no echo
+ * that varies with height (under 4 x the noise power, or under -45 dB
+ * of the winding's peak). Returns 0, or -1 with err (memory). */
 int uwb_rig_check(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                   const double *displacement_m, struct uwb_rig_check *out, char *err, size_t errlen);
 

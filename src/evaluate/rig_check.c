@@ -26,10 +26,9 @@
  * peak power on the simulated tank at 20-60 dB of SNR, -65 dB on the paper's
  * pair in air; a real static scene lies at -26...-37 dB. */
 #define MIN_BELOW_WINDING_DB (-45.0)
-#define MIN_SIMILARITY 0.5  /* below, the static scene is not the baseline's */
-#define SIGMAS 5.0          /* a shift this many sigma off zero is the rig's */
-#define MIN_SHIFT_M 0.003   /* and never less: the fit's floor on noiseless scans */
-#define AGREE_FRACTION 0.25 /* a rig fault: the winding read within this of the static shift */
+#define MIN_SIMILARITY 0.5 /* below, the static scene is not the baseline's */
+#define SIGMAS 5.0         /* a shift this many sigma off zero is the rig's */
+#define MIN_SHIFT_M 0.003  /* and never less: the fit's floor on noiseless scans */
 
 struct bscan {
     int k, s;
@@ -158,8 +157,11 @@ static double correlation(const struct bscan *c, const struct bscan *b, double s
     return cc > 0 && bb > 0 ? cb / sqrt(cc * bb) : 0.0;
 }
 
-static void describe(struct uwb_rig_check *out)
+static void describe(struct uwb_rig_check *out, const double *displacement_m)
 {
+    char winding[64] = "";
+    if (displacement_m)
+        snprintf(winding, sizeof winding, " (the winding read %+.1f mm)", *displacement_m * 1e3);
     if (out->similarity < MIN_SIMILARITY)
         snprintf(out->why, sizeof out->why,
                  "rig geometry changed: the static scene in front of the winding is not the baseline's "
@@ -168,8 +170,8 @@ static void describe(struct uwb_rig_check *out)
     else
         snprintf(out->why, sizeof out->why,
                  "rig geometry changed: the static scene moved %+.1f mm (sigma %.2f mm) against the "
-                 "baseline, with the winding: home switch or steps_per_mm?",
-                 out->shift_m * 1e3, out->sigma_m * 1e3);
+                 "baseline%s: home switch or steps_per_mm?",
+                 out->shift_m * 1e3, out->sigma_m * 1e3, winding);
 }
 
 int uwb_rig_check(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
@@ -256,16 +258,15 @@ int uwb_rig_check(const struct uwb_analysis *current, const struct uwb_analysis 
     double per_cell = current->dominant_hz > 0 ? 0.5 / current->dominant_hz / cs->sample_interval_s : 1;
     double var = n > 1 ? residual / (double)n : 0;
     out->sigma_m = slope2 > 0 ? sqrt(var * per_cell / slope2) : INFINITY;
-    /* A rig fault moves the static scene and the winding together; what
-     * the winding leaves in the static part moves with it only part of the
-     * way (about half on the paper's pair, which has no static scene). */
+    /* The static scene never moves: a shift of it is the rig's, whatever
+     * the winding read. A home slip moves it with the winding; a scale
+     * error (steps_per_mm, a pulley's pitch) by its height times the error,
+     * more or less than the winding. What the winding leaves in this
+     * window, and would move with it, is kept out by the level gate above. */
     int significant = fabs(out->shift_m) > SIGMAS * out->sigma_m && fabs(out->shift_m) > MIN_SHIFT_M;
-    int with_winding =
-        !displacement_m || fabs(out->shift_m - *displacement_m) <
-                               fmax(SIGMAS * out->sigma_m, AGREE_FRACTION * fabs(*displacement_m));
-    out->moved = out->similarity < MIN_SIMILARITY || (significant && with_winding);
+    out->moved = out->similarity < MIN_SIMILARITY || significant;
     if (out->moved)
-        describe(out);
+        describe(out, displacement_m);
     bscan_free(&c);
     bscan_free(&b);
     return 0;
