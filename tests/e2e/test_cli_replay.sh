@@ -140,7 +140,9 @@ done
 for k in $(seq 0 127); do cat "$out/trace-$((k * 21 / 128))"; done >> "$out/at-limit.uwbscan"
 rm -f "$out"/trace*
 set +e
-"$UWB_BUILD_DIR/e2e/peak_rss" "$out/rss" 120 ${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" --replay "$out/at-limit.uwbscan" \
+# The meter is the tester's: native from UWB_HOST_BUILD_DIR under make test-arm.
+peak_rss=${UWB_HOST_BUILD_DIR:-$UWB_BUILD_DIR}/e2e/peak_rss
+"$peak_rss" "$out/rss" 120 ${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" --replay "$out/at-limit.uwbscan" \
     > "$out/o-at" 2> "$out/e-at"
 rc=$?
 set -e
