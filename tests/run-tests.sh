@@ -18,7 +18,11 @@
 #                    program from UWB_BUILD_DIR that a test starts, since
 #                    qemu-user does not follow exec into a foreign binary
 # Knobs: UWB_TEST_TIMEOUT (seconds per binary or script, default 300),
-#        UWB_TEST_VERBOSE=1 (print every test's full output).
+#        UWB_TEST_VERBOSE=1 (print every test's full output),
+#        UWB_TEST_JOBS (programs run at once, default the number of CPUs,
+#        at most 4): most e2e scripts wait on a paced carriage, so two at a
+#        time nearly halve the run; each report is printed whole when its
+#        program ends, and the closing line counts them all.
 # An e2e script that exits 77 counts as skipped (automake convention).
 set -euo pipefail
 
@@ -33,6 +37,10 @@ readonly RUNNER="${2:-}"
 readonly TIMEOUT_SECONDS="${UWB_TEST_TIMEOUT:-300}"
 readonly VERBOSE="${UWB_TEST_VERBOSE:-0}"
 readonly TAIL_LINES=40
+jobs="${UWB_TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}"
+[[ "$jobs" =~ ^[0-9]+$ && "$jobs" -ge 1 ]] || { echo "run-tests: UWB_TEST_JOBS=$jobs: want a whole number >= 1" >&2; exit 2; }
+((jobs > 4)) && jobs=4
+readonly jobs
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -46,8 +54,13 @@ total_passed=0
 total_failed=0
 total_skipped=0
 programs_run=0
-log="$(mktemp)"
-trap 'rm -f "$log"' EXIT
+results="$(mktemp -d)"
+trap 'rm -rf "$results"' EXIT
+# Each program runs in a subshell with its own output log; it leaves its
+# report (for the terminal) and its counts ("passed failed skipped") in
+# $results/N.report and $results/N.counts for the parent to add up.
+log=""
+counts=""
 
 indent() {
     sed 's/^/    /'
@@ -95,7 +108,6 @@ run_unit_binary() {
         </dev/null >"$log" 2>&1; } 2>/dev/null || status=$?
     local took
     took="$(elapsed_since "$start")"
-    programs_run=$((programs_run + 1))
 
     local summary tests=0 failures=0 ignored=0 passed failed problem=""
     summary="$(grep -E '^[0-9]+ Tests [0-9]+ Failures [0-9]+ Ignored' "$log" | tail -n 1 || true)"
@@ -118,9 +130,7 @@ run_unit_binary() {
         problem="$(describe_exit "$status") without a Unity summary"
     fi
 
-    total_passed=$((total_passed + passed))
-    total_failed=$((total_failed + failed))
-    total_skipped=$((total_skipped + ignored))
+    echo "$passed $failed $ignored" >"$counts"
 
     local ignored_note=""
     [[ "$ignored" != 0 ]] && ignored_note=", $ignored ignored"
@@ -152,18 +162,17 @@ run_e2e_script() {
         status=$?
     local took
     took="$(elapsed_since "$start")"
-    programs_run=$((programs_run + 1))
 
     if [[ "$status" == 0 ]]; then
-        total_passed=$((total_passed + 1))
+        echo "1 0 0" >"$counts"
         echo "PASS  $name  ($took)"
         if [[ "$VERBOSE" == 1 ]]; then indent <"$log"; fi
     elif [[ "$status" == 77 ]]; then
-        total_skipped=$((total_skipped + 1))
+        echo "0 0 1" >"$counts"
         echo "SKIP  $name  ($took)"
         tail -n 3 "$log" | indent   # the script's reason
     else
-        total_failed=$((total_failed + 1))
+        echo "0 1 0" >"$counts"
         echo "FAIL  $name  ($took): $(describe_exit "$status")"
         if [[ "$VERBOSE" == 1 ]]; then
             indent <"$log"
@@ -173,7 +182,32 @@ run_e2e_script() {
     fi
 }
 
+# Prints a finished program's report and adds its counts (one that left
+# none, e.g. killed from outside, counts as a failure).
+collect() {
+    local index="$1" passed=0 failed=1 skipped=0
+    cat "$results/$index.report"
+    if [[ -s "$results/$index.counts" ]]; then
+        read -r passed failed skipped <"$results/$index.counts"
+    else
+        echo "FAIL  ${names[$index]}  (no result)"
+    fi
+    total_passed=$((total_passed + passed))
+    total_failed=$((total_failed + failed))
+    total_skipped=$((total_skipped + skipped))
+    programs_run=$((programs_run + 1))
+}
+
+# The e2e scripts first: they are the long ones, so the pool ends evenly.
+kinds=()
+paths=()
+names=()
 shopt -s nullglob
+for script in tests/e2e/test_*.sh; do
+    kinds+=(e2e)
+    paths+=("$script")
+    names+=("e2e/$(basename "$script")")
+done
 for binary in "$BUILD_DIR"/tests/test_*; do
     [[ -f "$binary" && -x "$binary" ]] || continue
     name="$(basename "$binary")"
@@ -182,10 +216,34 @@ for binary in "$BUILD_DIR"/tests/test_*; do
         echo "note  $name: no tests/unit/$name.c any more; not run" >&2
         continue
     fi
-    run_unit_binary "$binary"
+    kinds+=(unit)
+    paths+=("$binary")
+    names+=("$name")
 done
-for script in tests/e2e/test_*.sh; do
-    run_e2e_script "$script"
+
+declare -A running=()   # pid -> index
+for index in "${!paths[@]}"; do
+    while ((${#running[@]} >= jobs)); do
+        wait -n -p done_pid "${!running[@]}" || true
+        collect "${running[$done_pid]}"
+        unset "running[$done_pid]"
+    done
+    (
+        log="$results/$index.log"
+        counts="$results/$index.counts"
+        if [[ "${kinds[$index]}" == e2e ]]; then
+            run_e2e_script "${paths[$index]}"
+        else
+            run_unit_binary "${paths[$index]}"
+        fi
+        rm -f "$log"
+    ) >"$results/$index.report" 2>&1 &
+    running[$!]=$index
+done
+while ((${#running[@]} > 0)); do
+    wait -n -p done_pid "${!running[@]}" || true
+    collect "${running[$done_pid]}"
+    unset "running[$done_pid]"
 done
 
 if [[ "$programs_run" == 0 ]]; then

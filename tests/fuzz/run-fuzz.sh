@@ -57,15 +57,16 @@ classify() {
     fi
 }
 
-passed=0
-failed=0
-for name in "${targets[@]}"; do
+# One target's run: its report line on stdout, "ok" or "failed" in
+# $RUNS/NAME.result.
+fuzz_one() {
+    local name="$1" binary log work status runs coverage artifact
     binary="$BUILD_DIR/fuzz/fuzz_$name"
     log="$RUNS/$name.log"
     if [[ ! -x "$binary" ]]; then
         printf '%-12s %12s  FAILED: %s not built\n' "$name" "-" "$binary"
-        failed=$((failed + 1))
-        continue
+        echo failed >"$RUNS/$name.result"
+        return 0
     fi
     work="$RUNS/$name-corpus"
     rm -rf "$work"
@@ -85,16 +86,42 @@ for name in "${targets[@]}"; do
         coverage="$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 || true)"
         printf '%-12s %12s runs  ok (%s s, %s, %d seeds)\n' "$name" "$runs" "$SECONDS_EACH" "${coverage:-cov: ?}" \
             "$(find "tests/fuzz/corpus/$name" -type f | wc -l)"
-        passed=$((passed + 1))
+        echo ok >"$RUNS/$name.result"
     else
         artifact="$(grep -o "Test unit written to [^ ]*" "$log" | tail -n 1 | sed 's/Test unit written to //' || true)"
         printf '%-12s %12s runs  FAILED: %s%s (log: %s)\n' "$name" "$runs" "$(classify "$log")" \
             "${artifact:+, input: $artifact}" "$log"
-        failed=$((failed + 1))
+        echo failed >"$RUNS/$name.result"
         tail -n 40 "$log" | sed 's/^/    /'
     fi
     if [[ "${UWB_FUZZ_VERBOSE:-0}" == 1 ]]; then
         sed 's/^/    /' "$log"
+    fi
+}
+
+# Targets run UWB_FUZZ_JOBS at a time (default the number of CPUs): each
+# libFuzzer run is one thread, so two at once halve the stage.
+jobs="${UWB_FUZZ_JOBS:-$(nproc 2>/dev/null || echo 1)}"
+[[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "run-fuzz: UWB_FUZZ_JOBS=$jobs: want a whole number >= 1" >&2; exit 2; }
+running=0
+for name in "${targets[@]}"; do
+    rm -f "$RUNS/$name.result"
+    if ((running >= jobs)); then
+        wait -n || true
+        running=$((running - 1))
+    fi
+    fuzz_one "$name" >"$RUNS/$name.report" 2>&1 &
+    running=$((running + 1))
+done
+wait || true
+passed=0
+failed=0
+for name in "${targets[@]}"; do
+    cat "$RUNS/$name.report"
+    if [[ "$(cat "$RUNS/$name.result" 2>/dev/null)" == ok ]]; then
+        passed=$((passed + 1))
+    else
+        failed=$((failed + 1))
     fi
 done
 echo "fuzz: ${#targets[@]} targets, $SECONDS_EACH s each; artifacts in $ARTIFACTS"
