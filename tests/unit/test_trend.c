@@ -566,7 +566,7 @@ static void test_rate_needs_both_the_figures_and_the_span(void)
     const double mm[8] = {0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4};
     struct uwb_trend t;
     /* Three figures over eight days: too few. */
-    series(&t, 3, 4 * 86400, mm, sigma_03);
+    series(&t, 3, 4L * 86400, mm, sigma_03);
     TEST_ASSERT_FALSE(t.rate.known);
     TEST_ASSERT_EQUAL_STRING("3 figures over 8.0 days since the last baseline change; a rate needs at least "
                              "4 figures over 7 days",
@@ -580,7 +580,7 @@ static void test_rate_needs_both_the_figures_and_the_span(void)
                              t.rate.withheld);
     uwb_trend_free(&t);
     /* Four figures over seven days: both met. */
-    series(&t, 4, 7 * 86400 / 3, mm, sigma_03);
+    series(&t, 4, 7L * 86400 / 3, mm, sigma_03);
     TEST_ASSERT_TRUE(t.rate.known);
     TEST_ASSERT_EQUAL_STRING("", t.rate.withheld);
     uwb_trend_free(&t);
