@@ -108,8 +108,8 @@ int uwbd_trend_text(const char *reply, FILE *out)
                 "baseline change\n",
                 per_year, sigma, days, figures);
     else
-        fprintf(out, "rate: not known (%.0f dated figure%s since the last baseline change; it needs two)\n",
-                figures, figures == 1 ? "" : "s");
+        fprintf(out, "rate: not known yet (%s)\n",
+                text(rate, "withheld", "the reply gives no rate and no reason"));
     const char *image = text(o, "image", NULL);
     if (image)
         fprintf(out, "image: %s\n", image);

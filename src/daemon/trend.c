@@ -109,8 +109,13 @@ char *uwbd_reply_trend(const struct uwb_trend *t, int requested, const struct uw
         if (t->rate.known) {
             add_mm(rate, "mm_per_year", t->rate.mm_per_day * 365.25);
             add_mm(rate, "sigma_mm_per_year", t->rate.sigma_mm_per_day * 365.25);
-            cJSON_AddNumberToObject(rate, "days", round(t->rate.days * 10.0) / 10.0);
         }
+        if (t->rate.points >= 2)
+            cJSON_AddNumberToObject(rate, "days", round(t->rate.days * 10.0) / 10.0);
+        /* No figure where the span or the figures cannot support one:
+         * why, in words (as a verdict's height_change_withheld). */
+        if (!t->rate.known)
+            cJSON_AddStringToObject(rate, "withheld", t->rate.withheld);
     }
     cJSON *list = cJSON_AddArrayToObject(o, "verdicts");
     for (int i = 0; list && i < t->count; i++) {

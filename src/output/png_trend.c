@@ -79,12 +79,11 @@ static void describe_point(const struct uwb_trend_point *p, const char *sep, cha
 static void describe_rate(const struct uwb_trend *t, const char *sep, char *buf, size_t len)
 {
     if (t->rate.known)
-        snprintf(buf, len, "%+.2f %s %.2f mm/year (1 sigma), %d figures over %.0f days since the baseline",
+        snprintf(buf, len, "%+.2f %s %.2f mm/year (1 sigma), %d figures over %.1f days since the baseline",
                  mm_per_year(t->rate.mm_per_day), sep, mm_per_year(t->rate.sigma_mm_per_day), t->rate.points,
                  t->rate.days);
     else
-        snprintf(buf, len, "not known: %d dated figure%s since the baseline", t->rate.points,
-                 t->rate.points == 1 ? "" : "s");
+        snprintf(buf, len, "not known yet: %s", t->rate.withheld);
 }
 
 void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *th, char *buf, size_t len)
@@ -118,6 +117,43 @@ static int first_last_time(const struct uwb_trend *t, time_t *first, time_t *las
     return any;
 }
 
+/* text from (x, y), broken at spaces into lines no wider than max_w
+ * (a word wider than that gets a line of its own), so nothing runs off
+ * the page. Drawn when c is set; returns the height it takes. */
+static int wrapped_text(struct uwb_canvas *c, int x, int y, const char *text, int scale,
+                        struct uwb_rgb colour, int max_w)
+{
+    char line[512];
+    int height = 0;
+    while (*text) {
+        size_t fit = 0;
+        for (size_t end = 0;; end++) {
+            if (text[end] != ' ' && text[end] != '\0')
+                continue;
+            if (end >= sizeof line)
+                break;
+            memcpy(line, text, end);
+            line[end] = '\0';
+            if (fit > 0 && uwb_text_width(line, scale) > max_w)
+                break;
+            fit = end;
+            if (text[end] == '\0')
+                break;
+        }
+        if (fit == 0) /* one word longer than the buffer: cut it, do not loop */
+            fit = strnlen(text, sizeof line - 1);
+        memcpy(line, text, fit);
+        line[fit] = '\0';
+        if (c)
+            uwb_draw_text(c, x, y + height, line, scale, colour);
+        height += line_step(scale);
+        text += fit;
+        while (*text == ' ')
+            text++;
+    }
+    return height > 0 ? height : line_step(scale);
+}
+
 /* Caption lines: title, site, latest, rate, legend. Drawn when c is set;
  * returns the height either way so layout and drawing agree. */
 static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct uwb_thresholds *th,
@@ -129,6 +165,7 @@ static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct
         uwb_draw_text(c, x, y, "uwbd trend: axial displacement", scale + 1, ink);
     y += UWB_FONT_LINE_HEIGHT * (scale + 1) + 6;
     int label_w = uwb_text_width("latest  ", scale);
+    int text_w = UWB_TREND_PNG_WIDTH - x - label_w - x;
     if (site && site[0]) {
         if (c) {
             uwb_draw_text(c, x, y, "asset", scale, muted);
@@ -137,19 +174,15 @@ static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct
         y += line_step(scale);
     }
     const struct uwb_trend_point *p = latest(t);
-    if (c) {
+    if (c)
         uwb_draw_text(c, x, y, "latest", scale, muted);
-        describe_point(p, "\u00b1", b, sizeof b);
-        snprintf(a, sizeof a, "%s  %s", p && p->created[0] ? p->created : "", b);
-        uwb_draw_text(c, x + label_w, y, a, scale, p ? uwb_status_colour(p->status) : ink);
-    }
-    y += line_step(scale);
-    if (c) {
+    describe_point(p, "\u00b1", b, sizeof b);
+    snprintf(a, sizeof a, "%s  %s", p && p->created[0] ? p->created : "", b);
+    y += wrapped_text(c, x + label_w, y, a, scale, p ? uwb_status_colour(p->status) : ink, text_w);
+    if (c)
         uwb_draw_text(c, x, y, "rate", scale, muted);
-        describe_rate(t, "\u00b1", a, sizeof a);
-        uwb_draw_text(c, x + label_w, y, a, scale, ink);
-    }
-    y += line_step(scale);
+    describe_rate(t, "\u00b1", a, sizeof a);
+    y += wrapped_text(c, x + label_w, y, a, scale, ink, text_w);
     if (c) {
         /* Legend: a sample of each line next to what it means. */
         int lx = x, mid = y + UWB_FONT_CAP_HEIGHT * scale / 2;
@@ -194,10 +227,15 @@ void uwb_render_trend_layout(const struct uwb_trend *t, const struct uwb_thresho
     out->unit_s = 86400.0;
     if (first_last_time(t, &first, &last)) {
         out->t_ref = first - first % 86400;
+        /* A short trend at its own scale: hours under two days, minutes
+         * under two hours, and a margin of a few percent (a quarter of a
+         * unit when the figures are all at one time). */
         if (last - first < (time_t)2 * 86400)
             out->unit_s = 3600.0;
+        if (last - first < (time_t)2 * 3600)
+            out->unit_s = 60.0;
         double span = (double)(last - first) / out->unit_s;
-        double pad = fmax(0.04 * span, 0.5);
+        double pad = fmax(0.04 * span, 0.25);
         p->x_min = (double)(first - out->t_ref) / out->unit_s - pad;
         p->x_max = (double)(last - out->t_ref) / out->unit_s + pad;
     } else {
@@ -285,7 +323,9 @@ static void x_labels(struct uwb_canvas *c, const struct uwb_trend_layout *l, con
         struct tm tm;
         char label[32];
         gmtime_r(&when, &tm);
-        strftime(label, sizeof label, days ? "%m-%d" : "%H:%M", &tm);
+        /* Seconds only where a tick falls between whole minutes. */
+        const char *format = days ? "%m-%d" : fmod(step * l->unit_s, 60.0) > 1e-6 ? "%H:%M:%S" : "%H:%M";
+        strftime(label, sizeof label, format, &tm);
         int col = uwb_plot_col(p, ticks[i]);
         int w = uwb_text_width(label, FONT_SCALE);
         uwb_draw_text(c, col - w / 2, p->y + p->h + 6 + 4, label, FONT_SCALE, ink);

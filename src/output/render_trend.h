@@ -26,7 +26,7 @@
 struct uwb_trend_layout {
     struct uwb_plot plot;
     time_t t_ref;  /* midnight UTC of the first dated verdict's day */
-    double unit_s; /* 86400 (days) or 3600 (hours, a span under two days) */
+    double unit_s; /* 86400 (days), 3600 (hours: a span under two days), 60 (minutes: under two hours) */
     int strip_y, strip_h;
     int caption_h;
 };

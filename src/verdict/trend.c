@@ -72,6 +72,29 @@ static int read_point(const char *line, struct uwb_trend_point *p)
     return 0;
 }
 
+/* A span in the unit a person reads it in: "1 min", "5.5 h", "2.0 days". */
+static void describe_span(double days, char *buf, size_t n)
+{
+    if (days < 1.0 / 24.0)
+        snprintf(buf, n, "%.0f min", days * 1440.0);
+    else if (days < 2.0)
+        snprintf(buf, n, "%.1f h", days * 24.0);
+    else
+        snprintf(buf, n, "%.1f days", days);
+}
+
+static void withhold_rate(struct uwb_trend_rate *r)
+{
+    char span[32] = "";
+    if (r->points >= 2)
+        describe_span(r->days, span, sizeof span);
+    snprintf(
+        r->withheld, sizeof r->withheld,
+        "%d figure%s%s%s since the last baseline change; a rate needs at least %d figures over %.0f days",
+        r->points, r->points == 1 ? "" : "s", span[0] ? " over " : "", span, UWB_TREND_RATE_MIN_FIGURES,
+        UWB_TREND_RATE_MIN_DAYS);
+}
+
 static void find_rate(struct uwb_trend *t)
 {
     memset(&t->rate, 0, sizeof t->rate);
@@ -105,11 +128,25 @@ static void find_rate(struct uwb_trend *t)
     t->rate.points = n;
     t->rate.days = last - first;
     double det = sw * swxx - swx * swx;
-    if (n < 2 || !(det > 0) || !(t->rate.days > 0))
+    if (n < UWB_TREND_RATE_MIN_FIGURES || t->rate.days < UWB_TREND_RATE_MIN_DAYS || !(det > 0)) {
+        withhold_rate(&t->rate);
         return;
+    }
+    double slope = (sw * swxy - swx * swy) / det, intercept = (swy - slope * swx) / sw;
+    /* Scatter beyond what the figures' sigmas say (a movement that is not
+     * a straight line, or sigmas too small) widens the rate's sigma. */
+    double chi2 = 0;
+    for (int i = from; i < t->count; i++) {
+        const struct uwb_trend_point *p = &t->points[i];
+        if (!p->has_displacement || !p->has_time)
+            continue;
+        double s = fmax(p->sigma_mm, 0.01);
+        double r = (p->displacement_mm - intercept - slope * (((double)p->t - t0) / 86400.0)) / s;
+        chi2 += r * r;
+    }
     t->rate.known = 1;
-    t->rate.mm_per_day = (sw * swxy - swx * swy) / det;
-    t->rate.sigma_mm_per_day = sqrt(sw / det);
+    t->rate.mm_per_day = slope;
+    t->rate.sigma_mm_per_day = sqrt(sw / det) * fmax(1.0, sqrt(chi2 / (n - 2)));
 }
 
 int uwb_trend_from_lines(char *const *lines, int count, struct uwb_trend *out)

@@ -27,15 +27,29 @@ struct uwb_trend_point {
     char reason[160];    /* why there is no figure (inconclusive, error), cut short */
 };
 
+/* A rate only where it can mean something. A winding moves over weeks
+ * and months; over minutes or hours the figures differ by their noise and
+ * by the day's load and temperature, which their sigmas do not cover, and
+ * a slope through them is that noise divided by a tiny span (two scans a
+ * minute apart read -167069 mm/year). So: a week or more, taking in
+ * several daily cycles, and four figures or more, two beyond the two
+ * that any line fits exactly, so their scatter about the line can be
+ * weighed against their own sigmas. */
+#define UWB_TREND_RATE_MIN_FIGURES 4
+#define UWB_TREND_RATE_MIN_DAYS 7.0
+
 /* Least-squares slope of displacement over time, each point weighted by
  * 1/sigma^2, over the figures since the newest baseline change (a new
  * baseline starts a new series). */
 struct uwb_trend_rate {
-    int known;  /* 0: fewer than two dated figures, or all at one time */
-    int points; /* figures it is made of */
+    int known;  /* 0: withheld, see withheld */
+    int points; /* dated figures since the newest baseline change */
     double mm_per_day;
-    double sigma_mm_per_day; /* its 1-sigma from the figures' sigmas */
-    double days;             /* time the figures span */
+    /* Its 1-sigma from the figures' sigmas, widened by sqrt(chi2/(n-2))
+     * when they scatter about the line more than their sigmas say. */
+    double sigma_mm_per_day;
+    double days;        /* time the figures span */
+    char withheld[160]; /* why there is no rate ("" when known), ASCII */
 };
 
 struct uwb_trend {

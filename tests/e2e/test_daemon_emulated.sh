@@ -162,13 +162,17 @@ json_check history.json 'class == HISTORY' 'count = 2' 'verdicts len 2' 'verdict
 ctl trend 5 > trend.json || fail "trend: $(cat trend.json)"
 json_check trend.json 'class == TREND' 'count = 2' 'verdicts.0.status == edges' 'verdicts.0.baseline_set = true' \
     'verdicts.1.status == alarm' "verdicts.1.axial_displacement_mm = $shift_mm" "verdicts.1.uncertainty_mm = $uncertainty_mm" \
-    'thresholds.alarm_mm exists' "image == $(cd $state && pwd)/trend.png" || fail "trend: $(cat trend.json)"
+    'thresholds.alarm_mm exists' "image == $(cd $state && pwd)/trend.png" 'rate.figures = 1' 'rate.mm_per_year absent' \
+    'rate.withheld == 1 figure since the last baseline change; a rate needs at least 4 figures over 7 days' ||
+    fail "trend: $(cat trend.json)"
 ctl --text trend 5 > trend.txt || fail "uwbd ctl --text trend"
 grep -q "ALARM  *$(printf '%+.2f' "$shift_mm") ± $(printf '%.2f' "$uncertainty_mm") mm" trend.txt &&
-    grep -q 'EDGES  *no figure' trend.txt && grep -q "^image: /.*/trend.png$" trend.txt ||
+    grep -q 'EDGES  *no figure' trend.txt && grep -q "^image: /.*/trend.png$" trend.txt &&
+    grep -q '^rate: not known yet (1 figure since the last baseline change; ' trend.txt ||
     fail "uwbd ctl --text trend: $(cat trend.txt)"
 [[ $(head -c 8 $state/trend.png | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] || fail "trend.png is not a PNG"
-grep -aq '2 verdicts: 1 with a figure, 0 inconclusive, 0 error, 1 edges only' $state/trend.png ||
+grep -aq '2 verdicts: 1 with a figure, 0 inconclusive, 0 error, 1 edges only.*; rate not known yet: 1 figure since' \
+    $state/trend.png ||
     fail "trend.png does not describe the two verdicts"
 grep -aq 'phase B, Hillside GT2, north window' $state/trend.png || fail "trend.png does not name the site"
 pass "trend: JSON and --text from verdicts.jsonl; trend.png rewritten after the scan"

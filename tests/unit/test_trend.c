@@ -104,36 +104,26 @@ static void test_baseline_changes_are_marked(void)
     uwb_trend_free(&t);
 }
 
-static void test_rate_is_fitted_since_the_last_baseline_change(void)
+static void test_rate_counts_figures_since_the_last_baseline_change(void)
 {
     struct uwb_trend t;
     read_lines(&t);
-    /* Since B2: 0.0 then -0.4 two days later, equal sigmas: -0.2 mm/day.
-     * (Over all figures it would be positive: the old series rose.) */
-    TEST_ASSERT_TRUE(t.rate.known);
+    /* Since B2: 0.0 then -0.4 two days later (over all figures it would
+     * be three figures of a rising series): two figures, too few and too
+     * short a span for a rate. */
     TEST_ASSERT_EQUAL_INT(2, t.rate.points);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-9, -0.2, t.rate.mm_per_day);
     TEST_ASSERT_DOUBLE_WITHIN(1e-9, 2.0, t.rate.days);
-    /* Two points with sigma 0.2 two days apart: sigma of the slope
-     * sqrt(2) * 0.2 / 2 mm/day. */
-    TEST_ASSERT_DOUBLE_WITHIN(1e-9, sqrt(2.0) * 0.2 / 2.0, t.rate.sigma_mm_per_day);
+    TEST_ASSERT_FALSE(t.rate.known);
+    TEST_ASSERT_EQUAL_STRING("2 figures over 2.0 days since the last baseline change; a rate needs at "
+                             "least 4 figures over 7 days",
+                             t.rate.withheld);
     uwb_trend_free(&t);
 
-    /* Without the new baseline: the three B1 figures 0.1, 0.2 (days 1, 2)
-     * and 3.0 (day 5), weighted by 1/sigma^2. */
+    /* Without the new baseline: the three B1 figures over four days. */
     TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines((char *const *)log_lines, 7, &t));
-    TEST_ASSERT_TRUE(t.rate.known);
+    TEST_ASSERT_FALSE(t.rate.known);
     TEST_ASSERT_EQUAL_INT(3, t.rate.points);
-    double w[3] = {1 / 0.09, 1 / 0.09, 1 / 0.25}, x[3] = {0, 1, 4}, y[3] = {0.1, 0.2, 3.0};
-    double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-    for (int i = 0; i < 3; i++) {
-        sw += w[i];
-        sx += w[i] * x[i];
-        sy += w[i] * y[i];
-        sxx += w[i] * x[i] * x[i];
-        sxy += w[i] * x[i] * y[i];
-    }
-    TEST_ASSERT_DOUBLE_WITHIN(1e-9, (sw * sxy - sx * sy) / (sw * sxx - sx * sx), t.rate.mm_per_day);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 4.0, t.rate.days);
     uwb_trend_free(&t);
 }
 
@@ -143,6 +133,9 @@ static void test_one_figure_has_no_rate(void)
     TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines((char *const *)log_lines, 2, &t));
     TEST_ASSERT_FALSE(t.rate.known);
     TEST_ASSERT_EQUAL_INT(1, t.rate.points);
+    TEST_ASSERT_EQUAL_STRING("1 figure since the last baseline change; a rate needs at least 4 figures over "
+                             "7 days",
+                             t.rate.withheld);
     uwb_trend_free(&t);
 }
 
@@ -195,7 +188,12 @@ static void test_trend_reply_reads_as_a_table(void)
     char *reply = uwbd_reply_trend(&t, 20, &th, "/var/lib/uwbd/trend.png");
     TEST_ASSERT_NOT_NULL(reply);
     TEST_ASSERT_NOT_NULL(strstr(reply, "\"class\":\"TREND\""));
-    TEST_ASSERT_NOT_NULL(strstr(reply, "\"mm_per_year\":-73.05")); /* -0.2 mm/day */
+    /* Two figures over two days since B2: no rate, and why. */
+    TEST_ASSERT_NULL(strstr(reply, "mm_per_year"));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(reply,
+                                        "\"withheld\":\"2 figures over 2.0 days since the last "
+                                        "baseline change; a rate needs at least 4 figures over 7 days\""),
+                                 reply);
     char *text = trend_as_text(reply);
     /* One line per verdict, oldest first, with what a person needs. */
     const char *ok = strstr(text, "2026-03-02T06:00:00Z");
@@ -225,7 +223,10 @@ static void test_trend_reply_reads_as_a_table(void)
     TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S3\n")));
     TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S6\n")));
     TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "S4\n")));
-    TEST_ASSERT_NOT_NULL(strstr(text, "rate: -73.05 \u00b1 "));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text,
+                                        "rate: not known yet (2 figures over 2.0 days since the last "
+                                        "baseline change; a rate needs at least 4 figures over 7 days)\n"),
+                                 text);
     TEST_ASSERT_NOT_NULL(strstr(text, "watch from 2.00 mm, alarm from 5.00 mm"));
     TEST_ASSERT_NOT_NULL(strstr(text, "1 line of verdicts.jsonl could not be read"));
     TEST_ASSERT_NOT_NULL(strstr(text, "image: /var/lib/uwbd/trend.png"));
@@ -444,17 +445,254 @@ static void test_trend_png_failure_names_the_file_and_leaves_no_temporary(void)
     TEST_ASSERT_EQUAL_INT(4, entries);
 }
 
+/* ---- the rate only where the span and the figures support it ---- */
+
+#define SERIES_MAX 16
+static char series_text[SERIES_MAX][400];
+static char *series_lines[SERIES_MAX];
+
+/* n ok verdicts against one baseline, step_s apart from 2026-05-01
+ * 08:00:00Z, figure i mm[i] with 1-sigma sigma[i]. */
+static void series(struct uwb_trend *t, int n, long step_s, const double *mm, const double *sigma)
+{
+    TEST_ASSERT_TRUE(n <= SERIES_MAX);
+    for (int i = 0; i < n; i++) {
+        time_t when = (time_t)1777622400 + (time_t)(step_s * i);
+        struct tm tm;
+        char created[32];
+        gmtime_r(&when, &tm);
+        strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", &tm);
+        snprintf(series_text[i], sizeof series_text[i],
+                 "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"R%d\",\"created\":\"%s\","
+                 "\"axial_displacement_mm\":%.2f,\"uncertainty_mm\":%.2f,\"baseline\":{\"scan_id\":\"B1\"}}",
+                 i, created, mm[i], sigma[i]);
+        series_lines[i] = series_text[i];
+    }
+    TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines(series_lines, n, t));
+    TEST_ASSERT_EQUAL_INT(n, t->rate.points);
+}
+
+static const double sigma_03[SERIES_MAX] = {0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3,
+                                            0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3};
+
+/* The reply, its text form and trend.png for a series. */
+struct trend_forms {
+    char *reply, *text;
+    struct png_read png;
+    struct uwb_trend_layout layout;
+};
+
+static struct trend_forms trend_forms(const struct uwb_trend *t)
+{
+    struct trend_forms f;
+    struct uwb_thresholds th = {.watch_m = 2e-3, .alarm_m = 5e-3};
+    f.reply = uwbd_reply_trend(t, 20, &th, NULL);
+    TEST_ASSERT_NOT_NULL(f.reply);
+    f.text = trend_as_text(f.reply);
+    scratch_scratch_dir(dir, sizeof dir, "trend-rate");
+    char path[512], err[512];
+    snprintf(path, sizeof path, "%s/trend.png", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_trend_png(path, t, &th, NULL, err, sizeof err), err);
+    f.png = read_png(path);
+    uwb_render_trend_layout(t, &th, NULL, &f.layout);
+    return f;
+}
+
+static void trend_forms_free(struct trend_forms *f)
+{
+    free(f->reply);
+    free(f->text);
+    free(f->png.px);
+}
+
+/* Nothing of the caption reaches the image's right edge: every line of
+ * it ends inside the page. */
+static void assert_caption_inside(const struct png_read *png, const struct uwb_trend_layout *l)
+{
+    const struct uwb_rgb white = {255, 255, 255};
+    for (int y = 0; y < l->caption_h - 6; y++)
+        for (int x = png->w - 12; x < png->w; x++)
+            TEST_ASSERT_TRUE_MESSAGE(is(pixel(png, x, y), white), "the caption runs off the right edge");
+}
+
+/* A rate withheld: no figure in the reply, its reason instead, and the
+ * same words in the text, the caption and the PNG's Description. */
+static void assert_rate_withheld(const struct uwb_trend *t, const char *reason)
+{
+    TEST_ASSERT_FALSE(t->rate.known);
+    TEST_ASSERT_EQUAL_STRING(reason, t->rate.withheld);
+    struct trend_forms f = trend_forms(t);
+    TEST_ASSERT_NULL_MESSAGE(strstr(f.reply, "mm_per_year"), f.reply);
+    char want[400];
+    snprintf(want, sizeof want, "\"withheld\":\"%s\"", reason);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(f.reply, want), f.reply);
+    snprintf(want, sizeof want, "rate: not known yet (%s)\n", reason);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(f.text, want), f.text);
+    TEST_ASSERT_NULL_MESSAGE(strstr(f.text, "mm/year"), f.text);
+    snprintf(want, sizeof want, "rate not known yet: %s;", reason);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(f.png.description, want), f.png.description);
+    TEST_ASSERT_NULL_MESSAGE(strstr(f.png.description, "mm/year"), f.png.description);
+    assert_caption_inside(&f.png, &f.layout);
+    trend_forms_free(&f);
+}
+
+static void test_two_figures_a_minute_apart_give_no_rate(void)
+{
+    /* As measured: -167069.65 +/- 971341.11 mm/year "over 0.0 days". */
+    const double mm[2] = {0.42, 0.10};
+    struct uwb_trend t;
+    series(&t, 2, 60, mm, sigma_03);
+    assert_rate_withheld(&t, "2 figures over 1 min since the last baseline change; a rate needs at least 4 "
+                             "figures over 7 days");
+    uwb_trend_free(&t);
+}
+
+static void test_nine_figures_in_four_minutes_give_no_rate(void)
+{
+    /* A steady drift of 0.15 mm every 30 s: as measured, +191765 mm/year
+     * at 4 sigma from the figures' own sigmas. */
+    double mm[9];
+    for (int i = 0; i < 9; i++)
+        mm[i] = -0.6 + 0.15 * i;
+    struct uwb_trend t;
+    series(&t, 9, 30, mm, sigma_03);
+    assert_rate_withheld(&t, "9 figures over 4 min since the last baseline change; a rate needs at least 4 "
+                             "figures over 7 days");
+    uwb_trend_free(&t);
+}
+
+static void test_rate_needs_both_the_figures_and_the_span(void)
+{
+    const double mm[8] = {0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4};
+    struct uwb_trend t;
+    /* Three figures over eight days: too few. */
+    series(&t, 3, 4L * 86400, mm, sigma_03);
+    TEST_ASSERT_FALSE(t.rate.known);
+    TEST_ASSERT_EQUAL_STRING("3 figures over 8.0 days since the last baseline change; a rate needs at least "
+                             "4 figures over 7 days",
+                             t.rate.withheld);
+    uwb_trend_free(&t);
+    /* Eight figures over 6.9 days: too short. */
+    series(&t, 8, (long)(6.9 * 86400 / 7), mm, sigma_03);
+    TEST_ASSERT_FALSE(t.rate.known);
+    TEST_ASSERT_EQUAL_STRING("8 figures over 6.9 days since the last baseline change; a rate needs at least "
+                             "4 figures over 7 days",
+                             t.rate.withheld);
+    uwb_trend_free(&t);
+    /* Four figures over seven days: both met. */
+    series(&t, 4, 7L * 86400 / 3, mm, sigma_03);
+    TEST_ASSERT_TRUE(t.rate.known);
+    TEST_ASSERT_EQUAL_STRING("", t.rate.withheld);
+    uwb_trend_free(&t);
+}
+
+/* Weighted least squares by hand: slope and its 1-sigma from the
+ * figures' sigmas, and the reduced chi-square about the line. */
+static void fit(int n, const double *x, const double *y, const double *s, double *slope, double *sigma,
+                double *chi2_per_dof)
+{
+    double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (int i = 0; i < n; i++) {
+        double w = 1.0 / (s[i] * s[i]);
+        sw += w;
+        sx += w * x[i];
+        sy += w * y[i];
+        sxx += w * x[i] * x[i];
+        sxy += w * x[i] * y[i];
+    }
+    double det = sw * sxx - sx * sx;
+    *slope = (sw * sxy - sx * sy) / det;
+    *sigma = sqrt(sw / det);
+    double a = (sy - *slope * sx) / sw, chi2 = 0;
+    for (int i = 0; i < n; i++) {
+        double r = (y[i] - a - *slope * x[i]) / s[i];
+        chi2 += r * r;
+    }
+    *chi2_per_dof = chi2 / (n - 2);
+}
+
+static void test_rate_over_a_week_is_given_with_its_sigma(void)
+{
+    /* Eight daily figures, 0.2 mm/day, scattering less than their
+     * unequal sigmas say: the weighted slope and its sigma as they are. */
+    const double mm[8] = {0.0, 0.25, 0.35, 0.6, 0.85, 0.95, 1.2, 1.45};
+    const double sig[8] = {0.3, 0.3, 0.3, 0.5, 0.5, 0.3, 0.3, 0.2};
+    double x[8], slope, sigma, chi2;
+    for (int i = 0; i < 8; i++)
+        x[i] = i;
+    fit(8, x, mm, sig, &slope, &sigma, &chi2);
+    TEST_ASSERT_TRUE(chi2 < 1.0);
+    struct uwb_trend t;
+    series(&t, 8, 86400, mm, sig);
+    TEST_ASSERT_TRUE_MESSAGE(t.rate.known, t.rate.withheld);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 7.0, t.rate.days);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, slope, t.rate.mm_per_day);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, sigma, t.rate.sigma_mm_per_day);
+    struct trend_forms f = trend_forms(&t);
+    char want[200];
+    snprintf(want, sizeof want, "\"mm_per_year\":%.2f,\"sigma_mm_per_year\":%.2f", slope * 365.25,
+             sigma * 365.25);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(f.reply, want), f.reply);
+    TEST_ASSERT_NULL_MESSAGE(strstr(f.reply, "withheld"), f.reply);
+    snprintf(want, sizeof want, "rate: %+.2f \u00b1 %.2f mm/year (1\u03c3) over 7.0 days, 8 figures",
+             slope * 365.25, sigma * 365.25);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(f.text, want), f.text);
+    snprintf(want, sizeof want, "rate %+.2f +/- %.2f mm/year (1 sigma), 8 figures over 7.0 days",
+             slope * 365.25, sigma * 365.25);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(f.png.description, want), f.png.description);
+    assert_caption_inside(&f.png, &f.layout);
+    trend_forms_free(&f);
+    uwb_trend_free(&t);
+
+    /* The same drift scattering +/-0.5 mm about it, each figure claiming
+     * 0.1 mm: the slope's sigma widens by sqrt(chi2 / (n - 2)). */
+    double noisy[8], tight[8];
+    for (int i = 0; i < 8; i++) {
+        noisy[i] = 0.2 * i + (i % 2 ? 0.5 : -0.5);
+        tight[i] = 0.1;
+    }
+    fit(8, x, noisy, tight, &slope, &sigma, &chi2);
+    TEST_ASSERT_TRUE(chi2 > 4.0);
+    series(&t, 8, 86400, noisy, tight);
+    TEST_ASSERT_TRUE(t.rate.known);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, slope, t.rate.mm_per_day);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, sigma * sqrt(chi2), t.rate.sigma_mm_per_day);
+    uwb_trend_free(&t);
+}
+
+static void test_a_short_trend_is_drawn_at_its_own_scale(void)
+{
+    /* Two figures a minute apart: they spread across the plot, not into
+     * 1/60 of it (it was padded to an hour), and the time axis says
+     * which minute. */
+    const double mm[2] = {0.42, 0.10};
+    struct uwb_trend t;
+    series(&t, 2, 60, mm, sigma_03);
+    struct trend_forms f = trend_forms(&t);
+    const struct uwb_plot *p = &f.layout.plot;
+    int a = uwb_trend_col(&f.layout, t.points[0].t), b = uwb_trend_col(&f.layout, t.points[1].t);
+    TEST_ASSERT_TRUE_MESSAGE(b - a > p->w / 2, "a minute's figures squeezed together");
+    TEST_ASSERT_TRUE(a > p->x && b < p->x + p->w - 1);
+    trend_forms_free(&f);
+    uwb_trend_free(&t);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_verdicts_become_figures_only_where_the_verdict_made_one);
     RUN_TEST(test_baseline_changes_are_marked);
-    RUN_TEST(test_rate_is_fitted_since_the_last_baseline_change);
+    RUN_TEST(test_rate_counts_figures_since_the_last_baseline_change);
     RUN_TEST(test_one_figure_has_no_rate);
     RUN_TEST(test_trend_command_parses_its_count);
     RUN_TEST(test_trend_reply_reads_as_a_table);
     RUN_TEST(test_trend_png_shows_bars_thresholds_and_no_figure_marks);
     RUN_TEST(test_trend_png_of_an_empty_log_still_draws);
     RUN_TEST(test_trend_png_failure_names_the_file_and_leaves_no_temporary);
+    RUN_TEST(test_two_figures_a_minute_apart_give_no_rate);
+    RUN_TEST(test_nine_figures_in_four_minutes_give_no_rate);
+    RUN_TEST(test_rate_needs_both_the_figures_and_the_span);
+    RUN_TEST(test_rate_over_a_week_is_given_with_its_sigma);
+    RUN_TEST(test_a_short_trend_is_drawn_at_its_own_scale);
     return UNITY_END();
 }
