@@ -89,5 +89,9 @@ sim_options=$(uwbsim --help | options_in)
 for opt in $sim_options; do
     grep -qF -- "${opt//-/\\-}" board/man/uwbsim.1 || fail "uwbsim(1) does not document $opt"
 done
+# ... and nothing it does not take (the examples also run uwbd).
+for opt in $(sed -n '/^\.SH OPTIONS/,/^\.SH EXIT STATUS/s/\\-/-/gp' board/man/uwbsim.1 | options_in); do
+    grep -qxF -- "$opt" <<< "$sim_options" || fail "uwbsim(1) documents $opt, which uwbsim --help does not list"
+done
 pass "uwbsim(1) documents all $(wc -l <<< "$sim_options") options and scene parameters of uwbsim --help"
 echo "$passed passed"
