@@ -25,7 +25,7 @@
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
 #   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}, the systemd unit (and the
 #                         drop-in bounding systemd-time-wait-sync to 5 min), udev rules, the Pi sample config (share/uwbd), board docs (share/doc/uwbd)
-#                         and manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1)
+#                         and manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1), uwbsim(1)
 #   make man              the manual pages into $(BUILD)/man (uwbd.json.5 from the key table)
 #   make deb              board/debian -> $(BUILD)/deb/uwbd_VERSION_ARCH.deb (dpkg-buildpackage,
 #                         lintian: no errors); DEB_ARCH=arm64 cross-builds
@@ -476,8 +476,10 @@ coverage: dev-deps
 # ---- manual pages and install ----------------------------------------------
 # uwbd.json(5) is printed by uwbd from its key table (--config-keys=man), so
 # it cannot drift from what the loader accepts; uwbd(8) and uwbd-ctl(1) are
-# board/man/. A cross build runs the target's uwbd under TEST_RUNNER.
-MAN_PAGES     := $(BUILD)/man/uwbd.8 $(BUILD)/man/uwbd-ctl.1 $(BUILD)/man/uwbd.json.5
+# board/man/, as is uwbsim(1), installed with uwbsim. A cross build runs the
+# target's uwbd under TEST_RUNNER.
+MAN_PAGES     := $(BUILD)/man/uwbd.8 $(BUILD)/man/uwbd-ctl.1 $(BUILD)/man/uwbd.json.5 \
+                 $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/man/uwbsim.1)
 .PHONY: man
 man: $(MAN_PAGES)
 
@@ -516,6 +518,7 @@ install: all $(MAN_PAGES)
 	install -m 0644 board/raspberry-pi-4/uwbd.json '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4/'
 	for f in $(DOC_FILES); do install -m 0644 "board/$$f" "$(DESTDIR)$(DOCDIR)/$$f" || exit 1; done
 	install -m 0644 $(BUILD)/man/uwbd-ctl.1 '$(DESTDIR)$(MANDIR)/man1/'
+	$(if $(wildcard tools/uwbsim/main.c),install -m 0644 $(BUILD)/man/uwbsim.1 '$(DESTDIR)$(MANDIR)/man1/')
 	install -m 0644 $(BUILD)/man/uwbd.json.5 '$(DESTDIR)$(MANDIR)/man5/'
 	install -m 0644 $(BUILD)/man/uwbd.8 '$(DESTDIR)$(MANDIR)/man8/'
 

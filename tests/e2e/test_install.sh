@@ -33,6 +33,14 @@ cmp -s "$root/usr/share/man/man5/uwbd.json.5" <(${UWB_EXEC_PREFIX:-} "$UWB_BUILD
     fail "the installed uwbd.json(5) is not what uwbd --config-keys=man prints"
 pass "binary, unit, udev rules, sample config, manual pages and documents installed"
 
+# Every program installed has its manual page (lintian: binary-without-manpage).
+for prog in "$root"/usr/bin/*; do
+    name=$(basename "$prog")
+    [[ -f $root/usr/share/man/man1/$name.1 || -f $root/usr/share/man/man8/$name.8 ]] ||
+        fail "/usr/bin/$name is installed without a manual page"
+done
+pass "every program in /usr/bin has a manual page: $(ls "$root/usr/bin" | tr '\n' ' ')"
+
 # Every Markdown link [text](target) that is not a URL or an anchor resolves
 # to a file under the installed tree, relative to the document.
 docs=$(find "$root" -name '*.md' | sort)

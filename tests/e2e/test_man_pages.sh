@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # Manual pages: uwbd.json(5) printed from the key table lists every key;
-# uwbd(8) and uwbd-ctl(1) (board/man/) name every option the programs'
-# --help lists, and every ctl command; all three are well-formed roff
-# (known requests only; groff, when installed, warns about nothing).
+# uwbd(8), uwbd-ctl(1) and uwbsim(1) (board/man/) name every option the
+# programs' --help lists, and every ctl command; all are well-formed roff
+# (known requests only; groff, when installed, warns about nothing) and
+# render without losing text (tools/man/no-lost-text.sh: a stray \" once
+# cut uwbd-ctl(1) short).
 set -euo pipefail
 uwbd() { ${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" "$@"; }
+uwbsim() { ${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbsim" "$@"; }
 fail() { echo "FAIL: $*" >&2; exit 1; }
 passed=0
 pass() { echo "PASS: $*"; passed=$((passed + 1)); }
@@ -41,6 +44,16 @@ well_formed board/man/uwbd.8 8
 well_formed board/man/uwbd-ctl.1 1
 pass "uwbd.json(5), uwbd(8), uwbd-ctl(1): well-formed roff"
 
+# Every page rendered as man(1) shows it: all the source's words, in order.
+pages=("$out/uwbd.json.5" board/man/*.[1-8])
+(( ${#pages[@]} >= 3 )) || fail "only ${#pages[@]} manual pages found"
+tools/man/no-lost-text.sh "${pages[@]}" > "$out/lost" 2>&1 || fail "text lost in rendering: $(grep -v ', none lost$' "$out/lost")"
+pass "${#pages[@]} manual pages render every word of their source: $(tr '\n' ';' < "$out/lost")"
+
+[[ -f board/man/uwbsim.1 ]] || fail "no board/man/uwbsim.1: the installed uwbsim has no manual page"
+well_formed board/man/uwbsim.1 1
+pass "uwbsim(1): well-formed roff"
+
 # Every key of the table, as its own tagged paragraph, and nothing more.
 mapfile -t keys < <(tail -n +3 "$out/keys.md" | cut -d'`' -f2)
 (( ${#keys[@]} > 40 )) || fail "only ${#keys[@]} keys in uwbd --config-keys"
@@ -69,4 +82,16 @@ while read -r cmd; do
     grep -qE "^\.B(I)? \"?$cmd" board/man/uwbd-ctl.1 || fail "uwbd-ctl(1) does not document the command '$cmd'"
 done <<< "$commands"
 pass "uwbd(8) and uwbd-ctl(1) document every option and command of --help"
+
+# uwbsim(1): its options and every scene parameter of uwbsim --help.
+sim_options=$(uwbsim --help | options_in)
+(( $(wc -l <<< "$sim_options") > 50 )) || fail "only $(wc -l <<< "$sim_options") options in uwbsim --help"
+for opt in $sim_options; do
+    grep -qF -- "${opt//-/\\-}" board/man/uwbsim.1 || fail "uwbsim(1) does not document $opt"
+done
+# ... and nothing it does not take (the examples also run uwbd).
+for opt in $(sed -n '/^\.SH OPTIONS/,/^\.SH EXIT STATUS/s/\\-/-/gp' board/man/uwbsim.1 | options_in); do
+    grep -qxF -- "$opt" <<< "$sim_options" || fail "uwbsim(1) documents $opt, which uwbsim --help does not list"
+done
+pass "uwbsim(1) documents all $(wc -l <<< "$sim_options") options and scene parameters of uwbsim --help"
 echo "$passed passed"

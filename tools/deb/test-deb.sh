@@ -3,8 +3,9 @@
 # fresh Debian 12 (bookworm) minbase chroot made by debootstrap, and checked
 # there: installed, the system user and group made, /etc/uwbd/uwbd.json a
 # conffile that `uwbd --check-config` accepts, the unit (waiting for the
-# clock, its systemd-time-wait-sync drop-in), udev rules, manual pages and
-# documents in place; purged cleanly. Ends with
+# clock, its systemd-time-wait-sync drop-in; every program it runs there,
+# systemd-analyze verify clean), udev rules, manual pages (one for each
+# program, every word rendered) and documents in place; purged cleanly. Ends with
 # "N passed, N failed". Needs root (debootstrap, chroot) and the network
 # (the Debian mirror). Everything is made under CHROOT_DIR, in the build
 # directory, and removed at the end.
@@ -89,6 +90,21 @@ check "the unit waits for the clock: Wants=systemd-time-wait-sync, After= it and
     bash -c "grep -qx 'Wants=systemd-time-wait-sync.service' '$root/lib/systemd/system/uwbd.service' &&
              grep -qx 'After=.*time-sync.target.*' '$root/lib/systemd/system/uwbd.service' &&
              grep -qx 'After=.*systemd-time-wait-sync.service.*' '$root/lib/systemd/system/uwbd.service'"
+# Every program the unit runs (ExecStartPre=, ExecStart=, ExecReload=) is in
+# the package or what it depends on: minbase has no procps, so no /bin/kill.
+unit=$root/lib/systemd/system/uwbd.service
+programs=$(sed -nE 's/^Exec[A-Za-z]+=[-@:+!]*([^ ]+).*$/\1/p' "$unit" | sort -u)
+missing=$(for p in $programs; do in_root test -x "$p" || echo "$p"; done)
+check "the unit's programs are installed: $(echo $programs)${missing:+; missing: $(echo $missing)}" \
+    test -n "$programs" -a -z "$missing"
+# The host's systemd-analyze reads the chroot's files (--root); minbase has
+# no systemd, so its own targets are not found there: that alone is allowed.
+if command -v systemd-analyze > /dev/null; then
+    verify=$(systemd-analyze verify --man=no --root="$root" "$unit" 2>&1 | grep -v ': Unit [^ ]*\.target not found\.$')
+    check "systemd-analyze verify uwbd.service in the chroot: ${verify:-no error}" test -z "$verify"
+else
+    check "systemd-analyze on this machine to verify the unit (package systemd)" false
+fi
 check "the drop-in bounding systemd-time-wait-sync (TimeoutStartSec=5min)" \
     grep -qx 'TimeoutStartSec=5min' "$root/lib/systemd/system/systemd-time-wait-sync.service.d/uwbd.conf"
 check "the package recommends an NTP client (systemd-timesyncd | time-daemon)" \
@@ -98,8 +114,21 @@ check "the dlopened libraries: Depends libsystemd0, Recommends libmosquitto1 and
              awk 'NR == 1 && /(^|, )libsystemd0(,|$)/ { d = 1 } NR == 2 && /libmosquitto1 / && /libmodbus5 / { r = 1 } END { exit !(d && r) }'"
 check "udev rules in /lib/udev/rules.d" test -f "$root/lib/udev/rules.d/99-uwbd-gpio.rules" -a \
     -f "$root/lib/udev/rules.d/99-uwbd-digitiser.rules"
-check "manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1)" test -f "$root/usr/share/man/man8/uwbd.8.gz" -a \
-    -f "$root/usr/share/man/man5/uwbd.json.5.gz" -a -f "$root/usr/share/man/man1/uwbd-ctl.1.gz"
+check "manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1), uwbsim(1)" test -f "$root/usr/share/man/man8/uwbd.8.gz" -a \
+    -f "$root/usr/share/man/man5/uwbd.json.5.gz" -a -f "$root/usr/share/man/man1/uwbd-ctl.1.gz" -a \
+    -f "$root/usr/share/man/man1/uwbsim.1.gz"
+without_page=$(for p in $(in_root dpkg -L uwbd | grep -E '^/usr/s?bin/.'); do
+    n=$(basename "$p")
+    [[ -f $root/usr/share/man/man1/$n.1.gz || -f $root/usr/share/man/man8/$n.8.gz ]] || echo "$p"
+done)
+check "every program of the package has a manual page${without_page:+; not: $(echo $without_page)}" test -z "$without_page"
+# Rendered on the host (minbase has no groff): every word of each page shown.
+mapfile -t pages < <(in_root dpkg -L uwbd | grep -E '^/usr/share/man/man[1-8]/.+\.gz$' | sed "s|^|$root|")
+lost=$(bash "$(dirname "$0")/../man/no-lost-text.sh" "${pages[@]}" 2>&1)
+rc=$?
+lost=$(grep -v ', none lost$' <<< "$lost")
+check "the ${#pages[@]} installed manual pages render every word of their source${lost:+: $lost}" \
+    test "$rc" = 0 -a "${#pages[@]}" -ge 4
 check "uwbd.json(5) lists the keys (gpio.backend)" bash -c "zcat '$root/usr/share/man/man5/uwbd.json.5.gz' | grep -q 'gpio.backend'"
 check "the install guide and the documents it links" test -f "$root/usr/share/doc/uwbd/install-guide.md" -a \
     -f "$root/usr/share/doc/uwbd/raspberry-pi-4/pinmap.md" -a -f "$root/usr/share/doc/uwbd/digitiser-protocol.md"

@@ -19,7 +19,8 @@
 #                  plus clang-format, clang-tidy, cppcheck and gcovr (not needed
 #                  by make test, so a fresh machine's make test does not fetch them)
 #   --deb          make deb / make test-deb: native as above, plus dpkg-dev,
-#                  debhelper, lintian, fakeroot and debootstrap
+#                  debhelper, lintian, fakeroot, debootstrap and systemd
+#                  (systemd-analyze verifies the unit)
 #   --unity-only   only fetch Unity if it is absent
 #
 # Unity 2.4.3 comes from Debian's cjson source package (its tests/unity):
@@ -38,7 +39,7 @@ set -euo pipefail
 REPO_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 readonly REPO_ROOT
 readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto libmodbus)
-readonly NATIVE_PACKAGES=(gcc make libc6-dev pkg-config
+readonly NATIVE_PACKAGES=(gcc make libc6-dev pkg-config groff-base
     libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev
     libmosquitto-dev mosquitto libmodbus-dev)
 readonly UNITY_FILES=(unity.c unity.h unity_internals.h)
@@ -124,7 +125,8 @@ apt_install() {
 # Prints what the native build lacks, one item a line.
 missing_native() {
     local command_name
-    for command_name in gcc make pkg-config; do
+    # groff: tests/e2e/test_man_pages.sh renders the manual pages.
+    for command_name in gcc make pkg-config groff; do
         have_command "$command_name" || echo "$command_name"
     done
     # The MQTT tests start a real broker (Debian installs it in /usr/sbin).
@@ -202,8 +204,9 @@ readonly SOAK_COMMANDS=(valgrind:valgrind)
 # make format, lint, coverage: the developer's tools.
 readonly DEV_COMMANDS=(clang-format:clang-format clang-tidy:clang-tidy cppcheck:cppcheck gcovr:gcovr)
 # make deb / make test-deb: building, checking and trying the Debian package.
+# make test-deb verifies the unit with systemd-analyze and renders the pages with groff.
 readonly DEB_COMMANDS=(dpkg-buildpackage:dpkg-dev dh:debhelper lintian:lintian fakeroot:fakeroot
-    debootstrap:debootstrap)
+    debootstrap:debootstrap systemd-analyze:systemd groff:groff-base)
 
 # Prints the packages (from command:package pairs) whose commands are missing, one a line.
 missing_command_packages() {
