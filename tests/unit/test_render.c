@@ -1295,6 +1295,35 @@ static void test_the_plus_minus_says_what_it_is(void)
                           uwb_caption_height(&v, &prov, 960, 2));
 }
 
+/* Nothing in a caption is cut: a source line wider than the image wraps
+ * onto a second line, so its end (the SNR, the version) is drawn; a
+ * different SNR at the end of a long line changes the caption. */
+static void test_a_long_source_line_wraps_rather_than_being_cut(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    v.current.snr_db = 48.9;
+    struct uwb_provenance prov = {.asset = "substation North T1 phase B", .stack = 64, .eps_r = 3.2};
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.provenance = &prov;
+    int line = UWB_FONT_LINE_HEIGHT * o.font_scale + 3;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(uwb_caption_height(&v, NULL, o.width, o.font_scale) + line,
+                                  uwb_caption_height(&v, &prov, o.width, o.font_scale),
+                                  "the long source line takes two caption lines");
+    struct png_rgb a = render_migrated("snr-a.png", &img, &v, &o);
+    v.current.snr_db = 12.3;
+    struct png_rgb b = render_migrated("snr-b.png", &img, &v, &o);
+    int caption_h = uwb_caption_height(&v, &prov, o.width, o.font_scale), differ = 0;
+    for (int y = 0; y < caption_h; y++)
+        for (int x = 0; x < a.w; x++)
+            differ += !same(at(&a, x, y), at(&b, x, y));
+    TEST_ASSERT_TRUE_MESSAGE(differ > 20, "the SNR at the end of the source line is drawn");
+    free(a.px);
+    free(b.px);
+    uwb_image_free(&img);
+}
+
 /* The migrated image's height axis reaches past the antenna's travel:
  * rows beyond it are hatched (and say so), rows within are untouched. */
 static void test_migrated_image_marks_what_lies_beyond_the_antenna_travel(void)
@@ -1398,5 +1427,6 @@ int main(void)
     RUN_TEST(test_the_plus_minus_says_what_it_is);
     RUN_TEST(test_migrated_image_marks_what_lies_beyond_the_antenna_travel);
     RUN_TEST(test_bscan_has_a_range_axis);
+    RUN_TEST(test_a_long_source_line_wraps_rather_than_being_cut);
     return UNITY_END();
 }
