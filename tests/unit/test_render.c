@@ -1329,6 +1329,44 @@ static void test_a_long_source_line_wraps_rather_than_being_cut(void)
     uwb_image_free(&img);
 }
 
+/* The meter has its numbers: under it, the watch and alarm limits (mm, in
+ * their zones' colours) at their places on its scale, and the measured
+ * displacement under its mark. */
+static void test_the_meter_labels_its_limits_and_the_figure(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict(); /* +20 mm */
+    struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
+    struct uwb_provenance prov = {.scan_name = "x", .thresholds = &th};
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.provenance = &prov;
+    struct uwb_meter m;
+    TEST_ASSERT_TRUE(uwb_caption_meter(&v, &prov, o.width, o.font_scale, &m));
+    struct png_rgb png = render_migrated("meter-labels.png", &img, &v, &o);
+    int top = m.y + m.h + 4, bottom = top + UWB_FONT_CAP_HEIGHT * o.font_scale + 2;
+    const struct uwb_rgb ink = {25, 25, 25};
+    struct {
+        double at_m;
+        struct uwb_rgb colour;
+        const char *what;
+    } want[] = {
+        {th.alarm_m, uwb_status_colour(UWB_STATUS_ALARM), "+alarm limit labelled"},
+        {-th.alarm_m, uwb_status_colour(UWB_STATUS_ALARM), "-alarm limit labelled"},
+        {v.axial_displacement_m, ink, "the figure labelled"},
+    };
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
+        int col = uwb_meter_col(&m, want[i].at_m), n = 0;
+        for (int y = top; y <= bottom; y++)
+            for (int x = col - 40; x <= col + 40; x++)
+                if (x >= m.x - 20 && x < png.w)
+                    n += same(at(&png, x, y), want[i].colour);
+        TEST_ASSERT_TRUE_MESSAGE(n > 10, want[i].what);
+    }
+    free(png.px);
+    uwb_image_free(&img);
+}
+
 /* The migrated image's height axis reaches past the antenna's travel:
  * rows beyond it are hatched (and say so), rows within are untouched. */
 static void test_migrated_image_marks_what_lies_beyond_the_antenna_travel(void)
@@ -1433,5 +1471,6 @@ int main(void)
     RUN_TEST(test_migrated_image_marks_what_lies_beyond_the_antenna_travel);
     RUN_TEST(test_bscan_has_a_range_axis);
     RUN_TEST(test_a_long_source_line_wraps_rather_than_being_cut);
+    RUN_TEST(test_the_meter_labels_its_limits_and_the_figure);
     return UNITY_END();
 }
