@@ -258,10 +258,14 @@ static void threshold_line(struct pen *p, const struct uwb_verdict *v, const str
     p->has_meter = right - x >= 60;
     if (p->has_meter) {
         uwb_meter_layout(v, uwb_displacement_measured(v), th, x, p->y, right - x, h, &p->meter);
-        if (p->c)
+        if (p->c) {
             uwb_draw_meter(p->c, &p->meter, v, uwb_displacement_measured(v), th);
+            uwb_draw_meter_labels(p->c, &p->meter, v, uwb_displacement_measured(v), th, p->scale);
+        }
     }
     p->y += line_step(p->scale);
+    if (p->has_meter)
+        p->y += uwb_meter_labels_height(p->scale); /* the meter's numbers */
     if (uwb_displacement_measured(v)) {
         double d = v->axial_displacement_m * 1e3, s95 = UWB_SIGMAS_95 * v->uncertainty_m * 1e3;
         char interval[160];

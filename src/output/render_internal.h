@@ -228,6 +228,12 @@ void uwb_meter_layout(const struct uwb_verdict *v, int measured, const struct uw
 int uwb_meter_col(const struct uwb_meter *m, double displacement_m);
 void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
                     int measured, const struct uwb_thresholds *th);
+/* The meter's numbers, in a row under it: the figure (when measured), the
+ * alarm and watch limits either side in mm, zero; a label that would touch
+ * one drawn before is left out. uwb_meter_labels_height: the row's height. */
+void uwb_draw_meter_labels(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
+                           int measured, const struct uwb_thresholds *th, int scale);
+int uwb_meter_labels_height(int scale);
 /* 1 and the meter's place if this caption has one (thresholds given). */
 int uwb_caption_meter(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,
                       int font_scale, struct uwb_meter *m);

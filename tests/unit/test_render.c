@@ -1289,14 +1289,15 @@ static void test_the_plus_minus_says_what_it_is(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(summary, "95 % interval +19.20..+20.80 mm"), summary);
     struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
     struct uwb_provenance prov = {.thresholds = &th};
-    int line_h = UWB_FONT_LINE_HEIGHT * 2 + 3;
-    /* limits + 95 % lines when measured; limits alone when not */
-    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + 2 * line_h,
+    int line_h = UWB_FONT_LINE_HEIGHT * 2 + 3, numbers = uwb_meter_labels_height(2);
+    /* limits (with the meter's numbers under it) + 95 % lines when
+     * measured; limits alone when not */
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + 2 * line_h + numbers,
                           uwb_caption_height(&v, &prov, 960, 2));
     v.status = UWB_STATUS_INCONCLUSIVE;
     uwb_verdict_summary(&v, NULL, summary, sizeof summary);
     TEST_ASSERT_NULL_MESSAGE(strstr(summary, "95 %"), summary);
-    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + line_h,
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + line_h + numbers,
                           uwb_caption_height(&v, &prov, 960, 2));
 }
 
