@@ -1368,6 +1368,72 @@ static void test_the_meter_labels_its_limits_and_the_figure(void)
     uwb_image_free(&img);
 }
 
+/* The B-scan's time axis fits the echoes: a 20 ns record whose echoes
+ * all lie at 4-7 ns is drawn over about those times, not with 80 % of the
+ * plot empty; the ranges the analysis searched are marked at their echo
+ * times (a render with the window differs there from one without). */
+static void test_bscan_axis_fits_the_echoes_and_marks_the_window(void)
+{
+    struct uwb_scan scan;
+    char err[256];
+    TEST_ASSERT_EQUAL_INT(0, uwb_scan_alloc(&scan, 21, 1000, err, sizeof err));
+    scan.sample_interval_s = 20e-12; /* 0 .. 20 ns */
+    scan.t0_s = 0.0;
+    scan.tx_m[0] = -0.02;
+    scan.rx_m[0] = 0.02;
+    for (int k = 0; k < 21; k++) {
+        scan.antenna_y_m[k] = 0.03 * k;
+        int first = 200 + 7 * k; /* 4.0 .. 6.8 ns */
+        for (int s = first; s <= first + 10; s++)
+            scan.data[k * 1000 + s] = 100.0f;
+    }
+    struct uwb_verdict v = make_verdict();
+    v.current.face_z_m = v.baseline.face_z_m = 0.75; /* echo at 5 ns */
+    struct uwb_provenance prov = {.has_search_window = 1, .search_z_lo_m = 0.62, .search_z_hi_m = 0.95};
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.provenance = &prov;
+    char path[512], bare_path[512];
+    path_in_dir(path, sizeof path, "bscan-fit.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_bscan_png_opt(path, &scan, &v, &o, err, sizeof err), err);
+    struct uwb_provenance bare = prov;
+    bare.has_search_window = 0;
+    o.provenance = &bare;
+    path_in_dir(bare_path, sizeof bare_path, "bscan-bare.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_bscan_png_opt(bare_path, &scan, &v, &o, err, sizeof err),
+                                  err);
+    o.provenance = &prov;
+    struct png_rgb png = read_png(path), plain = read_png(bare_path);
+    struct uwb_plot p;
+    int bar_x, bar_w;
+    uwb_render_bscan_layout(&scan, &v, &o, &p, &bar_x, &bar_w);
+    int echo_cols = 0;
+    for (int x = p.x; x < p.x + p.w; x++) {
+        int red = 0;
+        for (int y = p.y; y < p.y + p.h && !red; y++) {
+            struct uwb_rgb c = at(&png, x, y);
+            red = c.r > c.b + 60;
+        }
+        echo_cols += red;
+    }
+    char msg[96];
+    snprintf(msg, sizeof msg, "echoes fill %d of %d columns", echo_cols, p.w);
+    TEST_ASSERT_TRUE_MESSAGE(echo_cols * 2 > p.w, msg);
+    /* The window's ends, at the echo times of its ranges: drawn there. */
+    for (int end = 0; end < 2; end++) {
+        double t = uwb_face_echo_time(&scan, end ? prov.search_z_hi_m : prov.search_z_lo_m);
+        int col = col_of(&p, t), differ = 0;
+        TEST_ASSERT_TRUE_MESSAGE(col >= p.x && col < p.x + p.w, "the window lies on the plot");
+        for (int y = p.y; y < p.y + p.h; y++)
+            differ += !same(at(&png, col, y), at(&plain, col, y));
+        TEST_ASSERT_TRUE_MESSAGE(differ > p.h / 4,
+                                 end ? "the window's far end is marked" : "its near end is marked");
+    }
+    free(png.px);
+    free(plain.px);
+    uwb_scan_free(&scan);
+}
+
 /* The migrated image's height axis reaches past the antenna's travel:
  * rows beyond it are hatched (and say so), rows within are untouched. */
 static void test_migrated_image_marks_what_lies_beyond_the_antenna_travel(void)
@@ -1473,5 +1539,6 @@ int main(void)
     RUN_TEST(test_bscan_has_a_range_axis);
     RUN_TEST(test_a_long_source_line_wraps_rather_than_being_cut);
     RUN_TEST(test_the_meter_labels_its_limits_and_the_figure);
+    RUN_TEST(test_bscan_axis_fits_the_echoes_and_marks_the_window);
     return UNITY_END();
 }
