@@ -5,7 +5,8 @@
  * below the floor) because the direct coupling is several times stronger
  * than the winding's echo: on a linear scale the echo, the thing to look
  * at, would be a faint smudge. The face's expected arrival and the edges
- * are overlaid like in the migrated image. */
+ * are overlaid like in the migrated image, the search window the
+ * analysis used as two dashed lines; the time axis spans what is seen. */
 #include "output/render_internal.h"
 
 #include <math.h>
@@ -18,6 +19,8 @@
 
 static const struct uwb_rgb page = {255, 255, 255};
 static const struct uwb_rgb ink = {25, 25, 25};
+/* Green: a colour the diverging map of the traces never takes. */
+const struct uwb_rgb UWB_RGB_SEARCH_WINDOW = {0, 130, 60};
 
 static int check_scan(const struct uwb_scan *scan, const char *path, char *err, size_t errlen)
 {
@@ -209,6 +212,85 @@ static void draw_signed_colorbar(struct uwb_canvas *c, int x, int y, int w, int 
     uwb_draw_text(c, x + w / 2 - tw / 2, y + h + 8, "- dB", s, ink);
 }
 
+/* The times the analysis's search window spans: the echo times of its
+ * nearest and farthest ranges. 0 when there is no window. */
+static int search_window_times(const struct uwb_scan *scan, const struct uwb_provenance *prov, double *t_lo,
+                               double *t_hi)
+{
+    if (!prov || !prov->has_search_window || !(prov->search_z_hi_m > prov->search_z_lo_m))
+        return 0;
+    *t_lo = uwb_face_echo_time(scan, prov->search_z_lo_m);
+    *t_hi = uwb_face_echo_time(scan, prov->search_z_hi_m);
+    return isfinite(*t_lo) && isfinite(*t_hi) && *t_hi > *t_lo;
+}
+
+/* The time axis fits what there is to see: the samples that show above
+ * the colour floor, the search window and the faces' echo times, with a
+ * margin, within the record. A long record whose echoes fill a fifth of
+ * it would otherwise leave most of the plot white. */
+static void fit_time_axis(const struct uwb_scan *scan, const struct uwb_verdict *v,
+                          const struct uwb_provenance *prov, double floor_db, double *x_min, double *x_max)
+{
+    double dt = scan->sample_interval_s, rec_lo = scan->t0_s, rec_hi = rec_lo + (scan->samples - 1) * dt;
+    *x_min = rec_lo;
+    *x_max = rec_hi;
+    double peak = 0;
+    for (int k = 0; k < scan->positions; k++)
+        for (int s = 0; s < scan->samples; s++)
+            peak = fmax(peak, fabs(sample_value(scan, k, s)));
+    if (!(peak > 0))
+        return;
+    double shown = peak * pow(10.0, floor_db / 20.0);
+    int first = scan->samples, last = -1;
+    for (int k = 0; k < scan->positions; k++)
+        for (int s = 0; s < scan->samples; s++)
+            if (fabs(sample_value(scan, k, s)) > shown) {
+                first = s < first ? s : first;
+                last = s > last ? s : last;
+            }
+    double lo = rec_lo + first * dt, hi = rec_lo + last * dt, w_lo, w_hi;
+    if (search_window_times(scan, prov, &w_lo, &w_hi)) {
+        lo = fmin(lo, w_lo);
+        hi = fmax(hi, w_hi);
+    }
+    const struct uwb_edges *faces[2] = {v ? &v->current : NULL, v && v->has_baseline ? &v->baseline : NULL};
+    for (int i = 0; i < 2; i++)
+        if (faces[i] && faces[i]->found) {
+            double t = uwb_face_echo_time(scan, faces[i]->face_z_m);
+            lo = fmin(lo, t);
+            hi = fmax(hi, t);
+        }
+    double margin = 0.1 * (hi - lo) + 2 * dt;
+    lo = fmax(rec_lo, lo - margin);
+    hi = fmin(rec_hi, hi + margin);
+    if (hi > lo) {
+        *x_min = lo;
+        *x_max = hi;
+    }
+}
+
+/* The search window as two dashed lines across the traces, named. */
+static void mark_search_window(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_scan *scan,
+                               const struct uwb_provenance *prov)
+{
+    double t[2];
+    if (!search_window_times(scan, prov, &t[0], &t[1]))
+        return;
+    int cols[2];
+    for (int i = 0; i < 2; i++) {
+        cols[i] = uwb_plot_col(p, t[i]);
+        if (cols[i] >= p->x && cols[i] < p->x + p->w)
+            uwb_canvas_line(c, cols[i], p->y, cols[i], p->y + p->h - 1, UWB_RGB_SEARCH_WINDOW, 2, 8, 5);
+    }
+    const char *label = "search window";
+    int w = uwb_text_width(label, 1), h = UWB_FONT_CAP_HEIGHT;
+    int x = cols[0] + 5;
+    if (x >= p->x && x + w + 4 < p->x + p->w) {
+        uwb_canvas_fill_rect(c, x - 2, p->y + 3, w + 4, h + 4, page);
+        uwb_draw_text(c, x, p->y + 5, label, 1, UWB_RGB_SEARCH_WINDOW);
+    }
+}
+
 void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
                              const struct uwb_render_options *opt, struct uwb_plot *plot, int *colorbar_x,
                              int *colorbar_w)
@@ -218,8 +300,7 @@ void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdi
     uwb_layout_single_plot(o.width, o.height, o.font_scale,
                            uwb_caption_height(v, o.provenance, o.width, o.font_scale), plot, colorbar_x,
                            colorbar_w);
-    plot->x_min = scan->t0_s;
-    plot->x_max = scan->t0_s + (scan->samples - 1) * scan->sample_interval_s;
+    fit_time_axis(scan, v, o.provenance, o.bscan_floor_db, &plot->x_min, &plot->x_max);
     /* Each trace owns the band half-way to its neighbours, so the outer
      * traces get a half (mean) step beyond their heights too. */
     double lo = scan->antenna_y_m[0], hi = lo;
@@ -280,6 +361,7 @@ int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, cons
     if (!(peak > 0))
         uwb_draw_text(&c, plot.x + 10, plot.y + 10, "scan is empty (all zero)", s, ink);
 
+    mark_search_window(&c, &plot, scan, o.provenance);
     if (v) {
         const struct uwb_edges *b = v->has_baseline ? &v->baseline : NULL, *e = &v->current;
         if (b && b->found) {

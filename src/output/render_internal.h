@@ -82,6 +82,7 @@ double uwb_rgb_lightness(struct uwb_rgb c);
 extern const struct uwb_rgb UWB_RGB_CURRENT_EDGE;  /* solid line */
 extern const struct uwb_rgb UWB_RGB_BASELINE_EDGE; /* dashed line */
 extern const struct uwb_rgb UWB_RGB_HALO;          /* outline that keeps lines visible on any colour */
+extern const struct uwb_rgb UWB_RGB_SEARCH_WINDOW; /* the analysis's search window on the B-scan */
 extern const struct uwb_rgb UWB_RGB_NOT_MEASURED;  /* grey of a displacement not measured (comparison) */
 
 /* ------------------------------------------------------------------ */
