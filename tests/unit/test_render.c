@@ -1434,6 +1434,46 @@ static void test_bscan_axis_fits_the_echoes_and_marks_the_window(void)
     uwb_scan_free(&scan);
 }
 
+/* A return as strong as the winding's face but away from it (a clamping
+ * plate above the winding) is labelled as not the winding; a weak one is
+ * not. The label is white on the image, where the colour map has none. */
+static int white_near(const struct png_rgb *png, const struct uwb_plot *p, int row)
+{
+    int n = 0;
+    for (int y = row - 30; y <= row + 30; y++)
+        for (int x = p->x; x < p->x + p->w; x++)
+            if (y >= p->y && y < p->y + p->h)
+                n += same(at(png, x, y), (struct uwb_rgb){255, 255, 255});
+    return n;
+}
+
+static void test_a_strong_return_off_the_winding_is_labelled_not_the_winding(void)
+{
+    struct uwb_verdict v = make_verdict();
+    struct uwb_plot p;
+    int bx, bw;
+    float strength[2] = {1.5f, 0.1f}; /* brighter than the face; 20 dB under it */
+    for (int i = 0; i < 2; i++) {
+        struct uwb_image img = make_image(FACE_LO, FACE_HI);
+        for (int iy = 0; iy < img.ny; iy++)
+            for (int iz = 0; iz < img.nz; iz++) {
+                double y = img.y0_m + iy * img.dy_m, z = img.z0_m + iz * img.dz_m;
+                if (hypot(y - 0.45, z - 0.52) <= 0.008)
+                    img.pix[iy * img.nz + iz] = strength[i];
+            }
+        uwb_render_migrated_layout(&img, &v, NULL, &p, &bx, &bw);
+        struct png_rgb png = render_migrated(i ? "weak-return.png" : "strong-return.png", &img, &v, NULL);
+        int n = white_near(&png, &p, row_of(&p, 0.45));
+        if (i == 0) {
+            TEST_ASSERT_TRUE_MESSAGE(n > 30, "the strong return is labelled");
+        } else {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, n, "a weak one is not");
+        }
+        free(png.px);
+        uwb_image_free(&img);
+    }
+}
+
 /* The migrated image's height axis reaches past the antenna's travel:
  * rows beyond it are hatched (and say so), rows within are untouched. */
 static void test_migrated_image_marks_what_lies_beyond_the_antenna_travel(void)
@@ -1540,5 +1580,6 @@ int main(void)
     RUN_TEST(test_a_long_source_line_wraps_rather_than_being_cut);
     RUN_TEST(test_the_meter_labels_its_limits_and_the_figure);
     RUN_TEST(test_bscan_axis_fits_the_echoes_and_marks_the_window);
+    RUN_TEST(test_a_strong_return_off_the_winding_is_labelled_not_the_winding);
     return UNITY_END();
 }
