@@ -6,12 +6,13 @@
  * than the winding's echo: on a linear scale the echo, the thing to look
  * at, would be a faint smudge. The face's expected arrival and the edges
  * are overlaid like in the migrated image, the search window the
- * analysis used as two dashed lines; the time axis spans what is seen. */
+ * analysis used as two dashed lines; the time axis spans the echoes. */
 #include "output/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define SPEED_OF_LIGHT 299792458.0
 #define FACE_REGION_FRACTION 0.12
@@ -224,35 +225,55 @@ static int search_window_times(const struct uwb_scan *scan, const struct uwb_pro
     return isfinite(*t_lo) && isfinite(*t_hi) && *t_hi > *t_lo;
 }
 
-/* The time axis fits what there is to see: the samples that show above
- * the colour floor, the search window and the faces' echo times, with a
- * margin, within the record. A long record whose echoes fill a fifth of
- * it would otherwise leave most of the plot white. */
-static void fit_time_axis(const struct uwb_scan *scan, const struct uwb_verdict *v,
-                          const struct uwb_provenance *prov, double floor_db, double *x_min, double *x_max)
+static int by_value(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The time axis fits the echoes: the times whose energy summed over the
+ * traces stands ECHO_OVER_NOISE_DB over the median time's (the noise)
+ * and is no more than ECHO_RANGE_DB under the strongest, and the faces'
+ * echo times, with a margin, within the record. Against the noise, not the
+ * strongest alone: on raw traces the direct coupling outshines the
+ * winding's echo. A long record whose echoes fill a fifth of it would
+ * otherwise leave most of the plot empty. The search window may reach past
+ * it: its ends are marked where they fall on the plot. */
+#define ECHO_OVER_NOISE_DB 15.0
+#define ECHO_RANGE_DB 60.0
+static void fit_time_axis(const struct uwb_scan *scan, const struct uwb_verdict *v, double *x_min,
+                          double *x_max)
 {
     double dt = scan->sample_interval_s, rec_lo = scan->t0_s, rec_hi = rec_lo + (scan->samples - 1) * dt;
     *x_min = rec_lo;
     *x_max = rec_hi;
-    double peak = 0;
-    for (int k = 0; k < scan->positions; k++)
-        for (int s = 0; s < scan->samples; s++)
-            peak = fmax(peak, fabs(sample_value(scan, k, s)));
-    if (!(peak > 0))
+    size_t n = (size_t)scan->samples;
+    double *energy = calloc(n, sizeof *energy), *sorted = malloc(n * sizeof *sorted);
+    if (!energy || !sorted) {
+        free(energy);
+        free(sorted);
         return;
-    double shown = peak * pow(10.0, floor_db / 20.0);
-    int first = scan->samples, last = -1;
-    for (int k = 0; k < scan->positions; k++)
-        for (int s = 0; s < scan->samples; s++)
-            if (fabs(sample_value(scan, k, s)) > shown) {
-                first = s < first ? s : first;
-                last = s > last ? s : last;
-            }
-    double lo = rec_lo + first * dt, hi = rec_lo + last * dt, w_lo, w_hi;
-    if (search_window_times(scan, prov, &w_lo, &w_hi)) {
-        lo = fmin(lo, w_lo);
-        hi = fmax(hi, w_hi);
     }
+    for (int k = 0; k < scan->positions; k++)
+        for (int s = 0; s < scan->samples; s++) {
+            double a = sample_value(scan, k, s);
+            energy[s] += a * a;
+        }
+    memcpy(sorted, energy, n * sizeof *sorted);
+    qsort(sorted, n, sizeof *sorted, by_value);
+    double least = fmax(sorted[n / 2] * pow(10.0, ECHO_OVER_NOISE_DB / 10.0),
+                        sorted[n - 1] * pow(10.0, -ECHO_RANGE_DB / 10.0));
+    free(sorted);
+    int first = scan->samples, last = -1;
+    for (int s = 0; s < scan->samples; s++)
+        if (energy[s] > least) {
+            first = s < first ? s : first;
+            last = s;
+        }
+    free(energy);
+    if (last < 0)
+        return;
+    double lo = rec_lo + first * dt, hi = rec_lo + last * dt;
     const struct uwb_edges *faces[2] = {v ? &v->current : NULL, v && v->has_baseline ? &v->baseline : NULL};
     for (int i = 0; i < 2; i++)
         if (faces[i] && faces[i]->found) {
@@ -260,7 +281,7 @@ static void fit_time_axis(const struct uwb_scan *scan, const struct uwb_verdict 
             lo = fmin(lo, t);
             hi = fmax(hi, t);
         }
-    double margin = 0.1 * (hi - lo) + 2 * dt;
+    double margin = 0.25 * (hi - lo) + 4 * dt;
     lo = fmax(rec_lo, lo - margin);
     hi = fmin(rec_hi, hi + margin);
     if (hi > lo) {
@@ -269,7 +290,8 @@ static void fit_time_axis(const struct uwb_scan *scan, const struct uwb_verdict 
     }
 }
 
-/* The search window as two dashed lines across the traces, named. */
+/* The search window: its ends as dashed lines where they fall on the
+ * plot, named with its ranges (an end off the plot is still named). */
 static void mark_search_window(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_scan *scan,
                                const struct uwb_provenance *prov)
 {
@@ -282,10 +304,14 @@ static void mark_search_window(struct uwb_canvas *c, const struct uwb_plot *p, c
         if (cols[i] >= p->x && cols[i] < p->x + p->w)
             uwb_canvas_line(c, cols[i], p->y, cols[i], p->y + p->h - 1, UWB_RGB_SEARCH_WINDOW, 2, 8, 5);
     }
-    const char *label = "search window";
+    char label[80];
+    snprintf(label, sizeof label, "search window %.0f-%.0f mm", prov->search_z_lo_m * 1e3,
+             prov->search_z_hi_m * 1e3);
     int w = uwb_text_width(label, 1), h = UWB_FONT_CAP_HEIGHT;
-    int x = cols[0] + 5;
-    if (x >= p->x && x + w + 4 < p->x + p->w) {
+    int x = cols[0] >= p->x ? cols[0] + 5 : p->x + 4;
+    if (x + w + 4 >= p->x + p->w)
+        x = p->x + p->w - w - 4;
+    if (x >= p->x) {
         uwb_canvas_fill_rect(c, x - 2, p->y + 3, w + 4, h + 4, page);
         uwb_draw_text(c, x, p->y + 5, label, 1, UWB_RGB_SEARCH_WINDOW);
     }
@@ -300,7 +326,7 @@ void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdi
     uwb_layout_single_plot(o.width, o.height, o.font_scale,
                            uwb_caption_height(v, o.provenance, o.width, o.font_scale), plot, colorbar_x,
                            colorbar_w);
-    fit_time_axis(scan, v, o.provenance, o.bscan_floor_db, &plot->x_min, &plot->x_max);
+    fit_time_axis(scan, v, &plot->x_min, &plot->x_max);
     /* Each trace owns the band half-way to its neighbours, so the outer
      * traces get a half (mean) step beyond their heights too. */
     double lo = scan->antenna_y_m[0], hi = lo;
