@@ -245,6 +245,11 @@ double uwb_signed_db_to_t(double value, double peak, double floor_db);
 /* Two-way time of the specular echo of a plane face at range face_z_m
  * for this scan's antenna pair and medium. */
 double uwb_face_echo_time(const struct uwb_scan *scan, double face_z_m);
+/* Ring and label "not the winding" up to two returns on the migrated image
+ * within 6 dB of the face's peak (or brighter) but away from the face the
+ * edges e describe (src/output/png_strong_returns.c). */
+void uwb_mark_strong_returns(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *img,
+                             const struct uwb_edges *e, int label_scale);
 /* Hatch the plot's rows outside prov's antenna travel, dash its ends and
  * (label_scale > 0) say "beyond antenna travel" where there is room. */
 void uwb_mark_antenna_travel(struct uwb_canvas *c, const struct uwb_plot *p,
