@@ -43,6 +43,7 @@ struct uwb_analysis {
     double dominant_hz;
     double noise_sigma;                  /* per-sample noise of the conditioned traces */
     double aperture_lo_m, aperture_hi_m; /* antenna travel */
+    double search_z_lo_m, search_z_hi_m; /* the ranges the face was searched in (0, 0: none yet) */
     /* What the last face measurement ran on, kept so that a comparison can
      * measure again with noise added (src/imaging/pair_uncertainty.c): the
      * conditioned traces, the per-position aperture weights, and the traces

@@ -33,6 +33,10 @@ struct uwb_provenance {
      * the images whose height axis reaches past it (has_travel 0: not drawn). */
     int has_travel;
     double travel_lo_m, travel_hi_m;
+    /* The ranges the analysis searched for the face, marked on the B-scan
+     * at their echo times (has_search_window 0: not drawn). */
+    int has_search_window;
+    double search_z_lo_m, search_z_hi_m;
 };
 
 /* ------------------------------------------------------------------ */

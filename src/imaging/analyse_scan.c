@@ -360,6 +360,8 @@ static enum step choose_search_range(struct analysis_run *r)
     double z_record = 0.5 * r->g.velocity_m_s * t_end;
     if (r->z_hi_m > z_record)
         r->z_hi_m = z_record;
+    r->out->search_z_lo_m = r->z_lo_m; /* the B-scan marks it */
+    r->out->search_z_hi_m = r->z_hi_m;
     if (r->z_hi_m - r->z_lo_m < MIN_SEARCH_SPAN_M) {
         snprintf(r->out->edges.reason, sizeof r->out->edges.reason,
                  "record too short: it ends at %.3f m range, the search starts at %.3f m", z_record,

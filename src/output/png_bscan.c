@@ -5,12 +5,14 @@
  * below the floor) because the direct coupling is several times stronger
  * than the winding's echo: on a linear scale the echo, the thing to look
  * at, would be a faint smudge. The face's expected arrival and the edges
- * are overlaid like in the migrated image. */
+ * are overlaid like in the migrated image, the search window the
+ * analysis used as two dashed lines; the time axis spans the echoes. */
 #include "output/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define SPEED_OF_LIGHT 299792458.0
 #define FACE_REGION_FRACTION 0.12
@@ -18,6 +20,8 @@
 
 static const struct uwb_rgb page = {255, 255, 255};
 static const struct uwb_rgb ink = {25, 25, 25};
+/* Green: a colour the diverging map of the traces never takes. */
+const struct uwb_rgb UWB_RGB_SEARCH_WINDOW = {0, 130, 60};
 
 static int check_scan(const struct uwb_scan *scan, const char *path, char *err, size_t errlen)
 {
@@ -209,6 +213,110 @@ static void draw_signed_colorbar(struct uwb_canvas *c, int x, int y, int w, int 
     uwb_draw_text(c, x + w / 2 - tw / 2, y + h + 8, "- dB", s, ink);
 }
 
+/* The times the analysis's search window spans: the echo times of its
+ * nearest and farthest ranges. 0 when there is no window. */
+static int search_window_times(const struct uwb_scan *scan, const struct uwb_provenance *prov, double *t_lo,
+                               double *t_hi)
+{
+    if (!prov || !prov->has_search_window || !(prov->search_z_hi_m > prov->search_z_lo_m))
+        return 0;
+    *t_lo = uwb_face_echo_time(scan, prov->search_z_lo_m);
+    *t_hi = uwb_face_echo_time(scan, prov->search_z_hi_m);
+    return isfinite(*t_lo) && isfinite(*t_hi) && *t_hi > *t_lo;
+}
+
+static int by_value(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The time axis fits the echoes: the times whose energy summed over the
+ * traces stands ECHO_OVER_NOISE_DB over the median time's (the noise)
+ * and is no more than ECHO_RANGE_DB under the strongest, and the faces'
+ * echo times, with a margin, within the record. Against the noise, not the
+ * strongest alone: on raw traces the direct coupling outshines the
+ * winding's echo. A long record whose echoes fill a fifth of it would
+ * otherwise leave most of the plot empty. The search window may reach past
+ * it: its ends are marked where they fall on the plot. */
+#define ECHO_OVER_NOISE_DB 15.0
+#define ECHO_RANGE_DB 60.0
+static void fit_time_axis(const struct uwb_scan *scan, const struct uwb_verdict *v, double *x_min,
+                          double *x_max)
+{
+    double dt = scan->sample_interval_s, rec_lo = scan->t0_s, rec_hi = rec_lo + (scan->samples - 1) * dt;
+    *x_min = rec_lo;
+    *x_max = rec_hi;
+    size_t n = (size_t)scan->samples;
+    double *energy = calloc(n, sizeof *energy), *sorted = malloc(n * sizeof *sorted);
+    if (!energy || !sorted) {
+        free(energy);
+        free(sorted);
+        return;
+    }
+    for (int k = 0; k < scan->positions; k++)
+        for (int s = 0; s < scan->samples; s++) {
+            double a = sample_value(scan, k, s);
+            energy[s] += a * a;
+        }
+    memcpy(sorted, energy, n * sizeof *sorted);
+    qsort(sorted, n, sizeof *sorted, by_value);
+    double least = fmax(sorted[n / 2] * pow(10.0, ECHO_OVER_NOISE_DB / 10.0),
+                        sorted[n - 1] * pow(10.0, -ECHO_RANGE_DB / 10.0));
+    free(sorted);
+    int first = scan->samples, last = -1;
+    for (int s = 0; s < scan->samples; s++)
+        if (energy[s] > least) {
+            first = s < first ? s : first;
+            last = s;
+        }
+    free(energy);
+    if (last < 0)
+        return;
+    double lo = rec_lo + first * dt, hi = rec_lo + last * dt;
+    const struct uwb_edges *faces[2] = {v ? &v->current : NULL, v && v->has_baseline ? &v->baseline : NULL};
+    for (int i = 0; i < 2; i++)
+        if (faces[i] && faces[i]->found) {
+            double t = uwb_face_echo_time(scan, faces[i]->face_z_m);
+            lo = fmin(lo, t);
+            hi = fmax(hi, t);
+        }
+    double margin = 0.25 * (hi - lo) + 4 * dt;
+    lo = fmax(rec_lo, lo - margin);
+    hi = fmin(rec_hi, hi + margin);
+    if (hi > lo) {
+        *x_min = lo;
+        *x_max = hi;
+    }
+}
+
+/* The search window: its ends as dashed lines where they fall on the
+ * plot, named with its ranges (an end off the plot is still named). */
+static void mark_search_window(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_scan *scan,
+                               const struct uwb_provenance *prov)
+{
+    double t[2];
+    if (!search_window_times(scan, prov, &t[0], &t[1]))
+        return;
+    int cols[2];
+    for (int i = 0; i < 2; i++) {
+        cols[i] = uwb_plot_col(p, t[i]);
+        if (cols[i] >= p->x && cols[i] < p->x + p->w)
+            uwb_canvas_line(c, cols[i], p->y, cols[i], p->y + p->h - 1, UWB_RGB_SEARCH_WINDOW, 2, 8, 5);
+    }
+    char label[80];
+    snprintf(label, sizeof label, "search window %.0f-%.0f mm", prov->search_z_lo_m * 1e3,
+             prov->search_z_hi_m * 1e3);
+    int w = uwb_text_width(label, 1), h = UWB_FONT_CAP_HEIGHT;
+    int x = cols[0] >= p->x ? cols[0] + 5 : p->x + 4;
+    if (x + w + 4 >= p->x + p->w)
+        x = p->x + p->w - w - 4;
+    if (x >= p->x) {
+        uwb_canvas_fill_rect(c, x - 2, p->y + 3, w + 4, h + 4, page);
+        uwb_draw_text(c, x, p->y + 5, label, 1, UWB_RGB_SEARCH_WINDOW);
+    }
+}
+
 void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdict *v,
                              const struct uwb_render_options *opt, struct uwb_plot *plot, int *colorbar_x,
                              int *colorbar_w)
@@ -218,8 +326,7 @@ void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdi
     uwb_layout_single_plot(o.width, o.height, o.font_scale,
                            uwb_caption_height(v, o.provenance, o.width, o.font_scale), plot, colorbar_x,
                            colorbar_w);
-    plot->x_min = scan->t0_s;
-    plot->x_max = scan->t0_s + (scan->samples - 1) * scan->sample_interval_s;
+    fit_time_axis(scan, v, &plot->x_min, &plot->x_max);
     /* Each trace owns the band half-way to its neighbours, so the outer
      * traces get a half (mean) step beyond their heights too. */
     double lo = scan->antenna_y_m[0], hi = lo;
@@ -280,6 +387,7 @@ int uwb_render_bscan_png_opt(const char *path, const struct uwb_scan *scan, cons
     if (!(peak > 0))
         uwb_draw_text(&c, plot.x + 10, plot.y + 10, "scan is empty (all zero)", s, ink);
 
+    mark_search_window(&c, &plot, scan, o.provenance);
     if (v) {
         const struct uwb_edges *b = v->has_baseline ? &v->baseline : NULL, *e = &v->current;
         if (b && b->found) {

@@ -202,40 +202,39 @@ static void pen_text(struct pen *p, int x, int y, const char *text, int scale, s
         uwb_draw_text(p->c, x, y, text, scale, colour);
 }
 
-/* A label, then `text` word-wrapped over at most max_lines lines in the
- * column after the label (the last line cut with "..."). */
-static void labelled_text(struct pen *p, const char *label, const char *text, struct uwb_rgb colour,
-                          int max_lines)
+/* A label, then `text` word-wrapped over as many lines as it needs in
+ * the column after the label: nothing in a caption is cut, since the
+ * words cut off (a source line's SNR, a reason's end) are the ones the
+ * reader was looking for. */
+static void labelled_text(struct pen *p, const char *label, const char *text, struct uwb_rgb colour)
 {
     int tx = p->x + uwb_text_width(label, p->scale) + UWB_FONT_ADVANCE * p->scale;
     int max_w = p->width - tx - 8;
     pen_text(p, p->x, p->y, label, p->scale, muted);
     const char *rest = text;
-    for (int line = 0; line < max_lines; line++) {
+    do {
         while (*rest == ' ')
             rest++;
-        char buf[1024];
         size_t n = strlen(rest);
         size_t fit = fitting_prefix(rest, n, max_w, p->scale);
-        if (fit < n && line + 1 < max_lines) {
+        if (fit == 0 && n > 0)
+            fit = fitting_prefix(rest, n, UWB_FONT_ADVANCE * p->scale, p->scale); /* one glyph a line */
+        if (fit < n) {
             /* break at the last space that fits, if there is one */
             size_t cut = fit;
             while (cut > 0 && rest[cut] != ' ')
                 cut--;
             if (cut > 0)
                 fit = cut;
-            snprintf(buf, sizeof buf, "%.*s", (int)fit, rest);
-        } else {
-            snprintf(buf, sizeof buf, "%s", rest);
-            fit_text(buf, max_w, p->scale);
-            fit = n;
         }
+        char buf[1024];
+        snprintf(buf, sizeof buf, "%.*s", (int)fit, rest);
         pen_text(p, tx, p->y, buf, p->scale, colour);
         p->y += line_step(p->scale);
         rest += fit;
-        if (!*rest)
-            break;
-    }
+        while (*rest == ' ')
+            rest++;
+    } while (*rest);
 }
 
 /* The thresholds as three words in their zones' colours,
@@ -259,21 +258,23 @@ static void threshold_line(struct pen *p, const struct uwb_verdict *v, const str
     p->has_meter = right - x >= 60;
     if (p->has_meter) {
         uwb_meter_layout(v, uwb_displacement_measured(v), th, x, p->y, right - x, h, &p->meter);
-        if (p->c)
+        if (p->c) {
             uwb_draw_meter(p->c, &p->meter, v, uwb_displacement_measured(v), th);
+            uwb_draw_meter_labels(p->c, &p->meter, v, uwb_displacement_measured(v), th, p->scale);
+        }
     }
     p->y += line_step(p->scale);
+    if (p->has_meter)
+        p->y += uwb_meter_labels_height(p->scale); /* the meter's numbers */
     if (uwb_displacement_measured(v)) {
         double d = v->axial_displacement_m * 1e3, s95 = UWB_SIGMAS_95 * v->uncertainty_m * 1e3;
         char interval[160];
         snprintf(interval, sizeof interval,
                  "%+.2f .. %+.2f mm (\u00b1%.0f\u03c3: the black bar on the meter)", d - s95, d + s95,
                  UWB_SIGMAS_95);
-        labelled_text(p, "95 %    ", interval, ink, 1);
+        labelled_text(p, "95 %    ", interval, ink);
     }
 }
-
-#define REASON_LINES 3 /* a reason longer than this is in the JSON verdict */
 
 static int caption(struct uwb_canvas *c, int width, const char *title, const struct uwb_verdict *v,
                    const struct uwb_provenance *prov, int scale, struct uwb_meter *meter)
@@ -287,12 +288,12 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
     p.y += UWB_FONT_LINE_HEIGHT * title_scale + TITLE_GAP;
 
     if (!v) {
-        labelled_text(&p, "verdict ", "none available: image only", ink, 1);
+        labelled_text(&p, "verdict ", "none available: image only", ink);
     } else {
         /* Labels are padded to one width so the figures of this scan and
          * of the baseline line up under each other. */
         snprintf(a, sizeof a, "%s   created %s", scan_name(v, prov), or_unknown(v->created));
-        labelled_text(&p, "scan    ", a, ink, 1);
+        labelled_text(&p, "scan    ", a, ink);
 
         /* Verdict: a status badge in its colour, then the figure or why
          * there is none. */
@@ -309,29 +310,29 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
         struct pen after_badge = p;
         after_badge.x = bx + bw + 8 * scale - UWB_FONT_ADVANCE * scale; /* text column after the badge */
         describe_result(v, prov, a, sizeof a);
-        labelled_text(&after_badge, "", a, ink, REASON_LINES);
+        labelled_text(&after_badge, "", a, ink);
         p.y = after_badge.y;
 
         uwb_describe_edges(&v->current, a, sizeof a);
-        labelled_text(&p, "edges   ", a, ink, 2);
+        labelled_text(&p, "edges   ", a, ink);
         if (v->has_baseline) {
             /* The colour ties these lines to the dashed baseline overlay. */
             char id[300];
             snprintf(id, sizeof id, "%s%s", or_unknown(v->baseline_scan_id),
                      prov && prov->became_baseline ? "   (replaced by this scan)" : "");
-            labelled_text(&p, "baseline", id, baseline_ink, 1);
+            labelled_text(&p, "baseline", id, baseline_ink);
             uwb_describe_edges(&v->baseline, a, sizeof a);
-            labelled_text(&p, "        ", a, baseline_ink, 2);
+            labelled_text(&p, "        ", a, baseline_ink);
         } else if (became_baseline(v, prov)) {
-            labelled_text(&p, "baseline", "none before: this scan is now the baseline", baseline_ink, 1);
+            labelled_text(&p, "baseline", "none before: this scan is now the baseline", baseline_ink);
         } else {
-            labelled_text(&p, "baseline", "none given", ink, 1);
+            labelled_text(&p, "baseline", "none given", ink);
         }
         if (prov && uwb_thresholds_usable(prov->thresholds))
             threshold_line(&p, v, prov->thresholds);
     }
     uwb_describe_provenance(v, prov, a, sizeof a);
-    labelled_text(&p, "source  ", a, muted, 1);
+    labelled_text(&p, "source  ", a, muted);
     if (meter) {
         *meter = p.meter;
         if (!p.has_meter)

@@ -10,6 +10,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 enum uwb_status uwb_threshold_zone(double displacement_m, const struct uwb_thresholds *th)
 {
@@ -101,4 +102,75 @@ void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struc
     uwb_canvas_fill_rect(c, a, mid - 3, 1, 7, ink);
     uwb_canvas_fill_rect(c, b, mid - 3, 1, 7, ink);
     uwb_canvas_fill_rect(c, d - 1, m->y - 3, 3, m->h + 6, ink);
+}
+
+int uwb_meter_labels_height(int scale)
+{
+    return UWB_FONT_CAP_HEIGHT * scale + 6;
+}
+
+/* A limit in mm without trailing zeros: 2.00 -> "2", 2.50 -> "2.5". */
+static void format_mm(char *buf, size_t len, double metres)
+{
+    snprintf(buf, len, "%.2f", metres * 1e3);
+    char *dot = strchr(buf, '.');
+    if (!dot)
+        return;
+    char *end = buf + strlen(buf) - 1;
+    while (end > dot && *end == '0')
+        *end-- = '\0';
+    if (end == dot)
+        *end = '\0';
+}
+
+struct label_row {
+    int lo[8], hi[8], n;
+};
+
+/* Draw `text` centred on col (kept within the canvas) unless it would
+ * touch a label already drawn: on a narrow meter the figure and the alarm
+ * limits matter more than the watch limits, so they are drawn first. */
+static void place_label(struct uwb_canvas *c, struct label_row *row, int col, int y, const char *text,
+                        int scale, struct uwb_rgb colour)
+{
+    int w = uwb_text_width(text, scale), x = col - w / 2, gap = 3 * scale;
+    if (x + w > c->width - 2)
+        x = c->width - 2 - w;
+    if (x < 0)
+        x = 0;
+    for (int i = 0; i < row->n; i++)
+        if (x < row->hi[i] + gap && x + w + gap > row->lo[i])
+            return;
+    if (row->n < 8) {
+        row->lo[row->n] = x;
+        row->hi[row->n] = x + w;
+        row->n++;
+    }
+    uwb_draw_text(c, x, y, text, scale, colour);
+}
+
+void uwb_draw_meter_labels(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
+                           int measured, const struct uwb_thresholds *th, int scale)
+{
+    static const struct uwb_rgb ink = {25, 25, 25};
+    struct label_row row = {{0}, {0}, 0};
+    int y = m->y + m->h + 5;
+    char text[32];
+    if (measured) {
+        snprintf(text, sizeof text, "%+.2f", v->axial_displacement_m * 1e3);
+        place_label(c, &row, uwb_meter_col(m, v->axial_displacement_m), y, text, scale, ink);
+    }
+    /* The zones are of |displacement|: each limit is named, unsigned (the
+     * narrower label leaves room for more), on both sides of zero. */
+    const struct {
+        double at_m;
+        enum uwb_status zone;
+    } limit[] = {{th->alarm_m, UWB_STATUS_ALARM}, {th->watch_m, UWB_STATUS_WATCH}};
+    for (size_t i = 0; i < sizeof limit / sizeof limit[0]; i++)
+        for (int side = 1; side >= -1; side -= 2) {
+            format_mm(text, sizeof text, limit[i].at_m);
+            place_label(c, &row, uwb_meter_col(m, side * limit[i].at_m), y, text, scale,
+                        uwb_status_colour(limit[i].zone));
+        }
+    place_label(c, &row, uwb_meter_col(m, 0.0), y, "0", scale, ink);
 }

@@ -82,6 +82,7 @@ double uwb_rgb_lightness(struct uwb_rgb c);
 extern const struct uwb_rgb UWB_RGB_CURRENT_EDGE;  /* solid line */
 extern const struct uwb_rgb UWB_RGB_BASELINE_EDGE; /* dashed line */
 extern const struct uwb_rgb UWB_RGB_HALO;          /* outline that keeps lines visible on any colour */
+extern const struct uwb_rgb UWB_RGB_SEARCH_WINDOW; /* the analysis's search window on the B-scan */
 extern const struct uwb_rgb UWB_RGB_NOT_MEASURED;  /* grey of a displacement not measured (comparison) */
 
 /* ------------------------------------------------------------------ */
@@ -228,6 +229,12 @@ void uwb_meter_layout(const struct uwb_verdict *v, int measured, const struct uw
 int uwb_meter_col(const struct uwb_meter *m, double displacement_m);
 void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
                     int measured, const struct uwb_thresholds *th);
+/* The meter's numbers, in a row under it: the figure (when measured), the
+ * alarm and watch limits either side in mm, zero; a label that would touch
+ * one drawn before is left out. uwb_meter_labels_height: the row's height. */
+void uwb_draw_meter_labels(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
+                           int measured, const struct uwb_thresholds *th, int scale);
+int uwb_meter_labels_height(int scale);
 /* 1 and the meter's place if this caption has one (thresholds given). */
 int uwb_caption_meter(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,
                       int font_scale, struct uwb_meter *m);
@@ -238,6 +245,11 @@ double uwb_signed_db_to_t(double value, double peak, double floor_db);
 /* Two-way time of the specular echo of a plane face at range face_z_m
  * for this scan's antenna pair and medium. */
 double uwb_face_echo_time(const struct uwb_scan *scan, double face_z_m);
+/* Ring and label "not the winding" up to two returns on the migrated image
+ * within 6 dB of the face's peak (or brighter) but away from the face the
+ * edges e describe (src/output/png_strong_returns.c). */
+void uwb_mark_strong_returns(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *img,
+                             const struct uwb_edges *e, int label_scale);
 /* Hatch the plot's rows outside prov's antenna travel, dash its ends and
  * (label_scale > 0) say "beyond antenna travel" where there is room. */
 void uwb_mark_antenna_travel(struct uwb_canvas *c, const struct uwb_plot *p,

@@ -22,6 +22,11 @@ int uwb_write_images(const char *dir, const char *stem, const struct uwb_provena
         prov.travel_lo_m = current->antenna_y_m[0]; /* strictly increasing (uwb/scan.h) */
         prov.travel_hi_m = current->antenna_y_m[current->positions - 1];
     }
+    if (cur_a->search_z_hi_m > cur_a->search_z_lo_m) {
+        prov.has_search_window = 1;
+        prov.search_z_lo_m = cur_a->search_z_lo_m;
+        prov.search_z_hi_m = cur_a->search_z_hi_m;
+    }
     struct uwb_render_options opt;
     uwb_render_options_default(&opt);
     opt.provenance = &prov;

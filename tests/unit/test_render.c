@@ -571,12 +571,15 @@ static void test_long_reason_wraps_and_pushes_the_plot_down(void)
     int long_h = uwb_caption_height(&v, NULL, 960, 2);
     int line = UWB_FONT_LINE_HEIGHT * 2 + 3;
     TEST_ASSERT_EQUAL_INT(short_h + 2 * line, long_h); /* the reason takes three lines */
-    /* a reason of any length stops at three lines */
+    /* a longer reason takes more lines: nothing in a caption is cut */
+    char three_lines[sizeof v.reason];
+    snprintf(three_lines, sizeof three_lines, "%s", v.reason);
     memset(v.reason, 'x', sizeof v.reason - 1);
     for (size_t i = 10; i < sizeof v.reason - 1; i += 11)
         v.reason[i] = ' ';
     v.reason[sizeof v.reason - 1] = '\0';
-    TEST_ASSERT_EQUAL_INT(short_h + 2 * line, uwb_caption_height(&v, NULL, 960, 2));
+    TEST_ASSERT_TRUE(uwb_caption_height(&v, NULL, 960, 2) > short_h + 2 * line);
+    snprintf(v.reason, sizeof v.reason, "%s", three_lines);
     struct uwb_plot p_short, p_long;
     int bx, bw;
     struct uwb_verdict plain = make_verdict();
@@ -1054,8 +1057,10 @@ static void test_caption_names_an_id_less_scan_by_its_given_name(void)
     struct png_rgb a = render_migrated("anon.png", &img, &v, &o);
     o.provenance = &prov;
     struct png_rgb b = render_migrated("named.png", &img, &v, &o);
-    /* One caption line more: the source line holds the asset etc. */
-    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2), uwb_caption_height(&v, &prov, 960, 2));
+    /* One caption line more: the source line holds the asset etc., too
+     * long for one line at 960 px, so it wraps rather than being cut. */
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + UWB_FONT_LINE_HEIGHT * 2 + 3,
+                          uwb_caption_height(&v, &prov, 960, 2));
     int caption_h = uwb_caption_height(&v, &prov, a.w, 2), differ = 0;
     for (int y = 0; y < caption_h; y++)
         for (int x = 0; x < a.w; x++)
@@ -1284,15 +1289,189 @@ static void test_the_plus_minus_says_what_it_is(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(summary, "95 % interval +19.20..+20.80 mm"), summary);
     struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
     struct uwb_provenance prov = {.thresholds = &th};
-    int line_h = UWB_FONT_LINE_HEIGHT * 2 + 3;
-    /* limits + 95 % lines when measured; limits alone when not */
-    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + 2 * line_h,
+    int line_h = UWB_FONT_LINE_HEIGHT * 2 + 3, numbers = uwb_meter_labels_height(2);
+    /* limits (with the meter's numbers under it) + 95 % lines when
+     * measured; limits alone when not */
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + 2 * line_h + numbers,
                           uwb_caption_height(&v, &prov, 960, 2));
     v.status = UWB_STATUS_INCONCLUSIVE;
     uwb_verdict_summary(&v, NULL, summary, sizeof summary);
     TEST_ASSERT_NULL_MESSAGE(strstr(summary, "95 %"), summary);
-    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + line_h,
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + line_h + numbers,
                           uwb_caption_height(&v, &prov, 960, 2));
+}
+
+/* Nothing in a caption is cut: a source line wider than the image wraps
+ * onto a second line, so its end (the SNR, the version) is drawn; a
+ * different SNR at the end of a long line changes the caption. */
+static void test_a_long_source_line_wraps_rather_than_being_cut(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict();
+    v.current.snr_db = 48.9;
+    struct uwb_provenance prov = {.asset = "substation North T1 phase B", .stack = 64, .eps_r = 3.2};
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.provenance = &prov;
+    int line = UWB_FONT_LINE_HEIGHT * o.font_scale + 3;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(uwb_caption_height(&v, NULL, o.width, o.font_scale) + line,
+                                  uwb_caption_height(&v, &prov, o.width, o.font_scale),
+                                  "the long source line takes two caption lines");
+    struct png_rgb a = render_migrated("snr-a.png", &img, &v, &o);
+    v.current.snr_db = 12.3;
+    struct png_rgb b = render_migrated("snr-b.png", &img, &v, &o);
+    int caption_h = uwb_caption_height(&v, &prov, o.width, o.font_scale), differ = 0;
+    for (int y = 0; y < caption_h; y++)
+        for (int x = 0; x < a.w; x++)
+            differ += !same(at(&a, x, y), at(&b, x, y));
+    TEST_ASSERT_TRUE_MESSAGE(differ > 20, "the SNR at the end of the source line is drawn");
+    free(a.px);
+    free(b.px);
+    uwb_image_free(&img);
+}
+
+/* The meter has its numbers: under it, the watch and alarm limits (mm, in
+ * their zones' colours) at their places on its scale, and the measured
+ * displacement under its mark. */
+static void test_the_meter_labels_its_limits_and_the_figure(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct uwb_verdict v = make_verdict(); /* +20 mm */
+    struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
+    struct uwb_provenance prov = {.scan_name = "x", .thresholds = &th};
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.provenance = &prov;
+    struct uwb_meter m;
+    TEST_ASSERT_TRUE(uwb_caption_meter(&v, &prov, o.width, o.font_scale, &m));
+    struct png_rgb png = render_migrated("meter-labels.png", &img, &v, &o);
+    int top = m.y + m.h + 4, bottom = top + UWB_FONT_CAP_HEIGHT * o.font_scale + 2;
+    const struct uwb_rgb ink = {25, 25, 25};
+    struct {
+        double at_m;
+        struct uwb_rgb colour;
+        const char *what;
+    } want[] = {
+        {th.alarm_m, uwb_status_colour(UWB_STATUS_ALARM), "+alarm limit labelled"},
+        {-th.alarm_m, uwb_status_colour(UWB_STATUS_ALARM), "-alarm limit labelled"},
+        {v.axial_displacement_m, ink, "the figure labelled"},
+    };
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
+        int col = uwb_meter_col(&m, want[i].at_m), n = 0;
+        for (int y = top; y <= bottom; y++)
+            for (int x = col - 40; x <= col + 40; x++)
+                if (x >= m.x - 20 && x < png.w)
+                    n += same(at(&png, x, y), want[i].colour);
+        TEST_ASSERT_TRUE_MESSAGE(n > 10, want[i].what);
+    }
+    free(png.px);
+    uwb_image_free(&img);
+}
+
+/* The B-scan's time axis fits the echoes: a 20 ns record whose echoes
+ * all lie at 4-7 ns is drawn over about those times, not with 80 % of the
+ * plot empty; the ranges the analysis searched are marked at their echo
+ * times (a render with the window differs there from one without). */
+static void test_bscan_axis_fits_the_echoes_and_marks_the_window(void)
+{
+    struct uwb_scan scan;
+    char err[256];
+    TEST_ASSERT_EQUAL_INT(0, uwb_scan_alloc(&scan, 21, 1000, err, sizeof err));
+    scan.sample_interval_s = 20e-12; /* 0 .. 20 ns */
+    scan.t0_s = 0.0;
+    scan.tx_m[0] = -0.02;
+    scan.rx_m[0] = 0.02;
+    for (int k = 0; k < 21; k++) {
+        scan.antenna_y_m[k] = 0.03 * k;
+        int first = 200 + 7 * k; /* 4.0 .. 6.8 ns */
+        for (int s = first; s <= first + 10; s++)
+            scan.data[k * 1000 + s] = 100.0f;
+    }
+    struct uwb_verdict v = make_verdict();
+    v.current.face_z_m = v.baseline.face_z_m = 0.75; /* echo at 5 ns */
+    struct uwb_provenance prov = {.has_search_window = 1, .search_z_lo_m = 0.62, .search_z_hi_m = 0.95};
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    o.provenance = &prov;
+    char path[512], bare_path[512];
+    path_in_dir(path, sizeof path, "bscan-fit.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_bscan_png_opt(path, &scan, &v, &o, err, sizeof err), err);
+    struct uwb_provenance bare = prov;
+    bare.has_search_window = 0;
+    o.provenance = &bare;
+    path_in_dir(bare_path, sizeof bare_path, "bscan-bare.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_bscan_png_opt(bare_path, &scan, &v, &o, err, sizeof err),
+                                  err);
+    o.provenance = &prov;
+    struct png_rgb png = read_png(path), plain = read_png(bare_path);
+    struct uwb_plot p;
+    int bar_x, bar_w;
+    uwb_render_bscan_layout(&scan, &v, &o, &p, &bar_x, &bar_w);
+    int echo_cols = 0;
+    for (int x = p.x; x < p.x + p.w; x++) {
+        int red = 0;
+        for (int y = p.y; y < p.y + p.h && !red; y++) {
+            struct uwb_rgb c = at(&png, x, y);
+            red = c.r > c.b + 60;
+        }
+        echo_cols += red;
+    }
+    char msg[96];
+    snprintf(msg, sizeof msg, "echoes fill %d of %d columns", echo_cols, p.w);
+    TEST_ASSERT_TRUE_MESSAGE(echo_cols * 2 > p.w, msg);
+    /* The window's ends, at the echo times of its ranges: drawn there. */
+    for (int end = 0; end < 2; end++) {
+        double t = uwb_face_echo_time(&scan, end ? prov.search_z_hi_m : prov.search_z_lo_m);
+        int col = col_of(&p, t), differ = 0;
+        TEST_ASSERT_TRUE_MESSAGE(col >= p.x && col < p.x + p.w, "the window lies on the plot");
+        for (int y = p.y; y < p.y + p.h; y++)
+            differ += !same(at(&png, col, y), at(&plain, col, y));
+        TEST_ASSERT_TRUE_MESSAGE(differ > p.h / 4,
+                                 end ? "the window's far end is marked" : "its near end is marked");
+    }
+    free(png.px);
+    free(plain.px);
+    uwb_scan_free(&scan);
+}
+
+/* A return as strong as the winding's face but away from it (a clamping
+ * plate above the winding) is labelled as not the winding; a weak one is
+ * not. The label is white on the image, where the colour map has none. */
+static int white_near(const struct png_rgb *png, const struct uwb_plot *p, int row)
+{
+    int n = 0;
+    for (int y = row - 30; y <= row + 30; y++)
+        for (int x = p->x; x < p->x + p->w; x++)
+            if (y >= p->y && y < p->y + p->h)
+                n += same(at(png, x, y), (struct uwb_rgb){255, 255, 255});
+    return n;
+}
+
+static void test_a_strong_return_off_the_winding_is_labelled_not_the_winding(void)
+{
+    struct uwb_verdict v = make_verdict();
+    struct uwb_plot p;
+    int bx, bw;
+    float strength[2] = {1.5f, 0.1f}; /* brighter than the face; 20 dB under it */
+    for (int i = 0; i < 2; i++) {
+        struct uwb_image img = make_image(FACE_LO, FACE_HI);
+        for (int iy = 0; iy < img.ny; iy++)
+            for (int iz = 0; iz < img.nz; iz++) {
+                double y = img.y0_m + iy * img.dy_m, z = img.z0_m + iz * img.dz_m;
+                if (hypot(y - 0.45, z - 0.52) <= 0.008)
+                    img.pix[iy * img.nz + iz] = strength[i];
+            }
+        uwb_render_migrated_layout(&img, &v, NULL, &p, &bx, &bw);
+        struct png_rgb png = render_migrated(i ? "weak-return.png" : "strong-return.png", &img, &v, NULL);
+        int n = white_near(&png, &p, row_of(&p, 0.45));
+        if (i == 0) {
+            TEST_ASSERT_TRUE_MESSAGE(n > 30, "the strong return is labelled");
+        } else {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, n, "a weak one is not");
+        }
+        free(png.px);
+        uwb_image_free(&img);
+    }
 }
 
 /* The migrated image's height axis reaches past the antenna's travel:
@@ -1398,5 +1577,9 @@ int main(void)
     RUN_TEST(test_the_plus_minus_says_what_it_is);
     RUN_TEST(test_migrated_image_marks_what_lies_beyond_the_antenna_travel);
     RUN_TEST(test_bscan_has_a_range_axis);
+    RUN_TEST(test_a_long_source_line_wraps_rather_than_being_cut);
+    RUN_TEST(test_the_meter_labels_its_limits_and_the_figure);
+    RUN_TEST(test_bscan_axis_fits_the_echoes_and_marks_the_window);
+    RUN_TEST(test_a_strong_return_off_the_winding_is_labelled_not_the_winding);
     return UNITY_END();
 }
