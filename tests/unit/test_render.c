@@ -1217,6 +1217,26 @@ static void test_comparison_difference_panel_shows_the_move(void)
     uwb_analysis_free(&base);
 }
 
+/* A page with the limits meter: the +20 mm verdict (sigma 0.4 mm), watch
+ * 2 mm, alarm 5 mm, and where its meter sits. */
+struct meter_page {
+    struct uwb_verdict v;
+    struct uwb_thresholds th;
+    struct uwb_provenance prov;
+    struct uwb_render_options o;
+    struct uwb_meter m;
+};
+
+static void meter_page_init(struct meter_page *p)
+{
+    p->v = make_verdict();
+    p->th = (struct uwb_thresholds){.watch_m = 0.002, .alarm_m = 0.005};
+    p->prov = (struct uwb_provenance){.scan_name = "x", .thresholds = &p->th};
+    uwb_render_options_default(&p->o);
+    p->o.provenance = &p->prov;
+    TEST_ASSERT_TRUE(uwb_caption_meter(&p->v, &p->prov, p->o.width, p->o.font_scale, &p->m));
+}
+
 /* The watch and alarm thresholds: a caption line names them in their
  * zones' colours and a meter on the displacement's own scale (on the
  * height axis 5 mm is a few pixels) shows the zones with this scan's
@@ -1227,37 +1247,37 @@ static void test_images_show_the_watch_and_alarm_zones(void)
     struct uwb_image img = make_image(FACE_LO, FACE_HI);
     struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
     struct uwb_analysis base = make_analysis(BASE_LO, BASE_HI, BASE_LO, BASE_HI);
-    struct uwb_verdict v = make_verdict(); /* +20 mm, sigma 0.4 mm */
-    struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
-    struct uwb_provenance prov = {.scan_name = "x", .thresholds = &th};
-    struct uwb_render_options o;
-    uwb_render_options_default(&o);
-    o.provenance = &prov;
-    struct uwb_meter m;
-    TEST_ASSERT_TRUE(uwb_caption_meter(&v, &prov, o.width, o.font_scale, &m));
-    TEST_ASSERT_TRUE(m.w > 100);
-    TEST_ASSERT_TRUE(m.half_range_m >= v.axial_displacement_m + 2 * v.uncertainty_m);
-    TEST_ASSERT_TRUE(uwb_caption_height(&v, &prov, o.width, 2) > uwb_caption_height(&v, NULL, o.width, 2));
+    struct meter_page page;
+    meter_page_init(&page);
+    TEST_ASSERT_TRUE(page.m.w > 100);
+    TEST_ASSERT_TRUE(page.m.half_range_m >= page.v.axial_displacement_m + 2 * page.v.uncertainty_m);
+    TEST_ASSERT_TRUE(uwb_caption_height(&page.v, &page.prov, page.o.width, 2) >
+                     uwb_caption_height(&page.v, NULL, page.o.width, 2));
     char path[512], err[256];
     path_in_dir(path, sizeof path, "cmp-zones.png");
     TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, uwb_render_comparison_png_opt(path, &cur, &base, &v, &o, err, sizeof err), err);
-    struct png_rgb images[2] = {render_migrated("mig-zones.png", &img, &v, &o), read_png(path)};
+        0, uwb_render_comparison_png_opt(path, &cur, &base, &page.v, &page.o, err, sizeof err), err);
+    struct png_rgb images[2] = {render_migrated("mig-zones.png", &img, &page.v, &page.o), read_png(path)};
     const struct uwb_rgb ink = {25, 25, 25};
     for (int i = 0; i < 2; i++) {
         const struct png_rgb *png = &images[i];
-        int top = m.y + 1; /* a row of the bar clear of the interval bar in the middle */
-        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, 0.001), top), uwb_status_colour(UWB_STATUS_OK)));
-        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, -0.0035), top), uwb_status_colour(UWB_STATUS_WATCH)));
-        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, 0.0035), top), uwb_status_colour(UWB_STATUS_WATCH)));
-        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, -0.007), top), uwb_status_colour(UWB_STATUS_ALARM)));
+        int top = page.m.y + 1; /* a row of the bar clear of the interval bar in the middle */
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&page.m, 0.001), top), uwb_status_colour(UWB_STATUS_OK)));
+        TEST_ASSERT_TRUE(
+            same(at(png, uwb_meter_col(&page.m, -0.0035), top), uwb_status_colour(UWB_STATUS_WATCH)));
+        TEST_ASSERT_TRUE(
+            same(at(png, uwb_meter_col(&page.m, 0.0035), top), uwb_status_colour(UWB_STATUS_WATCH)));
+        TEST_ASSERT_TRUE(
+            same(at(png, uwb_meter_col(&page.m, -0.007), top), uwb_status_colour(UWB_STATUS_ALARM)));
         /* The displacement's mark, and its 95 % interval's ends (+/-2 sigma). */
-        int mid = m.y + m.h / 2;
-        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&m, v.axial_displacement_m), top), ink));
-        TEST_ASSERT_TRUE(
-            same(at(png, uwb_meter_col(&m, v.axial_displacement_m + 2 * v.uncertainty_m), mid - 3), ink));
-        TEST_ASSERT_TRUE(
-            same(at(png, uwb_meter_col(&m, v.axial_displacement_m - 2 * v.uncertainty_m), mid - 3), ink));
+        int mid = page.m.y + page.m.h / 2;
+        TEST_ASSERT_TRUE(same(at(png, uwb_meter_col(&page.m, page.v.axial_displacement_m), top), ink));
+        TEST_ASSERT_TRUE(same(
+            at(png, uwb_meter_col(&page.m, page.v.axial_displacement_m + 2 * page.v.uncertainty_m), mid - 3),
+            ink));
+        TEST_ASSERT_TRUE(same(
+            at(png, uwb_meter_col(&page.m, page.v.axial_displacement_m - 2 * page.v.uncertainty_m), mid - 3),
+            ink));
         free(images[i].px);
     }
     struct png_texts t;
@@ -1266,8 +1286,8 @@ static void test_images_show_the_watch_and_alarm_zones(void)
     TEST_ASSERT_NOT_NULL(d);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "thresholds watch 2.00 mm, alarm 5.00 mm"), d);
     /* Without thresholds: no meter. */
-    prov.thresholds = NULL;
-    TEST_ASSERT_FALSE(uwb_caption_meter(&v, &prov, o.width, o.font_scale, &m));
+    page.prov.thresholds = NULL;
+    TEST_ASSERT_FALSE(uwb_caption_meter(&page.v, &page.prov, page.o.width, page.o.font_scale, &page.m));
     uwb_image_free(&img);
     uwb_analysis_free(&cur);
     uwb_analysis_free(&base);
@@ -1336,31 +1356,25 @@ static void test_a_long_source_line_wraps_rather_than_being_cut(void)
 static void test_the_meter_labels_its_limits_and_the_figure(void)
 {
     struct uwb_image img = make_image(FACE_LO, FACE_HI);
-    struct uwb_verdict v = make_verdict(); /* +20 mm */
-    struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
-    struct uwb_provenance prov = {.scan_name = "x", .thresholds = &th};
-    struct uwb_render_options o;
-    uwb_render_options_default(&o);
-    o.provenance = &prov;
-    struct uwb_meter m;
-    TEST_ASSERT_TRUE(uwb_caption_meter(&v, &prov, o.width, o.font_scale, &m));
-    struct png_rgb png = render_migrated("meter-labels.png", &img, &v, &o);
-    int top = m.y + m.h + 4, bottom = top + UWB_FONT_CAP_HEIGHT * o.font_scale + 2;
+    struct meter_page page;
+    meter_page_init(&page);
+    struct png_rgb png = render_migrated("meter-labels.png", &img, &page.v, &page.o);
+    int top = page.m.y + page.m.h + 4, bottom = top + UWB_FONT_CAP_HEIGHT * page.o.font_scale + 2;
     const struct uwb_rgb ink = {25, 25, 25};
     struct {
         double at_m;
         struct uwb_rgb colour;
         const char *what;
     } want[] = {
-        {th.alarm_m, uwb_status_colour(UWB_STATUS_ALARM), "+alarm limit labelled"},
-        {-th.alarm_m, uwb_status_colour(UWB_STATUS_ALARM), "-alarm limit labelled"},
-        {v.axial_displacement_m, ink, "the figure labelled"},
+        {page.th.alarm_m, uwb_status_colour(UWB_STATUS_ALARM), "+alarm limit labelled"},
+        {-page.th.alarm_m, uwb_status_colour(UWB_STATUS_ALARM), "-alarm limit labelled"},
+        {page.v.axial_displacement_m, ink, "the figure labelled"},
     };
     for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
-        int col = uwb_meter_col(&m, want[i].at_m), n = 0;
+        int col = uwb_meter_col(&page.m, want[i].at_m), n = 0;
         for (int y = top; y <= bottom; y++)
             for (int x = col - 40; x <= col + 40; x++)
-                if (x >= m.x - 20 && x < png.w)
+                if (x >= page.m.x - 20 && x < png.w)
                     n += same(at(&png, x, y), want[i].colour);
         TEST_ASSERT_TRUE_MESSAGE(n > 10, want[i].what);
     }
