@@ -173,6 +173,23 @@ static size_t fitting_prefix(const char *text, size_t n, int max_w, int scale)
     return i;
 }
 
+size_t uwb_wrap_line_length(const char *text, int max_w, int scale)
+{
+    size_t n = strlen(text);
+    size_t fit = fitting_prefix(text, n, max_w, scale);
+    if (fit == 0 && n > 0)
+        fit = fitting_prefix(text, n, UWB_FONT_ADVANCE * scale, scale); /* one glyph a line */
+    if (fit < n) {
+        /* break at the last space that fits, if there is one */
+        size_t cut = fit;
+        while (cut > 0 && text[cut] != ' ')
+            cut--;
+        if (cut > 0)
+            fit = cut;
+    }
+    return fit;
+}
+
 /* Shorten `text` in place, ending in "...", until it fits max_w pixels. */
 static void fit_text(char *text, int max_w, int scale)
 {
@@ -215,18 +232,7 @@ static void labelled_text(struct pen *p, const char *label, const char *text, st
     do {
         while (*rest == ' ')
             rest++;
-        size_t n = strlen(rest);
-        size_t fit = fitting_prefix(rest, n, max_w, p->scale);
-        if (fit == 0 && n > 0)
-            fit = fitting_prefix(rest, n, UWB_FONT_ADVANCE * p->scale, p->scale); /* one glyph a line */
-        if (fit < n) {
-            /* break at the last space that fits, if there is one */
-            size_t cut = fit;
-            while (cut > 0 && rest[cut] != ' ')
-                cut--;
-            if (cut > 0)
-                fit = cut;
-        }
+        size_t fit = uwb_wrap_line_length(rest, max_w, p->scale);
         char buf[1024];
         snprintf(buf, sizeof buf, "%.*s", (int)fit, rest);
         pen_text(p, tx, p->y, buf, p->scale, colour);

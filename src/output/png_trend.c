@@ -117,33 +117,17 @@ static int first_last_time(const struct uwb_trend *t, time_t *first, time_t *las
     return any;
 }
 
-/* text from (x, y), broken at spaces into lines no wider than max_w
- * (a word wider than that gets a line of its own), so nothing runs off
- * the page. Drawn when c is set; returns the height it takes. */
+/* text from (x, y), wrapped as the images' captions are
+ * (uwb_wrap_line_length), so nothing runs off the page. Drawn when c is
+ * set; returns the height it takes. */
 static int wrapped_text(struct uwb_canvas *c, int x, int y, const char *text, int scale,
                         struct uwb_rgb colour, int max_w)
 {
-    char line[512];
     int height = 0;
     while (*text) {
-        size_t fit = 0;
-        for (size_t end = 0;; end++) {
-            if (text[end] != ' ' && text[end] != '\0')
-                continue;
-            if (end >= sizeof line)
-                break;
-            memcpy(line, text, end);
-            line[end] = '\0';
-            if (fit > 0 && uwb_text_width(line, scale) > max_w)
-                break;
-            fit = end;
-            if (text[end] == '\0')
-                break;
-        }
-        if (fit == 0) /* one word longer than the buffer: cut it, do not loop */
-            fit = strnlen(text, sizeof line - 1);
-        memcpy(line, text, fit);
-        line[fit] = '\0';
+        size_t fit = uwb_wrap_line_length(text, max_w, scale);
+        char line[512];
+        snprintf(line, sizeof line, "%.*s", (int)fit, text);
         if (c)
             uwb_draw_text(c, x, y + height, line, scale, colour);
         height += line_step(scale);

@@ -59,6 +59,11 @@ int uwb_canvas_write_png(const struct uwb_canvas *c, const char *path, const str
 #define UWB_FONT_CAP_HEIGHT 7
 #define UWB_FONT_LINE_HEIGHT 11
 int uwb_text_width(const char *utf8, int scale);
+/* Bytes of `text` that make its next line no wider than max_w pixels:
+ * up to the last space that fits, mid-word when one word is wider than
+ * the line, and at least one glyph, so a wrapping loop always advances.
+ * The caller skips the spaces between lines (src/output/png_caption.c). */
+size_t uwb_wrap_line_length(const char *utf8, int max_w, int scale);
 /* (x, y) is the top-left of the text box (y = top of capitals). */
 int uwb_draw_text(struct uwb_canvas *c, int x, int y, const char *utf8, int scale, struct uwb_rgb colour);
 /* Text rotated 90 degrees counter-clockwise (reads bottom to top); (x, y)
