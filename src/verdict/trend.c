@@ -95,6 +95,23 @@ static void withhold_rate(struct uwb_trend_rate *r)
         UWB_TREND_RATE_MIN_DAYS);
 }
 
+/* The figures the rate is fitted to: dated, with a displacement. */
+static int is_fitted(const struct uwb_trend_point *p)
+{
+    return p->has_displacement && p->has_time;
+}
+
+static double days_since(const struct uwb_trend_point *p, double t0)
+{
+    return ((double)p->t - t0) / 86400.0;
+}
+
+/* A sigma of 0 (rounded) counts as 0.01 mm, the verdict's resolution. */
+static double fit_sigma_mm(const struct uwb_trend_point *p)
+{
+    return fmax(p->sigma_mm, 0.01);
+}
+
 static void find_rate(struct uwb_trend *t)
 {
     memset(&t->rate, 0, sizeof t->rate);
@@ -102,18 +119,17 @@ static void find_rate(struct uwb_trend *t)
     for (int i = 0; i < t->count; i++)
         if (t->points[i].baseline_change)
             from = i;
-    /* Weighted least squares in days from the first figure; a sigma of 0
-     * (rounded) counts as 0.01 mm, the verdict's resolution. */
+    /* Weighted least squares in days from the first figure. */
     double sw = 0, swx = 0, swy = 0, swxx = 0, swxy = 0, t0 = 0, first = 0, last = 0;
     int n = 0;
     for (int i = from; i < t->count; i++) {
         const struct uwb_trend_point *p = &t->points[i];
-        if (!p->has_displacement || !p->has_time)
+        if (!is_fitted(p))
             continue;
         if (n == 0)
             t0 = (double)p->t;
-        double x = ((double)p->t - t0) / 86400.0;
-        double s = fmax(p->sigma_mm, 0.01);
+        double x = days_since(p, t0);
+        double s = fit_sigma_mm(p);
         double w = 1.0 / (s * s);
         sw += w;
         swx += w * x;
@@ -138,10 +154,9 @@ static void find_rate(struct uwb_trend *t)
     double chi2 = 0;
     for (int i = from; i < t->count; i++) {
         const struct uwb_trend_point *p = &t->points[i];
-        if (!p->has_displacement || !p->has_time)
+        if (!is_fitted(p))
             continue;
-        double s = fmax(p->sigma_mm, 0.01);
-        double r = (p->displacement_mm - intercept - slope * (((double)p->t - t0) / 86400.0)) / s;
+        double r = (p->displacement_mm - intercept - slope * days_since(p, t0)) / fit_sigma_mm(p);
         chi2 += r * r;
     }
     t->rate.known = 1;
