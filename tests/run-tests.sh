@@ -222,11 +222,16 @@ for binary in "$BUILD_DIR"/tests/test_*; do
 done
 
 declare -A running=()   # pid -> index
+# Waits for one running program to end and collects it.
+reap_one() {
+    local done_pid
+    wait -n -p done_pid "${!running[@]}" || true
+    collect "${running[$done_pid]}"
+    unset "running[$done_pid]"
+}
 for index in "${!paths[@]}"; do
     while ((${#running[@]} >= jobs)); do
-        wait -n -p done_pid "${!running[@]}" || true
-        collect "${running[$done_pid]}"
-        unset "running[$done_pid]"
+        reap_one
     done
     (
         log="$results/$index.log"
@@ -241,9 +246,7 @@ for index in "${!paths[@]}"; do
     running[$!]=$index
 done
 while ((${#running[@]} > 0)); do
-    wait -n -p done_pid "${!running[@]}" || true
-    collect "${running[$done_pid]}"
-    unset "running[$done_pid]"
+    reap_one
 done
 
 if [[ "$programs_run" == 0 ]]; then
