@@ -129,7 +129,7 @@ $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIP
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench accuracy readme-verdict readme-images readme-bench soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy accuracy-family readme-verdict readme-images readme-bench soak install deps deps-arm check-hw-headers clean
 # Programs whose main.c is not written yet are left out, so the library
 # and its tests build meanwhile.
 all: $(if $(wildcard src/main.c),$(BUILD)/uwbd) $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/uwbsim) \
@@ -333,6 +333,11 @@ ACCURACY_PAIRS ?=
 accuracy: deps
 	+@$(SUBMAKE) all $(BUILD)/uwbaccuracy
 	$(TEST_RUNNER) $(BUILD)/uwbaccuracy $(if $(ACCURACY_PAIRS),--pairs $(ACCURACY_PAIRS)) --readme README.md
+
+# The shared family of random tanks (../shared/data/fdtd2d-var-*), each pair
+# against its truth: the README's family table (tools/accuracy/family.sh).
+accuracy-family: all
+	bash tools/accuracy/family.sh ../shared/data '$(BUILD)'
 
 # The README's paper-pair figure and example verdict, from the command it
 # shows (tools/readme/readme-verdict.sh); tests/e2e/test_readme_verdict.sh

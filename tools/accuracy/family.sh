@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# The shared family of random tanks (../shared/data/fdtd2d-var-*): each
+# moved scan replayed against its own tank's intact scan, its figure set
+# against the truth. The truth of the centre's move is the shift plus half
+# the height change (a squeezed spacer: data/README.md). A figure is right
+# when it is within 0.25 mm and 2 sigma of the truth. Prints a line per
+# pair and a closing count; the figures are in the README's family table.
+#
+# Usage: tools/accuracy/family.sh [DATA_DIR [BUILD_DIR]]
+set -euo pipefail
+data=${1:-../shared/data}
+build=${2:-build}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+number() { grep -o "\"$1\": *[-0-9.]*" | head -n 1 | grep -o '[-0-9.]*$' || true; }
+
+shopt -s nullglob
+right=0 close=0 wrong=0 withheld=0 pairs=0
+for moved in "$data"/fdtd2d-var-s*-d[+-]*.uwbscan; do
+    [[ $moved == *-d+00.uwbscan ]] && continue
+    name=$(basename "$moved" .uwbscan)
+    truth=${moved%.uwbscan}.truth.json
+    want=$(awk -v s="$(number displacement_mm < "$truth")" -v h="$(number height_change_mm < "$truth")" \
+        'BEGIN { print s + h / 2 }')
+    verdict=$("$build/uwbd" --replay "$moved" --baseline "${moved%-d*}-d+00.uwbscan" --out "$out" | head -n 1)
+    status=$(grep -o '"status":"[a-z]*"' <<< "$verdict" | cut -d'"' -f4)
+    got=$(sed 's/":/": /g' <<< "$verdict" | number axial_displacement_mm)
+    sigma=$(sed 's/":/": /g' <<< "$verdict" | number uncertainty_mm)
+    pairs=$((pairs + 1))
+    if [[ -z $got ]]; then
+        withheld=$((withheld + 1))
+        printf '%-20s truth %+7.2f  %s, no figure\n' "$name" "$want" "$status"
+        continue
+    fi
+    verdict_word=$(awk -v w="$want" -v g="$got" -v s="$sigma" 'BEGIN {
+        e = g - w; if (e < 0) e = -e
+        print (e <= 2 * s) ? ((e <= 0.25) ? "right" : "within-2sigma") : "wrong" }')
+    case $verdict_word in
+        right) right=$((right + 1)) ;;
+        within-2sigma) close=$((close + 1)) ;;
+        *) wrong=$((wrong + 1)) ;;
+    esac
+    awk -v n="$name" -v w="$want" -v g="$got" -v s="$sigma" -v st="$status" -v v="$verdict_word" 'BEGIN {
+        printf "%-20s truth %+7.2f  read %+7.2f ± %.2f %-6s off %+.2f (%.1f sigma)  %s\n",
+               n, w, g, s, st, g - w, (g - w) / s, v }'
+done
+(( pairs > 0 )) || { echo "family: no fdtd2d-var-* pairs in $data" >&2; exit 66; }
+echo "$pairs pairs: $right within 0.25 mm and 2 sigma, $close within 2 sigma only," \
+    "$wrong outside 2 sigma, $withheld without a figure"
