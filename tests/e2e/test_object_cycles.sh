@@ -75,4 +75,49 @@ if ! awk '{ print $1, $2 }' "$work/node-edges" | sort -u | tsort > /dev/null 2> 
     done
     fail "cycles between objects of different jobs"
 fi
-echo "PASS: $(echo "$objects" | wc -l) objects, $(awk '{ print $1, $2 }' "$work/node-edges" | sort -u | wc -l) uses between them, no cycle"
+
+# Folders too: arrows between the folders of src/ point one way only, so a
+# lower folder is understood without the ones above it (issue 29: the
+# integrations used the daemon's log while the daemon drove them). An arrow
+# is a symbol one folder's object uses from another's, or an
+# #include "FOLDER/x.h" of another folder's private header.
+#
+# A hardware backend lives in src/hw/ (hardware headers only there) but is a
+# row of its interface's table: it counts as that interface's folder.
+rooms=$(cat <<'EOF'
+gpio src/hw/gpio_libgpiod
+link src/hw/link_serial
+EOF
+)
+echo "$rooms" | awk 'NF == 2 { print $2, $1 }' > "$work/room"
+# "USER PROVIDER how" with USER and PROVIDER paths -> their folders.
+to_folders() {
+    awk 'NR == FNR { room[$1] = $2; next }
+         function folder(path, part) {
+             sub(/\.[a-z]+$/, "", path)
+             if (path in room) return room[path]
+             split(path, part, "/")
+             return part[2]
+         }
+         { $1 = folder($1); $2 = folder($2); if ($1 != $2) print }' "$work/room" -
+}
+awk '{ print $1, $2, "uses " $3 }' "$work/edges" | to_folders > "$work/folder-edges"
+(cd "$repo" && grep -rHE '^#include "[a-z_]+/[a-z_0-9]+\.h"' src --include='*.c' --include='*.h') |
+    sed -E 's|^([^:]*):#include "([a-z_]+)/([^"]*)".*$|\1 src/\2/x includes \2/\3|' |
+    awk '$2 != "src/uwb/x"' | to_folders >> "$work/folder-edges"
+sort -k1,2 -u "$work/folder-edges" > "$work/folder-arrows"
+[[ -s $work/folder-arrows ]] || fail "no arrows between the folders of src/ found"
+if ! awk '{ print $1, $2 }' "$work/folder-arrows" | tsort > /dev/null 2> "$work/folder-loops"; then
+    echo "folders of src/ that lean on each other (a cycle), with an arrow each way:" >&2
+    loop=$(grep -v 'input contains a loop' "$work/folder-loops" | sed 's/^tsort: //' | sort -u)
+    for a in $loop; do
+        for b in $loop; do
+            awk -v a="$a" -v b="$b" '$1 == a && $2 == b { sub(/^[^ ]+ [^ ]+ /, ""); print "    " a " -> " b ": " $0; exit }' \
+                "$work/folder-arrows" >&2
+        done
+    done
+    fail "cycles between the folders of src/"
+fi
+
+echo "PASS: $(echo "$objects" | wc -l) objects, $(awk '{ print $1, $2 }' "$work/node-edges" | sort -u | wc -l) uses between them, no cycle;" \
+    "$(wc -l < "$work/folder-arrows") arrows between $(awk '{ print $1; print $2 }' "$work/folder-arrows" | sort -u | wc -l) folders, all one way"
