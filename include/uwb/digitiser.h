@@ -8,7 +8,17 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "uwb/rig.h"
+#include "uwb/link.h"
+
+struct uwb_digitiser_config {
+    char endpoint[UWB_ENDPOINT_MAX];
+    int samples; /* record length per trace */
+    double sample_interval_s;
+    double t0_s; /* time of sample 0 after the trigger (from commissioning) */
+    int stack;   /* pulses fired and averaged per position */
+    int frame_timeout_ms;
+    int frame_retries; /* bad or missing frames retried this many times per pulse */
+};
 
 enum uwb_digitiser_error {
     UWB_DIGITISER_OK = 0,

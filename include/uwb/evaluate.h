@@ -50,16 +50,4 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
                  struct uwb_analysis *current_analysis, struct uwb_analysis *baseline_analysis, char *err,
                  size_t errlen);
 
-/* Write the migrated, B-scan and comparison PNGs into dir, named after
- * `stem`, and list them in v->images; without a migrated image (analysis
- * stopped before imaging) only the B-scan. The captions name the scan by
- * its id, else by `stem`. site (may be NULL) gives what the scan file does
- * not: the asset, the thresholds drawn (uwb/render.h); its scan name, stack
- * and eps_r are ignored (the scan's are used). */
-struct uwb_provenance;
-int uwb_write_images(const char *dir, const char *stem, const struct uwb_provenance *site,
-                     const struct uwb_scan *current, const struct uwb_analysis *current_analysis,
-                     const struct uwb_analysis *baseline_analysis, struct uwb_verdict *v, char *err,
-                     size_t errlen);
-
 #endif

@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <stddef.h>
 
+#include "uwb/digitiser.h"
 #include "uwb/gpio.h"
 #include "uwb/link.h"
 #include "uwb/scan.h"
@@ -32,16 +33,6 @@ struct uwb_carriage_config {
  * uncertainty limit (README, Accuracy). One default for the key table, the
  * rig and the sample configs. */
 #define UWB_DEFAULT_STACK 64
-
-struct uwb_digitiser_config {
-    char endpoint[UWB_ENDPOINT_MAX];
-    int samples; /* record length per trace */
-    double sample_interval_s;
-    double t0_s; /* time of sample 0 after the trigger (from commissioning) */
-    int stack;   /* pulses fired and averaged per position */
-    int frame_timeout_ms;
-    int frame_retries; /* bad or missing frames retried this many times per pulse */
-};
 
 struct uwb_rig_config {
     struct uwb_gpio_config gpio;
@@ -74,7 +65,7 @@ enum uwb_rig_error {
 
 struct uwb_rig;
 
-/* The configuration key table's defaults (src/daemon/config_keys.c); keys
+/* The configuration key table's defaults (src/config/config_keys.c); keys
  * the table requires get the emulated board's values. */
 void uwb_rig_config_defaults(struct uwb_rig_config *cfg);
 /* Checks the config without touching hardware (for --check-config too):

@@ -9,7 +9,7 @@
 #include "uwb/cli.h"
 #include "daemon/daemon.h"
 #include "daemon/exit_codes.h"
-#include "daemon/log.h"
+#include "util/log.h"
 
 void uwbd_daemon_usage(FILE *f)
 {

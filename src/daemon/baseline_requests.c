@@ -7,7 +7,7 @@
 #include <time.h>
 
 #include "daemon_internal.h"
-#include "daemon/log.h"
+#include "util/log.h"
 #include "daemon/reply.h"
 
 char *uwbd_baseline_request(struct daemon *d, int scans, int force)

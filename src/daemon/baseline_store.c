@@ -14,7 +14,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
-#include "daemon/log.h"
+#include "util/log.h"
 #include "uwb/direct_coupling.h"
 #include "uwb/read_file.h"
 

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "config_keys.h"
+#include "config/config_keys.h"
 #include "uwb/migrate.h"
 #include "uwb/read_file.h"
 #include "uwb/scan.h"

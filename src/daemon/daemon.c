@@ -22,7 +22,7 @@
 
 #include "daemon_internal.h"
 #include "daemon/exit_codes.h"
-#include "daemon/log.h"
+#include "util/log.h"
 #include "daemon/service_notify.h"
 #include "daemon/state_open.h"
 #include "daemon/test_hang.h"

@@ -13,7 +13,7 @@
 
 #include "daemon_internal.h"
 #include "daemon/exit_codes.h"
-#include "daemon/log.h"
+#include "util/log.h"
 
 static void lock_path(const struct daemon *d, char *path, size_t n)
 {

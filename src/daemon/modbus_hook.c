@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "daemon_internal.h"
-#include "daemon/log.h"
+#include "util/log.h"
 #include "integrations/modbus_registers.h"
 #include "integrations/modbus_server.h"
 #include "integrations/site.h"

@@ -16,7 +16,7 @@
 
 #include "daemon_internal.h"
 #include "daemon/command.h"
-#include "daemon/log.h"
+#include "util/log.h"
 #include "daemon/reply.h"
 #include "daemon/trend.h"
 #include "daemon/verdict_log.h"

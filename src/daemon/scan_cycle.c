@@ -14,7 +14,7 @@
 
 #include "daemon/acquire_more.h"
 #include "daemon/baseline_store.h"
-#include "daemon/log.h"
+#include "util/log.h"
 #include "daemon/retention.h"
 #include "daemon/trend.h"
 #include "daemon/verdict_log.h"

@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "daemon/log.h"
+#include "util/log.h"
 #include "integrations/systemd_loader.h"
 
 /* The library's table when systemd listens, NULL otherwise. A library that

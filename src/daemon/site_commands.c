@@ -6,7 +6,7 @@
 
 #include "daemon_internal.h"
 #include "daemon/command.h"
-#include "daemon/log.h"
+#include "util/log.h"
 #include "daemon/reply.h"
 
 static char *site_command(struct daemon *d, const char *text)

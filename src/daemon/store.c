@@ -15,7 +15,7 @@
 
 #include "uwb/atomic_file.h"
 #include "uwb/regular_file.h"
-#include "daemon/log.h"
+#include "util/log.h"
 
 int uwbd_path_join(char *out, size_t n, const char *dir, const char *name)
 {

@@ -5,7 +5,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "daemon/log.h"
+#include "util/log.h"
 
 void uwbd_test_hang_point(const char *where)
 {

@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "daemon/log.h"
+#include "util/log.h"
 #include "daemon/test_hang.h"
 #include "daemon/trend.h"
 #include "uwb/monotonic.h"

@@ -16,7 +16,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "daemon/log.h"
+#include "util/log.h"
 #include "integrations/modbus_loader.h"
 #include "uwb/link.h"
 #include "uwb/monotonic.h"

@@ -21,7 +21,7 @@
 #include <unistd.h>
 
 #include "uwb/atomic_file.h"
-#include "daemon/log.h"
+#include "util/log.h"
 #include "integrations/mosquitto_loader.h"
 #include "uwb/link.h"
 #include "uwb/read_file.h"

@@ -12,7 +12,7 @@
 
 #include <stddef.h>
 
-#include "integrations/site_config.h"
+#include "config/site_config.h"
 
 struct uwbd_mqtt;
 

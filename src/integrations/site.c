@@ -16,7 +16,7 @@
 
 #include "integrations/alarm_contacts.h"
 #include "integrations/event_trigger.h"
-#include "daemon/log.h"
+#include "util/log.h"
 #include "integrations/mqtt_publisher.h"
 #include "integrations/prometheus_textfile.h"
 #include "uwb/gpio.h"

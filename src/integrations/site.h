@@ -8,7 +8,7 @@
 
 #include <stddef.h>
 
-#include "daemon/config.h"
+#include "config/config.h"
 #include "integrations/mqtt_publisher.h"
 
 struct uwbd_site;

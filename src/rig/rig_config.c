@@ -1,13 +1,13 @@
 /* The rig's configuration: defaults and the checks that keep a bad value
  * from ever reaching the hardware. Every single-key limit and default comes
- * from the configuration key table (src/daemon/config_keys.c), the one the
+ * from the configuration key table (src/config/config_keys.c), the one the
  * loader, `uwbd --config-keys` and the manual pages use; what is left here
  * is what involves several fields or the hardware's own rules. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "daemon/config_keys.h"
+#include "config/config_keys.h"
 #include "rig/carriage.h"
 #include "uwb/frame.h"
 #include "uwb/rig.h"

@@ -18,7 +18,7 @@
 
 #include "fuzz_harness.h"
 #include "daemon/baseline_store.h"
-#include "daemon/log.h"
+#include "util/log.h"
 #include "daemon/store.h"
 #include "daemon/verdict_log.h"
 #include "uwb/scan.h"

@@ -1,4 +1,4 @@
-/* One key table (src/daemon/config_keys.c) holds every configuration limit
+/* One key table (src/config/config_keys.c) holds every configuration limit
  * and default. This walks it and asks everything else that knows a limit or
  * a default: the loader (file and --set), the rig's own checks and defaults,
  * the shipped sample configs and the documentation (board/config.md and the
@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "daemon/config_keys.h"
+#include "config/config_keys.h"
 #include "scratch_support.h"
 #include "uwb/cli.h"
 #include "daemon/config.h"

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "uwb/evaluate.h"
+#include "uwb/render.h"
 
 #define MAX_RUNS 64
 #define MAX_PREFIX_WORDS 8

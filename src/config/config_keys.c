@@ -1,7 +1,7 @@
 /* Every configuration key: where it lands, its unit, range and default, and
  * what it means. The loader applies defaults and checks ranges from here and
  * `uwbd --config-keys` prints it, so the documentation is this table. */
-#include "config_keys.h"
+#include "config/config_keys.h"
 
 #include <float.h>
 #include <limits.h>
@@ -9,7 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "daemon/config.h"
+#include "config/config.h"
 #include "uwb/frame.h"
 #include "uwb/scan.h"
 

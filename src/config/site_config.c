@@ -1,7 +1,7 @@
 /* The site's configuration checks: an integration that is on must have
  * what it needs (its lines or endpoint, the asset id), named by key, so
  * that `uwbd --check-config` refuses it before anything opens. */
-#include "integrations/site_config.h"
+#include "config/site_config.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -10,7 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "daemon/config.h"
+#include "config/config.h"
 #include "uwb/link.h"
 
 int uwbd_site_any_enabled(const struct uwbd_config *cfg)

@@ -1,8 +1,6 @@
-#include "uwb/evaluate.h"
+#include "uwb/render.h"
 
 #include <stdio.h>
-
-#include "uwb/render.h"
 
 int uwb_write_images(const char *dir, const char *stem, const struct uwb_provenance *site,
                      const struct uwb_scan *current, const struct uwb_analysis *cur_a,

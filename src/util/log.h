@@ -1,8 +1,8 @@
 /* Log lines with a level, to stderr (journald keeps the level when it is
  * the reader) and optionally to syslog. One write() per line, so lines
  * from the scan thread and the main loop never interleave. */
-#ifndef UWB_DAEMON_LOG_H
-#define UWB_DAEMON_LOG_H
+#ifndef UWB_UTIL_LOG_H
+#define UWB_UTIL_LOG_H
 
 /* syslog priorities */
 enum uwbd_log_level {

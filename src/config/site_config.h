@@ -3,8 +3,8 @@
  * integration is off by default; one that is on without what it needs
  * (its lines or endpoint, its file, the asset id) is refused at load with
  * the key named (uwbd_site_config_check). */
-#ifndef UWB_DAEMON_SITE_CONFIG_H
-#define UWB_DAEMON_SITE_CONFIG_H
+#ifndef UWB_CONFIG_SITE_CONFIG_H
+#define UWB_CONFIG_SITE_CONFIG_H
 
 #include <stddef.h>
 

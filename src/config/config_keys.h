@@ -1,6 +1,6 @@
 /* The table of configuration keys shared by the loader and the key listing. */
-#ifndef UWB_DAEMON_CONFIG_KEYS_H
-#define UWB_DAEMON_CONFIG_KEYS_H
+#ifndef UWB_CONFIG_CONFIG_KEYS_H
+#define UWB_CONFIG_CONFIG_KEYS_H
 
 #include <stddef.h>
 

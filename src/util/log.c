@@ -1,5 +1,5 @@
 /* Levelled log lines to stderr and, when asked, syslog. */
-#include "daemon/log.h"
+#include "util/log.h"
 
 #include <errno.h>
 #include <stdarg.h>
