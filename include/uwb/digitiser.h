@@ -26,6 +26,7 @@ enum uwb_digitiser_error {
     UWB_DIGITISER_ERR_PROTOCOL = -2, /* peer does not answer as a digitiser, or refused the configuration */
     UWB_DIGITISER_ERR_FRAMES = -3,   /* no good frame for a trigger within the retries */
     UWB_DIGITISER_ERR_FIRE = -4,     /* the fire callback failed (GPIO) */
+    UWB_DIGITISER_ERR_CONFIG = -5,   /* the digitiser model is unknown (no backend in the table) */
 };
 
 struct uwb_digitiser_stats {

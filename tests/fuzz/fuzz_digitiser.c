@@ -1,4 +1,4 @@
-/* Fuzzing the digitiser client (src/digitiser/digitiser.c) on the frames
+/* Fuzzing the digitiser client (src/digitiser/digitiser_framed.c) on the frames
  * it reads: the input is everything a digitiser says on the link, from
  * the replies to PING, CONFIGURE and ARM to the DATA frames of three
  * triggers (scripted_link.c plays it back; the link then ends, and
