@@ -291,7 +291,7 @@ static int follow(struct reply_reader *reader, double explicit_s)
             return UWBD_CTL_OK;
         int rc = read_line(reader, explicit_s > 0 ? left : (first ? OTHER_TIMEOUT_S : 0), &reply);
         if (rc == UWBD_CTL_TIMEOUT && explicit_s > 0 && !first)
-            rc = UWBD_CTL_OK;
+            return UWBD_CTL_OK; /* --timeout ended it; reply is no longer a line */
         if (rc != 0)
             return rc;
         puts(reply);
