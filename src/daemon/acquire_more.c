@@ -42,15 +42,11 @@ int uwbd_acquire_and_average(uwbd_acquire_fn acquire, void *ctx, const volatile 
 {
     memset(added, 0, sizeof *added);
     int rc = acquire(ctx, stop, added, err, errlen);
-    if (rc != UWBD_ACQUIRE_OK) {
+    if (rc == UWBD_ACQUIRE_OK && uwbd_scan_accumulate(scan, added, err, errlen) != 0)
+        rc = UWBD_ACQUIRE_FAILED;
+    if (rc != UWBD_ACQUIRE_OK)
         uwb_scan_free(added);
-        return rc;
-    }
-    if (uwbd_scan_accumulate(scan, added, err, errlen) != 0) {
-        uwb_scan_free(added);
-        return UWBD_ACQUIRE_FAILED;
-    }
-    return UWBD_ACQUIRE_OK;
+    return rc;
 }
 
 double uwbd_spread(const double *values, int n, int *used)

@@ -369,17 +369,16 @@ static int apply_override(struct load_context *ctx, cJSON *root, const struct uw
     for (char *dot = strchr(part, '.'); dot; part = dot + 1, dot = strchr(part, '.')) {
         *dot = '\0';
         cJSON *next = cJSON_GetObjectItemCaseSensitive(obj, part);
+        const char *problem = NULL;
         if (!next) {
             next = cJSON_AddObjectToObject(obj, part);
+            problem = next ? NULL : "out of memory";
         } else if (!cJSON_IsObject(next)) {
-            cJSON_Delete(value);
-            snprintf(ctx->err, ctx->errlen,
-                     "override: key `%s`: the file has a value, not a section, on the way", shown);
-            return -1;
+            problem = "the file has a value, not a section, on the way";
         }
-        if (!next) {
+        if (problem) {
             cJSON_Delete(value);
-            snprintf(ctx->err, ctx->errlen, "override: key `%s`: out of memory", shown);
+            snprintf(ctx->err, ctx->errlen, "override: key `%s`: %s", shown, problem);
             return -1;
         }
         obj = next;
