@@ -130,13 +130,10 @@ endif
 endif
 
 .PHONY: all tests test test-arm demo bench accuracy accuracy-family readme-verdict readme-images readme-bench soak install deps deps-arm check-hw-headers clean
-# Programs whose main.c is not written yet are left out, so the library
-# and its tests build meanwhile.
-all: $(if $(wildcard src/main.c),$(BUILD)/uwbd) $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/uwbsim) \
-     $(if $(EMU_SRC),$(BUILD)/uwbemu) $(BUILD)/uwbimpair
+all: $(BUILD)/uwbd $(BUILD)/uwbsim $(BUILD)/uwbemu $(BUILD)/uwbimpair
 
 # uwbbench too: tests/e2e/test_bench_budget.sh checks its budget verdict.
-tests: $(TEST_BIN) $(E2E_HELPER_BIN) $(if $(BENCH_SRC),$(BUILD)/uwbbench)
+tests: $(TEST_BIN) $(E2E_HELPER_BIN) $(BUILD)/uwbbench
 
 # ---- compiling and linking -------------------------------------------------
 
@@ -321,8 +318,6 @@ test-board:
 
 demo: deps
 	+@$(SUBMAKE) all $(BUILD)/e2e/mqtt_sub
-	@if [ ! -f tools/demo/run-demo.sh ]; then \
-	    echo "make demo: tools/demo/run-demo.sh does not exist yet" >&2; exit 1; fi
 	UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh
 
 # The accuracy report (tools/accuracy): the full-wave fixtures clean and over
@@ -357,7 +352,6 @@ readme-images: deps
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' bash tools/readme/readme-images.sh '$(BUILD)'
 
 bench: deps
-	@if [ -z "$(BENCH_SRC)" ]; then echo "make bench: no tools/bench/*.c yet" >&2; exit 1; fi
 	+@$(SUBMAKE) all $(BUILD)/uwbbench
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench $(BENCH_ARGS)
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench --replay-only --assert-budget $(BENCH_ARGS) \
@@ -483,8 +477,7 @@ coverage: dev-deps
 # it cannot drift from what the loader accepts; uwbd(8) and uwbd-ctl(1) are
 # board/man/, as is uwbsim(1), installed with uwbsim. A cross build runs the
 # target's uwbd under TEST_RUNNER.
-MAN_PAGES     := $(BUILD)/man/uwbd.8 $(BUILD)/man/uwbd-ctl.1 $(BUILD)/man/uwbd.json.5 \
-                 $(if $(wildcard tools/uwbsim/main.c),$(BUILD)/man/uwbsim.1)
+MAN_PAGES     := $(BUILD)/man/uwbd.8 $(BUILD)/man/uwbd-ctl.1 $(BUILD)/man/uwbd.json.5 $(BUILD)/man/uwbsim.1
 .PHONY: man
 man: $(MAN_PAGES)
 
@@ -511,7 +504,7 @@ MANDIR        := $(PREFIX)/share/man
 install: all $(MAN_PAGES)
 	install -d '$(DESTDIR)$(PREFIX)/bin'
 	install -m 0755 $(BUILD)/uwbd '$(DESTDIR)$(PREFIX)/bin/uwbd'
-	$(if $(wildcard tools/uwbsim/main.c),install -m 0755 $(BUILD)/uwbsim '$(DESTDIR)$(PREFIX)/bin/uwbsim')
+	install -m 0755 $(BUILD)/uwbsim '$(DESTDIR)$(PREFIX)/bin/uwbsim'
 	install -d '$(DESTDIR)$(UNITDIR)' '$(DESTDIR)$(UDEVRULESDIR)' \
 	    '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4' '$(DESTDIR)$(DOCDIR)/raspberry-pi-4' \
 	    '$(DESTDIR)$(MANDIR)/man1' '$(DESTDIR)$(MANDIR)/man5' '$(DESTDIR)$(MANDIR)/man8'
@@ -523,7 +516,7 @@ install: all $(MAN_PAGES)
 	install -m 0644 board/raspberry-pi-4/uwbd.json '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4/'
 	for f in $(DOC_FILES); do install -m 0644 "board/$$f" "$(DESTDIR)$(DOCDIR)/$$f" || exit 1; done
 	install -m 0644 $(BUILD)/man/uwbd-ctl.1 '$(DESTDIR)$(MANDIR)/man1/'
-	$(if $(wildcard tools/uwbsim/main.c),install -m 0644 $(BUILD)/man/uwbsim.1 '$(DESTDIR)$(MANDIR)/man1/')
+	install -m 0644 $(BUILD)/man/uwbsim.1 '$(DESTDIR)$(MANDIR)/man1/'
 	install -m 0644 $(BUILD)/man/uwbd.json.5 '$(DESTDIR)$(MANDIR)/man5/'
 	install -m 0644 $(BUILD)/man/uwbd.8 '$(DESTDIR)$(MANDIR)/man8/'
 

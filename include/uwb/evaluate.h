@@ -26,6 +26,29 @@ struct uwb_evaluate_options {
 
 void uwb_evaluate_defaults(struct uwb_evaluate_options *opt);
 
+/* How the displacement's 1-sigma depends on the pulses averaged per
+ * position: sigma^2 = fixed + scaling / pulses. Only noise averages down,
+ * as 1/sqrt(pulses); clutter, the systematic floor and the baseline's
+ * share do not. The daemon asks this before it acquires again. */
+struct uwb_pulse_sigma {
+    double fixed_m2;   /* the part more pulses do not reduce (m^2) */
+    double scaling_m2; /* the part that does, times the pulses (m^2) */
+};
+
+/* From a verdict at `pulses` per position: its current-scan noise part
+ * (v->current.sigma_center_noise_m; all of v->uncertainty_m when that is
+ * not given) scales. -1 when there is no noise part to average down. */
+int uwb_pulse_sigma_from_verdict(const struct uwb_verdict *v, int pulses, struct uwb_pulse_sigma *m);
+/* Fitted through two measured sigmas, sigma1 at pulses1 and sigma2 at
+ * pulses2 (more), whatever the verdict's terms are. -1 when they do not
+ * show sigma falling with pulses. */
+int uwb_pulse_sigma_fit(double sigma1, int pulses1, double sigma2, int pulses2, struct uwb_pulse_sigma *m);
+/* The 1-sigma that `pulses` per position would give. */
+double uwb_pulse_sigma_at(const struct uwb_pulse_sigma *m, double pulses);
+/* The pulses per position that bring the 1-sigma down to max_m; -1 when
+ * none can (the part that does not average down is over it already). */
+int uwb_pulse_sigma_pulses_for(const struct uwb_pulse_sigma *m, double max_m, double *pulses);
+
 /* The baseline and what was recorded with it at commissioning (the
  * daemon's baseline/current.json). */
 struct uwb_baseline_record {

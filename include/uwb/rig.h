@@ -72,6 +72,13 @@ void uwb_rig_config_defaults(struct uwb_rig_config *cfg);
  * each value against its key's range in the same table, then the rules
  * between fields. UWB_RIG_OK or UWB_RIG_ERR_CONFIG with err naming the key. */
 int uwb_rig_config_check(const struct uwb_rig_config *cfg, char *err, size_t errlen);
+/* The rules between fields that the config loader reports naming the key
+ * (uwb_rig_config_check checks them too, after the ranges): every
+ * position, the backlash overshoot below it included, above home and
+ * inside the travel; a scan a scan file can hold; park and home rate
+ * inside their limits; the target's near below its far. UWB_RIG_OK, or
+ * UWB_RIG_ERR_CONFIG with *key the key at fault and `problem` why. */
+int uwb_rig_config_check_rules(const struct uwb_rig_config *cfg, const char **key, char *problem, size_t len);
 /* Open the GPIO backend and the digitiser link. On failure returns an enum
  * uwb_rig_error (the underlying gpio/link error in *detail if not NULL). */
 int uwb_rig_open(const struct uwb_rig_config *cfg, struct uwb_rig **rig, int *detail, char *err,

@@ -159,36 +159,48 @@ static void show_progress(const char *line, int on_terminal)
     }
     cJSON_Delete(o);
 }
-int uwbd_ctl_main(int argc, char **argv)
+
+static const struct option ctl_options[] = {
+    {"socket", required_argument, 0, 's'},  {"config", required_argument, 0, 'c'},
+    {"timeout", required_argument, 0, 't'}, {"text", no_argument, 0, 'T'},
+    {"help", no_argument, 0, 'h'},          {0, 0, 0, 0},
+};
+
+/* Returned by the steps below when uwbd ctl goes on (exit statuses are >= 0). */
+#define CTL_GOES_ON (-1)
+
+/* What the command line asks for. */
+struct ctl_args {
+    const char *socket_path, *config_path;
+    double timeout_s; /* 0: not given */
+    int as_text;
+    char line[UWB_COMMAND_MAX_LINE + 2]; /* the command words joined, room for its newline */
+    size_t len;
+    struct uwb_command cmd;
+};
+
+/* The options: CTL_GOES_ON, or the exit status (--help, an error). */
+static int read_ctl_options(int argc, char **argv, struct ctl_args *a)
 {
-    static const struct option longopts[] = {
-        {"socket", required_argument, 0, 's'},  {"config", required_argument, 0, 'c'},
-        {"timeout", required_argument, 0, 't'}, {"text", no_argument, 0, 'T'},
-        {"help", no_argument, 0, 'h'},          {0, 0, 0, 0},
-    };
-    const char *socket_path = NULL, *config_path = NULL;
-    double timeout_s = 0;
-    int as_text = 0;
     int c;
     /* "+": stop at the first command word, so "history 5" is not an option. */
     opterr = 0; /* one line of our own instead of getopt's and the usage */
-    while ((c = getopt_long(argc, argv, "+h", longopts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "+h", ctl_options, NULL)) != -1) {
+        char *end;
         switch (c) {
-        case 's': socket_path = optarg; break;
-        case 'c': config_path = optarg; break;
-        case 't': {
-            char *end;
-            timeout_s = strtod(optarg, &end);
-            if (*end || !(timeout_s > 0)) {
+        case 's': a->socket_path = optarg; break;
+        case 'c': a->config_path = optarg; break;
+        case 't':
+            a->timeout_s = strtod(optarg, &end);
+            if (*end || !(a->timeout_s > 0)) {
                 fprintf(stderr, "uwbd ctl: --timeout: '%s' is not a positive number of seconds\n", optarg);
                 return UWBD_CTL_USAGE;
             }
             break;
-        }
-        case 'T': as_text = 1; break;
+        case 'T': a->as_text = 1; break;
         case 'h': uwbd_ctl_usage(stdout); return UWBD_CTL_OK;
         default:
-            uwb_cli_option_error("uwbd ctl", "uwbd ctl --help", argv, argc, longopts);
+            uwb_cli_option_error("uwbd ctl", "uwbd ctl --help", argv, argc, ctl_options);
             return UWBD_CTL_USAGE;
         }
     }
@@ -196,48 +208,134 @@ int uwbd_ctl_main(int argc, char **argv)
         fprintf(stderr, "uwbd ctl: no command (try: uwbd ctl help)\n");
         return UWBD_CTL_USAGE;
     }
-    if (socket_path && config_path) {
+    if (a->socket_path && a->config_path) {
         fprintf(stderr, "uwbd ctl: give either --socket or --config\n");
         return UWBD_CTL_USAGE;
     }
-    char line[UWB_COMMAND_MAX_LINE + 2];
-    size_t len = 0;
+    return CTL_GOES_ON;
+}
+
+/* The command words after the options, joined and parsed as the daemon
+ * will: CTL_GOES_ON, or UWBD_CTL_USAGE. */
+static int read_command(int argc, char **argv, struct ctl_args *a)
+{
+    a->len = 0;
     for (int i = optind; i < argc; i++) {
         size_t n = strlen(argv[i]);
-        if (len + n + 1 > UWB_COMMAND_MAX_LINE) {
+        if (a->len + n + 1 > UWB_COMMAND_MAX_LINE) {
             fprintf(stderr, "uwbd ctl: command longer than %d bytes\n", UWB_COMMAND_MAX_LINE);
             return UWBD_CTL_USAGE;
         }
-        if (len)
-            line[len++] = ' ';
-        memcpy(line + len, argv[i], n);
-        len += n;
+        if (a->len)
+            a->line[a->len++] = ' ';
+        memcpy(a->line + a->len, argv[i], n);
+        a->len += n;
     }
-    line[len] = '\0';
-    struct uwb_command cmd;
+    a->line[a->len] = '\0';
     char err[1024];
-    if (uwb_command_parse(line, len, &cmd, err, sizeof err) != UWB_COMMAND_OK) {
+    if (uwb_command_parse(a->line, a->len, &a->cmd, err, sizeof err) != UWB_COMMAND_OK) {
         fprintf(stderr, "uwbd ctl: %s\n", err[0] ? err : "empty command");
         return UWBD_CTL_USAGE;
     }
+    return CTL_GOES_ON;
+}
+
+/* The socket to use: --socket, the one --config names, or the default. */
+static int choose_socket(struct ctl_args *a)
+{
     static struct uwbd_config cfg;
-    if (config_path) {
-        if (uwbd_config_load(config_path, NULL, 0, &cfg, err, sizeof err) != 0) {
+    if (a->config_path) {
+        char err[1024];
+        if (uwbd_config_load(a->config_path, NULL, 0, &cfg, err, sizeof err) != 0) {
             fprintf(stderr, "uwbd ctl: %s\n", err);
             return UWBD_CTL_USAGE;
         }
-        socket_path = cfg.control_socket;
+        a->socket_path = cfg.control_socket;
     }
-    if (!socket_path)
-        socket_path = UWBD_DEFAULT_CONTROL_SOCKET;
-    int explicit_timeout = timeout_s > 0;
-    if (timeout_s <= 0)
-        timeout_s = cmd.kind == UWB_COMMAND_SCAN ? SCAN_TIMEOUT_S : OTHER_TIMEOUT_S;
+    if (!a->socket_path)
+        a->socket_path = UWBD_DEFAULT_CONTROL_SOCKET;
+    return CTL_GOES_ON;
+}
 
+/* The command (after `watch progress` for a scan's bar): CTL_GOES_ON, or
+ * the exit status, the daemon's refusal printed as its reply. */
+static int send_command(int fd, struct ctl_args *a)
+{
+    static const char progress_first[] = "watch progress\n";
+    char refusal[1024];
+    a->line[a->len++] = '\n';
+    if ((a->cmd.kind != UWB_COMMAND_SCAN ||
+         uwbd_control_send(fd, progress_first, sizeof progress_first - 1, refusal, sizeof refusal) == 0) &&
+        uwbd_control_send(fd, a->line, a->len, refusal, sizeof refusal) == 0)
+        return CTL_GOES_ON;
+    int e = errno;
+    if (refusal[0]) {
+        /* The daemon turned the connection away and said why (e.g. too
+         * many clients): that is its reply, as if it had come after. */
+        puts(refusal);
+        return is_error_reply(refusal) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
+    }
+    fprintf(stderr, "uwbd ctl: %s: cannot send: %s\n", a->socket_path, strerror(e));
+    return UWBD_CTL_NO_DAEMON;
+}
+
+/* `watch`: every line as it comes, until the daemon goes or --timeout
+ * (explicit_s > 0) passes. */
+static int follow(struct reply_reader *reader, double explicit_s)
+{
+    double until = explicit_s > 0 ? uwb_monotonic_s() + explicit_s : 0;
+    char *reply = NULL;
+    for (int first = 1;; first = 0) {
+        double left = explicit_s > 0 ? until - uwb_monotonic_s() : 0;
+        if (explicit_s > 0 && left <= 0)
+            return UWBD_CTL_OK;
+        int rc = read_line(reader, explicit_s > 0 ? left : (first ? OTHER_TIMEOUT_S : 0), &reply);
+        if (rc == UWBD_CTL_TIMEOUT && explicit_s > 0 && !first)
+            return UWBD_CTL_OK; /* --timeout ended it; reply is no longer a line */
+        if (rc != 0)
+            return rc;
+        puts(reply);
+        fflush(stdout);
+        if (first && is_error_reply(reply))
+            return UWBD_CTL_REFUSED;
+    }
+}
+
+/* The one reply line in *reply, a scan's PROGRESS lines drawn on stderr
+ * on the way (after the answer to its `watch progress`). */
+static int await_reply(struct reply_reader *reader, double timeout_s, int scan_progress, char **reply)
+{
+    int on_terminal = isatty(STDERR_FILENO), bar_drawn = 0, acked = !scan_progress, rc;
+    for (;;) {
+        rc = read_line(reader, timeout_s, reply);
+        if (rc != 0)
+            break;
+        if (!acked) {
+            acked = 1; /* the WATCH answer (an ERROR from a daemon without `watch`) */
+            continue;
+        }
+        if (!scan_progress || !has_class(*reply, "PROGRESS"))
+            break;
+        show_progress(*reply, on_terminal);
+        bar_drawn = on_terminal;
+    }
+    if (bar_drawn)
+        fputs("\n", stderr);
+    return rc;
+}
+
+/* Connect, send, and read the reply (or follow): the exit status. */
+static int talk(struct ctl_args *a)
+{
+    int explicit_timeout = a->timeout_s > 0;
+    double timeout_s = explicit_timeout                  ? a->timeout_s
+                       : a->cmd.kind == UWB_COMMAND_SCAN ? SCAN_TIMEOUT_S
+                                                         : OTHER_TIMEOUT_S;
+    char err[1024];
     /* Connecting waits for a daemon whose backlog is full: --timeout bounds
      * that too (without one, the shorter default). */
     int fd =
-        uwbd_control_connect(socket_path, explicit_timeout ? timeout_s : OTHER_TIMEOUT_S, err, sizeof err);
+        uwbd_control_connect(a->socket_path, explicit_timeout ? timeout_s : OTHER_TIMEOUT_S, err, sizeof err);
     if (fd == UWBD_CONTROL_CONNECT_TIMEOUT) {
         fprintf(stderr, "uwbd ctl: %s\n", err);
         return UWBD_CTL_TIMEOUT;
@@ -246,80 +344,34 @@ int uwbd_ctl_main(int argc, char **argv)
         fprintf(stderr, "uwbd ctl: %s (is uwbd running?)\n", err);
         return UWBD_CTL_NO_DAEMON;
     }
-    line[len++] = '\n';
-    /* A scan asks for PROGRESS lines first, for the bar on stderr; stdout
-     * still gets the one reply line. */
-    static const char progress_first[] = "watch progress\n";
-    int scan_progress = cmd.kind == UWB_COMMAND_SCAN;
-    int following = cmd.kind == UWB_COMMAND_WATCH && cmd.watch != 0;
-    char refusal[1024];
-    if ((scan_progress &&
-         uwbd_control_send(fd, progress_first, sizeof progress_first - 1, refusal, sizeof refusal) != 0) ||
-        uwbd_control_send(fd, line, len, refusal, sizeof refusal) != 0) {
-        int e = errno;
-        close(fd);
-        if (refusal[0]) {
-            /* The daemon turned the connection away and said why (e.g. too
-             * many clients): that is its reply, as if it had come after. */
-            puts(refusal);
-            return is_error_reply(refusal) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
-        }
-        fprintf(stderr, "uwbd ctl: %s: cannot send: %s\n", socket_path, strerror(e));
-        return UWBD_CTL_NO_DAEMON;
-    }
     struct reply_reader reader = {.fd = fd};
     char *reply = NULL;
-    int rc;
-    if (following) {
-        /* Every line as it comes, until the daemon goes or --timeout. */
-        double until = explicit_timeout ? uwb_monotonic_s() + timeout_s : 0;
-        int first = 1;
-        for (;;) {
-            double left = explicit_timeout ? until - uwb_monotonic_s() : 0;
-            if (explicit_timeout && left <= 0) {
-                rc = UWBD_CTL_OK;
-                break;
-            }
-            rc = read_line(&reader, explicit_timeout ? left : (first ? OTHER_TIMEOUT_S : 0), &reply);
-            if (rc == UWBD_CTL_TIMEOUT && explicit_timeout && !first)
-                rc = UWBD_CTL_OK;
-            if (rc != 0)
-                break;
-            puts(reply);
-            fflush(stdout);
-            if (first && is_error_reply(reply)) {
-                rc = UWBD_CTL_REFUSED;
-                break;
-            }
-            first = 0;
-        }
-        close(fd);
-        free(reader.buf);
-        return rc;
+    int rc = send_command(fd, a);
+    if (rc != CTL_GOES_ON)
+        goto done;
+    if (a->cmd.kind == UWB_COMMAND_WATCH && a->cmd.watch != 0) {
+        rc = follow(&reader, explicit_timeout ? timeout_s : 0);
+        goto done;
     }
-    int on_terminal = isatty(STDERR_FILENO), bar_drawn = 0, acked = !scan_progress;
-    for (;;) {
-        rc = read_line(&reader, timeout_s, &reply);
-        if (rc != 0)
-            break;
-        if (!acked) {
-            acked = 1; /* the WATCH answer (an ERROR from a daemon without `watch`) */
-            continue;
-        }
-        if (scan_progress && has_class(reply, "PROGRESS")) {
-            show_progress(reply, on_terminal);
-            bar_drawn = on_terminal;
-            continue;
-        }
-        break;
-    }
-    if (bar_drawn)
-        fputs("\n", stderr);
+    rc = await_reply(&reader, timeout_s, a->cmd.kind == UWB_COMMAND_SCAN, &reply);
+    if (rc != 0)
+        goto done;
+    if (!a->as_text || (uwbd_verdict_text(reply, stdout) != 0 && uwbd_trend_text(reply, stdout) != 0))
+        puts(reply);
+    rc = is_error_reply(reply) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
+done:
     close(fd);
     free(reader.buf);
-    if (rc != 0)
-        return rc;
-    if (!as_text || (uwbd_verdict_text(reply, stdout) != 0 && uwbd_trend_text(reply, stdout) != 0))
-        puts(reply);
-    return is_error_reply(reply) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
+    return rc;
+}
+
+int uwbd_ctl_main(int argc, char **argv)
+{
+    struct ctl_args a = {0};
+    int rc = read_ctl_options(argc, argv, &a);
+    if (rc == CTL_GOES_ON)
+        rc = read_command(argc, argv, &a);
+    if (rc == CTL_GOES_ON)
+        rc = choose_socket(&a);
+    return rc == CTL_GOES_ON ? talk(&a) : rc;
 }

@@ -225,176 +225,239 @@ static void keep_freed_memory(void)
     mallopt(M_TRIM_THRESHOLD, HEAP_KEPT);
 }
 
-int uwbd_replay_main(int argc, char **argv)
-{
-    static const struct option longopts[] = {
-        {"replay", required_argument, 0, OPT_REPLAY},
-        {"baseline", required_argument, 0, OPT_BASELINE},
-        {"out", required_argument, 0, OPT_OUT},
-        {"migration", required_argument, 0, OPT_MIGRATION},
-        {"target-z", required_argument, 0, OPT_TARGET_Z},
-        {"time-zero-offset-ps", required_argument, 0, OPT_T0},
-        {"watch-mm", required_argument, 0, OPT_WATCH},
-        {"alarm-mm", required_argument, 0, OPT_ALARM},
-        {"max-uncertainty-mm", required_argument, 0, OPT_MAX_UNC},
-        {"edge-fraction", required_argument, 0, OPT_EDGE_FRACTION},
-        {"direct-coupling-window-ns", required_argument, 0, OPT_DC_WINDOW},
-        {"direct-coupling-tolerance-ps", required_argument, 0, OPT_DC_TOLERANCE},
-        {"help", no_argument, 0, 'h'},
-        {"version", no_argument, 0, OPT_VERSION},
-        {0, 0, 0, 0},
-    };
-    const char *replay = NULL, *baseline_path = NULL, *out_dir = NULL;
+static const struct option replay_options[] = {
+    {"replay", required_argument, 0, OPT_REPLAY},
+    {"baseline", required_argument, 0, OPT_BASELINE},
+    {"out", required_argument, 0, OPT_OUT},
+    {"migration", required_argument, 0, OPT_MIGRATION},
+    {"target-z", required_argument, 0, OPT_TARGET_Z},
+    {"time-zero-offset-ps", required_argument, 0, OPT_T0},
+    {"watch-mm", required_argument, 0, OPT_WATCH},
+    {"alarm-mm", required_argument, 0, OPT_ALARM},
+    {"max-uncertainty-mm", required_argument, 0, OPT_MAX_UNC},
+    {"edge-fraction", required_argument, 0, OPT_EDGE_FRACTION},
+    {"direct-coupling-window-ns", required_argument, 0, OPT_DC_WINDOW},
+    {"direct-coupling-tolerance-ps", required_argument, 0, OPT_DC_TOLERANCE},
+    {"help", no_argument, 0, 'h'},
+    {"version", no_argument, 0, OPT_VERSION},
+    {0, 0, 0, 0},
+};
+
+/* What the command line asks for. */
+struct replay_args {
+    const char *replay, *baseline_path, *out_dir;
     struct uwb_evaluate_options opt;
-    uwb_evaluate_defaults(&opt);
+    int watch_given, alarm_given;
+};
+
+/* Returned by the option readers when the replay goes on. */
+#define REPLAY_GOES_ON (-1)
+
+/* --watch-mm, --alarm-mm, --max-uncertainty-mm: a positive number of millimetres. */
+static int read_threshold(int c, const char *text, struct replay_args *a)
+{
+    const char *name = c == OPT_WATCH ? "--watch-mm" : c == OPT_ALARM ? "--alarm-mm" : "--max-uncertainty-mm";
     double v = 0;
-    int c, watch_given = 0, alarm_given = 0;
+    if (parse_number(name, text, &v) != 0)
+        return EX_USAGE;
+    if (!(v > 0.0)) {
+        fprintf(stderr, "uwbd: %s: '%s' is not a positive number of millimetres\n", name, text);
+        return EX_USAGE;
+    }
+    if (c == OPT_WATCH) {
+        a->opt.compare.thresholds.watch_m = v * 1e-3;
+        a->watch_given = 1;
+    } else if (c == OPT_ALARM) {
+        a->opt.compare.thresholds.alarm_m = v * 1e-3;
+        a->alarm_given = 1;
+    } else {
+        a->opt.compare.max_uncertainty_m = v * 1e-3;
+    }
+    return REPLAY_GOES_ON;
+}
+
+/* The analysis options' values (--migration, --target-z, --time-zero-offset-ps,
+ * --edge-fraction). */
+static int read_analysis_option(int c, const char *text, struct uwb_analysis_options *analysis)
+{
+    double v = 0, near_m, far_m;
+    switch (c) {
+    case OPT_MIGRATION:
+        if (uwb_migration_kind_parse(text, &analysis->migration) == 0)
+            return REPLAY_GOES_ON;
+        fprintf(stderr, "uwbd: --migration: '%s' is neither fixed nor float\n", text);
+        return EX_USAGE;
+    case OPT_TARGET_Z:
+        if (parse_target_z(text, &near_m, &far_m) != 0) {
+            fprintf(stderr, "uwbd: --target-z: '%s' is not NEAR:FAR with 0 <= NEAR < FAR (metres)\n", text);
+            return EX_USAGE;
+        }
+        analysis->has_target_z = 1;
+        analysis->target_z_m[0] = near_m;
+        analysis->target_z_m[1] = far_m;
+        return REPLAY_GOES_ON;
+    case OPT_T0:
+        if (parse_number("--time-zero-offset-ps", text, &v) != 0)
+            return EX_USAGE;
+        analysis->time_zero_offset_s = v * 1e-12;
+        return REPLAY_GOES_ON;
+    default: /* OPT_EDGE_FRACTION */
+        if (parse_number("--edge-fraction", text, &v) != 0 || !(v > 0.05 && v < 0.95)) {
+            fprintf(stderr, "uwbd: --edge-fraction: '%s' must lie between 0.05 and 0.95\n", text);
+            return EX_USAGE;
+        }
+        analysis->edge_fraction = v;
+        return REPLAY_GOES_ON;
+    }
+}
+
+/* --direct-coupling-window-ns and --direct-coupling-tolerance-ps. */
+static int read_direct_coupling_option(int c, const char *text, struct uwb_direct_coupling_options *dc)
+{
+    double v = 0;
+    if (c == OPT_DC_WINDOW) {
+        if (parse_number("--direct-coupling-window-ns", text, &v) != 0)
+            return EX_USAGE;
+        dc->window_end_s = v * 1e-9;
+        return REPLAY_GOES_ON;
+    }
+    if (parse_number("--direct-coupling-tolerance-ps", text, &v) != 0)
+        return EX_USAGE;
+    if (!(v > 0.0)) {
+        fprintf(stderr,
+                "uwbd: --direct-coupling-tolerance-ps: '%s' is not a positive number of picoseconds\n", text);
+        return EX_USAGE;
+    }
+    dc->tolerance_s = v * 1e-12;
+    return REPLAY_GOES_ON;
+}
+
+/* One option: REPLAY_GOES_ON, or the exit status (--help, --version, an error). */
+static int read_option(int c, int argc, char **argv, struct replay_args *a)
+{
+    switch (c) {
+    case OPT_REPLAY: a->replay = optarg; return REPLAY_GOES_ON;
+    case OPT_BASELINE: a->baseline_path = optarg; return REPLAY_GOES_ON;
+    case OPT_OUT: a->out_dir = optarg; return REPLAY_GOES_ON;
+    case OPT_MIGRATION:
+    case OPT_TARGET_Z:
+    case OPT_T0:
+    case OPT_EDGE_FRACTION: return read_analysis_option(c, optarg, &a->opt.analysis);
+    case OPT_WATCH:
+    case OPT_ALARM:
+    case OPT_MAX_UNC: return read_threshold(c, optarg, a);
+    case OPT_DC_WINDOW:
+    case OPT_DC_TOLERANCE: return read_direct_coupling_option(c, optarg, &a->opt.direct_coupling);
+    case 'h': usage(stdout); return 0;
+    case OPT_VERSION: printf("uwbd %s\n", UWBD_VERSION); return 0;
+    default: uwb_cli_option_error("uwbd", "uwbd --help", argv, argc, replay_options); return EX_USAGE;
+    }
+}
+
+/* The command line into *a: REPLAY_GOES_ON, or the exit status. */
+static int read_args(int argc, char **argv, struct replay_args *a)
+{
+    memset(a, 0, sizeof *a);
+    uwb_evaluate_defaults(&a->opt);
+    int c;
     opterr = 0; /* one line of our own instead of getopt's and the usage */
-    while ((c = getopt_long(argc, argv, "h", longopts, NULL)) != -1) {
-        switch (c) {
-        case OPT_REPLAY: replay = optarg; break;
-        case OPT_BASELINE: baseline_path = optarg; break;
-        case OPT_OUT: out_dir = optarg; break;
-        case OPT_MIGRATION:
-            if (uwb_migration_kind_parse(optarg, &opt.analysis.migration) != 0) {
-                fprintf(stderr, "uwbd: --migration: '%s' is neither fixed nor float\n", optarg);
-                return EX_USAGE;
-            }
-            break;
-        case OPT_TARGET_Z: {
-            double near_m, far_m;
-            if (parse_target_z(optarg, &near_m, &far_m) != 0) {
-                fprintf(stderr, "uwbd: --target-z: '%s' is not NEAR:FAR with 0 <= NEAR < FAR (metres)\n",
-                        optarg);
-                return EX_USAGE;
-            }
-            opt.analysis.has_target_z = 1;
-            opt.analysis.target_z_m[0] = near_m;
-            opt.analysis.target_z_m[1] = far_m;
-            break;
-        }
-        case OPT_T0:
-            if (parse_number("--time-zero-offset-ps", optarg, &v) != 0)
-                return EX_USAGE;
-            opt.analysis.time_zero_offset_s = v * 1e-12;
-            break;
-        case OPT_WATCH:
-        case OPT_ALARM:
-        case OPT_MAX_UNC: {
-            const char *name = c == OPT_WATCH   ? "--watch-mm"
-                               : c == OPT_ALARM ? "--alarm-mm"
-                                                : "--max-uncertainty-mm";
-            if (parse_number(name, optarg, &v) != 0)
-                return EX_USAGE;
-            if (!(v > 0.0)) {
-                fprintf(stderr, "uwbd: %s: '%s' is not a positive number of millimetres\n", name, optarg);
-                return EX_USAGE;
-            }
-            if (c == OPT_WATCH) {
-                opt.compare.thresholds.watch_m = v * 1e-3;
-                watch_given = 1;
-            } else if (c == OPT_ALARM) {
-                opt.compare.thresholds.alarm_m = v * 1e-3;
-                alarm_given = 1;
-            } else {
-                opt.compare.max_uncertainty_m = v * 1e-3;
-            }
-            break;
-        }
-        case OPT_EDGE_FRACTION:
-            if (parse_number("--edge-fraction", optarg, &v) != 0 || !(v > 0.05 && v < 0.95)) {
-                fprintf(stderr, "uwbd: --edge-fraction: '%s' must lie between 0.05 and 0.95\n", optarg);
-                return EX_USAGE;
-            }
-            opt.analysis.edge_fraction = v;
-            break;
-        case OPT_DC_WINDOW:
-            if (parse_number("--direct-coupling-window-ns", optarg, &v) != 0)
-                return EX_USAGE;
-            opt.direct_coupling.window_end_s = v * 1e-9;
-            break;
-        case OPT_DC_TOLERANCE:
-            if (parse_number("--direct-coupling-tolerance-ps", optarg, &v) != 0)
-                return EX_USAGE;
-            if (!(v > 0.0)) {
-                fprintf(
-                    stderr,
-                    "uwbd: --direct-coupling-tolerance-ps: '%s' is not a positive number of picoseconds\n",
-                    optarg);
-                return EX_USAGE;
-            }
-            opt.direct_coupling.tolerance_s = v * 1e-12;
-            break;
-        case 'h': usage(stdout); return 0;
-        case OPT_VERSION: printf("uwbd %s\n", UWBD_VERSION); return 0;
-        default: uwb_cli_option_error("uwbd", "uwbd --help", argv, argc, longopts); return EX_USAGE;
-        }
+    while ((c = getopt_long(argc, argv, "h", replay_options, NULL)) != -1) {
+        int rc = read_option(c, argc, argv, a);
+        if (rc != REPLAY_GOES_ON)
+            return rc;
     }
     if (optind < argc) {
         fprintf(stderr, "uwbd: unexpected argument '%s'\n", argv[optind]);
         return EX_USAGE;
     }
-    if (!replay) {
+    if (!a->replay) {
         fprintf(stderr,
                 "uwbd: nothing to do: give --replay FILE, --config FILE or ctl COMMAND (see --help)\n");
         return EX_USAGE;
     }
-    if (opt.compare.thresholds.alarm_m < opt.compare.thresholds.watch_m) {
+    const struct uwb_thresholds *t = &a->opt.compare.thresholds;
+    if (t->alarm_m < t->watch_m) {
         /* Both values, and which one is a default, so the fix is plain. */
         fprintf(stderr,
                 "uwbd: --alarm-mm %g%s is below --watch-mm %g%s: the alarm threshold must be at least the "
                 "watch threshold\n",
-                opt.compare.thresholds.alarm_m * 1e3, alarm_given ? "" : " (the default)",
-                opt.compare.thresholds.watch_m * 1e3, watch_given ? "" : " (the default)");
+                t->alarm_m * 1e3, a->alarm_given ? "" : " (the default)", t->watch_m * 1e3,
+                a->watch_given ? "" : " (the default)");
         return EX_USAGE;
     }
+    return REPLAY_GOES_ON;
+}
 
-    keep_freed_memory();
-    struct uwb_scan current = {0}, baseline = {0};
-    int rc = read_scan(replay, &current);
+/* The scans (and what was recorded with the baseline) read, the output
+ * directory made. 0, or the exit status with nothing left allocated. */
+static int read_inputs(const struct replay_args *a, struct uwb_scan *current, struct uwb_scan *baseline,
+                       struct uwb_baseline_record *record)
+{
+    int rc = read_scan(a->replay, current);
     if (rc)
         return rc;
-    struct uwb_baseline_record record;
-    if (baseline_path && ((rc = read_scan(baseline_path, &baseline)) != 0 ||
-                          (rc = baseline_record(baseline_path, &baseline, &record)) != 0)) {
-        uwb_scan_free(&current);
-        uwb_scan_free(&baseline);
-        return rc;
+    if (a->baseline_path && ((rc = read_scan(a->baseline_path, baseline)) != 0 ||
+                             (rc = baseline_record(a->baseline_path, baseline, record)) != 0))
+        goto fail;
+    if (a->out_dir && mkdir(a->out_dir, 0755) != 0 && errno != EEXIST) {
+        fprintf(stderr, "uwbd: %s: cannot create output directory: %s\n", a->out_dir, strerror(errno));
+        rc = EX_CANTCREAT;
+        goto fail;
     }
-    if (out_dir && mkdir(out_dir, 0755) != 0 && errno != EEXIST) {
-        fprintf(stderr, "uwbd: %s: cannot create output directory: %s\n", out_dir, strerror(errno));
-        uwb_scan_free(&current);
-        uwb_scan_free(&baseline);
-        return EX_CANTCREAT;
-    }
+    return 0;
+fail:
+    uwb_scan_free(current);
+    uwb_scan_free(baseline);
+    return rc;
+}
 
+/* The images (--out) and the verdict line, on stdout and beside them. */
+static int write_outputs(const struct replay_args *a, const struct uwb_scan *current,
+                         const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
+                         struct uwb_verdict *verdict)
+{
+    int rc = 0;
+    char stem[128], err[512];
+    image_stem(current, a->replay, stem, sizeof stem);
+    struct uwb_provenance site = {.thresholds = &a->opt.compare.thresholds};
+    if (a->out_dir &&
+        uwb_write_images(a->out_dir, stem, &site, current, cur_a, base_a, verdict, err, sizeof err) != 0) {
+        fprintf(stderr, "uwbd: %s\n", err);
+        rc = EX_CANTCREAT;
+    }
+    char *json = uwb_verdict_to_json(verdict);
+    if (!json) {
+        fprintf(stderr, "uwbd: out of memory for the verdict\n");
+        return EX_SOFTWARE;
+    }
+    if (a->out_dir && rc == 0 && write_verdict_file(a->out_dir, stem, json) != 0)
+        rc = EX_CANTCREAT;
+    puts(json);
+    free(json);
+    return rc;
+}
+
+int uwbd_replay_main(int argc, char **argv)
+{
+    struct replay_args a;
+    int rc = read_args(argc, argv, &a);
+    if (rc != REPLAY_GOES_ON)
+        return rc;
+    keep_freed_memory();
+    struct uwb_scan current = {0}, baseline = {0};
+    struct uwb_baseline_record record;
+    rc = read_inputs(&a, &current, &baseline, &record);
+    if (rc)
+        return rc;
     struct uwb_verdict verdict;
     struct uwb_analysis cur_a, base_a;
     char err[512];
-    rc = 0;
-    if (uwb_evaluate(&current, baseline_path ? &record : NULL, &opt, &verdict, &cur_a, &base_a, err,
+    if (uwb_evaluate(&current, a.baseline_path ? &record : NULL, &a.opt, &verdict, &cur_a, &base_a, err,
                      sizeof err) != 0) {
-        fprintf(stderr, "uwbd: %s: %s\n", replay, err);
+        fprintf(stderr, "uwbd: %s: %s\n", a.replay, err);
         rc = EX_SOFTWARE;
     } else {
-        char stem[128];
-        image_stem(&current, replay, stem, sizeof stem);
-        struct uwb_provenance site = {.thresholds = &opt.compare.thresholds};
-        if (out_dir && uwb_write_images(out_dir, stem, &site, &current, &cur_a, &base_a, &verdict, err,
-                                        sizeof err) != 0) {
-            fprintf(stderr, "uwbd: %s\n", err);
-            rc = EX_CANTCREAT;
-        }
-        char *json = uwb_verdict_to_json(&verdict);
-        if (!json) {
-            fprintf(stderr, "uwbd: out of memory for the verdict\n");
-            rc = EX_SOFTWARE;
-        } else {
-            if (out_dir && rc == 0 && write_verdict_file(out_dir, stem, json) != 0)
-                rc = EX_CANTCREAT;
-            puts(json);
-            free(json);
-        }
+        rc = write_outputs(&a, &current, &cur_a, &base_a, &verdict);
         uwb_analysis_free(&cur_a);
         uwb_analysis_free(&base_a);
     }

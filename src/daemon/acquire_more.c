@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "uwb/evaluate.h"
+
 static int pulses_of(const struct uwb_scan *s)
 {
     return s->stack > 0 ? s->stack : 1;
@@ -40,15 +42,11 @@ int uwbd_acquire_and_average(uwbd_acquire_fn acquire, void *ctx, const volatile 
 {
     memset(added, 0, sizeof *added);
     int rc = acquire(ctx, stop, added, err, errlen);
-    if (rc != UWBD_ACQUIRE_OK) {
+    if (rc == UWBD_ACQUIRE_OK && uwbd_scan_accumulate(scan, added, err, errlen) != 0)
+        rc = UWBD_ACQUIRE_FAILED;
+    if (rc != UWBD_ACQUIRE_OK)
         uwb_scan_free(added);
-        return rc;
-    }
-    if (uwbd_scan_accumulate(scan, added, err, errlen) != 0) {
-        uwb_scan_free(added);
-        return UWBD_ACQUIRE_FAILED;
-    }
-    return UWBD_ACQUIRE_OK;
+    return rc;
 }
 
 double uwbd_spread(const double *values, int n, int *used)
@@ -71,42 +69,32 @@ double uwbd_spread(const double *values, int n, int *used)
     return sqrt(sum2 / (m - 1));
 }
 
-int uwbd_acquisitions_needed(const struct uwb_verdict *v, double max_m, int pulses_now, int pulses_each)
+/* Whole acquisitions of pulses_each that bring the pulses from pulses_now
+ * to what the model says sigma needs. */
+static int acquisitions_for(const struct uwb_pulse_sigma *m, double max_m, int pulses_now, int pulses_each)
 {
-    double total2 = v->uncertainty_m * v->uncertainty_m;
-    double noise2 = v->current.sigma_center_noise_m * v->current.sigma_center_noise_m;
-    if (!(noise2 > 0)) /* no noise term given: take it all as noise; the fit corrects it */
-        noise2 = total2;
-    double rest2 = total2 - noise2;
-    if (rest2 < 0)
-        rest2 = 0;
-    double room2 = max_m * max_m - rest2;
-    if (!(room2 > 0) || !(noise2 > 0) || pulses_each < 1)
+    double pulses_needed;
+    if (pulses_each < 1 || uwb_pulse_sigma_pulses_for(m, max_m, &pulses_needed) != 0)
         return -1;
-    double pulses_needed = noise2 * pulses_now / room2;
     if (pulses_needed <= pulses_now)
         return 0;
     double more = ceil((pulses_needed - pulses_now) / pulses_each);
     return more > 1e6 ? -1 : (int)more;
 }
 
+int uwbd_acquisitions_needed(const struct uwb_verdict *v, double max_m, int pulses_now, int pulses_each)
+{
+    struct uwb_pulse_sigma m;
+    if (uwb_pulse_sigma_from_verdict(v, pulses_now, &m) != 0)
+        return -1;
+    return acquisitions_for(&m, max_m, pulses_now, pulses_each);
+}
+
 int uwbd_acquisitions_needed_fit(double sigma1, int pulses1, double sigma2, int pulses2, double max_m,
                                  int pulses_each)
 {
-    if (pulses2 <= pulses1 || pulses_each < 1)
-        return -1;
-    double scaling = (sigma1 * sigma1 - sigma2 * sigma2) / (1.0 / pulses1 - 1.0 / pulses2);
-    if (!(scaling > 0))
+    struct uwb_pulse_sigma m;
+    if (pulses_each < 1 || uwb_pulse_sigma_fit(sigma1, pulses1, sigma2, pulses2, &m) != 0)
         return -1; /* sigma did not fall with more pulses: more will not help */
-    double fixed = sigma2 * sigma2 - scaling / pulses2;
-    if (fixed < 0)
-        fixed = 0;
-    double room = max_m * max_m - fixed;
-    if (!(room > 0))
-        return -1;
-    double pulses_needed = scaling / room;
-    if (pulses_needed <= pulses2)
-        return 0;
-    double more = ceil((pulses_needed - pulses2) / pulses_each);
-    return more > 1e6 ? -1 : (int)more;
+    return acquisitions_for(&m, max_m, pulses2, pulses_each);
 }

@@ -25,14 +25,15 @@ double uwbd_spread(const double *values, int n, int *used);
 
 /* How many more acquisitions of `pulses_each` pulses per position bring the
  * verdict's uncertainty under max_m, when only its current-scan noise part
- * (v->current.sigma_center_noise_m) falls, as 1/sqrt(pulses); -1 when no
- * number of pulses can (the rest alone is over the limit). */
+ * (v->current.sigma_center_noise_m) falls, as the evaluation's pulse model
+ * says (uwb_pulse_sigma_from_verdict); -1 when no number of pulses can
+ * (the rest alone is over the limit). */
 int uwbd_acquisitions_needed(const struct uwb_verdict *v, double max_m, int pulses_now, int pulses_each);
 
 /* The same from two measurements of the uncertainty, sigma1 at pulses1 and
- * sigma2 at pulses2 (more): sigma^2 = fixed + scaling / pulses fitted
- * through both, whatever the verdict's terms are. -1 when the fit says no
- * number of pulses can (or the two do not show sigma falling). */
+ * sigma2 at pulses2 (more): the model fitted through both
+ * (uwb_pulse_sigma_fit), whatever the verdict's terms are. -1 when the fit
+ * says no number of pulses can (or the two do not show sigma falling). */
 int uwbd_acquisitions_needed_fit(double sigma1, int pulses1, double sigma2, int pulses2, double max_m,
                                  int pulses_each);
 

@@ -77,6 +77,11 @@ static int parse_count(const char *word, int *count)
     return 0;
 }
 
+static int printable(char c)
+{
+    return (unsigned char)c >= 0x21 && (unsigned char)c <= 0x7e;
+}
+
 /* gpsd's form, for clients written against gpsd: ?WATCH={"enable":true} (or
  * false), spaces allowed; nothing else of its JSON is understood. */
 static int parse_gpsd_watch(const char *line, size_t len, struct uwb_command *out, char *err, size_t errlen)
@@ -84,14 +89,13 @@ static int parse_gpsd_watch(const char *line, size_t len, struct uwb_command *ou
     char compact[UWB_COMMAND_MAX_LINE + 1];
     size_t n = 0;
     for (size_t i = 0; i < len; i++) {
-        unsigned char c = (unsigned char)line[i];
-        if (c == ' ' || c == '\t')
+        if (line[i] == ' ' || line[i] == '\t')
             continue;
-        if (c < 0x21 || c > 0x7e) {
+        if (!printable(line[i])) {
             set_error(err, errlen, "command contains a byte that is not printable ASCII", NULL);
             return UWB_COMMAND_INVALID;
         }
-        compact[n++] = (char)c;
+        compact[n++] = line[i];
     }
     compact[n] = '\0';
     struct uwb_command cmd = {.kind = UWB_COMMAND_WATCH};
@@ -105,6 +109,130 @@ static int parse_gpsd_watch(const char *line, size_t len, struct uwb_command *ou
                   "?WATCH: only gpsd's ?WATCH={\"enable\":true} or {\"enable\":false} is understood (or say "
                   "`watch`)",
                   NULL);
+        return UWB_COMMAND_INVALID;
+    }
+    *out = cmd;
+    return UWB_COMMAND_OK;
+}
+
+/* The line's words, each checked for printable ASCII and its length. */
+struct words {
+    char word[MAX_WORDS][MAX_WORD + 1];
+    int n;
+};
+
+static int split_words(const char *line, size_t len, struct words *w, char *err, size_t errlen)
+{
+    w->n = 0;
+    size_t i = 0;
+    while (i < len) {
+        if (line[i] == ' ' || line[i] == '\t') {
+            i++;
+            continue;
+        }
+        size_t start = i;
+        for (; i < len && line[i] != ' ' && line[i] != '\t'; i++)
+            if (!printable(line[i])) {
+                set_error(err, errlen, "command contains a byte that is not printable ASCII", NULL);
+                return UWB_COMMAND_INVALID;
+            } else if (w->n == MAX_WORDS) {
+                set_error(err, errlen, "too many words (see help)", NULL);
+                return UWB_COMMAND_INVALID;
+            }
+        if (i - start > MAX_WORD) {
+            set_error(err, errlen, "unknown command or argument (too long; see help)", NULL);
+            return UWB_COMMAND_INVALID;
+        }
+        memcpy(w->word[w->n], line + start, i - start);
+        w->word[w->n][i - start] = '\0';
+        w->n++;
+    }
+    return w->n == 0 ? UWB_COMMAND_EMPTY : UWB_COMMAND_OK;
+}
+
+static int watch_args(const struct words *w, struct uwb_command *cmd, char *err, size_t errlen)
+{
+    cmd->watch = 1;
+    if (w->n == 2 && strcmp(w->word[1], "off") == 0)
+        cmd->watch = 0;
+    else if (w->n == 2 && strcmp(w->word[1], "progress") == 0)
+        cmd->watch = 2;
+    else if (w->n == 2) {
+        set_error(err, errlen, "watch: say `watch`, `watch progress` or `watch off`, not", w->word[1]);
+        return UWB_COMMAND_INVALID;
+    }
+    return UWB_COMMAND_OK;
+}
+
+static int history_args(const struct words *w, struct uwb_command *cmd, char *err, size_t errlen)
+{
+    cmd->count = UWB_HISTORY_DEFAULT;
+    if (w->n == 2 && parse_count(w->word[1], &cmd->count) != 0) {
+        set_error(err, errlen, "history: N must be a whole number from 1 to 100, not", w->word[1]);
+        return UWB_COMMAND_INVALID;
+    }
+    return UWB_COMMAND_OK;
+}
+
+static int trend_args(const struct words *w, struct uwb_command *cmd, char *err, size_t errlen)
+{
+    cmd->count = UWB_TREND_DEFAULT;
+    if (w->n == 2 && parse_count(w->word[1], &cmd->count) != 0) {
+        set_error(err, errlen, "trend: N must be a whole number from 1 to 100, not", w->word[1]);
+        return UWB_COMMAND_INVALID;
+    }
+    return UWB_COMMAND_OK;
+}
+
+static int baseline_args(const struct words *w, struct uwb_command *cmd, char *err, size_t errlen)
+{
+    if (w->n < 2 || strcmp(w->word[1], "set") != 0) {
+        set_error(err, errlen,
+                  "say `baseline set` (or `baseline set N`) to make the next good scan the baseline", NULL);
+        return UWB_COMMAND_INVALID;
+    }
+    if (w->n == 3 && strcmp(w->word[2], "force") == 0)
+        cmd->force = 1;
+    else if (w->n == 3 &&
+             (parse_count(w->word[2], &cmd->count) != 0 || cmd->count > UWB_BASELINE_SCANS_MAX)) {
+        set_error(err, errlen,
+                  "baseline set: N (scans to average) must be a whole number from 1 to 16, or `force`, not",
+                  w->word[2]);
+        return UWB_COMMAND_INVALID;
+    }
+    return UWB_COMMAND_OK;
+}
+
+/* Each verb: its kind, how many words may follow it, and what reads them
+ * (NULL: none may). */
+static const struct verb {
+    const char *name;
+    enum uwb_command_kind kind;
+    int max_args;
+    int (*args)(const struct words *w, struct uwb_command *cmd, char *err, size_t errlen);
+} verbs[] = {
+    {"status", UWB_COMMAND_STATUS, 0, NULL},     {"scan", UWB_COMMAND_SCAN, 0, NULL},
+    {"verdict", UWB_COMMAND_VERDICT, 0, NULL},   {"help", UWB_COMMAND_HELP, 0, NULL},
+    {"ack", UWB_COMMAND_ACK, 0, NULL},           {"event", UWB_COMMAND_EVENT, 0, NULL},
+    {"watch", UWB_COMMAND_WATCH, 1, watch_args}, {"history", UWB_COMMAND_HISTORY, 1, history_args},
+    {"trend", UWB_COMMAND_TREND, 1, trend_args}, {"baseline", UWB_COMMAND_BASELINE_SET, 2, baseline_args},
+};
+
+static int parse_words(const struct words *w, struct uwb_command *out, char *err, size_t errlen)
+{
+    const struct verb *v = NULL;
+    for (size_t i = 0; i < sizeof verbs / sizeof verbs[0] && !v; i++)
+        if (strcmp(w->word[0], verbs[i].name) == 0)
+            v = &verbs[i];
+    if (!v) {
+        set_error(err, errlen, "unknown command (try help):", w->word[0]);
+        return UWB_COMMAND_INVALID;
+    }
+    struct uwb_command cmd = {.kind = v->kind};
+    if (v->args && v->args(w, &cmd, err, errlen) != UWB_COMMAND_OK)
+        return UWB_COMMAND_INVALID;
+    if (w->n - 1 > v->max_args) {
+        set_error(err, errlen, "unexpected argument (see help):", w->word[v->max_args + 1]);
         return UWB_COMMAND_INVALID;
     }
     *out = cmd;
@@ -130,113 +258,7 @@ int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, cha
     }
     if (len >= 6 && memcmp(line, "?WATCH", 6) == 0)
         return parse_gpsd_watch(line, len, out, err, errlen);
-    char words[MAX_WORDS][MAX_WORD + 1];
-    int n_words = 0;
-    size_t i = 0;
-    while (i < len) {
-        unsigned char c = (unsigned char)line[i];
-        if (c == ' ' || c == '\t') {
-            i++;
-            continue;
-        }
-        if (c < 0x21 || c > 0x7e) {
-            set_error(err, errlen, "command contains a byte that is not printable ASCII", NULL);
-            return UWB_COMMAND_INVALID;
-        }
-        if (n_words == MAX_WORDS) {
-            set_error(err, errlen, "too many words (see help)", NULL);
-            return UWB_COMMAND_INVALID;
-        }
-        size_t start = i;
-        while (i < len && line[i] != ' ' && line[i] != '\t') {
-            c = (unsigned char)line[i];
-            if (c < 0x21 || c > 0x7e) {
-                set_error(err, errlen, "command contains a byte that is not printable ASCII", NULL);
-                return UWB_COMMAND_INVALID;
-            }
-            i++;
-        }
-        if (i - start > MAX_WORD) {
-            set_error(err, errlen, "unknown command or argument (too long; see help)", NULL);
-            return UWB_COMMAND_INVALID;
-        }
-        memcpy(words[n_words], line + start, i - start);
-        words[n_words][i - start] = '\0';
-        n_words++;
-    }
-    if (n_words == 0)
-        return UWB_COMMAND_EMPTY;
-
-    const char *verb = words[0];
-    struct uwb_command cmd = {.count = 0};
-    int max_args = 0;
-    if (strcmp(verb, "status") == 0) {
-        cmd.kind = UWB_COMMAND_STATUS;
-    } else if (strcmp(verb, "scan") == 0) {
-        cmd.kind = UWB_COMMAND_SCAN;
-    } else if (strcmp(verb, "verdict") == 0) {
-        cmd.kind = UWB_COMMAND_VERDICT;
-    } else if (strcmp(verb, "help") == 0) {
-        cmd.kind = UWB_COMMAND_HELP;
-    } else if (strcmp(verb, "ack") == 0) {
-        cmd.kind = UWB_COMMAND_ACK;
-    } else if (strcmp(verb, "event") == 0) {
-        cmd.kind = UWB_COMMAND_EVENT;
-    } else if (strcmp(verb, "watch") == 0) {
-        cmd.kind = UWB_COMMAND_WATCH;
-        cmd.watch = 1;
-        max_args = 1;
-        if (n_words == 2 && strcmp(words[1], "off") == 0)
-            cmd.watch = 0;
-        else if (n_words == 2 && strcmp(words[1], "progress") == 0)
-            cmd.watch = 2;
-        else if (n_words == 2) {
-            set_error(err, errlen, "watch: say `watch`, `watch progress` or `watch off`, not", words[1]);
-            return UWB_COMMAND_INVALID;
-        }
-    } else if (strcmp(verb, "history") == 0) {
-        cmd.kind = UWB_COMMAND_HISTORY;
-        cmd.count = UWB_HISTORY_DEFAULT;
-        max_args = 1;
-        if (n_words == 2 && parse_count(words[1], &cmd.count) != 0) {
-            set_error(err, errlen, "history: N must be a whole number from 1 to 100, not", words[1]);
-            return UWB_COMMAND_INVALID;
-        }
-    } else if (strcmp(verb, "trend") == 0) {
-        cmd.kind = UWB_COMMAND_TREND;
-        cmd.count = UWB_TREND_DEFAULT;
-        max_args = 1;
-        if (n_words == 2 && parse_count(words[1], &cmd.count) != 0) {
-            set_error(err, errlen, "trend: N must be a whole number from 1 to 100, not", words[1]);
-            return UWB_COMMAND_INVALID;
-        }
-    } else if (strcmp(verb, "baseline") == 0) {
-        if (n_words < 2 || strcmp(words[1], "set") != 0) {
-            set_error(err, errlen,
-                      "say `baseline set` (or `baseline set N`) to make the next good scan the baseline",
-                      NULL);
-            return UWB_COMMAND_INVALID;
-        }
-        cmd.kind = UWB_COMMAND_BASELINE_SET;
-        max_args = 2;
-        if (n_words == 3 && strcmp(words[2], "force") == 0)
-            cmd.force = 1;
-        else if (n_words == 3 &&
-                 (parse_count(words[2], &cmd.count) != 0 || cmd.count > UWB_BASELINE_SCANS_MAX)) {
-            set_error(
-                err, errlen,
-                "baseline set: N (scans to average) must be a whole number from 1 to 16, or `force`, not",
-                words[2]);
-            return UWB_COMMAND_INVALID;
-        }
-    } else {
-        set_error(err, errlen, "unknown command (try help):", verb);
-        return UWB_COMMAND_INVALID;
-    }
-    if (n_words - 1 > max_args) {
-        set_error(err, errlen, "unexpected argument (see help):", words[max_args + 1]);
-        return UWB_COMMAND_INVALID;
-    }
-    *out = cmd;
-    return UWB_COMMAND_OK;
+    struct words w;
+    int rc = split_words(line, len, &w, err, errlen);
+    return rc == UWB_COMMAND_OK ? parse_words(&w, out, err, errlen) : rc;
 }

@@ -369,17 +369,16 @@ static int apply_override(struct load_context *ctx, cJSON *root, const struct uw
     for (char *dot = strchr(part, '.'); dot; part = dot + 1, dot = strchr(part, '.')) {
         *dot = '\0';
         cJSON *next = cJSON_GetObjectItemCaseSensitive(obj, part);
+        const char *problem = NULL;
         if (!next) {
             next = cJSON_AddObjectToObject(obj, part);
+            problem = next ? NULL : "out of memory";
         } else if (!cJSON_IsObject(next)) {
-            cJSON_Delete(value);
-            snprintf(ctx->err, ctx->errlen,
-                     "override: key `%s`: the file has a value, not a section, on the way", shown);
-            return -1;
+            problem = "the file has a value, not a section, on the way";
         }
-        if (!next) {
+        if (problem) {
             cJSON_Delete(value);
-            snprintf(ctx->err, ctx->errlen, "override: key `%s`: out of memory", shown);
+            snprintf(ctx->err, ctx->errlen, "override: key `%s`: %s", shown, problem);
             return -1;
         }
         obj = next;
@@ -473,10 +472,9 @@ int uwbd_config_check_system(const struct uwbd_config *cfg, const char *name, ch
     return 0;
 }
 
-/* Checks that involve more than one key, or a key that depends on another. */
-static int check_together(struct load_context *ctx, const struct uwbd_config *cfg)
+/* The GPIO keys each backend needs, and only those. */
+static int check_gpio_keys(struct load_context *ctx, const struct uwb_rig_config *r)
 {
-    const struct uwb_rig_config *r = &cfg->rig;
     int libgpiod = strcmp(r->gpio.backend, "libgpiod") == 0;
     if (libgpiod && !r->gpio.chip[0]) {
         fail(ctx, "gpio.chip", "missing: required with the libgpiod backend");
@@ -499,6 +497,13 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
     }
     if (!libgpiod && check_endpoint(ctx, "gpio.endpoint", r->gpio.endpoint) != 0)
         return -1;
+    return 0;
+}
+
+/* The other endpoints, the state directory and the control socket. */
+static int check_endpoints_and_paths(struct load_context *ctx, const struct uwbd_config *cfg)
+{
+    const struct uwb_rig_config *r = &cfg->rig;
     if (check_endpoint(ctx, "digitiser.endpoint", r->digitiser.endpoint) != 0)
         return -1;
     if (cfg->console_endpoint[0] && check_endpoint(ctx, "console.endpoint", cfg->console_endpoint) != 0)
@@ -526,53 +531,25 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
         fail(ctx, "control.socket", "empty");
         return -1;
     }
+    return 0;
+}
+
+/* Checks that involve more than one key, or a key that depends on another. */
+static int check_together(struct load_context *ctx, const struct uwbd_config *cfg)
+{
+    const struct uwb_rig_config *r = &cfg->rig;
+    if (check_gpio_keys(ctx, r) != 0 || check_endpoints_and_paths(ctx, cfg) != 0)
+        return -1;
     if (cfg->evaluate.compare.thresholds.alarm_m < cfg->evaluate.compare.thresholds.watch_m) {
         fail(ctx, "analysis.alarm_mm", "%g mm is below analysis.watch_mm (%g mm)",
              cfg->evaluate.compare.thresholds.alarm_m * 1e3, cfg->evaluate.compare.thresholds.watch_m * 1e3);
         return -1;
     }
-    const struct uwb_carriage_config *c = &r->carriage;
-    double lowest = c->home_offset_mm, highest = c->home_offset_mm + c->travel_mm;
-    double first = r->first_position_mm, last = first + (r->positions - 1) * r->step_mm;
-    if (first - c->backlash_mm < lowest - 1e-9) {
-        fail(ctx, "scan.first_position_mm",
-             "%g mm minus the backlash overshoot (%g mm) lies below home (carriage.home_offset_mm = %g mm)",
-             first, c->backlash_mm, lowest);
-        return -1;
-    }
-    if ((r->positions - 1) * r->step_mm > UWBSCAN_MAX_TRAVEL_M * 1e3) {
-        fail(ctx, "scan.positions",
-             "%d positions %g mm apart span %g mm, over the largest travel a scan file may hold (%g mm)",
-             r->positions, r->step_mm, (r->positions - 1) * r->step_mm, UWBSCAN_MAX_TRAVEL_M * 1e3);
-        return -1;
-    }
-    size_t samples_per_scan = (size_t)r->positions * (size_t)r->digitiser.samples;
-    if (samples_per_scan > UWBSCAN_MAX_SAMPLE_COUNT) {
-        fail(ctx, "digitiser.samples",
-             "%d samples x %d positions = %zu samples per scan, over the limit of %zu (%d MiB of float32) a "
-             "scan file may hold",
-             r->digitiser.samples, r->positions, samples_per_scan, UWBSCAN_MAX_SAMPLE_COUNT,
-             UWBSCAN_MAX_SAMPLE_MIB);
-        return -1;
-    }
-    if (last > highest + 1e-9) {
-        fail(ctx, "scan.positions",
-             "the last position, %g mm, lies beyond the travel (home_offset_mm + travel_mm = %g mm)", last,
-             highest);
-        return -1;
-    }
-    if (c->park_mm > c->travel_mm) {
-        fail(ctx, "carriage.park_mm", "%g mm lies beyond the travel (%g mm)", c->park_mm, c->travel_mm);
-        return -1;
-    }
-    if (r->has_target_z && !(r->target_z_m[1] > r->target_z_m[0])) {
-        fail(ctx, "geometry.target_z_mm", "near (%g mm) must be below far (%g mm)", r->target_z_m[0] * 1e3,
-             r->target_z_m[1] * 1e3);
-        return -1;
-    }
-    if (r->carriage.home_rate_hz > r->carriage.max_rate_hz) {
-        fail(ctx, "carriage.home_rate_hz", "%g Hz is above carriage.max_rate_hz (%g Hz)",
-             r->carriage.home_rate_hz, r->carriage.max_rate_hz);
+    /* The rig's rules between fields, where the loader would have met them. */
+    const char *rig_key = NULL;
+    char rig_why[512];
+    if (uwb_rig_config_check_rules(r, &rig_key, rig_why, sizeof rig_why) != UWB_RIG_OK) {
+        fail(ctx, rig_key, "%s", rig_why);
         return -1;
     }
     if (!(cfg->evaluate.direct_coupling.window_end_s > r->digitiser.t0_s)) {

@@ -4,6 +4,7 @@
  * loader, `uwbd --config-keys` and the manual pages use; what is left here
  * is what involves several fields or the hardware's own rules. */
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -95,28 +96,95 @@ static int check_table_ranges(const struct uwb_rig_config *cfg, char *err, size_
     return UWB_RIG_OK;
 }
 
+/* One rule between fields broken: the key at fault and why. */
+static int broken(const char **key, const char *name, char *problem, size_t len, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+
+static int broken(const char **key, const char *name, char *problem, size_t len, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(problem, len, fmt, ap);
+    va_end(ap);
+    *key = name;
+    return UWB_RIG_ERR_CONFIG;
+}
+
+/* Every position, the backlash overshoot below it included, must lie above
+ * home and inside the travel; the first and the last bound all the others
+ * (step_mm is positive). */
+static int check_positions(const struct uwb_rig_config *r, const char **key, char *problem, size_t len)
+{
+    const struct uwb_carriage_config *c = &r->carriage;
+    double lowest = c->home_offset_mm, highest = c->home_offset_mm + c->travel_mm;
+    double first = r->first_position_mm, last = first + (r->positions - 1) * r->step_mm;
+    if (first - c->backlash_mm < lowest - 1e-9)
+        return broken(
+            key, "scan.first_position_mm", problem, len,
+            "%g mm minus the backlash overshoot (%g mm) lies below home (carriage.home_offset_mm = %g mm)",
+            first, c->backlash_mm, lowest);
+    /* A scan the reader refuses may not be recorded. */
+    if ((r->positions - 1) * r->step_mm > UWBSCAN_MAX_TRAVEL_M * 1e3)
+        return broken(
+            key, "scan.positions", problem, len,
+            "%d positions %g mm apart span %g mm, over the largest travel a scan file may hold (%g mm)",
+            r->positions, r->step_mm, (r->positions - 1) * r->step_mm, UWBSCAN_MAX_TRAVEL_M * 1e3);
+    size_t samples_per_scan = (size_t)r->positions * (size_t)r->digitiser.samples;
+    if (samples_per_scan > UWBSCAN_MAX_SAMPLE_COUNT)
+        return broken(key, "digitiser.samples", problem, len,
+                      "%d samples x %d positions = %zu samples per scan, over the limit of %zu (%d MiB of "
+                      "float32) a scan file may hold",
+                      r->digitiser.samples, r->positions, samples_per_scan, UWBSCAN_MAX_SAMPLE_COUNT,
+                      UWBSCAN_MAX_SAMPLE_MIB);
+    if (last > highest + 1e-9)
+        return broken(key, "scan.positions", problem, len,
+                      "the last position, %g mm, lies beyond the travel (home_offset_mm + travel_mm = %g mm)",
+                      last, highest);
+    return UWB_RIG_OK;
+}
+
+int uwb_rig_config_check_rules(const struct uwb_rig_config *r, const char **key, char *problem, size_t len)
+{
+    const struct uwb_carriage_config *c = &r->carriage;
+    if (check_positions(r, key, problem, len) != UWB_RIG_OK)
+        return UWB_RIG_ERR_CONFIG;
+    if (c->park_mm > c->travel_mm)
+        return broken(key, "carriage.park_mm", problem, len, "%g mm lies beyond the travel (%g mm)",
+                      c->park_mm, c->travel_mm);
+    if (r->has_target_z && !(r->target_z_m[1] > r->target_z_m[0]))
+        return broken(key, "geometry.target_z_mm", problem, len, "near (%g mm) must be below far (%g mm)",
+                      r->target_z_m[0] * 1e3, r->target_z_m[1] * 1e3);
+    if (c->home_rate_hz > c->max_rate_hz)
+        return broken(key, "carriage.home_rate_hz", problem, len,
+                      "%g Hz is above carriage.max_rate_hz (%g Hz)", c->home_rate_hz, c->max_rate_hz);
+    return UWB_RIG_OK;
+}
+
 static int bad(char *err, size_t errlen, const char *field, double value, const char *rule)
 {
     snprintf(err, errlen, "rig config: %s = %g: %s", field, value, rule);
     return UWB_RIG_ERR_CONFIG;
 }
 
-#define REQUIRE(cond, field, value, rule) \
-    do { \
-        if (!(cond)) \
-            return bad(err, errlen, field, (double)(value), rule); \
-    } while (0)
-
-static int check_carriage(const struct uwb_carriage_config *c, char *err, size_t errlen)
+/* The rules the loader leaves to the rig's own words: the carriage's
+ * limits against its travel, and position 0 at least one microstep (the
+ * smallest overshoot) above home. */
+static int check_carriage(const struct uwb_rig_config *r, char *err, size_t errlen)
 {
-    REQUIRE(c->park_mm <= c->travel_mm, "carriage.park_mm", c->park_mm,
-            "must lie inside the travel (0..travel_mm)");
-    REQUIRE(c->backlash_mm < c->travel_mm, "carriage.backlash_mm", c->backlash_mm,
-            "must be less than the travel");
-    REQUIRE(c->home_rate_hz <= c->max_rate_hz, "carriage.home_rate_hz", c->home_rate_hz,
-            "must be at most max_rate_hz");
-    REQUIRE(c->home_backoff_mm <= c->travel_mm, "carriage.home_backoff_mm", c->home_backoff_mm,
-            "must be at most the travel");
+    const struct uwb_carriage_config *c = &r->carriage;
+    if (!(c->backlash_mm < c->travel_mm))
+        return bad(err, errlen, "carriage.backlash_mm", c->backlash_mm, "must be less than the travel");
+    if (!(c->home_backoff_mm <= c->travel_mm))
+        return bad(err, errlen, "carriage.home_backoff_mm", c->home_backoff_mm, "must be at most the travel");
+    double lowest = fmax(c->backlash_mm, 1.0 / c->steps_per_mm);
+    double above_home = r->first_position_mm - c->home_offset_mm;
+    if (above_home < lowest - 1e-9) {
+        snprintf(err, errlen,
+                 "rig config: position 0 at y = %g mm is %g mm above the home switch "
+                 "(home_offset_mm %g); it must lie between %g (backlash overshoot) and travel_mm = %g",
+                 r->first_position_mm, above_home, c->home_offset_mm, lowest, c->travel_mm);
+        return UWB_RIG_ERR_CONFIG;
+    }
     return UWB_RIG_OK;
 }
 
@@ -174,29 +242,13 @@ int uwb_rig_config_check(const struct uwb_rig_config *cfg, char *err, size_t err
         rc = check_table_ranges(cfg, err, errlen);
     if (rc == UWB_RIG_OK)
         rc = check_digitiser(&cfg->digitiser, err, errlen);
-    if (rc == UWB_RIG_OK)
-        rc = check_carriage(&cfg->carriage, err, errlen);
     if (rc != UWB_RIG_OK)
         return rc;
-    /* Every position, backlash overshoot included, must stay above home and
-     * inside the travel. */
-    const struct uwb_carriage_config *c = &cfg->carriage;
-    double lowest = fmax(c->backlash_mm, 1.0 / c->steps_per_mm);
-    /* The first and the last position bound all the others. */
-    int ends_step = cfg->positions > 1 ? cfg->positions - 1 : 1;
-    for (int k = 0; k < cfg->positions; k += ends_step) {
-        double y = cfg->first_position_mm + k * cfg->step_mm;
-        double above_home = y - c->home_offset_mm;
-        if (above_home < lowest - 1e-9 || above_home > c->travel_mm + 1e-9) {
-            snprintf(err, errlen,
-                     "rig config: position %d at y = %g mm is %g mm above the home switch "
-                     "(home_offset_mm %g); it must lie between %g (backlash overshoot) and travel_mm = %g",
-                     k, y, above_home, c->home_offset_mm, lowest, c->travel_mm);
-            return UWB_RIG_ERR_CONFIG;
-        }
+    const char *key = NULL;
+    char problem[512];
+    if (uwb_rig_config_check_rules(cfg, &key, problem, sizeof problem) != UWB_RIG_OK) {
+        snprintf(err, errlen, "rig config: key `%s`: %s", key, problem);
+        return UWB_RIG_ERR_CONFIG;
     }
-    if (cfg->has_target_z)
-        REQUIRE(cfg->target_z_m[0] >= 0 && cfg->target_z_m[1] > cfg->target_z_m[0], "geometry.target_z_mm",
-                cfg->target_z_m[1] * 1e3, "far must be above near");
-    return UWB_RIG_OK;
+    return check_carriage(cfg, err, errlen);
 }

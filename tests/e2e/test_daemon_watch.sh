@@ -102,4 +102,11 @@ if command -v script > /dev/null; then
     pass "ctl scan on a terminal: a progress bar redrawn with \\r, then the VERDICT line"
 fi
 
+# ---- ctl --timeout S watch: the stream ends at the timeout, exit 0 -----------
+# It printed the last line again from freed memory when --timeout ended it.
+ctl --timeout 1 watch > ended.out 2> ended.err || fail "ctl --timeout 1 watch: exit $?: $(cat ended.err)"
+[[ $(wc -l < ended.out) == 1 ]] || fail "ctl --timeout 1 watch: more than the WATCH answer: $(cat -v ended.out)"
+json_check ended.out 'class == WATCH' || fail "ctl --timeout 1 watch: $(cat -v ended.out)"
+pass "ctl --timeout 1 watch on an idle daemon: the WATCH answer alone, exit 0"
+
 echo "$passed passed"

@@ -175,6 +175,23 @@ static void test_positions_outside_the_travel_are_refused(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_RIG_OK, uwb_rig_config_check(&cfg, err, sizeof err), err);
 }
 
+/* The rules between fields are checked in one place, the rig, for the
+ * loader and for a program driving the rig alike: a scan no reader takes
+ * (over the 64 MiB of samples a scan file may hold) is refused here too. */
+static void test_the_rig_refuses_a_scan_no_reader_takes(void)
+{
+    struct uwb_rig_config cfg;
+    emulated_config(&cfg);
+    cfg.step_mm = 1;
+    cfg.positions = 300;
+    cfg.digitiser.samples = 65536;
+    assert_config_error(&cfg,
+                        "key `digitiser.samples`: 65536 samples x 300 positions = 19660800 samples per scan");
+    cfg.positions = 256; /* the limit itself */
+    char err[512];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_RIG_OK, uwb_rig_config_check(&cfg, err, sizeof err), err);
+}
+
 static void test_libgpiod_lines_need_distinct_offsets(void)
 {
     struct uwb_rig_config cfg;
@@ -200,6 +217,7 @@ int main(void)
     RUN_TEST(test_mm_to_steps_rounds_to_the_nearest_microstep);
     RUN_TEST(test_defaults_pass_and_bad_fields_are_named);
     RUN_TEST(test_positions_outside_the_travel_are_refused);
+    RUN_TEST(test_the_rig_refuses_a_scan_no_reader_takes);
     RUN_TEST(test_libgpiod_lines_need_distinct_offsets);
     return UNITY_END();
 }
