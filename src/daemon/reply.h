@@ -27,7 +27,7 @@ struct uwbd_status {
     int baseline_pending;
     int has_baseline;
     struct uwbd_baseline_info baseline;
-    const char *latest_verdict; /* the VERDICT line, or NULL */
+    const struct uwb_verdict_record *latest; /* the latest verdict, or NULL */
     const char *state_dir;
     const char *rig;                           /* "ready" or why not */
     const char *console;                       /* endpoint, or NULL when none */
