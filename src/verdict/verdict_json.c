@@ -285,8 +285,8 @@ static void read_figures(struct reader *rd, struct uwb_verdict_record *r)
         refuse(rd, "baseline", "not an object");
     if (cJSON_IsObject(b)) {
         r->has_baseline = number_at(rd, b, "lower_edge_mm", &r->baseline_lower_edge_mm) &
-                          number_at(rd, b, "upper_edge_mm", &r->baseline_upper_edge_mm) &
-                          number_at(rd, b, "center_mm", &r->baseline_center_mm);
+                          number_at(rd, b, "upper_edge_mm", &r->baseline_upper_edge_mm);
+        number_at(rd, b, "center_mm", &r->baseline_center_mm);
         text_at(rd, b, "scan_id", r->baseline_scan_id, sizeof r->baseline_scan_id);
     }
     r->has_direct_coupling = number_at(rd, o, "direct_coupling_ps", &r->direct_coupling_ps);
