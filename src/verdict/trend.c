@@ -9,19 +9,6 @@
 #include "uwb/utc_time.h"
 #include "uwb/verdict_json.h"
 
-int uwb_status_from_name(const char *name, enum uwb_status *out)
-{
-    static const enum uwb_status all[] = {UWB_STATUS_EDGES, UWB_STATUS_OK,           UWB_STATUS_WATCH,
-                                          UWB_STATUS_ALARM, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR};
-    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
-        if (strcmp(name, uwb_status_name(all[i])) == 0) {
-            *out = all[i];
-            return 0;
-        }
-    }
-    return -1;
-}
-
 /* Copies src, cut short to fit: a point keeps what a table shows. */
 static void copy_text(char *dst, size_t n, const char *src)
 {

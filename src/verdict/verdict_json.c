@@ -21,6 +21,19 @@ const char *uwb_status_name(enum uwb_status status)
     return "unknown";
 }
 
+int uwb_status_from_name(const char *name, enum uwb_status *out)
+{
+    static const enum uwb_status all[] = {UWB_STATUS_EDGES, UWB_STATUS_OK,           UWB_STATUS_WATCH,
+                                          UWB_STATUS_ALARM, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR};
+    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
+        if (strcmp(name, uwb_status_name(all[i])) == 0) {
+            *out = all[i];
+            return 0;
+        }
+    }
+    return -1;
+}
+
 void uwb_json_add_ps(cJSON *obj, const char *key, double seconds)
 {
     cJSON_AddNumberToObject(obj, key, round(seconds * 1e13) / 10.0 + 0.0);
@@ -216,16 +229,6 @@ static int int_at(struct reader *rd, const cJSON *o, const char *key, int *out)
     return 1;
 }
 
-static int status_of(const char *name, enum uwb_status *out)
-{
-    for (int s = UWB_STATUS_EDGES; s <= UWB_STATUS_ERROR; s++)
-        if (strcmp(name, uwb_status_name((enum uwb_status)s)) == 0) {
-            *out = (enum uwb_status)s;
-            return 0;
-        }
-    return -1;
-}
-
 /* Which of two keys comes first in o: 1 when a is after b. */
 static int after(const cJSON *o, const char *a, const char *b)
 {
@@ -320,7 +323,7 @@ int uwb_record_from_object(const cJSON *o, struct uwb_verdict_record *r, char *e
         snprintf(err, errlen, "verdict: not a VERDICT object");
         return -1;
     }
-    if (!cJSON_IsString(status) || status_of(status->valuestring, &r->status) != 0) {
+    if (!cJSON_IsString(status) || uwb_status_from_name(status->valuestring, &r->status) != 0) {
         snprintf(err, errlen, "verdict: key `status`: missing or not a status");
         return -1;
     }
