@@ -145,15 +145,23 @@ char *uwbd_reply_history(char *const *verdict_lines, int count, int requested, i
     cJSON *o = start("HISTORY");
     if (!o)
         return NULL;
-    cJSON_AddNumberToObject(o, "requested", requested);
-    cJSON_AddNumberToObject(o, "count", count);
-    if (skipped)
-        cJSON_AddNumberToObject(o, "unreadable_lines", skipped);
-    cJSON *list = cJSON_AddArrayToObject(o, "verdicts");
+    cJSON *list = cJSON_CreateArray();
+    int listed = 0;
     for (int i = 0; list && i < count; i++) {
         cJSON *s = line_summary(verdict_lines[i]);
-        if (s)
-            cJSON_AddItemToArray(list, s);
+        if (s && cJSON_AddItemToArray(list, s))
+            listed++;
+        else if (!s)
+            skipped++; /* a JSON object, but not a verdict this uwbd reads */
+    }
+    cJSON_AddNumberToObject(o, "requested", requested);
+    cJSON_AddNumberToObject(o, "count", listed);
+    if (skipped)
+        cJSON_AddNumberToObject(o, "unreadable_lines", skipped);
+    if (!list || !cJSON_AddItemToObject(o, "verdicts", list)) {
+        cJSON_Delete(list);
+        cJSON_Delete(o);
+        return NULL;
     }
     return finish(o);
 }

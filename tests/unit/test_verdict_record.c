@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "daemon/reply.h"
 #include "unity.h"
 #include "uwb/verdict_json.h"
 #include "uwb/verdict_record.h"
@@ -230,6 +231,21 @@ static void test_summary_keeps_the_story_fields_in_order(void)
     cJSON_Delete(s);
 }
 
+static void test_history_lists_verdicts_and_counts_other_lines_unreadable(void)
+{
+    char *lines[] = {
+        "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"a\",\"axial_displacement_mm\":0.5,"
+        "\"uncertainty_mm\":0.1,\"images\":[],\"scan_file\":\"/x\"}",
+        "{\"n\":2}", "{\"class\":\"VERDICT\",\"status\":\"edges\",\"scan_id\":\"c\"}"};
+    char *reply = uwbd_reply_history(lines, 3, 10, 1);
+    TEST_ASSERT_EQUAL_STRING(
+        "{\"class\":\"HISTORY\",\"requested\":10,\"count\":2,\"unreadable_lines\":2,"
+        "\"verdicts\":[{\"scan_id\":\"a\",\"status\":\"ok\",\"axial_displacement_mm\":0.5,"
+        "\"uncertainty_mm\":0.1},{\"scan_id\":\"c\",\"status\":\"edges\"}]}",
+        reply);
+    free(reply);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -239,5 +255,6 @@ int main(void)
     RUN_TEST(test_daemon_fields_round_trip_in_their_order);
     RUN_TEST(test_lines_that_are_not_verdicts_are_refused_naming_the_key);
     RUN_TEST(test_summary_keeps_the_story_fields_in_order);
+    RUN_TEST(test_history_lists_verdicts_and_counts_other_lines_unreadable);
     return UNITY_END();
 }
