@@ -15,6 +15,8 @@ enum uwb_status {
 };
 
 const char *uwb_status_name(enum uwb_status status);
+/* The status name back to its enum: 0, or -1 if it is none of them. */
+int uwb_status_from_name(const char *name, enum uwb_status *out);
 
 struct uwb_edges {
     int found;                 /* 0: winding or an edge not established, see reason */

@@ -1,20 +1,36 @@
 /* The verdict as one JSON object (gpsd style: a "class", no nulls: what is
- * not known is left out). Built once from the evaluation's verdict; the
- * daemon adds its own fields to the object and prints it. */
+ * not known is left out), written from the published record and read back
+ * into it here and nowhere else (uwb/verdict_record.h). */
 #ifndef UWB_VERDICT_JSON_H
 #define UWB_VERDICT_JSON_H
 
 #include <cjson/cJSON.h>
+#include <stddef.h>
 
 #include "uwb/verdict.h"
+#include "uwb/verdict_record.h"
 
 /* The VERDICT object (free with cJSON_Delete), or NULL when out of memory. */
+cJSON *uwb_record_object(const struct uwb_verdict_record *r);
+/* malloc'd single-line JSON text of uwb_record_object, or NULL when out of memory. */
+char *uwb_record_to_json(const struct uwb_verdict_record *r);
+
+/* A VERDICT object or line back into *r. Returns 0, or -1 with err saying
+ * what is wrong (not a VERDICT, an unknown status, a field of the wrong
+ * type or too long). Unknown keys are ignored, as a newer uwbd may add some. */
+int uwb_record_from_object(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen);
+int uwb_record_from_json(const char *text, struct uwb_verdict_record *r, char *err, size_t errlen);
+
+/* The evaluation's verdict straight to an object or text (uwbd --replay). */
 cJSON *uwb_verdict_object(const struct uwb_verdict *v);
+char *uwb_verdict_to_json(const struct uwb_verdict *v);
+
+/* The one-line summary of a verdict that `status` and `history` give:
+ * scan_id, created, status, reason, displacement, centre, height change,
+ * baseline_set. NULL when out of memory. */
+cJSON *uwb_record_summary(const struct uwb_verdict_record *r);
 
 /* Picoseconds to 0.1 ps, as every verdict and reply prints them. */
 void uwb_json_add_ps(cJSON *obj, const char *key, double seconds);
-
-/* malloc'd single-line JSON text of uwb_verdict_object, or NULL when out of memory. */
-char *uwb_verdict_to_json(const struct uwb_verdict *v);
 
 #endif

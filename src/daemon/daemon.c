@@ -18,8 +18,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <cjson/cJSON.h>
-
 #include "daemon_internal.h"
 #include "daemon/exit_codes.h"
 #include "util/log.h"
@@ -29,6 +27,7 @@
 #include "daemon/verdict_log.h"
 #include "uwb/monotonic.h"
 #include "uwb/utc_time.h"
+#include "uwb/verdict_json.h"
 
 static void worker_beat(struct daemon *d);
 static void report_status(struct daemon *d);
@@ -135,15 +134,12 @@ static void schedule_first(struct daemon *d)
         return;
     }
     double wait = d->cfg.interval_s;
-    cJSON *latest = d->latest_verdict ? cJSON_Parse(d->latest_verdict) : NULL;
-    const cJSON *created = cJSON_GetObjectItemCaseSensitive(latest, "created");
     time_t created_s;
-    if (cJSON_IsString(created) && uwb_utc_parse(created->valuestring, &created_s) == 0) {
+    if (d->latest && uwb_utc_parse(d->latest->created, &created_s) == 0) {
         double elapsed = difftime(time(NULL), created_s);
         if (elapsed >= 0) /* a clock set back says nothing about the schedule */
             wait = elapsed >= wait ? 0 : wait - elapsed;
     }
-    cJSON_Delete(latest);
     arm_at(d, add_seconds(monotonic_now(), wait));
     if (wait < d->cfg.interval_s)
         uwbd_log(UWBD_LOG_INFO,
@@ -171,9 +167,9 @@ static void load_baseline_info(struct daemon *d)
     }
 }
 
-/* The latest verdict at start: latest.json, or when that is unreadable the
- * newest line of verdicts.jsonl, so `verdict` still answers. */
-static void load_latest_verdict(struct daemon *d)
+/* The latest verdict's line at start: latest.json, or when that is
+ * unreadable the newest line of verdicts.jsonl, so `verdict` still answers. */
+static void load_latest_line(struct daemon *d)
 {
     char err[1024];
     if (uwbd_latest_read(&d->store, &d->latest_verdict, err, sizeof err) == 0)
@@ -190,6 +186,30 @@ static void load_latest_verdict(struct daemon *d)
         uwbd_log(UWBD_LOG_WARNING, "%s; it is replaced at the next scan", err);
     }
     uwbd_verdict_lines_free(lines, count);
+}
+
+/* The latest verdict's record, read from its line once at start for all
+ * that read it (the schedule, the site, Modbus, `status`). */
+static void read_latest_record(struct daemon *d)
+{
+    char err[512];
+    free(d->latest);
+    d->latest = malloc(sizeof *d->latest);
+    if (d->latest && uwb_record_from_json(d->latest_verdict, d->latest, err, sizeof err) == 0)
+        return;
+    uwbd_log(UWBD_LOG_WARNING,
+             "the latest verdict is not read back (%s): it counts as none until the next scan",
+             d->latest ? err : "out of memory");
+    free(d->latest);
+    d->latest = NULL;
+}
+
+/* The latest verdict at start, as a line and as a record. */
+static void load_latest_verdict(struct daemon *d)
+{
+    load_latest_line(d);
+    if (d->latest_verdict)
+        read_latest_record(d);
 }
 
 static void set_rig_source(struct uwbd_config *cfg)
@@ -260,7 +280,7 @@ static void reload(struct daemon *d)
     if (site_changed) {
         uwbd_site_close(d->site);
         d->site = NULL;
-        if (uwbd_site_open(&d->site, &d->cfg, d->latest_verdict, err, sizeof err) != UWB_GPIO_OK)
+        if (uwbd_site_open(&d->site, &d->cfg, d->latest, err, sizeof err) != UWB_GPIO_OK)
             uwbd_log(UWBD_LOG_ERR,
                      "reload: the site's lines: %s; alarm contacts and event input are off until "
                      "the next reload",
@@ -399,16 +419,11 @@ static void report_status(struct daemon *d)
         uwbd_service_status("scanning (cycle %lu)", d->job.cycle);
         return;
     }
-    cJSON *latest = d->latest_verdict ? cJSON_Parse(d->latest_verdict) : NULL;
-    const cJSON *status = cJSON_GetObjectItemCaseSensitive(latest, "status");
-    const cJSON *created = cJSON_GetObjectItemCaseSensitive(latest, "created");
-    if (cJSON_IsString(status))
-        uwbd_service_status("idle; latest verdict %s%s%s", status->valuestring,
-                            cJSON_IsString(created) ? " at " : "",
-                            cJSON_IsString(created) ? created->valuestring : "");
+    if (d->latest)
+        uwbd_service_status("idle; latest verdict %s%s%s", uwb_status_name(d->latest->status),
+                            d->latest->created[0] ? " at " : "", d->latest->created);
     else
         uwbd_service_status("idle; no verdict yet");
-    cJSON_Delete(latest);
 }
 
 static void watchdog_start(struct daemon *d)
@@ -568,6 +583,8 @@ static void teardown(struct daemon *d)
     close_fd(&d->lock_fd);
     free(d->latest_verdict);
     d->latest_verdict = NULL;
+    free(d->latest);
+    d->latest = NULL;
 }
 
 /* The outermost directory of `path` that does not exist yet (what mkdir -p
@@ -677,7 +694,7 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
     load_baseline_info(d);
     uwbd_baseline_requests_restore(d);
     load_latest_verdict(d);
-    rc = uwbd_site_open(&d->site, &d->cfg, d->latest_verdict, err, sizeof err);
+    rc = uwbd_site_open(&d->site, &d->cfg, d->latest, err, sizeof err);
     if (rc != UWB_GPIO_OK) {
         int code = uwbd_exit_for_rig_open(UWB_RIG_ERR_GPIO, rc);
         uwbd_log(UWBD_LOG_ERR, "%s (exit %d)", err, code);

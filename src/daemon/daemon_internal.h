@@ -130,7 +130,8 @@ struct daemon {
     _Atomic int progress_done, progress_total;
     _Atomic long long progress_start_ms, progress_first_ms, progress_last_ms;
 
-    char *latest_verdict;              /* VERDICT line or NULL */
+    char *latest_verdict;              /* VERDICT line or NULL: what is sent and stored */
+    struct uwb_verdict_record *latest; /* the same verdict as a record, or NULL: what is read */
     struct uwbd_site *site;            /* alarm contacts, event input (src/integrations/) */
     enum scan_trigger pending_trigger; /* what asked for the next scan */
     struct uwbd_modbus_server *modbus; /* NULL: Modbus off (modbus_hook.c) */

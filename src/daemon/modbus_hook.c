@@ -27,7 +27,7 @@ static void fill_registers(void *ctx, uint16_t regs[UWBD_MODBUS_REGISTER_COUNT])
     status.contacts = (contacts.watch == 1 ? UWBD_MODBUS_CONTACT_WATCH : 0u) |
                       (contacts.alarm == 1 ? UWBD_MODBUS_CONTACT_ALARM : 0u) |
                       (contacts.fault == 1 ? UWBD_MODBUS_CONTACT_FAULT : 0u);
-    uwbd_modbus_registers_fill(d->latest_verdict, &status, regs);
+    uwbd_modbus_registers_fill(d->latest, &status, regs);
 }
 
 /* Coil 1: a scan as soon as the running one ends, as `event` does. */

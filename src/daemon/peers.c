@@ -223,7 +223,7 @@ static char *status_reply(struct daemon *d)
         .has_baseline = d->has_baseline,
         .baseline = d->baseline,
         .fault = d->fault[0] ? d->fault : NULL,
-        .latest_verdict = d->latest_verdict,
+        .latest = d->latest,
         .state_dir = d->store.root,
         /* The rig belongs to the scan thread while it runs. */
         .rig = d->scanning ? "scanning" : d->rig_state,

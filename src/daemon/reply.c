@@ -53,26 +53,15 @@ char *uwbd_reply_help(void)
     return finish(o);
 }
 
-static void copy_member(cJSON *to, const cJSON *from, const char *key)
+/* The fields of a verdict line from verdicts.jsonl that tell its story in
+ * one line; NULL when the line is not a verdict this uwbd reads. */
+static cJSON *line_summary(const char *verdict_line)
 {
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(from, key);
-    if (v)
-        cJSON_AddItemToObject(to, key, cJSON_Duplicate(v, 1));
-}
-
-/* The fields of a verdict that tell its story in one line. */
-static cJSON *verdict_summary(const char *verdict_line)
-{
-    static const char *const keys[] = {
-        "scan_id",        "created",   "status",           "reason",      "axial_displacement_mm",
-        "uncertainty_mm", "center_mm", "height_change_mm", "baseline_set"};
-    cJSON *v = cJSON_Parse(verdict_line);
-    if (!v)
-        return NULL;
-    cJSON *s = cJSON_CreateObject();
-    for (size_t i = 0; s && i < sizeof keys / sizeof keys[0]; i++)
-        copy_member(s, v, keys[i]);
-    cJSON_Delete(v);
+    struct uwb_verdict_record *r = malloc(sizeof *r);
+    char err[256];
+    cJSON *s =
+        r && uwb_record_from_json(verdict_line, r, err, sizeof err) == 0 ? uwb_record_summary(r) : NULL;
+    free(r);
     return s;
 }
 
@@ -126,8 +115,8 @@ char *uwbd_reply_status(const struct uwbd_status *st)
         cJSON_AddItemToObject(o, "baseline", baseline_object(&st->baseline));
     if (st->has_baseline && st->fault)
         cJSON_AddStringToObject(cJSON_GetObjectItemCaseSensitive(o, "baseline"), "check", "failed");
-    if (st->latest_verdict) {
-        cJSON *latest = verdict_summary(st->latest_verdict);
+    if (st->latest) {
+        cJSON *latest = uwb_record_summary(st->latest);
         if (latest)
             cJSON_AddItemToObject(o, "latest", latest);
     }
@@ -156,15 +145,23 @@ char *uwbd_reply_history(char *const *verdict_lines, int count, int requested, i
     cJSON *o = start("HISTORY");
     if (!o)
         return NULL;
+    cJSON *list = cJSON_CreateArray();
+    int listed = 0;
+    for (int i = 0; list && i < count; i++) {
+        cJSON *s = line_summary(verdict_lines[i]);
+        if (s && cJSON_AddItemToArray(list, s))
+            listed++;
+        else if (!s)
+            skipped++; /* a JSON object, but not a verdict this uwbd reads */
+    }
     cJSON_AddNumberToObject(o, "requested", requested);
-    cJSON_AddNumberToObject(o, "count", count);
+    cJSON_AddNumberToObject(o, "count", listed);
     if (skipped)
         cJSON_AddNumberToObject(o, "unreadable_lines", skipped);
-    cJSON *list = cJSON_AddArrayToObject(o, "verdicts");
-    for (int i = 0; list && i < count; i++) {
-        cJSON *s = verdict_summary(verdict_lines[i]);
-        if (s)
-            cJSON_AddItemToArray(list, s);
+    if (!list || !cJSON_AddItemToObject(o, "verdicts", list)) {
+        cJSON_Delete(list);
+        cJSON_Delete(o);
+        return NULL;
     }
     return finish(o);
 }

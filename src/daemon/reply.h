@@ -27,7 +27,7 @@ struct uwbd_status {
     int baseline_pending;
     int has_baseline;
     struct uwbd_baseline_info baseline;
-    const char *latest_verdict; /* the VERDICT line, or NULL */
+    const struct uwb_verdict_record *latest; /* the latest verdict, or NULL */
     const char *state_dir;
     const char *rig;                           /* "ready" or why not */
     const char *console;                       /* endpoint, or NULL when none */
@@ -40,8 +40,9 @@ struct uwbd_status {
 char *uwbd_reply_error(const char *message);
 char *uwbd_reply_help(void);
 char *uwbd_reply_status(const struct uwbd_status *status);
-/* verdict_lines: VERDICT lines from verdicts.jsonl, oldest first; each
- * becomes a summary (scan_id, created, status, reason, displacement). */
+/* verdict_lines: lines from verdicts.jsonl, oldest first; each VERDICT
+ * becomes a summary (scan_id, created, status, reason, displacement), any
+ * other line counts with skipped in unreadable_lines. */
 char *uwbd_reply_history(char *const *verdict_lines, int count, int requested, int skipped);
 char *uwbd_reply_baseline(int pending, int has_current, const struct uwbd_baseline_info *current);
 /* The answer to `watch`: what this connection will now be sent. */

@@ -4,7 +4,6 @@
  * verdict records, so a verdict never names files that are not there. */
 #include "daemon/scan_cycle.h"
 
-#include <cjson/cJSON.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -98,12 +97,12 @@ static void archive_problem(struct cycle *c, const char *what, const char *err)
         snprintf(c->archive_error, sizeof c->archive_error, "%s", err);
 }
 
-/* The verdict object's text becomes the result's (the reply, `status` and
- * latest.json carry it). Printed once, and again only when a record of it
- * failed and the object says so. */
-static int print_verdict(struct cycle *c, const cJSON *o)
+/* The record's text becomes the result's (the reply, `status` and
+ * latest.json carry it). Written once, and again only when a record of it
+ * failed and the verdict says so. */
+static int print_verdict(struct cycle *c)
 {
-    char *text = cJSON_PrintUnformatted(o);
+    char *text = uwb_record_to_json(c->res->verdict);
     if (!text)
         return -1;
     free(c->res->verdict_json);
@@ -122,24 +121,26 @@ static int write_verdict_file(struct cycle *c, const char *text, char *err, size
  * archived, how it was acquired, what became of a `baseline set`, and
  * what of the cycle went wrong. A field only the daemon knows is added
  * here and nowhere else. */
-static void add_cycle_fields(const struct cycle *c, cJSON *o, const char *scan_file, int pulses)
+static void add_cycle_fields(const struct cycle *c, struct uwb_verdict_cycle *out, const char *scan_file,
+                             int pulses)
 {
-    cJSON_AddStringToObject(o, "scan_file", scan_file);
+    out->has_scan_file = 1;
+    snprintf(out->scan_file, sizeof out->scan_file, "%s", scan_file);
     if (c->req->make_baseline) {
-        cJSON_AddBoolToObject(o, "baseline_set", c->res->baseline_set);
-        if (c->baseline_note[0])
-            cJSON_AddStringToObject(o, "baseline_note", c->baseline_note);
+        out->has_baseline_set = 1;
+        out->baseline_set = c->res->baseline_set != 0;
+        snprintf(out->baseline_note, sizeof out->baseline_note, "%s", c->baseline_note);
     }
     if (pulses > 0) {
-        cJSON_AddNumberToObject(o, "pulses_per_position", pulses);
-        cJSON_AddNumberToObject(o, "acquisitions", c->acquisitions);
+        out->pulses_per_position = pulses;
+        out->acquisitions = c->acquisitions;
     }
-    if (c->reacquire_note[0])
-        cJSON_AddStringToObject(o, "reacquire_note", c->reacquire_note);
+    snprintf(out->reacquire_note, sizeof out->reacquire_note, "%s", c->reacquire_note);
     if (c->res->baseline_set && c->baseline_scans > 0) {
-        cJSON_AddNumberToObject(o, "baseline_scans", c->baseline_scans);
+        out->baseline_scans = c->baseline_scans;
+        out->has_baseline_repeatability = c->has_repeatability;
         if (c->has_repeatability)
-            cJSON_AddNumberToObject(o, "baseline_repeatability_mm", round(c->repeatability_m * 1e6) / 1e3);
+            out->baseline_repeatability_mm = round(c->repeatability_m * 1e6) / 1e3;
     }
 }
 
@@ -148,45 +149,60 @@ static void add_cycle_fields(const struct cycle *c, cJSON *o, const char *scan_f
  * verdicts.jsonl line says its archive copy is missing, and when the line
  * itself is refused (the state directory full or read-only) the reply and
  * the status say so, which is then the verdict's only record besides the log.
- * Takes the object (NULL: out of memory) and frees it. */
-static void record(struct cycle *c, const struct uwb_verdict *v, cJSON *o)
+ * Takes the evaluation's verdict and its record (malloc'd, its cycle fields
+ * filled or not; NULL: out of memory), which the result keeps. */
+static void record(struct cycle *c, const struct uwb_verdict *v, struct uwb_verdict_record *r)
 {
     struct uwbd_cycle_result *res = c->res;
     res->outcome = UWBD_CYCLE_RECORDED;
     res->status = v->status;
     snprintf(res->scan_id, sizeof res->scan_id, "%s", c->id);
     snprintf(res->reason, sizeof res->reason, "%s", v->reason);
-    /* Who the appliance is and what started this scan: for the site's systems. */
-    if (o && c->cfg->site.asset_id[0])
-        cJSON_AddStringToObject(o, "asset_id", c->cfg->site.asset_id);
-    if (o && c->req->trigger)
-        cJSON_AddStringToObject(o, "trigger", c->req->trigger);
-    if (o && c->archive_error[0])
-        cJSON_AddStringToObject(o, "archive_error", c->archive_error);
-    if (o && c->clock_note[0])
-        cJSON_AddStringToObject(o, "clock_warning", c->clock_note);
-    if (!o || print_verdict(c, o) != 0) {
+    free(res->verdict);
+    res->verdict = r;
+    if (!r) {
         problem(c, "verdict", "out of memory");
-        cJSON_Delete(o);
+        return;
+    }
+    struct uwb_verdict_cycle *cy = &r->cycle;
+    /* Who the appliance is and what started this scan: for the site's systems. */
+    snprintf(cy->asset_id, sizeof cy->asset_id, "%s", c->cfg->site.asset_id);
+    snprintf(cy->trigger, sizeof cy->trigger, "%s", c->req->trigger ? c->req->trigger : "");
+    snprintf(cy->archive_error, sizeof cy->archive_error, "%s", c->archive_error);
+    snprintf(cy->clock_warning, sizeof cy->clock_warning, "%s", c->clock_note);
+    if (print_verdict(c) != 0) {
+        problem(c, "verdict", "out of memory");
         return;
     }
     char err[512];
     if (c->have_day_dir && write_verdict_file(c, res->verdict_json, err, sizeof err) != 0) {
         int said = c->archive_error[0] != '\0';
         archive_problem(c, "archive", err);
-        if (!said &&
-            (!cJSON_AddStringToObject(o, "archive_error", c->archive_error) || print_verdict(c, o) != 0))
-            problem(c, "verdict", "out of memory");
+        if (!said) {
+            snprintf(cy->archive_error, sizeof cy->archive_error, "%s", c->archive_error);
+            cy->archive_error_late = 1;
+            if (print_verdict(c) != 0)
+                problem(c, "verdict", "out of memory");
+        }
     }
     char log_err[512];
     if (uwbd_verdict_log_append(c->store, res->verdict_json, log_err, sizeof log_err) != 0) {
         problem(c, "verdict log", log_err);
-        if (!cJSON_AddStringToObject(o, "record_error", log_err) || print_verdict(c, o) != 0)
+        snprintf(cy->record_error, sizeof cy->record_error, "%s", log_err);
+        if (print_verdict(c) != 0)
             problem(c, "verdict", "out of memory");
     }
     if (uwbd_latest_write(c->store, res->verdict_json, err, sizeof err) != 0)
         problem(c, "latest verdict", err);
-    cJSON_Delete(o);
+}
+
+/* The published record of the evaluation's verdict (malloc'd), or NULL when out of memory. */
+static struct uwb_verdict_record *new_record(const struct uwb_verdict *v)
+{
+    struct uwb_verdict_record *r = malloc(sizeof *r);
+    if (r)
+        uwb_record_from_verdict(r, v);
+    return r;
 }
 
 static void record_error(struct cycle *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -205,7 +221,7 @@ static void record_error(struct cycle *c, const char *fmt, ...)
     snprintf(v.scan_id, sizeof v.scan_id, "%s", c->id);
     snprintf(v.created, sizeof v.created, "%s", c->created);
     uwbd_log(UWBD_LOG_ERR, "scan %s lost: %s", c->id, v.reason);
-    record(c, &v, uwb_verdict_object(&v));
+    record(c, &v, new_record(&v));
 }
 
 static int replace_text(char **field, const char *text)
@@ -480,10 +496,10 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
         archive_problem(c, "images", err);
     uwb_analysis_free(&cur_a);
     uwb_analysis_free(&base_a);
-    cJSON *o = uwb_verdict_object(&v);
-    if (o)
-        add_cycle_fields(c, o, scan_path, scan->stack);
-    record(c, &v, o);
+    struct uwb_verdict_record *r = new_record(&v);
+    if (r)
+        add_cycle_fields(c, &r->cycle, scan_path, scan->stack);
+    record(c, &v, r);
     uwbd_log(UWBD_LOG_INFO, "scan %s: %s%s%s", c->id, uwb_status_name(v.status), v.reason[0] ? ": " : "",
              v.reason);
 }
@@ -561,4 +577,6 @@ void uwbd_cycle_result_free(struct uwbd_cycle_result *res)
 {
     free(res->verdict_json);
     res->verdict_json = NULL;
+    free(res->verdict);
+    res->verdict = NULL;
 }

@@ -15,7 +15,7 @@
 #include "daemon/config.h"
 #include "daemon/store.h"
 #include "uwb/scan.h"
-#include "uwb/verdict.h"
+#include "uwb/verdict_record.h"
 
 enum uwbd_acquire_result {
     UWBD_ACQUIRE_OK = 0,
@@ -53,7 +53,8 @@ struct uwbd_cycle_result {
     int baseline_checked; /* the baseline was looked at: `fault` is current */
     char fault[512];      /* "" or why the baseline cannot be trusted (a device fault) */
     char *verdict_json;   /* malloc'd one-line VERDICT object (as archived), NULL when stopped */
-    int archive_problems; /* files that could not be written (logged) */
+    struct uwb_verdict_record *verdict; /* malloc'd: what verdict_json says, NULL when stopped */
+    int archive_problems;               /* files that could not be written (logged) */
 };
 
 int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store, uwbd_acquire_fn acquire,

@@ -198,13 +198,17 @@ void uwbd_worker_collect(struct daemon *d)
         return;
     }
     d->scans_this_run++;
-    if (res->verdict_json) {
+    if (res->verdict_json && res->verdict) {
         free(d->latest_verdict);
         d->latest_verdict = strdup(res->verdict_json);
+        free(d->latest);
+        d->latest = res->verdict;
+        res->verdict = NULL;
     }
     uwbd_baseline_request_finished(d, d->job.baseline_request, res);
     /* the one place the site hears of a verdict */
-    uwbd_site_verdict(d->site, res->verdict_json, uwb_monotonic_s() - d->job.started_s);
+    if (res->verdict_json && d->latest)
+        uwbd_site_verdict(d->site, d->latest, res->verdict_json, uwb_monotonic_s() - d->job.started_s);
     uwbd_peers_send_verdict(d, d->job.cycle, res->verdict_json, "out of memory for the verdict");
     uwbd_cycle_result_free(res);
 }

@@ -26,6 +26,8 @@
 
 #include <stdint.h>
 
+#include "uwb/verdict_record.h"
+
 #define UWBD_MODBUS_MAP_VERSION 1
 
 enum uwbd_modbus_register {
@@ -76,8 +78,9 @@ struct uwbd_modbus_status {
     unsigned contacts; /* UWBD_MODBUS_CONTACT_* energised */
 };
 
-/* The registers for the verdict line (NULL or unparsable: no verdict yet). */
-void uwbd_modbus_registers_fill(const char *verdict_json, const struct uwbd_modbus_status *status,
+/* The registers for the latest verdict (NULL: no verdict yet). */
+void uwbd_modbus_registers_fill(const struct uwb_verdict_record *verdict,
+                                const struct uwbd_modbus_status *status,
                                 uint16_t regs[UWBD_MODBUS_REGISTER_COUNT]);
 
 #endif

@@ -81,31 +81,24 @@ static int open_lines(struct uwbd_site *s, char *err, size_t errlen)
 }
 
 /* The figures a verdict gives the textfile. */
-static void prom_from_verdict(struct uwbd_prometheus_metrics *m, const cJSON *v)
+static void prom_from_verdict(struct uwbd_prometheus_metrics *m, const struct uwb_verdict_record *v)
 {
-    const cJSON *status = cJSON_GetObjectItemCaseSensitive(v, "status");
-    int index = cJSON_IsString(status) ? uwbd_prometheus_status_index(status->valuestring) : -1;
+    int index = v ? uwbd_prometheus_status_index(uwb_status_name(v->status)) : -1;
     if (index < 0)
         return;
     m->has_verdict = 1;
     m->status = index;
-    const cJSON *d = cJSON_GetObjectItemCaseSensitive(v, "axial_displacement_mm");
-    const cJSON *u = cJSON_GetObjectItemCaseSensitive(v, "uncertainty_mm");
-    m->has_displacement = cJSON_IsNumber(d) && cJSON_IsNumber(u);
-    m->displacement_m = m->has_displacement ? d->valuedouble / 1e3 : 0;
-    m->uncertainty_m = m->has_displacement ? u->valuedouble / 1e3 : 0;
-    const cJSON *lo = cJSON_GetObjectItemCaseSensitive(v, "lower_edge_mm");
-    const cJSON *hi = cJSON_GetObjectItemCaseSensitive(v, "upper_edge_mm");
-    m->has_edges = cJSON_IsNumber(lo) && cJSON_IsNumber(hi);
-    m->lower_edge_m = m->has_edges ? lo->valuedouble / 1e3 : 0;
-    m->upper_edge_m = m->has_edges ? hi->valuedouble / 1e3 : 0;
-    const cJSON *h = cJSON_GetObjectItemCaseSensitive(v, "height_change_mm");
-    m->has_height_change = cJSON_IsNumber(h);
-    m->height_change_m = m->has_height_change ? h->valuedouble / 1e3 : 0;
-    const cJSON *created = cJSON_GetObjectItemCaseSensitive(v, "created");
+    m->has_displacement = v->has_displacement;
+    m->displacement_m = m->has_displacement ? v->axial_displacement_mm / 1e3 : 0;
+    m->uncertainty_m = m->has_displacement ? v->uncertainty_mm / 1e3 : 0;
+    m->has_edges = v->has_edges;
+    m->lower_edge_m = m->has_edges ? v->lower_edge_mm / 1e3 : 0;
+    m->upper_edge_m = m->has_edges ? v->upper_edge_mm / 1e3 : 0;
+    m->has_height_change = v->has_height_change;
+    m->height_change_m = m->has_height_change ? v->height_change_mm / 1e3 : 0;
     time_t created_s;
     m->created_s = 0;
-    if (cJSON_IsString(created) && uwb_utc_parse(created->valuestring, &created_s) == 0)
+    if (uwb_utc_parse(v->created, &created_s) == 0)
         m->created_s = (double)created_s;
 }
 
@@ -185,15 +178,8 @@ static void arm_timer(struct uwbd_site *s)
     timerfd_settime(s->timer_fd, 0, &its, NULL);
 }
 
-static const char *verdict_status(const cJSON *v, int *device_fault)
-{
-    const cJSON *status = cJSON_GetObjectItemCaseSensitive(v, "status");
-    *device_fault = cJSON_IsString(cJSON_GetObjectItemCaseSensitive(v, "fault"));
-    return cJSON_IsString(status) ? status->valuestring : NULL;
-}
-
-int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const char *latest_verdict,
-                   char *err, size_t errlen)
+int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg,
+                   const struct uwb_verdict_record *latest, char *err, size_t errlen)
 {
     *site = NULL;
     struct uwbd_site *s = calloc(1, sizeof *s);
@@ -206,13 +192,9 @@ int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const
     uwbd_contacts_init(&s->contacts, s->cfg.watch_latch, s->cfg.alarm_latch);
     uwbd_event_trigger_init(&s->event, s->cfg.event_debounce_s, s->cfg.event_min_interval_s);
     s->prom.asset_id = s->cfg.asset_id;
-    cJSON *latest = latest_verdict ? cJSON_Parse(latest_verdict) : NULL;
-    int fault;
-    const char *status = verdict_status(latest, &fault);
-    if (status)
-        uwbd_contacts_restore(&s->contacts, status);
+    if (latest)
+        uwbd_contacts_restore(&s->contacts, uwb_status_name(latest->status));
     prom_from_verdict(&s->prom, latest);
-    cJSON_Delete(latest);
     int rc = open_lines(s, err, errlen);
     if (rc != UWB_GPIO_OK) {
         free(s);
@@ -245,29 +227,21 @@ int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const
     return UWB_GPIO_OK;
 }
 
-void uwbd_site_verdict(struct uwbd_site *s, const char *verdict_json, double duration_s)
+void uwbd_site_verdict(struct uwbd_site *s, const struct uwb_verdict_record *v, const char *verdict_json,
+                       double duration_s)
 {
-    if (!s)
+    if (!s || !v || !verdict_json)
         return;
-    cJSON *v = verdict_json ? cJSON_Parse(verdict_json) : NULL;
-    int fault;
-    const char *status = verdict_status(v, &fault);
-    int recorded = status != NULL; /* status points into v, deleted below */
-    if (status) {
-        uwbd_contacts_verdict(&s->contacts, status, fault);
-        prom_from_verdict(&s->prom, v);
-        s->prom.has_duration = 1;
-        s->prom.scan_duration_s = duration_s;
-        int index = uwbd_prometheus_status_index(status);
-        if (index >= 0)
-            s->prom.verdicts[index]++;
-        const cJSON *trigger = cJSON_GetObjectItemCaseSensitive(v, "trigger");
-        if (cJSON_IsString(trigger) && strcmp(trigger->valuestring, "event") == 0)
-            s->prom.event_scans++;
-    }
-    cJSON_Delete(v);
-    if (!recorded)
-        return;
+    const char *status = uwb_status_name(v->status);
+    uwbd_contacts_verdict(&s->contacts, status, v->fault[0] != '\0');
+    prom_from_verdict(&s->prom, v);
+    s->prom.has_duration = 1;
+    s->prom.scan_duration_s = duration_s;
+    int index = uwbd_prometheus_status_index(status);
+    if (index >= 0)
+        s->prom.verdicts[index]++;
+    if (strcmp(v->cycle.trigger, "event") == 0)
+        s->prom.event_scans++;
     uwbd_mqtt_verdict(s->mqtt, verdict_json);
     if (s->cfg.contacts_enabled) {
         reopen(s);

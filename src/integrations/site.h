@@ -10,6 +10,7 @@
 
 #include "config/config.h"
 #include "integrations/mqtt_publisher.h"
+#include "uwb/verdict_record.h"
 
 struct uwbd_site;
 
@@ -19,14 +20,16 @@ struct uwbd_contact_states {
 };
 
 /* Opens the site's lines (none when no integration is on: *site is then
- * a valid object that does nothing). latest_verdict is the verdict
+ * a valid object that does nothing). latest is the verdict
  * recorded before this start, or NULL: latched contacts come back from it.
  * Returns 0, or an enum uwb_gpio_error with err saying which line. */
-int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg, const char *latest_verdict,
-                   char *err, size_t errlen);
+int uwbd_site_open(struct uwbd_site **site, const struct uwbd_config *cfg,
+                   const struct uwb_verdict_record *latest, char *err, size_t errlen);
 /* A verdict was recorded, its scan cycle having taken duration_s: the
- * contacts follow its status and fault, the textfile its figures. */
-void uwbd_site_verdict(struct uwbd_site *site, const char *verdict_json, double duration_s);
+ * contacts follow its status and fault, the textfile its figures, MQTT
+ * publishes its line (verdict_json, the text written from v). */
+void uwbd_site_verdict(struct uwbd_site *site, const struct uwb_verdict_record *v, const char *verdict_json,
+                       double duration_s);
 /* `ack`: latched contacts fall back to what the latest verdict calls for.
  * Returns -1 (err says why) when there are no contacts. */
 int uwbd_site_ack(struct uwbd_site *site, char *err, size_t errlen);

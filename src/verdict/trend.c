@@ -1,74 +1,46 @@
 /* Verdict lines -> a displacement series and its rate (see verdict/trend.h). */
 #include "verdict/trend.h"
 
-#include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "uwb/utc_time.h"
+#include "uwb/verdict_json.h"
 
-int uwb_status_from_name(const char *name, enum uwb_status *out)
-{
-    static const enum uwb_status all[] = {UWB_STATUS_EDGES, UWB_STATUS_OK,           UWB_STATUS_WATCH,
-                                          UWB_STATUS_ALARM, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR};
-    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
-        if (strcmp(name, uwb_status_name(all[i])) == 0) {
-            *out = all[i];
-            return 0;
-        }
-    }
-    return -1;
-}
-
-static const char *text_of(const cJSON *o, const char *key)
-{
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
-    return cJSON_IsString(v) && v->valuestring ? v->valuestring : NULL;
-}
-
-static int number_of(const cJSON *o, const char *key, double *out)
-{
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
-    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
-        return 0;
-    *out = v->valuedouble;
-    return 1;
-}
-
+/* Copies src, cut short to fit: a point keeps what a table shows. */
 static void copy_text(char *dst, size_t n, const char *src)
 {
-    snprintf(dst, n, "%s", src ? src : "");
+    size_t len = src ? strnlen(src, n - 1) : 0;
+    if (len)
+        memcpy(dst, src, len);
+    dst[len] = '\0';
 }
 
-static int read_point(const char *line, struct uwb_trend_point *p)
+/* A verdict line as a point, read through the record (r: room for one). */
+static int read_point(const char *line, struct uwb_verdict_record *r, struct uwb_trend_point *p)
 {
-    cJSON *o = line ? cJSON_Parse(line) : NULL;
-    const char *cls = text_of(o, "class");
-    enum uwb_status status;
-    if (!cJSON_IsObject(o) || !cls || strcmp(cls, "VERDICT") != 0 ||
-        uwb_status_from_name(text_of(o, "status"), &status) != 0) {
-        cJSON_Delete(o);
+    char err[256];
+    if (uwb_record_from_json(line, r, err, sizeof err) != 0)
         return -1;
-    }
     memset(p, 0, sizeof *p);
-    p->status = status;
-    copy_text(p->created, sizeof p->created, text_of(o, "created"));
-    p->has_time = uwb_utc_parse(text_of(o, "created"), &p->t) == 0;
-    copy_text(p->scan_id, sizeof p->scan_id, text_of(o, "scan_id"));
-    copy_text(p->reason, sizeof p->reason, text_of(o, "reason"));
-    const cJSON *base = cJSON_GetObjectItemCaseSensitive(o, "baseline");
-    copy_text(p->baseline_id, sizeof p->baseline_id, text_of(base, "scan_id"));
-    p->became_baseline = p->baseline_change =
-        cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(o, "baseline_set"));
+    p->status = r->status;
+    copy_text(p->created, sizeof p->created, r->created);
+    p->has_time = uwb_utc_parse(r->created, &p->t) == 0;
+    copy_text(p->scan_id, sizeof p->scan_id, r->scan_id);
+    copy_text(p->reason, sizeof p->reason, r->reason);
+    copy_text(p->baseline_id, sizeof p->baseline_id, r->baseline_scan_id);
+    p->became_baseline = p->baseline_change = r->cycle.baseline_set;
     /* A figure only where the verdict made one: an inconclusive or error
      * verdict never becomes a point on the line. */
-    int decided = status == UWB_STATUS_OK || status == UWB_STATUS_WATCH || status == UWB_STATUS_ALARM;
-    p->has_displacement = decided && number_of(o, "axial_displacement_mm", &p->displacement_mm) &&
-                          number_of(o, "uncertainty_mm", &p->sigma_mm) && p->sigma_mm >= 0;
-    p->has_height_change = decided && number_of(o, "height_change_mm", &p->height_change_mm);
-    cJSON_Delete(o);
+    int decided =
+        r->status == UWB_STATUS_OK || r->status == UWB_STATUS_WATCH || r->status == UWB_STATUS_ALARM;
+    p->has_displacement = decided && r->has_displacement && r->uncertainty_mm >= 0;
+    p->displacement_mm = p->has_displacement ? r->axial_displacement_mm : 0;
+    p->sigma_mm = p->has_displacement ? r->uncertainty_mm : 0;
+    p->has_height_change = decided && r->has_height_change;
+    p->height_change_mm = p->has_height_change ? r->height_change_mm : 0;
     return 0;
 }
 
@@ -172,10 +144,15 @@ int uwb_trend_from_lines(char *const *lines, int count, struct uwb_trend *out)
     out->points = calloc((size_t)count, sizeof *out->points);
     if (!out->points)
         return -1;
+    struct uwb_verdict_record *record = malloc(sizeof *record);
+    if (!record) {
+        uwb_trend_free(out);
+        return -1;
+    }
     char known_baseline[UWB_TREND_ID_MAX + 1] = "";
     for (int i = 0; i < count; i++) {
         struct uwb_trend_point *p = &out->points[out->count];
-        if (read_point(lines[i], p) != 0) {
+        if (read_point(lines[i], record, p) != 0) {
             out->unreadable++;
             continue;
         }
@@ -189,6 +166,7 @@ int uwb_trend_from_lines(char *const *lines, int count, struct uwb_trend *out)
             copy_text(known_baseline, sizeof known_baseline, p->baseline_id);
         out->count++;
     }
+    free(record);
     find_rate(out);
     return 0;
 }

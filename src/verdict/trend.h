@@ -65,7 +65,4 @@ struct uwb_trend {
 int uwb_trend_from_lines(char *const *lines, int count, struct uwb_trend *out);
 void uwb_trend_free(struct uwb_trend *t);
 
-/* The status name back to its enum: 0, or -1 if it is none of them. */
-int uwb_status_from_name(const char *name, enum uwb_status *out);
-
 #endif

@@ -1,7 +1,12 @@
+/* The VERDICT object written from the published record, and read back into
+ * it: the one place that knows the verdict's keys. */
 #include "uwb/verdict_json.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 const char *uwb_status_name(enum uwb_status status)
 {
@@ -16,19 +21,17 @@ const char *uwb_status_name(enum uwb_status status)
     return "unknown";
 }
 
-/* Millimetres to 0.01 mm: finer digits would claim precision nobody has.
- * (+ 0.0 turns a -0 from rounding a small negative into 0.) */
-static void add_mm(cJSON *obj, const char *key, double metres)
+int uwb_status_from_name(const char *name, enum uwb_status *out)
 {
-    cJSON_AddNumberToObject(obj, key, round(metres * 1e5) / 100.0 + 0.0);
-}
-
-static void add_edges(cJSON *obj, const struct uwb_edges *e)
-{
-    add_mm(obj, "lower_edge_mm", e->lower_m);
-    add_mm(obj, "upper_edge_mm", e->upper_m);
-    add_mm(obj, "center_mm", e->center_m);
-    add_mm(obj, "height_mm", e->height_m);
+    static const enum uwb_status all[] = {UWB_STATUS_EDGES, UWB_STATUS_OK,           UWB_STATUS_WATCH,
+                                          UWB_STATUS_ALARM, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR};
+    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
+        if (strcmp(name, uwb_status_name(all[i])) == 0) {
+            *out = all[i];
+            return 0;
+        }
+    }
+    return -1;
 }
 
 void uwb_json_add_ps(cJSON *obj, const char *key, double seconds)
@@ -36,58 +39,108 @@ void uwb_json_add_ps(cJSON *obj, const char *key, double seconds)
     cJSON_AddNumberToObject(obj, key, round(seconds * 1e13) / 10.0 + 0.0);
 }
 
-cJSON *uwb_verdict_object(const struct uwb_verdict *v)
+static void add_text(cJSON *o, const char *key, const char *text)
+{
+    if (text[0])
+        cJSON_AddStringToObject(o, key, text);
+}
+
+static void add_cycle(cJSON *o, const struct uwb_verdict_cycle *c)
+{
+    if (c->has_scan_file)
+        cJSON_AddStringToObject(o, "scan_file", c->scan_file);
+    if (c->has_baseline_set) {
+        cJSON_AddBoolToObject(o, "baseline_set", c->baseline_set);
+        add_text(o, "baseline_note", c->baseline_note);
+    }
+    if (c->pulses_per_position > 0) {
+        cJSON_AddNumberToObject(o, "pulses_per_position", c->pulses_per_position);
+        cJSON_AddNumberToObject(o, "acquisitions", c->acquisitions);
+    }
+    add_text(o, "reacquire_note", c->reacquire_note);
+    if (c->baseline_scans > 0) {
+        cJSON_AddNumberToObject(o, "baseline_scans", c->baseline_scans);
+        if (c->has_baseline_repeatability)
+            cJSON_AddNumberToObject(o, "baseline_repeatability_mm", c->baseline_repeatability_mm);
+    }
+    add_text(o, "asset_id", c->asset_id);
+    add_text(o, "trigger", c->trigger);
+    if (!c->archive_error_late)
+        add_text(o, "archive_error", c->archive_error);
+    add_text(o, "clock_warning", c->clock_warning);
+    if (c->archive_error_late)
+        add_text(o, "archive_error", c->archive_error);
+    add_text(o, "record_error", c->record_error);
+}
+
+cJSON *uwb_record_object(const struct uwb_verdict_record *r)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o)
         return NULL;
     cJSON_AddStringToObject(o, "class", "VERDICT");
-    cJSON_AddStringToObject(o, "status", uwb_status_name(v->status));
-    if (v->reason[0])
-        cJSON_AddStringToObject(o, "reason", v->reason);
-    if (v->fault[0])
-        cJSON_AddStringToObject(o, "fault", v->fault);
-    if (v->scan_id[0])
-        cJSON_AddStringToObject(o, "scan_id", v->scan_id);
-    if (v->created[0])
-        cJSON_AddStringToObject(o, "created", v->created);
-    int compared = v->has_baseline && v->current.found && v->baseline.found &&
-                   v->status != UWB_STATUS_INCONCLUSIVE && v->status != UWB_STATUS_ERROR;
-    if (compared) {
-        add_mm(o, "axial_displacement_mm", v->axial_displacement_m);
-        add_mm(o, "uncertainty_mm", v->uncertainty_m);
+    cJSON_AddStringToObject(o, "status", uwb_status_name(r->status));
+    add_text(o, "reason", r->reason);
+    add_text(o, "fault", r->fault);
+    add_text(o, "scan_id", r->scan_id);
+    add_text(o, "created", r->created);
+    if (r->has_displacement) {
+        cJSON_AddNumberToObject(o, "axial_displacement_mm", r->axial_displacement_mm);
+        cJSON_AddNumberToObject(o, "uncertainty_mm", r->uncertainty_mm);
     }
-    if (v->current.found) {
-        add_edges(o, &v->current);
-        if (compared && !v->height_change_withheld[0]) {
-            add_mm(o, "height_change_mm", v->height_change_m);
-            add_mm(o, "height_change_uncertainty_mm", v->height_change_uncertainty_m);
-        } else if (compared) {
-            cJSON_AddStringToObject(o, "height_change_withheld", v->height_change_withheld);
+    if (r->has_edges) {
+        cJSON_AddNumberToObject(o, "lower_edge_mm", r->lower_edge_mm);
+        cJSON_AddNumberToObject(o, "upper_edge_mm", r->upper_edge_mm);
+        cJSON_AddNumberToObject(o, "center_mm", r->center_mm);
+        cJSON_AddNumberToObject(o, "height_mm", r->height_mm);
+        if (r->has_height_change) {
+            cJSON_AddNumberToObject(o, "height_change_mm", r->height_change_mm);
+            cJSON_AddNumberToObject(o, "height_change_uncertainty_mm", r->height_change_uncertainty_mm);
+        } else {
+            add_text(o, "height_change_withheld", r->height_change_withheld);
         }
-        add_mm(o, "face_range_mm", v->current.face_z_m);
-        cJSON_AddNumberToObject(o, "snr_db", round(v->current.snr_db * 10.0) / 10.0);
-        add_mm(o, "edge_uncertainty_mm", fmax(v->current.sigma_lower_m, v->current.sigma_upper_m));
-        if (v->current.side_reflector)
-            add_mm(o, "side_reflector_mm", v->current.side_reflector_y_m);
+        cJSON_AddNumberToObject(o, "face_range_mm", r->face_range_mm);
+        cJSON_AddNumberToObject(o, "snr_db", r->snr_db);
+        cJSON_AddNumberToObject(o, "edge_uncertainty_mm", r->edge_uncertainty_mm);
+        if (r->has_side_reflector)
+            cJSON_AddNumberToObject(o, "side_reflector_mm", r->side_reflector_mm);
     }
-    if (v->has_baseline && v->baseline.found) {
+    if (r->has_baseline) {
         cJSON *b = cJSON_AddObjectToObject(o, "baseline");
         if (b) {
-            add_mm(b, "lower_edge_mm", v->baseline.lower_m);
-            add_mm(b, "upper_edge_mm", v->baseline.upper_m);
-            add_mm(b, "center_mm", v->baseline.center_m);
-            if (v->baseline_scan_id[0])
-                cJSON_AddStringToObject(b, "scan_id", v->baseline_scan_id);
+            cJSON_AddNumberToObject(b, "lower_edge_mm", r->baseline_lower_edge_mm);
+            cJSON_AddNumberToObject(b, "upper_edge_mm", r->baseline_upper_edge_mm);
+            cJSON_AddNumberToObject(b, "center_mm", r->baseline_center_mm);
+            add_text(b, "scan_id", r->baseline_scan_id);
         }
     }
-    if (v->has_direct_coupling)
-        uwb_json_add_ps(o, "direct_coupling_ps", v->direct_coupling_s);
-    if (v->has_direct_coupling_shift)
-        uwb_json_add_ps(o, "direct_coupling_shift_ps", v->direct_coupling_shift_s);
+    if (r->has_direct_coupling)
+        cJSON_AddNumberToObject(o, "direct_coupling_ps", r->direct_coupling_ps);
+    if (r->has_direct_coupling_shift)
+        cJSON_AddNumberToObject(o, "direct_coupling_shift_ps", r->direct_coupling_shift_ps);
     cJSON *images = cJSON_AddArrayToObject(o, "images");
-    for (int i = 0; images && i < v->n_images; i++)
-        cJSON_AddItemToArray(images, cJSON_CreateString(v->images[i]));
+    for (int i = 0; images && i < r->n_images; i++)
+        cJSON_AddItemToArray(images, cJSON_CreateString(r->images[i]));
+    add_cycle(o, &r->cycle);
+    return o;
+}
+
+char *uwb_record_to_json(const struct uwb_verdict_record *r)
+{
+    cJSON *o = uwb_record_object(r);
+    char *text = o ? cJSON_PrintUnformatted(o) : NULL;
+    cJSON_Delete(o);
+    return text;
+}
+
+cJSON *uwb_verdict_object(const struct uwb_verdict *v)
+{
+    struct uwb_verdict_record *r = malloc(sizeof *r);
+    if (!r)
+        return NULL;
+    uwb_record_from_verdict(r, v);
+    cJSON *o = uwb_record_object(r);
+    free(r);
     return o;
 }
 
@@ -97,4 +150,202 @@ char *uwb_verdict_to_json(const struct uwb_verdict *v)
     char *text = o ? cJSON_PrintUnformatted(o) : NULL;
     cJSON_Delete(o);
     return text;
+}
+
+cJSON *uwb_record_summary(const struct uwb_verdict_record *r)
+{
+    static const char *const keys[] = {
+        "scan_id",        "created",   "status",           "reason",      "axial_displacement_mm",
+        "uncertainty_mm", "center_mm", "height_change_mm", "baseline_set"};
+    cJSON *full = uwb_record_object(r);
+    cJSON *s = full ? cJSON_CreateObject() : NULL;
+    for (size_t i = 0; s && i < sizeof keys / sizeof keys[0]; i++) {
+        cJSON *item = cJSON_DetachItemFromObjectCaseSensitive(full, keys[i]);
+        if (item)
+            cJSON_AddItemToObject(s, keys[i], item);
+    }
+    cJSON_Delete(full);
+    return s;
+}
+
+/* ---- reading ------------------------------------------------------------------ */
+
+/* Reading one object: its fields into the record, the first problem kept. */
+struct reader {
+    const cJSON *o;
+    char *err;
+    size_t errlen;
+    int failed;
+};
+
+static void refuse(struct reader *rd, const char *key, const char *problem)
+{
+    if (!rd->failed)
+        snprintf(rd->err, rd->errlen, "verdict: key `%s`: %s", key, problem);
+    rd->failed = 1;
+}
+
+/* Copies the string at key into out (size n); 1 when present. */
+static int text_at(struct reader *rd, const cJSON *o, const char *key, char *out, size_t n)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    if (!v)
+        return 0;
+    if (!cJSON_IsString(v)) {
+        refuse(rd, key, "not a string");
+        return 0;
+    }
+    if (strlen(v->valuestring) >= n) {
+        refuse(rd, key, "too long");
+        return 0;
+    }
+    memcpy(out, v->valuestring, strlen(v->valuestring) + 1);
+    return 1;
+}
+
+static int number_at(struct reader *rd, const cJSON *o, const char *key, double *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    if (!v)
+        return 0;
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble)) {
+        refuse(rd, key, "not a number");
+        return 0;
+    }
+    *out = v->valuedouble;
+    return 1;
+}
+
+static int int_at(struct reader *rd, const cJSON *o, const char *key, int *out)
+{
+    double x = 0;
+    if (!number_at(rd, o, key, &x))
+        return 0;
+    if (x != floor(x) || x < 0 || x > 1e9) {
+        refuse(rd, key, "not a whole number");
+        return 0;
+    }
+    *out = (int)x;
+    return 1;
+}
+
+/* Which of two keys comes first in o: 1 when a is after b. */
+static int after(const cJSON *o, const char *a, const char *b)
+{
+    int seen_b = 0;
+    for (const cJSON *it = o->child; it; it = it->next) {
+        if (it->string && strcmp(it->string, b) == 0)
+            seen_b = 1;
+        if (it->string && strcmp(it->string, a) == 0)
+            return seen_b;
+    }
+    return 0;
+}
+
+static void read_cycle(struct reader *rd, struct uwb_verdict_cycle *c)
+{
+    const cJSON *o = rd->o;
+    c->has_scan_file = text_at(rd, o, "scan_file", c->scan_file, sizeof c->scan_file);
+    const cJSON *set = cJSON_GetObjectItemCaseSensitive(o, "baseline_set");
+    if (set && !cJSON_IsBool(set))
+        refuse(rd, "baseline_set", "not true or false");
+    c->has_baseline_set = cJSON_IsBool(set);
+    c->baseline_set = cJSON_IsTrue(set);
+    text_at(rd, o, "baseline_note", c->baseline_note, sizeof c->baseline_note);
+    int_at(rd, o, "pulses_per_position", &c->pulses_per_position);
+    int_at(rd, o, "acquisitions", &c->acquisitions);
+    text_at(rd, o, "reacquire_note", c->reacquire_note, sizeof c->reacquire_note);
+    int_at(rd, o, "baseline_scans", &c->baseline_scans);
+    c->has_baseline_repeatability =
+        number_at(rd, o, "baseline_repeatability_mm", &c->baseline_repeatability_mm);
+    text_at(rd, o, "asset_id", c->asset_id, sizeof c->asset_id);
+    text_at(rd, o, "trigger", c->trigger, sizeof c->trigger);
+    text_at(rd, o, "archive_error", c->archive_error, sizeof c->archive_error);
+    text_at(rd, o, "clock_warning", c->clock_warning, sizeof c->clock_warning);
+    c->archive_error_late = c->clock_warning[0] && after(o, "archive_error", "clock_warning");
+    text_at(rd, o, "record_error", c->record_error, sizeof c->record_error);
+}
+
+static void read_figures(struct reader *rd, struct uwb_verdict_record *r)
+{
+    const cJSON *o = rd->o;
+    /* A figure's presence decides; what comes with it is read when there. */
+    r->has_displacement = number_at(rd, o, "axial_displacement_mm", &r->axial_displacement_mm);
+    number_at(rd, o, "uncertainty_mm", &r->uncertainty_mm);
+    r->has_edges = number_at(rd, o, "lower_edge_mm", &r->lower_edge_mm) &
+                   number_at(rd, o, "upper_edge_mm", &r->upper_edge_mm);
+    number_at(rd, o, "center_mm", &r->center_mm);
+    number_at(rd, o, "height_mm", &r->height_mm);
+    r->has_height_change = number_at(rd, o, "height_change_mm", &r->height_change_mm);
+    number_at(rd, o, "height_change_uncertainty_mm", &r->height_change_uncertainty_mm);
+    text_at(rd, o, "height_change_withheld", r->height_change_withheld, sizeof r->height_change_withheld);
+    number_at(rd, o, "face_range_mm", &r->face_range_mm);
+    number_at(rd, o, "snr_db", &r->snr_db);
+    number_at(rd, o, "edge_uncertainty_mm", &r->edge_uncertainty_mm);
+    r->has_side_reflector = number_at(rd, o, "side_reflector_mm", &r->side_reflector_mm);
+    const cJSON *b = cJSON_GetObjectItemCaseSensitive(o, "baseline");
+    if (b && !cJSON_IsObject(b))
+        refuse(rd, "baseline", "not an object");
+    if (cJSON_IsObject(b)) {
+        r->has_baseline = number_at(rd, b, "lower_edge_mm", &r->baseline_lower_edge_mm) &
+                          number_at(rd, b, "upper_edge_mm", &r->baseline_upper_edge_mm);
+        number_at(rd, b, "center_mm", &r->baseline_center_mm);
+        text_at(rd, b, "scan_id", r->baseline_scan_id, sizeof r->baseline_scan_id);
+    }
+    r->has_direct_coupling = number_at(rd, o, "direct_coupling_ps", &r->direct_coupling_ps);
+    r->has_direct_coupling_shift = number_at(rd, o, "direct_coupling_shift_ps", &r->direct_coupling_shift_ps);
+}
+
+static void read_images(struct reader *rd, struct uwb_verdict_record *r)
+{
+    const cJSON *images = cJSON_GetObjectItemCaseSensitive(rd->o, "images");
+    if (images && !cJSON_IsArray(images))
+        refuse(rd, "images", "not an array");
+    const cJSON *it;
+    cJSON_ArrayForEach(it, images)
+    {
+        if (r->n_images == UWB_MAX_IMAGES || !cJSON_IsString(it) ||
+            strlen(it->valuestring) >= sizeof r->images[0]) {
+            refuse(rd, "images", "too many paths, or one not a path");
+            return;
+        }
+        memcpy(r->images[r->n_images++], it->valuestring, strlen(it->valuestring) + 1);
+    }
+}
+
+int uwb_record_from_object(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen)
+{
+    memset(r, 0, sizeof *r);
+    struct reader rd = {.o = o, .err = err, .errlen = errlen};
+    const cJSON *cls = cJSON_GetObjectItemCaseSensitive(o, "class");
+    const cJSON *status = cJSON_GetObjectItemCaseSensitive(o, "status");
+    if (!cJSON_IsObject(o) || !cJSON_IsString(cls) || strcmp(cls->valuestring, "VERDICT") != 0) {
+        snprintf(err, errlen, "verdict: not a VERDICT object");
+        return -1;
+    }
+    if (!cJSON_IsString(status) || uwb_status_from_name(status->valuestring, &r->status) != 0) {
+        snprintf(err, errlen, "verdict: key `status`: missing or not a status");
+        return -1;
+    }
+    text_at(&rd, o, "reason", r->reason, sizeof r->reason);
+    text_at(&rd, o, "fault", r->fault, sizeof r->fault);
+    text_at(&rd, o, "scan_id", r->scan_id, sizeof r->scan_id);
+    text_at(&rd, o, "created", r->created, sizeof r->created);
+    read_figures(&rd, r);
+    read_images(&rd, r);
+    read_cycle(&rd, &r->cycle);
+    return rd.failed ? -1 : 0;
+}
+
+int uwb_record_from_json(const char *text, struct uwb_verdict_record *r, char *err, size_t errlen)
+{
+    cJSON *o = text ? cJSON_Parse(text) : NULL;
+    if (!o) {
+        memset(r, 0, sizeof *r);
+        snprintf(err, errlen, "verdict: not JSON");
+        return -1;
+    }
+    int rc = uwb_record_from_object(o, r, err, errlen);
+    cJSON_Delete(o);
+    return rc;
 }

@@ -10,9 +10,26 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cjson/cJSON.h>
+
 #include "integrations/modbus_registers.h"
+#include "uwb/verdict_json.h"
 
 static uint16_t regs[UWBD_MODBUS_REGISTER_COUNT];
+
+/* The registers for a verdict line (its class taken as VERDICT when the
+ * line leaves it out), read into a record as the daemon reads latest.json. */
+static void fill_from_line(const char *line, const struct uwbd_modbus_status *st, uint16_t *out)
+{
+    static struct uwb_verdict_record record;
+    char err[256];
+    cJSON *o = cJSON_Parse(line);
+    if (o && !cJSON_HasObjectItem(o, "class"))
+        cJSON_AddStringToObject(o, "class", "VERDICT");
+    int ok = o && uwb_record_from_object(o, &record, err, sizeof err) == 0;
+    cJSON_Delete(o);
+    uwbd_modbus_registers_fill(ok ? &record : NULL, st, out);
+}
 
 void setUp(void)
 {
@@ -36,7 +53,7 @@ static const char *const compared =
 static void test_compared_verdict_in_hundredths_of_a_millimetre(void)
 {
     struct uwbd_modbus_status st = {.scan_count = 70000, .has_baseline = 1};
-    uwbd_modbus_registers_fill(compared, &st, regs);
+    fill_from_line(compared, &st, regs);
     TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_MAP_VERSION, regs[UWBD_MODBUS_REG_MAP_VERSION]);
     TEST_ASSERT_EQUAL_UINT16(3, regs[UWBD_MODBUS_REG_STATUS]); /* watch */
     TEST_ASSERT_EQUAL_INT16(-123, (int16_t)regs[UWBD_MODBUS_REG_DISPLACEMENT]);
@@ -56,7 +73,7 @@ static void test_compared_verdict_in_hundredths_of_a_millimetre(void)
 static void test_no_verdict_reads_status_zero_and_none_markers(void)
 {
     struct uwbd_modbus_status st = {.rig_down = 1};
-    uwbd_modbus_registers_fill(NULL, &st, regs);
+    fill_from_line(NULL, &st, regs);
     TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_STATUS]);
     TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_DISPLACEMENT]);
     TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_SIGMA]);
@@ -67,7 +84,7 @@ static void test_no_verdict_reads_status_zero_and_none_markers(void)
     TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
     TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_RIG_DOWN, regs[UWBD_MODBUS_REG_HEALTH]);
 
-    uwbd_modbus_registers_fill("not json", &st, regs);
+    fill_from_line("not json", &st, regs);
     TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_STATUS]);
     TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_RIG_DOWN, regs[UWBD_MODBUS_REG_HEALTH]);
 }
@@ -75,10 +92,9 @@ static void test_no_verdict_reads_status_zero_and_none_markers(void)
 static void test_edges_only_verdict_has_edges_but_no_displacement(void)
 {
     struct uwbd_modbus_status st = {.scan_count = 1, .scanning = 1};
-    uwbd_modbus_registers_fill(
-        "{\"status\":\"edges\",\"created\":\"2026-11-24T05:30:00Z\",\"lower_edge_mm\":-0.5,"
-        "\"upper_edge_mm\":700}",
-        &st, regs);
+    fill_from_line("{\"status\":\"edges\",\"created\":\"2026-11-24T05:30:00Z\",\"lower_edge_mm\":-0.5,"
+                   "\"upper_edge_mm\":700}",
+                   &st, regs);
     TEST_ASSERT_EQUAL_UINT16(1, regs[UWBD_MODBUS_REG_STATUS]);
     TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_DISPLACEMENT]);
     TEST_ASSERT_EQUAL_INT32(-50, reg32(UWBD_MODBUS_REG_LOWER_EDGE));
@@ -94,19 +110,19 @@ static void test_every_status_has_its_code(void)
     char line[128];
     for (int i = 0; i < 6; i++) {
         snprintf(line, sizeof line, "{\"status\":\"%s\"}", names[i]);
-        uwbd_modbus_registers_fill(line, &st, regs);
+        fill_from_line(line, &st, regs);
         TEST_ASSERT_EQUAL_UINT16_MESSAGE(i + 1, regs[UWBD_MODBUS_REG_STATUS], names[i]);
     }
-    uwbd_modbus_registers_fill("{\"status\":\"bogus\"}", &st, regs);
+    fill_from_line("{\"status\":\"bogus\"}", &st, regs);
     TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_STATUS]);
 }
 
 static void test_large_figures_clip_and_never_read_as_none(void)
 {
     struct uwbd_modbus_status st = {0};
-    uwbd_modbus_registers_fill("{\"status\":\"alarm\",\"axial_displacement_mm\":-400,\"uncertainty_mm\":400,"
-                               "\"height_change_mm\":-327.68}",
-                               &st, regs);
+    fill_from_line("{\"status\":\"alarm\",\"axial_displacement_mm\":-400,\"uncertainty_mm\":400,"
+                   "\"height_change_mm\":-327.68}",
+                   &st, regs);
     TEST_ASSERT_EQUAL_INT16(-32767, (int16_t)regs[UWBD_MODBUS_REG_DISPLACEMENT]);
     TEST_ASSERT_EQUAL_INT16(32767, (int16_t)regs[UWBD_MODBUS_REG_SIGMA]);
     TEST_ASSERT_EQUAL_INT16(-32767, (int16_t)regs[UWBD_MODBUS_REG_HEIGHT_CHANGE]);
@@ -115,16 +131,16 @@ static void test_large_figures_clip_and_never_read_as_none(void)
 static void test_time_without_zone_or_malformed_is_zero(void)
 {
     struct uwbd_modbus_status st = {0};
-    uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"2026-11-24T05:30:00\"}", &st, regs);
+    fill_from_line("{\"status\":\"ok\",\"created\":\"2026-11-24T05:30:00\"}", &st, regs);
     TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
-    uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"yesterday\"}", &st, regs);
+    fill_from_line("{\"status\":\"ok\",\"created\":\"yesterday\"}", &st, regs);
     TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
     /* A field out of range, and a time past what 32 bits of seconds hold. */
-    uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"2026-13-24T05:30:00Z\"}", &st, regs);
+    fill_from_line("{\"status\":\"ok\",\"created\":\"2026-13-24T05:30:00Z\"}", &st, regs);
     TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
-    uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"2200-01-01T00:00:00Z\"}", &st, regs);
+    fill_from_line("{\"status\":\"ok\",\"created\":\"2200-01-01T00:00:00Z\"}", &st, regs);
     TEST_ASSERT_EQUAL_INT32(0, reg32(UWBD_MODBUS_REG_SCAN_TIME));
-    uwbd_modbus_registers_fill("{\"status\":\"ok\",\"created\":\"2106-02-07T06:28:15Z\"}", &st, regs);
+    fill_from_line("{\"status\":\"ok\",\"created\":\"2106-02-07T06:28:15Z\"}", &st, regs);
     TEST_ASSERT_EQUAL_UINT32(4294967295u, (uint32_t)reg32(UWBD_MODBUS_REG_SCAN_TIME));
 }
 
@@ -132,7 +148,7 @@ static void test_fault_and_contact_bits(void)
 {
     struct uwbd_modbus_status st = {.device_fault = 1,
                                     .contacts = UWBD_MODBUS_CONTACT_ALARM | UWBD_MODBUS_CONTACT_FAULT | 0x80};
-    uwbd_modbus_registers_fill(compared, &st, regs);
+    fill_from_line(compared, &st, regs);
     TEST_ASSERT_EQUAL_UINT16(UWBD_MODBUS_HEALTH_DEVICE_FAULT | UWBD_MODBUS_HEALTH_VERDICT,
                              regs[UWBD_MODBUS_REG_HEALTH]);
     /* bits outside the map are not passed on */
