@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "config/config.h"
-#include "uwb/frame.h"
-#include "uwb/scan.h"
+#include "rig/rig_keys.h"
+#include "util/value_range.h"
 
 /* The table macros take member names and designated-initializer values: a member name
  * cannot be parenthesized, and every value lands alone after "= ", so none needs it. */
@@ -40,25 +40,10 @@
         .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
         .min_exclusive = 1, .default_number = def, .unit = u, .doc = text \
     }
-#define REQUIRED_NUMBER(p, m, u, sc, lo, hi, text) \
-    { \
-        .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, .required = 1, \
-        .unit = u, .doc = text \
-    }
-#define REQUIRED_NUMBER_ABOVE(p, m, u, sc, lo, hi, text) \
-    { \
-        .path = p, .type = KEY_NUMBER, .offset = AT(m), .scale = sc, .min = lo, .max = hi, \
-        .min_exclusive = 1, .required = 1, .unit = u, .doc = text \
-    }
 #define INTEGER(p, m, u, lo, hi, def, text) \
     { \
         .path = p, .type = KEY_INT, .offset = AT(m), .scale = 1, .min = lo, .max = hi, \
         .default_number = def, .unit = u, .doc = text \
-    }
-#define REQUIRED_INTEGER(p, m, lo, hi, text) \
-    { \
-        .path = p, .type = KEY_INT, .offset = AT(m), .scale = 1, .min = lo, .max = hi, .required = 1, \
-        .unit = "", .doc = text \
     }
 #define BOOLEAN(p, m, def, text) \
     { \
@@ -77,15 +62,15 @@
         .path = p, .type = KEY_GPIO_LINE, .offset = AT(site.io), .size = line, .scale = 1, .max = INT_MAX, \
         .default_text = when, .unit = "", .doc = text \
     }
-#define REQUIRED_PAIR(p, m, u, sc, lo, hi, text) \
+/* A key of the rig's: its name, unit, range and default are the rig's spec
+ * (src/rig/rig_keys.h); here where it lands and what it means. */
+#define RIG_KEY(t, m, spec, text) \
     { \
-        .path = p, .type = KEY_PAIR, .offset = AT(m), .scale = sc, .min = lo, .max = hi, .required = 1, \
-        .unit = u, .doc = text \
+        .type = t, .offset = AT(rig.m), spec, .doc = text \
     }
-#define OPTIONAL_PAIR(p, m, flag, u, sc, lo, hi, text) \
+#define RIG_OPTIONAL_PAIR(m, flag, spec, text) \
     { \
-        .path = p, .type = KEY_PAIR, .offset = AT(m), .flag_offset = AT(flag), .scale = sc, .min = lo, \
-        .max = hi, .unit = u, .doc = text \
+        .type = KEY_PAIR, .offset = AT(rig.m), .flag_offset = AT(rig.flag), spec, .doc = text \
     }
 // NOLINTEND(bugprone-macro-parentheses)
 
@@ -160,11 +145,11 @@ const struct config_key uwbd_config_keys[] = {
     GPIO_LINE("gpio.lines.enable", UWB_LINE_ENABLE,
               "stepper driver ENABLE output (high = energised): offset or name"),
     GPIO_LINE("gpio.lines.home", UWB_LINE_HOME, "home switch input: offset or name"),
-    BOOLEAN("gpio.home_active_low", rig.gpio.home_active_low, 1,
+    RIG_KEY(KEY_BOOL, gpio.home_active_low, UWB_RIG_HOME_ACTIVE_LOW,
             "the home switch pulls its line low when the carriage is home"),
-    BOOLEAN("gpio.home_pull_up", rig.gpio.home_pull_up, 1,
+    RIG_KEY(KEY_BOOL, gpio.home_pull_up, UWB_RIG_HOME_PULL_UP,
             "request the internal pull-up bias on the home line"),
-    BOOLEAN("gpio.enable_active_low", rig.gpio.enable_active_low, 1,
+    RIG_KEY(KEY_BOOL, gpio.enable_active_low, UWB_RIG_ENABLE_ACTIVE_LOW,
             "the stepper driver's EN input energises the motor when low (A4988, DRV8825, TMC2209); "
             "uwbd still keeps the motor off between scans"),
 
@@ -174,78 +159,63 @@ const struct config_key uwbd_config_keys[] = {
 
     REQUIRED_STRING("digitiser.endpoint", rig.digitiser.endpoint,
                     "the digitiser link: serial:/dev/uwb-digitiser?baud=921600, tcp:HOST:PORT or unix:PATH"),
-    REQUIRED_INTEGER("digitiser.samples", rig.digitiser.samples, 16, UWB_FRAME_MAX_SAMPLES,
-                     "record length: samples per trace"),
-    REQUIRED_NUMBER_ABOVE("digitiser.sample_interval_ps", rig.digitiser.sample_interval_s, "ps", 1e-12, 0,
-                          1e6, "time between samples"),
-    NUMBER("digitiser.t0_ps", rig.digitiser.t0_s, "ps", 1e-12, -1e6, 1e6, 0,
-           "time of sample 0 after the pulse leaves the transmitter (negative: before it), "
-           "from commissioning"),
-    INTEGER("digitiser.stack", rig.digitiser.stack, "", 1, 65536, UWB_DEFAULT_STACK,
-            "pulses fired and averaged per antenna position"),
-    INTEGER("digitiser.frame_timeout_ms", rig.digitiser.frame_timeout_ms, "ms", 1, 600000, 1000,
+    RIG_KEY(KEY_INT, digitiser.samples, UWB_RIG_SAMPLES, "record length: samples per trace"),
+    RIG_KEY(KEY_NUMBER, digitiser.sample_interval_s, UWB_RIG_SAMPLE_INTERVAL_PS, "time between samples"),
+    RIG_KEY(KEY_NUMBER, digitiser.t0_s, UWB_RIG_T0_PS,
+            "time of sample 0 after the pulse leaves the transmitter (negative: before it), "
+            "from commissioning"),
+    RIG_KEY(KEY_INT, digitiser.stack, UWB_RIG_STACK, "pulses fired and averaged per antenna position"),
+    RIG_KEY(KEY_INT, digitiser.frame_timeout_ms, UWB_RIG_FRAME_TIMEOUT_MS,
             "wait this long for a frame after a trigger"),
-    INTEGER("digitiser.frame_retries", rig.digitiser.frame_retries, "", 0, 100, 3,
+    RIG_KEY(KEY_INT, digitiser.frame_retries, UWB_RIG_FRAME_RETRIES,
             "a bad or missing frame is retried (with a fresh trigger) this many times per pulse"),
 
-    REQUIRED_NUMBER("carriage.steps_per_mm", rig.carriage.steps_per_mm, "steps/mm", 1, 1, 1e6,
-                    "microsteps per millimetre of carriage travel; at least 1, as a coarser step could not "
-                    "place the antennas to the millimetre"),
-    /* At most 1e5 Hz: the STEP pulse (UWB_STEP_PULSE_S, 5 us) and the gap after it fit one period. */
-    NUMBER_ABOVE("carriage.max_rate_hz", rig.carriage.max_rate_hz, "Hz", 1, 0, 1e5, 4000, "top step rate"),
-    NUMBER_ABOVE("carriage.accel_hz_per_s", rig.carriage.accel_hz_per_s, "Hz/s", 1, 0, 1e9, 8000,
-                 "linear ramp of the step rate at the start and end of a move"),
-    REQUIRED_NUMBER_ABOVE("carriage.travel_mm", rig.carriage.travel_mm, "mm", 1, 0, 1e5,
-                          "usable travel above the home switch; every position must lie inside it"),
-    NUMBER("carriage.park_mm", rig.carriage.park_mm, "mm", 1, 0, 1e5, 5,
-           "where the carriage rests between scans, above home"),
-    NUMBER("carriage.backlash_mm", rig.carriage.backlash_mm, "mm", 1, 0, 100, 0.5,
-           "every position is approached from below, after going this much lower first"),
-    NUMBER("carriage.settle_ms", rig.carriage.settle_ms, "ms", 1, 0, 60000, 50,
-           "wait after a move before firing"),
-    NUMBER_ABOVE("carriage.home_timeout_s", rig.carriage.home_timeout_s, "s", 1, 0, 3600, 60,
-                 "give up homing (an error verdict) when the switch is not seen within this"),
-    NUMBER("carriage.home_debounce_ms", rig.carriage.home_debounce_ms, "ms", 1, 0, 1000, 5,
-           "the home switch must read the same for this long"),
-    REQUIRED_NUMBER("carriage.home_offset_mm", rig.carriage.home_offset_mm, "mm", 1, -1e5, 1e5,
-                    "height of the home switch's position in scan coordinates (y of the antenna reference "
-                    "point when the carriage is home), measured at installation"),
-    NUMBER_ABOVE("carriage.home_rate_hz", rig.carriage.home_rate_hz, "Hz", 1, 0, 1e5, 1500,
-                 "step rate while seeking the home switch (the final approach runs at a quarter of it); "
-                 "at most max_rate_hz"),
-    NUMBER_ABOVE("carriage.home_backoff_mm", rig.carriage.home_backoff_mm, "mm", 1, 0, 1e5, 5,
-                 "after homing the carriage backs off this far; a switch still closed then is stuck"),
+    RIG_KEY(KEY_NUMBER, carriage.steps_per_mm, UWB_RIG_STEPS_PER_MM,
+            "microsteps per millimetre of carriage travel; at least 1, as a coarser step could not "
+            "place the antennas to the millimetre"),
+    RIG_KEY(KEY_NUMBER, carriage.max_rate_hz, UWB_RIG_MAX_RATE_HZ, "top step rate"),
+    RIG_KEY(KEY_NUMBER, carriage.accel_hz_per_s, UWB_RIG_ACCEL_HZ_PER_S,
+            "linear ramp of the step rate at the start and end of a move"),
+    RIG_KEY(KEY_NUMBER, carriage.travel_mm, UWB_RIG_TRAVEL_MM,
+            "usable travel above the home switch; every position must lie inside it"),
+    RIG_KEY(KEY_NUMBER, carriage.park_mm, UWB_RIG_PARK_MM,
+            "where the carriage rests between scans, above home"),
+    RIG_KEY(KEY_NUMBER, carriage.backlash_mm, UWB_RIG_BACKLASH_MM,
+            "every position is approached from below, after going this much lower first"),
+    RIG_KEY(KEY_NUMBER, carriage.settle_ms, UWB_RIG_SETTLE_MS, "wait after a move before firing"),
+    RIG_KEY(KEY_NUMBER, carriage.home_timeout_s, UWB_RIG_HOME_TIMEOUT_S,
+            "give up homing (an error verdict) when the switch is not seen within this"),
+    RIG_KEY(KEY_NUMBER, carriage.home_debounce_ms, UWB_RIG_HOME_DEBOUNCE_MS,
+            "the home switch must read the same for this long"),
+    RIG_KEY(KEY_NUMBER, carriage.home_offset_mm, UWB_RIG_HOME_OFFSET_MM,
+            "height of the home switch's position in scan coordinates (y of the antenna reference "
+            "point when the carriage is home), measured at installation"),
+    RIG_KEY(KEY_NUMBER, carriage.home_rate_hz, UWB_RIG_HOME_RATE_HZ,
+            "step rate while seeking the home switch (the final approach runs at a quarter of it); "
+            "at most max_rate_hz"),
+    RIG_KEY(KEY_NUMBER, carriage.home_backoff_mm, UWB_RIG_HOME_BACKOFF_MM,
+            "after homing the carriage backs off this far; a switch still closed then is stuck"),
 
-    REQUIRED_INTEGER("scan.positions", rig.positions, 2, UWBSCAN_MAX_POSITIONS,
-                     "antenna positions per scan (K)"),
-    REQUIRED_NUMBER("scan.first_position_mm", rig.first_position_mm, "mm", 1, -1e5, 1e5,
-                    "height of position 0 in scan coordinates"),
-    {.path = "scan.step_mm",
-     .type = KEY_NUMBER,
-     .offset = AT(rig.step_mm),
-     .scale = 1,
-     .min = UWBSCAN_MIN_STEP_M * 1e3,
-     .max = UWBSCAN_MAX_TRAVEL_M * 1e3,
-     .required = 1,
-     .unit = "mm",
-     .below_min_why = "under the smallest step a scan file may hold (1 mm, uwb/scan.h)",
-     .doc = "spacing between positions; at least 1 mm, and (positions - 1) x step at most 5000 mm (what a "
-            "scan file may hold)"},
-    NUMBER_ABOVE("scan.trigger_pulse_us", rig.trigger_pulse_us, "us", 1, 0, 1e6, 10,
-                 "how long the trigger line is held high"),
-    NUMBER("scan.time_scale", rig.time_scale, "", 1, 0, 100, 1,
-           "multiplies every wait of a scan (step timing, settle, debounce, trigger pulse): 1 on real "
-           "hardware; below 1 runs scans of the emulated board faster, 0 = no waiting"),
+    RIG_KEY(KEY_INT, positions, UWB_RIG_POSITIONS, "antenna positions per scan (K)"),
+    RIG_KEY(KEY_NUMBER, first_position_mm, UWB_RIG_FIRST_POSITION_MM,
+            "height of position 0 in scan coordinates"),
+    RIG_KEY(KEY_NUMBER, step_mm, UWB_RIG_STEP_MM,
+            "spacing between positions; at least 1 mm, and (positions - 1) x step at most 5000 mm (what a "
+            "scan file may hold)"),
+    RIG_KEY(KEY_NUMBER, trigger_pulse_us, UWB_RIG_TRIGGER_PULSE_US, "how long the trigger line is held high"),
+    RIG_KEY(KEY_NUMBER, time_scale, UWB_RIG_TIME_SCALE,
+            "multiplies every wait of a scan (step timing, settle, debounce, trigger pulse): 1 on real "
+            "hardware; below 1 runs scans of the emulated board faster, 0 = no waiting"),
 
-    REQUIRED_PAIR("geometry.tx_mm", rig.tx_m, "mm", 1e-3, -1e4, 1e4,
-                  "transmit antenna phase centre [dy, dz] from the carriage's reference point"),
-    REQUIRED_PAIR("geometry.rx_mm", rig.rx_m, "mm", 1e-3, -1e4, 1e4,
-                  "receive antenna phase centre [dy, dz] from the carriage's reference point"),
-    REQUIRED_NUMBER("geometry.eps_r", rig.eps_r, "", 1, 1, 100,
-                    "relative permittivity between antennas and winding (transformer oil about 2.2)"),
-    OPTIONAL_PAIR("geometry.target_z_mm", rig.target_z_m, rig.has_target_z, "mm", 1e-3, 0, 1e5,
-                  "[near, far] range where the drawings put the winding's face; it is searched only "
-                  "there. Absent: searched from 150 to 1600 mm"),
+    RIG_KEY(KEY_PAIR, tx_m, UWB_RIG_TX_MM,
+            "transmit antenna phase centre [dy, dz] from the carriage's reference point"),
+    RIG_KEY(KEY_PAIR, rx_m, UWB_RIG_RX_MM,
+            "receive antenna phase centre [dy, dz] from the carriage's reference point"),
+    RIG_KEY(KEY_NUMBER, eps_r, UWB_RIG_EPS_R,
+            "relative permittivity between antennas and winding (transformer oil about 2.2)"),
+    RIG_OPTIONAL_PAIR(target_z_m, has_target_z, UWB_RIG_TARGET_Z_MM,
+                      "[near, far] range where the drawings put the winding's face; it is searched only "
+                      "there. Absent: searched from 150 to 1600 mm"),
 
     NUMBER_ABOVE("analysis.watch_mm", evaluate.compare.thresholds.watch_m, "mm", 1e-3, 0, 1000, 2,
                  "a displacement (up or down) from this size on gives the status watch"),
@@ -392,24 +362,21 @@ const struct config_key *uwbd_config_key_find(const char *path)
     return NULL;
 }
 
+static struct uwb_value_range key_range(const struct config_key *k)
+{
+    return (struct uwb_value_range){k->min, k->max, k->min_exclusive, k->unit, k->below_min_why};
+}
+
 void uwbd_config_key_describe_range(const struct config_key *k, char *buf, size_t n)
 {
-    snprintf(buf, n, "%s%.10g, %.10g]%s%s", k->min_exclusive ? "(" : "[", k->min, k->max,
-             k->unit[0] ? " " : "", k->unit);
+    const struct uwb_value_range range = key_range(k);
+    uwb_value_range_describe(&range, buf, n);
 }
 
 int uwbd_config_key_check_range(const struct config_key *k, double written, char *problem, size_t n)
 {
-    int low = k->min_exclusive ? !(written > k->min) : !(written >= k->min);
-    if (!low && written <= k->max)
-        return 0;
-    char range[96];
-    uwbd_config_key_describe_range(k, range, sizeof range);
-    if (low && k->below_min_why)
-        snprintf(problem, n, "%g is out of range %s: %s", written, range, k->below_min_why);
-    else
-        snprintf(problem, n, "%g is out of range %s", written, range);
-    return -1;
+    const struct uwb_value_range range = key_range(k);
+    return uwb_value_range_check(&range, written, problem, n);
 }
 
 int uwbd_config_key_in_rig(const struct config_key *k, size_t *offset, size_t *flag_offset)

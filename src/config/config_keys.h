@@ -47,8 +47,8 @@ int uwbd_config_key_check_range(const struct config_key *k, double written, char
 void uwbd_config_key_describe_range(const struct config_key *k, char *buf, size_t n);
 /* 1 when the key lands in struct uwb_rig_config (gpio, digitiser, carriage,
  * scan, geometry), with *offset its place there and *flag_offset that of
- * its "given" flag (0: none); 0 for the daemon's own keys. The rig takes
- * its defaults and ranges from these rows. */
+ * its "given" flag (0: none); 0 for the daemon's own keys. These rows
+ * take their ranges and defaults from the rig's specs (src/rig/rig_keys.h). */
 int uwbd_config_key_in_rig(const struct config_key *k, size_t *offset, size_t *flag_offset);
 
 #endif

@@ -349,6 +349,9 @@ int uwbd_verdict_log_trim(const struct uwbd_store *store, int max_lines, double 
     int opened = open_log(store, O_RDONLY, &fd, &size, err, errlen);
     if (opened != 0)
         return opened > 0 ? 0 : -1;
+    int rc = -1;
+    struct log_line *lines = NULL;
+    unsigned char *keep = NULL;
     char *text = malloc(size > 0 ? (size_t)size : 1);
     ssize_t r = text ? pread(fd, text, (size_t)size, 0) : -1;
     int e = errno;
@@ -358,17 +361,14 @@ int uwbd_verdict_log_trim(const struct uwbd_store *store, int max_lines, double 
                  !text   ? "out of memory"
                  : r < 0 ? strerror(e)
                          : "short read");
-        free(text);
-        return -1;
+        goto done;
     }
     size_t count;
-    struct log_line *lines = split_lines(text, (size_t)size, &count);
-    unsigned char *keep = lines ? malloc(count ? count : 1) : NULL;
+    lines = split_lines(text, (size_t)size, &count);
+    keep = lines ? malloc(count ? count : 1) : NULL;
     if (!keep) {
         snprintf(err, errlen, "%s: out of memory trimming", store->verdict_log);
-        free(lines);
-        free(text);
-        return -1;
+        goto done;
     }
     /* The same rules as the archive's: the newest max_lines, nothing older
      * than the cutoff (to the second, as retention.c counts). */
@@ -388,12 +388,13 @@ int uwbd_verdict_log_trim(const struct uwbd_store *store, int max_lines, double 
     }
     /* Rewrite only when a line goes: an unchanged log is not written at all
      * (a flash card's wear). A torn last line is not kept by a rewrite. */
-    int rc = 0;
+    rc = 0;
     if (kept < count) {
         rc = write_kept(store, text, lines, keep, count, err, errlen);
         if (rc == 0 && dropped)
             *dropped = (int)(count - kept);
     }
+done:
     free(keep);
     free(lines);
     free(text);
@@ -408,6 +409,7 @@ int uwbd_latest_write(const struct uwbd_store *store, const char *json, char *er
 int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, size_t errlen)
 {
     *json = NULL;
+    char *text = NULL;
     const char *problem = NULL;
     int fd = uwb_open_regular(store->latest, O_RDONLY | O_NOFOLLOW, 0, &problem);
     FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
@@ -418,14 +420,14 @@ int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, siz
         if (e == ENOENT)
             return 0;
         snprintf(err, errlen, "%s: cannot open: %s", store->latest, problem ? problem : strerror(e));
-        return -1;
+        goto fail;
     }
-    char *text = malloc(MAX_LINE + 1);
+    text = malloc(MAX_LINE + 1);
     size_t len = text ? fread(text, 1, MAX_LINE, f) : 0;
     fclose(f);
     if (!text) {
         snprintf(err, errlen, "%s: out of memory", store->latest);
-        return -1;
+        goto fail;
     }
     while (len > 0 && (text[len - 1] == '\n' || text[len - 1] == '\r'))
         len--;
@@ -434,12 +436,14 @@ int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, siz
     int ok = o && cJSON_IsObject(o);
     cJSON_Delete(o);
     if (!ok) {
-        free(text);
         snprintf(err, errlen, "%s: not one JSON object", store->latest);
-        return -1;
+        goto fail;
     }
     *json = text;
     return 0;
+fail:
+    free(text);
+    return -1;
 }
 
 int uwbd_verdict_log_latest_created(const struct uwbd_store *store, char *created, size_t n)

@@ -24,10 +24,11 @@ int uwb_direct_coupling_arrival(const struct uwb_scan *scan, double window_end_s
     }
     /* The coupling is the same at every position; the mean keeps it and
      * averages noise and the winding's position-dependent echoes down. */
+    int rc = -1;
     double *mean = calloc((size_t)n, sizeof *mean);
     if (!mean) {
         snprintf(why, whylen, "out of memory");
-        return -1;
+        goto done;
     }
     for (int k = 0; k < scan->positions; k++) {
         const float *trace = scan->data + (size_t)k * (size_t)scan->samples;
@@ -47,21 +48,21 @@ int uwb_direct_coupling_arrival(const struct uwb_scan *scan, double window_end_s
             peak = mean[i];
     }
     if (!(peak > 0.0)) {
-        free(mean);
         snprintf(why, whylen, "no signal before %.3f ns", window_end_s * 1e9);
-        return -1;
+        goto done;
     }
     double level = UWB_DIRECT_COUPLING_FRACTION * peak;
     int first = 0;
     while (mean[first] < level)
         first++;
     if (first == 0) {
-        free(mean);
         snprintf(why, whylen, "the record starts inside the direct coupling (t0 too late?)");
-        return -1;
+        goto done;
     }
     double frac = (level - mean[first - 1]) / (mean[first] - mean[first - 1]);
     *arrival_s = scan->t0_s + (first - 1 + frac) * scan->sample_interval_s;
+    rc = 0;
+done:
     free(mean);
-    return 0;
+    return rc;
 }

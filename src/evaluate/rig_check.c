@@ -38,10 +38,14 @@ struct bscan {
     double dy; /* position step (uniform) */
 };
 
+/* Leaves b empty, so that freeing it again (the caller's cleanup after a
+ * failed static_bscan) does nothing. */
 static void bscan_free(struct bscan *b)
 {
     free(b->env);
     free(b->use);
+    b->env = NULL;
+    b->use = NULL;
 }
 
 /* The envelope of each conditioned trace, masked to the static scene: after
@@ -184,21 +188,19 @@ int uwb_rig_check(const struct uwb_analysis *current, const struct uwb_analysis 
         snprintf(out->why, sizeof out->why, "no winding in the baseline, or scans of different shapes");
         return 0;
     }
-    struct bscan c, b;
-    if (static_bscan(current, baseline, &c, err, errlen) != 0)
-        return -1;
-    if (static_bscan(baseline, baseline, &b, err, errlen) != 0) {
-        bscan_free(&c);
-        return -1;
-    }
+    struct bscan c = {0}, b = {0};
+    double *r_at = NULL;
+    int rc = -1;
+    if (static_bscan(current, baseline, &c, err, errlen) != 0 ||
+        static_bscan(baseline, baseline, &b, err, errlen) != 0)
+        goto done;
+    rc = 0; /* from here on, a rig that cannot be checked is no error */
     long n = 0;
     correlation(&c, &b, 0.0, NULL, NULL, &n, &out->structure_current, &out->structure_baseline);
     if (n < MIN_SAMPLES || !(b.dy > 0)) {
         snprintf(out->why, sizeof out->why,
                  "%ld samples before the winding replies: too few to check the rig", n);
-        bscan_free(&c);
-        bscan_free(&b);
-        return 0;
+        goto done;
     }
     /* Mean squares of the height-varying static scene, in units of the
      * noise's: under STRUCTURE in both, nothing there to check against. */
@@ -219,20 +221,17 @@ int uwb_rig_check(const struct uwb_analysis *current, const struct uwb_analysis 
             "no static echo before the winding varies with height (%.1f and %.1f x the noise power, %.0f dB "
             "under the winding)",
             out->structure_current, out->structure_baseline, -out->below_winding_db);
-        bscan_free(&c);
-        bscan_free(&b);
-        return 0;
+        goto done;
     }
     out->checked = 1;
     int reach = (int)lround(WINDING_REACH_M / SHIFT_STEP_M);
     double best = -2;
     int best_i = 0;
-    double *r_at = malloc((size_t)(2 * reach + 1) * sizeof *r_at);
+    r_at = malloc((size_t)(2 * reach + 1) * sizeof *r_at);
     if (!r_at) {
-        bscan_free(&c);
-        bscan_free(&b);
         snprintf(err, errlen, "rig check: out of memory");
-        return -1;
+        rc = -1;
+        goto done;
     }
     for (int i = -reach; i <= reach; i++) {
         r_at[i + reach] = correlation(&c, &b, i * SHIFT_STEP_M, NULL, NULL, NULL, NULL, NULL);
@@ -248,7 +247,6 @@ int uwb_rig_check(const struct uwb_analysis *current, const struct uwb_analysis 
         if (den < 0)
             best_shift += 0.5 * (l - r) / den * SHIFT_STEP_M;
     }
-    free(r_at);
     double residual = 0, slope2 = 0;
     out->similarity = correlation(&c, &b, best_shift, &residual, &slope2, &n, NULL, NULL);
     /* The current trace at y is the baseline's at y + shift: what stood at
@@ -267,7 +265,9 @@ int uwb_rig_check(const struct uwb_analysis *current, const struct uwb_analysis 
     out->moved = out->similarity < MIN_SIMILARITY || significant;
     if (out->moved)
         describe(out, displacement_m);
+done:
+    free(r_at);
     bscan_free(&c);
     bscan_free(&b);
-    return 0;
+    return rc;
 }

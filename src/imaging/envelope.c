@@ -17,22 +17,19 @@ int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
     while (n < 2 * img->nz)
         n *= 2;
     int nh = n / 2 + 1;
+    int rc = -1;
+    fftwf_plan fwd = NULL, inv = NULL;
     float *row = fftwf_alloc_real((size_t)n);
     fftwf_complex *half = fftwf_alloc_complex((size_t)nh);
     if (!row || !half) {
-        fftwf_free(row);
-        fftwf_free(half);
         snprintf(err, errlen, "envelope: out of memory for rows of %d", img->nz);
-        return -1;
+        goto done;
     }
-    fftwf_plan fwd = uwb_fft_plan_acquire(FFT_R2C, n), inv = uwb_fft_plan_acquire(FFT_C2R, n);
+    fwd = uwb_fft_plan_acquire(FFT_R2C, n);
+    inv = uwb_fft_plan_acquire(FFT_C2R, n);
     if (!fwd || !inv) {
-        uwb_fft_plan_release(fwd);
-        uwb_fft_plan_release(inv);
-        fftwf_free(row);
-        fftwf_free(half);
         snprintf(err, errlen, "envelope: out of memory for transforms of %d", n);
-        return -1;
+        goto done;
     }
     /* The analytic signal's real part is the row itself; its imaginary
      * part, the Hilbert transform, is real too: -i times the positive
@@ -58,9 +55,11 @@ int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
             pix[iz] = (float)sqrt(re * re + im * im);
         }
     }
+    rc = 0;
+done:
     uwb_fft_plan_release(fwd);
     uwb_fft_plan_release(inv);
     fftwf_free(row);
     fftwf_free(half);
-    return 0;
+    return rc;
 }

@@ -106,6 +106,33 @@ static double misfit(const struct energy *cur, const struct span *s, double d)
     return s->bb > 0.0 ? cc - cb * cb / s->bb : cc;
 }
 
+/* What the fit and its gradient both work on, acquired all or none and
+ * freed in one place. */
+struct fit_inputs {
+    struct energy cur, base;
+    struct span span;
+};
+
+static void fit_inputs_free(struct fit_inputs *f)
+{
+    free(f->cur.value);
+    free(f->base.value);
+    free(f->span.base);
+}
+
+static int fit_inputs_of(const struct uwb_face_profile *cur_profile,
+                         const struct uwb_face_profile *base_profile, double base_centre_m,
+                         double half_span_m, struct fit_inputs *f)
+{
+    *f = (struct fit_inputs){0};
+    if (energy_of(cur_profile, &f->cur) != 0 || energy_of(base_profile, &f->base) != 0 ||
+        span_of(&f->base, base_centre_m, half_span_m, &f->span) != 0) {
+        fit_inputs_free(f);
+        return -1;
+    }
+    return 0;
+}
+
 /* The fit, and whether its best lies inside the search (*interior): a best
  * on the search's edge is no minimum of the misfit, only where the search
  * stopped. */
@@ -113,23 +140,13 @@ static double shift_fit(const struct uwb_face_profile *cur_profile,
                         const struct uwb_face_profile *base_profile, double base_centre_m, double half_span_m,
                         double guess_m, int *interior)
 {
-    struct energy cur, base;
-    struct span span = {0};
-    if (energy_of(cur_profile, &cur) != 0)
+    struct fit_inputs f;
+    if (fit_inputs_of(cur_profile, base_profile, base_centre_m, half_span_m, &f) != 0)
         return NAN;
-    if (energy_of(base_profile, &base) != 0) {
-        free(cur.value);
-        return NAN;
-    }
-    if (span_of(&base, base_centre_m, half_span_m, &span) != 0) {
-        free(cur.value);
-        free(base.value);
-        return NAN;
-    }
     double best_d = guess_m, best = INFINITY;
     int n = (int)ceil(FIT_SEARCH_M / COARSE_STEP_M), best_i = 0;
     for (int i = -n; i <= n; i++) {
-        double d = guess_m + i * COARSE_STEP_M, r = misfit(&cur, &span, d);
+        double d = guess_m + i * COARSE_STEP_M, r = misfit(&f.cur, &f.span, d);
         if (r < best) {
             best = r;
             best_d = d;
@@ -139,23 +156,21 @@ static double shift_fit(const struct uwb_face_profile *cur_profile,
     *interior = best_i > -n && best_i < n;
     double centre = best_d;
     for (int i = -10; i <= 10; i++) {
-        double d = centre + i * FINE_STEP_M, r = misfit(&cur, &span, d);
+        double d = centre + i * FINE_STEP_M, r = misfit(&f.cur, &f.span, d);
         if (r < best) {
             best = r;
             best_d = d;
         }
     }
-    double prev = misfit(&cur, &span, best_d - FINE_STEP_M);
-    double next = misfit(&cur, &span, best_d + FINE_STEP_M);
+    double prev = misfit(&f.cur, &f.span, best_d - FINE_STEP_M);
+    double next = misfit(&f.cur, &f.span, best_d + FINE_STEP_M);
     double den = prev - 2.0 * best + next;
     if (den > 0.0) {
         double off = 0.5 * (prev - next) / den;
         if (fabs(off) <= 1.0)
             best_d += off * FINE_STEP_M;
     }
-    free(cur.value);
-    free(base.value);
-    free(span.base);
+    fit_inputs_free(&f);
     return best_d;
 }
 
@@ -275,54 +290,45 @@ int uwb_profile_shift_gradient(const struct uwb_face_profile *cur_profile,
                                const struct uwb_face_profile *base_profile, double base_centre_m,
                                double half_span_m, double d_m, double *grad_cur, double *grad_base)
 {
-    struct energy cur, base;
-    struct span span = {0};
-    if (energy_of(cur_profile, &cur) != 0)
+    struct fit_inputs f;
+    if (fit_inputs_of(cur_profile, base_profile, base_centre_m, half_span_m, &f) != 0)
         return -1;
-    if (energy_of(base_profile, &base) != 0) {
-        free(cur.value);
-        return -1;
-    }
-    if (span_of(&base, base_centre_m, half_span_m, &span) != 0) {
-        free(cur.value);
-        free(base.value);
-        return -1;
-    }
     /* The slope's own change with d over the fit's finest step, as the
      * fit's parabola through its neighbours reads the curvature. */
-    struct misfit_sums lo = sums_at(&cur, &span, d_m - FINE_STEP_M);
-    struct misfit_sums hi = sums_at(&cur, &span, d_m + FINE_STEP_M);
-    double curvature = (misfit_slope(&hi, span.bb) - misfit_slope(&lo, span.bb)) / (2.0 * FINE_STEP_M);
-    struct misfit_sums m = sums_at(&cur, &span, d_m);
-    int rc = curvature > 0.0 && span.bb > 0.0 ? 0 : -1;
+    struct misfit_sums lo = sums_at(&f.cur, &f.span, d_m - FINE_STEP_M);
+    struct misfit_sums hi = sums_at(&f.cur, &f.span, d_m + FINE_STEP_M);
+    double curvature = (misfit_slope(&hi, f.span.bb) - misfit_slope(&lo, f.span.bb)) / (2.0 * FINE_STEP_M);
+    struct misfit_sums m = sums_at(&f.cur, &f.span, d_m);
+    int rc = curvature > 0.0 && f.span.bb > 0.0 ? 0 : -1;
     if (grad_cur)
         for (int i = 0; i < cur_profile->n; i++)
             grad_cur[i] = 0.0;
     if (grad_base)
         for (int i = 0; i < base_profile->n; i++)
             grad_base[i] = 0.0;
-    for (int k = 0; rc == 0 && k < span.n; k++) {
-        double u = span_offset(&span, k);
-        double t, w[4], dw[4], c = 0.0, c1 = 0.0, b = span.base[k];
-        int i = cell_of(&cur, base_centre_m + d_m + u, &t);
+    for (int k = 0; rc == 0 && k < f.span.n; k++) {
+        double u = span_offset(&f.span, k);
+        double t, w[4], dw[4], c = 0.0, c1 = 0.0, b = f.span.base[k];
+        int i = cell_of(&f.cur, base_centre_m + d_m + u, &t);
         if (i >= 0) {
             uwb_catmull_rom_weights(t, w, dw);
             for (int j = 0; j < 4; j++) {
-                c += w[j] * cur.value[i + j];
-                c1 += dw[j] * cur.value[i + j] / cur.dy_m;
+                c += w[j] * f.cur.value[i + j];
+                c1 += dw[j] * f.cur.value[i + j] / f.cur.dy_m;
             }
             /* dF/de for the current's energies this point reads. */
             for (int j = 0; grad_cur && j < 4; j++) {
-                double dc = w[j], dc1 = dw[j] / cur.dy_m;
-                double dF = 2.0 * (dc * c1 + c * dc1) - 2.0 * (dc * b * m.c1b + m.cb * dc1 * b) / span.bb;
+                double dc = w[j], dc1 = dw[j] / f.cur.dy_m;
+                double dF = 2.0 * (dc * c1 + c * dc1) - 2.0 * (dc * b * m.c1b + m.cb * dc1 * b) / f.span.bb;
                 grad_cur[i + j] += -dF / curvature;
             }
         }
         if (!grad_base)
             continue;
         /* dF/db at this point, then back to the baseline's energies. */
-        double dFdb = -2.0 * (c * m.c1b + m.cb * c1) / span.bb + 4.0 * m.cb * m.c1b * b / (span.bb * span.bb);
-        int ib = cell_of(&base, base_centre_m + u, &t);
+        double dFdb =
+            -2.0 * (c * m.c1b + m.cb * c1) / f.span.bb + 4.0 * m.cb * m.c1b * b / (f.span.bb * f.span.bb);
+        int ib = cell_of(&f.base, base_centre_m + u, &t);
         if (ib >= 0) {
             uwb_catmull_rom_weights(t, w, dw);
             for (int j = 0; j < 4; j++)
@@ -334,8 +340,6 @@ int uwb_profile_shift_gradient(const struct uwb_face_profile *cur_profile,
         grad_cur[i] *= 2.0 * cur_profile->value[i];
     for (int i = 0; grad_base && i < base_profile->n; i++)
         grad_base[i] *= 2.0 * base_profile->value[i];
-    free(cur.value);
-    free(base.value);
-    free(span.base);
+    fit_inputs_free(&f);
     return rc;
 }

@@ -9,22 +9,19 @@ int uwb_filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int
                                   void *ctx, const char *what, char *err, size_t errlen)
 {
     int S = s->samples, nh = S / 2 + 1;
+    int rc = -1;
+    fftwf_plan fwd = NULL, inv = NULL;
     float *buf = fftwf_alloc_real((size_t)S);
     fftwf_complex *spec = fftwf_alloc_complex((size_t)nh);
     if (!buf || !spec) {
-        fftwf_free(buf);
-        fftwf_free(spec);
         snprintf(err, errlen, "%s: out of memory", what);
-        return -1;
+        goto done;
     }
-    fftwf_plan fwd = uwb_fft_plan_acquire(FFT_R2C, S), inv = uwb_fft_plan_acquire(FFT_C2R, S);
+    fwd = uwb_fft_plan_acquire(FFT_R2C, S);
+    inv = uwb_fft_plan_acquire(FFT_C2R, S);
     if (!fwd || !inv) {
-        uwb_fft_plan_release(fwd);
-        uwb_fft_plan_release(inv);
-        fftwf_free(buf);
-        fftwf_free(spec);
         snprintf(err, errlen, "%s: out of memory for a transform of %d samples", what, S);
-        return -1;
+        goto done;
     }
     double df = 1.0 / (S * s->sample_interval_s);
     for (int k = 0; k < s->positions; k++) {
@@ -37,9 +34,11 @@ int uwb_filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int
         fftwf_execute_dft_c2r(inv, spec, buf);
         memcpy(tr, buf, (size_t)S * sizeof *buf);
     }
+    rc = 0;
+done:
     uwb_fft_plan_release(fwd);
     uwb_fft_plan_release(inv);
     fftwf_free(buf);
     fftwf_free(spec);
-    return 0;
+    return rc;
 }

@@ -1,32 +1,33 @@
 /* The rig's configuration: defaults and the checks that keep a bad value
  * from ever reaching the hardware. Every single-key limit and default comes
- * from the configuration key table (src/config/config_keys.c), the one the
- * loader, `uwbd --config-keys` and the manual pages use; what is left here
+ * from the rig's key rows (rig_keys.h), the specs the configuration key
+ * table (src/config/config_keys.c) builds its rows from, so the loader,
+ * `uwbd --config-keys` and the manual pages say the same; what is left here
  * is what involves several fields or the hardware's own rules. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "config/config_keys.h"
 #include "rig/carriage.h"
+#include "rig/rig_keys.h"
 #include "uwb/frame.h"
 #include "uwb/rig.h"
 #include "uwb/scan.h"
+#include "util/value_range.h"
 
-/* The table's default for every key that has one. */
-static void table_defaults(struct uwb_rig_config *cfg)
+/* The default of every key of the rig's that has one. */
+static void key_defaults(struct uwb_rig_config *cfg)
 {
-    for (size_t i = 0; i < uwbd_config_key_total; i++) {
-        const struct config_key *k = &uwbd_config_keys[i];
-        size_t at, flag_at;
-        if (k->required || !uwbd_config_key_in_rig(k, &at, &flag_at))
+    for (size_t i = 0; i < uwb_rig_key_total; i++) {
+        const struct uwb_rig_key *k = &uwb_rig_keys[i];
+        if (k->required)
             continue;
-        char *p = (char *)cfg + at;
-        if (k->type == KEY_NUMBER)
-            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
+        char *p = (char *)cfg + k->offset;
+        if (k->type == UWB_RIG_KEY_NUMBER)
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the row's offsetof)
             *(double *)p = k->default_number * k->scale;
-        else if (k->type == KEY_INT || k->type == KEY_BOOL)
+        else if (k->type == UWB_RIG_KEY_INT || k->type == UWB_RIG_KEY_BOOL)
             *(int *)p = (int)k->default_number;
     }
 }
@@ -35,9 +36,9 @@ void uwb_rig_config_defaults(struct uwb_rig_config *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     uwb_gpio_config_defaults(&cfg->gpio);
-    table_defaults(cfg);
+    key_defaults(cfg);
 
-    /* Keys the table requires have no default there; these match the
+    /* Required keys have no default in the rows; these match the
      * emulated board's (so `uwbemu` + defaults scans out of the box). */
     struct uwb_digitiser_config *d = &cfg->digitiser;
     d->samples = 2048;
@@ -58,36 +59,34 @@ void uwb_rig_config_defaults(struct uwb_rig_config *cfg)
     cfg->eps_r = 2.2;
 }
 
-/* Every number the table gives a range, read back into the key's unit. */
-static int check_table_ranges(const struct uwb_rig_config *cfg, char *err, size_t errlen)
+/* Every number of the rig's keys against its range, read back into the key's unit. */
+static int check_key_ranges(const struct uwb_rig_config *cfg, char *err, size_t errlen)
 {
-    for (size_t i = 0; i < uwbd_config_key_total; i++) {
-        const struct config_key *k = &uwbd_config_keys[i];
-        size_t at, flag_at;
-        if (!uwbd_config_key_in_rig(k, &at, &flag_at))
-            continue;
-        const char *p = (const char *)cfg + at;
+    for (size_t i = 0; i < uwb_rig_key_total; i++) {
+        const struct uwb_rig_key *k = &uwb_rig_keys[i];
+        const char *p = (const char *)cfg + k->offset;
         double values[2];
         int n = 1;
-        if (k->type == KEY_INT) {
+        if (k->type == UWB_RIG_KEY_INT) {
             values[0] = *(const int *)p;
-        } else if (k->type == KEY_NUMBER) {
-            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
+        } else if (k->type == UWB_RIG_KEY_NUMBER) {
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the row's offsetof)
             values[0] = *(const double *)p / k->scale;
-        } else if (k->type == KEY_PAIR) {
-            if (flag_at && !*(const int *)((const char *)cfg + flag_at))
+        } else if (k->type == UWB_RIG_KEY_PAIR) {
+            if (k->flag_offset && !*(const int *)((const char *)cfg + k->flag_offset))
                 continue; /* an optional pair not given */
-            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the row's offsetof)
             values[0] = ((const double *)p)[0] / k->scale;
-            // cppcheck-suppress invalidPointerCast ; points at a double member (the key table's offsetof)
+            // cppcheck-suppress invalidPointerCast ; points at a double member (the row's offsetof)
             values[1] = ((const double *)p)[1] / k->scale;
             n = 2;
         } else {
             continue;
         }
+        const struct uwb_value_range range = {k->min, k->max, k->min_exclusive, k->unit, k->below_min_why};
         for (int j = 0; j < n; j++) {
             char problem[160];
-            if (uwbd_config_key_check_range(k, values[j], problem, sizeof problem) != 0) {
+            if (uwb_value_range_check(&range, values[j], problem, sizeof problem) != 0) {
                 snprintf(err, errlen, "rig config: key `%s`: %s", k->path, problem);
                 return UWB_RIG_ERR_CONFIG;
             }
@@ -239,7 +238,7 @@ int uwb_rig_config_check(const struct uwb_rig_config *cfg, char *err, size_t err
 {
     int rc = check_gpio(&cfg->gpio, err, errlen);
     if (rc == UWB_RIG_OK)
-        rc = check_table_ranges(cfg, err, errlen);
+        rc = check_key_ranges(cfg, err, errlen);
     if (rc == UWB_RIG_OK)
         rc = check_digitiser(&cfg->digitiser, err, errlen);
     if (rc != UWB_RIG_OK)

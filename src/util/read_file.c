@@ -48,6 +48,7 @@ enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, cha
 
     char *buf = NULL;
     size_t len = 0;
+    enum uwb_read_result rc = UWB_READ_FAILED;
     for (;;) {
         if (buf == NULL || len + 1 == room) {
             if (buf != NULL)
@@ -55,8 +56,7 @@ enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, cha
             char *grown = realloc(buf, room);
             if (grown == NULL) {
                 snprintf(err, errlen, "%s: cannot read: out of memory (%zu bytes)", name, room);
-                free(buf);
-                return UWB_READ_FAILED;
+                goto fail;
             }
             buf = grown;
         }
@@ -65,22 +65,24 @@ enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, cha
             if (errno == EINTR)
                 continue;
             snprintf(err, errlen, "%s: cannot read: %s", name, strerror(errno));
-            free(buf);
-            return UWB_READ_FAILED;
+            goto fail;
         }
         if (got == 0)
             break;
         len += (size_t)got;
         if (len > max_bytes) {
             snprintf(err, errlen, "%s: too big: over the limit of %zu bytes", name, max_bytes);
-            free(buf);
-            return UWB_READ_TOO_BIG;
+            rc = UWB_READ_TOO_BIG;
+            goto fail;
         }
     }
     buf[len] = '\0';
     *out = buf;
     *out_len = len;
     return UWB_READ_OK;
+fail:
+    free(buf);
+    return rc;
 }
 
 static enum uwb_read_result read_regular(const char *path, int flags, size_t max_bytes, char **out,

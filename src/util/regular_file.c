@@ -57,28 +57,28 @@ int uwb_open_regular(const char *path, int flags, mode_t mode, const char **prob
     if (fd < 0)
         return explain_failure(path, flags, errno, problem);
     struct stat st;
+    int e;                  /* errno to leave */
+    const char *why = NULL; /* NULL: strerror(e) */
     if (fstat(fd, &st) != 0) {
-        int e = errno;
-        close(fd);
-        *problem = strerror(e);
-        errno = e;
-        return -1;
+        e = errno;
+        goto fail;
     }
     if (!S_ISREG(st.st_mode)) {
-        close(fd);
-        *problem = S_ISDIR(st.st_mode) ? strerror(EISDIR) : not_regular(st.st_mode);
-        errno = S_ISDIR(st.st_mode) ? EISDIR : EINVAL;
-        return -1;
+        e = S_ISDIR(st.st_mode) ? EISDIR : EINVAL;
+        why = S_ISDIR(st.st_mode) ? strerror(EISDIR) : not_regular(st.st_mode);
+        goto fail;
     }
     /* Regular files never block anyway; cleared so the caller sees the
      * flags it asked for. */
     int fl = fcntl(fd, F_GETFL);
     if (!(flags & O_NONBLOCK) && (fl < 0 || fcntl(fd, F_SETFL, fl & ~O_NONBLOCK) != 0)) {
-        int e = errno;
-        close(fd);
-        *problem = strerror(e);
-        errno = e;
-        return -1;
+        e = errno;
+        goto fail;
     }
     return fd;
+fail:
+    close(fd);
+    *problem = why ? why : strerror(e);
+    errno = e;
+    return -1;
 }

@@ -1,9 +1,8 @@
 /* One key table (src/config/config_keys.c) holds every configuration limit
- * and default. This walks it and asks everything else that knows a limit or
- * a default: the loader (file and --set), the rig's own checks and defaults,
- * the shipped sample configs and the documentation (board/config.md and the
- * uwbd.json(5) page). At each limit the value must be accepted everywhere;
- * just past it, refused everywhere with the key named. */
+ * and default (the rig's from its specs, src/rig/rig_keys.h). This walks it and asks everything else that
+ * knows a limit or a default: the loader (file and --set), the rig's own checks and defaults, the shipped
+ * sample configs and the documentation (board/config.md and the uwbd.json(5) page). At each limit the value
+ * must be accepted everywhere; just past it, refused everywhere with the key named. */
 #include "unity.h"
 
 #include <cjson/cJSON.h>
@@ -13,6 +12,7 @@
 #include <string.h>
 
 #include "config/config_keys.h"
+#include "rig/rig_keys.h"
 #include "scratch_support.h"
 #include "uwb/cli.h"
 #include "daemon/config.h"
@@ -336,12 +336,51 @@ static void test_docs_give_each_range_as_the_table(void)
     free(doc);
 }
 
+/* The rig's rows and the table's for the same keys are built from one spec
+ * each, but each names the member and the type itself: the two must land on
+ * the same field as the same type, and every numeric rig key of the table
+ * must have its rig row (else the rig would not check it). */
+static void test_rig_rows_are_the_tables(void)
+{
+    static const enum config_key_type as_table[] = {
+        [UWB_RIG_KEY_NUMBER] = KEY_NUMBER,
+        [UWB_RIG_KEY_INT] = KEY_INT,
+        [UWB_RIG_KEY_BOOL] = KEY_BOOL,
+        [UWB_RIG_KEY_PAIR] = KEY_PAIR,
+    };
+    for (size_t i = 0; i < uwb_rig_key_total; i++) {
+        const struct uwb_rig_key *r = &uwb_rig_keys[i];
+        const struct config_key *k = uwbd_config_key_find(r->path);
+        TEST_ASSERT_NOT_NULL_MESSAGE(k, r->path);
+        size_t at, flag_at;
+        TEST_ASSERT_TRUE_MESSAGE(uwbd_config_key_in_rig(k, &at, &flag_at), r->path);
+        TEST_ASSERT_EQUAL_UINT64_MESSAGE(r->offset, at, r->path);
+        TEST_ASSERT_EQUAL_UINT64_MESSAGE(r->flag_offset, flag_at, r->path);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(as_table[r->type], k->type, r->path);
+    }
+    size_t numeric = 0;
+    for (size_t i = 0; i < uwbd_config_key_total; i++) {
+        const struct config_key *k = &uwbd_config_keys[i];
+        size_t at, flag_at;
+        if (!uwbd_config_key_in_rig(k, &at, &flag_at) ||
+            (k->type != KEY_NUMBER && k->type != KEY_INT && k->type != KEY_BOOL && k->type != KEY_PAIR))
+            continue;
+        size_t j = 0;
+        while (j < uwb_rig_key_total && strcmp(uwb_rig_keys[j].path, k->path) != 0)
+            j++;
+        TEST_ASSERT_LESS_THAN_UINT64_MESSAGE(uwb_rig_key_total, j, k->path);
+        numeric++;
+    }
+    TEST_ASSERT_EQUAL_UINT64(uwb_rig_key_total, numeric);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_steps_per_mm_up_to_the_documented_limit_is_accepted);
     RUN_TEST(test_every_limit_holds_in_the_loader_and_the_rig);
     RUN_TEST(test_rig_defaults_are_the_table_defaults);
+    RUN_TEST(test_rig_rows_are_the_tables);
     RUN_TEST(test_samples_use_table_keys_within_their_ranges);
     RUN_TEST(test_docs_give_each_range_as_the_table);
     return UNITY_END();
