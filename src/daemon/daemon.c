@@ -20,6 +20,7 @@
 
 #include "daemon_internal.h"
 #include "daemon/exit_codes.h"
+#include "daemon/outputs.h"
 #include "util/log.h"
 #include "daemon/service_notify.h"
 #include "daemon/state_open.h"
@@ -117,13 +118,6 @@ const char *uwbd_scan_trigger_name(enum scan_trigger why)
     case TRIGGER_NONE: break;
     }
     return "schedule";
-}
-
-/* The site's timer: the event input read, a lost line opened again. */
-static void site_tick(struct daemon *d)
-{
-    if (uwbd_site_tick(d->site) && !d->stopping)
-        uwbd_scan_request(d, TRIGGER_EVENT);
 }
 
 /* After a restart the schedule carries on from the latest verdict's time. */
@@ -250,8 +244,6 @@ static void reload(struct daemon *d)
     // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison,cert-exp42-c,cert-flp37-c): padding zeroed, see above
     int rig_changed = memcmp(&next.rig, &d->cfg.rig, sizeof next.rig) != 0;
     int console_changed = strcmp(next.console_endpoint, d->cfg.console_endpoint) != 0;
-    // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison,cert-exp42-c,cert-flp37-c): padding zeroed, see above
-    int site_changed = memcmp(&next.site, &d->cfg.site, sizeof next.site) != 0;
     static struct uwbd_config previous; /* static: a configuration is large */
     memcpy(&previous, &d->cfg, sizeof previous);
     memcpy(&d->cfg, &next, sizeof d->cfg);
@@ -277,16 +269,7 @@ static void reload(struct daemon *d)
         timerfd_settime(d->console_retry_fd, 0, &off, NULL);
         uwbd_console_open(d);
     }
-    if (site_changed) {
-        uwbd_site_close(d->site);
-        d->site = NULL;
-        if (uwbd_site_open(&d->site, &d->cfg, d->latest, err, sizeof err) != UWB_GPIO_OK)
-            uwbd_log(UWBD_LOG_ERR,
-                     "reload: the site's lines: %s; alarm contacts and event input are off until "
-                     "the next reload",
-                     err);
-    }
-    uwbd_modbus_reload(d, &previous.modbus);
+    uwbd_outputs_reload(d, &previous); /* each output by its own rule (site.*, modbus.*) */
     uwbd_schedule_arm(d, &d->last_cycle_start);
     uwbd_log(UWBD_LOG_NOTICE, "configuration reloaded from %s%s%s", d->options->config_path,
              rig_changed ? " (rig reopened)" : "", console_changed ? " (console reopened)" : "");
@@ -345,21 +328,6 @@ static void drain(int fd)
         /* nothing to do: the timer will fire again */
     }
 }
-
-enum {
-    SLOT_SIGNAL,
-    SLOT_SCHEDULE,
-    SLOT_DONE,
-    SLOT_CONSOLE_RETRY,
-    SLOT_LOCK_WATCH,
-    SLOT_WATCHDOG,
-    SLOT_PROGRESS,
-    SLOT_SITE,
-    SLOT_SITE_COMMANDS,
-    SLOT_CONTROL,
-    SLOT_CONSOLE,
-    SLOT_CLIENTS
-};
 
 /* How long a healthy scan worker may go without a sign of life (a rig
  * message: at least one a position): homing at its slowest, one position
@@ -443,82 +411,87 @@ static void watchdog_start(struct daemon *d)
              "systemd watchdog: a ping every %ld ms while the main loop and scan worker are alive", ping_ms);
 }
 
+static void on_signal(void *ctx, int fd, short revents)
+{
+    (void)fd, (void)revents;
+    handle_signals(ctx);
+}
+
+static void on_lock_watch(void *ctx, int fd, short revents)
+{
+    (void)fd, (void)revents;
+    uwbd_lock_watch_check(ctx);
+}
+
+static void on_done(void *ctx, int fd, short revents)
+{
+    (void)fd, (void)revents;
+    cycle_finished(ctx);
+}
+
+static void on_schedule(void *ctx, int fd, short revents)
+{
+    (void)revents;
+    struct daemon *d = ctx;
+    drain(fd);
+    d->has_next_scan = 0;
+    if (!d->stopping && !d->scanning) {
+        uwbd_log(UWBD_LOG_INFO, "scheduled scan");
+        uwbd_scan_request(d, TRIGGER_SCHEDULE);
+    }
+}
+
+static void on_console_retry(void *ctx, int fd, short revents)
+{
+    (void)revents;
+    drain(fd);
+    uwbd_console_open(ctx);
+}
+
+static void on_watchdog(void *ctx, int fd, short revents)
+{
+    (void)fd, (void)revents;
+    watchdog_tick(ctx);
+}
+
+static void on_progress(void *ctx, int fd, short revents)
+{
+    (void)revents;
+    drain(fd);
+    uwbd_peers_send_progress(ctx);
+}
+
+/* The daemon's own sources, then the outputs': the order they are served in a round. */
+static int register_sources(struct daemon *d)
+{
+    struct uwbd_event_loop *loop = &d->events;
+    uwbd_event_loop_init(loop);
+    const struct {
+        int fd;
+        uwbd_event_fn fn;
+    } own[] = {
+        {d->signal_fd, on_signal},     {d->lock_watch_fd, on_lock_watch},       {d->done_fd, on_done},
+        {d->schedule_fd, on_schedule}, {d->console_retry_fd, on_console_retry}, {d->watchdog_fd, on_watchdog},
+        {d->progress_fd, on_progress},
+    };
+    for (size_t i = 0; i < sizeof own / sizeof own[0]; i++)
+        if (uwbd_event_loop_add(loop, own[i].fd, POLLIN, own[i].fn, d) < 0)
+            return -1;
+    return uwbd_outputs_watch(d, loop);
+}
+
 static void loop(struct daemon *d)
 {
-    struct pollfd fds[SLOT_CLIENTS + MAX_CLIENTS + UWBD_MODBUS_POLL_FDS];
-    struct peer *owner[SLOT_CLIENTS + MAX_CLIENTS];
+    if (register_sources(d) != 0) {
+        uwbd_log(UWBD_LOG_ERR, "the event loop is full (%d entries); stopping", UWBD_EVENT_LOOP_MAX);
+        return;
+    }
     while (!(d->stopping && !d->scanning)) {
-        int timeout_ms = uwbd_peers_expire(d); /* drops clients past their deadlines first */
-        fds[SLOT_SIGNAL] = (struct pollfd){.fd = d->signal_fd, .events = POLLIN};
-        fds[SLOT_SCHEDULE] = (struct pollfd){.fd = d->schedule_fd, .events = POLLIN};
-        fds[SLOT_DONE] = (struct pollfd){.fd = d->done_fd, .events = POLLIN};
-        fds[SLOT_CONSOLE_RETRY] = (struct pollfd){.fd = d->console_retry_fd, .events = POLLIN};
-        fds[SLOT_LOCK_WATCH] = (struct pollfd){.fd = d->lock_watch_fd, .events = POLLIN};
-        fds[SLOT_WATCHDOG] = (struct pollfd){.fd = d->watchdog_fd, .events = POLLIN};
-        fds[SLOT_PROGRESS] = (struct pollfd){.fd = d->progress_fd, .events = POLLIN};
-        fds[SLOT_SITE] = (struct pollfd){.fd = uwbd_site_timer_fd(d->site), .events = POLLIN};
-        fds[SLOT_SITE_COMMANDS] =
-            (struct pollfd){.fd = d->stopping ? -1 : uwbd_site_command_fd(d->site), .events = POLLIN};
-        /* A negative fd is skipped by poll(). */
-        fds[SLOT_CONTROL] = (struct pollfd){.fd = d->stopping ? -1 : d->control.fd, .events = POLLIN};
-        fds[SLOT_CONSOLE] =
-            (struct pollfd){.fd = d->console.in_use ? uwb_link_fd(d->console.link) : -1, .events = POLLIN};
-        owner[SLOT_CONSOLE] = &d->console;
-        nfds_t n = SLOT_CLIENTS;
-        for (int i = 0; i < MAX_CLIENTS; i++) {
-            if (!d->clients[i].in_use)
-                continue;
-            owner[n] = &d->clients[i];
-            fds[n++] = (struct pollfd){.fd = d->clients[i].fd,
-                                       .events = (short)(POLLIN | (d->clients[i].out_len ? POLLOUT : 0))};
-        }
-        nfds_t peers_end = n; /* the Modbus server's fds follow the peers' */
-        n += (nfds_t)uwbd_modbus_poll_add(d, fds + n, &timeout_ms);
-        if (poll(fds, n, timeout_ms) < 0) {
-            if (errno == EINTR)
-                continue;
-            uwbd_log(UWBD_LOG_ERR, "poll: %s; stopping", strerror(errno));
-            d->stopping = 1;
-            uwbd_worker_request_stop(d);
+        if (uwbd_event_loop_once(&d->events, -1) >= 0 || errno == EINTR)
             continue;
-        }
-        if (fds[SLOT_SIGNAL].revents)
-            handle_signals(d);
-        if (fds[SLOT_LOCK_WATCH].revents)
-            uwbd_lock_watch_check(d);
-        if (fds[SLOT_DONE].revents)
-            cycle_finished(d);
-        if (fds[SLOT_SCHEDULE].revents) {
-            drain(d->schedule_fd);
-            d->has_next_scan = 0;
-            if (!d->stopping && !d->scanning) {
-                uwbd_log(UWBD_LOG_INFO, "scheduled scan");
-                uwbd_scan_request(d, TRIGGER_SCHEDULE);
-            }
-        }
-        if (fds[SLOT_CONSOLE_RETRY].revents) {
-            drain(d->console_retry_fd);
-            uwbd_console_open(d);
-        }
-        if (fds[SLOT_WATCHDOG].revents)
-            watchdog_tick(d);
-        if (fds[SLOT_PROGRESS].revents) {
-            drain(d->progress_fd);
-            uwbd_peers_send_progress(d);
-        }
-        if (fds[SLOT_SITE].revents)
-            site_tick(d);
-        if (fds[SLOT_SITE_COMMANDS].revents)
-            uwbd_run_site_commands(d);
-        if (fds[SLOT_CONTROL].revents)
-            uwbd_peer_accept(d);
-        for (nfds_t i = SLOT_CONSOLE; i < peers_end; i++) {
-            if ((fds[i].revents & POLLOUT) && owner[i]->in_use)
-                uwbd_peer_writable(d, owner[i]);
-            if ((fds[i].revents & ~POLLOUT) && owner[i]->in_use)
-                uwbd_peer_readable(d, owner[i]);
-        }
-        uwbd_modbus_poll_serve(d, fds + peers_end, (int)(n - peers_end));
+        uwbd_log(UWBD_LOG_ERR, "poll: %s; stopping", strerror(errno));
+        d->stopping = 1;
+        uwbd_worker_request_stop(d);
     }
 }
 
@@ -560,19 +533,11 @@ static void close_fd(int *fd)
 
 static void teardown(struct daemon *d)
 {
-    uwbd_site_close(d->site); /* contacts de-energised: the fault contact opens */
-    d->site = NULL;
+    uwbd_outputs_close(d); /* the site's first: contacts de-energised, the fault contact opens */
     if (d->rig) {
         uwb_rig_close(d->rig); /* outputs low: pulser idle, motor disabled */
         d->rig = NULL;
     }
-    for (int i = 0; i < MAX_CLIENTS; i++)
-        if (d->clients[i].in_use)
-            uwbd_peer_close(&d->clients[i]);
-    if (d->console.in_use)
-        uwbd_peer_close(&d->console);
-    uwbd_modbus_close(d);
-    uwbd_control_close(&d->control);
     close_fd(&d->signal_fd);
     close_fd(&d->schedule_fd);
     close_fd(&d->console_retry_fd);
@@ -694,17 +659,9 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
     load_baseline_info(d);
     uwbd_baseline_requests_restore(d);
     load_latest_verdict(d);
-    rc = uwbd_site_open(&d->site, &d->cfg, d->latest, err, sizeof err);
-    if (rc != UWB_GPIO_OK) {
-        int code = uwbd_exit_for_rig_open(UWB_RIG_ERR_GPIO, rc);
-        uwbd_log(UWBD_LOG_ERR, "%s (exit %d)", err, code);
-        return code;
-    }
-    uwbd_console_open(d);
-    if (uwbd_modbus_open(d, err, sizeof err) != 0) {
-        uwbd_log(UWBD_LOG_ERR, "%s", err);
-        return UWBD_EXIT_CANT_CREATE;
-    }
+    rc = uwbd_outputs_open(d); /* the site's lines, the console, Modbus */
+    if (rc != UWBD_EXIT_OK)
+        return rc;
     schedule_first(d);
     if (d->cfg.interval_s > 0)
         uwbd_log(UWBD_LOG_NOTICE, "uwbd %s running: state %s, control %s, a scan every %.0f s", UWBD_VERSION,

@@ -15,6 +15,7 @@
 #include "daemon/baseline_store.h"
 #include "daemon/config.h"
 #include "daemon/control_socket.h"
+#include "daemon/event_loop.h"
 #include "daemon/daemon.h"
 #include "daemon/console_line.h"
 #include "daemon/line_buffer.h"
@@ -134,9 +135,16 @@ struct daemon {
     struct uwb_verdict_record *latest; /* the same verdict as a record, or NULL: what is read */
     struct uwbd_site *site;            /* alarm contacts, event input (src/integrations/) */
     enum scan_trigger pending_trigger; /* what asked for the next scan */
-    struct uwbd_modbus_server *modbus; /* NULL: Modbus off (modbus_hook.c) */
+    struct uwbd_modbus_server *modbus; /* NULL: Modbus off (output_modbus.c) */
     int has_baseline;
     struct uwbd_baseline_info baseline;
+
+    /* Every fd the main loop polls (daemon.c, and the output modules'
+     * watch hooks: outputs.h); the ids of the entries whose fds change. */
+    struct uwbd_event_loop events;
+    int site_timer_id, site_command_id;
+    int control_id, console_id, client_id[MAX_CLIENTS];
+    int modbus_id[UWBD_MODBUS_POLL_FDS];
 };
 
 /* worker.c */
@@ -170,15 +178,6 @@ void uwbd_baseline_requests_restore(struct daemon *d);               /* a reques
 void uwbd_baseline_request_fill(struct daemon *d, struct uwbd_cycle_request *req);
 void uwbd_baseline_request_finished(struct daemon *d, unsigned long request,
                                     const struct uwbd_cycle_result *res);
-
-/* modbus_hook.c: nothing is opened unless modbus.enabled */
-int uwbd_modbus_open(struct daemon *d, char *err, size_t errlen); /* 0, or -1 with err */
-void uwbd_modbus_close(struct daemon *d);
-void uwbd_modbus_reload(struct daemon *d, const struct uwbd_modbus_config *previous);
-/* Its fds into fds (room for UWBD_MODBUS_POLL_FDS), *timeout_ms lowered to its next retry; returns the count.
- */
-int uwbd_modbus_poll_add(struct daemon *d, struct pollfd *fds, int *timeout_ms);
-void uwbd_modbus_poll_serve(struct daemon *d, const struct pollfd *fds, int n);
 
 /* lock_watch.c */
 int uwbd_lock_watch_open(struct daemon *d);   /* 0, or -1 (logged; the daemon runs unwatched) */

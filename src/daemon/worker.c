@@ -13,6 +13,7 @@
 
 #include "daemon_internal.h"
 #include "util/log.h"
+#include "daemon/outputs.h"
 #include "daemon/test_hang.h"
 #include "daemon/trend.h"
 #include "uwb/monotonic.h"
@@ -206,9 +207,7 @@ void uwbd_worker_collect(struct daemon *d)
         res->verdict = NULL;
     }
     uwbd_baseline_request_finished(d, d->job.baseline_request, res);
-    /* the one place the site hears of a verdict */
-    if (res->verdict_json && d->latest)
-        uwbd_site_verdict(d->site, d->latest, res->verdict_json, uwb_monotonic_s() - d->job.started_s);
-    uwbd_peers_send_verdict(d, d->job.cycle, res->verdict_json, "out of memory for the verdict");
+    /* the one place the outputs hear of a verdict */
+    uwbd_outputs_verdict(d, res->verdict_json, uwb_monotonic_s() - d->job.started_s);
     uwbd_cycle_result_free(res);
 }

@@ -399,24 +399,24 @@ static void accept_client(struct uwbd_modbus_server *s)
     slot->active_s = now_s;
 }
 
-void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd *fds, int n)
+void uwbd_modbus_server_serve_fd(struct uwbd_modbus_server *s, int fd)
 {
-    for (int i = 0; i < n; i++) {
-        if (!fds[i].revents)
-            continue;
-        if (s->link && fds[i].fd == uwb_link_fd(s->link)) {
-            if (serve_rtu(s) < 0)
-                rtu_lost(s, "the link closed");
-            continue;
-        }
-        if (fds[i].fd == s->listen_fd) {
-            accept_client(s);
-            continue;
-        }
-        for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++)
-            if (s->clients[c].fd == fds[i].fd && serve_tcp(s, &s->clients[c]) < 0)
-                drop_client(&s->clients[c]);
+    if (s->link && fd == uwb_link_fd(s->link)) {
+        if (serve_rtu(s) < 0)
+            rtu_lost(s, "the link closed");
+        return;
     }
+    if (fd == s->listen_fd) {
+        accept_client(s);
+        return;
+    }
+    for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++)
+        if (s->clients[c].fd == fd && serve_tcp(s, &s->clients[c]) < 0)
+            drop_client(&s->clients[c]);
+}
+
+void uwbd_modbus_server_tick(struct uwbd_modbus_server *s)
+{
     double now_s = uwb_monotonic_s();
     for (int c = 0; c < UWBD_MODBUS_TCP_CLIENTS; c++) {
         if (s->clients[c].fd < 0)
@@ -433,6 +433,14 @@ void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd 
     }
     if (s->rtu && !s->link && uwb_monotonic_s() >= s->retry_at_s)
         rtu_try_open(s);
+}
+
+void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd *fds, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (fds[i].revents)
+            uwbd_modbus_server_serve_fd(s, fds[i].fd);
+    uwbd_modbus_server_tick(s);
 }
 
 void uwbd_modbus_server_close(struct uwbd_modbus_server *s)

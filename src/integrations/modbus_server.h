@@ -47,6 +47,11 @@ int uwbd_modbus_server_poll_fds(struct uwbd_modbus_server *s, struct pollfd *fds
 /* After poll(): fds/n as poll_fds filled them. Also opens a lost RTU link
  * again once its retry time came. */
 void uwbd_modbus_server_serve(struct uwbd_modbus_server *s, const struct pollfd *fds, int n);
+/* serve() in two halves, for a loop that calls back per fd: one fd that
+ * polled ready, then (after every poll) the masters' deadlines and the RTU
+ * link's retry. */
+void uwbd_modbus_server_serve_fd(struct uwbd_modbus_server *s, int fd);
+void uwbd_modbus_server_tick(struct uwbd_modbus_server *s);
 /* Milliseconds until the server needs serve() without any fd (a retry, a
  * master's deadline); -1: never. */
 int uwbd_modbus_server_timeout_ms(const struct uwbd_modbus_server *s);

@@ -23,8 +23,10 @@ link src/link/link.o src/link/link_socket.o
 # the commands MQTT brings.
 daemon-loop src/daemon/daemon.o src/daemon/peers.o src/daemon/worker.o src/daemon/lock_watch.o
 daemon-loop src/daemon/baseline_requests.o src/daemon/site_commands.o
-# The Modbus server's side in the loop: the registers from the daemon's state, coils to its commands.
-daemon-loop src/daemon/modbus_hook.o
+# The output modules' table (src/daemon/outputs.h) and its modules: they read the daemon's
+# state (registers, contacts, peers) and turn coils, the event input and MQTT into its commands.
+daemon-loop src/daemon/outputs.o src/daemon/output_site.o src/daemon/output_clients.o
+daemon-loop src/daemon/output_modbus.o
 EOF
 )
 

@@ -1,9 +1,11 @@
-/* The daemon's side of the Modbus server (src/integrations/modbus_server.c):
- * opened at start and on a reload that changes modbus.*, polled with the
- * loop's other fds, given the registers from the latest verdict and the
- * daemon's state at each request, and its coils turned into commands. */
+/* The Modbus output module (the server: src/integrations/modbus_server.c):
+ * opened at start and on a reload that changes modbus.*, its fds in the
+ * event loop, given the registers from the latest verdict and the daemon's
+ * state at each request, and its coils turned into commands. */
 #include <string.h>
 
+#include "daemon/exit_codes.h"
+#include "daemon/outputs.h"
 #include "daemon_internal.h"
 #include "util/log.h"
 #include "integrations/modbus_registers.h"
@@ -54,7 +56,7 @@ static int coil_ack(void *ctx)
     return 0;
 }
 
-int uwbd_modbus_open(struct daemon *d, char *err, size_t errlen)
+static int modbus_start(struct daemon *d, char *err, size_t errlen)
 {
     d->modbus = NULL;
     if (!d->cfg.modbus.enabled)
@@ -69,14 +71,24 @@ int uwbd_modbus_open(struct daemon *d, char *err, size_t errlen)
     return 0;
 }
 
-void uwbd_modbus_close(struct daemon *d)
+static int modbus_open(struct daemon *d)
+{
+    char err[1024];
+    if (modbus_start(d, err, sizeof err) == 0)
+        return 0;
+    uwbd_log(UWBD_LOG_ERR, "%s", err);
+    return UWBD_EXIT_CANT_CREATE;
+}
+
+static void modbus_close(struct daemon *d)
 {
     uwbd_modbus_server_close(d->modbus);
     d->modbus = NULL;
 }
 
-void uwbd_modbus_reload(struct daemon *d, const struct uwbd_modbus_config *previous)
+static void modbus_reload(struct daemon *d, const struct uwbd_config *previous_cfg)
 {
+    const struct uwbd_modbus_config *previous = &previous_cfg->modbus;
     const struct uwbd_modbus_config *now = &d->cfg.modbus;
     if (previous->enabled == now->enabled && previous->unit_id == now->unit_id &&
         strcmp(previous->endpoint, now->endpoint) == 0) {
@@ -85,24 +97,51 @@ void uwbd_modbus_reload(struct daemon *d, const struct uwbd_modbus_config *previ
             uwbd_modbus_server_set_idle_timeout(d->modbus, now->idle_timeout_s);
         return;
     }
-    uwbd_modbus_close(d);
+    modbus_close(d);
     char err[512];
-    if (uwbd_modbus_open(d, err, sizeof err) != 0)
+    if (modbus_start(d, err, sizeof err) != 0)
         uwbd_log(UWBD_LOG_ERR, "reload: %s; Modbus is off until the next reload", err);
 }
 
-int uwbd_modbus_poll_add(struct daemon *d, struct pollfd *fds, int *timeout_ms)
+static void modbus_ready(void *ctx, int fd, short revents)
 {
-    if (!d->modbus)
-        return 0;
-    int retry_ms = uwbd_modbus_server_timeout_ms(d->modbus);
-    if (retry_ms >= 0 && (*timeout_ms < 0 || retry_ms < *timeout_ms))
-        *timeout_ms = retry_ms;
-    return uwbd_modbus_server_poll_fds(d->modbus, fds, UWBD_MODBUS_POLL_FDS);
+    (void)revents;
+    struct daemon *d = ctx;
+    if (d->modbus)
+        uwbd_modbus_server_serve_fd(d->modbus, fd);
 }
 
-void uwbd_modbus_poll_serve(struct daemon *d, const struct pollfd *fds, int n)
+/* The server's fds this round (its TCP masters come and go), the wait
+ * bounded by its next retry or master's deadline. */
+static int modbus_prepare(void *ctx)
 {
-    if (d->modbus)
-        uwbd_modbus_server_serve(d->modbus, fds, n);
+    struct daemon *d = ctx;
+    struct pollfd fds[UWBD_MODBUS_POLL_FDS];
+    int n = d->modbus ? uwbd_modbus_server_poll_fds(d->modbus, fds, UWBD_MODBUS_POLL_FDS) : 0;
+    for (int i = 0; i < UWBD_MODBUS_POLL_FDS; i++)
+        uwbd_event_loop_set(&d->events, d->modbus_id[i], i < n ? fds[i].fd : -1, POLLIN);
+    return d->modbus ? uwbd_modbus_server_timeout_ms(d->modbus) : -1;
 }
+
+static void modbus_after(void *ctx)
+{
+    struct daemon *d = ctx;
+    if (d->modbus)
+        uwbd_modbus_server_tick(d->modbus);
+}
+
+static int modbus_watch(struct daemon *d, struct uwbd_event_loop *loop)
+{
+    for (int i = 0; i < UWBD_MODBUS_POLL_FDS; i++)
+        if ((d->modbus_id[i] = uwbd_event_loop_add(loop, -1, POLLIN, modbus_ready, d)) < 0)
+            return -1;
+    return uwbd_event_loop_add_hook(loop, modbus_prepare, modbus_after, d) < 0 ? -1 : 0;
+}
+
+const struct uwbd_output_module uwbd_output_modbus = {
+    .name = "modbus",
+    .open = modbus_open,
+    .reload = modbus_reload,
+    .watch = modbus_watch,
+    .close = modbus_close,
+};

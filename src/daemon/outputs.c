@@ -1,0 +1,55 @@
+/* The output modules' table and its walks (see the header). A new output is
+ * one file with its module and one row here. */
+#include "daemon/outputs.h"
+
+#include "daemon_internal.h"
+#include "util/log.h"
+
+static const struct uwbd_output_module *const modules[] = {
+    &uwbd_output_site,    /* alarm contacts, event input, Prometheus textfile, MQTT */
+    &uwbd_output_clients, /* the control socket's clients and the console: the verdict line */
+    &uwbd_output_modbus,
+};
+#define MODULE_COUNT (sizeof modules / sizeof modules[0])
+
+int uwbd_outputs_open(struct daemon *d)
+{
+    for (size_t i = 0; i < MODULE_COUNT; i++) {
+        int code = modules[i]->open ? modules[i]->open(d) : 0;
+        if (code != 0)
+            return code;
+    }
+    return 0;
+}
+
+void uwbd_outputs_reload(struct daemon *d, const struct uwbd_config *previous)
+{
+    for (size_t i = 0; i < MODULE_COUNT; i++)
+        if (modules[i]->reload)
+            modules[i]->reload(d, previous);
+}
+
+void uwbd_outputs_verdict(struct daemon *d, const char *json, double duration_s)
+{
+    for (size_t i = 0; i < MODULE_COUNT; i++)
+        if (modules[i]->verdict)
+            modules[i]->verdict(d, d->latest, json, duration_s);
+}
+
+int uwbd_outputs_watch(struct daemon *d, struct uwbd_event_loop *loop)
+{
+    for (size_t i = 0; i < MODULE_COUNT; i++)
+        if (modules[i]->watch && modules[i]->watch(d, loop) != 0) {
+            uwbd_log(UWBD_LOG_ERR, "%s: the event loop is full (%d entries)", modules[i]->name,
+                     UWBD_EVENT_LOOP_MAX);
+            return -1;
+        }
+    return 0;
+}
+
+void uwbd_outputs_close(struct daemon *d)
+{
+    for (size_t i = 0; i < MODULE_COUNT; i++)
+        if (modules[i]->close)
+            modules[i]->close(d);
+}
