@@ -6,6 +6,7 @@
 #ifndef UWB_CLI_H
 #define UWB_CLI_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 int uwbd_replay_main(int argc, char **argv);
@@ -38,5 +39,10 @@ int uwbd_verdict_text(const char *reply, FILE *out);
  * change and scan per verdict ("*" at a baseline change), then the rate and
  * the image. -1, nothing printed, for any other reply. */
 int uwbd_trend_text(const char *reply, FILE *out);
+
+/* A HISTORY reply as CSV (uwb/verdict_csv.h): the header, then a row per
+ * verdict. 0, or -1 with err: not a HISTORY reply (nothing printed), a
+ * verdict unreadable or a write failed (the rows before it printed). */
+int uwbd_history_csv(const char *reply, FILE *out, char *err, size_t errlen);
 
 #endif

@@ -21,6 +21,19 @@ char *uwb_record_to_json(const struct uwb_verdict_record *r);
 int uwb_record_from_object(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen);
 int uwb_record_from_json(const char *text, struct uwb_verdict_record *r, char *err, size_t errlen);
 
+/* One entry of a HISTORY reply (a uwb_record_summary: no class, a few
+ * keys) into *r: what it does not say is left out of *r, and a height
+ * change given without its sigma has the sigma NAN (not known). 0, or -1
+ * with err as above. */
+int uwb_record_from_summary(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen);
+
+/* Each verdict of a HISTORY reply line, oldest first, read by
+ * uwb_record_from_summary and given to each(r, ctx), which returns 0 to go
+ * on. 0, or -1 with err (not a HISTORY reply, an entry unreadable, each
+ * failed). */
+int uwb_history_each(const char *reply, int (*each)(const struct uwb_verdict_record *r, void *ctx), void *ctx,
+                     char *err, size_t errlen);
+
 /* The evaluation's verdict straight to an object or text (uwbd --replay). */
 cJSON *uwb_verdict_object(const struct uwb_verdict *v);
 char *uwb_verdict_to_json(const struct uwb_verdict *v);

@@ -28,7 +28,7 @@ void uwbd_ctl_usage(FILE *f)
 {
     fprintf(
         f,
-        "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text] COMMAND...\n"
+        "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text | --csv] COMMAND...\n"
         "\n"
         "Sends COMMAND to the running daemon and prints its reply (one JSON line).\n"
         "Commands: status, scan, verdict, history [N], trend [N], baseline set [N], watch, watch off, help.\n"
@@ -44,6 +44,9 @@ void uwbd_ctl_usage(FILE *f)
         "                   edges or reason, images), and a trend as a table (time, status,\n"
         "                   displacement \u00b1 1 sigma, height change, rate, image), instead\n"
         "                   of its JSON line\n"
+        "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
+        "                   (a header naming each column and its unit, then a row per\n"
+        "                   verdict, oldest first; a figure not given is an empty cell)\n"
         "\n"
         "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
         "69 no daemon on the socket; 75 not accepted or no reply in time.\n",
@@ -161,9 +164,13 @@ static void show_progress(const char *line, int on_terminal)
 }
 
 static const struct option ctl_options[] = {
-    {"socket", required_argument, 0, 's'},  {"config", required_argument, 0, 'c'},
-    {"timeout", required_argument, 0, 't'}, {"text", no_argument, 0, 'T'},
-    {"help", no_argument, 0, 'h'},          {0, 0, 0, 0},
+    {"socket", required_argument, 0, 's'},
+    {"config", required_argument, 0, 'c'},
+    {"timeout", required_argument, 0, 't'},
+    {"text", no_argument, 0, 'T'},
+    {"csv", no_argument, 0, 'C'},
+    {"help", no_argument, 0, 'h'},
+    {0, 0, 0, 0},
 };
 
 /* Returned by the steps below when uwbd ctl goes on (exit statuses are >= 0). */
@@ -173,7 +180,7 @@ static const struct option ctl_options[] = {
 struct ctl_args {
     const char *socket_path, *config_path;
     double timeout_s; /* 0: not given */
-    int as_text;
+    int as_text, as_csv;
     char line[UWB_COMMAND_MAX_LINE + 2]; /* the command words joined, room for its newline */
     size_t len;
     struct uwb_command cmd;
@@ -198,6 +205,7 @@ static int read_ctl_options(int argc, char **argv, struct ctl_args *a)
             }
             break;
         case 'T': a->as_text = 1; break;
+        case 'C': a->as_csv = 1; break;
         case 'h': uwbd_ctl_usage(stdout); return UWBD_CTL_OK;
         default:
             uwb_cli_option_error("uwbd ctl", "uwbd ctl --help", argv, argc, ctl_options);
@@ -210,6 +218,10 @@ static int read_ctl_options(int argc, char **argv, struct ctl_args *a)
     }
     if (a->socket_path && a->config_path) {
         fprintf(stderr, "uwbd ctl: give either --socket or --config\n");
+        return UWBD_CTL_USAGE;
+    }
+    if (a->as_text && a->as_csv) {
+        fprintf(stderr, "uwbd ctl: give either --text or --csv\n");
         return UWBD_CTL_USAGE;
     }
     return CTL_GOES_ON;
@@ -235,6 +247,10 @@ static int read_command(int argc, char **argv, struct ctl_args *a)
     char err[1024];
     if (uwb_command_parse(a->line, a->len, &a->cmd, err, sizeof err) != UWB_COMMAND_OK) {
         fprintf(stderr, "uwbd ctl: %s\n", err[0] ? err : "empty command");
+        return UWBD_CTL_USAGE;
+    }
+    if (a->as_csv && a->cmd.kind != UWB_COMMAND_HISTORY) {
+        fprintf(stderr, "uwbd ctl: --csv is for `history [N]` only, not `%s`\n", a->line);
         return UWBD_CTL_USAGE;
     }
     return CTL_GOES_ON;
@@ -324,6 +340,17 @@ static int await_reply(struct reply_reader *reader, double timeout_s, int scan_p
     return rc;
 }
 
+/* A HISTORY reply as CSV: the exit status (an unreadable reply is the
+ * daemon's fault, as a reply without a line would be). */
+static int print_csv(const char *reply)
+{
+    char err[512];
+    if (uwbd_history_csv(reply, stdout, err, sizeof err) == 0)
+        return UWBD_CTL_OK;
+    fprintf(stderr, "uwbd ctl: --csv: %s\n", err);
+    return UWBD_CTL_NO_DAEMON;
+}
+
 /* Connect, send, and read the reply (or follow): the exit status. */
 static int talk(struct ctl_args *a)
 {
@@ -356,9 +383,11 @@ static int talk(struct ctl_args *a)
     rc = await_reply(&reader, timeout_s, a->cmd.kind == UWB_COMMAND_SCAN, &reply);
     if (rc != 0)
         goto done;
-    if (!a->as_text || (uwbd_verdict_text(reply, stdout) != 0 && uwbd_trend_text(reply, stdout) != 0))
-        puts(reply);
     rc = is_error_reply(reply) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
+    if (a->as_csv && rc == UWBD_CTL_OK)
+        rc = print_csv(reply);
+    else if (!a->as_text || (uwbd_verdict_text(reply, stdout) != 0 && uwbd_trend_text(reply, stdout) != 0))
+        puts(reply);
 done:
     close(fd);
     free(reader.buf);

@@ -313,16 +313,11 @@ static void read_images(struct reader *rd, struct uwb_verdict_record *r)
     }
 }
 
-int uwb_record_from_object(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen)
+/* The keys of a verdict, or of a summary of one, into *r: 0, or -1. */
+static int read_record(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen)
 {
-    memset(r, 0, sizeof *r);
     struct reader rd = {.o = o, .err = err, .errlen = errlen};
-    const cJSON *cls = cJSON_GetObjectItemCaseSensitive(o, "class");
     const cJSON *status = cJSON_GetObjectItemCaseSensitive(o, "status");
-    if (!cJSON_IsObject(o) || !cJSON_IsString(cls) || strcmp(cls->valuestring, "VERDICT") != 0) {
-        snprintf(err, errlen, "verdict: not a VERDICT object");
-        return -1;
-    }
     if (!cJSON_IsString(status) || uwb_status_from_name(status->valuestring, &r->status) != 0) {
         snprintf(err, errlen, "verdict: key `status`: missing or not a status");
         return -1;
@@ -335,6 +330,69 @@ int uwb_record_from_object(const cJSON *o, struct uwb_verdict_record *r, char *e
     read_images(&rd, r);
     read_cycle(&rd, &r->cycle);
     return rd.failed ? -1 : 0;
+}
+
+int uwb_record_from_object(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen)
+{
+    memset(r, 0, sizeof *r);
+    const cJSON *cls = cJSON_GetObjectItemCaseSensitive(o, "class");
+    if (!cJSON_IsObject(o) || !cJSON_IsString(cls) || strcmp(cls->valuestring, "VERDICT") != 0) {
+        snprintf(err, errlen, "verdict: not a VERDICT object");
+        return -1;
+    }
+    return read_record(o, r, err, errlen);
+}
+
+int uwb_record_from_summary(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen)
+{
+    memset(r, 0, sizeof *r);
+    if (!cJSON_IsObject(o)) {
+        snprintf(err, errlen, "verdict: a summary that is not an object");
+        return -1;
+    }
+    if (read_record(o, r, err, errlen) != 0)
+        return -1;
+    /* The summary gives the height change without its sigma: not known, not 0. */
+    if (r->has_height_change && !cJSON_HasObjectItem(o, "height_change_uncertainty_mm"))
+        r->height_change_uncertainty_mm = NAN;
+    return 0;
+}
+
+int uwb_history_each(const char *reply, int (*each)(const struct uwb_verdict_record *r, void *ctx), void *ctx,
+                     char *err, size_t errlen)
+{
+    cJSON *o = reply ? cJSON_Parse(reply) : NULL;
+    const cJSON *cls = cJSON_GetObjectItemCaseSensitive(o, "class");
+    const cJSON *list = cJSON_GetObjectItemCaseSensitive(o, "verdicts");
+    struct uwb_verdict_record *r = malloc(sizeof *r);
+    int rc = -1, i = 0;
+    if (!r) {
+        snprintf(err, errlen, "history: out of memory");
+        goto done;
+    }
+    if (!cJSON_IsString(cls) || strcmp(cls->valuestring, "HISTORY") != 0 || !cJSON_IsArray(list)) {
+        snprintf(err, errlen, "history: not a HISTORY reply with a list of verdicts");
+        goto done;
+    }
+    const cJSON *it;
+    cJSON_ArrayForEach(it, list)
+    {
+        char why[256];
+        if (uwb_record_from_summary(it, r, why, sizeof why) != 0) {
+            snprintf(err, errlen, "history: verdict %d: %s", i, why);
+            goto done;
+        }
+        if (each(r, ctx) != 0) {
+            snprintf(err, errlen, "history: verdict %d: not written", i);
+            goto done;
+        }
+        i++;
+    }
+    rc = 0;
+done:
+    free(r);
+    cJSON_Delete(o);
+    return rc;
 }
 
 int uwb_record_from_json(const char *text, struct uwb_verdict_record *r, char *err, size_t errlen)

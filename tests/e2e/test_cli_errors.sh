@@ -31,6 +31,11 @@ one_line_error no-value 64 "option '--config' needs a value; see uwbd --help" uw
 one_line_error extra-value 64 "option '--help' takes no value; see uwbd --help" uwbd --replay x --help=yes
 one_line_error short-unknown 64 "unknown option '-q'; see uwbd --help" uwbd --replay x -q
 pass "a wrong option: one line naming it (and the option meant), then 'see --help'"
+# --csv is for history only, and one rendering at a time: refused before connecting.
+one_line_error ctl-csv-status 64 '^uwbd ctl: --csv is for `history \[N\]` only, not `status`$' \
+    uwbd ctl --socket nowhere.sock --csv status
+one_line_error ctl-csv-text 64 '^uwbd ctl: give either --text or --csv$' uwbd ctl --socket nowhere.sock --text --csv history
+pass "uwbd ctl --csv with a command other than history, or with --text: one line, exit 64"
 
 # Issue 27, break 3: --timeout covers connecting. A daemon that stopped
 # accepting (its backlog full) made `uwbd ctl --timeout 1 status` wait in

@@ -157,6 +157,25 @@ pass "archive, verdicts.jsonl, latest.json and baseline files present and valid"
 ctl history 5 > history.json
 json_check history.json 'class == HISTORY' 'count = 2' 'verdicts len 2' 'verdicts.0.status == edges' \
     'verdicts.1.status == alarm' || fail "history: $(cat history.json)"
+# The same history as CSV: CRLF rows, as many fields on each (commas inside
+# quotes are not separators), and the displacement cells the JSON's digits
+# (no column before it holds a comma, so a plain split finds it).
+ctl --csv history 5 > history.csv || fail "uwbd ctl --csv history: $(cat history.csv)"
+[[ $(wc -l < history.csv) == 3 && $(grep -c $'\r$' history.csv) == 3 ]] ||
+    fail "history --csv: not a header and two CRLF rows: $(cat -A history.csv)"
+csv_cells=$(awk '{ sub(/\r$/, ""); line = line $0; n = 1; q = 0
+                   for (i = 1; i <= length(line); i++) { c = substr(line, i, 1)
+                       if (c == "\"") q = !q; else if (c == "," && !q) n++ }
+                   if (q) { line = line "\n"; next }
+                   if (NR == 1) { want = n; split(line, h, ",")
+                       for (k in h) if (h[k] == "axial_displacement_mm") col = k }
+                   else if (n != want) { print "row " NR - 1 ": " n " fields, the header " want; exit 1 }
+                   else { split(line, f, ","); printf "%s;", f[col] }
+                   line = "" }' history.csv) || fail "history --csv: $csv_cells"
+json_cells=$(json_get verdicts.0.axial_displacement_mm verdicts.1.axial_displacement_mm < history.json |
+    sed 's/^(missing)$//' | tr '\n' ';')
+[[ $csv_cells == "$json_cells" && $csv_cells == ";$shift_mm;" ]] ||
+    fail "history --csv displacement cells '$csv_cells', the JSON's '$json_cells' (shift $shift_mm)"
 # The trend: the same two verdicts as a series, and trend.png rewritten
 # after each (its Description chunk is plain text in the file).
 ctl trend 5 > trend.json || fail "trend: $(cat trend.json)"
@@ -192,7 +211,7 @@ set +e; ctl frobnicate > /dev/null 2> ctl-bad.err; rc=$?; set -e
 sed -n 1p raw.json | json_check - 'class == ERROR' || fail "a path argument was not refused: $(sed -n 1p raw.json)"
 sed -n 2p raw.json | json_check - 'class == ERROR' || fail "an over-long line was not refused"
 sed -n 3p raw.json | json_check - 'class == STATUS' || fail "the connection did not recover after bad lines"
-pass "uwbd ctl: status, baseline set, scan, history, verdict (JSON and --text), help; bad lines refused with ERROR"
+pass "uwbd ctl: status, baseline set, scan, history (JSON and --csv), verdict (JSON and --text), help; bad lines refused with ERROR"
 
 # At most 16 control clients; when all are taken, one quiet for 2 s or more
 # makes room, so silent connections cannot lock the operators out. Clients

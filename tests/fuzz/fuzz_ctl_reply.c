@@ -3,13 +3,17 @@
  * or a TREND's fields (issues 17, 19).
  *
  * Contract, for each: its class of object is printed as text (0),
- * anything else is refused (-1) with nothing printed. */
+ * anything else is refused (-1) with nothing printed. And the one verdict
+ * reader (issue 29): a line it takes, written back as JSON, reads back to
+ * the same JSON text, so a state file read at start is published as read. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fuzz_harness.h"
 #include "uwb/cli.h"
+#include "uwb/verdict_json.h"
+#include "uwb/verdict_record.h"
 
 static int render(int (*as_text)(const char *, FILE *), const char *line, const char *kind, char *why,
                   size_t whylen)
@@ -36,6 +40,29 @@ static int render(int (*as_text)(const char *, FILE *), const char *line, const 
     return outcome;
 }
 
+/* FUZZ_BROKEN when a record read from line does not survive its own JSON. */
+static int record_round_trip(const char *line, char *why, size_t whylen)
+{
+    static struct uwb_verdict_record first, second;
+    char err[256];
+    if (uwb_record_from_json(line, &first, err, sizeof err) != 0)
+        return err[0] ? FUZZ_REJECTED : fuzz_broken(why, whylen, "record refused without a message");
+    char *written = uwb_record_to_json(&first);
+    if (!written)
+        return fuzz_broken(why, whylen, "record accepted, not written");
+    int outcome = FUZZ_ACCEPTED;
+    if (uwb_record_from_json(written, &second, err, sizeof err) != 0)
+        outcome = fuzz_broken(why, whylen, "record written as JSON, refused when read back: %s", err);
+    else {
+        char *again = uwb_record_to_json(&second);
+        if (!again || strcmp(written, again) != 0)
+            outcome = fuzz_broken(why, whylen, "record read back writes other JSON");
+        free(again);
+    }
+    free(written);
+    return outcome;
+}
+
 int fuzz_ctl_reply_input(const uint8_t *data, size_t size, char *why, size_t whylen)
 {
     why[0] = '\0';
@@ -46,8 +73,9 @@ int fuzz_ctl_reply_input(const uint8_t *data, size_t size, char *why, size_t why
     line[size] = '\0';
     int verdict = render(uwbd_verdict_text, line, "VERDICT", why, whylen);
     int trend = verdict == FUZZ_BROKEN ? verdict : render(uwbd_trend_text, line, "TREND", why, whylen);
+    int record = trend == FUZZ_BROKEN ? trend : record_round_trip(line, why, whylen);
     free(line);
-    if (verdict == FUZZ_BROKEN || trend == FUZZ_BROKEN)
+    if (verdict == FUZZ_BROKEN || trend == FUZZ_BROKEN || record == FUZZ_BROKEN)
         return FUZZ_BROKEN;
     if (verdict == FUZZ_ACCEPTED || trend == FUZZ_ACCEPTED) {
         why[0] = '\0';
