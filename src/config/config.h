@@ -27,6 +27,12 @@ struct uwbd_modbus_config {
     double idle_timeout_s;           /* TCP: a master with nothing pending this long is closed */
 };
 
+/* The CSV verdict history (src/daemon/output_csv.c): off by default. */
+struct uwbd_csv_config {
+    int enabled;
+    char path[UWBD_PATH_MAX]; /* "": STATE_DIR/verdicts.csv */
+};
+
 struct uwbd_config {
     struct uwb_rig_config rig;
     struct uwb_evaluate_options evaluate;
@@ -48,6 +54,7 @@ struct uwbd_config {
     char site_label[64];                /* site.label: free text for people; "": none */
     struct uwbd_site_config site; /* the site's integrations: asset id, alarm contacts, event input, ... */
     struct uwbd_modbus_config modbus;
+    struct uwbd_csv_config csv;
 };
 
 #endif

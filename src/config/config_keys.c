@@ -350,6 +350,11 @@ const struct config_key uwbd_config_keys[] = {
                  "Modbus TCP: a master that sends nothing for this long is disconnected (it may connect "
                  "again); of the 4 connections at once, a fifth master takes the slot of the one idle "
                  "longest (2 s or more), and keepalive finds a vanished master within 2 minutes"),
+    BOOLEAN("csv.enabled", csv.enabled, 0,
+            "keep the verdict history as a CSV file for spreadsheets (the columns of `uwbd ctl --csv "
+            "history`): a row per verdict, rotated with the archive (the newest retention.max_scans rows), "
+            "replaced atomically"),
+    STRING("csv.path", csv.path, "", "the CSV file; empty = STATE_DIR/verdicts.csv"),
 };
 
 const size_t uwbd_config_key_total = sizeof uwbd_config_keys / sizeof uwbd_config_keys[0];

@@ -8,7 +8,8 @@
 static const struct uwbd_output_module *const modules[] = {
     &uwbd_output_site,    /* alarm contacts, event input, Prometheus textfile, MQTT */
     &uwbd_output_clients, /* the control socket's clients and the console: the verdict line */
-    &uwbd_output_modbus,
+    &uwbd_output_modbus,  /* registers read at each request: nothing to hear */
+    &uwbd_output_csv,     /* csv.*: the verdict history for spreadsheets */
 };
 #define MODULE_COUNT (sizeof modules / sizeof modules[0])
 

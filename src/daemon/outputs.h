@@ -37,6 +37,12 @@ struct uwbd_output_module {
 extern const struct uwbd_output_module uwbd_output_site;
 extern const struct uwbd_output_module uwbd_output_clients;
 extern const struct uwbd_output_module uwbd_output_modbus;
+extern const struct uwbd_output_module uwbd_output_csv;
+
+/* The CSV module's file: row (CRLF-terminated) appended after the header
+ * and the newest old rows, max_rows in all (0: no limit), the file replaced
+ * atomically. 0, or -1 with err naming the file. */
+int uwbd_csv_file_add(const char *path, const char *row, int max_rows, char *err, size_t errlen);
 
 /* The table walked in order. */
 int uwbd_outputs_open(struct daemon *d);

@@ -86,7 +86,7 @@ if [[ $(id -u) == 0 ]]; then
     group_flag=(--set control.group='"nogroup"' --set control.max_clients_per_user=15)
 fi
 ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" "${group_flag[@]}" --console unix:run/console.sock -v \
-    --set site.phase='"B"' --set site.label='"Hillside GT2, north window"' > uwbd.log 2>&1 &
+    --set site.phase='"B"' --set site.label='"Hillside GT2, north window"' --set csv.enabled=true > uwbd.log 2>&1 &
 daemon_pid=$!
 pids+=($daemon_pid)
 wait_for ctl status || fail "uwbd does not answer on its control socket"
@@ -152,6 +152,14 @@ json_check $state/baseline/current.json "scan_id == $base_id" 'direct_coupling_p
 head -n 1 $state/baseline/current.uwbscan | json_check - "scan_id == $base_id" || fail "baseline/current.uwbscan"
 [[ -z $(find $state -name '.*') ]] || fail "temporary files left: $(find $state -name '.*')"
 pass "archive, verdicts.jsonl, latest.json and baseline files present and valid"
+# csv.enabled: the CSV output module's file has the columns `ctl --csv history` prints and a row
+# per verdict (the file's rows come from the whole record, so they fill cells the history leaves empty).
+ctl --csv history > history.csv || fail "ctl --csv history"
+cmp <(head -n 1 history.csv) <(head -n 1 $state/verdicts.csv) || fail "verdicts.csv header: $(head -n 1 $state/verdicts.csv)"
+cmp <(tail -n +2 history.csv | cut -d, -f1-4 | sort) <(tail -n +2 $state/verdicts.csv | cut -d, -f1-4 | sort) ||
+    fail "verdicts.csv rows are not the verdicts': $(diff history.csv $state/verdicts.csv)"
+[[ $(wc -l < $state/verdicts.csv) == 3 ]] || fail "verdicts.csv: not a header and two rows"
+pass "csv.enabled: verdicts.csv holds the CSV history's header and a row per verdict"
 
 # ---- control socket replies --------------------------------------------------
 ctl history 5 > history.json
