@@ -46,13 +46,16 @@ enum uwb_read_result uwb_read_fd(int fd, const char *name, size_t max_bytes, cha
     if (room > room_limit)
         room = room_limit;
 
-    char *buf = NULL;
+    char *buf = malloc(room);
+    if (buf == NULL) {
+        snprintf(err, errlen, "%s: cannot read: out of memory (%zu bytes)", name, room);
+        return UWB_READ_FAILED;
+    }
     size_t len = 0;
     enum uwb_read_result rc = UWB_READ_FAILED;
     for (;;) {
-        if (buf == NULL || len + 1 == room) {
-            if (buf != NULL)
-                room = room > room_limit / 2 ? room_limit : room * 2;
+        if (len + 1 == room) {
+            room = room > room_limit / 2 ? room_limit : room * 2;
             char *grown = realloc(buf, room);
             if (grown == NULL) {
                 snprintf(err, errlen, "%s: cannot read: out of memory (%zu bytes)", name, room);
