@@ -125,12 +125,17 @@ cJSON *uwb_record_object(const struct uwb_verdict_record *r)
     return o;
 }
 
-char *uwb_record_to_json(const struct uwb_verdict_record *r)
+/* The single-line text of o, which is freed; NULL when o is. */
+static char *print_and_delete(cJSON *o)
 {
-    cJSON *o = uwb_record_object(r);
     char *text = o ? cJSON_PrintUnformatted(o) : NULL;
     cJSON_Delete(o);
     return text;
+}
+
+char *uwb_record_to_json(const struct uwb_verdict_record *r)
+{
+    return print_and_delete(uwb_record_object(r));
 }
 
 cJSON *uwb_verdict_object(const struct uwb_verdict *v)
@@ -146,10 +151,7 @@ cJSON *uwb_verdict_object(const struct uwb_verdict *v)
 
 char *uwb_verdict_to_json(const struct uwb_verdict *v)
 {
-    cJSON *o = uwb_verdict_object(v);
-    char *text = o ? cJSON_PrintUnformatted(o) : NULL;
-    cJSON_Delete(o);
-    return text;
+    return print_and_delete(uwb_verdict_object(v));
 }
 
 cJSON *uwb_record_summary(const struct uwb_verdict_record *r)
