@@ -22,7 +22,10 @@
 #include "daemon/scan_cycle.h"
 #include "daemon/scan_progress.h"
 #include "daemon/store.h"
-#include "integrations/site.h"
+#include "integrations/alarm_contacts.h"
+#include "integrations/mqtt_publisher.h"
+#include "integrations/prometheus_textfile.h"
+#include "integrations/site_io.h"
 #include "integrations/modbus_server.h"
 #include "uwb/link.h"
 #include "uwb/rig.h"
@@ -131,18 +134,22 @@ struct daemon {
     _Atomic int progress_done, progress_total;
     _Atomic long long progress_start_ms, progress_first_ms, progress_last_ms;
 
-    char *latest_verdict;              /* VERDICT line or NULL: what is sent and stored */
-    struct uwb_verdict_record *latest; /* the same verdict as a record, or NULL: what is read */
-    struct uwbd_site *site;            /* alarm contacts, event input (src/integrations/) */
-    enum scan_trigger pending_trigger; /* what asked for the next scan */
-    struct uwbd_modbus_server *modbus; /* NULL: Modbus off (output_modbus.c) */
+    char *latest_verdict;                /* VERDICT line or NULL: what is sent and stored */
+    struct uwb_verdict_record *latest;   /* the same verdict as a record, or NULL: what is read */
+    struct uwbd_site_io *site_io;        /* the site's lines and event input (output_site_io.c) */
+    struct uwbd_mqtt *mqtt;              /* NULL: MQTT off (output_mqtt.c) */
+    struct uwbd_contacts contacts;       /* the alarm contacts' logic (output_contacts.c) */
+    struct uwbd_prometheus_metrics prom; /* the textfile's figures (output_textfile.c) */
+    int prom_failing;                    /* log a failing textfile once, not every verdict */
+    enum scan_trigger pending_trigger;   /* what asked for the next scan */
+    struct uwbd_modbus_server *modbus;   /* NULL: Modbus off (output_modbus.c) */
     int has_baseline;
     struct uwbd_baseline_info baseline;
 
     /* Every fd the main loop polls (daemon.c, and the output modules'
      * watch hooks: outputs.h); the ids of the entries whose fds change. */
     struct uwbd_event_loop events;
-    int site_timer_id, site_command_id;
+    int site_timer_id, mqtt_command_id;
     int control_id, console_id, client_id[MAX_CLIENTS];
     int modbus_id[UWBD_MODBUS_POLL_FDS];
 };

@@ -10,7 +10,6 @@
 #include "util/log.h"
 #include "integrations/modbus_registers.h"
 #include "integrations/modbus_server.h"
-#include "integrations/site.h"
 
 static void fill_registers(void *ctx, uint16_t regs[UWBD_MODBUS_REGISTER_COUNT])
 {
@@ -24,7 +23,7 @@ static void fill_registers(void *ctx, uint16_t regs[UWBD_MODBUS_REGISTER_COUNT])
         .has_baseline = d->has_baseline,
     };
     struct uwbd_contact_states contacts;
-    uwbd_site_contact_states(d->site, &contacts);
+    uwbd_contact_states(d, &contacts);
     /* -1: no contacts configured, none energised */
     status.contacts = (contacts.watch == 1 ? UWBD_MODBUS_CONTACT_WATCH : 0u) |
                       (contacts.alarm == 1 ? UWBD_MODBUS_CONTACT_ALARM : 0u) |
@@ -48,7 +47,7 @@ static int coil_ack(void *ctx)
 {
     struct daemon *d = ctx;
     char err[160];
-    if (uwbd_site_ack(d->site, err, sizeof err) != 0) {
+    if (uwbd_contacts_acknowledge(d, err, sizeof err) != 0) {
         uwbd_log(UWBD_LOG_NOTICE, "modbus: ack coil: %s", err);
         return -1;
     }

@@ -16,6 +16,7 @@
 
 #include "daemon_internal.h"
 #include "daemon/command.h"
+#include "daemon/outputs.h"
 #include "util/log.h"
 #include "daemon/reply.h"
 #include "daemon/trend.h"
@@ -207,7 +208,7 @@ static char *status_reply(struct daemon *d)
     struct uwbd_scan_progress progress;
     int has_progress = uwbd_scan_progress_now(d, &progress);
     struct uwbd_mqtt_link mqtt;
-    int has_mqtt = uwbd_site_mqtt_link(d->site, &mqtt);
+    int has_mqtt = uwbd_mqtt_link_now(d, &mqtt);
     struct uwbd_status st = {
         .version = UWBD_VERSION,
         .state = d->stopping   ? "stopping"
@@ -337,11 +338,11 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
     case UWB_COMMAND_ACK: {
         char err[160];
         struct uwbd_contact_states st;
-        if (uwbd_site_ack(d->site, err, sizeof err) != 0) {
+        if (uwbd_contacts_acknowledge(d, err, sizeof err) != 0) {
             reply(d, p, uwbd_reply_error(err));
             return;
         }
-        uwbd_site_contact_states(d->site, &st);
+        uwbd_contact_states(d, &st);
         reply(d, p, uwbd_reply_ack(st.watch, st.alarm, st.fault));
         return;
     }

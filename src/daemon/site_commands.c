@@ -6,6 +6,7 @@
 
 #include "daemon_internal.h"
 #include "daemon/command.h"
+#include "daemon/outputs.h"
 #include "util/log.h"
 #include "daemon/reply.h"
 
@@ -29,9 +30,9 @@ static char *site_command(struct daemon *d, const char *text)
         return cmd.kind == UWB_COMMAND_EVENT ? uwbd_reply_event(queued) : uwbd_reply_scan_requested(queued);
     case UWB_COMMAND_ACK: {
         struct uwbd_contact_states st;
-        if (uwbd_site_ack(d->site, err, sizeof err) != 0)
+        if (uwbd_contacts_acknowledge(d, err, sizeof err) != 0)
             return uwbd_reply_error(err);
-        uwbd_site_contact_states(d->site, &st);
+        uwbd_contact_states(d, &st);
         return uwbd_reply_ack(st.watch, st.alarm, st.fault);
     }
     case UWB_COMMAND_BASELINE_SET: return uwbd_baseline_request(d, cmd.count, cmd.force);
@@ -44,9 +45,9 @@ static char *site_command(struct daemon *d, const char *text)
 void uwbd_run_site_commands(struct daemon *d)
 {
     char *text;
-    while ((text = uwbd_site_next_command(d->site))) {
+    while ((text = uwbd_mqtt_next_command(d->mqtt))) {
         char *reply = site_command(d, text);
-        uwbd_site_reply(d->site, reply);
+        uwbd_mqtt_reply(d->mqtt, reply);
         free(reply);
         free(text);
     }

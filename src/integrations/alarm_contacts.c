@@ -1,5 +1,5 @@
 /* The alarm contacts' states (see the header): plain logic, so that the
- * sequence is tested without lines; src/integrations/site.c drives the
+ * sequence is tested without lines; src/integrations/site_io.c drives the
  * GPIO outputs from it. */
 #include "integrations/alarm_contacts.h"
 
