@@ -141,11 +141,26 @@ kill -9 "$daemon_pid"
 wait "$daemon_pid" 2>/dev/null || true
 expect_contacts "0 0 0" "after kill -9"
 pass "kill -9: every contact de-energised, the fault contact open (fail-safe)"
+# This start reads the site's endpoint from the file, so a reload can change it.
+json_edit "$config" "$config" 'gpio.site_endpoint="unix:run/site.sock"' || fail "json_edit: the site endpoint"
+site=("${site[@]/#gpio.site_endpoint=*/site.asset_id=T3-north}")
 start_daemon uwbd2.log
 expect_contacts "1 1 1" "after a restart with an alarm recorded"
+pass "restart: the recorded alarm comes back (1 1 1)"
+
+# A reload whose site lines cannot be opened: the contacts are off, and
+# `ack` says so instead of acknowledging contacts it cannot drive.
+json_edit "$config" "$config" 'gpio.site_endpoint="unix:run/no-such-board.sock"' || fail "json_edit: a bad endpoint"
+kill -HUP "$daemon_pid"
+wait_for grep -q "reload: the site's lines" uwbd2.log || fail "the reload did not report the site's lines: $(tail -3 uwbd2.log)"
+expect_contacts "0 0 0" "after a reload that lost the site's lines"
+set +e; ctl ack > ack-off.json 2>&1; rc=$?; set -e
+[[ $rc == 1 ]] && grep -q "alarm contacts" ack-off.json ||
+    fail "ack with the site's lines off: exit $rc, $(cat ack-off.json)"
+pass "a reload that cannot open the site's lines: contacts off (0 0 0), ack refused (exit 1)"
 kill "$daemon_pid"
 wait "$daemon_pid" 2>/dev/null || true
 expect_contacts "0 0 0" "after SIGTERM"
-pass "restart: the recorded alarm comes back (1 1 1); a stopped daemon opens every contact"
+pass "SIGTERM: a stopped daemon opens every contact"
 
 echo "$passed passed"
