@@ -60,6 +60,11 @@ int uwbd_contacts_acknowledge(struct daemon *d, char *err, size_t errlen)
         snprintf(err, errlen, "ack: there are no alarm contacts to acknowledge (contacts.enabled is false)");
         return -1;
     }
+    if (!d->site_io) {
+        snprintf(err, errlen,
+                 "ack: the alarm contacts are off: a reload could not open the site's lines (see the log)");
+        return -1;
+    }
     uwbd_contacts_ack(&d->contacts);
     drive(d);
     uwbd_log(UWBD_LOG_NOTICE, "alarm contacts acknowledged: watch %d, alarm %d",
@@ -71,7 +76,8 @@ int uwbd_contacts_acknowledge(struct daemon *d, char *err, size_t errlen)
 
 void uwbd_contact_states(const struct daemon *d, struct uwbd_contact_states *out)
 {
-    int on = d->cfg.site.contacts_enabled;
+    /* Lines a failed reload left closed drive nothing: none to report. */
+    int on = d->cfg.site.contacts_enabled && d->site_io;
     out->watch = on ? uwbd_contacts_energised(&d->contacts, UWBD_CONTACT_WATCH) : -1;
     out->alarm = on ? uwbd_contacts_energised(&d->contacts, UWBD_CONTACT_ALARM) : -1;
     out->fault = on ? uwbd_contacts_energised(&d->contacts, UWBD_CONTACT_FAULT) : -1;
