@@ -40,7 +40,11 @@ struct uwb_analysis {
     struct uwb_edges edges;          /* incl. the side reflector taken out (side_reflector, _y_m) */
     struct uwb_image intensity;      /* display image: envelope around the face (or the search area) */
     struct uwb_face_profile profile; /* the profile the edges were read from (tapered, reflector out) */
+    /* On the same rows, the range (m) of each row's brightest pixel within
+     * the profile's window: the face's radial position along the height. */
+    struct uwb_face_profile face_range;
     double dominant_hz;
+    double wavelength_m;                 /* at the dominant frequency, in the medium */
     double noise_sigma;                  /* per-sample noise of the conditioned traces */
     double aperture_lo_m, aperture_hi_m; /* antenna travel */
     double search_z_lo_m, search_z_hi_m; /* the ranges the face was searched in (0, 0: none yet) */

@@ -173,8 +173,8 @@ int uwb_face_grid(const struct uwb_scan *conditioned, const struct uwb_geometry 
 static int measure_face_rows(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
                              const struct uwb_analysis_options *opt, double z_centre, double dominant_hz,
                              double y_lo_m, double y_hi_m, struct uwb_migration_plan *plan, double *z_face,
-                             struct uwb_face_profile *profile, struct profile_edges *edges, char *err,
-                             size_t errlen)
+                             struct uwb_face_profile *profile, struct uwb_face_profile *range,
+                             struct profile_edges *edges, char *err, size_t errlen)
 {
     double wavelength = g->velocity_m_s / dominant_hz;
     struct uwb_image fine = {0};
@@ -218,7 +218,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     *z_face = fine.z0_m + (best + offset) * fine.dz_m;
     /* The ridge within a quarter wavelength: the face's range cell, wide
      * enough that which 1 mm row the peak fell on does not matter. */
-    rc = uwb_face_profile_measure(&fine, *z_face, wavelength / 4, profile, err, errlen);
+    rc = uwb_face_profile_measure(&fine, *z_face, wavelength / 4, profile, range, err, errlen);
     uwb_image_free(&fine);
     if (rc != 0)
         return -1;
@@ -277,7 +277,7 @@ static void rough_window(const struct uwb_image *coarse, double z_face, double w
     char err[128];
     w->y_lo_m = ap_lo;
     w->y_hi_m = ap_hi;
-    if (uwb_face_profile_measure(coarse, z_face, 0.0, &p, err, sizeof err) == 0) {
+    if (uwb_face_profile_measure(coarse, z_face, 0.0, &p, NULL, err, sizeof err) == 0) {
         uwb_profile_edges(&p, 0.5, &e);
         if (e.ok) {
             w->y_lo_m = e.lower_m - wavelength;
@@ -339,6 +339,7 @@ static enum step read_scan_basics(struct analysis_run *r)
     if (uwb_dominant_frequency(r->scan, &out->dominant_hz, r->err, r->errlen) != 0)
         return STEP_FAILED;
     r->wavelength = r->g.velocity_m_s / out->dominant_hz;
+    out->wavelength_m = r->wavelength;
     return STEP_NEXT;
 }
 
@@ -421,7 +422,7 @@ static enum step measure_face_plain(struct analysis_run *r)
     struct uwb_analysis *out = r->out;
     r->z_face_m = r->face.z_m;
     if (measure_face_rows(&out->conditioned, &r->g, r->opt, r->face.z_m, out->dominant_hz, 0.0, 0.0, NULL,
-                          &r->z_face_m, &out->profile, &r->pe, r->err, r->errlen) != 0)
+                          &r->z_face_m, &out->profile, &out->face_range, &r->pe, r->err, r->errlen) != 0)
         return STEP_FAILED;
     out->weight = malloc((size_t)r->scan->positions * sizeof *out->weight);
     if (!out->weight) {
@@ -481,13 +482,15 @@ static enum step measure_weighted(struct analysis_run *r, struct side_reflector 
     uwb_scan_free(&out->measured);
     free(out->profile.value);
     out->profile.value = NULL;
+    free(out->face_range.value);
+    out->face_range.value = NULL;
     if (uwb_scan_copy(&out->measured, &out->conditioned, r->err, r->errlen) != 0)
         return STEP_FAILED;
     uwb_side_reflector_remove(&r->pass_side, &r->g, &out->measured);
     apply_weights(&out->measured, out->weight);
     double z_face_before = r->z_face_m;
     if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, y_lo, y_hi, NULL,
-                          &r->z_face_m, &out->profile, &r->pe, r->err, r->errlen) != 0)
+                          &r->z_face_m, &out->profile, &out->face_range, &r->pe, r->err, r->errlen) != 0)
         return STEP_FAILED;
     if (every_row || reads_within(r))
         return STEP_NEXT;
@@ -495,9 +498,11 @@ static enum step measure_weighted(struct analysis_run *r, struct side_reflector 
      * fall off inside them): this pass on every row after all. */
     free(out->profile.value);
     out->profile.value = NULL;
+    free(out->face_range.value);
+    out->face_range.value = NULL;
     r->z_face_m = z_face_before;
     if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, 0.0, 0.0, NULL,
-                          &r->z_face_m, &out->profile, &r->pe, r->err, r->errlen) != 0)
+                          &r->z_face_m, &out->profile, &out->face_range, &r->pe, r->err, r->errlen) != 0)
         return STEP_FAILED;
     return STEP_NEXT;
 }
@@ -719,6 +724,7 @@ void uwb_analysis_free(struct uwb_analysis *a)
 {
     uwb_image_free(&a->intensity);
     free(a->profile.value);
+    free(a->face_range.value);
     uwb_scan_free(&a->conditioned);
     uwb_scan_free(&a->measured);
     free(a->weight);
@@ -751,7 +757,7 @@ int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_an
     double z_face = a->edges.face_z_m;
     struct profile_edges pe;
     int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, plan, &z_face,
-                               p, &pe, err, errlen);
+                               p, NULL, &pe, err, errlen);
     uwb_scan_free(&s);
     if (z_face_out)
         *z_face_out = z_face;

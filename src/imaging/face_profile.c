@@ -5,8 +5,30 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+/* The range of a row's brightest pixel between lo and hi, sub-pixel (a
+ * parabola through it and its neighbours when both lie inside). */
+static double row_peak_range(const struct uwb_image *img, int iy, int lo, int hi)
+{
+    const float *row = img->pix + (size_t)iy * img->nz;
+    int best = lo;
+    for (int iz = lo + 1; iz <= hi; iz++)
+        if (row[iz] > row[best])
+            best = iz;
+    double offset = 0.0;
+    if (best > lo && best < hi) {
+        double before = row[best - 1], at = row[best], after = row[best + 1];
+        double den = before - 2.0 * at + after;
+        if (den < 0.0)
+            offset = 0.5 * (before - after) / den;
+        if (fabs(offset) > 0.5)
+            offset = 0.0;
+    }
+    return img->z0_m + (best + offset) * img->dz_m;
+}
+
 int uwb_face_profile_measure(const struct uwb_image *img, double z_face_m, double half_width_m,
-                             struct uwb_face_profile *p, char *err, size_t errlen)
+                             struct uwb_face_profile *p, struct uwb_face_profile *range, char *err,
+                             size_t errlen)
 {
     int lo = (int)floor((z_face_m - half_width_m - img->z0_m) / img->dz_m);
     int hi = (int)ceil((z_face_m + half_width_m - img->z0_m) / img->dz_m);
@@ -22,6 +44,18 @@ int uwb_face_profile_measure(const struct uwb_image *img, double z_face_m, doubl
     if (!p->value) {
         snprintf(err, errlen, "out of memory for the face profile");
         return -1;
+    }
+    if (range) {
+        range->value = malloc((size_t)img->ny * sizeof *range->value);
+        if (!range->value) {
+            free(p->value);
+            p->value = NULL;
+            snprintf(err, errlen, "out of memory for the face's range profile");
+            return -1;
+        }
+        range->n = img->ny;
+        range->y0_m = img->y0_m;
+        range->dy_m = img->dy_m;
     }
     p->n = img->ny;
     p->y0_m = img->y0_m;
@@ -43,9 +77,16 @@ int uwb_face_profile_measure(const struct uwb_image *img, double z_face_m, doubl
             free(p->value);
             p->value = NULL;
             p->n = 0;
+            if (range) {
+                free(range->value);
+                range->value = NULL;
+                range->n = 0;
+            }
             return -1;
         }
         p->value[iy] = best;
+        if (range)
+            range->value[iy] = (float)row_peak_range(img, iy, lo, hi);
     }
     return 0;
 }

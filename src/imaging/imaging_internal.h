@@ -48,9 +48,12 @@ int uwb_face_search(const struct uwb_image *intensity, double aperture_lo_m, dou
                     double step_m, const double *excluded_z_m, int n_excluded, struct face_candidate *face,
                     char *reason, size_t reasonlen);
 
-/* Profile along y at the face: the largest envelope within +-half_width_m of z_face. */
+/* Profile along y at the face: the largest envelope within +-half_width_m
+ * of z_face; and, when range is not NULL, the range (m) where each row's
+ * largest lies (the face's radial position along the height). */
 int uwb_face_profile_measure(const struct uwb_image *intensity, double z_face_m, double half_width_m,
-                             struct uwb_face_profile *p, char *err, size_t errlen);
+                             struct uwb_face_profile *p, struct uwb_face_profile *range, char *err,
+                             size_t errlen);
 
 struct profile_edges {
     int ok;

@@ -228,17 +228,18 @@ static void test_face_profiles_outside_the_image_or_overflowing_are_refused(void
         img.pix[i] = 1.0f;
     struct uwb_face_profile p = {0};
     char err[256];
-    TEST_ASSERT_EQUAL_INT(-1, uwb_face_profile_measure(&img, 0.9, 0.002, &p, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_face_profile_measure(&img, 0.9, 0.002, &p, NULL, err, sizeof err));
     TEST_ASSERT_EQUAL_STRING("face range 0.900 m is outside the image", err);
     TEST_ASSERT_NULL(p.value);
     /* a window reaching past both ends is clipped to the image */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_face_profile_measure(&img, 0.505, 0.5, &p, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_face_profile_measure(&img, 0.505, 0.5, &p, NULL, err, sizeof err),
+                                  err);
     TEST_ASSERT_EQUAL_INT(4, p.n);
     TEST_ASSERT_EQUAL_FLOAT(1.0f, p.value[3]);
     free(p.value);
     img.pix[2 * 10 + 4] = INFINITY;
     p.value = NULL;
-    TEST_ASSERT_EQUAL_INT(-1, uwb_face_profile_measure(&img, 0.505, 0.5, &p, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(-1, uwb_face_profile_measure(&img, 0.505, 0.5, &p, NULL, err, sizeof err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "overflows single precision at y = 0.020 m"), err);
     TEST_ASSERT_NULL(p.value);
     TEST_ASSERT_EQUAL_INT(0, p.n);

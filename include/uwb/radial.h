@@ -1,0 +1,44 @@
+/* Radial deformation: how far the winding's face moved toward the antenna
+ * (or away) along its height, between the baseline and this scan, once
+ * the axial shift is taken out (src/imaging/radial_profile.c). */
+#ifndef UWB_RADIAL_H
+#define UWB_RADIAL_H
+
+#include "uwb/analysis.h"
+
+/* At most this many rows (1 mm each) of the face are compared: a winding
+ * taller than the antenna travel is not imaged anyway. */
+#define UWB_RADIAL_MAX_ROWS 1024
+
+struct uwb_radial {
+    int measured; /* 0: see why */
+    char why[160];
+    /* The change profile over the baseline's face, edge to edge, in the
+     * baseline's own y: change_m[i] at y0_m + i dy_m, + toward the antenna,
+     * relative to the line through the face's unchanged rows (a change
+     * common to the whole face, such as the oil's wave speed with its
+     * temperature, is no deformation and is taken out). */
+    int n;
+    double y0_m, dy_m;
+    double change_m[UWB_RADIAL_MAX_ROWS];
+    /* The largest change, signed, and where it lies in this scan's y. */
+    double max_change_m, at_m;
+    /* Where |change| exceeds the watch limit around the largest (has_span). */
+    int has_span;
+    double from_m, to_m;
+    /* The face's tilt: the line's top minus its bottom (+ top nearer). */
+    double tilt_m;
+    /* 1-sigma of max_change: the two scans' range noise over the changed
+     * rows, and the model term, the scatter of the unchanged rows about
+     * their line (what the imaging leaves of a pure shift). */
+    double uncertainty_m;
+};
+
+/* Compare the two analyses' face ranges with the current one shifted back
+ * by shift_m. watch_m sets the span reported; noise_rms is the noise per
+ * sample of each scan's conditioned traces (the pair's, where measured).
+ * Returns 0 (measured or not, see r->measured). */
+int uwb_radial_measure(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                       double shift_m, double watch_m, double noise_rms, struct uwb_radial *r);
+
+#endif

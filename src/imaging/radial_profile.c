@@ -1,0 +1,209 @@
+/* The face's range along the height, baseline against this scan: a radial
+ * change of the winding (a disk buckled toward the tank or in toward the
+ * core) moves the face's echo in range at those heights only.
+ *
+ * Why relative to a line: the whole face's range moves with the oil's
+ * wave speed (its temperature), and a winding leaning in its clamps moves
+ * it linearly with height; neither is a buckle. The line is fitted to the
+ * rows that did not change (robustly, the changed rows left out in turn),
+ * its slope is reported as the tilt, and the change is what stands off it.
+ *
+ * Why the mean over the changed span for the size: the antennas see the
+ * whole face at once, so the image's range at the edge of a bulge leans
+ * toward its neighbours and a narrow ridge overshoots; the mean over the
+ * rows past half the largest change reads the bulge's own offset. */
+#include "uwb/radial.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Passes of the line fit, each leaving out the rows standing off the last
+ * line by more than half the watch limit. */
+#define LINE_PASSES 4
+/* A row's range is read only where the face's echo is at least this
+ * fraction of the profile's peak in both scans (the edges' own fraction). */
+#define ROW_FRACTION 0.5
+
+/* A profile's value at y (linear between rows); NAN outside. */
+static double value_at(const struct uwb_face_profile *p, double y)
+{
+    double x = (y - p->y0_m) / p->dy_m;
+    int i = (int)floor(x);
+    if (!p->value || i < 0 || i + 1 >= p->n)
+        return NAN;
+    double t = x - i;
+    return (1.0 - t) * p->value[i] + t * p->value[i + 1];
+}
+
+static double profile_peak(const struct uwb_face_profile *p, double lo_m, double hi_m)
+{
+    double peak = 0.0;
+    for (int i = 0; i < p->n; i++) {
+        double y = p->y0_m + i * p->dy_m;
+        if (y >= lo_m && y <= hi_m && p->value[i] > peak)
+            peak = p->value[i];
+    }
+    return peak;
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+struct line {
+    double a, b, y_mid; /* a + b (y - y_mid) */
+};
+
+static double line_at(const struct line *l, double y)
+{
+    return l->a + l->b * (y - l->y_mid);
+}
+
+/* Least squares over the rows `use` marks; 0, or -1 with fewer than 3. */
+static int fit_line(const struct uwb_radial *r, const double *offset, const unsigned char *use,
+                    struct line *l)
+{
+    double n = 0, sy = 0, so = 0;
+    for (int i = 0; i < r->n; i++)
+        if (use[i]) {
+            n += 1;
+            sy += r->y0_m + i * r->dy_m;
+            so += offset[i];
+        }
+    if (n < 3)
+        return -1;
+    l->y_mid = sy / n;
+    double syy = 0, syo = 0;
+    for (int i = 0; i < r->n; i++)
+        if (use[i]) {
+            double dy = r->y0_m + i * r->dy_m - l->y_mid;
+            syy += dy * dy;
+            syo += dy * offset[i];
+        }
+    l->a = so / n;
+    l->b = syy > 0.0 ? syo / syy : 0.0;
+    return 0;
+}
+
+/* Range noise of one row's face: the envelope's peak moves by about its
+ * width (a quarter wavelength) times noise over signal. */
+static double row_noise_m(const struct uwb_analysis *a, double noise_rms, double y)
+{
+    double image_noise = noise_rms * sqrt((double)(a->measured.positions > 0 ? a->measured.positions : 1));
+    double e = value_at(&a->profile, y);
+    return e > 0.0 ? image_noise / e * a->wavelength_m / 4.0 : INFINITY;
+}
+
+int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis *base, double shift_m,
+                       double watch_m, double noise_rms, struct uwb_radial *r)
+{
+    memset(r, 0, sizeof *r);
+    if (!cur->edges.found || !base->edges.found || !cur->face_range.value || !base->face_range.value) {
+        snprintf(r->why, sizeof r->why, "the face's range is not measured in both scans");
+        return 0;
+    }
+    const struct uwb_face_profile *rb = &base->face_range;
+    r->dy_m = rb->dy_m;
+    double lo = base->edges.lower_m, hi = base->edges.upper_m;
+    r->y0_m = rb->y0_m + ceil((lo - rb->y0_m) / rb->dy_m) * rb->dy_m;
+    r->n = (int)floor((hi - r->y0_m) / r->dy_m) + 1;
+    if (r->n > UWB_RADIAL_MAX_ROWS)
+        r->n = UWB_RADIAL_MAX_ROWS;
+    double peak_b = profile_peak(&base->profile, lo, hi);
+    double peak_c = profile_peak(&cur->profile, lo + shift_m, hi + shift_m);
+    double offset[UWB_RADIAL_MAX_ROWS], noise[UWB_RADIAL_MAX_ROWS];
+    unsigned char readable[UWB_RADIAL_MAX_ROWS], use[UWB_RADIAL_MAX_ROWS];
+    int rows = 0;
+    for (int i = 0; i < r->n; i++) {
+        double y = r->y0_m + i * r->dy_m;
+        double zb = value_at(rb, y), zc = value_at(&cur->face_range, y + shift_m);
+        double eb = value_at(&base->profile, y), ec = value_at(&cur->profile, y + shift_m);
+        readable[i] =
+            isfinite(zb) && isfinite(zc) && eb >= ROW_FRACTION * peak_b && ec >= ROW_FRACTION * peak_c;
+        offset[i] = readable[i] ? zb - zc : 0.0; /* + : nearer the antenna now */
+        noise[i] = readable[i]
+                       ? hypot(row_noise_m(base, noise_rms, y), row_noise_m(cur, noise_rms, y + shift_m))
+                       : INFINITY;
+        use[i] = readable[i];
+        rows += readable[i];
+    }
+    if (rows < 3) {
+        snprintf(r->why, sizeof r->why, "too few rows of the face are bright enough in both scans");
+        return 0;
+    }
+    /* The first line: level at the rows' median, which a change over less
+     * than half the face does not move (a least-squares line through all
+     * rows leans toward the change and then keeps it). */
+    double sorted[UWB_RADIAL_MAX_ROWS];
+    int m = 0;
+    for (int i = 0; i < r->n; i++)
+        if (readable[i])
+            sorted[m++] = offset[i];
+    qsort(sorted, (size_t)m, sizeof *sorted, compare_doubles);
+    struct line line = {.a = sorted[m / 2], .b = 0.0, .y_mid = 0.5 * (lo + hi)};
+    for (int pass = 0; pass < LINE_PASSES; pass++) {
+        for (int i = 0; i < r->n; i++)
+            use[i] = readable[i] && fabs(offset[i] - line_at(&line, r->y0_m + i * r->dy_m)) <= 0.5 * watch_m;
+        if (fit_line(r, offset, use, &line) != 0) {
+            snprintf(r->why, sizeof r->why,
+                     "no part of the face stayed where it was: the change cannot be told from a tilt");
+            return 0;
+        }
+    }
+    r->measured = 1;
+    r->tilt_m = line.b * (hi - lo);
+    int at = -1;
+    double model = 0.0;
+    int unchanged = 0;
+    for (int i = 0; i < r->n; i++) {
+        double y = r->y0_m + i * r->dy_m;
+        r->change_m[i] = readable[i] ? offset[i] - line_at(&line, y) : 0.0;
+        if (readable[i] && (at < 0 || fabs(r->change_m[i]) > fabs(r->change_m[at])))
+            at = i;
+        if (use[i]) {
+            model += r->change_m[i] * r->change_m[i];
+            unchanged++;
+        }
+    }
+    model = unchanged > 0 ? sqrt(model / unchanged) : 0.0;
+    /* The size: the mean over the rows around the largest past half of it. */
+    double largest = r->change_m[at];
+    int from = at, to = at;
+    while (from > 0 && readable[from - 1] && fabs(r->change_m[from - 1]) >= 0.5 * fabs(largest) &&
+           r->change_m[from - 1] * largest > 0)
+        from--;
+    while (to < r->n - 1 && readable[to + 1] && fabs(r->change_m[to + 1]) >= 0.5 * fabs(largest) &&
+           r->change_m[to + 1] * largest > 0)
+        to++;
+    double sum = 0.0, noise2 = 0.0;
+    for (int i = from; i <= to; i++) {
+        sum += r->change_m[i];
+        noise2 += noise[i] * noise[i];
+    }
+    int width = to - from + 1;
+    r->max_change_m = sum / width;
+    r->at_m = r->y0_m + at * r->dy_m + shift_m;
+    /* Rows within a quarter wavelength share their noise (the image's range
+     * resolution): the mean gains only over independent stretches. */
+    double correlated_rows = fmax(1.0, base->wavelength_m / 4.0 / r->dy_m);
+    double independent = fmax(1.0, width / correlated_rows);
+    double noise_mean = sqrt(noise2 / width) / sqrt(independent);
+    r->uncertainty_m = hypot(noise_mean, model);
+    if (fabs(r->max_change_m) > watch_m || fabs(largest) > watch_m) {
+        int f = at, t = at;
+        while (f > 0 && readable[f - 1] && fabs(r->change_m[f - 1]) > watch_m)
+            f--;
+        while (t < r->n - 1 && readable[t + 1] && fabs(r->change_m[t + 1]) > watch_m)
+            t++;
+        if (fabs(r->change_m[at]) > watch_m) {
+            r->has_span = 1;
+            r->from_m = r->y0_m + f * r->dy_m + shift_m;
+            r->to_m = r->y0_m + t * r->dy_m + shift_m;
+        }
+    }
+    return 0;
+}
