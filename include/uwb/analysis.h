@@ -87,6 +87,11 @@ int uwb_analyse_scan(const struct uwb_scan *scan, const struct uwb_analysis_opti
 int uwb_measure_shift(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                       double *shift_m, char *err, size_t errlen);
 
+/* The same fit leaving out the baseline's rows skip_lo_m..skip_hi_m (where
+ * the face moved in range: src/evaluate/evaluate.c). */
+int uwb_measure_shift_skipping(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                               double skip_lo_m, double skip_hi_m, double *shift_m, char *err, size_t errlen);
+
 /* The same fit on each shoulder alone (the baseline's lower and upper edge,
  * a quarter of the height either side): how far each end moved. Their
  * difference is a second reading of the height change, independent of the

@@ -10,11 +10,12 @@
 
 struct uwb_compare_options {
     struct uwb_thresholds thresholds;
-    double systematic_displacement_m; /* 1-sigma floor of a displacement between two scans */
-    double max_uncertainty_m;         /* above this 1-sigma the verdict is inconclusive */
-    double max_height_uncertainty_m;  /* above this 1-sigma the height change is withheld */
-    double baseline_repeatability_m;  /* 1-sigma of the baseline's centre from the spread of its commissioning
-                                         scans */
+    struct uwb_thresholds radial_thresholds; /* on the radial change (radial.watch_mm, radial.alarm_mm) */
+    double systematic_displacement_m;        /* 1-sigma floor of a displacement between two scans */
+    double max_uncertainty_m;                /* above this 1-sigma the verdict is inconclusive */
+    double max_height_uncertainty_m;         /* above this 1-sigma the height change is withheld */
+    double baseline_repeatability_m; /* 1-sigma of the baseline's centre from the spread of its commissioning
+                                        scans */
 };
 
 void uwb_compare_defaults(struct uwb_compare_options *opt);
@@ -42,6 +43,16 @@ struct uwb_pair_figures {
      * scan's own edges were judged with (0: not measured): on its own a scan
      * takes the static scene's echoes for noise. */
     double noise_ratio_current, noise_ratio_baseline;
+    /* The face's radial change (uwb/radial.h), and the axial shift fitted
+     * again without the changed rows (has_refit): how far it parts from
+     * displacement_m is the axial figure's deformation term. */
+    int has_radial;
+    double radial_max_m, radial_at_m, radial_uncertainty_m, radial_tilt_m;
+    int radial_has_span;
+    double radial_from_m, radial_to_m;
+    char radial_withheld[160];
+    int has_refit;
+    double refit_displacement_m;
 };
 
 /* The terms of a displacement's 1-sigma uncertainty, all independent. */
@@ -52,6 +63,7 @@ struct uwb_uncertainty_terms {
     double clutter_baseline_m;
     double systematic_m;             /* the floor: what the static scene and sampling leave */
     double baseline_repeatability_m; /* spread of the baseline's commissioning scans (baseline set N) */
+    double deformation_m; /* the face deformed: the shift with and without its changed rows disagree */
 };
 
 /* Their sum in quadrature: the one place the verdict's sigma is composed. */

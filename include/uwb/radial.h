@@ -32,6 +32,10 @@ struct uwb_radial {
      * rows, and the model term, the scatter of the unchanged rows about
      * their line (what the imaging leaves of a pure shift). */
     double uncertainty_m;
+    /* Baseline rows (its own y) a second axial fit leaves out: the change
+     * past the watch limit, down to a quarter of it (has_excluded). */
+    int has_excluded;
+    double excluded_lo_m, excluded_hi_m;
 };
 
 /* Compare the two analyses' face ranges with the current one shifted back

@@ -46,6 +46,20 @@ struct uwb_thresholds {
 
 #define UWB_MAX_IMAGES 4
 
+/* The face's radial change against the baseline (uwb/radial.h), as the
+ * verdict gives it: + toward the antenna (a bulge), - away (a dent). */
+struct uwb_radial_verdict {
+    int measured;           /* 0: see withheld */
+    enum uwb_status status; /* ok, watch, alarm or inconclusive */
+    double max_change_m;    /* the largest change, signed */
+    double at_m;            /* its height, in this scan's y */
+    int has_span;           /* where |change| exceeds the watch limit */
+    double from_m, to_m;
+    double uncertainty_m; /* 1-sigma of max_change */
+    double tilt_m;        /* the face's top minus its bottom, + top nearer */
+    char withheld[160];   /* why not measured, or empty */
+};
+
 struct uwb_verdict {
     enum uwb_status status;
     char reason[256]; /* why inconclusive, or empty */
@@ -58,10 +72,13 @@ struct uwb_verdict {
     char baseline_scan_id[128];
     double axial_displacement_m; /* Yc - Yc(baseline), positive = up */
     double uncertainty_m;        /* 1-sigma of the displacement */
+    int axial_withheld;          /* the displacement is no figure (its sigma too large); the status may
+                                    still be the radial one's */
     /* (the 95 % interval is UWB_SIGMAS_95 of these either side) */
     double height_change_m;
     double height_change_uncertainty_m; /* its 1-sigma: the edges' noise and the model term */
     char height_change_withheld[192];   /* why the height change is not given, or empty */
+    struct uwb_radial_verdict radial;   /* with a baseline, both faces found */
     /* Time zero: the direct coupling's arrival in this scan and, against a
      * baseline, how far it moved since the baseline's. */
     int has_direct_coupling;

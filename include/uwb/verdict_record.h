@@ -43,7 +43,15 @@ struct uwb_verdict_record {
     double lower_edge_mm, upper_edge_mm, center_mm, height_mm;
     int has_height_change;
     double height_change_mm, height_change_uncertainty_mm;
-    char height_change_withheld[192];                  /* compared, but the height change not given: why */
+    char height_change_withheld[192]; /* compared, but the height change not given: why */
+    /* Compared: the face's radial change (measured), or why not (withheld). */
+    int has_radial;
+    enum uwb_status radial_status;
+    int radial_measured;
+    double radial_max_change_mm, radial_at_mm, radial_uncertainty_mm, radial_tilt_mm;
+    int radial_has_span;
+    double radial_from_mm, radial_to_mm;
+    char radial_withheld[160];
     double face_range_mm, snr_db, edge_uncertainty_mm; /* with has_edges */
     int has_side_reflector;
     double side_reflector_mm;

@@ -16,6 +16,26 @@ static void print_upper(FILE *out, const char *s)
         fputc(toupper((unsigned char)*s), out);
 }
 
+/* The face's radial change, + toward the antenna (a bulge). */
+static void print_radial(const struct uwb_verdict_record *v, FILE *out)
+{
+    if (!v->has_radial)
+        return;
+    if (!v->radial_measured) {
+        fprintf(out, "radial change withheld: %s\n", v->radial_withheld);
+        return;
+    }
+    fprintf(out, "radial change %+.2f \u00b1 %.2f mm 1\u03c3 at %.0f mm", v->radial_max_change_mm,
+            v->radial_uncertainty_mm, v->radial_at_mm);
+    if (v->radial_has_span)
+        fprintf(out, ", past the watch limit from %.0f to %.0f mm", v->radial_from_mm, v->radial_to_mm);
+    fprintf(out, "; tilt %+.2f mm (+: top nearer): ", v->radial_tilt_mm);
+    print_upper(out, uwb_status_name(v->radial_status));
+    if (v->radial_withheld[0])
+        fprintf(out, " (%s)", v->radial_withheld);
+    fputc('\n', out);
+}
+
 static void print_verdict(const struct uwb_verdict_record *v, FILE *out)
 {
     fputs("status ", out);
@@ -41,6 +61,7 @@ static void print_verdict(const struct uwb_verdict_record *v, FILE *out)
                 v->height_change_uncertainty_mm);
     else if (v->height_change_withheld[0])
         fprintf(out, "height change withheld: %s\n", v->height_change_withheld);
+    print_radial(v, out);
     for (int i = 0; i < v->n_images; i++)
         fprintf(out, "image: %s\n", v->images[i]);
 }

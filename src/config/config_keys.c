@@ -223,6 +223,11 @@ const struct config_key uwbd_config_keys[] = {
                  "a displacement (up or down) from this size on gives the status alarm (not below watch_mm)"),
     NUMBER_ABOVE("analysis.max_uncertainty_mm", evaluate.compare.max_uncertainty_m, "mm", 1e-3, 0, 1000, 1,
                  "above this 1-sigma uncertainty of the displacement the verdict is inconclusive"),
+    NUMBER_ABOVE("radial.watch_mm", evaluate.compare.radial_thresholds.watch_m, "mm", 1e-3, 0, 1000, 2,
+                 "a radial change of the winding's face (toward the antenna or away) from this size on gives "
+                 "the status watch"),
+    NUMBER_ABOVE("radial.alarm_mm", evaluate.compare.radial_thresholds.alarm_m, "mm", 1e-3, 0, 1000, 5,
+                 "a radial change from this size on gives the status alarm (not below radial.watch_mm)"),
     {.path = "analysis.migration",
      .type = KEY_MIGRATION,
      .offset = AT(evaluate.analysis.migration),

@@ -545,6 +545,12 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
              cfg->evaluate.compare.thresholds.alarm_m * 1e3, cfg->evaluate.compare.thresholds.watch_m * 1e3);
         return -1;
     }
+    const struct uwb_thresholds *radial = &cfg->evaluate.compare.radial_thresholds;
+    if (radial->alarm_m < radial->watch_m) {
+        fail(ctx, "radial.alarm_mm", "%g mm is below radial.watch_mm (%g mm)", radial->alarm_m * 1e3,
+             radial->watch_m * 1e3);
+        return -1;
+    }
     /* The rig's rules between fields, where the loader would have met them. */
     const char *rig_key = NULL;
     char rig_why[512];

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "uwb/direct_coupling.h"
+#include "uwb/radial.h"
 #include "uwb/rig_check.h"
 
 void uwb_evaluate_defaults(struct uwb_evaluate_options *opt)
@@ -229,6 +230,38 @@ static int rig_unchanged(struct uwb_analysis *cur_a, struct uwb_analysis *base_a
     return 0;
 }
 
+/* The face's radial change at the pair's shift, and the shift fitted again
+ * without its changed rows: a bulge changes the echo's strength about it,
+ * which the whole face's fit reads in part as a movement, while leaving
+ * its rows out loses the lean the imaging's blur spreads beyond them.
+ * Neither fit is then the movement; how far they part is the axial
+ * figure's deformation term (compare.c). */
+static void measure_radial(const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
+                           const struct uwb_compare_options *copt, double noise_rms,
+                           struct uwb_pair_figures *pair)
+{
+    struct uwb_radial radial;
+    uwb_radial_measure(cur_a, base_a, pair->displacement_m, copt->radial_thresholds.watch_m, noise_rms,
+                       &radial);
+    if (!radial.measured) {
+        snprintf(pair->radial_withheld, sizeof pair->radial_withheld, "%s", radial.why);
+        return;
+    }
+    pair->has_radial = 1;
+    pair->radial_max_m = radial.max_change_m;
+    pair->radial_at_m = radial.at_m;
+    pair->radial_uncertainty_m = radial.uncertainty_m;
+    pair->radial_tilt_m = radial.tilt_m;
+    pair->radial_has_span = radial.has_span;
+    pair->radial_from_m = radial.from_m;
+    pair->radial_to_m = radial.to_m;
+    char why[256];
+    if (radial.has_excluded &&
+        uwb_measure_shift_skipping(cur_a, base_a, radial.excluded_lo_m, radial.excluded_hi_m,
+                                   &pair->refit_displacement_m, why, sizeof why) == 0)
+        pair->has_refit = 1;
+}
+
 int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_record *baseline,
                  const struct uwb_evaluate_options *opt, struct uwb_verdict *v, struct uwb_analysis *cur_a,
                  struct uwb_analysis *base_a, char *err, size_t errlen)
@@ -317,6 +350,9 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
             pair.noise_ratio_current = fmax(noise.noise_rms / cur_a->noise_sigma, 1e-9);
             pair.noise_ratio_baseline = fmax(noise.noise_rms / base_a->noise_sigma, 1e-9);
         }
+        measure_radial(cur_a, base_a, &copt,
+                       noise.measured ? noise.noise_rms : 0.5 * (cur_a->noise_sigma + base_a->noise_sigma),
+                       &pair);
         pair.has_shoulders = uwb_measure_shoulder_shifts(cur_a, base_a, &pair.lower_shift_m,
                                                          &pair.upper_shift_m, err, errlen) == 0;
     }

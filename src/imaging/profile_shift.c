@@ -64,7 +64,8 @@ static double energy_at(const struct energy *p, double y)
 struct span {
     int n;
     double centre_m, half_m;
-    double *base; /* g * base(y) is fitted to these */
+    double skip_lo_m, skip_hi_m; /* baseline rows the fit leaves out (lo >= hi: none) */
+    double *base;                /* g * base(y) is fitted to these */
     double bb;
 };
 
@@ -73,9 +74,19 @@ static double span_offset(const struct span *s, int k)
     return -s->half_m + k * FIT_STEP_M;
 }
 
-static int span_of(const struct energy *base, double centre_m, double half_span_m, struct span *s)
+/* Whether point k of the span lies in the rows left out. */
+static int skipped(const struct span *s, int k)
+{
+    double y = s->centre_m + span_offset(s, k);
+    return s->skip_lo_m < s->skip_hi_m && y >= s->skip_lo_m && y <= s->skip_hi_m;
+}
+
+static int span_of(const struct energy *base, double centre_m, double half_span_m, double skip_lo_m,
+                   double skip_hi_m, struct span *s)
 {
     s->n = 0;
+    s->skip_lo_m = skip_lo_m;
+    s->skip_hi_m = skip_hi_m;
     s->centre_m = centre_m;
     s->half_m = half_span_m;
     s->bb = 0.0;
@@ -87,7 +98,7 @@ static int span_of(const struct energy *base, double centre_m, double half_span_
     if (!s->base)
         return -1;
     for (int k = 0; k < s->n; k++) {
-        double b = energy_at(base, centre_m + span_offset(s, k));
+        double b = skipped(s, k) ? 0.0 : energy_at(base, centre_m + span_offset(s, k));
         s->base[k] = b;
         s->bb += b * b;
     }
@@ -99,6 +110,8 @@ static double misfit(const struct energy *cur, const struct span *s, double d)
 {
     double cc = 0.0, cb = 0.0;
     for (int k = 0; k < s->n; k++) {
+        if (skipped(s, k))
+            continue;
         double c = energy_at(cur, s->centre_m + d + span_offset(s, k)), b = s->base[k];
         cc += c * c;
         cb += c * b;
@@ -122,11 +135,11 @@ static void fit_inputs_free(struct fit_inputs *f)
 
 static int fit_inputs_of(const struct uwb_face_profile *cur_profile,
                          const struct uwb_face_profile *base_profile, double base_centre_m,
-                         double half_span_m, struct fit_inputs *f)
+                         double half_span_m, double skip_lo_m, double skip_hi_m, struct fit_inputs *f)
 {
     *f = (struct fit_inputs){0};
     if (energy_of(cur_profile, &f->cur) != 0 || energy_of(base_profile, &f->base) != 0 ||
-        span_of(&f->base, base_centre_m, half_span_m, &f->span) != 0) {
+        span_of(&f->base, base_centre_m, half_span_m, skip_lo_m, skip_hi_m, &f->span) != 0) {
         fit_inputs_free(f);
         return -1;
     }
@@ -138,10 +151,10 @@ static int fit_inputs_of(const struct uwb_face_profile *cur_profile,
  * stopped. */
 static double shift_fit(const struct uwb_face_profile *cur_profile,
                         const struct uwb_face_profile *base_profile, double base_centre_m, double half_span_m,
-                        double guess_m, int *interior)
+                        double skip_lo_m, double skip_hi_m, double guess_m, int *interior)
 {
     struct fit_inputs f;
-    if (fit_inputs_of(cur_profile, base_profile, base_centre_m, half_span_m, &f) != 0)
+    if (fit_inputs_of(cur_profile, base_profile, base_centre_m, half_span_m, skip_lo_m, skip_hi_m, &f) != 0)
         return NAN;
     double best_d = guess_m, best = INFINITY;
     int n = (int)ceil(FIT_SEARCH_M / COARSE_STEP_M), best_i = 0;
@@ -179,7 +192,7 @@ double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile,
                              double half_span_m, double guess_m)
 {
     int interior;
-    return shift_fit(cur_profile, base_profile, base_centre_m, half_span_m, guess_m, &interior);
+    return shift_fit(cur_profile, base_profile, base_centre_m, half_span_m, 0.0, 0.0, guess_m, &interior);
 }
 
 /* The fit compares the profiles over the baseline's winding, edge to edge
@@ -195,6 +208,12 @@ double uwb_analysis_shift(const struct uwb_face_profile *cur, const struct uwb_f
 int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis *base, double *shift_m,
                       char *err, size_t errlen)
 {
+    return uwb_measure_shift_skipping(cur, base, 0.0, 0.0, shift_m, err, errlen);
+}
+
+int uwb_measure_shift_skipping(const struct uwb_analysis *cur, const struct uwb_analysis *base,
+                               double skip_lo_m, double skip_hi_m, double *shift_m, char *err, size_t errlen)
+{
     if (!cur->edges.found || !base->edges.found || !cur->profile.value || !base->profile.value) {
         snprintf(err, errlen, "shift: the winding is not established in both scans");
         return -1;
@@ -202,7 +221,7 @@ int uwb_measure_shift(const struct uwb_analysis *cur, const struct uwb_analysis 
     double guess = cur->edges.center_m - base->edges.center_m;
     int interior;
     *shift_m = shift_fit(&cur->profile, &base->profile, base->edges.center_m, 0.5 * base->edges.height_m,
-                         guess, &interior);
+                         skip_lo_m, skip_hi_m, guess, &interior);
     if (isnan(*shift_m)) {
         snprintf(err, errlen, "shift: out of memory for the profiles' fit");
         return -1;
@@ -291,7 +310,7 @@ int uwb_profile_shift_gradient(const struct uwb_face_profile *cur_profile,
                                double half_span_m, double d_m, double *grad_cur, double *grad_base)
 {
     struct fit_inputs f;
-    if (fit_inputs_of(cur_profile, base_profile, base_centre_m, half_span_m, &f) != 0)
+    if (fit_inputs_of(cur_profile, base_profile, base_centre_m, half_span_m, 0.0, 0.0, &f) != 0)
         return -1;
     /* The slope's own change with d over the fit's finest step, as the
      * fit's parabola through its neighbours reads the curvature. */

@@ -205,5 +205,18 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
             r->to_m = r->y0_m + t * r->dy_m + shift_m;
         }
     }
+    /* Where the echo moved in range its strength moved too, which the
+     * axial fit reads in part as a movement: the rows of a change past the
+     * watch limit, down to a quarter of it, for a second fit without them. */
+    if (fabs(largest) > watch_m) {
+        int f = at, t = at;
+        while (f > 0 && readable[f - 1] && r->change_m[f - 1] * largest >= 0.25 * largest * largest)
+            f--;
+        while (t < r->n - 1 && readable[t + 1] && r->change_m[t + 1] * largest >= 0.25 * largest * largest)
+            t++;
+        r->has_excluded = 1;
+        r->excluded_lo_m = r->y0_m + f * r->dy_m;
+        r->excluded_hi_m = r->y0_m + t * r->dy_m;
+    }
     return 0;
 }

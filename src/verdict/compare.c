@@ -8,6 +8,10 @@ void uwb_compare_defaults(struct uwb_compare_options *opt)
 {
     opt->thresholds.watch_m = 0.002;
     opt->thresholds.alarm_m = 0.005;
+    /* Radial like axial: 2 mm is about the face's own scatter on a pure
+     * shift doubled, 5 mm a buckle the short-circuit forces left. */
+    opt->radial_thresholds.watch_m = 0.002;
+    opt->radial_thresholds.alarm_m = 0.005;
     opt->systematic_displacement_m = 0.0001;
     opt->max_uncertainty_m = 0.001;
     /* The height change should tell a squeezed spacer (2 mm) from none:
@@ -51,7 +55,8 @@ double uwb_displacement_uncertainty(const struct uwb_uncertainty_terms *t)
     return sqrt(t->noise_current_m * t->noise_current_m + t->noise_baseline_m * t->noise_baseline_m +
                 t->clutter_current_m * t->clutter_current_m + t->clutter_baseline_m * t->clutter_baseline_m +
                 t->systematic_m * t->systematic_m +
-                t->baseline_repeatability_m * t->baseline_repeatability_m);
+                t->baseline_repeatability_m * t->baseline_repeatability_m +
+                t->deformation_m * t->deformation_m);
 }
 
 /* The height change's 1-sigma, or withheld (why filled): each scan's noise
@@ -89,6 +94,75 @@ static void height_change_uncertainty(struct uwb_verdict *v, const struct uwb_ed
                  v->height_change_m * 1e3, (pair->upper_shift_m - pair->lower_shift_m) * 1e3);
 }
 
+static enum uwb_status graded(double magnitude_m, const struct uwb_thresholds *t)
+{
+    if (magnitude_m >= t->alarm_m)
+        return UWB_STATUS_ALARM;
+    return magnitude_m >= t->watch_m ? UWB_STATUS_WATCH : UWB_STATUS_OK;
+}
+
+/* The radial verdict from the pair's figures: graded on the change, or
+ * inconclusive past the largest 1-sigma a figure may carry. */
+static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures *pair,
+                           const struct uwb_compare_options *opt)
+{
+    struct uwb_radial_verdict *r = &v->radial;
+    memset(r, 0, sizeof *r);
+    if (!pair || !pair->valid || !pair->has_radial) {
+        r->status = UWB_STATUS_INCONCLUSIVE;
+        snprintf(r->withheld, sizeof r->withheld, "%s",
+                 pair && pair->radial_withheld[0] ? pair->radial_withheld
+                                                  : "the face's range was not compared");
+        return;
+    }
+    r->measured = 1;
+    r->max_change_m = pair->radial_max_m;
+    r->at_m = pair->radial_at_m;
+    r->has_span = pair->radial_has_span;
+    r->from_m = pair->radial_from_m;
+    r->to_m = pair->radial_to_m;
+    r->uncertainty_m = pair->radial_uncertainty_m;
+    r->tilt_m = pair->radial_tilt_m;
+    if (r->uncertainty_m > opt->max_uncertainty_m) {
+        r->status = UWB_STATUS_INCONCLUSIVE;
+        snprintf(r->withheld, sizeof r->withheld, "radial uncertainty %.2f mm exceeds %.2f mm",
+                 r->uncertainty_m * 1e3, opt->max_uncertainty_m * 1e3);
+        return;
+    }
+    r->status = graded(fabs(r->max_change_m), &opt->radial_thresholds);
+}
+
+/* How bad a status is for the verdict that combines the axial and the
+ * radial one: a change past a limit outranks a figure withheld. */
+static int severity(enum uwb_status s)
+{
+    switch (s) {
+    case UWB_STATUS_ALARM: return 3;
+    case UWB_STATUS_WATCH: return 2;
+    case UWB_STATUS_INCONCLUSIVE: return 1;
+    default: return 0;
+    }
+}
+
+/* The verdict's status: the worse of the axial and the radial one, the
+ * reason saying which when the radial decides. */
+static void combine_radial(struct uwb_verdict *v)
+{
+    const struct uwb_radial_verdict *r = &v->radial;
+    if (!r->measured || severity(r->status) <= severity(v->status))
+        return;
+    char axial[256];
+    snprintf(axial, sizeof axial, "%s", v->reason);
+    if (r->has_span)
+        snprintf(v->reason, sizeof v->reason, "radial change %+.2f mm at %.0f mm (%.0f..%.0f mm)%s%.150s",
+                 r->max_change_m * 1e3, r->at_m * 1e3, r->from_m * 1e3, r->to_m * 1e3,
+                 axial[0] ? "; axial: " : "", axial);
+    else
+        snprintf(v->reason, sizeof v->reason, "radial change %+.2f mm at %.0f mm%s%.150s",
+                 r->max_change_m * 1e3, r->at_m * 1e3, axial[0] ? "; axial: " : "", axial);
+    v->status = r->status;
+}
+
 void uwb_compare_edges(struct uwb_verdict *v, const struct uwb_edges *cur, const struct uwb_edges *base,
                        const struct uwb_compare_options *opt)
 {
@@ -99,6 +173,7 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
                       const struct uwb_pair_figures *pair, const struct uwb_compare_options *opt)
 {
     v->current = *cur;
+    v->axial_withheld = 0;
     v->has_baseline = base != NULL;
     if (base)
         v->baseline = *base;
@@ -136,18 +211,28 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
         terms.noise_current_m = pair->sigma_noise_current_m;
         terms.noise_baseline_m = pair->sigma_noise_baseline_m;
     }
+    if (pair && pair->valid && pair->has_refit)
+        terms.deformation_m = fabs(pair->refit_displacement_m - pair->displacement_m);
     v->uncertainty_m = uwb_displacement_uncertainty(&terms);
-    double d = fabs(v->axial_displacement_m);
+    radial_verdict(v, pair, opt);
+    if (v->radial.measured && severity(v->radial.status) >= severity(UWB_STATUS_WATCH) &&
+        !v->height_change_withheld[0])
+        snprintf(v->height_change_withheld, sizeof v->height_change_withheld,
+                 "the face deformed radially: its crossings follow the echo's strength there");
     if (v->uncertainty_m > opt->max_uncertainty_m) {
         v->status = UWB_STATUS_INCONCLUSIVE;
-        snprintf(v->reason, sizeof v->reason,
-                 "uncertainty %.2f mm exceeds %.2f mm: too little signal for a figure",
-                 v->uncertainty_m * 1e3, opt->max_uncertainty_m * 1e3);
-    } else if (d >= opt->thresholds.alarm_m) {
-        v->status = UWB_STATUS_ALARM;
-    } else if (d >= opt->thresholds.watch_m) {
-        v->status = UWB_STATUS_WATCH;
+        v->axial_withheld = 1;
+        if (pair && terms.deformation_m > opt->max_uncertainty_m)
+            snprintf(v->reason, sizeof v->reason,
+                     "the face deformed: the axial shift reads %+.2f mm on the whole face, %+.2f mm without "
+                     "its changed rows; axial figure withheld",
+                     pair->displacement_m * 1e3, pair->refit_displacement_m * 1e3);
+        else
+            snprintf(v->reason, sizeof v->reason,
+                     "uncertainty %.2f mm exceeds %.2f mm: too little signal for a figure",
+                     v->uncertainty_m * 1e3, opt->max_uncertainty_m * 1e3);
     } else {
-        v->status = UWB_STATUS_OK;
+        v->status = graded(fabs(v->axial_displacement_m), &opt->thresholds);
     }
+    combine_radial(v);
 }

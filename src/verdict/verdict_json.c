@@ -73,6 +73,26 @@ static void add_cycle(cJSON *o, const struct uwb_verdict_cycle *c)
     add_text(o, "record_error", c->record_error);
 }
 
+/* "radial": the face's radial change, + toward the antenna. */
+static void add_radial(cJSON *o, const struct uwb_verdict_record *r)
+{
+    cJSON *radial = r->has_radial ? cJSON_AddObjectToObject(o, "radial") : NULL;
+    if (!radial)
+        return;
+    cJSON_AddStringToObject(radial, "status", uwb_status_name(r->radial_status));
+    if (r->radial_measured) {
+        cJSON_AddNumberToObject(radial, "max_change_mm", r->radial_max_change_mm);
+        cJSON_AddNumberToObject(radial, "at_mm", r->radial_at_mm);
+        if (r->radial_has_span) {
+            cJSON_AddNumberToObject(radial, "from_mm", r->radial_from_mm);
+            cJSON_AddNumberToObject(radial, "to_mm", r->radial_to_mm);
+        }
+        cJSON_AddNumberToObject(radial, "uncertainty_mm", r->radial_uncertainty_mm);
+        cJSON_AddNumberToObject(radial, "tilt_mm", r->radial_tilt_mm);
+    }
+    add_text(radial, "withheld", r->radial_withheld);
+}
+
 cJSON *uwb_record_object(const struct uwb_verdict_record *r)
 {
     cJSON *o = cJSON_CreateObject();
@@ -105,6 +125,7 @@ cJSON *uwb_record_object(const struct uwb_verdict_record *r)
         if (r->has_side_reflector)
             cJSON_AddNumberToObject(o, "side_reflector_mm", r->side_reflector_mm);
     }
+    add_radial(o, r);
     if (r->has_baseline) {
         cJSON *b = cJSON_AddObjectToObject(o, "baseline");
         if (b) {
@@ -268,6 +289,26 @@ static void read_cycle(struct reader *rd, struct uwb_verdict_cycle *c)
     text_at(rd, o, "record_error", c->record_error, sizeof c->record_error);
 }
 
+static void read_radial(struct reader *rd, struct uwb_verdict_record *r)
+{
+    const cJSON *radial = cJSON_GetObjectItemCaseSensitive(rd->o, "radial");
+    if (radial && !cJSON_IsObject(radial))
+        refuse(rd, "radial", "not an object");
+    if (!cJSON_IsObject(radial))
+        return;
+    r->has_radial = 1;
+    const cJSON *status = cJSON_GetObjectItemCaseSensitive(radial, "status");
+    if (!cJSON_IsString(status) || uwb_status_from_name(status->valuestring, &r->radial_status) != 0)
+        refuse(rd, "radial.status", "missing or not a status");
+    r->radial_measured = number_at(rd, radial, "max_change_mm", &r->radial_max_change_mm);
+    number_at(rd, radial, "at_mm", &r->radial_at_mm);
+    r->radial_has_span = number_at(rd, radial, "from_mm", &r->radial_from_mm) &
+                         number_at(rd, radial, "to_mm", &r->radial_to_mm);
+    number_at(rd, radial, "uncertainty_mm", &r->radial_uncertainty_mm);
+    number_at(rd, radial, "tilt_mm", &r->radial_tilt_mm);
+    text_at(rd, radial, "withheld", r->radial_withheld, sizeof r->radial_withheld);
+}
+
 static void read_figures(struct reader *rd, struct uwb_verdict_record *r)
 {
     const cJSON *o = rd->o;
@@ -285,6 +326,7 @@ static void read_figures(struct reader *rd, struct uwb_verdict_record *r)
     number_at(rd, o, "snr_db", &r->snr_db);
     number_at(rd, o, "edge_uncertainty_mm", &r->edge_uncertainty_mm);
     r->has_side_reflector = number_at(rd, o, "side_reflector_mm", &r->side_reflector_mm);
+    read_radial(rd, r);
     const cJSON *b = cJSON_GetObjectItemCaseSensitive(o, "baseline");
     if (b && !cJSON_IsObject(b))
         refuse(rd, "baseline", "not an object");

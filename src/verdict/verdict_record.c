@@ -29,7 +29,7 @@ void uwb_record_from_verdict(struct uwb_verdict_record *r, const struct uwb_verd
     snprintf(r->created, sizeof r->created, "%s", v->created);
     int compared = v->has_baseline && v->current.found && v->baseline.found &&
                    v->status != UWB_STATUS_INCONCLUSIVE && v->status != UWB_STATUS_ERROR;
-    if (compared) {
+    if (compared && !v->axial_withheld) {
         r->has_displacement = 1;
         r->axial_displacement_mm = uwb_record_mm(v->axial_displacement_m);
         r->uncertainty_mm = uwb_record_mm(v->uncertainty_m);
@@ -54,6 +54,24 @@ void uwb_record_from_verdict(struct uwb_verdict_record *r, const struct uwb_verd
         r->has_side_reflector = v->current.side_reflector != 0;
         if (r->has_side_reflector)
             r->side_reflector_mm = uwb_record_mm(v->current.side_reflector_y_m);
+    }
+    if (v->has_baseline && v->current.found && v->baseline.found && v->status != UWB_STATUS_ERROR) {
+        const struct uwb_radial_verdict *rv = &v->radial;
+        r->has_radial = 1;
+        r->radial_status = rv->status;
+        r->radial_measured = rv->measured;
+        if (rv->measured) {
+            r->radial_max_change_mm = uwb_record_mm(rv->max_change_m);
+            r->radial_at_mm = uwb_record_mm(rv->at_m);
+            r->radial_uncertainty_mm = uwb_record_mm(rv->uncertainty_m);
+            r->radial_tilt_mm = uwb_record_mm(rv->tilt_m);
+            r->radial_has_span = rv->has_span;
+            if (rv->has_span) {
+                r->radial_from_mm = uwb_record_mm(rv->from_m);
+                r->radial_to_mm = uwb_record_mm(rv->to_m);
+            }
+        }
+        snprintf(r->radial_withheld, sizeof r->radial_withheld, "%s", rv->withheld);
     }
     if (v->has_baseline && v->baseline.found) {
         r->has_baseline = 1;

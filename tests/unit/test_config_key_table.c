@@ -49,6 +49,8 @@ struct partner {
 static const struct partner partners[] = {
     {"analysis.alarm_mm", 0, "analysis.watch_mm", "1e-9"},
     {"analysis.watch_mm", 1, "analysis.alarm_mm", "1000"},
+    {"radial.alarm_mm", 0, "radial.watch_mm", "1e-9"},
+    {"radial.watch_mm", 1, "radial.alarm_mm", "1000"},
     {"carriage.home_rate_hz", 1, "carriage.max_rate_hz", "100000"},
     {"carriage.max_rate_hz", 0, "carriage.home_rate_hz", "1e-9"},
     {"carriage.park_mm", 1, "carriage.travel_mm", "100000"},

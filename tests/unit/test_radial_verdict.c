@@ -1,0 +1,155 @@
+/* The radial change in the verdict (issue 30): its status joins the
+ * axial one, the reason says when it decides, the axial figure is never a
+ * confident wrong one on a deformed face, and the verdict's JSON carries
+ * the "radial" object as documented. Full-wave fixtures (gprMax): the
+ * shared tank's radial scans against its intact scan, and a pure shift. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fixture_support.h"
+#include "unity.h"
+#include "uwb/evaluate.h"
+#include "uwb/verdict_json.h"
+#include "uwb/verdict_record.h"
+
+#define TANK_BASE "tests/fixtures/fdtd2d-tank-d+00.0.uwbscan"
+
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
+
+static int emulated(void)
+{
+    const char *prefix = getenv("UWB_EXEC_PREFIX");
+    return prefix && *prefix;
+}
+
+static struct uwb_verdict verdict;
+
+static void evaluate(const char *name)
+{
+    char path[256];
+    snprintf(path, sizeof path, "tests/fixtures/%s.uwbscan", name);
+    struct uwb_scan cur, base;
+    fixture_load_scan(path, &cur);
+    fixture_load_scan(TANK_BASE, &base);
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    struct uwb_analysis ca, ba;
+    char err[256];
+    struct uwb_baseline_record rec = {.scan = &base};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(&cur, &rec, &opt, &verdict, &ca, &ba, err, sizeof err),
+                                  err);
+    printf("%s: %s (%s); axial %+.2f +- %.2f mm%s; radial %s %+.2f mm at %.0f mm\n", name,
+           uwb_status_name(verdict.status), verdict.reason, verdict.axial_displacement_m * 1e3,
+           verdict.uncertainty_m * 1e3, verdict.axial_withheld ? " withheld" : "",
+           uwb_status_name(verdict.radial.status), verdict.radial.max_change_m * 1e3,
+           verdict.radial.at_m * 1e3);
+    uwb_analysis_free(&ca);
+    uwb_analysis_free(&ba);
+    uwb_scan_free(&cur);
+    uwb_scan_free(&base);
+}
+
+/* Never a confident wrong axial figure: withheld, or within 2 sigma. */
+static void assert_axial_honest(double truth_m)
+{
+    if (verdict.axial_withheld)
+        return;
+    TEST_ASSERT_TRUE_MESSAGE(fabs(verdict.axial_displacement_m - truth_m) <= 2.0 * verdict.uncertainty_m,
+                             "axial figure outside 2 sigma of the truth");
+}
+
+static void test_a_bulge_of_4_mm_is_a_radial_watch(void)
+{
+    evaluate("fdtd2d-tank-radial-r2-4+4-d+00.0");
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_WATCH, verdict.radial.status);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_WATCH, verdict.status);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(verdict.reason, "radial change +", 15), verdict.reason);
+    TEST_ASSERT_TRUE(verdict.height_change_withheld[0] != '\0');
+    assert_axial_honest(0.0);
+}
+
+static void test_a_bulge_of_8_mm_is_a_radial_alarm(void)
+{
+    evaluate("fdtd2d-tank-radial-r5-7+8-d+00.0");
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ALARM, verdict.radial.status);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ALARM, verdict.status);
+    assert_axial_honest(0.0);
+}
+
+static void test_a_dent_reads_negative(void)
+{
+    evaluate("fdtd2d-tank-radial-r3-5-4-d+00.0");
+    TEST_ASSERT_TRUE(verdict.radial.max_change_m < -0.002);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_WATCH, verdict.status);
+    assert_axial_honest(0.0);
+}
+
+static void test_a_bulge_with_a_rise_gives_no_confident_axial_figure(void)
+{
+    evaluate("fdtd2d-tank-radial-r4-5+6-d+10.0");
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ALARM, verdict.radial.status);
+    assert_axial_honest(0.010);
+}
+
+static void test_a_pure_shift_is_radially_ok_and_axial_decides(void)
+{
+    evaluate("fdtd2d-tank-d+10.0");
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_OK, verdict.radial.status);
+    TEST_ASSERT_TRUE(fabs(verdict.radial.max_change_m) <= 0.001);
+    TEST_ASSERT_FALSE(verdict.axial_withheld);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ALARM, verdict.status);
+    TEST_ASSERT_EQUAL_STRING("", verdict.reason);
+}
+
+/* The verdict's JSON: "radial" with the documented keys, read back alike. */
+static void test_the_json_carries_the_radial_object(void)
+{
+    evaluate("fdtd2d-tank-radial-r2-4+4-d+00.0");
+    struct uwb_verdict_record *r = malloc(sizeof *r), *back = malloc(sizeof *back);
+    TEST_ASSERT_TRUE(r && back);
+    uwb_record_from_verdict(r, &verdict);
+    char *json = uwb_record_to_json(r);
+    TEST_ASSERT_NOT_NULL(json);
+    cJSON *o = cJSON_Parse(json);
+    const cJSON *radial = cJSON_GetObjectItemCaseSensitive(o, "radial");
+    TEST_ASSERT_TRUE_MESSAGE(cJSON_IsObject(radial), json);
+    static const char *const keys[] = {"max_change_mm", "at_mm",          "from_mm",
+                                       "to_mm",         "uncertainty_mm", "tilt_mm"};
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+        TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(radial, keys[i])), keys[i]);
+    TEST_ASSERT_EQUAL_STRING("watch", cJSON_GetObjectItemCaseSensitive(radial, "status")->valuestring);
+    TEST_ASSERT_NULL_MESSAGE(cJSON_GetObjectItemCaseSensitive(o, "axial_displacement_mm"),
+                             "the withheld axial figure is not published");
+    char err[256];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_record_from_json(json, back, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(r->radial_status, back->radial_status);
+    TEST_ASSERT_EQUAL_DOUBLE(r->radial_max_change_mm, back->radial_max_change_mm);
+    TEST_ASSERT_EQUAL_DOUBLE(r->radial_from_mm, back->radial_from_mm);
+    TEST_ASSERT_EQUAL_INT(r->radial_has_span, back->radial_has_span);
+    cJSON_Delete(o);
+    free(json);
+    free(r);
+    free(back);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_a_bulge_of_4_mm_is_a_radial_watch);
+    RUN_TEST(test_the_json_carries_the_radial_object);
+    if (!emulated()) {
+        RUN_TEST(test_a_bulge_of_8_mm_is_a_radial_alarm);
+        RUN_TEST(test_a_dent_reads_negative);
+        RUN_TEST(test_a_bulge_with_a_rise_gives_no_confident_axial_figure);
+        RUN_TEST(test_a_pure_shift_is_radially_ok_and_axial_decides);
+    }
+    return UNITY_END();
+}
