@@ -440,6 +440,30 @@ static void *network_main(void *arg)
     return NULL;
 }
 
+/* The publisher's names and limits, from its config; acquires nothing. */
+static void set_names(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, const struct uwb_endpoint *ep,
+                      const char *state_dir)
+{
+    m->refused_rc = -1;
+    snprintf(m->host, sizeof m->host, "%s", ep->host);
+    m->port = (int)strtol(ep->port, NULL, 10);
+    snprintf(m->endpoint, sizeof m->endpoint, "%s", cfg->mqtt_endpoint);
+    m->tls = cfg->mqtt_ca_file[0] != '\0';
+    m->reconnect_max_s = cfg->mqtt_reconnect_max_s;
+    snprintf(m->dir, sizeof m->dir, "%s/" QUEUE_DIR, state_dir);
+    snprintf(m->verdict_topic, sizeof m->verdict_topic, "%s/%s/verdict", cfg->mqtt_topic_prefix,
+             cfg->asset_id);
+    snprintf(m->status_topic, sizeof m->status_topic, "%s/%s/status", cfg->mqtt_topic_prefix, cfg->asset_id);
+    m->queue_max = cfg->mqtt_queue_max;
+    snprintf(m->cmd_topic, sizeof m->cmd_topic, "%s/%s/cmd", cfg->mqtt_topic_prefix, cfg->asset_id);
+    snprintf(m->reply_topic, sizeof m->reply_topic, "%s/%s/reply", cfg->mqtt_topic_prefix, cfg->asset_id);
+    snprintf(m->health_topic, sizeof m->health_topic, "%s/%s/health", cfg->mqtt_topic_prefix, cfg->asset_id);
+}
+
+/* Acquires all or none: the endpoint and the library are checked before
+ * anything is held; from the allocation on, every failure goes to `fail`,
+ * where close() releases whatever was acquired so far (it takes a
+ * publisher at any stage: no mosq, no thread, no eventfd). */
 int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, const char *state_dir,
                    char *err, size_t errlen)
 {
@@ -460,51 +484,37 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
         return -1;
     }
     m->lib = lib;
+    m->command_fd = -1;
     pthread_mutex_init(&m->lock, NULL);
     pthread_mutex_init(&m->error_lock, NULL);
-    m->refused_rc = -1;
-    snprintf(m->host, sizeof m->host, "%s", ep.host);
-    m->port = (int)strtol(ep.port, NULL, 10);
-    snprintf(m->endpoint, sizeof m->endpoint, "%s", cfg->mqtt_endpoint);
-    m->tls = cfg->mqtt_ca_file[0] != '\0';
-    m->reconnect_max_s = cfg->mqtt_reconnect_max_s;
-    snprintf(m->dir, sizeof m->dir, "%s/" QUEUE_DIR, state_dir);
-    snprintf(m->verdict_topic, sizeof m->verdict_topic, "%s/%s/verdict", cfg->mqtt_topic_prefix,
-             cfg->asset_id);
-    snprintf(m->status_topic, sizeof m->status_topic, "%s/%s/status", cfg->mqtt_topic_prefix, cfg->asset_id);
-    m->queue_max = cfg->mqtt_queue_max;
-    snprintf(m->cmd_topic, sizeof m->cmd_topic, "%s/%s/cmd", cfg->mqtt_topic_prefix, cfg->asset_id);
-    snprintf(m->reply_topic, sizeof m->reply_topic, "%s/%s/reply", cfg->mqtt_topic_prefix, cfg->asset_id);
-    snprintf(m->health_topic, sizeof m->health_topic, "%s/%s/health", cfg->mqtt_topic_prefix, cfg->asset_id);
-    m->command_fd = cfg->mqtt_commands ? eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK) : -1;
-    if (cfg->mqtt_commands && m->command_fd < 0) {
+    m->lib->lib_init(); /* close() ends with its cleanup */
+    set_names(m, cfg, &ep, state_dir);
+    if (cfg->mqtt_commands && (m->command_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK)) < 0) {
         snprintf(err, errlen, "mqtt: eventfd: %s", strerror(errno));
-        pthread_mutex_destroy(&m->lock);
-        pthread_mutex_destroy(&m->error_lock);
-        free(m);
-        return -1;
+        goto fail;
     }
-    m->lib->lib_init();
     char client_id[128];
     snprintf(client_id, sizeof client_id, "uwbd-%s", cfg->asset_id);
     m->mosq = m->lib->new (client_id, true, m);
-    if (!m->mosq || load_queue(m, err, errlen) != 0 || configure(m, cfg, err, errlen) != 0) {
-        if (!m->mosq)
-            snprintf(err, errlen, "mqtt: out of memory");
-        uwbd_mqtt_close(m);
-        return -1;
+    if (!m->mosq) {
+        snprintf(err, errlen, "mqtt: out of memory");
+        goto fail;
     }
+    if (load_queue(m, err, errlen) != 0 || configure(m, cfg, err, errlen) != 0)
+        goto fail;
     int rc = pthread_create(&m->thread, NULL, network_main, m);
     if (rc != 0) {
         snprintf(err, errlen, "mqtt: cannot start its thread: %s", strerror(rc));
-        uwbd_mqtt_close(m);
-        return -1;
+        goto fail;
     }
     m->thread_started = 1;
     uwbd_log(UWBD_LOG_INFO, "mqtt: publishing to %s on %s (%zu verdict(s) queued from before)",
              m->verdict_topic, cfg->mqtt_endpoint, m->queued);
     *out = m;
     return 0;
+fail:
+    uwbd_mqtt_close(m);
+    return -1;
 }
 
 void uwbd_mqtt_verdict(struct uwbd_mqtt *m, const char *verdict_json)
