@@ -273,6 +273,29 @@ static int read_password(const char *path, char *out, size_t n, char *err, size_
     return 0;
 }
 
+/* libmosquitto says only "invalid function arguments" for a TLS file it
+ * cannot read (one gone or unreadable since the config was checked): name
+ * the file and its key. */
+static void tls_error(const struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, int rc, char *err,
+                      size_t errlen)
+{
+    const struct {
+        const char *key, *path;
+    } files[] = {
+        {"mqtt.ca_file", cfg->mqtt_ca_file},
+        {"mqtt.cert_file", cfg->mqtt_cert_file},
+        {"mqtt.key_file", cfg->mqtt_key_file},
+    };
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        if (files[i].path[0] && access(files[i].path, R_OK) != 0) {
+            snprintf(err, errlen, "%s %s: %s", files[i].key, files[i].path, strerror(errno));
+            return;
+        }
+    }
+    snprintf(err, errlen, "mqtt.ca_file %s: libmosquitto refused the TLS files: %s", cfg->mqtt_ca_file,
+             m->lib->strerror(rc));
+}
+
 static int configure(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, char *err, size_t errlen)
 {
     m->lib->connect_callback_set(m->mosq, on_connect);
@@ -288,10 +311,15 @@ static int configure(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, ch
         rc = m->lib->username_pw_set(m->mosq, cfg->mqtt_username, password);
         memset(password, 0, sizeof password);
     }
-    if (rc == MOSQ_ERR_SUCCESS && cfg->mqtt_ca_file[0])
+    if (rc == MOSQ_ERR_SUCCESS && cfg->mqtt_ca_file[0]) {
         rc = m->lib->tls_set(m->mosq, cfg->mqtt_ca_file, NULL,
                              cfg->mqtt_cert_file[0] ? cfg->mqtt_cert_file : NULL,
                              cfg->mqtt_key_file[0] ? cfg->mqtt_key_file : NULL, NULL);
+        if (rc != MOSQ_ERR_SUCCESS) {
+            tls_error(m, cfg, rc, err, errlen);
+            return -1;
+        }
+    }
     if (rc == MOSQ_ERR_SUCCESS)
         rc = m->lib->threaded_set(m->mosq, true); /* our network thread, not mosquitto_loop_start's */
     if (rc != MOSQ_ERR_SUCCESS) {
