@@ -21,10 +21,10 @@ char *uwb_record_to_json(const struct uwb_verdict_record *r);
 int uwb_record_from_object(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen);
 int uwb_record_from_json(const char *text, struct uwb_verdict_record *r, char *err, size_t errlen);
 
-/* One entry of a HISTORY reply (a uwb_record_summary: no class, a few
- * keys) into *r: what it does not say is left out of *r, and a height
- * change given without its sigma has the sigma NAN (not known). 0, or -1
- * with err as above. */
+/* One entry of a HISTORY reply (a uwb_record_history_entry, or the
+ * summary an older uwbd gave: no class) into *r: what it does not say is
+ * left out of *r, and a height change given without its sigma has the
+ * sigma NAN (not known). 0, or -1 with err as above. */
 int uwb_record_from_summary(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen);
 
 /* Each verdict of a HISTORY reply line, oldest first, read by
@@ -38,10 +38,15 @@ int uwb_history_each(const char *reply, int (*each)(const struct uwb_verdict_rec
 cJSON *uwb_verdict_object(const struct uwb_verdict *v);
 char *uwb_verdict_to_json(const struct uwb_verdict *v);
 
-/* The one-line summary of a verdict that `status` and `history` give:
- * scan_id, created, status, reason, displacement, centre, height change,
- * baseline_set. NULL when out of memory. */
+/* The one-line summary of a verdict that `status` gives: scan_id, created,
+ * status, reason, displacement, centre, height change, baseline_set. NULL
+ * when out of memory. */
 cJSON *uwb_record_summary(const struct uwb_verdict_record *r);
+/* A verdict as `history` lists it: the summary's keys, then every other
+ * field a CSV row shows (uwb/verdict_csv.h): the height change's sigma or
+ * why it was withheld, the edges, height, face range, SNR, the baseline
+ * object, fault, trigger and asset_id. NULL when out of memory. */
+cJSON *uwb_record_history_entry(const struct uwb_verdict_record *r);
 
 /* Picoseconds to 0.1 ps, as every verdict and reply prints them. */
 void uwb_json_add_ps(cJSON *obj, const char *key, double seconds);

@@ -70,7 +70,8 @@ double uwbd_spread(const double *values, int n, int *used)
 }
 
 /* Whole acquisitions of pulses_each that bring the pulses from pulses_now
- * to what the model says sigma needs. */
+ * to what the model says sigma needs; -1 for no pulses per acquisition
+ * (the one check of pulses_each, for both callers). */
 static int acquisitions_for(const struct uwb_pulse_sigma *m, double max_m, int pulses_now, int pulses_each)
 {
     double pulses_needed;
@@ -94,7 +95,7 @@ int uwbd_acquisitions_needed_fit(double sigma1, int pulses1, double sigma2, int 
                                  int pulses_each)
 {
     struct uwb_pulse_sigma m;
-    if (pulses_each < 1 || uwb_pulse_sigma_fit(sigma1, pulses1, sigma2, pulses2, &m) != 0)
+    if (uwb_pulse_sigma_fit(sigma1, pulses1, sigma2, pulses2, &m) != 0)
         return -1; /* sigma did not fall with more pulses: more will not help */
     return acquisitions_for(&m, max_m, pulses2, pulses_each);
 }

@@ -188,88 +188,132 @@ static int set_gpio_line(struct load_context *ctx, const struct config_key *k, c
     return -1;
 }
 
+/* One setter per kind of value: each checks the JSON type, then the value,
+ * and stores it; -1 after fail() named the key and the problem. */
+static int expect_string(struct load_context *ctx, const struct config_key *k, const cJSON *v)
+{
+    if (cJSON_IsString(v))
+        return 0;
+    fail(ctx, k->path, "expected a string, got %s", json_type_name(v));
+    return -1;
+}
+
+static int set_string(struct load_context *ctx, const struct config_key *k, const cJSON *v,
+                      struct uwbd_config *cfg)
+{
+    if (expect_string(ctx, k, v) != 0 || check_text(ctx, k, v->valuestring, k->size) != 0)
+        return -1;
+    snprintf(field(cfg, k), k->size, "%s", v->valuestring);
+    return 0;
+}
+
+static int set_choice(struct load_context *ctx, const struct config_key *k, const cJSON *v,
+                      struct uwbd_config *cfg)
+{
+    if (expect_string(ctx, k, v) != 0 || check_text(ctx, k, v->valuestring, k->size) != 0)
+        return -1;
+    for (const char *const *c = k->choices; *c; c++) {
+        if (strcmp(*c, v->valuestring) == 0) {
+            snprintf(field(cfg, k), k->size, "%s", v->valuestring);
+            return 0;
+        }
+    }
+    char list[128] = "";
+    for (const char *const *c = k->choices; *c; c++)
+        snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", c == k->choices ? "" : ", ", *c);
+    fail(ctx, k->path, "\"%.32s\" is not one of %s", v->valuestring, list);
+    return -1;
+}
+
+static int set_migration(struct load_context *ctx, const struct config_key *k, const cJSON *v,
+                         struct uwbd_config *cfg)
+{
+    if (expect_string(ctx, k, v) != 0)
+        return -1;
+    if (uwb_migration_kind_parse(v->valuestring, field(cfg, k)) != 0) {
+        fail(ctx, k->path, "\"%.32s\" is neither fixed nor float", v->valuestring);
+        return -1;
+    }
+    return 0;
+}
+
+static int set_file_mode(struct load_context *ctx, const struct config_key *k, const cJSON *v,
+                         struct uwbd_config *cfg)
+{
+    if (expect_string(ctx, k, v) != 0)
+        return -1;
+    return parse_file_mode(ctx, k, v->valuestring, cfg);
+}
+
+/* KEY_NUMBER (stored times the key's scale) and KEY_INT. */
+static int set_number(struct load_context *ctx, const struct config_key *k, const cJSON *v,
+                      struct uwbd_config *cfg)
+{
+    int integer = k->type == KEY_INT;
+    if (!cJSON_IsNumber(v)) {
+        char range[96];
+        describe_range(k, range, sizeof range);
+        fail(ctx, k->path, "expected %s in %s, got %s", integer ? "an integer" : "a number", range,
+             json_type_name(v));
+        return -1;
+    }
+    if (integer && v->valuedouble != floor(v->valuedouble)) {
+        fail(ctx, k->path, "%g is not an integer", v->valuedouble);
+        return -1;
+    }
+    if (number_in_range(ctx, k, v->valuedouble) != 0)
+        return -1;
+    if (integer)
+        *(int *)field(cfg, k) = (int)v->valuedouble;
+    else
+        *(double *)field(cfg, k) = v->valuedouble * k->scale;
+    return 0;
+}
+
+static int set_bool(struct load_context *ctx, const struct config_key *k, const cJSON *v,
+                    struct uwbd_config *cfg)
+{
+    if (!cJSON_IsBool(v)) {
+        fail(ctx, k->path, "expected true or false, got %s", json_type_name(v));
+        return -1;
+    }
+    *(int *)field(cfg, k) = cJSON_IsTrue(v);
+    return 0;
+}
+
+/* Two numbers [a, b], each in the key's range; sets the key's flag if it has one. */
+static int set_pair(struct load_context *ctx, const struct config_key *k, const cJSON *v,
+                    struct uwbd_config *cfg)
+{
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2 || !cJSON_IsNumber(cJSON_GetArrayItem(v, 0)) ||
+        !cJSON_IsNumber(cJSON_GetArrayItem(v, 1))) {
+        fail(ctx, k->path, "expected two numbers [a, b]%s%s", k->unit[0] ? " in " : "", k->unit);
+        return -1;
+    }
+    double *out = field(cfg, k);
+    for (int i = 0; i < 2; i++) {
+        double d = cJSON_GetArrayItem(v, i)->valuedouble;
+        if (number_in_range(ctx, k, d) != 0)
+            return -1;
+        out[i] = d * k->scale;
+    }
+    if (k->flag_offset)
+        *(int *)((char *)cfg + k->flag_offset) = 1;
+    return 0;
+}
+
 static int set_value(struct load_context *ctx, const struct config_key *k, const cJSON *v,
                      struct uwbd_config *cfg)
 {
-    char range[96];
     switch (k->type) {
-    case KEY_STRING:
-    case KEY_CHOICE:
-    case KEY_MIGRATION:
-    case KEY_FILE_MODE:
-        if (!cJSON_IsString(v)) {
-            fail(ctx, k->path, "expected a string, got %s", json_type_name(v));
-            return -1;
-        }
-        if (k->type == KEY_FILE_MODE)
-            return parse_file_mode(ctx, k, v->valuestring, cfg);
-        if (k->type == KEY_MIGRATION) {
-            if (uwb_migration_kind_parse(v->valuestring, field(cfg, k)) != 0) {
-                fail(ctx, k->path, "\"%.32s\" is neither fixed nor float", v->valuestring);
-                return -1;
-            }
-            return 0;
-        }
-        if (check_text(ctx, k, v->valuestring, k->size) != 0)
-            return -1;
-        if (k->type == KEY_CHOICE) {
-            int ok = 0;
-            for (const char *const *c = k->choices; *c; c++)
-                ok |= strcmp(*c, v->valuestring) == 0;
-            if (!ok) {
-                char list[128] = "";
-                for (const char *const *c = k->choices; *c; c++)
-                    snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
-                             c == k->choices ? "" : ", ", *c);
-                fail(ctx, k->path, "\"%.32s\" is not one of %s", v->valuestring, list);
-                return -1;
-            }
-        }
-        snprintf(field(cfg, k), k->size, "%s", v->valuestring);
-        return 0;
+    case KEY_STRING: return set_string(ctx, k, v, cfg);
+    case KEY_CHOICE: return set_choice(ctx, k, v, cfg);
+    case KEY_MIGRATION: return set_migration(ctx, k, v, cfg);
+    case KEY_FILE_MODE: return set_file_mode(ctx, k, v, cfg);
     case KEY_NUMBER:
-    case KEY_INT:
-        if (!cJSON_IsNumber(v)) {
-            describe_range(k, range, sizeof range);
-            fail(ctx, k->path, "expected %s in %s, got %s", k->type == KEY_INT ? "an integer" : "a number",
-                 range, json_type_name(v));
-            return -1;
-        }
-        if (k->type == KEY_INT && v->valuedouble != floor(v->valuedouble)) {
-            fail(ctx, k->path, "%g is not an integer", v->valuedouble);
-            return -1;
-        }
-        if (number_in_range(ctx, k, v->valuedouble) != 0)
-            return -1;
-        if (k->type == KEY_INT)
-            *(int *)field(cfg, k) = (int)v->valuedouble;
-        else
-            *(double *)field(cfg, k) = v->valuedouble * k->scale;
-        return 0;
-    case KEY_BOOL:
-        if (!cJSON_IsBool(v)) {
-            fail(ctx, k->path, "expected true or false, got %s", json_type_name(v));
-            return -1;
-        }
-        *(int *)field(cfg, k) = cJSON_IsTrue(v);
-        return 0;
-    case KEY_PAIR: {
-        if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2 || !cJSON_IsNumber(cJSON_GetArrayItem(v, 0)) ||
-            !cJSON_IsNumber(cJSON_GetArrayItem(v, 1))) {
-            fail(ctx, k->path, "expected two numbers [a, b]%s%s", k->unit[0] ? " in " : "", k->unit);
-            return -1;
-        }
-        double *out = field(cfg, k);
-        for (int i = 0; i < 2; i++) {
-            double d = cJSON_GetArrayItem(v, i)->valuedouble;
-            if (number_in_range(ctx, k, d) != 0)
-                return -1;
-            out[i] = d * k->scale;
-        }
-        if (k->flag_offset)
-            *(int *)((char *)cfg + k->flag_offset) = 1;
-        return 0;
-    }
+    case KEY_INT: return set_number(ctx, k, v, cfg);
+    case KEY_BOOL: return set_bool(ctx, k, v, cfg);
+    case KEY_PAIR: return set_pair(ctx, k, v, cfg);
     case KEY_GPIO_LINE: return set_gpio_line(ctx, k, v, cfg);
     }
     fail(ctx, k->path, "internal error: unknown key type");

@@ -19,68 +19,80 @@
 #define CSV_FILE_MAX ((size_t)64 * 1024 * 1024)
 #define CSV_ROW_MAX 8192
 
-/* Where each row ends: CRLF outside quotes (a quoted reason may hold
- * line breaks). Returns the number of whole rows, their starts in starts
- * (may be NULL) and in *end where the last one ends (text past it, a row
- * torn by someone else's write, is not kept). */
-static size_t row_starts(const char *text, size_t len, size_t *starts, size_t *end)
+/* The whole rows of the old file: each ends in CRLF outside quotes (a
+ * quoted reason may hold line breaks); text past the last one (a row torn
+ * by someone else's write) is not kept. */
+struct csv_rows {
+    size_t *start; /* where each row starts, the header first */
+    size_t count, cap;
+    size_t end; /* where the last whole row ends */
+};
+
+static int add_row_start(struct csv_rows *rows, size_t start)
 {
-    size_t rows = 0;
+    if (rows->count == rows->cap) {
+        size_t cap = rows->cap ? rows->cap * 2 : 64;
+        size_t *grown = realloc(rows->start, cap * sizeof *grown);
+        if (!grown)
+            return -1;
+        rows->start = grown;
+        rows->cap = cap;
+    }
+    rows->start[rows->count++] = start;
+    return 0;
+}
+
+/* One pass over the text: 0, or -1 when out of memory. */
+static int find_rows(const char *text, size_t len, struct csv_rows *rows)
+{
     int quoted = 0;
     size_t start = 0;
     for (size_t i = 0; i < len; i++) {
-        if (text[i] == '"')
+        if (text[i] == '"') {
             quoted = !quoted;
-        else if (!quoted && text[i] == '\r' && i + 1 < len && text[i + 1] == '\n') {
-            if (starts)
-                starts[rows] = start;
-            rows++;
+        } else if (!quoted && text[i] == '\r' && i + 1 < len && text[i + 1] == '\n') {
+            if (add_row_start(rows, start) != 0)
+                return -1;
             start = i + 2;
             i++;
         }
     }
-    *end = start;
-    return rows;
+    rows->end = start;
+    return 0;
 }
 
 int uwbd_csv_file_add(const char *path, const char *row, int max_rows, char *err, size_t errlen)
 {
     char *old = NULL;
     size_t len = 0;
+    struct csv_rows rows = {0};
+    int rc = -1;
     struct stat st;
-    if (lstat(path, &st) == 0 || errno != ENOENT) {
-        if (uwb_read_file_nofollow(path, CSV_FILE_MAX, &old, &len, err, errlen) != UWB_READ_OK)
-            return -1;
-    }
-    /* The old rows after its header, the oldest dropped beyond max_rows. */
-    size_t end = 0;
-    size_t rows = old ? row_starts(old, len, NULL, &end) : 0;
-    size_t *starts = rows ? malloc(rows * sizeof *starts) : NULL;
-    if (rows && !starts) {
-        free(old);
+    if ((lstat(path, &st) == 0 || errno != ENOENT) &&
+        uwb_read_file_nofollow(path, CSV_FILE_MAX, &old, &len, err, errlen) != UWB_READ_OK)
+        goto done;
+    if (old && find_rows(old, len, &rows) != 0) {
         snprintf(err, errlen, "%s: out of memory", path);
-        return -1;
+        goto done;
     }
-    if (rows)
-        row_starts(old, len, starts, &end);
-    size_t first = 1; /* row 0 is the header, written afresh */
-    if (max_rows > 0 && rows > first && rows - first > (size_t)max_rows - 1)
-        first = rows - ((size_t)max_rows - 1);
+    /* The old rows after its header (written afresh), the oldest dropped beyond max_rows. */
+    size_t first = 1;
+    if (max_rows > 0 && rows.count > first && rows.count - first > (size_t)max_rows - 1)
+        first = rows.count - ((size_t)max_rows - 1);
     struct atomic_file af;
-    int rc = uwb_atomic_file_open(&af, path, err, errlen);
+    rc = uwb_atomic_file_open(&af, path, err, errlen);
     if (rc == 0) {
         fputs(uwb_verdict_csv_header(), af.fp);
-        if (first < rows)
-            fwrite(old + starts[first], 1, end - starts[first], af.fp);
+        if (first < rows.count)
+            fwrite(old + rows.start[first], 1, rows.end - rows.start[first], af.fp);
         fputs(row, af.fp);
         rc = uwb_atomic_file_commit(&af, err, errlen);
     }
-    free(starts);
+done:
+    free(rows.start);
     free(old);
     return rc;
 }
-
-static int failing; /* log a failing file once, not every verdict (one daemon per process) */
 
 static void csv_verdict(struct daemon *d, const struct uwb_verdict_record *v, const char *json,
                         double duration_s)
@@ -99,14 +111,14 @@ static void csv_verdict(struct daemon *d, const struct uwb_verdict_record *v, co
     else
         rc = uwbd_csv_file_add(path, row, d->cfg.retention_max_scans, err, sizeof err);
     if (rc != 0) {
-        if (!failing)
+        if (!d->csv_failing)
             uwbd_log(UWBD_LOG_ERR, "csv: %s (tried again at every verdict)", err);
-        failing = 1;
+        d->csv_failing = 1;
         return;
     }
-    if (failing)
+    if (d->csv_failing)
         uwbd_log(UWBD_LOG_NOTICE, "csv: %s written again", path);
-    failing = 0;
+    d->csv_failing = 0;
 }
 
 const struct uwbd_output_module uwbd_output_csv = {

@@ -53,14 +53,14 @@ char *uwbd_reply_help(void)
     return finish(o);
 }
 
-/* The fields of a verdict line from verdicts.jsonl that tell its story in
- * one line; NULL when the line is not a verdict this uwbd reads. */
-static cJSON *line_summary(const char *verdict_line)
+/* A verdict line from verdicts.jsonl as `history` lists it; NULL when the
+ * line is not a verdict this uwbd reads. */
+static cJSON *history_entry(const char *verdict_line)
 {
     struct uwb_verdict_record *r = malloc(sizeof *r);
     char err[256];
     cJSON *s =
-        r && uwb_record_from_json(verdict_line, r, err, sizeof err) == 0 ? uwb_record_summary(r) : NULL;
+        r && uwb_record_from_json(verdict_line, r, err, sizeof err) == 0 ? uwb_record_history_entry(r) : NULL;
     free(r);
     return s;
 }
@@ -148,7 +148,7 @@ char *uwbd_reply_history(char *const *verdict_lines, int count, int requested, i
     cJSON *list = cJSON_CreateArray();
     int listed = 0;
     for (int i = 0; list && i < count; i++) {
-        cJSON *s = line_summary(verdict_lines[i]);
+        cJSON *s = history_entry(verdict_lines[i]);
         if (s && cJSON_AddItemToArray(list, s))
             listed++;
         else if (!s)

@@ -115,15 +115,29 @@ static modbus_t *set_up(const struct uwbd_modbus_server *s, modbus_t *ctx, int u
     return ctx;
 }
 
+/* Acquires all or none: the endpoint and the library are checked before
+ * anything is held, and from the server's allocation on every failure goes
+ * to `fail`, where close() releases whatever was acquired so far. */
 int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd_modbus_handlers *handlers,
                             struct uwbd_modbus_server **out, char *err, size_t errlen)
 {
     *out = NULL;
+    struct uwb_endpoint ep;
+    char why[512];
+    if (uwb_endpoint_parse(endpoint, &ep, why, sizeof why) != UWB_LINK_OK) {
+        snprintf(err, errlen, "modbus.endpoint: %s", why);
+        return -1;
+    }
+    const struct uwbd_modbus_api *lib = uwbd_modbus_load(err, errlen);
+    if (!lib)
+        return -1;
     struct uwbd_modbus_server *s = calloc(1, sizeof *s);
     if (!s) {
         snprintf(err, errlen, "modbus: out of memory");
         return -1;
     }
+    s->lib = lib;
+    s->ep = ep;
     s->listen_fd = -1;
     s->idle_timeout_s = UWBD_MODBUS_IDLE_TIMEOUT_S;
     for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
@@ -131,30 +145,17 @@ int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd
     s->unit_id = unit_id;
     s->h = *handlers;
     snprintf(s->endpoint, sizeof s->endpoint, "%s", endpoint);
-    char why[512];
-    if (uwb_endpoint_parse(endpoint, &s->ep, why, sizeof why) != UWB_LINK_OK) {
-        snprintf(err, errlen, "modbus.endpoint: %s", why);
-        free(s);
-        return -1;
-    }
-    s->lib = uwbd_modbus_load(err, errlen);
-    if (!s->lib) {
-        free(s);
-        return -1;
-    }
     s->map = s->lib->mapping_new(UWBD_MODBUS_COIL_COUNT, 0, UWBD_MODBUS_REGISTER_COUNT,
                                  UWBD_MODBUS_REGISTER_COUNT);
     if (!s->map) {
         snprintf(err, errlen, "modbus: out of memory for the register map");
-        free(s);
-        return -1;
+        goto fail;
     }
     if (s->ep.kind == UWB_ENDPOINT_TCP) {
         s->tcp = set_up(s, s->lib->new_tcp_pi(s->ep.host, s->ep.port), unit_id);
         if (!s->tcp || (s->listen_fd = s->lib->tcp_pi_listen(s->tcp, UWBD_MODBUS_TCP_CLIENTS)) < 0) {
             snprintf(err, errlen, "modbus: cannot listen on %s: %s", endpoint, s->lib->strerror(errno));
-            uwbd_modbus_server_close(s);
-            return -1;
+            goto fail;
         }
         uwbd_log(UWBD_LOG_INFO, "modbus: TCP listening on %s", endpoint);
     } else {
@@ -163,13 +164,15 @@ int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd
             unit_id);
         if (!s->rtu) {
             snprintf(err, errlen, "modbus: RTU context for %s: %s", endpoint, s->lib->strerror(errno));
-            uwbd_modbus_server_close(s);
-            return -1;
+            goto fail;
         }
-        rtu_try_open(s);
+        rtu_try_open(s); /* a link not there yet is tried again, not an error */
     }
     *out = s;
     return 0;
+fail:
+    uwbd_modbus_server_close(s);
+    return -1;
 }
 
 void uwbd_modbus_server_set_idle_timeout(struct uwbd_modbus_server *s, double seconds)
@@ -461,6 +464,7 @@ void uwbd_modbus_server_close(struct uwbd_modbus_server *s)
     for (int i = 0; i < UWBD_MODBUS_TCP_CLIENTS; i++)
         if (s->clients[i].fd >= 0)
             close(s->clients[i].fd);
-    s->lib->mapping_free(s->map);
+    if (s->map)
+        s->lib->mapping_free(s->map);
     free(s);
 }

@@ -273,6 +273,29 @@ static int read_password(const char *path, char *out, size_t n, char *err, size_
     return 0;
 }
 
+/* libmosquitto says only "invalid function arguments" for a TLS file it
+ * cannot read (one gone or unreadable since the config was checked): name
+ * the file and its key. */
+static void tls_error(const struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, int rc, char *err,
+                      size_t errlen)
+{
+    const struct {
+        const char *key, *path;
+    } files[] = {
+        {"mqtt.ca_file", cfg->mqtt_ca_file},
+        {"mqtt.cert_file", cfg->mqtt_cert_file},
+        {"mqtt.key_file", cfg->mqtt_key_file},
+    };
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        if (files[i].path[0] && access(files[i].path, R_OK) != 0) {
+            snprintf(err, errlen, "%s %s: %s", files[i].key, files[i].path, strerror(errno));
+            return;
+        }
+    }
+    snprintf(err, errlen, "mqtt.ca_file %s: libmosquitto refused the TLS files: %s", cfg->mqtt_ca_file,
+             m->lib->strerror(rc));
+}
+
 static int configure(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, char *err, size_t errlen)
 {
     m->lib->connect_callback_set(m->mosq, on_connect);
@@ -288,10 +311,15 @@ static int configure(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, ch
         rc = m->lib->username_pw_set(m->mosq, cfg->mqtt_username, password);
         memset(password, 0, sizeof password);
     }
-    if (rc == MOSQ_ERR_SUCCESS && cfg->mqtt_ca_file[0])
+    if (rc == MOSQ_ERR_SUCCESS && cfg->mqtt_ca_file[0]) {
         rc = m->lib->tls_set(m->mosq, cfg->mqtt_ca_file, NULL,
                              cfg->mqtt_cert_file[0] ? cfg->mqtt_cert_file : NULL,
                              cfg->mqtt_key_file[0] ? cfg->mqtt_key_file : NULL, NULL);
+        if (rc != MOSQ_ERR_SUCCESS) {
+            tls_error(m, cfg, rc, err, errlen);
+            return -1;
+        }
+    }
     if (rc == MOSQ_ERR_SUCCESS)
         rc = m->lib->threaded_set(m->mosq, true); /* our network thread, not mosquitto_loop_start's */
     if (rc != MOSQ_ERR_SUCCESS) {
@@ -440,6 +468,30 @@ static void *network_main(void *arg)
     return NULL;
 }
 
+/* The publisher's names and limits, from its config; acquires nothing. */
+static void set_names(struct uwbd_mqtt *m, const struct uwbd_site_config *cfg, const struct uwb_endpoint *ep,
+                      const char *state_dir)
+{
+    m->refused_rc = -1;
+    snprintf(m->host, sizeof m->host, "%s", ep->host);
+    m->port = (int)strtol(ep->port, NULL, 10);
+    snprintf(m->endpoint, sizeof m->endpoint, "%s", cfg->mqtt_endpoint);
+    m->tls = cfg->mqtt_ca_file[0] != '\0';
+    m->reconnect_max_s = cfg->mqtt_reconnect_max_s;
+    snprintf(m->dir, sizeof m->dir, "%s/" QUEUE_DIR, state_dir);
+    snprintf(m->verdict_topic, sizeof m->verdict_topic, "%s/%s/verdict", cfg->mqtt_topic_prefix,
+             cfg->asset_id);
+    snprintf(m->status_topic, sizeof m->status_topic, "%s/%s/status", cfg->mqtt_topic_prefix, cfg->asset_id);
+    m->queue_max = cfg->mqtt_queue_max;
+    snprintf(m->cmd_topic, sizeof m->cmd_topic, "%s/%s/cmd", cfg->mqtt_topic_prefix, cfg->asset_id);
+    snprintf(m->reply_topic, sizeof m->reply_topic, "%s/%s/reply", cfg->mqtt_topic_prefix, cfg->asset_id);
+    snprintf(m->health_topic, sizeof m->health_topic, "%s/%s/health", cfg->mqtt_topic_prefix, cfg->asset_id);
+}
+
+/* Acquires all or none: the endpoint and the library are checked before
+ * anything is held; from the allocation on, every failure goes to `fail`,
+ * where close() releases whatever was acquired so far (it takes a
+ * publisher at any stage: no mosq, no thread, no eventfd). */
 int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, const char *state_dir,
                    char *err, size_t errlen)
 {
@@ -460,51 +512,37 @@ int uwbd_mqtt_open(struct uwbd_mqtt **out, const struct uwbd_site_config *cfg, c
         return -1;
     }
     m->lib = lib;
+    m->command_fd = -1;
     pthread_mutex_init(&m->lock, NULL);
     pthread_mutex_init(&m->error_lock, NULL);
-    m->refused_rc = -1;
-    snprintf(m->host, sizeof m->host, "%s", ep.host);
-    m->port = (int)strtol(ep.port, NULL, 10);
-    snprintf(m->endpoint, sizeof m->endpoint, "%s", cfg->mqtt_endpoint);
-    m->tls = cfg->mqtt_ca_file[0] != '\0';
-    m->reconnect_max_s = cfg->mqtt_reconnect_max_s;
-    snprintf(m->dir, sizeof m->dir, "%s/" QUEUE_DIR, state_dir);
-    snprintf(m->verdict_topic, sizeof m->verdict_topic, "%s/%s/verdict", cfg->mqtt_topic_prefix,
-             cfg->asset_id);
-    snprintf(m->status_topic, sizeof m->status_topic, "%s/%s/status", cfg->mqtt_topic_prefix, cfg->asset_id);
-    m->queue_max = cfg->mqtt_queue_max;
-    snprintf(m->cmd_topic, sizeof m->cmd_topic, "%s/%s/cmd", cfg->mqtt_topic_prefix, cfg->asset_id);
-    snprintf(m->reply_topic, sizeof m->reply_topic, "%s/%s/reply", cfg->mqtt_topic_prefix, cfg->asset_id);
-    snprintf(m->health_topic, sizeof m->health_topic, "%s/%s/health", cfg->mqtt_topic_prefix, cfg->asset_id);
-    m->command_fd = cfg->mqtt_commands ? eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK) : -1;
-    if (cfg->mqtt_commands && m->command_fd < 0) {
+    m->lib->lib_init(); /* close() ends with its cleanup */
+    set_names(m, cfg, &ep, state_dir);
+    if (cfg->mqtt_commands && (m->command_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK)) < 0) {
         snprintf(err, errlen, "mqtt: eventfd: %s", strerror(errno));
-        pthread_mutex_destroy(&m->lock);
-        pthread_mutex_destroy(&m->error_lock);
-        free(m);
-        return -1;
+        goto fail;
     }
-    m->lib->lib_init();
     char client_id[128];
     snprintf(client_id, sizeof client_id, "uwbd-%s", cfg->asset_id);
     m->mosq = m->lib->new (client_id, true, m);
-    if (!m->mosq || load_queue(m, err, errlen) != 0 || configure(m, cfg, err, errlen) != 0) {
-        if (!m->mosq)
-            snprintf(err, errlen, "mqtt: out of memory");
-        uwbd_mqtt_close(m);
-        return -1;
+    if (!m->mosq) {
+        snprintf(err, errlen, "mqtt: out of memory");
+        goto fail;
     }
+    if (load_queue(m, err, errlen) != 0 || configure(m, cfg, err, errlen) != 0)
+        goto fail;
     int rc = pthread_create(&m->thread, NULL, network_main, m);
     if (rc != 0) {
         snprintf(err, errlen, "mqtt: cannot start its thread: %s", strerror(rc));
-        uwbd_mqtt_close(m);
-        return -1;
+        goto fail;
     }
     m->thread_started = 1;
     uwbd_log(UWBD_LOG_INFO, "mqtt: publishing to %s on %s (%zu verdict(s) queued from before)",
              m->verdict_topic, cfg->mqtt_endpoint, m->queued);
     *out = m;
     return 0;
+fail:
+    uwbd_mqtt_close(m);
+    return -1;
 }
 
 void uwbd_mqtt_verdict(struct uwbd_mqtt *m, const char *verdict_json)

@@ -175,20 +175,46 @@ char *uwb_verdict_to_json(const struct uwb_verdict *v)
     return print_and_delete(uwb_verdict_object(v));
 }
 
-cJSON *uwb_record_summary(const struct uwb_verdict_record *r)
+/* The record's object with only `keys` (those it has), in their order. */
+static cJSON *object_with(const struct uwb_verdict_record *r, const char *const *keys, size_t n)
 {
-    static const char *const keys[] = {
-        "scan_id",        "created",   "status",           "reason",      "axial_displacement_mm",
-        "uncertainty_mm", "center_mm", "height_change_mm", "baseline_set"};
     cJSON *full = uwb_record_object(r);
     cJSON *s = full ? cJSON_CreateObject() : NULL;
-    for (size_t i = 0; s && i < sizeof keys / sizeof keys[0]; i++) {
+    for (size_t i = 0; s && i < n; i++) {
         cJSON *item = cJSON_DetachItemFromObjectCaseSensitive(full, keys[i]);
         if (item)
             cJSON_AddItemToObject(s, keys[i], item);
     }
     cJSON_Delete(full);
     return s;
+}
+
+#define SUMMARY_KEYS \
+    "scan_id", "created", "status", "reason", "axial_displacement_mm", "uncertainty_mm", "center_mm", \
+        "height_change_mm", "baseline_set"
+
+cJSON *uwb_record_summary(const struct uwb_verdict_record *r)
+{
+    static const char *const keys[] = {SUMMARY_KEYS};
+    return object_with(r, keys, sizeof keys / sizeof keys[0]);
+}
+
+cJSON *uwb_record_history_entry(const struct uwb_verdict_record *r)
+{
+    /* The summary's keys first, as before; then what else a CSV row shows (uwb/verdict_csv.h). */
+    static const char *const keys[] = {SUMMARY_KEYS,
+                                       "height_change_uncertainty_mm",
+                                       "height_change_withheld",
+                                       "lower_edge_mm",
+                                       "upper_edge_mm",
+                                       "height_mm",
+                                       "face_range_mm",
+                                       "snr_db",
+                                       "baseline",
+                                       "fault",
+                                       "trigger",
+                                       "asset_id"};
+    return object_with(r, keys, sizeof keys / sizeof keys[0]);
 }
 
 /* ---- reading ------------------------------------------------------------------ */

@@ -1,7 +1,8 @@
 # Sourced by the daemon e2e scripts (tests/e2e/test_daemon_*.sh): our
 # programs under $UWB_EXEC_PREFIX, a scratch directory whose background
 # processes are stopped at exit, PASS/FAIL lines, waiting without timing,
-# and reading JSON and the sockets with our own helpers.
+# reading JSON and the sockets with our own helpers, and a loopback MQTT
+# broker.
 
 BUILD=$(cd "${UWB_BUILD_DIR:?run through tests/run-tests.sh}" && pwd)
 REPO=$(pwd)
@@ -76,3 +77,51 @@ json_check() { $HOST_PREFIX "$HOST_BUILD/e2e/json_check" "$@"; }
 json_get() { $HOST_PREFIX "$HOST_BUILD/e2e/state_check" get "$@"; }
 json_edit() { $HOST_PREFIX "$HOST_BUILD/e2e/json_edit" "$@"; }
 unix_peer() { $HOST_PREFIX "$HOST_BUILD/e2e/unix_peer" "$@"; }
+
+# ---- a loopback MQTT broker (Debian's mosquitto) ------------------------------
+MOSQUITTO=/usr/sbin/mosquitto
+# need_mosquitto: skips the script (exit 77) without the broker or mosquitto_passwd.
+need_mosquitto() {
+    if [[ ! -x $MOSQUITTO ]] || ! command -v mosquitto_passwd > /dev/null; then
+        echo "SKIP: no mosquitto broker (make deps installs it)"
+        exit 77
+    fi
+}
+# mosquitto_conf PORT PASSWORD_FILE: a broker on 127.0.0.1:PORT for the users
+# in PASSWORD_FILE, keeping nothing on disk.
+mosquitto_conf() {
+    # As root, mosquitto would become user mosquitto, who cannot read $work.
+    printf 'listener %s 127.0.0.1\nallow_anonymous false\npassword_file %s\npersistence false\nuser %s\n' \
+        "$1" "$2" "$(id -un)"
+}
+# start_mosquitto NAME CONF_MAKER [ARGS...]: a broker run from the config
+# `CONF_MAKER PORT ARGS...` prints (into NAME.conf; its listeners must all
+# be on 127.0.0.1), on MOSQUITTO_PORT if set, else on a random port, another
+# one when that is taken (5 tries). Each try waits until the broker says it
+# listens, MOSQUITTO_WAIT_S (default 10) seconds at most, or until it exits.
+# Sets $port, $broker_pid (stopped at exit) and $broker_log (NAME-N.log, N
+# counting every try of the script's, so a restart keeps the earlier logs).
+start_mosquitto() {
+    local name=$1 make_conf=$2 fixed=${MOSQUITTO_PORT:-} try deadline
+    shift 2
+    for try in 1 2 3 4 5; do
+        port=${fixed:-$((20000 + RANDOM % 40000))}
+        "$make_conf" "$port" "$@" > "$name.conf"
+        grep -q '^listener ' "$name.conf" && ! grep '^listener ' "$name.conf" | grep -qv ' 127\.0\.0\.1$' ||
+            fail "$name.conf: every listener must be on 127.0.0.1: $(grep '^listener' "$name.conf")"
+        mosquitto_tries=$((${mosquitto_tries:-0} + 1))
+        broker_log=$name-$mosquitto_tries.log
+        "$MOSQUITTO" -v -c "$name.conf" > "$broker_log" 2>&1 &
+        broker_pid=$!
+        pids+=($broker_pid)
+        deadline=$((SECONDS + ${MOSQUITTO_WAIT_S:-10}))
+        while kill -0 "$broker_pid" 2> /dev/null && ((SECONDS <= deadline)); do
+            grep -q "listen socket on port $port" "$broker_log" && return 0
+            sleep 0.1
+        done
+        kill "$broker_pid" 2> /dev/null || true
+        wait "$broker_pid" 2> /dev/null || true
+        [[ -z $fixed ]] || sleep 0.5 # the same port: let its last holder go
+    done
+    fail "mosquitto ($name) would not start: $(cat "$name"-*.log)"
+}

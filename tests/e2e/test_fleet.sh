@@ -7,11 +7,7 @@
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
-MOSQUITTO=/usr/sbin/mosquitto
-if [[ ! -x $MOSQUITTO ]] || ! command -v mosquitto_passwd > /dev/null; then
-    echo "SKIP: no mosquitto broker (make deps installs it)"
-    exit 77
-fi
+need_mosquitto
 e2e_workdir uwbd-fleet
 mqtt_sub() { $HOST_PREFIX "$HOST_BUILD/e2e/mqtt_sub" "$@"; }
 
@@ -25,28 +21,9 @@ for asset in T1 T2; do
     chmod 600 "run/$asset/mqtt.pw"
 done
 
-# start_broker NAME CONF_MAKER: a broker on a free port ($port), its pid in ${NAME}_pid.
-start_broker() {
-    local name=$1 make_conf=$2 tries=0
-    while :; do
-        port=$((20000 + RANDOM % 40000))
-        "$make_conf" "$port" > "$name.conf"
-        "$MOSQUITTO" -v -c "$name.conf" > "$name-$tries.log" 2>&1 &
-        eval "${name}_pid=$!"
-        pids+=($!)
-        if wait_for grep -q "listen socket on port $port" "$name-$tries.log"; then
-            return 0
-        fi
-        tries=$((tries + 1))
-        (( tries < 5 )) || fail "$name broker would not start: $(cat "$name"-*.log)"
-    done
-}
-central_conf() {
-    printf 'listener %s 127.0.0.1\nallow_anonymous false\npassword_file %s\npersistence false\nuser %s\n' \
-        "$1" "$work/central.pw" "$(id -un)"
-}
-start_broker central central_conf
+start_mosquitto central mosquitto_conf "$work/central.pw"
 central_port=$port
+central_log=$broker_log
 
 # The shipped gateway recipe, its SITE lines set for this test.
 gateway_conf() {
@@ -65,9 +42,8 @@ for want in "listener 1 127.0.0.1" "password_file $work/gateway.pw" "address 127
     grep -qxF "$want" probe.conf || fail "board/fleet/mosquitto-gateway.conf changed: no line to make '$want'"
 done
 ! grep -q '^bridge_cafile' probe.conf || fail "bridge_cafile left in"
-start_broker gateway gateway_conf
+start_mosquitto gateway gateway_conf
 gateway_port=$port
-central_log=$(ls central-*.log | tail -1)
 E2E_WAIT_TRIES=600 wait_for grep -q "as gateway-northfield" "$central_log" || fail "the gateway's bridge did not reach the central broker"
 pass "board/fleet/mosquitto-gateway.conf: the gateway starts and its bridge logs in to the central broker"
 

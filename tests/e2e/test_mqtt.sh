@@ -9,11 +9,7 @@
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
-MOSQUITTO=/usr/sbin/mosquitto
-if [[ ! -x $MOSQUITTO ]] || ! command -v mosquitto_passwd > /dev/null; then
-    echo "SKIP: no mosquitto broker (make deps installs it)"
-    exit 77
-fi
+need_mosquitto
 e2e_workdir uwbd-mqtt
 
 config="$work/uwbd.json"
@@ -30,26 +26,11 @@ mosquitto_passwd -b tester-only.pw tester 'tester-secret' 2> /dev/null
 printf 'daemon-secret\n' > run/mqtt.pw
 chmod 600 run/mqtt.pw
 
-broker_pid=
-# start_broker PASSWORD_FILE: mosquitto on $port (chosen free the first time).
+# start_broker PASSWORD_FILE: the broker for its users, on a new port
+# (MOSQUITTO_PORT: on that one).
 start_broker() {
     cp "$1" active.pw
-    local tries=0
-    while :; do
-        [[ -n ${port:-} ]] || port=$((20000 + RANDOM % 40000))
-        # As root, mosquitto would become user mosquitto, who cannot read this directory.
-        printf 'listener %s 127.0.0.1\nallow_anonymous false\npassword_file %s\npersistence false\nuser %s\n' \
-            "$port" "$work/active.pw" "$(id -un)" > broker.conf
-        "$MOSQUITTO" -v -c broker.conf > "broker-$tries.log" 2>&1 &
-        broker_pid=$!
-        pids+=($broker_pid)
-        if wait_for grep -q "listen socket on port $port" "broker-$tries.log"; then return 0; fi
-        kill "$broker_pid" 2>/dev/null || true
-        tries=$((tries + 1))
-        (( tries < 5 )) || fail "mosquitto would not start: $(cat broker-*.log)"
-        [[ ${keep_port:-0} == 1 ]] || port=
-        sleep 0.5
-    done
+    start_mosquitto broker mosquitto_conf "$work/active.pw"
 }
 stop_broker() { kill -9 "$broker_pid"; wait "$broker_pid" 2>/dev/null || true; }
 
@@ -147,7 +128,7 @@ queued=$(ls run/state/mqtt-queue | wc -l)
 [[ $queued == 2 ]] || fail "$queued verdicts in run/state/mqtt-queue, want 2"
 # The broker back, at first without uwbd's user: the subscriber is in before
 # uwbd can send; then the password file with uwbd, re-read on SIGHUP.
-keep_port=1 start_broker tester-only.pw
+MOSQUITTO_PORT=$port start_broker tester-only.pw
 mqtt_sub "$port" tester tester-secret uwbd/T7/verdict 2 30 > back.out 2> back.err &
 sub_pid=$!
 pids+=($sub_pid)

@@ -23,11 +23,7 @@
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
-MOSQUITTO=/usr/sbin/mosquitto
-if [[ ! -x $MOSQUITTO ]] || ! command -v mosquitto_passwd > /dev/null; then
-    echo "SKIP: no mosquitto broker (make deps installs it)"
-    exit 77
-fi
+need_mosquitto
 case $(od -An -j18 -N2 -tu2 "$BUILD/uwbd" | tr -d ' ') in
     62) machine=x86_64 ;;
     183) machine=aarch64 ;;
@@ -72,18 +68,7 @@ mosquitto_passwd -b broker.pw uwbd 'daemon-secret' 2> /dev/null
 mosquitto_passwd -b broker.pw tester 'tester-secret' 2> /dev/null
 printf 'daemon-secret\n' > run/mqtt.pw
 chmod 600 run/mqtt.pw
-for tries in 1 2 3 4 5; do
-    port=$((20000 + RANDOM % 40000))
-    # As root, mosquitto would become user mosquitto, who cannot read this directory.
-    printf 'listener %s 127.0.0.1\nallow_anonymous false\npassword_file %s\npersistence false\nuser %s\n' \
-        "$port" "$work/broker.pw" "$(id -un)" > broker.conf
-    "$MOSQUITTO" -v -c broker.conf > "broker-$tries.log" 2>&1 &
-    broker_pid=$!
-    pids+=($broker_pid)
-    wait_for grep -q "listen socket on port $port" "broker-$tries.log" && break
-    kill "$broker_pid" 2>/dev/null || true
-    (( tries < 5 )) || fail "mosquitto would not start: $(cat broker-*.log)"
-done
+start_mosquitto broker mosquitto_conf "$work/broker.pw"
 modbus_port=$(mbc freeport)
 
 start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7

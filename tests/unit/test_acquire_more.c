@@ -72,6 +72,7 @@ static void test_acquisitions_needed_follow_the_noise_part_alone(void)
     v.current.sigma_center_noise_m = 0; /* no term given: all of it taken as noise, 1.44 x the pulses */
     v.uncertainty_m = 0.0012;
     TEST_ASSERT_EQUAL_INT(1, uwbd_acquisitions_needed(&v, 0.001, 4, 4));
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed(&v, 0.001, 4, 0)); /* no pulses each */
 }
 
 /* sigma^2 = 0.5 + 4 / pulses (mm^2): 1.5 at 4 pulses, 1.0 at 8. Under 1.01 mm
@@ -83,7 +84,8 @@ static void test_acquisitions_needed_from_two_measurements(void)
     TEST_ASSERT_EQUAL_INT(0, uwbd_acquisitions_needed_fit(s4, 4, s8, 8, 0.00101, 4));
     TEST_ASSERT_EQUAL_INT(6, uwbd_acquisitions_needed_fit(s4, 4, s8, 8, 0.0008, 4));
     TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed_fit(s4, 4, s8, 8, 0.0007, 4));
-    TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed_fit(s8, 4, s4, 8, 0.001, 4)); /* sigma rose */
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed_fit(s8, 4, s4, 8, 0.001, 4));  /* sigma rose */
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_acquisitions_needed_fit(s4, 4, s8, 8, 0.0008, 0)); /* no pulses each */
 }
 
 static void test_the_baselines_repeatability_enters_the_uncertainty(void)

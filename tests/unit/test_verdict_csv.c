@@ -1,13 +1,15 @@
 /* The verdict as CSV for spreadsheets: the header, a compared verdict's
  * figures as the JSON prints them, withheld figures as empty cells (never
  * 0) with the reason saying why, RFC 4180 quoting, no partial row when the
- * buffer is short; and `uwbd ctl history --csv` from a HISTORY reply. */
+ * buffer is short; and `uwbd ctl history --csv` from a HISTORY reply,
+ * the daemon's own giving each verdict's row whole. */
 #include "unity.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "daemon/reply.h"
 #include "uwb/cli.h"
 #include "uwb/verdict_csv.h"
 #include "uwb/verdict_json.h"
@@ -177,6 +179,56 @@ static void test_a_history_reply_becomes_the_header_and_a_row_per_verdict(void)
     free(printed);
 }
 
+/* The verdict line's own row, as the CSV file output writes it. */
+static void append_row_of(const char *line, char *out, size_t n)
+{
+    read_verdict(line);
+    TEST_ASSERT_GREATER_THAN(0, uwb_verdict_csv_row(&rec, row, sizeof row));
+    snprintf(out + strlen(out), n - strlen(out), "%s", row);
+}
+
+/* `uwbd ctl --csv history` from the daemon's HISTORY reply gives each
+ * verdict's whole row: every column its verdict fills (the first fills
+ * all 19), not only those a summary carries. */
+static void test_the_daemons_history_reply_fills_every_column(void)
+{
+    char *lines[] = {
+        "{\"class\":\"VERDICT\",\"status\":\"alarm\",\"reason\":\"over the alarm line\","
+        "\"fault\":\"clock\",\"scan_id\":\"s2\",\"created\":\"2026-11-27T04:00:00Z\","
+        "\"axial_displacement_mm\":12.04,\"uncertainty_mm\":0.23,\"lower_edge_mm\":212.04,"
+        "\"upper_edge_mm\":612.5,\"center_mm\":412.27,\"height_mm\":400.46,\"height_change_mm\":-0.1,"
+        "\"height_change_uncertainty_mm\":0.31,\"face_range_mm\":150,\"snr_db\":31.2,"
+        "\"edge_uncertainty_mm\":0.2,\"baseline\":{\"lower_edge_mm\":200,\"upper_edge_mm\":600,"
+        "\"center_mm\":400,\"scan_id\":\"s1\"},\"images\":[\"/a.png\"],\"scan_file\":\"/s2.uwbscan\","
+        "\"baseline_set\":false,\"baseline_note\":\"an alarm is never the baseline\",\"asset_id\":\"T1\","
+        "\"trigger\":\"event\"}",
+        "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"s3\",\"created\":\"t3\","
+        "\"axial_displacement_mm\":0,\"uncertainty_mm\":0.2,\"lower_edge_mm\":1,\"upper_edge_mm\":2,"
+        "\"center_mm\":1.5,\"height_mm\":1,\"height_change_withheld\":\"the upper edge is weak\","
+        "\"face_range_mm\":3,\"snr_db\":20,\"edge_uncertainty_mm\":0.1,\"images\":[],"
+        "\"trigger\":\"schedule\"}",
+        "{\"class\":\"VERDICT\",\"status\":\"error\",\"reason\":\"carriage stalled\",\"fault\":\"rig\","
+        "\"scan_id\":\"s4\",\"created\":\"t4\",\"images\":[],\"trigger\":\"command\"}"};
+    char *reply = uwbd_reply_history(lines, 3, 3, 0);
+    TEST_ASSERT_NOT_NULL(reply);
+    char err[256] = "";
+    int rc = history_csv(reply, err, sizeof err);
+    free(reply);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, rc, err);
+    char want[4096];
+    snprintf(want, sizeof want, "%s", uwb_verdict_csv_header());
+    for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++)
+        append_row_of(lines[i], want, sizeof want);
+    TEST_ASSERT_EQUAL_STRING(want, printed);
+    const char *first = printed + strlen(uwb_verdict_csv_header());
+    size_t first_len = strcspn(first, "\r");
+    TEST_ASSERT_NULL_MESSAGE(memchr(first, '\0', first_len), "no first row");
+    for (size_t i = 0; i + 1 < first_len; i++)
+        TEST_ASSERT_FALSE_MESSAGE(first[i] == ',' && first[i + 1] == ',', first);
+    TEST_ASSERT_TRUE_MESSAGE(first[0] != ',' && first[first_len - 1] != ',', first);
+    free(printed);
+}
+
 static void test_a_reply_other_than_history_prints_nothing(void)
 {
     char err[256] = "";
@@ -200,6 +252,7 @@ int main(void)
     RUN_TEST(test_a_reason_with_a_comma_and_a_quote_is_quoted);
     RUN_TEST(test_a_short_buffer_gives_minus_one_and_no_partial_row);
     RUN_TEST(test_a_history_reply_becomes_the_header_and_a_row_per_verdict);
+    RUN_TEST(test_the_daemons_history_reply_fills_every_column);
     RUN_TEST(test_a_reply_other_than_history_prints_nothing);
     return UNITY_END();
 }
