@@ -180,6 +180,12 @@ static void test_usage_errors(void)
     expect_usage_error(a5, "seed");
     char *a6[] = {"uwbsim", "--height-change-m", "-0.05", "-o", scan, NULL};
     expect_usage_error(a6, "height_change_m");
+    char *a7[] = {"uwbsim", "--radial-m", "2-9:0.006", "-o", scan, NULL};
+    expect_usage_error(a7, "radial_m: disks 2-9: the winding has fewer disks");
+    char *a8[] = {"uwbsim", "--radial-m=2-4:6mm", "-o", scan, NULL};
+    expect_usage_error(a8, "\"2-4:6mm\" is not FROM-TO:METRES");
+    char *a9[] = {"uwbsim", "--face-tilt-m", "-0.07", "-o", scan, NULL};
+    expect_usage_error(a9, "through its back face");
     TEST_ASSERT_EQUAL_INT(-1, access(scan, F_OK)); /* nothing written on error */
 }
 

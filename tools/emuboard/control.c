@@ -4,6 +4,7 @@
 #include <cjson/cJSON.h>
 #include <ctype.h>
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -102,6 +103,83 @@ static char *set_scene(struct emu_board *b, const char *key, const char *value)
     return print_and_free(o);
 }
 
+/* A number in mm from text that must be nothing else. */
+static int parse_mm(const char *text, double *mm)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (end == text || *end || errno || !isfinite(v))
+        return -1;
+    *mm = v;
+    return 0;
+}
+
+/* A whole disk number from 1 up. */
+static int parse_disk(const char *text, int *disk)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (!isdigit((unsigned char)text[0]) || *end || errno || v < 1 || v > SIM_DISKS_MAX)
+        return -1;
+    *disk = (int)v;
+    return 0;
+}
+
+static char *scene_changed(struct emu_board *b, struct sim_scene *scene, const char *key)
+{
+    char err[512];
+    if (emu_board_set_scene(b, scene, err, sizeof err) != 0)
+        return reply_error("set: %s%s", err, NULL);
+    const struct sim_param *p = sim_param_find(key);
+    char now[SIM_TEXT_MAX];
+    sim_scene_get(&b->scene, p, now, sizeof now);
+    cJSON *o = reply_ok("set");
+    cJSON_AddStringToObject(o, "key", p->name);
+    cJSON_AddStringToObject(o, "value", now);
+    return print_and_free(o);
+}
+
+/* set radial FROM TO MM: the fronts of disks FROM..TO (1 = the bottom one)
+ * moved MM toward the antennas (negative: away), the others kept. */
+static char *set_radial(struct emu_board *b, const char *value)
+{
+    char from_text[32], to_text[32], mm_text[64], extra[2];
+    int from, to;
+    double mm;
+    char err[512];
+    if (sscanf(value, "%31s %31s %63s %1s", from_text, to_text, mm_text, extra) != 3)
+        return reply_error("set radial '%s': say `set radial FROM TO MM` (disks numbered from 1 at the "
+                           "bottom; MM + toward the antennas, - away)%s",
+                           value, NULL);
+    if (parse_disk(from_text, &from) != 0 || parse_disk(to_text, &to) != 0)
+        return reply_error("set radial '%s': FROM and TO must be disk numbers from 1 (the bottom disk)%s",
+                           value, NULL);
+    if (parse_mm(mm_text, &mm) != 0)
+        return reply_error("set radial: '%s' is not a number of mm%s", mm_text, NULL);
+    struct sim_scene scene = b->scene;
+    if (sim_scene_set_radial(&scene, from, to, mm / 1000.0, err, sizeof err) != 0)
+        return reply_error("set %s%s", err, NULL);
+    return scene_changed(b, &scene, "radial_m");
+}
+
+/* set face_tilt MM: the top disk's front MM nearer than the bottom's. */
+static char *set_face_tilt(struct emu_board *b, const char *value)
+{
+    double mm;
+    char text[32], err[512];
+    if (parse_mm(value, &mm) != 0)
+        return reply_error("set face_tilt: '%s' is not a number of mm (the top disk's front this much "
+                           "nearer the antennas than the bottom's)%s",
+                           value, NULL);
+    snprintf(text, sizeof text, "%.17g", mm / 1000.0);
+    struct sim_scene scene = b->scene;
+    if (sim_scene_set(&scene, "face_tilt_m", text, err, sizeof err) != 0)
+        return reply_error("set %s%s", err, NULL);
+    return scene_changed(b, &scene, "face_tilt_m");
+}
+
 static char *get_scene(struct emu_board *b, const char *key)
 {
     const struct sim_param *p = sim_param_find(key);
@@ -194,7 +272,8 @@ static char *truth(struct emu_board *b)
 }
 
 static const char help_text[] =
-    "status | log | log clear | set KEY VALUE | get KEY | fault NAME on|off|every N|next N | "
+    "status | log | log clear | set KEY VALUE | set radial FROM TO MM | set face_tilt MM | get KEY | "
+    "fault NAME on|off|every N|next N | "
     "board steps_per_mm|home_y_mm|invert_dir|position_mm VALUE | input event 0|1 | truth | quit";
 
 char *emu_control_command(struct emu_board *b, const char *line)
@@ -234,6 +313,10 @@ char *emu_control_command(struct emu_board *b, const char *line)
         b->log_len = 0;
         return print_and_free(reply_ok("log clear"));
     }
+    if (strcmp(cmd, "set") == 0 && strcmp(words[1], "radial") == 0 && value[0])
+        return set_radial(b, value);
+    if (strcmp(cmd, "set") == 0 && strcmp(words[1], "face_tilt") == 0 && value[0])
+        return set_face_tilt(b, value);
     if (strcmp(cmd, "set") == 0 && words[1][0] && value[0])
         return set_scene(b, words[1], value);
     if (strcmp(cmd, "get") == 0 && words[1][0] && !words[2][0])

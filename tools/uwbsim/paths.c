@@ -112,7 +112,7 @@ double sim_gap_lit(const struct sim_engine *e, const struct sim_element *el, con
         horiz = sqrt(hx * hx + hz * hz);
         double ux = hx / horiz, uz = hz / horiz;
         double pu = p[0] * ux + p[2] * uz, pp = p[0] * p[0] + p[2] * p[2];
-        double R = e->geo.radius;
+        double R = el->mouth;
         double disc = pu * pu - pp + R * R;
         double len = -pu + sqrt(disc > 0 ? disc : 0.0);
         double dc = 0.5 * (el->depth0 + el->depth1);

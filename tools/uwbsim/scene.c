@@ -14,27 +14,27 @@ static const char *const pulse_choices[] = {"ricker", "monocycle", "file", NULL}
 #define OFF(field) offsetof(struct sim_scene, field)
 #define NUM(name, unit, def, group, lo, hi, help) \
     { \
-#name, SIM_PARAM_NUMBER, unit, def, group, help, OFF(name), lo, hi, NULL \
+#name, SIM_PARAM_NUMBER, unit, def, group, help, OFF(name), lo, hi, NULL, NULL \
     }
 #define OPTNUM(name, unit, group, lo, hi, help) \
     { \
-#name, SIM_PARAM_OPTNUMBER, unit, "none", group, help, OFF(name), lo, hi, NULL \
+#name, SIM_PARAM_OPTNUMBER, unit, "none", group, help, OFF(name), lo, hi, NULL, NULL \
     }
 #define INT(name, def, group, lo, hi, help) \
     { \
-#name, SIM_PARAM_INT, "", def, group, help, OFF(name), lo, hi, NULL \
+#name, SIM_PARAM_INT, "", def, group, help, OFF(name), lo, hi, NULL, NULL \
     }
 #define BOOL(name, def, group, help) \
     { \
-#name, SIM_PARAM_BOOL, "", def, group, help, OFF(name), 0, 1, NULL \
+#name, SIM_PARAM_BOOL, "", def, group, help, OFF(name), 0, 1, NULL, NULL \
     }
 #define ENUM(name, def, group, choices, help) \
     { \
-#name, SIM_PARAM_ENUM, "", def, group, help, OFF(name), 0, 0, choices \
+#name, SIM_PARAM_ENUM, "", def, group, help, OFF(name), 0, 0, choices, NULL \
     }
 #define STR(name, group, help) \
     { \
-#name, SIM_PARAM_STRING, "", "", group, help, OFF(name), 0, 0, NULL \
+#name, SIM_PARAM_STRING, "", "", group, help, OFF(name), 0, 0, NULL, NULL \
     }
 
 static const struct sim_param params[] = {
@@ -78,6 +78,15 @@ static const struct sim_param params[] = {
     NUM(tilt_deg, "deg", "0", "winding", -15, 15, "tilt of the stack's axis about its centre"),
     NUM(tilt_azimuth_deg, "deg", "0", "winding", -360, 360,
         "direction the top leans to: 0 = toward the antennas, 90 = sideways (+x); 3d mode only"),
+    {"radial_m", SIM_PARAM_STRING, "m", "", "winding",
+     "radial changes of the disks' front faces: FROM-TO:METRES or DISK:METRES, comma-separated, disks "
+     "numbered 1..disks from the bottom; + toward the antennas (a bulge, free buckling outward), - away "
+     "(a dent); a later entry wins where two overlap. The back face stays, the spacer between two moved "
+     "disks moves with them; empty = none (e.g. 2-4:0.006)",
+     OFF(radial_m), 0, 0, NULL, sim_radial_check},
+    NUM(face_tilt_m, "m", "0", "winding", -1, 1,
+        "the top disk's front this much nearer the antennas than the bottom disk's, linear over the disks "
+        "between and added to radial_m (a lean of the face, not the axis tilt tilt_deg)"),
 
     BOOL(clutter, "true", "clutter",
          "master switch for the static clutter below (core, barrier, clamp, reference target, far wall)"),
@@ -283,6 +292,8 @@ static int set_param(struct sim_scene *scene, const struct sim_param *p, const c
             snprintf(err, errlen, "%s: text longer than %d bytes", p->name, SIM_TEXT_MAX - 1);
             return -1;
         }
+        if (p->check && p->check(value, err, errlen) != 0)
+            return -1;
         memcpy(base, value, strlen(value) + 1); /* length checked above */
         return 0;
     }
@@ -362,6 +373,40 @@ double sim_scene_antenna_y_m(const struct sim_scene *s, int position)
     return nearbyint((s->first_position_m + position * s->position_step_m) * 1e9) / 1e9;
 }
 
+/* Radial changes: every disk named exists, no front goes through its back
+ * face, and none reaches the barrier or the tank window. */
+static int validate_fronts(const struct sim_scene *s, char *err, size_t errlen)
+{
+    double front[SIM_DISKS_MAX];
+    if (s->disks > SIM_DISKS_MAX) {
+        snprintf(err, errlen, "disks: %d is more than %d", s->disks, SIM_DISKS_MAX);
+        return -1;
+    }
+    if (sim_scene_disk_fronts(s, front, err, errlen) != 0)
+        return -1;
+    double clear = s->face_z_m - s->window_gap_m - s->window_thickness_m - 1e-3;
+    const char *what = "the tank window";
+    if (s->clutter && s->barrier) {
+        clear = s->barrier_gap_m;
+        what = "the barrier (barrier_gap_m)";
+    }
+    for (int i = 0; i < s->disks; i++) {
+        if (front[i] <= -s->radial_build_m) {
+            snprintf(err, errlen,
+                     "radial_m, face_tilt_m: disk %d's front moves %g m away, through its back face "
+                     "(radial_build_m = %g m)",
+                     i + 1, -front[i], s->radial_build_m);
+            return -1;
+        }
+        if (front[i] >= clear) {
+            snprintf(err, errlen, "radial_m, face_tilt_m: disk %d's front moves %g m nearer and reaches %s",
+                     i + 1, front[i], what);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 int sim_scene_validate(const struct sim_scene *s, char *err, size_t errlen)
 {
     if (s->disks > 1 && sim_scene_gap_actual_m(s) < 0) {
@@ -424,6 +469,8 @@ int sim_scene_validate(const struct sim_scene *s, char *err, size_t errlen)
                  s->sample_interval_s, s->centre_frequency_hz, nyquist);
         return -1;
     }
+    if (validate_fronts(s, err, errlen) != 0)
+        return -1;
     if (s->tilt_deg != 0 && s->mode == SIM_MODE_2D && fmod(fabs(s->tilt_azimuth_deg), 180.0) != 0) {
         snprintf(err, errlen, "tilt_azimuth_deg: in 2d mode the tilt must lie in the y-z plane (0 or 180)");
         return -1;

@@ -16,6 +16,7 @@ enum sim_polarisation { SIM_POL_PARALLEL = 0, SIM_POL_PERPENDICULAR = 1 };
 enum sim_pulse_kind { SIM_PULSE_RICKER = 0, SIM_PULSE_MONOCYCLE = 1, SIM_PULSE_FILE = 2 };
 
 #define SIM_TEXT_MAX 512
+#define SIM_DISKS_MAX 500
 
 struct sim_scene {
     /* general */
@@ -44,6 +45,16 @@ struct sim_scene {
     double height_change_m;
     double tilt_deg;
     double tilt_azimuth_deg;
+    /* Radial changes of the disks' front faces, + toward the antennas (a
+     * bulge: the front's range z, which grows away from the antennas, gets
+     * smaller), - away from them (a dent); the back face stays.
+     * radial_m: "I-J:METRES" or "I:METRES", comma-separated, disks 1..disks
+     * from the bottom, a later entry winning; "" = none. face_tilt_m: the
+     * top disk's front this much nearer than the bottom disk's, linear over
+     * the disks between, added to radial_m. sim_scene_disk_fronts() gives
+     * each disk's offset. */
+    char radial_m[SIM_TEXT_MAX];
+    double face_tilt_m;
 
     /* static clutter */
     int clutter; /* master switch */
@@ -128,6 +139,8 @@ struct sim_param {
     size_t offset;              /* into struct sim_scene */
     double min, max;            /* inclusive limits for numbers and integers */
     const char *const *choices; /* ENUM: NULL-terminated */
+    /* STRING: checks the text's syntax when set (NULL: any text) */
+    int (*check)(const char *value, char *err, size_t errlen);
 };
 
 /* The table, in --help order, and its length. */
@@ -164,5 +177,18 @@ double sim_scene_gap_actual_m(const struct sim_scene *scene);
 double sim_scene_stack_height_m(const struct sim_scene *scene);
 double sim_scene_nominal_center_y_m(const struct sim_scene *scene);
 double sim_scene_antenna_y_m(const struct sim_scene *scene, int position);
+
+/* Each disk's front offset in m (+ toward the antennas), bottom disk first,
+ * from radial_m and face_tilt_m: front[0 .. disks-1]. err names the
+ * parameter and the problem (a disk the winding does not have). */
+int sim_scene_disk_fronts(const struct sim_scene *scene, double *front, char *err, size_t errlen);
+/* The same from radial_m alone (face_tilt_m left out). */
+int sim_scene_radial_changes(const struct sim_scene *scene, double *front, char *err, size_t errlen);
+/* Set the radial change of disks from..to (1-based, bottom first) to metres,
+ * keeping the other disks' changes; radial_m is rewritten as runs of equal
+ * offsets ("2-4:0.006,6:-0.002"). The scene is unchanged on error. */
+int sim_scene_set_radial(struct sim_scene *scene, int from, int to, double metres, char *err, size_t errlen);
+/* radial_m's syntax (the table's check; the disks' count is validate's). */
+int sim_radial_check(const char *value, char *err, size_t errlen);
 
 #endif

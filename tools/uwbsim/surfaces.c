@@ -43,6 +43,7 @@ double sim_geometry_element_size(const struct sim_scene *s)
 
 struct builder {
     struct sim_geometry *geo;
+    const struct sim_scene *scene;
     size_t cap;
     int failed;
 };
@@ -152,140 +153,279 @@ void sim_stack_frame(const struct sim_scene *s, double rot[3][3], double origin[
     origin[2] = s->face_z_m + s->outer_radius_m;
 }
 
-static void build_winding_3d(const struct sim_scene *s, struct builder *b)
+/* The closed face's profile along the stack's local y: each disk at its own
+ * front, each gap at the farther of its two disks' fronts (the gap's mouth,
+ * where both plates are), neighbours with equal fronts merged. seg holds
+ * 2 disks - 1 entries; returns how many it filled. */
+struct front_seg {
+    double y0, y1, front;
+};
+
+static size_t front_profile(const struct sim_scene *s, const struct sim_geometry *g, struct front_seg *seg)
+{
+    double hd = s->disk_height_m, pitch = hd + sim_scene_gap_actual_m(s), h = g->half_height;
+    size_t n = 0;
+    for (int i = 0; i < s->disks; i++) {
+        double yb = -h + i * pitch;
+        struct front_seg piece[2] = {{yb, yb + hd, g->front[i]}, {yb + hd, yb + pitch, 0.0}};
+        int pieces = 1;
+        if (i < s->disks - 1) {
+            piece[1].front = fmin(g->front[i], g->front[i + 1]);
+            pieces = 2;
+        }
+        for (int k = 0; k < pieces; k++) {
+            if (n > 0 && seg[n - 1].front == piece[k].front)
+                seg[n - 1].y1 = piece[k].y1;
+            else
+                seg[n++] = piece[k];
+        }
+    }
+    seg[0].y0 = -h; /* the stack's own ends, exactly */
+    seg[n - 1].y1 = h;
+    return n;
+}
+
+/* The parts of the cell [y0, y1] in each segment, as (y0, y1, front) pieces;
+ * returns their count (at most 3 for a cell shorter than a disk or gap,
+ * cells at most `max`). */
+static int cell_pieces(const struct front_seg *seg, size_t nseg, double y0, double y1, struct front_seg *out,
+                       int max)
+{
+    int n = 0;
+    for (size_t i = 0; i < nseg && n < max; i++) {
+        double a = fmax(y0, seg[i].y0), c = fmin(y1, seg[i].y1);
+        if (c - a > 1e-12)
+            out[n++] = (struct front_seg){a, c, seg[i].front};
+    }
+    return n;
+}
+
+/* The spacer between two disks: with both when they moved alike, else it
+ * stays flush with the one moved less (at 0 between a bulge and a dent). */
+static double spacer_front(double a, double c)
+{
+    if (a > 0 && c > 0)
+        return fmin(a, c);
+    if (a < 0 && c < 0)
+        return fmax(a, c);
+    return 0.0;
+}
+
+/* A horizontal face in 3-D, part of a ring: radii from rim
+ * inward by width, over the angle span (2 pi: the whole ring) centred on
+ * the antennas' side. Gap faces get the depth behind the mouth. */
+static void add_ring(struct builder *b, double y, double up, double rim, double width, double span, int kind)
 {
     struct sim_geometry *g = b->geo;
-    double R = s->outer_radius_m, bld = s->radial_build_m, hd = s->disk_height_m;
+    double size = g->element_size_m;
+    int nr = cells(width, size);
+    double dr = width / nr;
+    double ln[3] = {0.0, up, 0.0};
+    for (int r = 0; r < nr; r++) {
+        double d0 = r * dr, d1 = (r + 1) * dr, rad = rim - 0.5 * (d0 + d1);
+        int np = cells(span * rad, size);
+        double dp = span / np;
+        for (int j = 0; j < np; j++) {
+            double phi = -span / 2 + (j + 0.5) * dp;
+            double lp[3] = {rad * sin(phi), y, -rad * cos(phi)};
+            add_local(b, lp, ln, rad * dp * dr, -1.0, kind);
+            if (kind != SIM_ELEM_PLAIN && !b->failed) {
+                struct sim_element *e = &g->el[g->count - 1];
+                e->depth0 = d0;
+                e->depth1 = d1;
+                e->gap = sim_scene_gap_actual_m(b->scene);
+                e->mouth = rim;
+            }
+        }
+    }
+}
+
+/* The same in 2-D: local z from zstart (the rim) backward by width. */
+static void add_strip(struct builder *b, double y, double up, double zstart, double width, int kind)
+{
+    struct sim_geometry *g = b->geo;
+    int nz = cells(width, g->element_size_m);
+    double dz = width / nz;
+    double ln[3] = {0.0, up, 0.0};
+    for (int r = 0; r < nz; r++) {
+        double lp[3] = {0.0, y, zstart + (r + 0.5) * dz};
+        add_local(b, lp, ln, dz, -1.0, kind);
+        if (kind != SIM_ELEM_PLAIN && !b->failed) {
+            struct sim_element *e = &g->el[g->count - 1];
+            e->depth0 = r * dz;
+            e->depth1 = (r + 1) * dz;
+            e->gap = sim_scene_gap_actual_m(b->scene);
+        }
+    }
+}
+
+/* A horizontal face of disk i (its top when up): in front of the gap's
+ * mouth, lit as the outside; behind it, lit only through the gap. A stack
+ * end is outside altogether (the whole ring in 3-D). */
+static void add_disk_end(struct builder *b, int i, int up, int closed)
+{
+    const struct sim_scene *s = b->scene;
+    struct sim_geometry *g = b->geo;
+    int m2 = s->mode == SIM_MODE_2D;
+    double bld = s->radial_build_m, hd = s->disk_height_m, pitch = hd + sim_scene_gap_actual_m(s);
+    double yb = -g->half_height + i * pitch, y = up ? yb + hd : yb, dir = up ? 1.0 : -1.0;
+    double f = g->front[i];
+    int exterior = up ? (i == s->disks - 1) : (i == 0);
+    if (exterior) {
+        if (m2)
+            add_strip(b, y, dir, g->face_local_z - f, bld + f, SIM_ELEM_PLAIN);
+        else
+            add_ring(b, y, dir, g->radius + f, bld + f, 2 * M_PI, SIM_ELEM_PLAIN);
+        return;
+    }
+    if (closed)
+        return; /* the gaps are shut: steps in the face are front_steps' */
+    double m = fmin(f, g->front[up ? i + 1 : i - 1]);
+    int kind = up ? SIM_ELEM_GAP_UP : SIM_ELEM_GAP_DOWN;
+    if (m2)
+        add_strip(b, y, dir, g->face_local_z - m, bld + m, kind);
+    else
+        add_ring(b, y, dir, g->radius + m, bld + m, M_PI, kind);
+    if (f > m) { /* this disk stands out past its neighbour: the overhang is outside */
+        if (m2)
+            add_strip(b, y, dir, g->face_local_z - f, f - m, SIM_ELEM_PLAIN);
+        else
+            add_ring(b, y, dir, g->radius + f, f - m, M_PI, SIM_ELEM_PLAIN);
+    }
+}
+
+/* The closed face's steps, where the profile's front changes: the part of
+ * a disk's end face standing out past the gap's mouth. */
+static void front_steps(struct builder *b, const struct front_seg *seg, size_t nseg)
+{
+    struct sim_geometry *g = b->geo;
+    for (size_t i = 0; i + 1 < nseg; i++) {
+        double lo = fmin(seg[i].front, seg[i + 1].front), hi = fmax(seg[i].front, seg[i + 1].front);
+        double up = seg[i].front > seg[i + 1].front ? 1.0 : -1.0;
+        if (g->mode == SIM_MODE_2D)
+            add_strip(b, seg[i].y1, up, g->face_local_z - hi, hi - lo, SIM_ELEM_PLAIN);
+        else
+            add_ring(b, seg[i].y1, up, g->radius + hi, hi - lo, M_PI, SIM_ELEM_PLAIN);
+    }
+}
+
+static void build_winding_3d(const struct sim_scene *s, struct builder *b, const struct front_seg *seg,
+                             size_t nseg)
+{
+    struct sim_geometry *g = b->geo;
+    double R = s->outer_radius_m, hd = s->disk_height_m;
     double gap = sim_scene_gap_actual_m(s), pitch = hd + gap, size = g->element_size_m;
     double n_oil = sqrt(s->eps_r);
     int nphi_front = cells(M_PI * R, size);
     double dphi = M_PI / nphi_front;
     int ny = cells(hd, size);
-    int nr = cells(bld, size);
-    double dr = bld / nr;
 
     int closed = s->polarisation == SIM_POL_PARALLEL;
     if (closed) {
         /* E along the gaps' edges: a gap of a few mm is far below its cutoff
          * (half a wavelength across it), no wave enters, and the stack's
-         * outer face acts as one continuous metal cylinder. */
+         * outer face acts as one continuous metal cylinder (stepped where
+         * disks moved radially; cells are split at the steps). */
         int nyall = cells(2 * g->half_height, size);
         double dy = 2 * g->half_height / nyall;
         for (int j = 0; j < nphi_front; j++) {
             double phi = -M_PI / 2 + (j + 0.5) * dphi;
             double ln[3] = {sin(phi), 0.0, -cos(phi)};
             for (int k = 0; k < nyall; k++) {
-                double lp[3] = {R * ln[0], -g->half_height + (k + 0.5) * dy, R * ln[2]};
-                add_local(b, lp, ln, R * dphi * dy, -1.0, SIM_ELEM_PLAIN);
+                struct front_seg piece[4];
+                double y0 = -g->half_height + k * dy;
+                int n = cell_pieces(seg, nseg, y0, y0 + dy, piece, 4);
+                if (n == 1) {
+                    double rf = R + piece[0].front;
+                    double lp[3] = {rf * ln[0], -g->half_height + (k + 0.5) * dy, rf * ln[2]};
+                    add_local(b, lp, ln, rf * dphi * dy, -1.0, SIM_ELEM_PLAIN);
+                    continue;
+                }
+                for (int q = 0; q < n; q++) {
+                    double rf = R + piece[q].front;
+                    double lp[3] = {rf * ln[0], 0.5 * (piece[q].y0 + piece[q].y1), rf * ln[2]};
+                    add_local(b, lp, ln, rf * dphi * (piece[q].y1 - piece[q].y0), -1.0, SIM_ELEM_PLAIN);
+                }
             }
         }
+        front_steps(b, seg, nseg);
     }
     for (int i = 0; i < s->disks; i++) {
-        double yb = -g->half_height + i * pitch, yt = yb + hd;
+        double yb = -g->half_height + i * pitch, yt = yb + hd, rf = R + g->front[i];
         /* outer face: front half (the back half never faces the antennas) */
         for (int j = 0; j < nphi_front && !closed; j++) {
             double phi = -M_PI / 2 + (j + 0.5) * dphi;
             double ln[3] = {sin(phi), 0.0, -cos(phi)};
             for (int k = 0; k < ny; k++) {
-                double lp[3] = {R * ln[0], yb + (k + 0.5) * hd / ny, R * ln[2]};
-                add_local(b, lp, ln, R * dphi * hd / ny, -1.0, SIM_ELEM_PLAIN);
+                double lp[3] = {rf * ln[0], yb + (k + 0.5) * hd / ny, rf * ln[2]};
+                add_local(b, lp, ln, rf * dphi * hd / ny, -1.0, SIM_ELEM_PLAIN);
             }
         }
-        /* top and bottom faces */
-        for (int side = 0; side < 2; side++) {
-            int up = side == 1;
-            int exterior = up ? (i == s->disks - 1) : (i == 0);
-            if (closed && !exterior)
-                continue;
-            double yf = up ? yt : yb;
-            double ln[3] = {0.0, up ? 1.0 : -1.0, 0.0};
-            for (int r = 0; r < nr; r++) {
-                double d0 = r * dr, d1 = (r + 1) * dr, rad = R - 0.5 * (d0 + d1);
-                /* exterior faces: the whole ring (nothing hides it from above/below);
-                 * gap faces: the front half, the only part a ray can reach through the gap */
-                double span = exterior ? 2 * M_PI : M_PI;
-                int np = cells(span * rad, size);
-                double dp = span / np;
-                for (int j = 0; j < np; j++) {
-                    double phi = -span / 2 + (j + 0.5) * dp;
-                    double lp[3] = {rad * sin(phi), yf, -rad * cos(phi)};
-                    add_local(b, lp, ln, rad * dp * dr, -1.0,
-                              exterior ? SIM_ELEM_PLAIN : (up ? SIM_ELEM_GAP_UP : SIM_ELEM_GAP_DOWN));
-                    if (!exterior && !b->failed) {
-                        struct sim_element *e = &g->el[g->count - 1];
-                        e->depth0 = d0;
-                        e->depth1 = d1;
-                        e->gap = gap;
-                    }
-                }
-            }
-        }
+        /* bottom and top faces */
+        add_disk_end(b, i, 0, closed);
+        add_disk_end(b, i, 1, closed);
         /* a dielectric filling of the gap above this disk shows its front */
         if (!closed && i < s->disks - 1 && gap > 0 && s->gap_eps_r > 0 && s->gap_eps_r != s->eps_r) {
             double n_fill = sqrt(s->gap_eps_r);
             double refl = (n_oil - n_fill) / (n_oil + n_fill);
+            double rs = R + spacer_front(g->front[i], g->front[i + 1]);
             int nyg = cells(gap, size);
             for (int j = 0; j < nphi_front; j++) {
                 double phi = -M_PI / 2 + (j + 0.5) * dphi;
                 double ln[3] = {sin(phi), 0.0, -cos(phi)};
                 for (int k = 0; k < nyg; k++) {
-                    double lp[3] = {R * ln[0], yt + (k + 0.5) * gap / nyg, R * ln[2]};
-                    add_local(b, lp, ln, R * dphi * gap / nyg, refl, SIM_ELEM_PLAIN);
+                    double lp[3] = {rs * ln[0], yt + (k + 0.5) * gap / nyg, rs * ln[2]};
+                    add_local(b, lp, ln, rs * dphi * gap / nyg, refl, SIM_ELEM_PLAIN);
                 }
             }
         }
     }
 }
 
-static void build_winding_2d(const struct sim_scene *s, struct builder *b)
+static void build_winding_2d(const struct sim_scene *s, struct builder *b, const struct front_seg *seg,
+                             size_t nseg)
 {
     struct sim_geometry *g = b->geo;
-    double zf = g->face_local_z, bld = s->radial_build_m, hd = s->disk_height_m;
+    double zf = g->face_local_z, hd = s->disk_height_m;
     double gap = sim_scene_gap_actual_m(s), pitch = hd + gap, size = g->element_size_m;
     double n_oil = sqrt(s->eps_r);
     int ny = cells(hd, size);
-    int nz = cells(bld, size);
-    double dz = bld / nz;
     double front_n[3] = {0.0, 0.0, -1.0};
     int closed = s->polarisation == SIM_POL_PARALLEL;
     if (closed) { /* gaps below cutoff: one continuous front face (see the 3-D case) */
         int nyall = cells(2 * g->half_height, size);
         double dy = 2 * g->half_height / nyall;
         for (int k = 0; k < nyall; k++) {
-            double lp[3] = {0.0, -g->half_height + (k + 0.5) * dy, zf};
-            add_local(b, lp, front_n, dy, -1.0, SIM_ELEM_PLAIN);
+            struct front_seg piece[4];
+            double y0 = -g->half_height + k * dy;
+            int n = cell_pieces(seg, nseg, y0, y0 + dy, piece, 4);
+            if (n == 1) {
+                double lp[3] = {0.0, -g->half_height + (k + 0.5) * dy, zf - piece[0].front};
+                add_local(b, lp, front_n, dy, -1.0, SIM_ELEM_PLAIN);
+                continue;
+            }
+            for (int q = 0; q < n; q++) {
+                double lp[3] = {0.0, 0.5 * (piece[q].y0 + piece[q].y1), zf - piece[q].front};
+                add_local(b, lp, front_n, piece[q].y1 - piece[q].y0, -1.0, SIM_ELEM_PLAIN);
+            }
         }
+        front_steps(b, seg, nseg);
     }
 
     for (int i = 0; i < s->disks; i++) {
-        double yb = -g->half_height + i * pitch, yt = yb + hd;
+        double yb = -g->half_height + i * pitch, yt = yb + hd, z = zf - g->front[i];
         for (int k = 0; k < ny && !closed; k++) {
-            double lp[3] = {0.0, yb + (k + 0.5) * hd / ny, zf};
+            double lp[3] = {0.0, yb + (k + 0.5) * hd / ny, z};
             add_local(b, lp, front_n, hd / ny, -1.0, SIM_ELEM_PLAIN);
         }
-        for (int side = 0; side < 2; side++) {
-            int up = side == 1;
-            int exterior = up ? (i == s->disks - 1) : (i == 0);
-            if (closed && !exterior)
-                continue;
-            double ln[3] = {0.0, up ? 1.0 : -1.0, 0.0};
-            for (int r = 0; r < nz; r++) {
-                double lp[3] = {0.0, up ? yt : yb, zf + (r + 0.5) * dz};
-                add_local(b, lp, ln, dz, -1.0,
-                          exterior ? SIM_ELEM_PLAIN : (up ? SIM_ELEM_GAP_UP : SIM_ELEM_GAP_DOWN));
-                if (!exterior && !b->failed) {
-                    struct sim_element *e = &g->el[g->count - 1];
-                    e->depth0 = r * dz;
-                    e->depth1 = (r + 1) * dz;
-                    e->gap = gap;
-                }
-            }
-        }
+        add_disk_end(b, i, 0, closed);
+        add_disk_end(b, i, 1, closed);
         if (!closed && i < s->disks - 1 && gap > 0 && s->gap_eps_r > 0 && s->gap_eps_r != s->eps_r) {
             double n_fill = sqrt(s->gap_eps_r);
+            double zs = zf - spacer_front(g->front[i], g->front[i + 1]);
             int nyg = cells(gap, size);
             for (int k = 0; k < nyg; k++) {
-                double lp[3] = {0.0, yt + (k + 0.5) * gap / nyg, zf};
+                double lp[3] = {0.0, yt + (k + 0.5) * gap / nyg, zs};
                 add_local(b, lp, front_n, gap / nyg, (n_oil - n_fill) / (n_oil + n_fill), SIM_ELEM_PLAIN);
             }
         }
@@ -327,15 +467,16 @@ static int build_edges(const struct sim_scene *s, struct sim_geometry *g)
         double y = top ? h : -h;
         double na[3] = {0.0, top ? 1.0 : -1.0, 0.0};
         for (int inner = 0; inner < 2; inner++) {
-            double sign = inner ? 1.0 : -1.0; /* face A runs outward from an inner edge */
+            double sign = inner ? 1.0 : -1.0;            /* face A runs outward from an inner edge */
+            double f = g->front[top ? s->disks - 1 : 0]; /* the end disk's front */
             if (s->mode == SIM_MODE_2D) {
-                double lp[3] = {0.0, y, g->face_local_z + (inner ? g->build : 0.0)};
+                double lp[3] = {0.0, y, inner ? g->face_local_z + g->build : g->face_local_z - f};
                 double t[3] = {1, 0, 0}, sa[3] = {0, 0, -sign};
                 if (add_edge(g, &cap, lp, t, sa, na, 1.5, 1.0) != 0)
                     return -1;
                 continue;
             }
-            double R = inner ? g->radius - g->build : g->radius;
+            double R = inner ? g->radius - g->build : g->radius + f;
             if (R <= 0)
                 continue;
             int n = cells(2 * M_PI * R, size);
@@ -465,11 +606,32 @@ int sim_geometry_build(const struct sim_scene *s, struct sim_geometry *g, char *
     g->barrier_thickness = s->barrier_thickness_m;
     g->barrier_n = sqrt(s->barrier_eps_r);
 
-    struct builder b = {g, 0, 0};
+    g->front = calloc((size_t)s->disks, sizeof *g->front);
+    struct front_seg *seg = malloc((2 * (size_t)s->disks) * sizeof *seg);
+    if (!g->front || !seg) {
+        free(seg);
+        sim_geometry_free(g);
+        snprintf(err, errlen, "geometry: out of memory for %d disks", s->disks);
+        return -1;
+    }
+    if (sim_scene_disk_fronts(s, g->front, err, errlen) != 0) {
+        free(seg);
+        sim_geometry_free(g);
+        return -1;
+    }
+    double least = g->front[0];
+    for (int i = 1; i < s->disks; i++)
+        least = fmin(least, g->front[i]);
+    g->solid_radius = g->radius + least;
+    g->solid_front_z = g->face_local_z - least;
+    size_t nseg = front_profile(s, g, seg);
+
+    struct builder b = {g, s, 0, 0};
     if (s->mode == SIM_MODE_2D)
-        build_winding_2d(s, &b);
+        build_winding_2d(s, &b, seg, nseg);
     else
-        build_winding_3d(s, &b);
+        build_winding_3d(s, &b, seg, nseg);
+    free(seg);
     if (s->clutter) {
         struct sim_scene cl = *s;
         cl.barrier = g->has_barrier;
@@ -489,8 +651,10 @@ void sim_geometry_free(struct sim_geometry *g)
 {
     free(g->el);
     free(g->edges);
+    free(g->front);
     g->el = NULL;
     g->edges = NULL;
+    g->front = NULL;
     g->count = g->edge_count = 0;
 }
 
@@ -500,7 +664,7 @@ int sim_geometry_blocked(const struct sim_geometry *g, const double a[3], const 
     if (g->mode == SIM_MODE_2D) {
         /* clip the segment a->p to the rectangle z in [zf, zf+build], y in [-h, h] */
         double s0 = 0.0, s1 = 1.0;
-        double lo[2] = {g->face_local_z, -h}, hi[2] = {g->face_local_z + g->build, h};
+        double lo[2] = {g->solid_front_z, -h}, hi[2] = {g->face_local_z + g->build, h};
         int axis[2] = {2, 1};
         for (int k = 0; k < 2; k++) {
             int ax = axis[k];
@@ -527,7 +691,7 @@ int sim_geometry_blocked(const struct sim_geometry *g, const double a[3], const 
     }
     double ax = a[0], az = a[2], dx = p[0] - a[0], dz = p[2] - a[2];
     double dd = dx * dx + dz * dz;
-    double R = g->radius;
+    double R = g->solid_radius;
     if (dd < 1e-24)
         return 0;
     double ad = ax * dx + az * dz;
@@ -555,7 +719,7 @@ static int footprint_span(const struct sim_geometry *g, const double a[3], const
 {
     if (g->mode == SIM_MODE_2D) {
         double dz = p[2] - a[2];
-        double lo = g->face_local_z, hi = g->face_local_z + g->build;
+        double lo = g->solid_front_z, hi = g->face_local_z + g->build;
         if (fabs(dz) < 1e-15)
             return 0;
         double t0 = (lo - a[2]) / dz, t1 = (hi - a[2]) / dz;
@@ -569,7 +733,7 @@ static int footprint_span(const struct sim_geometry *g, const double a[3], const
         return *s0 < *s1;
     }
     double ax = a[0], az = a[2], dx = p[0] - a[0], dz = p[2] - a[2];
-    double dd = dx * dx + dz * dz, R = g->radius;
+    double dd = dx * dx + dz * dz, R = g->solid_radius;
     if (dd < 1e-24)
         return 0;
     double ad = ax * dx + az * dz;

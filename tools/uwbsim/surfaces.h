@@ -36,6 +36,7 @@ struct sim_element {
     double refl2;                 /* thin layer: back face's coefficient (transmissions included), else 0 */
     double depth0, depth1;        /* gap faces: element's span of depth behind the outer rim */
     double gap;                   /* gap faces: axial gap width */
+    double mouth;                 /* gap faces (3-D): radius of the gap's mouth, the nearer disk's rim */
     unsigned char kind;           /* enum sim_element_kind */
     unsigned char part;           /* SIM_PART_WINDING or SIM_PART_CLUTTER */
     unsigned char shadowable;     /* may be hidden behind the winding */
@@ -64,6 +65,12 @@ struct sim_geometry {
     double radius;       /* outer radius (3-D) */
     double build;        /* radial build / 2-D depth */
     double face_local_z; /* local z of the front face (= -radius) */
+    /* Radial changes: each disk's front offset (m, + toward the antennas,
+     * i.e. outward: local z -radius - front, radius + front in 3-D), bottom
+     * disk first; the solid that shadows reaches to the least moved front. */
+    double *front;
+    double solid_radius;  /* 3-D: radius + the smallest front */
+    double solid_front_z; /* 2-D: face_local_z - the smallest front */
     /* barrier (static, world): outer face radius about the undisplaced axis */
     int has_barrier;
     double barrier_axis_z;  /* world z of the undisplaced winding axis */
