@@ -49,7 +49,8 @@ void uwbd_ctl_usage(FILE *f)
         "                   verdict, oldest first; a figure not given is an empty cell)\n"
         "\n"
         "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
-        "69 no daemon on the socket; 75 not accepted or no reply in time.\n",
+        "69 no daemon on the socket; 75 not accepted or no reply in time; 77 you may not open\n"
+        "the socket (the message names its group).\n",
         SCAN_TIMEOUT_S, OTHER_TIMEOUT_S, OTHER_TIMEOUT_S);
 }
 
@@ -366,6 +367,10 @@ static int talk(struct ctl_args *a)
     if (fd == UWBD_CONTROL_CONNECT_TIMEOUT) {
         fprintf(stderr, "uwbd ctl: %s\n", err);
         return UWBD_CTL_TIMEOUT;
+    }
+    if (fd == UWBD_CONTROL_CONNECT_DENIED) {
+        fprintf(stderr, "uwbd ctl: %s\n", err);
+        return UWBD_CTL_NO_PERM;
     }
     if (fd < 0) {
         fprintf(stderr, "uwbd ctl: %s (is uwbd running?)\n", err);
