@@ -26,31 +26,35 @@
 
 void uwbd_ctl_usage(FILE *f)
 {
-    fprintf(
-        f,
-        "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text | --csv] COMMAND...\n"
-        "\n"
-        "Sends COMMAND to the running daemon and prints its reply (one JSON line).\n"
-        "Commands: status, scan, verdict, history [N], trend [N], baseline set [N], watch, watch off, help.\n"
-        "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
-        "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
-        "closes the connection or --timeout S passes (then exit 0).\n"
-        "\n"
-        "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
-        "  --config FILE    take the socket's path from this configuration\n"
-        "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
-        "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
-        "  --text           print a verdict as lines for people (status, displacement or\n"
-        "                   edges or reason, images), and a trend as a table (time, status,\n"
-        "                   displacement \u00b1 1 sigma, height change, rate, image), instead\n"
-        "                   of its JSON line\n"
-        "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
-        "                   (a header naming each column and its unit, then a row per\n"
-        "                   verdict, oldest first; a figure not given is an empty cell)\n"
-        "\n"
-        "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
-        "69 no daemon on the socket; 75 not accepted or no reply in time.\n",
-        SCAN_TIMEOUT_S, OTHER_TIMEOUT_S, OTHER_TIMEOUT_S);
+    fprintf(f,
+            "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text | --csv] COMMAND...\n"
+            "\n"
+            "Sends COMMAND to the running daemon and prints its reply (one JSON line).\n"
+            "Commands: status, scan, verdict, history [N], trend [N], baseline set [N], watch, watch off, "
+            "contacts test [S], help.\n"
+            "`contacts test [S]` energises each alarm contact (watch, alarm, fault) alone in turn for S s\n"
+            "(default 10) for a point-to-point check with the RTU, then returns them to what the verdicts\n"
+            "call for; it is refused while a scan runs, and ends on time even when uwbd ctl has gone.\n"
+            "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
+            "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
+            "closes the connection or --timeout S passes (then exit 0).\n"
+            "\n"
+            "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
+            "  --config FILE    take the socket's path from this configuration\n"
+            "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
+            "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
+            "  --text           print a verdict as lines for people (status, displacement or\n"
+            "                   edges or reason, images), and a trend as a table (time, status,\n"
+            "                   displacement \u00b1 1 sigma, height change, rate, image), instead\n"
+            "                   of its JSON line\n"
+            "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
+            "                   (a header naming each column and its unit, then a row per\n"
+            "                   verdict, oldest first; a figure not given is an empty cell)\n"
+            "\n"
+            "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
+            "69 no daemon on the socket; 75 not accepted or no reply in time; 77 you may not open\n"
+            "the socket (the message names its group).\n",
+            SCAN_TIMEOUT_S, OTHER_TIMEOUT_S, OTHER_TIMEOUT_S);
 }
 
 static int is_error_reply(const char *line)
@@ -366,6 +370,10 @@ static int talk(struct ctl_args *a)
     if (fd == UWBD_CONTROL_CONNECT_TIMEOUT) {
         fprintf(stderr, "uwbd ctl: %s\n", err);
         return UWBD_CTL_TIMEOUT;
+    }
+    if (fd == UWBD_CONTROL_CONNECT_DENIED) {
+        fprintf(stderr, "uwbd ctl: %s\n", err);
+        return UWBD_CTL_NO_PERM;
     }
     if (fd < 0) {
         fprintf(stderr, "uwbd ctl: %s (is uwbd running?)\n", err);

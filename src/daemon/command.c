@@ -35,6 +35,10 @@ const struct uwb_command_help uwb_command_help[] = {
     {"event",
      "a through-fault (or another event) happened: scan as soon as the running scan ends; the verdict says "
      "\"trigger\": \"event\""},
+    {"contacts test [S]",
+     "point-to-point check with the RTU: every alarm contact released for 1 s, then watch, alarm and fault "
+     "each energised alone for S s (1..60, default 10) with 1 s released between, then back to what the "
+     "verdicts call for; refused while a scan runs; logged"},
     {"help", "this list"},
 };
 const size_t uwb_command_help_count = sizeof uwb_command_help / sizeof uwb_command_help[0];
@@ -52,6 +56,7 @@ const char *uwb_command_name(enum uwb_command_kind kind)
     case UWB_COMMAND_TREND: return "trend";
     case UWB_COMMAND_ACK: return "ack";
     case UWB_COMMAND_EVENT: return "event";
+    case UWB_COMMAND_CONTACTS_TEST: return "contacts test";
     }
     return "?";
 }
@@ -203,8 +208,26 @@ static int baseline_args(const struct words *w, struct uwb_command *cmd, char *e
     return UWB_COMMAND_OK;
 }
 
+static int contacts_args(const struct words *w, struct uwb_command *cmd, char *err, size_t errlen)
+{
+    if (w->n < 2 || strcmp(w->word[1], "test") != 0) {
+        set_error(err, errlen, "say `contacts test` (or `contacts test S`) to energise each relay in turn",
+                  NULL);
+        return UWB_COMMAND_INVALID;
+    }
+    cmd->count = UWB_CONTACTS_TEST_DEFAULT_S;
+    if (w->n == 3 && (parse_count(w->word[2], &cmd->count) != 0 || cmd->count > UWB_CONTACTS_TEST_MAX_S)) {
+        set_error(err, errlen,
+                  "contacts test: S (seconds each relay is held) must be a whole number from 1 to 60, not",
+                  w->word[2]);
+        return UWB_COMMAND_INVALID;
+    }
+    return UWB_COMMAND_OK;
+}
+
 /* Each verb: its kind, how many words may follow it, and what reads them
- * (NULL: none may). */
+ * (NULL: none may). Not reflowed, so that a new verb is a line of its own. */
+// clang-format off
 static const struct verb {
     const char *name;
     enum uwb_command_kind kind;
@@ -216,7 +239,9 @@ static const struct verb {
     {"ack", UWB_COMMAND_ACK, 0, NULL},           {"event", UWB_COMMAND_EVENT, 0, NULL},
     {"watch", UWB_COMMAND_WATCH, 1, watch_args}, {"history", UWB_COMMAND_HISTORY, 1, history_args},
     {"trend", UWB_COMMAND_TREND, 1, trend_args}, {"baseline", UWB_COMMAND_BASELINE_SET, 2, baseline_args},
+    {"contacts", UWB_COMMAND_CONTACTS_TEST, 2, contacts_args},
 };
+// clang-format on
 
 static int parse_words(const struct words *w, struct uwb_command *out, char *err, size_t errlen)
 {

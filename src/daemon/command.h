@@ -13,6 +13,9 @@
 #define UWB_TREND_DEFAULT 20
 /* `baseline set N`: at most this many scans averaged (UWBD_BASELINE_SCANS_MAX). */
 #define UWB_BASELINE_SCANS_MAX 16
+/* `contacts test [S]`: each relay held S seconds (1..60, default 10). */
+#define UWB_CONTACTS_TEST_DEFAULT_S 10
+#define UWB_CONTACTS_TEST_MAX_S 60
 
 enum uwb_command_kind {
     UWB_COMMAND_STATUS,       /* status         daemon state, baseline, last verdict */
@@ -25,12 +28,14 @@ enum uwb_command_kind {
     UWB_COMMAND_TREND, /* trend [N]      the last N verdicts as a displacement series, with its rate */
     UWB_COMMAND_ACK,   /* ack            latched alarm contacts fall back to the latest verdict */
     UWB_COMMAND_EVENT, /* event          a through-fault happened: scan as soon as the running one ends */
-    /* EVENT is the last kind: tests/fuzz/fuzz_command.c checks kinds against it. */
+    UWB_COMMAND_CONTACTS_TEST, /* contacts test [S]  energise each alarm relay in turn, for the RTU */
+    /* CONTACTS_TEST is the last kind: tests/fuzz/fuzz_command.c checks kinds against it. */
 };
 
 struct uwb_command {
     enum uwb_command_kind kind;
-    int count; /* history, trend: how many; baseline set: scans to average (0 = the configured default) */
+    int count; /* history, trend: how many; baseline set: scans to average (0 = the configured default);
+                  contacts test: seconds each relay is held */
     int force; /* baseline set force: also on a scan that is an alarm against the current baseline */
     int watch; /* watch: 1 PROGRESS and VERDICT lines, 2 PROGRESS only, 0 off */
 };

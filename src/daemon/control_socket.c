@@ -49,6 +49,12 @@ int uwbd_control_connect(const char *path, double timeout_s, char *err, size_t e
     while (connect(fd, (struct sockaddr *)&addr, sizeof addr) != 0) {
         if (errno == EINTR)
             continue;
+        if (errno == EACCES || errno == EPERM) {
+            int e = errno;
+            close(fd);
+            uwbd_control_explain_denied(path, e, err, errlen);
+            return UWBD_CONTROL_CONNECT_DENIED;
+        }
         if (errno != EAGAIN) {
             snprintf(err, errlen, "%s: cannot connect: %s", path, strerror(errno));
             close(fd);

@@ -30,11 +30,16 @@ void uwbd_control_close(struct uwbd_control_socket *cs);
 enum {
     UWBD_CONTROL_CONNECT_FAILED = -1,  /* no such socket, refused, ...: err says why */
     UWBD_CONTROL_CONNECT_TIMEOUT = -2, /* the daemon did not accept within the timeout */
+    UWBD_CONTROL_CONNECT_DENIED = -3,  /* this user may not open the socket (EACCES, EPERM) */
 };
 /* Client side: connect to the daemon's socket, waiting at most timeout_s
  * for a daemon whose backlog is full. Returns the fd (blocking), or one of
  * the codes above with err naming the path and the problem. */
 int uwbd_control_connect(const char *path, double timeout_s, char *err, size_t errlen);
+/* Why connect() on path failed with error (EACCES, EPERM), in err: the
+ * directory or the socket that shuts this user out, its mode, owner and
+ * group, and what to do (join the group, log in again, ...). */
+void uwbd_control_explain_denied(const char *path, int error, char *err, size_t errlen);
 /* Client side: send n bytes of text. 0, or -1 with errno; when the daemon
  * had closed the connection (EPIPE, ECONNRESET), reason holds the line it
  * wrote before closing (its refusal), "" when none. */

@@ -79,6 +79,13 @@ struct scan_start {
     double at_s; /* CLOCK_MONOTONIC; 0: a free entry */
 };
 
+/* `contacts test` (contacts_test.c): 0 when none runs, else the phase. */
+struct uwbd_contacts_test {
+    int phase;
+    int hold_s;
+    double phase_end_s; /* CLOCK_MONOTONIC */
+};
+
 struct scan_job {
     pthread_t thread;
     unsigned long cycle;
@@ -134,16 +141,17 @@ struct daemon {
     _Atomic int progress_done, progress_total;
     _Atomic long long progress_start_ms, progress_first_ms, progress_last_ms;
 
-    char *latest_verdict;                /* VERDICT line or NULL: what is sent and stored */
-    struct uwb_verdict_record *latest;   /* the same verdict as a record, or NULL: what is read */
-    struct uwbd_site_io *site_io;        /* the site's lines and event input (output_site_io.c) */
-    struct uwbd_mqtt *mqtt;              /* NULL: MQTT off (output_mqtt.c) */
-    struct uwbd_contacts contacts;       /* the alarm contacts' logic (output_contacts.c) */
-    struct uwbd_prometheus_metrics prom; /* the textfile's figures (output_textfile.c) */
-    int prom_failing;                    /* log a failing textfile once, not every verdict */
-    enum scan_trigger pending_trigger;   /* what asked for the next scan */
-    struct uwbd_modbus_server *modbus;   /* NULL: Modbus off (output_modbus.c) */
-    int csv_failing;                     /* log a failing CSV file once, not every verdict (output_csv.c) */
+    char *latest_verdict;                    /* VERDICT line or NULL: what is sent and stored */
+    struct uwb_verdict_record *latest;       /* the same verdict as a record, or NULL: what is read */
+    struct uwbd_site_io *site_io;            /* the site's lines and event input (output_site_io.c) */
+    struct uwbd_mqtt *mqtt;                  /* NULL: MQTT off (output_mqtt.c) */
+    struct uwbd_contacts contacts;           /* the alarm contacts' logic (output_contacts.c) */
+    struct uwbd_contacts_test contacts_test; /* lines held by `contacts test` (contacts_test.c) */
+    struct uwbd_prometheus_metrics prom;     /* the textfile's figures (output_textfile.c) */
+    int prom_failing;                        /* log a failing textfile once, not every verdict */
+    enum scan_trigger pending_trigger;       /* what asked for the next scan */
+    struct uwbd_modbus_server *modbus;       /* NULL: Modbus off (output_modbus.c) */
+    int csv_failing;                         /* log a failing CSV file once, not every verdict (output_csv.c) */
     int has_baseline;
     struct uwbd_baseline_info baseline;
 
@@ -196,6 +204,13 @@ void uwbd_schedule_arm(struct daemon *d, const struct timespec *from);
 void uwbd_scan_now(struct daemon *d);                            /* start a cycle, or queue one */
 void uwbd_scan_request(struct daemon *d, enum scan_trigger why); /* uwbd_scan_now, saying why */
 const char *uwbd_scan_trigger_name(enum scan_trigger why);
+
+/* contacts_test.c: `contacts test [S]` (the reply), whether one runs (the
+ * lines are then its, not the verdicts'), ending one early (why: logged) */
+char *uwbd_contacts_test_start(struct daemon *d, int hold_s, const char *who);
+int uwbd_contacts_testing(const struct daemon *d);
+void uwbd_contacts_test_end(struct daemon *d, const char *why);
+int uwbd_contacts_test_watch(struct daemon *d, struct uwbd_event_loop *loop);
 
 /* site_commands.c: run the commands MQTT received */
 void uwbd_run_site_commands(struct daemon *d);

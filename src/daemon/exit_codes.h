@@ -23,6 +23,7 @@ enum uwbd_ctl_exit {
     UWBD_CTL_USAGE = 64,
     UWBD_CTL_NO_DAEMON = 69, /* nothing listening on the control socket */
     UWBD_CTL_TIMEOUT = 75,   /* no reply in time */
+    UWBD_CTL_NO_PERM = 77,   /* this user may not open the control socket */
 };
 
 /* The exit status for a failed uwb_rig_open (its result and *detail). */

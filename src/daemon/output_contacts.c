@@ -9,10 +9,11 @@
 #include "daemon_internal.h"
 #include "util/log.h"
 
-/* The lines from the logic, when there are contacts. */
-static void drive(struct daemon *d)
+void uwbd_contacts_drive(struct daemon *d)
 {
-    if (!d->cfg.site.contacts_enabled)
+    /* A verdict or `ack` during a test changes the logic; the lines follow
+     * it when the test ends. */
+    if (!d->cfg.site.contacts_enabled || uwbd_contacts_testing(d))
         return;
     const int energised[UWBD_CONTACT_COUNT] = {
         uwbd_contacts_energised(&d->contacts, UWBD_CONTACT_WATCH),
@@ -22,14 +23,19 @@ static void drive(struct daemon *d)
     uwbd_site_io_contacts(d->site_io, energised);
 }
 
-/* Latched contacts come back from the verdict recorded before this start. */
+/* Latched contacts come back from the verdict recorded before this start.
+ * A reload that opens the site's lines again ends a running test. */
 static int contacts_open(struct daemon *d)
 {
     const struct uwbd_site_config *c = &d->cfg.site;
+    if (uwbd_contacts_testing(d)) {
+        d->contacts_test.phase = 0;
+        uwbd_log(UWBD_LOG_NOTICE, "contacts test: ended by a reload of the site's configuration");
+    }
     uwbd_contacts_init(&d->contacts, c->watch_latch, c->alarm_latch);
     if (d->latest)
         uwbd_contacts_restore(&d->contacts, uwb_status_name(d->latest->status));
-    drive(d);
+    uwbd_contacts_drive(d);
     if (c->contacts_enabled)
         uwbd_log(UWBD_LOG_INFO, "alarm contacts: watch %d, alarm %d, fault %d (energised = 1)",
                  uwbd_contacts_energised(&d->contacts, UWBD_CONTACT_WATCH),
@@ -51,7 +57,7 @@ static void contacts_verdict(struct daemon *d, const struct uwb_verdict_record *
     if (!json || !v)
         return;
     uwbd_contacts_verdict(&d->contacts, uwb_status_name(v->status), v->fault[0] != '\0');
-    drive(d);
+    uwbd_contacts_drive(d);
 }
 
 int uwbd_contacts_acknowledge(struct daemon *d, char *err, size_t errlen)
@@ -66,7 +72,7 @@ int uwbd_contacts_acknowledge(struct daemon *d, char *err, size_t errlen)
         return -1;
     }
     uwbd_contacts_ack(&d->contacts);
-    drive(d);
+    uwbd_contacts_drive(d);
     uwbd_log(UWBD_LOG_NOTICE, "alarm contacts acknowledged: watch %d, alarm %d",
              uwbd_contacts_energised(&d->contacts, UWBD_CONTACT_WATCH),
              uwbd_contacts_energised(&d->contacts, UWBD_CONTACT_ALARM));
@@ -93,4 +99,5 @@ const struct uwbd_output_module uwbd_output_contacts = {
     .open = contacts_open,
     .reload = contacts_reload,
     .verdict = contacts_verdict,
+    .watch = uwbd_contacts_test_watch,
 };

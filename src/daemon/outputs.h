@@ -66,6 +66,9 @@ int uwbd_mqtt_link_now(const struct daemon *d, struct uwbd_mqtt_link *out);
 /* `ack`: latched contacts fall back to what the latest verdict calls for,
  * then every module reports. -1 (err says why) when there are no contacts. */
 int uwbd_contacts_acknowledge(struct daemon *d, char *err, size_t errlen);
+/* The contact lines set from the logic (when there are contacts and no
+ * `contacts test` holds them). */
+void uwbd_contacts_drive(struct daemon *d);
 /* Whether a reload changed the site's configuration (site.*, contacts.*,
  * event.*, prometheus.*, mqtt.*): the site's modules open again only then. */
 int uwbd_site_changed(const struct daemon *d, const struct uwbd_config *previous);

@@ -361,6 +361,15 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         reply(d, p, uwbd_reply_event(d->scanning));
         uwbd_scan_request(d, TRIGGER_EVENT);
         return;
+    case UWB_COMMAND_CONTACTS_TEST: {
+        char who[48];
+        if (p->kind == PEER_CONSOLE)
+            snprintf(who, sizeof who, "the console");
+        else
+            snprintf(who, sizeof who, "a control client (uid %u)", (unsigned)p->uid);
+        reply(d, p, uwbd_contacts_test_start(d, cmd->count, who));
+        return;
+    }
     }
 }
 

@@ -26,7 +26,7 @@ static int parse_line(const char *line, size_t len, int *accepted, char *why, si
         return fuzz_broken(why, whylen, "parser left err unterminated (result %d)", rc);
     switch (rc) {
     case UWB_COMMAND_OK:
-        if ((unsigned)cmd.kind > UWB_COMMAND_EVENT) /* the last kind in command.h */
+        if ((unsigned)cmd.kind > UWB_COMMAND_CONTACTS_TEST) /* the last kind in command.h */
             return fuzz_broken(why, whylen, "command of kind %d", (int)cmd.kind);
         if (cmd.kind == UWB_COMMAND_HISTORY && (cmd.count < 1 || cmd.count > UWB_HISTORY_MAX))
             return fuzz_broken(why, whylen, "history of %d", cmd.count);

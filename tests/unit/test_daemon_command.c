@@ -84,6 +84,24 @@ static void test_watch_forms(void)
     assert_invalid("watch off now", "unexpected argument");
 }
 
+/* `contacts test [S]`: the seconds each relay is held, bounded. */
+static void test_contacts_test(void)
+{
+    assert_command("contacts test", UWB_COMMAND_CONTACTS_TEST);
+    TEST_ASSERT_EQUAL_INT(UWB_CONTACTS_TEST_DEFAULT_S, cmd.count);
+    assert_command("contacts test 1", UWB_COMMAND_CONTACTS_TEST);
+    TEST_ASSERT_EQUAL_INT(1, cmd.count);
+    assert_command("contacts  test 60\r\n", UWB_COMMAND_CONTACTS_TEST);
+    TEST_ASSERT_EQUAL_INT(60, cmd.count);
+    TEST_ASSERT_EQUAL_STRING("contacts test", uwb_command_name(UWB_COMMAND_CONTACTS_TEST));
+    assert_invalid("contacts", "contacts test");
+    assert_invalid("contacts energise", "contacts test");
+    assert_invalid("contacts test 0", "1 to 60");
+    assert_invalid("contacts test 61", "1 to 60");
+    assert_invalid("contacts test forever", "1 to 60");
+    assert_invalid("contacts test 5 now", "too many words");
+}
+
 static void test_line_endings_and_spacing(void)
 {
     assert_command("status\n", UWB_COMMAND_STATUS);
@@ -218,6 +236,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_every_command);
     RUN_TEST(test_watch_forms);
+    RUN_TEST(test_contacts_test);
     RUN_TEST(test_line_endings_and_spacing);
     RUN_TEST(test_bad_arguments);
     RUN_TEST(test_bounds_and_bytes);
