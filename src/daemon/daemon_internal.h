@@ -151,7 +151,7 @@ struct daemon {
     int prom_failing;                        /* log a failing textfile once, not every verdict */
     enum scan_trigger pending_trigger;       /* what asked for the next scan */
     struct uwbd_modbus_server *modbus;       /* NULL: Modbus off (output_modbus.c) */
-    int csv_failing;                         /* log a failing CSV file once, not every verdict (output_csv.c) */
+    int csv_failing; /* log a failing CSV file once, not every verdict (output_csv.c) */
     int has_baseline;
     struct uwbd_baseline_info baseline;
 
