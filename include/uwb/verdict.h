@@ -57,7 +57,8 @@ struct uwb_radial_verdict {
     double from_m, to_m;
     double uncertainty_m; /* 1-sigma of max_change */
     double tilt_m;        /* the face's top minus its bottom, + top nearer */
-    char withheld[160];   /* why not measured, or empty */
+    double shift_m;     /* the axial shift the faces were compared at: baseline y + shift_m = this scan's y */
+    char withheld[160]; /* why not measured, or empty */
 };
 
 struct uwb_verdict {

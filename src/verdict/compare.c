@@ -123,6 +123,7 @@ static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures 
     r->to_m = pair->radial_to_m;
     r->uncertainty_m = pair->radial_uncertainty_m;
     r->tilt_m = pair->radial_tilt_m;
+    r->shift_m = pair->displacement_m;
     if (r->uncertainty_m > opt->max_uncertainty_m) {
         r->status = UWB_STATUS_INCONCLUSIVE;
         snprintf(r->withheld, sizeof r->withheld, "radial uncertainty %.2f mm exceeds %.2f mm",

@@ -207,7 +207,8 @@ ctl --text verdict > verdict.txt || fail "uwbd ctl --text verdict"
 shift_text=$(printf '%+.2f' "$(json_get axial_displacement_mm < scan2.json)")
 [[ $(sed -n 1p verdict.txt) == "status ALARM: displacement $shift_text ± "*" mm (edges "*" mm, baseline "*" mm)" &&
    $(grep -c '^image: /' verdict.txt) == 3 && $(grep -c '^height change ' verdict.txt) == 1 &&
-   $(wc -l < verdict.txt) == 5 ]] || fail "uwbd ctl --text verdict: $(cat verdict.txt)"
+   $(grep -c '^radial change .*: OK$' verdict.txt) == 1 && $(wc -l < verdict.txt) == 6 ]] ||
+    fail "uwbd ctl --text verdict: $(cat verdict.txt)"
 ctl help | grep -q '"class":"HELP"' || fail "help"
 set +e; ctl frobnicate > /dev/null 2> ctl-bad.err; rc=$?; set -e
 [[ $rc == 64 ]] || fail "ctl with an unknown command: exit $rc, want 64"

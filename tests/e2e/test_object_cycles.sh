@@ -24,10 +24,11 @@ link src/link/link.o src/link/link_socket.o
 daemon-loop src/daemon/daemon.o src/daemon/peers.o src/daemon/worker.o src/daemon/lock_watch.o
 daemon-loop src/daemon/baseline_requests.o src/daemon/site_commands.o
 # The output modules' table (src/daemon/outputs.h) and its modules: they read the daemon's
-# state (registers, contacts, peers) and turn coils, the event input and MQTT into its commands.
+# state (registers, contacts, peers) and turn coils, the event input and MQTT into its commands;
+# `contacts test` holds the contacts module's lines for a while.
 daemon-loop src/daemon/outputs.o src/daemon/output_clients.o src/daemon/output_modbus.o
 daemon-loop src/daemon/output_site_io.o src/daemon/output_mqtt.o src/daemon/output_contacts.o
-daemon-loop src/daemon/output_textfile.o
+daemon-loop src/daemon/output_textfile.o src/daemon/contacts_test.o
 EOF
 )
 
