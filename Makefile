@@ -14,7 +14,9 @@
 #   make bench            build tools/bench/*.c into $(BUILD)/uwbbench, run it; fails when uwbd's
 #                         whole replay of the paper pair is over budget (100 ms, 16 MiB; issue 18)
 #   make accuracy         the accuracy report on the full-wave fixtures (build/uwbaccuracy);
-#                         it also rewrites the README's accuracy table
+#                         it also rewrites the README's accuracy tables (axial and radial)
+#   make accuracy-radial-limits  single-disk changes and a lean in the simulator: where the
+#                         radial figure stops (README's table)
 #   make readme-verdict   rewrite the README's paper-pair figure and example verdict from a
 #                         run of the command it shows (make test checks they match)
 #   make readme-images    redraw the README's example images (tools/readme/images) with
@@ -129,7 +131,7 @@ $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIP
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench accuracy accuracy-family readme-verdict readme-images readme-bench soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-radial-limits readme-verdict readme-images readme-bench soak install deps deps-arm check-hw-headers clean
 all: $(BUILD)/uwbd $(BUILD)/uwbsim $(BUILD)/uwbemu $(BUILD)/uwbimpair
 
 # uwbbench too: tests/e2e/test_bench_budget.sh checks its budget verdict.
@@ -333,6 +335,12 @@ accuracy: deps
 # against its truth: the README's family table (tools/accuracy/family.sh).
 accuracy-family: all
 	bash tools/accuracy/family.sh ../shared/data '$(BUILD)'
+
+# Where the radial figure stops: single-disk and wider changes and a lean
+# in the simulator (tools/accuracy/radial-limits.sh); rewrites the README's
+# block between its "make accuracy-radial-limits" markers.
+accuracy-radial-limits: all
+	bash tools/accuracy/radial-limits.sh '$(BUILD)' --readme README.md
 
 # The README's paper-pair figure and example verdict, from the command it
 # shows (tools/readme/readme-verdict.sh); tests/e2e/test_readme_verdict.sh

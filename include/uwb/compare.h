@@ -47,12 +47,14 @@ struct uwb_pair_figures {
      * again without the changed rows (has_refit): how far it parts from
      * displacement_m is the axial figure's deformation term. */
     int has_radial;
-    double radial_max_m, radial_at_m, radial_uncertainty_m, radial_tilt_m;
+    double radial_max_m, radial_at_m, radial_uncertainty_m, radial_uncertainty_noise_m, radial_tilt_m;
+    double radial_profile_uncertainty_m; /* the profile's own, at a row: whether it can tell a change */
     int radial_has_span;
     double radial_from_m, radial_to_m;
     char radial_withheld[160];
     int has_refit;
     double refit_displacement_m;
+    int deformed_at_end; /* the change reaches the face's end: the axial figure cannot be parted from it */
 };
 
 /* The terms of a displacement's 1-sigma uncertainty, all independent. */
@@ -63,7 +65,8 @@ struct uwb_uncertainty_terms {
     double clutter_baseline_m;
     double systematic_m;             /* the floor: what the static scene and sampling leave */
     double baseline_repeatability_m; /* spread of the baseline's commissioning scans (baseline set N) */
-    double deformation_m; /* the face deformed: the shift with and without its changed rows disagree */
+    double deformation_m; /* the face deformed: the shift with and without its changed rows disagree, or
+                             the face leans (a third of the tilt past the watch limit) */
 };
 
 /* Their sum in quadrature: the one place the verdict's sigma is composed. */

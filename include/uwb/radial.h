@@ -29,13 +29,21 @@ struct uwb_radial {
     /* The face's tilt: the line's top minus its bottom (+ top nearer). */
     double tilt_m;
     /* 1-sigma of max_change: the two scans' range noise over the changed
-     * rows, and the model term, the scatter of the unchanged rows about
-     * their line (what the imaging leaves of a pure shift). */
+     * rows; the model term, the scatter of the unchanged rows about their
+     * line (what the imaging leaves of a pure shift), as large as the
+     * largest of the profile's stretches reads by chance; and the blur's
+     * share of a change's size. */
     double uncertainty_m;
+    double uncertainty_noise_m; /* its part from the two scans' noise alone */
+    /* The profile's own 1-sigma at a row (noise and model term, neither
+     * the chance of the largest nor the size's share): whether the
+     * profile can tell a change at all. */
+    double uncertainty_profile_m;
     /* Baseline rows (its own y) a second axial fit leaves out: the change
      * past the watch limit, down to a quarter of it (has_excluded). */
     int has_excluded;
     double excluded_lo_m, excluded_hi_m;
+    int excluded_at_end; /* ...and they reach the face's end (its edge moved with them) */
 };
 
 /* Compare the two analyses' face ranges with the current one shifted back

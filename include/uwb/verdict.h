@@ -55,8 +55,9 @@ struct uwb_radial_verdict {
     double at_m;            /* its height, in this scan's y */
     int has_span;           /* where |change| exceeds the watch limit */
     double from_m, to_m;
-    double uncertainty_m; /* 1-sigma of max_change */
-    double tilt_m;        /* the face's top minus its bottom, + top nearer */
+    double uncertainty_m;       /* 1-sigma of max_change */
+    double uncertainty_noise_m; /* its part from the scans' noise alone */
+    double tilt_m;              /* the face's top minus its bottom, + top nearer */
     double shift_m;     /* the axial shift the faces were compared at: baseline y + shift_m = this scan's y */
     char withheld[160]; /* why not measured, or empty */
 };

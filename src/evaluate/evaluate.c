@@ -251,10 +251,13 @@ static void measure_radial(const struct uwb_analysis *cur_a, const struct uwb_an
     pair->radial_max_m = radial.max_change_m;
     pair->radial_at_m = radial.at_m;
     pair->radial_uncertainty_m = radial.uncertainty_m;
+    pair->radial_uncertainty_noise_m = radial.uncertainty_noise_m;
+    pair->radial_profile_uncertainty_m = radial.uncertainty_profile_m;
     pair->radial_tilt_m = radial.tilt_m;
     pair->radial_has_span = radial.has_span;
     pair->radial_from_m = radial.from_m;
     pair->radial_to_m = radial.to_m;
+    pair->deformed_at_end = radial.has_excluded && radial.excluded_at_end;
     char why[256];
     if (radial.has_excluded &&
         uwb_measure_shift_skipping(cur_a, base_a, radial.excluded_lo_m, radial.excluded_hi_m,

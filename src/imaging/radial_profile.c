@@ -25,6 +25,14 @@
 /* A row's range is read only where the face's echo is at least this
  * fraction of the profile's peak in both scans (the edges' own fraction). */
 #define ROW_FRACTION 0.5
+/* 1-sigma of a change's size from the imaging's blur, as a fraction of it:
+ * over a few disks the shared tank's four full-wave radial scans read -22 %
+ * to +21 %; a change narrower than two of the image's resolution cells (a
+ * single disk) is blurred into its neighbours and reads short, 61-63 % of a
+ * single disk's bulge in 2-D physical optics (tools/uwbsim). */
+#define SIZE_FRACTION 0.12
+#define NARROW_SIZE_FRACTION 0.35
+#define NARROW_CELLS 2.0
 
 /* A profile's value at y (linear between rows); NAN outside. */
 static double value_at(const struct uwb_face_profile *p, double y)
@@ -90,12 +98,13 @@ static int fit_line(const struct uwb_radial *r, const double *offset, const unsi
 }
 
 /* Range noise of one row's face: the envelope's peak moves by about its
- * width (a quarter wavelength) times noise over signal. */
+ * width times noise over signal; the envelope of a pulse of about one
+ * cycle is half a wavelength wide in range (two-way). */
 static double row_noise_m(const struct uwb_analysis *a, double noise_rms, double y)
 {
     double image_noise = noise_rms * sqrt((double)(a->measured.positions > 0 ? a->measured.positions : 1));
     double e = value_at(&a->profile, y);
-    return e > 0.0 ? image_noise / e * a->wavelength_m / 4.0 : INFINITY;
+    return e > 0.0 ? image_noise / e * a->wavelength_m / 2.0 : INFINITY;
 }
 
 int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis *base, double shift_m,
@@ -179,6 +188,18 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
     while (to < r->n - 1 && readable[to + 1] && fabs(r->change_m[to + 1]) >= 0.5 * fabs(largest) &&
            r->change_m[to + 1] * largest > 0)
         to++;
+    /* Rows within a quarter wavelength share their noise (the image's range
+     * resolution): the mean gains only over independent stretches, and a
+     * change narrower than that is no disk's (a glint, a row the face's
+     * peak jumped on): it is averaged over one such stretch. */
+    double correlated_rows = fmax(1.0, base->wavelength_m / 4.0 / r->dy_m);
+    while (to - from + 1 < correlated_rows &&
+           ((from > 0 && readable[from - 1]) || (to < r->n - 1 && readable[to + 1]))) {
+        if (from > 0 && readable[from - 1])
+            from--;
+        if (to - from + 1 < correlated_rows && to < r->n - 1 && readable[to + 1])
+            to++;
+    }
     double sum = 0.0, noise2 = 0.0;
     for (int i = from; i <= to; i++) {
         sum += r->change_m[i];
@@ -187,13 +208,21 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
     int width = to - from + 1;
     r->max_change_m = sum / width;
     r->at_m = r->y0_m + at * r->dy_m + shift_m;
-    /* Rows within a quarter wavelength share their noise (the image's range
-     * resolution): the mean gains only over independent stretches. */
-    double correlated_rows = fmax(1.0, base->wavelength_m / 4.0 / r->dy_m);
     double independent = fmax(1.0, width / correlated_rows);
     double noise_mean = sqrt(noise2 / width) / sqrt(independent);
-    r->uncertainty_m = hypot(noise_mean, model);
-    if (fabs(r->max_change_m) > watch_m || fabs(largest) > watch_m) {
+    /* The largest of the profile's independent stretches stands out by
+     * chance by about sqrt(2 ln N) of their scatter; and the imaging's blur
+     * sizes a change only so well (SIZE_FRACTION): both are what the figure
+     * cannot know of itself. */
+    double stretches = fmax(1.0, rows / correlated_rows);
+    double look_elsewhere = stretches > 1.0 ? sqrt(2.0 * log(stretches)) : 1.0;
+    r->uncertainty_noise_m = noise_mean;
+    r->uncertainty_profile_m = hypot(noise_mean, model);
+    double size =
+        (width < NARROW_CELLS * correlated_rows ? NARROW_SIZE_FRACTION : SIZE_FRACTION) * r->max_change_m;
+    r->uncertainty_m =
+        sqrt(noise_mean * noise_mean + model * model * look_elsewhere * look_elsewhere + size * size);
+    if (fabs(r->max_change_m) > watch_m) {
         int f = at, t = at;
         while (f > 0 && readable[f - 1] && fabs(r->change_m[f - 1]) > watch_m)
             f--;
@@ -208,13 +237,17 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
     /* Where the echo moved in range its strength moved too, which the
      * axial fit reads in part as a movement: the rows of a change past the
      * watch limit, down to a quarter of it, for a second fit without them. */
-    if (fabs(largest) > watch_m) {
+    if (fabs(r->max_change_m) > watch_m) {
         int f = at, t = at;
         while (f > 0 && readable[f - 1] && r->change_m[f - 1] * largest >= 0.25 * largest * largest)
             f--;
         while (t < r->n - 1 && readable[t + 1] && r->change_m[t + 1] * largest >= 0.25 * largest * largest)
             t++;
         r->has_excluded = 1;
+        /* A change that reaches the face's end moves the end's echo, which
+         * is where the axial fit reads the edge: no second fit can part the
+         * two. */
+        r->excluded_at_end = f == 0 || !readable[f - 1] || t == r->n - 1 || !readable[t + 1];
         r->excluded_lo_m = r->y0_m + f * r->dy_m;
         r->excluded_hi_m = r->y0_m + t * r->dy_m;
     }

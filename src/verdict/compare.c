@@ -4,6 +4,9 @@
 #include <stdio.h>
 #include <string.h>
 
+/* The axial reading's share of a lean of the face (see uwb_compare_pair). */
+#define TILT_TO_AXIAL (1.0 / 3.0)
+
 void uwb_compare_defaults(struct uwb_compare_options *opt)
 {
     opt->thresholds.watch_m = 0.002;
@@ -122,12 +125,16 @@ static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures 
     r->from_m = pair->radial_from_m;
     r->to_m = pair->radial_to_m;
     r->uncertainty_m = pair->radial_uncertainty_m;
+    r->uncertainty_noise_m = pair->radial_uncertainty_noise_m;
     r->tilt_m = pair->radial_tilt_m;
     r->shift_m = pair->displacement_m;
-    if (r->uncertainty_m > opt->max_uncertainty_m) {
+    /* Whether the profile can tell a change at all: its own scatter at a
+     * row, not the share of the size a large change carries. */
+    if (pair->radial_profile_uncertainty_m > opt->max_uncertainty_m) {
         r->status = UWB_STATUS_INCONCLUSIVE;
-        snprintf(r->withheld, sizeof r->withheld, "radial uncertainty %.2f mm exceeds %.2f mm",
-                 r->uncertainty_m * 1e3, opt->max_uncertainty_m * 1e3);
+        snprintf(r->withheld, sizeof r->withheld,
+                 "the face's range profile scatters by %.2f mm, over %.2f mm",
+                 pair->radial_profile_uncertainty_m * 1e3, opt->max_uncertainty_m * 1e3);
         return;
     }
     r->status = graded(fabs(r->max_change_m), &opt->radial_thresholds);
@@ -214,20 +221,36 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
     }
     if (pair && pair->valid && pair->has_refit)
         terms.deformation_m = fabs(pair->refit_displacement_m - pair->displacement_m);
+    /* A leaning face changes the echo's strength along the height, which
+     * the fit reads in part as a movement: a third of the lean in 2-D
+     * physical optics (tools/accuracy/radial-limits.sh), counted once the
+     * lean is past the radial watch limit (pure shifts read up to 1.5 mm
+     * of lean that is none). */
+    if (pair && pair->valid && pair->has_radial && fabs(pair->radial_tilt_m) > opt->radial_thresholds.watch_m)
+        terms.deformation_m = hypot(terms.deformation_m, TILT_TO_AXIAL * pair->radial_tilt_m);
     v->uncertainty_m = uwb_displacement_uncertainty(&terms);
+    int deformed_at_end = pair && pair->valid && pair->deformed_at_end;
     radial_verdict(v, pair, opt);
     if (v->radial.measured && severity(v->radial.status) >= severity(UWB_STATUS_WATCH) &&
         !v->height_change_withheld[0])
         snprintf(v->height_change_withheld, sizeof v->height_change_withheld,
                  "the face deformed radially: its crossings follow the echo's strength there");
-    if (v->uncertainty_m > opt->max_uncertainty_m) {
+    if (v->uncertainty_m > opt->max_uncertainty_m || deformed_at_end) {
         v->status = UWB_STATUS_INCONCLUSIVE;
         v->axial_withheld = 1;
-        if (pair && terms.deformation_m > opt->max_uncertainty_m)
+        if (deformed_at_end)
+            snprintf(v->reason, sizeof v->reason,
+                     "the face deformed at its end, where the axial shift is read: axial figure withheld");
+        else if (pair && terms.deformation_m > opt->max_uncertainty_m && pair->has_refit)
             snprintf(v->reason, sizeof v->reason,
                      "the face deformed: the axial shift reads %+.2f mm on the whole face, %+.2f mm without "
                      "its changed rows; axial figure withheld",
                      pair->displacement_m * 1e3, pair->refit_displacement_m * 1e3);
+        else if (pair && terms.deformation_m > opt->max_uncertainty_m)
+            snprintf(v->reason, sizeof v->reason,
+                     "the face leans %+.2f mm top to bottom, which moves the axial reading: axial figure "
+                     "withheld",
+                     pair->radial_tilt_m * 1e3);
         else
             snprintf(v->reason, sizeof v->reason,
                      "uncertainty %.2f mm exceeds %.2f mm: too little signal for a figure",

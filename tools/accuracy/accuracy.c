@@ -32,7 +32,7 @@ const struct accuracy_level accuracy_levels[] = {
 };
 const int accuracy_level_count = (int)(sizeof accuracy_levels / sizeof accuracy_levels[0]);
 
-static int read_scan(const char *dir, const char *name, struct uwb_scan *s, char *err, size_t errlen)
+int accuracy_read_scan(const char *dir, const char *name, struct uwb_scan *s, char *err, size_t errlen)
 {
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", dir, name);
@@ -103,8 +103,8 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static int impaired(const struct uwb_scan *in, const struct accuracy_level *level, unsigned long long seed,
-                    struct uwb_scan *out, char *err, size_t errlen)
+int accuracy_impaired(const struct uwb_scan *in, const struct accuracy_level *level, unsigned long long seed,
+                      struct uwb_scan *out, char *err, size_t errlen)
 {
     if (uwb_scan_copy(out, in, err, errlen) != 0)
         return -1;
@@ -123,9 +123,9 @@ int accuracy_run_case(const char *dir, const struct accuracy_case *c, const stru
 {
     memset(row, 0, sizeof *row);
     struct uwb_scan base, cur;
-    if (read_scan(dir, c->baseline, &base, err, errlen) != 0)
+    if (accuracy_read_scan(dir, c->baseline, &base, err, errlen) != 0)
         return -1;
-    if (read_scan(dir, c->current, &cur, err, errlen) != 0) {
+    if (accuracy_read_scan(dir, c->current, &cur, err, errlen) != 0) {
         uwb_scan_free(&base);
         return -1;
     }
@@ -143,8 +143,8 @@ int accuracy_run_case(const char *dir, const struct accuracy_case *c, const stru
         const struct uwb_scan *b = &base, *s = &cur;
         if (level) {
             unsigned long long seed = seed_base + 2ull * (unsigned long long)j;
-            if (impaired(&base, level, seed, &nb, err, errlen) != 0 ||
-                impaired(&cur, level, seed + 1, &nc, err, errlen) != 0) {
+            if (accuracy_impaired(&base, level, seed, &nb, err, errlen) != 0 ||
+                accuracy_impaired(&cur, level, seed + 1, &nc, err, errlen) != 0) {
                 uwb_scan_free(&nb);
                 rc = -1;
                 break;

@@ -58,6 +58,14 @@ extern const int accuracy_case_count;
 extern const struct accuracy_level accuracy_levels[];
 extern const int accuracy_level_count;
 
+struct uwb_scan;
+/* A fixture of the directory into *s: 0, or -1 with err. */
+int accuracy_read_scan(const char *fixture_dir, const char *name, struct uwb_scan *s, char *err,
+                       size_t errlen);
+/* A copy of in with the level's impairments (tools/impair), seeded: 0, or -1. */
+int accuracy_impaired(const struct uwb_scan *in, const struct accuracy_level *level, unsigned long long seed,
+                      struct uwb_scan *out, char *err, size_t errlen);
+
 /* When set, accuracy_run_case prints each noisy pair's error and sigma
  * there (mm, one line per pair): the error distribution behind a row. */
 void accuracy_log_pairs(FILE *out);

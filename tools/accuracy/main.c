@@ -6,25 +6,32 @@
 #include <string.h>
 
 #include "accuracy/accuracy.h"
+#include "accuracy/radial.h"
 #include "uwb/atomic_file.h"
 #include "uwb/read_file.h"
 
 #define BEGIN_MARK "<!-- make accuracy: begin -->\n"
 #define END_MARK "<!-- make accuracy: end -->\n"
+#define RADIAL_BEGIN_MARK "<!-- make accuracy radial: begin -->\n"
+#define RADIAL_END_MARK "<!-- make accuracy radial: end -->\n"
 
-static int replace_block(const char *path, const char *table, char *err, size_t errlen)
+/* The radial rows' noisy level: the 32 dB (3 ps, 2 %). */
+#define RADIAL_LEVEL 1
+
+static int replace_block(const char *path, const char *table, const char *begin_mark, const char *end_mark,
+                         char *err, size_t errlen)
 {
     size_t len;
     char *text = NULL;
     if (uwb_read_file(path, 4u << 20, &text, &len, err, errlen) != 0)
         return -1;
-    char *begin = strstr(text, BEGIN_MARK), *end = begin ? strstr(begin, END_MARK) : NULL;
+    char *begin = strstr(text, begin_mark), *end = begin ? strstr(begin, end_mark) : NULL;
     if (!begin || !end) {
-        snprintf(err, errlen, "%s: no block between \"%.30s\" and \"%.28s\"", path, BEGIN_MARK, END_MARK);
+        snprintf(err, errlen, "%s: no block between \"%.40s\" and \"%.40s\"", path, begin_mark, end_mark);
         free(text);
         return -1;
     }
-    begin += strlen(BEGIN_MARK);
+    begin += strlen(begin_mark);
     size_t head = (size_t)(begin - text), tail = len - (size_t)(end - text), body = strlen(table);
     char *out = malloc(head + body + tail + 1); /* NUL-terminated, though written by length */
     if (!out) {
@@ -61,10 +68,37 @@ static int number_arg(const char *what, const char *text, double lo, double hi, 
  * within 2 sigma); over 150 it is about 6 % and 2.5 %, in some 3 minutes. */
 #define REPORT_PAIRS 150
 
+/* The radial rows: every case clean, the changes also over noisy pairs;
+ * into mem as well when not NULL. 0, or 1 with the error printed. */
+static int radial_report(const char *dir, int pairs, FILE *mem)
+{
+    char err[512];
+    radial_print_header(stdout);
+    if (mem)
+        radial_print_header(mem);
+    for (int c = 0; c < radial_case_count; c++) {
+        int noisy = radial_cases[c].change_m != 0.0;
+        for (int l = 0; l <= noisy; l++) {
+            const struct accuracy_level *level = l ? &accuracy_levels[RADIAL_LEVEL] : NULL;
+            struct radial_row row;
+            unsigned long long seed = 7000000ull + 10000ull * (unsigned long long)c;
+            if (radial_run_case(dir, &radial_cases[c], level, pairs, seed, &row, err, sizeof err) != 0) {
+                fprintf(stderr, "uwbaccuracy: %s\n", err);
+                return 1;
+            }
+            radial_print_row(stdout, &radial_cases[c], level, &row);
+            if (mem)
+                radial_print_row(mem, &radial_cases[c], level, &row);
+            fflush(stdout);
+        }
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = "tests/fixtures", *readme = NULL;
-    int pairs = REPORT_PAIRS, only_case = -1, custom = 0;
+    int pairs = REPORT_PAIRS, only_case = -1, custom = 0, radial_only = 0;
     struct accuracy_level level_custom = {0};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--fixtures") && i + 1 < argc)
@@ -89,7 +123,9 @@ int main(int argc, char **argv)
                 return 64;
             }
             only_case = (int)n;
-        } else if (!strcmp(argv[i], "--pair-errors"))
+        } else if (!strcmp(argv[i], "--radial"))
+            radial_only = 1;
+        else if (!strcmp(argv[i], "--pair-errors"))
             accuracy_log_pairs(stderr);
         else if (!strcmp(argv[i], "--impair") && i + 4 < argc) {
             /* SNR_DB (0: no white noise) JITTER_PS DRIFT_LINEAR DRIFT_RANDOM: one level instead of the
@@ -103,13 +139,14 @@ int main(int argc, char **argv)
                 return 64;
             level_custom.jitter_s = jitter_ps * 1e-12;
         } else {
-            fprintf(
-                stderr,
-                "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE] [--case N] [--pair-errors]\n"
-                "       [--impair SNR_DB JITTER_PS DRIFT_LINEAR DRIFT_RANDOM]\n");
+            fprintf(stderr, "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE] [--case N] "
+                            "[--pair-errors] [--radial]\n"
+                            "       [--impair SNR_DB JITTER_PS DRIFT_LINEAR DRIFT_RANDOM]\n");
             return 64;
         }
     }
+    if (radial_only)
+        return radial_report(dir, pairs, NULL);
     if (readme && (custom || only_case >= 0)) {
         fprintf(stderr, "uwbaccuracy: --readme takes the whole report, not --case or --impair\n");
         return 64;
@@ -144,7 +181,25 @@ int main(int argc, char **argv)
     }
     fclose(mem);
     int rc = 0;
-    if (readme && replace_block(readme, table, err, sizeof err) != 0) {
+    if (readme && replace_block(readme, table, BEGIN_MARK, END_MARK, err, sizeof err) != 0) {
+        fprintf(stderr, "uwbaccuracy: %s\n", err);
+        rc = 73;
+    }
+    free(table);
+    if (rc != 0 || custom || only_case >= 0)
+        return rc;
+    printf("\n");
+    table = NULL;
+    table_len = 0;
+    mem = open_memstream(&table, &table_len);
+    if (!mem) {
+        fprintf(stderr, "uwbaccuracy: out of memory\n");
+        return 70;
+    }
+    rc = radial_report(dir, pairs, mem);
+    fclose(mem);
+    if (rc == 0 && readme &&
+        replace_block(readme, table, RADIAL_BEGIN_MARK, RADIAL_END_MARK, err, sizeof err) != 0) {
         fprintf(stderr, "uwbaccuracy: %s\n", err);
         rc = 73;
     }

@@ -1,0 +1,177 @@
+#include "accuracy/radial.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "uwb/evaluate.h"
+#include "uwb/scan.h"
+
+#define TANK "fdtd2d-tank-d+00.0.uwbscan"
+
+/* Truth: the radial files' `radial` (heights in the scan's own y). */
+const struct radial_case radial_cases[] = {
+    {"tank disks 2-4 +4 mm", TANK, "fdtd2d-tank-radial-r2-4+4-d+00.0.uwbscan", 0.004, 0.254, 0.320},
+    {"tank disks 3-5 -4 mm", TANK, "fdtd2d-tank-radial-r3-5-4-d+00.0.uwbscan", -0.004, 0.278, 0.344},
+    {"tank disks 5-7 +8 mm", TANK, "fdtd2d-tank-radial-r5-7+8-d+00.0.uwbscan", 0.008, 0.326, 0.392},
+    {"tank disks 4-5 +6 mm, up 10 mm", TANK, "fdtd2d-tank-radial-r4-5+6-d+10.0.uwbscan", 0.006, 0.312, 0.354},
+    {"paper up 20 mm (no change)", "fdtd2d-paper-intact.uwbscan", "fdtd2d-paper-up20mm.uwbscan", 0, 0, 0},
+    {"tank +4 mm (no change)", TANK, "fdtd2d-tank-d+04.0.uwbscan", 0, 0, 0},
+    {"tank +10 mm (no change)", TANK, "fdtd2d-tank-d+10.0.uwbscan", 0, 0, 0},
+    {"tank +16 mm (no change)", TANK, "fdtd2d-tank-d+16.0.uwbscan", 0, 0, 0},
+    {"tank +30 mm (no change)", TANK, "fdtd2d-tank-d+30.0.uwbscan", 0, 0, 0},
+    {"tank -8 mm (no change)", TANK, "fdtd2d-tank-d-08.0.uwbscan", 0, 0, 0},
+    {"family s01 +2 mm, spacer -2 mm (no change)", "fdtd2d-var-s01-d+00.uwbscan",
+     "fdtd2d-var-s01-d+02.uwbscan", 0, 0, 0},
+};
+const int radial_case_count = (int)(sizeof radial_cases / sizeof radial_cases[0]);
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* One pair's verdict: 0, or -1 with err. */
+static int evaluate_pair(const struct uwb_scan *cur, const struct uwb_scan *base, struct uwb_verdict *v,
+                         char *err, size_t errlen)
+{
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    struct uwb_analysis ca, ba;
+    struct uwb_baseline_record rec = {.scan = base};
+    if (uwb_evaluate(cur, &rec, &opt, v, &ca, &ba, err, errlen) != 0)
+        return -1;
+    uwb_analysis_free(&ca);
+    uwb_analysis_free(&ba);
+    return 0;
+}
+
+struct tally {
+    double *error, *sigma, *noise;
+    int measured, within, located, watch, n;
+    double tilt_worst;
+};
+
+static void count(struct tally *t, const struct radial_case *c, const struct uwb_verdict *v)
+{
+    t->n++;
+    const struct uwb_radial_verdict *r = &v->radial;
+    if (!r->measured)
+        return;
+    double e = r->max_change_m - c->change_m;
+    t->error[t->measured] = e;
+    t->sigma[t->measured] = r->uncertainty_m;
+    t->noise[t->measured] = r->uncertainty_noise_m;
+    t->measured++;
+    t->within += fabs(e) <= 2.0 * r->uncertainty_m;
+    t->located += c->change_m != 0.0 && r->at_m >= c->from_m - 0.010 && r->at_m <= c->to_m + 0.010;
+    t->watch += r->status == UWB_STATUS_WATCH || r->status == UWB_STATUS_ALARM;
+    t->tilt_worst = fmax(t->tilt_worst, fabs(r->tilt_m));
+}
+
+static void summarise(struct tally *t, struct radial_row *row)
+{
+    row->pairs = t->n;
+    row->measured = t->measured;
+    if (t->measured == 0)
+        return;
+    double sum = 0.0, worst = 0.0;
+    for (int j = 0; j < t->measured; j++) {
+        sum += t->error[j];
+        worst = fmax(worst, fabs(t->error[j]));
+    }
+    double mean = sum / t->measured, ss = 0.0;
+    for (int j = 0; j < t->measured; j++)
+        ss += (t->error[j] - mean) * (t->error[j] - mean);
+    qsort(t->sigma, (size_t)t->measured, sizeof *t->sigma, cmp_double);
+    qsort(t->noise, (size_t)t->measured, sizeof *t->noise, cmp_double);
+    int m = t->measured;
+    row->median_noise_sigma_m = m % 2 ? t->noise[m / 2] : 0.5 * (t->noise[m / 2 - 1] + t->noise[m / 2]);
+    row->bias_m = mean;
+    row->spread_m = m > 1 ? sqrt(ss / (m - 1)) : 0.0;
+    row->worst_m = worst;
+    row->median_sigma_m = m % 2 ? t->sigma[m / 2] : 0.5 * (t->sigma[m / 2 - 1] + t->sigma[m / 2]);
+    row->within_2sigma = (double)t->within / m;
+    row->located = (double)t->located / m;
+    row->watch_or_worse = (double)t->watch / m;
+    row->tilt_worst_m = t->tilt_worst;
+}
+
+int radial_run_case(const char *dir, const struct radial_case *c, const struct accuracy_level *level,
+                    int pairs, unsigned long long seed_base, struct radial_row *row, char *err, size_t errlen)
+{
+    memset(row, 0, sizeof *row);
+    if (!level)
+        pairs = 1;
+    struct uwb_scan base = {0}, cur = {0};
+    struct tally t = {.error = calloc((size_t)pairs, sizeof(double)),
+                      .sigma = calloc((size_t)pairs, sizeof(double)),
+                      .noise = calloc((size_t)pairs, sizeof(double))};
+    int rc = -1;
+    if (!t.error || !t.sigma || !t.noise) {
+        snprintf(err, errlen, "radial accuracy: out of memory");
+        goto done;
+    }
+    if (accuracy_read_scan(dir, c->baseline, &base, err, errlen) != 0 ||
+        accuracy_read_scan(dir, c->current, &cur, err, errlen) != 0)
+        goto done;
+    for (int j = 0; j < pairs; j++) {
+        struct uwb_scan nb = {0}, nc = {0};
+        unsigned long long seed = seed_base + 2ull * (unsigned long long)j;
+        if (level && (accuracy_impaired(&base, level, seed, &nb, err, errlen) != 0 ||
+                      accuracy_impaired(&cur, level, seed + 1, &nc, err, errlen) != 0)) {
+            uwb_scan_free(&nb);
+            goto done;
+        }
+        struct uwb_verdict v;
+        int ok = evaluate_pair(level ? &nc : &cur, level ? &nb : &base, &v, err, errlen);
+        uwb_scan_free(&nb);
+        uwb_scan_free(&nc);
+        if (ok != 0)
+            goto done;
+        count(&t, c, &v);
+    }
+    summarise(&t, row);
+    rc = 0;
+done:
+    free(t.error);
+    free(t.sigma);
+    free(t.noise);
+    uwb_scan_free(&base);
+    uwb_scan_free(&cur);
+    return rc;
+}
+
+void radial_print_header(FILE *out)
+{
+    fprintf(out,
+            "| pair | noise | pairs | true change | read (bias) | spread (1σ) | worst error | σ reported "
+            "(median) | spread / σ | its noise part | spread / that | within 2σ | located | watch or alarm | "
+            "largest "
+            "tilt |\n");
+    fprintf(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+}
+
+void radial_print_row(FILE *out, const struct radial_case *c, const struct accuracy_level *level,
+                      const struct radial_row *r)
+{
+    char noise[32], pairs[48], spread[16], ratio[16], noise_ratio[16], located[16];
+    snprintf(noise, sizeof noise, level ? "%.0f dB" : "none", level ? level->snr_db : 0.0);
+    if (r->measured == r->pairs)
+        snprintf(pairs, sizeof pairs, "%d", r->pairs);
+    else
+        snprintf(pairs, sizeof pairs, "%d (%d measured)", r->pairs, r->measured);
+    snprintf(spread, sizeof spread, level ? "%.2f" : "—", r->spread_m * 1e3);
+    snprintf(ratio, sizeof ratio, level && r->median_sigma_m > 0 ? "%.2f" : "—",
+             r->median_sigma_m > 0 ? r->spread_m / r->median_sigma_m : 0.0);
+    snprintf(noise_ratio, sizeof noise_ratio, level && r->median_noise_sigma_m > 0 ? "%.2f" : "—",
+             r->median_noise_sigma_m > 0 ? r->spread_m / r->median_noise_sigma_m : 0.0);
+    snprintf(located, sizeof located, c->change_m != 0.0 ? "%.0f %%" : "—", 100.0 * r->located);
+    fprintf(out,
+            "| %s | %s | %s | %+.2f | %+.2f | %s | %.2f | %.2f | %s | %.2f | %s | %.0f %% | %s | %.0f %% | "
+            "%.2f |\n",
+            c->name, noise, pairs, c->change_m * 1e3, (c->change_m + r->bias_m) * 1e3, spread,
+            r->worst_m * 1e3, r->median_sigma_m * 1e3, ratio, r->median_noise_sigma_m * 1e3, noise_ratio,
+            100.0 * r->within_2sigma, located, 100.0 * r->watch_or_worse, r->tilt_worst_m * 1e3);
+}

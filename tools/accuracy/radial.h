@@ -1,0 +1,44 @@
+/* The accuracy report's radial rows (make accuracy): the face's radial
+ * change read on the full-wave radial scans of the shared tank against the
+ * truth, clean and over noisy pairs, and on the pure shifts, where none must
+ * be read. */
+#ifndef UWB_ACCURACY_RADIAL_H
+#define UWB_ACCURACY_RADIAL_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "accuracy/accuracy.h"
+
+struct radial_case {
+    const char *name;
+    const char *baseline, *current; /* fixture file names */
+    /* The truth, typed from the fixtures' truth files: never read in
+     * processing. change 0: a pure shift. */
+    double change_m, from_m, to_m;
+};
+
+struct radial_row {
+    int pairs, measured;
+    double bias_m, spread_m, worst_m; /* of max_change against the truth */
+    double median_sigma_m;
+    double median_noise_sigma_m; /* its noise part */
+    double within_2sigma;
+    double located; /* share with at_mm inside the changed span +-10 mm (changes only) */
+    double watch_or_worse;
+    double tilt_worst_m;
+};
+
+extern const struct radial_case radial_cases[];
+extern const int radial_case_count;
+
+/* One case, clean (level NULL) or over `pairs` noisy pairs. 0, or -1 with err. */
+int radial_run_case(const char *fixture_dir, const struct radial_case *c, const struct accuracy_level *level,
+                    int pairs, unsigned long long seed_base, struct radial_row *row, char *err,
+                    size_t errlen);
+
+void radial_print_header(FILE *out);
+void radial_print_row(FILE *out, const struct radial_case *c, const struct accuracy_level *level,
+                      const struct radial_row *row);
+
+#endif
