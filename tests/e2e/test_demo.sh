@@ -4,7 +4,7 @@
 # bulged with uwbemu) whose verdict and comparison picture it shows; issue
 # 31 finding 10, no PROGRESS flood off a terminal, the MQTT listing holds
 # what the README says (online, the verdicts with the alarm, offline) from
-# a broker on loopback only, the demo ends within the README's two minutes,
+# a broker on loopback only, the demo ends within the README's three minutes,
 # and the README's excerpt of the radial step is what the demo printed.
 set -euo pipefail
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -23,7 +23,12 @@ start=$SECONDS
 UWB_DEMO_OUT=$out timeout 300 bash tools/demo/run-demo.sh > "$tmp/demo.txt" 2>&1 ||
     { tail -n 30 "$tmp/demo.txt" >&2; fail "the demo failed"; }
 took=$((SECONDS - start))
-((took <= 120)) || fail "the demo took $took s; the README says under two minutes"
+# The README's bound is a plain build's; ASan and UBSan (make test SAN=1) run slower.
+if ldd "$UWB_BUILD_DIR/uwbd" 2>/dev/null | grep -q libasan; then
+    echo "note: a sanitizer build: the demo's time ($took s) is not held to the README's bound"
+else
+    ((took <= 180)) || fail "the demo took $took s; the README says under three minutes"
+fi
 
 # Off a terminal, no progress lines (a terminal gets its bar).
 progress=$(grep -c '"class":"PROGRESS"' "$tmp/demo.txt" || true)
