@@ -125,13 +125,13 @@ ARM_PREFIX    := aarch64-linux-gnu-
 # flags are computed on a machine that has the libraries.
 SUBMAKE       := $(MAKE) --no-print-directory -f $(abspath $(firstword $(MAKEFILE_LIST)))
 
-ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy readme-verdict readme-images readme-bench soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
+ifeq ($(filter deps deps-arm test test-arm test-board demo bench accuracy readme-verdict readme-images readme-bench readme-demo soak fuzz deb test-deb clean,$(MAKECMDGOALS)),)
 ifneq ($(shell $(PKG_CONFIG_ENV) $(PKG_CONFIG) --exists $(LIBS_PKG) 2>/dev/null && echo ok),ok)
 $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIPLET)); `make $(if $(TRIPLET),deps-arm,deps)` installs them)
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-radial-limits readme-verdict readme-images readme-bench soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-radial-limits readme-verdict readme-images readme-bench readme-demo readme-test-count soak install deps deps-arm check-hw-headers clean
 all: $(BUILD)/uwbd $(BUILD)/uwbsim $(BUILD)/uwbemu $(BUILD)/uwbimpair
 
 # uwbbench too: tests/e2e/test_bench_budget.sh checks its budget verdict.
@@ -321,6 +321,19 @@ test-board:
 demo: deps
 	+@$(SUBMAKE) all $(BUILD)/e2e/mqtt_sub
 	UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh
+
+# The README's excerpt of the demo (its radial step), from a run of it piped
+# into a file (tools/readme/readme-demo.sh); tests/e2e/test_demo.sh fails in
+# make test when the README differs from what the demo prints.
+readme-demo: deps
+	+@$(SUBMAKE) all $(BUILD)/e2e/mqtt_sub
+	UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh > '$(BUILD)/demo-output.txt' 2>&1
+	bash tools/readme/readme-demo.sh --write README.md '$(BUILD)/demo-output.txt'
+
+# The README's count of the test cases make test runs, from the sources
+# (tools/readme/readme-test-count.sh); tests/e2e/test_readme_test_count.sh checks it.
+readme-test-count:
+	bash tools/readme/readme-test-count.sh --write README.md
 
 # The accuracy report (tools/accuracy): the full-wave fixtures clean and over
 # the tool's REPORT_PAIRS noisy pairs per case (ACCURACY_PAIRS=N for another

@@ -3,8 +3,10 @@
 # (build/uwbemu: pulser, carriage and digitiser, simulating a 3-D tank scene
 # with clutter and noise) and the daemon (uwbd --config
 # board/emulated/uwbd.json) as separate processes, commissions a baseline,
-# moves the emulated winding up 12 mm, scans again, prints both verdicts
-# and where the images are, and stops everything.
+# moves the emulated winding up 12 mm, scans again, then puts it back and
+# bulges disks 2..4 6 mm toward the antennas (a radial change), scans again,
+# prints the verdicts and where the images are, and stops everything.
+# Scan progress: a bar on a terminal; piped into a file, none (only errors).
 set -euo pipefail
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 BUILD=$(cd "${UWB_BUILD_DIR:-${1:-$REPO/build}}" && pwd)
@@ -41,6 +43,15 @@ wait_for() {
     return 1
 }
 ctl() { "$BUILD/uwbd" ctl --socket run/control.sock "$@"; }
+# `uwbd ctl scan`: its progress bar on a terminal; otherwise its PROGRESS
+# lines (one per position) stay out of the output and only errors show.
+scan() {
+    if [[ -t 2 ]]; then ctl scan; return; fi
+    local rc=0
+    ctl scan 2> run/scan.err || rc=$?
+    grep -v '^{"class":"PROGRESS"' run/scan.err >&2 || true
+    return "$rc"
+}
 show() {   # label: the latest verdict as text, from uwbd ctl --text
     echo "== $1"
     echo "\$ uwbd ctl --text verdict"
@@ -68,7 +79,8 @@ if [[ -x /usr/sbin/mosquitto && -x $BUILD/e2e/mqtt_sub ]]; then
     broker_pid=$!
     if wait_for grep -q "listen socket on port $mqtt_port" broker.log; then
         site+=(--set mqtt.enabled=true --set "mqtt.endpoint=tcp:127.0.0.1:$mqtt_port")
-        "$BUILD/e2e/mqtt_sub" "$mqtt_port" demo demo 'uwbd/demo-T1/#' 4 120 > mqtt.out 2> mqtt.err &
+        # Up to 100 messages in 300 s; the demo stops it once `offline` has come.
+        "$BUILD/e2e/mqtt_sub" "$mqtt_port" demo demo 'uwbd/demo-T1/#' 100 300 > mqtt.out 2> mqtt.err &
         sub_pid=$!
         wait_for grep -q subscribed mqtt.err || mqtt_port=
     else
@@ -96,7 +108,7 @@ contacts "(fault energised: healthy)"
 echo "\$ uwbd ctl baseline set"
 ctl baseline set
 echo "\$ uwbd ctl scan"
-line=$(ctl scan) || die "commissioning scan: $line"
+line=$(scan) || die "commissioning scan: $line"
 echo "$line"
 show "commissioning scan of the intact winding (it becomes the baseline)"
 contacts
@@ -104,7 +116,7 @@ contacts
 echo "\$ uwbemu --ctl unix:run/emu.sock 'set displacement_m 0.012'     # the winding moves up 12 mm"
 "$BUILD/uwbemu" --ctl unix:run/emu.sock 'set displacement_m 0.012' > /dev/null || die "cannot move the emulated winding"
 echo "\$ uwbd ctl scan"
-line=$(ctl scan) || die "second scan: $line"
+line=$(scan) || die "second scan: $line"
 echo "$line"
 show "scan after the emulated winding moved up 12 mm"
 contacts "(watch and alarm latch until ack)"
@@ -112,10 +124,26 @@ echo "\$ uwbd ctl ack"
 ctl ack || die "ack"
 contacts "(the alarm holds while the latest verdict is an alarm)"
 
+echo "\$ uwbemu --ctl unix:run/emu.sock 'set displacement_m 0'     # the winding back in place"
+"$BUILD/uwbemu" --ctl unix:run/emu.sock 'set displacement_m 0' > /dev/null || die "cannot move the emulated winding back"
+echo "\$ uwbemu --ctl unix:run/emu.sock 'set radial 2 4 6'     # disks 2..4 bulge 6 mm toward the antennas"
+"$BUILD/uwbemu" --ctl unix:run/emu.sock 'set radial 2 4 6' > /dev/null || die "cannot bulge the emulated winding"
+echo "\$ uwbd ctl scan"
+line=$(scan) || die "radial scan: $line"
+echo "$line"
+show "scan after disks 2..4 of the emulated winding bulged 6 mm toward the antennas (a radial change)"
+comparison=$(ctl verdict | tr ',' '\n' | sed -n 's/.*"\([^"]*-comparison\.png\)".*/\1/p')
+[[ -n $comparison ]] || die "the radial scan's verdict names no comparison picture"
+echo "   the comparison picture (baseline and this scan): $comparison"
+contacts
+
 kill -TERM "$daemon_pid" 2>/dev/null; wait "$daemon_pid" 2>/dev/null || true
 daemon_pid=
 contacts "(uwbd stopped: every contact open, the fault contact too)"
 if [[ -n $mqtt_port ]]; then
+    # uwbd's last message is `offline` on its status topic; then the listing is whole.
+    wait_for grep -q '^uwbd/demo-T1/status [01] offline$' mqtt.out || echo "   (no \`offline\` from uwbd within 10 s)"
+    kill -TERM "$sub_pid" 2>/dev/null || true
     wait "$sub_pid" 2>/dev/null || true
     sub_pid=
     echo "== MQTT: what a subscriber to uwbd/demo-T1/# on the demo's broker (127.0.0.1:$mqtt_port) received"
