@@ -45,7 +45,8 @@ cJSON *uwb_record_summary(const struct uwb_verdict_record *r);
 /* A verdict as `history` lists it: the summary's keys, then every other
  * field a CSV row shows (uwb/verdict_csv.h): the height change's sigma or
  * why it was withheld, the edges, height, face range, SNR, the baseline
- * object, fault, trigger and asset_id. NULL when out of memory. */
+ * object, fault, trigger, asset_id and the radial object. NULL when out
+ * of memory. */
 cJSON *uwb_record_history_entry(const struct uwb_verdict_record *r);
 
 /* Picoseconds to 0.1 ps, as every verdict and reply prints them. */

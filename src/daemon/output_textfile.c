@@ -4,34 +4,10 @@
  * textfile off too: MQTT's health report carries the counts. Opened again
  * on a reload only when the site's configuration changed. */
 #include <string.h>
-#include <time.h>
 
 #include "daemon/outputs.h"
 #include "daemon_internal.h"
 #include "util/log.h"
-#include "uwb/utc_time.h"
-
-/* The figures a verdict gives the textfile. */
-static void prom_from_verdict(struct uwbd_prometheus_metrics *m, const struct uwb_verdict_record *v)
-{
-    int index = v ? uwbd_prometheus_status_index(uwb_status_name(v->status)) : -1;
-    if (index < 0)
-        return;
-    m->has_verdict = 1;
-    m->status = index;
-    m->has_displacement = v->has_displacement;
-    m->displacement_m = m->has_displacement ? v->axial_displacement_mm / 1e3 : 0;
-    m->uncertainty_m = m->has_displacement ? v->uncertainty_mm / 1e3 : 0;
-    m->has_edges = v->has_edges;
-    m->lower_edge_m = m->has_edges ? v->lower_edge_mm / 1e3 : 0;
-    m->upper_edge_m = m->has_edges ? v->upper_edge_mm / 1e3 : 0;
-    m->has_height_change = v->has_height_change;
-    m->height_change_m = m->has_height_change ? v->height_change_mm / 1e3 : 0;
-    time_t created_s;
-    m->created_s = 0;
-    if (uwb_utc_parse(v->created, &created_s) == 0)
-        m->created_s = (double)created_s;
-}
 
 static void write_textfile(struct daemon *d)
 {
@@ -61,7 +37,7 @@ static int textfile_open(struct daemon *d)
     memset(&d->prom, 0, sizeof d->prom);
     d->prom_failing = 0;
     d->prom.asset_id = d->cfg.site.asset_id;
-    prom_from_verdict(&d->prom, d->latest);
+    uwbd_prometheus_from_record(&d->prom, d->latest);
     write_textfile(d);
     return 0;
 }
@@ -77,7 +53,7 @@ static void textfile_verdict(struct daemon *d, const struct uwb_verdict_record *
 {
     if (!json || !v)
         return;
-    prom_from_verdict(&d->prom, v);
+    uwbd_prometheus_from_record(&d->prom, v);
     d->prom.has_duration = 1;
     d->prom.scan_duration_s = duration_s;
     int index = uwbd_prometheus_status_index(uwb_status_name(v->status));

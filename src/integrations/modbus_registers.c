@@ -17,6 +17,12 @@ static uint16_t status_code(const struct uwb_verdict_record *verdict)
     return verdict ? (uint16_t)(verdict->status - UWB_STATUS_EDGES + 1) : 0;
 }
 
+/* The radial status coded as register 1's; 0 when the verdict has none. */
+static uint16_t radial_status_code(const struct uwb_verdict_record *v)
+{
+    return v->has_radial ? (uint16_t)(v->radial_status - UWB_STATUS_EDGES + 1) : 0;
+}
+
 /* mm -> 0.01 mm, clipped so that it never reads as the "none" value. */
 static uint16_t mm16(int present, double mm)
 {
@@ -75,6 +81,12 @@ void uwbd_modbus_registers_fill(const struct uwb_verdict_record *verdict,
     mm32(&regs[UWBD_MODBUS_REG_UPPER_EDGE], v->has_edges, v->upper_edge_mm);
     put32(&regs[UWBD_MODBUS_REG_SCAN_COUNT], (uint32_t)status->scan_count);
     put32(&regs[UWBD_MODBUS_REG_SCAN_TIME], code ? created_seconds(v) : 0);
+    int radial = v->has_radial && v->radial_measured;
+    regs[UWBD_MODBUS_REG_RADIAL_STATUS] = radial_status_code(v);
+    regs[UWBD_MODBUS_REG_RADIAL_CHANGE] = mm16(radial, v->radial_max_change_mm);
+    regs[UWBD_MODBUS_REG_RADIAL_SIGMA] = mm16(radial, v->radial_uncertainty_mm);
+    mm32(&regs[UWBD_MODBUS_REG_RADIAL_AT], radial, v->radial_at_mm);
+    regs[UWBD_MODBUS_REG_RADIAL_TILT] = mm16(radial, v->radial_tilt_mm);
     unsigned health = 0;
     if (status->device_fault)
         health |= UWBD_MODBUS_HEALTH_DEVICE_FAULT;

@@ -16,6 +16,12 @@
  *   11-12  the verdict's time (its "created"), uint32 Unix seconds
  *   13     health bits (UWBD_MODBUS_HEALTH_*)
  *   14     contact states (UWBD_MODBUS_CONTACT_*)
+ * Added in map version 2 (0-14 as in version 1):
+ *   15     radial status: 0 not compared, else coded as register 1
+ *   16     the face's largest radial change, int16, 0.01 mm (+ = toward the antenna)
+ *   17     its uncertainty sigma, int16, 0.01 mm
+ *   18-19  the height of that change, int32, 0.01 mm
+ *   20     the face's tilt (top minus bottom, + = top nearer), int16, 0.01 mm
  * A figure the verdict does not carry reads 0x8000 (int16) or 0x80000000
  * (int32): never a plausible value. Figures beyond int16 are clipped to
  * +-327.67 mm, the status still telling an alarm.
@@ -28,7 +34,7 @@
 
 #include "uwb/verdict_record.h"
 
-#define UWBD_MODBUS_MAP_VERSION 1
+#define UWBD_MODBUS_MAP_VERSION 2
 
 enum uwbd_modbus_register {
     UWBD_MODBUS_REG_MAP_VERSION = 0,
@@ -42,7 +48,12 @@ enum uwbd_modbus_register {
     UWBD_MODBUS_REG_SCAN_TIME = 11, /* two registers */
     UWBD_MODBUS_REG_HEALTH = 13,
     UWBD_MODBUS_REG_CONTACTS = 14,
-    UWBD_MODBUS_REGISTER_COUNT = 15,
+    UWBD_MODBUS_REG_RADIAL_STATUS = 15,
+    UWBD_MODBUS_REG_RADIAL_CHANGE = 16,
+    UWBD_MODBUS_REG_RADIAL_SIGMA = 17,
+    UWBD_MODBUS_REG_RADIAL_AT = 18, /* two registers */
+    UWBD_MODBUS_REG_RADIAL_TILT = 20,
+    UWBD_MODBUS_REGISTER_COUNT = 21,
 };
 
 enum uwbd_modbus_coil {
@@ -59,7 +70,7 @@ enum uwbd_modbus_health {
     UWBD_MODBUS_HEALTH_RIG_DOWN = 1u << 1,     /* the rig is not open (it is tried again at the next scan) */
     UWBD_MODBUS_HEALTH_SCANNING = 1u << 2,
     UWBD_MODBUS_HEALTH_BASELINE = 1u << 3, /* a baseline is set */
-    UWBD_MODBUS_HEALTH_VERDICT = 1u << 4,  /* registers 1-12 hold a verdict */
+    UWBD_MODBUS_HEALTH_VERDICT = 1u << 4,  /* registers 1-12 and 15-20 hold a verdict */
 };
 
 enum uwbd_modbus_contact {

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "uwb/atomic_file.h"
+#include "uwb/utc_time.h"
 
 static const char *const status_names[UWBD_PROM_STATUSES] = {"edges", "ok",           "watch",
                                                              "alarm", "inconclusive", "error"};
@@ -24,6 +25,34 @@ int uwbd_prometheus_status_index(const char *name)
         if (strcmp(name, status_names[i]) == 0)
             return i;
     return -1;
+}
+
+void uwbd_prometheus_from_record(struct uwbd_prometheus_metrics *m, const struct uwb_verdict_record *v)
+{
+    int index = v ? uwbd_prometheus_status_index(uwb_status_name(v->status)) : -1;
+    if (index < 0)
+        return;
+    m->has_verdict = 1;
+    m->status = index;
+    m->has_displacement = v->has_displacement;
+    m->displacement_m = m->has_displacement ? v->axial_displacement_mm / 1e3 : 0;
+    m->uncertainty_m = m->has_displacement ? v->uncertainty_mm / 1e3 : 0;
+    m->has_edges = v->has_edges;
+    m->lower_edge_m = m->has_edges ? v->lower_edge_mm / 1e3 : 0;
+    m->upper_edge_m = m->has_edges ? v->upper_edge_mm / 1e3 : 0;
+    m->has_height_change = v->has_height_change;
+    m->height_change_m = m->has_height_change ? v->height_change_mm / 1e3 : 0;
+    m->radial_status = v->has_radial ? uwbd_prometheus_status_index(uwb_status_name(v->radial_status)) : -1;
+    m->has_radial = m->radial_status >= 0;
+    m->has_radial_change = m->has_radial && v->radial_measured;
+    m->radial_change_m = m->has_radial_change ? v->radial_max_change_mm / 1e3 : 0;
+    m->radial_uncertainty_m = m->has_radial_change ? v->radial_uncertainty_mm / 1e3 : 0;
+    m->radial_at_m = m->has_radial_change ? v->radial_at_mm / 1e3 : 0;
+    m->radial_tilt_m = m->has_radial_change ? v->radial_tilt_mm / 1e3 : 0;
+    time_t created_s;
+    m->created_s = 0;
+    if (uwb_utc_parse(v->created, &created_s) == 0)
+        m->created_s = (double)created_s;
 }
 
 struct text {
@@ -89,6 +118,25 @@ char *uwbd_prometheus_text(const struct uwbd_prometheus_metrics *m)
     if (m->has_height_change)
         gauge(&t, "uwbd_height_change_meters", "The winding's height change from the baseline (latest scan).",
               m->height_change_m);
+    if (m->has_radial) {
+        header(&t, "uwbd_radial_status", "gauge",
+               "The latest verdict's radial status: 1 for the one it has, 0 for the others.");
+        for (int i = 0; i < UWBD_PROM_STATUSES; i++) {
+            snprintf(label, sizeof label, "status=\"%s\"", status_names[i]);
+            sample(&t, "uwbd_radial_status", label, i == m->radial_status);
+        }
+    }
+    if (m->has_radial_change) {
+        gauge(&t, "uwbd_radial_max_change_meters",
+              "The latest largest radial change of the winding's face from the baseline, positive toward the "
+              "antenna.",
+              m->radial_change_m);
+        gauge(&t, "uwbd_radial_max_change_uncertainty_meters", "Its 1-sigma uncertainty.",
+              m->radial_uncertainty_m);
+        gauge(&t, "uwbd_radial_max_change_height_meters", "The height where it is largest.", m->radial_at_m);
+        gauge(&t, "uwbd_radial_tilt_meters",
+              "The face's tilt from the baseline, top minus bottom, positive top nearer.", m->radial_tilt_m);
+    }
     if (m->has_duration)
         gauge(&t, "uwbd_scan_duration_seconds", "How long the latest scan cycle took, start to verdict.",
               m->scan_duration_s);

@@ -8,6 +8,8 @@
 
 #include <stddef.h>
 
+#include "uwb/verdict_record.h"
+
 #define UWBD_PROM_STATUSES 6 /* edges, ok, watch, alarm, inconclusive, error */
 
 struct uwbd_prometheus_metrics {
@@ -19,6 +21,10 @@ struct uwbd_prometheus_metrics {
     int has_edges;
     double lower_edge_m, upper_edge_m, height_change_m;
     int has_height_change;
+    int has_radial;        /* the verdict has a radial object: its status */
+    int radial_status;     /* index into uwbd_prometheus_status_name */
+    int has_radial_change; /* ...and its figures (not withheld) */
+    double radial_change_m, radial_uncertainty_m, radial_at_m, radial_tilt_m;
     double created_s; /* the verdict's time, Unix seconds; 0: unknown */
     int has_duration;
     double scan_duration_s;                     /* the latest scan cycle, start to verdict */
@@ -31,6 +37,9 @@ struct uwbd_prometheus_metrics {
 const char *uwbd_prometheus_status_name(int status);
 /* The index of a verdict status name, -1 when unknown. */
 int uwbd_prometheus_status_index(const char *name);
+/* The latest verdict's figures (and its status) from its published record
+ * into m, the counters left alone; nothing when v is NULL or its status unknown. */
+void uwbd_prometheus_from_record(struct uwbd_prometheus_metrics *m, const struct uwb_verdict_record *v);
 /* The metrics as exposition text (malloc'd), NULL when out of memory. */
 char *uwbd_prometheus_text(const struct uwbd_prometheus_metrics *m);
 /* Writes them to path atomically. Returns 0, or -1 with err. */

@@ -11,7 +11,9 @@
 static const char header[] =
     "created,scan_id,status,axial_displacement_mm,uncertainty_mm,height_change_mm,"
     "height_change_uncertainty_mm,lower_edge_mm,upper_edge_mm,center_mm,height_mm,"
-    "face_range_mm,snr_db,baseline_scan_id,baseline_set,fault,reason,trigger,asset_id\r\n";
+    "face_range_mm,snr_db,baseline_scan_id,baseline_set,fault,reason,trigger,asset_id,"
+    "radial_status,radial_max_change_mm,radial_at_mm,radial_from_mm,radial_to_mm,"
+    "radial_uncertainty_mm,radial_tilt_mm\r\n";
 
 const char *uwb_verdict_csv_header(void)
 {
@@ -73,13 +75,17 @@ static void number_field(struct row *w, int given, double x)
     put(w, digits, strlen(digits));
 }
 
-/* The record's reason, and why a height change was withheld when it was. */
+/* The record's reason, and why a height change or the radial change was
+ * withheld when it was. */
 static void reason_field(struct row *w, const struct uwb_verdict_record *r)
 {
-    char why[sizeof r->reason + sizeof r->height_change_withheld + 32];
+    char why[sizeof r->reason + sizeof r->height_change_withheld + sizeof r->radial_withheld + 64];
     const char *withheld = r->has_height_change ? "" : r->height_change_withheld;
-    snprintf(why, sizeof why, "%s%s%s%s", r->reason, r->reason[0] && withheld[0] ? "; " : "",
-             withheld[0] ? "height change withheld: " : "", withheld);
+    const char *radial = r->has_radial && !r->radial_measured ? r->radial_withheld : "";
+    int n = snprintf(why, sizeof why, "%s%s%s%s", r->reason, r->reason[0] && withheld[0] ? "; " : "",
+                     withheld[0] ? "height change withheld: " : "", withheld);
+    if (radial[0] && n >= 0 && (size_t)n < sizeof why)
+        snprintf(why + n, sizeof why - (size_t)n, "%sradial change withheld: %s", n > 0 ? "; " : "", radial);
     text_field(w, why);
 }
 
@@ -107,6 +113,14 @@ int uwb_verdict_csv_row(const struct uwb_verdict_record *r, char *buf, size_t le
     reason_field(&w, r);
     text_field(&w, r->cycle.trigger);
     text_field(&w, r->cycle.asset_id);
+    text_field(&w, r->has_radial ? uwb_status_name(r->radial_status) : "");
+    int radial = r->has_radial && r->radial_measured;
+    number_field(&w, radial, r->radial_max_change_mm);
+    number_field(&w, radial, r->radial_at_mm);
+    number_field(&w, radial && r->radial_has_span, r->radial_from_mm);
+    number_field(&w, radial && r->radial_has_span, r->radial_to_mm);
+    number_field(&w, radial, r->radial_uncertainty_mm);
+    number_field(&w, radial, r->radial_tilt_mm);
     put(&w, "\r\n", 2);
     if (w.full) {
         buf[0] = '\0';

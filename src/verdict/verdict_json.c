@@ -213,7 +213,8 @@ cJSON *uwb_record_history_entry(const struct uwb_verdict_record *r)
                                        "baseline",
                                        "fault",
                                        "trigger",
-                                       "asset_id"};
+                                       "asset_id",
+                                       "radial"};
     return object_with(r, keys, sizeof keys / sizeof keys[0]);
 }
 

@@ -3,9 +3,9 @@
 # tests/e2e/helpers/modbus_client.c): RTU over a unix socket the daemon
 # connects to (libserialport cannot open ptys), then Modbus TCP on a free
 # 127.0.0.1 port after a reload; the registers after each verdict equal
-# that verdict's JSON in 0.01 mm; the `event` coil starts a scan; `ack` is
-# refused while not wired; registers are read-only; another RTU unit is not
-# answered; four idle TCP masters do not lock a fifth out; disabling closes
+# that verdict's JSON in 0.01 mm, a bulge's radial change included; the
+# `event` coil starts a scan; `ack` is refused while not wired; registers
+# are read-only; another RTU unit is not answered; four idle TCP masters do not lock a fifth out; disabling closes
 # the port; enabling without an endpoint is refused at --check-config naming
 # the key.
 set -euo pipefail
@@ -68,9 +68,19 @@ verdict_matches() {
         got=$(field "$dump" "$reg")
         [[ $got == "$want" ]] || { echo "$reg: $got, verdict $key gives $want"; return 1; }
     done
+    want=$(status_code "$(json_get radial.status < "$verdict")")
+    [[ $(field "$dump" radial_status) == "$want" ]] ||
+        { echo "radial_status: $(field "$dump" radial_status), verdict $want"; return 1; }
+    for pair in radial.max_change_mm:radial_change radial.uncertainty_mm:radial_sigma radial.at_mm:radial_at \
+        radial.tilt_mm:radial_tilt; do
+        key=${pair%%:*} reg=${pair##*:}
+        want=$(hundredths "$(json_get "$key" < "$verdict")")
+        got=$(field "$dump" "$reg")
+        [[ $got == "$want" ]] || { echo "$reg: $got, verdict $key gives $want"; return 1; }
+    done
     want=$(date -u -d "$(json_get created < "$verdict")" +%s)
     [[ $(field "$dump" scan_time) == "$want" ]] || { echo "scan_time: $(field "$dump" scan_time), created $want"; return 1; }
-    [[ $(field "$dump" version) == 1 ]] || { echo "map version $(field "$dump" version)"; return 1; }
+    [[ $(field "$dump" version) == 2 ]] || { echo "map version $(field "$dump" version)"; return 1; }
 }
 
 start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7
@@ -91,7 +101,9 @@ wait "$rtu_pid" || fail "RTU master: $(cat rtu.err) $(cat rtu.out)"
 ctl verdict > rtu-verdict.json
 before=$(sed -n 1p rtu.out)
 [[ $(field "$before" status) == 0 && $(field "$before" scan_count) == 0 && $(field "$before" displacement) == none &&
-   $(field "$before" lower_edge) == none ]] || fail "RTU before any verdict: $before"
+   $(field "$before" lower_edge) == none && $(field "$before" radial_status) == 0 &&
+   $(field "$before" radial_change) == none && $(field "$before" radial_at) == none ]] ||
+    fail "RTU before any verdict: $before"
 after=$(sed -n 3p rtu.out)
 [[ $(sed -n 2p rtu.out) == "coil 1=1: ok" ]] || fail "event coil: $(cat rtu.out)"
 [[ $(field "$after" scan_count) == 1 ]] || fail "RTU after the event scan: $after"
@@ -135,6 +147,20 @@ why=$(verdict_matches "$last" event.json) || fail "TCP after the event scan: $wh
     fail "TCP refusals: $(cat tcp.out)"
 [[ $(tcp_sockets) -ge 1 ]] || fail "no TCP socket held while Modbus TCP is on (the check below would prove nothing)"
 pass "Modbus TCP on 127.0.0.1:$port after SIGHUP: a 4 mm verdict in the registers ($first); event coil scanned"
+
+# A bulge of disks 4-6 (uwbemu's radial change) and no axial move: the
+# radial change's registers (15-20) hold the verdict's radial object.
+emu 'set displacement_m 0' > /dev/null
+emu 'set radial 4 6 8' > /dev/null
+ctl scan > bulged.json || fail "bulge scan: $(cat bulged.json)"
+json_check bulged.json 'radial.max_change_mm exists' 'radial.at_mm exists' || fail "no radial change measured: $(cat bulged.json)"
+mbc tcp 127.0.0.1 "$port" dump > bulge.out 2> bulge.err || fail "TCP master: $(cat bulge.err)"
+bulge=$(sed -n 1p bulge.out)
+[[ $(field "$bulge" radial_change) != none && $(field "$bulge" radial_status) != 0 ]] ||
+    fail "no radial change in the registers: $bulge"
+why=$(verdict_matches "$bulge" bulged.json) || fail "TCP registers vs the bulge's verdict: $why: $bulge / $(cat bulged.json)"
+emu 'set radial 4 6 0' > /dev/null
+pass "a bulge of disks 4-6 by 8 mm: radial registers = the verdict's radial object ($bulge)"
 
 # ---- issue 27, break 1: four idle masters do not lock Modbus out ----------------
 # Four connections that say nothing (bash's /dev/tcp) hold every slot; past

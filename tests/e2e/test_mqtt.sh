@@ -5,7 +5,8 @@
 # is refused naming the key; the status is "online" retained; the latest
 # verdict is retained, byte for byte what `uwbd ctl verdict` prints; the
 # last will "offline" comes on kill -9; verdicts made while the broker is
-# away are kept on disk and all arrive, in order, once it is back.
+# away are kept on disk and all arrive, in order, once it is back, each
+# compared one carrying the radial change `ctl scan` gave.
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
@@ -140,6 +141,17 @@ got=$(awk '{print $3}' back.out | while read -r line; do printf '%s\n' "$line" |
 [[ $got == "${ids[*]}" ]] || fail "after the broker came back: $got, want ${ids[*]} in that order"
 wait_for test -z "$(ls run/state/mqtt-queue)" || fail "the queue is not empty: $(ls run/state/mqtt-queue)"
 pass "broker away: ${#ids[@]} verdicts queued on disk, sent in order once it was back; queue empty"
+# Compared verdicts: each payload carries the radial change, the object `ctl scan` gave.
+i=0
+for d in 0.003 0.008; do
+    i=$((i + 1))
+    sent=$(sed -n "${i}p" back.out | cut -d' ' -f3-)
+    got=$(json_get radial <<<"$sent")
+    want=$(json_get radial < "away-$d.json")
+    [[ $got != "(missing)" && $got == "$want" ]] && json_check - 'radial.status exists' <<<"$sent" > /dev/null ||
+        fail "MQTT verdict at $d m: radial $got, ctl scan gave $want"
+done
+pass "the MQTT verdicts carry the radial object ($(json_get radial < away-0.008.json))"
 
 
 # ---- commands from the cmd topic -------------------------------------------------

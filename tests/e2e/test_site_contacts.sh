@@ -2,10 +2,11 @@
 # The alarm contacts and the event input on the emulated board (uwbemu
 # --site-io): a config that turns them on without the asset id or the
 # site's endpoint is refused naming the key; then, through the full stack,
-# the contacts' states after each verdict (ok, watch, alarm, ok again,
-# error), after `ack`, and after the daemon is killed; a scan started by
-# the event input (debounced, rate-limited) and by the `event` command,
-# each verdict saying what triggered it and carrying the asset id.
+# the contacts' states after each verdict (ok, watch, alarm, ok again, a
+# radial alarm, error), after `ack`, and after the daemon is killed; a
+# scan started by the event input (debounced, rate-limited) and by the
+# `event` command, each verdict saying what triggered it and carrying the
+# asset id.
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
@@ -95,6 +96,29 @@ expect_contacts "0 0 1" "after ack"
 printf 'ack\n' | unix_peer ask run/control.sock 1 > ack2.out
 json_check ack2.out 'class == ACK' || fail "a second ack: $(cat ack2.out)"
 pass "ack: the latched alarm contact released (0 0 1)"
+
+# A radial alarm drives the alarm contact as an axial one does: disks 4-6
+# bulged 8 mm toward the antennas, the winding not moved. The verdict's
+# status is the radial one; the axial figure, withheld or given, is no alarm.
+emu "set radial 4 6 8" > /dev/null
+ctl scan > radial.json 2>/dev/null || fail "radial scan: $(cat radial.json)"
+json_check radial.json 'status == alarm' 'radial.status == alarm' 'radial.max_change_mm exists' 'reason contains radial' ||
+    fail "a bulge of disks 4-6 by 8 mm: $(cut -c1-400 radial.json)"
+axial=$(json_get axial_displacement_mm < radial.json)
+[[ $axial == "(missing)" ]] || awk -v a="$axial" 'BEGIN { exit !(a < 5 && a > -5) }' ||
+    fail "the axial figure is an alarm by itself ($axial mm): the contact would prove nothing"
+expect_contacts "1 1 1" "after a radial alarm"
+[[ $(prom uwbd_contact_energised 'contact="alarm"') == 1 && $(prom uwbd_radial_status 'status="alarm"') == 1 ]] ||
+    fail "textfile after the radial alarm: $(cat run/metrics/uwbd.prom)"
+want_m=$(awk -v mm="$(json_get radial.max_change_mm < radial.json)" 'BEGIN {printf "%.9g", mm / 1000}')
+[[ $(prom uwbd_radial_max_change_meters) == "$want_m" ]] ||
+    fail "textfile radial change $(prom uwbd_radial_max_change_meters), verdict $want_m m"
+emu "set radial 4 6 0" > /dev/null
+scan_expect 0 ok "0 1 1" radial-undone.json
+ctl ack > /dev/null
+expect_contacts "0 0 1" "after the bulge undone and ack"
+pass "a radial alarm (radial $(json_get radial.max_change_mm < radial.json) mm, axial $axial mm) energises" \
+     "the alarm contact (1 1 1); the textfile says radial alarm, $want_m m; undone, ok latched; ack releases it"
 
 emu fault home-stuck on > /dev/null
 ctl scan > error.json 2>/dev/null || true

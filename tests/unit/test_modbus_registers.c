@@ -1,7 +1,7 @@
 /* The Modbus register map from a verdict line and the daemon's state:
  * 0.01 mm signed figures, 32-bit values high word first, "none" markers
  * for figures a verdict does not carry, clipping that never reads as
- * "none", and the health and contact bits. */
+ * "none", the health and contact bits, and the radial change appended. */
 #include "scratch_support.h"
 #include "unity.h"
 
@@ -128,6 +128,56 @@ static void test_large_figures_clip_and_never_read_as_none(void)
     TEST_ASSERT_EQUAL_INT16(-32767, (int16_t)regs[UWBD_MODBUS_REG_HEIGHT_CHANGE]);
 }
 
+/* The radial change (registers 15-20, after the version 1 map): its status
+ * coded as register 1's, the change + toward the antenna, its sigma and
+ * tilt in int16 0.01 mm, its height in int32 like the edges. */
+static void test_radial_change_in_the_registers_after_the_first_map(void)
+{
+    struct uwbd_modbus_status st = {.scan_count = 3, .has_baseline = 1};
+    /* A radial alarm with the axial figure withheld, as the emulated board's bulge gives. */
+    fill_from_line("{\"status\":\"alarm\",\"created\":\"2026-11-24T05:30:00Z\",\"lower_edge_mm\":230.1,"
+                   "\"upper_edge_mm\":382.2,\"radial\":{\"status\":\"alarm\",\"max_change_mm\":-5.75,"
+                   "\"at_mm\":359.59,\"from_mm\":332.59,\"to_mm\":384.59,\"uncertainty_mm\":0.46,"
+                   "\"tilt_mm\":2}}",
+                   &st, regs);
+    TEST_ASSERT_EQUAL_UINT16(4, regs[UWBD_MODBUS_REG_STATUS]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_DISPLACEMENT]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_SIGMA]);
+    TEST_ASSERT_EQUAL_INT32(23010, reg32(UWBD_MODBUS_REG_LOWER_EDGE));
+    TEST_ASSERT_EQUAL_UINT16(4, regs[UWBD_MODBUS_REG_RADIAL_STATUS]);
+    TEST_ASSERT_EQUAL_INT16(-575, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_CHANGE]);
+    TEST_ASSERT_EQUAL_INT16(46, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_SIGMA]);
+    TEST_ASSERT_EQUAL_INT32(35959, reg32(UWBD_MODBUS_REG_RADIAL_AT));
+    TEST_ASSERT_EQUAL_INT16(200, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_TILT]);
+
+    /* Withheld: the status told, every figure "none". */
+    fill_from_line("{\"status\":\"inconclusive\",\"radial\":{\"status\":\"inconclusive\","
+                   "\"withheld\":\"the face's range was not compared\"}}",
+                   &st, regs);
+    TEST_ASSERT_EQUAL_UINT16(5, regs[UWBD_MODBUS_REG_RADIAL_STATUS]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_CHANGE]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_SIGMA]);
+    TEST_ASSERT_EQUAL_HEX32(UWBD_MODBUS_NONE32, (uint32_t)reg32(UWBD_MODBUS_REG_RADIAL_AT));
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_TILT]);
+
+    /* Not compared (no radial object), and no verdict at all: status 0, "none". */
+    fill_from_line(compared, &st, regs);
+    TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_RADIAL_STATUS]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_CHANGE]);
+    TEST_ASSERT_EQUAL_HEX32(UWBD_MODBUS_NONE32, (uint32_t)reg32(UWBD_MODBUS_REG_RADIAL_AT));
+    fill_from_line(NULL, &st, regs);
+    TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_RADIAL_STATUS]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_SIGMA]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_TILT]);
+
+    /* Beyond int16: clipped, never "none". */
+    fill_from_line("{\"status\":\"alarm\",\"radial\":{\"status\":\"alarm\",\"max_change_mm\":-400,"
+                   "\"at_mm\":1,\"uncertainty_mm\":0.5,\"tilt_mm\":400}}",
+                   &st, regs);
+    TEST_ASSERT_EQUAL_INT16(-32767, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_CHANGE]);
+    TEST_ASSERT_EQUAL_INT16(32767, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_TILT]);
+}
+
 static void test_time_without_zone_or_malformed_is_zero(void)
 {
     struct uwbd_modbus_status st = {0};
@@ -176,6 +226,11 @@ static void test_readme_documents_the_map(void)
         {UWBD_MODBUS_REG_SCAN_TIME, 2, "the verdict's time"},
         {UWBD_MODBUS_REG_HEALTH, 1, "health bits"},
         {UWBD_MODBUS_REG_CONTACTS, 1, "contact states"},
+        {UWBD_MODBUS_REG_RADIAL_STATUS, 1, "radial status"},
+        {UWBD_MODBUS_REG_RADIAL_CHANGE, 1, "radial change"},
+        {UWBD_MODBUS_REG_RADIAL_SIGMA, 1, "its uncertainty"},
+        {UWBD_MODBUS_REG_RADIAL_AT, 2, "height of the radial change"},
+        {UWBD_MODBUS_REG_RADIAL_TILT, 1, "face tilt"},
     };
     char row[128];
     for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
@@ -185,6 +240,8 @@ static void test_readme_documents_the_map(void)
             snprintf(row, sizeof row, "| %d\u2013%d | %s", rows[i].at, rows[i].at + 1, rows[i].what);
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(readme, row), row);
     }
+    snprintf(row, sizeof row, "| 0 | map version | %d |", UWBD_MODBUS_MAP_VERSION);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(readme, row), row);
     snprintf(row, sizeof row, "coil %d `ack`, coil %d `event`", UWBD_MODBUS_COIL_ACK, UWBD_MODBUS_COIL_EVENT);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(readme, row), row);
     free(readme);
@@ -198,6 +255,7 @@ int main(void)
     RUN_TEST(test_edges_only_verdict_has_edges_but_no_displacement);
     RUN_TEST(test_every_status_has_its_code);
     RUN_TEST(test_large_figures_clip_and_never_read_as_none);
+    RUN_TEST(test_radial_change_in_the_registers_after_the_first_map);
     RUN_TEST(test_time_without_zone_or_malformed_is_zero);
     RUN_TEST(test_fault_and_contact_bits);
     RUN_TEST(test_readme_documents_the_map);

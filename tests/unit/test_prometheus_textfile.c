@@ -11,6 +11,7 @@
 
 #include "scratch_support.h"
 #include "integrations/prometheus_textfile.h"
+#include "uwb/verdict_json.h"
 
 static char dir[256];
 
@@ -107,6 +108,52 @@ static void test_no_verdict_yet_gives_only_counters(void)
     free(text);
 }
 
+/* The textfile's figures from a verdict line, as the daemon takes them from its record. */
+static char *text_of_verdict(const char *line)
+{
+    static struct uwb_verdict_record record;
+    char err[256] = "";
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_record_from_json(line, &record, err, sizeof err), err);
+    struct uwbd_prometheus_metrics m = {.asset_id = "T1"};
+    uwbd_prometheus_from_record(&m, &record);
+    char *text = uwbd_prometheus_text(&m);
+    TEST_ASSERT_NOT_NULL(text);
+    return text;
+}
+
+/* The radial change in metres (+ toward the antenna), its sigma, height and
+ * tilt; its status as uwbd_status is; withheld figures absent, as the
+ * axial figure's are. */
+static void test_the_radial_change_in_base_units(void)
+{
+    char *text = text_of_verdict(
+        "{\"class\":\"VERDICT\",\"status\":\"alarm\",\"radial\":{\"status\":\"alarm\",\"max_change_mm\":"
+        "-5.75,\"at_mm\":359.59,\"from_mm\":332.59,\"to_mm\":384.59,\"uncertainty_mm\":0.46,\"tilt_mm\":2}}");
+    expect_line(text, "# TYPE uwbd_radial_status gauge");
+    expect_line(text, "uwbd_radial_status{asset_id=\"T1\",status=\"alarm\"} 1");
+    expect_line(text, "uwbd_radial_status{asset_id=\"T1\",status=\"ok\"} 0");
+    expect_line(text, "# TYPE uwbd_radial_max_change_meters gauge");
+    expect_line(text, "uwbd_radial_max_change_meters{asset_id=\"T1\"} -0.00575");
+    expect_line(text, "uwbd_radial_max_change_uncertainty_meters{asset_id=\"T1\"} 0.00046");
+    expect_line(text, "uwbd_radial_max_change_height_meters{asset_id=\"T1\"} 0.35959");
+    expect_line(text, "uwbd_radial_tilt_meters{asset_id=\"T1\"} 0.002");
+    TEST_ASSERT_NULL_MESSAGE(strstr(text, "uwbd_axial_displacement_meters{"), "the axial figure withheld");
+    free(text);
+
+    text = text_of_verdict("{\"class\":\"VERDICT\",\"status\":\"inconclusive\",\"radial\":{\"status\":"
+                           "\"inconclusive\",\"withheld\":\"the face's range was not compared\"}}");
+    expect_line(text, "uwbd_radial_status{asset_id=\"T1\",status=\"inconclusive\"} 1");
+    TEST_ASSERT_NULL_MESSAGE(strstr(text, "uwbd_radial_max_change"), "withheld: no figure");
+    TEST_ASSERT_NULL_MESSAGE(strstr(text, "uwbd_radial_tilt"), "withheld: no tilt");
+    free(text);
+
+    text = text_of_verdict("{\"class\":\"VERDICT\",\"status\":\"ok\",\"axial_displacement_mm\":0.12,"
+                           "\"uncertainty_mm\":0.1}");
+    expect_line(text, "uwbd_axial_displacement_meters{asset_id=\"T1\"} 0.00012");
+    TEST_ASSERT_NULL_MESSAGE(strstr(text, "uwbd_radial"), "no radial object: no radial metric");
+    free(text);
+}
+
 static int temporaries_in(const char *path)
 {
     DIR *d = opendir(path);
@@ -156,6 +203,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_the_latest_verdict_in_base_units);
     RUN_TEST(test_no_verdict_yet_gives_only_counters);
+    RUN_TEST(test_the_radial_change_in_base_units);
     RUN_TEST(test_written_atomically_and_readable);
     return UNITY_END();
 }

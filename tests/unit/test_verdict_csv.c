@@ -50,7 +50,8 @@ static void test_the_header_names_each_column_with_its_unit(void)
     TEST_ASSERT_EQUAL_STRING("created,scan_id,status,axial_displacement_mm,uncertainty_mm,height_change_mm,"
                              "height_change_uncertainty_mm,lower_edge_mm,upper_edge_mm,center_mm,height_mm,"
                              "face_range_mm,snr_db,baseline_scan_id,baseline_set,fault,reason,trigger,"
-                             "asset_id\r\n",
+                             "asset_id,radial_status,radial_max_change_mm,radial_at_mm,radial_from_mm,"
+                             "radial_to_mm,radial_uncertainty_mm,radial_tilt_mm\r\n",
                              uwb_verdict_csv_header());
 }
 
@@ -62,11 +63,13 @@ static void test_a_compared_verdict_has_its_figures_as_published(void)
         "\"upper_edge_mm\":612.5,\"center_mm\":412.27,\"height_mm\":400.46,\"height_change_mm\":-0.1,"
         "\"height_change_uncertainty_mm\":0.31,\"face_range_mm\":150,\"snr_db\":31.2,"
         "\"edge_uncertainty_mm\":0.2,\"baseline\":{\"lower_edge_mm\":200,\"upper_edge_mm\":600,"
-        "\"center_mm\":400,\"scan_id\":\"s1\"},\"images\":[],\"asset_id\":\"T1\",\"trigger\":\"schedule\"}");
+        "\"center_mm\":400,\"scan_id\":\"s1\"},\"images\":[],\"asset_id\":\"T1\",\"trigger\":\"schedule\","
+        "\"radial\":{\"status\":\"watch\",\"max_change_mm\":-4.03,\"at_mm\":318.3,\"from_mm\":291.3,"
+        "\"to_mm\":349.3,\"uncertainty_mm\":0.55,\"tilt_mm\":-0.74}}");
     int n = uwb_verdict_csv_row(&rec, row, sizeof row);
     TEST_ASSERT_EQUAL_STRING(
         "2026-11-27T04:00:00Z,s2,alarm,12.04,0.23,-0.1,0.31,212.04,612.5,412.27,400.46,150,31.2,"
-        "s1,,,,schedule,T1\r\n",
+        "s1,,,,schedule,T1,watch,-4.03,318.3,291.3,349.3,0.55,-0.74\r\n",
         row);
     TEST_ASSERT_EQUAL_INT((int)strlen(row), n);
     TEST_ASSERT_EQUAL_INT(count_fields(uwb_verdict_csv_header()), count_fields(row));
@@ -107,7 +110,7 @@ static void test_withheld_figures_are_empty_cells_and_the_reason_says_why(void)
     read_verdict("{\"class\":\"VERDICT\",\"status\":\"inconclusive\",\"reason\":\"edges not found\","
                  "\"fault\":\"rig\",\"scan_id\":\"s3\",\"created\":\"c\",\"images\":[]}");
     TEST_ASSERT_GREATER_THAN(0, uwb_verdict_csv_row(&rec, row, sizeof row));
-    TEST_ASSERT_EQUAL_STRING("c,s3,inconclusive,,,,,,,,,,,,,rig,edges not found,,\r\n", row);
+    TEST_ASSERT_EQUAL_STRING("c,s3,inconclusive,,,,,,,,,,,,,rig,edges not found,,,,,,,,,\r\n", row);
 
     /* Compared, but the height change withheld: its cells empty, its reason told. */
     read_verdict(
@@ -117,7 +120,24 @@ static void test_withheld_figures_are_empty_cells_and_the_reason_says_why(void)
         "\"edge_uncertainty_mm\":0.1,\"images\":[]}");
     TEST_ASSERT_GREATER_THAN(0, uwb_verdict_csv_row(&rec, row, sizeof row));
     TEST_ASSERT_EQUAL_STRING(
-        ",,ok,0,0.2,,,1,2,1.5,1,3,20,,,,height change withheld: the upper edge is weak,,\r\n", row);
+        ",,ok,0,0.2,,,1,2,1.5,1,3,20,,,,height change withheld: the upper edge is weak,,,,,,,,,\r\n", row);
+
+    /* The radial change withheld: its status told, its figures empty, the reason saying why;
+     * measured without a span over the watch limit: those two cells empty. */
+    read_verdict(
+        "{\"class\":\"VERDICT\",\"status\":\"inconclusive\",\"reason\":\"not the same reflector\","
+        "\"radial\":{\"status\":\"inconclusive\",\"withheld\":\"the face's range was not compared\"},"
+        "\"images\":[]}");
+    TEST_ASSERT_GREATER_THAN(0, uwb_verdict_csv_row(&rec, row, sizeof row));
+    TEST_ASSERT_EQUAL_STRING(
+        ",,inconclusive,,,,,,,,,,,,,,not the same reflector; radial change withheld: the "
+        "face's range was not compared,,,inconclusive,,,,,,\r\n",
+        row);
+    read_verdict(
+        "{\"class\":\"VERDICT\",\"status\":\"ok\",\"radial\":{\"status\":\"ok\",\"max_change_mm\":0.4,"
+        "\"at_mm\":300,\"uncertainty_mm\":0.5,\"tilt_mm\":0},\"images\":[]}");
+    TEST_ASSERT_GREATER_THAN(0, uwb_verdict_csv_row(&rec, row, sizeof row));
+    TEST_ASSERT_EQUAL_STRING(",,ok,,,,,,,,,,,,,,,,,ok,0.4,300,,,0.5,0\r\n", row);
 }
 
 static void test_a_reason_with_a_comma_and_a_quote_is_quoted(void)
@@ -126,7 +146,7 @@ static void test_a_reason_with_a_comma_and_a_quote_is_quoted(void)
     strcpy(rec.reason, "carriage stalled, \"home\" not reached\nretry");
     TEST_ASSERT_GREATER_THAN(0, uwb_verdict_csv_row(&rec, row, sizeof row));
     TEST_ASSERT_EQUAL_STRING(
-        ",,error,,,,,,,,,,,,,,\"carriage stalled, \"\"home\"\" not reached\nretry\",,\r\n", row);
+        ",,error,,,,,,,,,,,,,,\"carriage stalled, \"\"home\"\" not reached\nretry\",,,,,,,,,\r\n", row);
 }
 
 static void test_a_short_buffer_gives_minus_one_and_no_partial_row(void)
@@ -173,8 +193,8 @@ static void test_a_history_reply_becomes_the_header_and_a_row_per_verdict(void)
         err, sizeof err);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, rc, err);
     char want[2048];
-    snprintf(want, sizeof want, "%s%s%s", uwb_verdict_csv_header(), "t1,a,edges,,,,,,,,,,,,true,,,,\r\n",
-             "t2,b,alarm,5.01,0.2,0.4,,,,,,,,,,,,,\r\n");
+    snprintf(want, sizeof want, "%s%s%s", uwb_verdict_csv_header(),
+             "t1,a,edges,,,,,,,,,,,,true,,,,,,,,,,,\r\n", "t2,b,alarm,5.01,0.2,0.4,,,,,,,,,,,,,,,,,,,,\r\n");
     TEST_ASSERT_EQUAL_STRING(want, printed);
     free(printed);
 }
@@ -189,7 +209,7 @@ static void append_row_of(const char *line, char *out, size_t n)
 
 /* `uwbd ctl --csv history` from the daemon's HISTORY reply gives each
  * verdict's whole row: every column its verdict fills (the first fills
- * all 19), not only those a summary carries. */
+ * all 26), not only those a summary carries. */
 static void test_the_daemons_history_reply_fills_every_column(void)
 {
     char *lines[] = {
@@ -201,7 +221,8 @@ static void test_the_daemons_history_reply_fills_every_column(void)
         "\"edge_uncertainty_mm\":0.2,\"baseline\":{\"lower_edge_mm\":200,\"upper_edge_mm\":600,"
         "\"center_mm\":400,\"scan_id\":\"s1\"},\"images\":[\"/a.png\"],\"scan_file\":\"/s2.uwbscan\","
         "\"baseline_set\":false,\"baseline_note\":\"an alarm is never the baseline\",\"asset_id\":\"T1\","
-        "\"trigger\":\"event\"}",
+        "\"trigger\":\"event\",\"radial\":{\"status\":\"alarm\",\"max_change_mm\":5.75,\"at_mm\":359.59,"
+        "\"from_mm\":332.59,\"to_mm\":384.59,\"uncertainty_mm\":0.46,\"tilt_mm\":2}}",
         "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"s3\",\"created\":\"t3\","
         "\"axial_displacement_mm\":0,\"uncertainty_mm\":0.2,\"lower_edge_mm\":1,\"upper_edge_mm\":2,"
         "\"center_mm\":1.5,\"height_mm\":1,\"height_change_withheld\":\"the upper edge is weak\","

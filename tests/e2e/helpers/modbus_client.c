@@ -126,8 +126,14 @@ static int dump(modbus_t *ctx)
     print32("upper_edge", &in[UWBD_MODBUS_REG_UPPER_EDGE], 1);
     print32("scan_count", &in[UWBD_MODBUS_REG_SCAN_COUNT], 0);
     print32("scan_time", &in[UWBD_MODBUS_REG_SCAN_TIME], 0);
-    printf(" health=%u contacts=%u version=%u\n", in[UWBD_MODBUS_REG_HEALTH], in[UWBD_MODBUS_REG_CONTACTS],
+    printf(" health=%u contacts=%u version=%u", in[UWBD_MODBUS_REG_HEALTH], in[UWBD_MODBUS_REG_CONTACTS],
            in[UWBD_MODBUS_REG_MAP_VERSION]);
+    printf(" radial_status=%u", in[UWBD_MODBUS_REG_RADIAL_STATUS]);
+    print16("radial_change", in[UWBD_MODBUS_REG_RADIAL_CHANGE]);
+    print16("radial_sigma", in[UWBD_MODBUS_REG_RADIAL_SIGMA]);
+    print32("radial_at", &in[UWBD_MODBUS_REG_RADIAL_AT], 1);
+    print16("radial_tilt", in[UWBD_MODBUS_REG_RADIAL_TILT]);
+    printf("\n");
     return 0;
 }
 
