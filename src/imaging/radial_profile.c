@@ -16,7 +16,6 @@
 
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 /* Passes of the line fit, each leaving out the rows standing off the last
@@ -56,12 +55,6 @@ static double profile_peak(const struct uwb_face_profile *p, double lo_m, double
     return peak;
 }
 
-static int compare_doubles(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 struct line {
     double a, b, y_mid; /* a + b (y - y_mid) */
 };
@@ -98,13 +91,12 @@ static int fit_line(const struct uwb_radial *r, const double *offset, const unsi
 }
 
 /* Range noise of one row's face: the envelope's peak moves by about its
- * width times noise over signal; the envelope of a pulse of about one
- * cycle is half a wavelength wide in range (two-way). */
+ * half-width, a quarter wavelength, times noise over signal. */
 static double row_noise_m(const struct uwb_analysis *a, double noise_rms, double y)
 {
     double image_noise = noise_rms * sqrt((double)(a->measured.positions > 0 ? a->measured.positions : 1));
     double e = value_at(&a->profile, y);
-    return e > 0.0 ? image_noise / e * a->wavelength_m / 2.0 : INFINITY;
+    return e > 0.0 ? image_noise / e * a->wavelength_m / 4.0 : INFINITY;
 }
 
 int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis *base, double shift_m,
@@ -144,16 +136,24 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
         snprintf(r->why, sizeof r->why, "too few rows of the face are bright enough in both scans");
         return 0;
     }
-    /* The first line: level at the rows' median, which a change over less
-     * than half the face does not move (a least-squares line through all
-     * rows leans toward the change and then keeps it). */
-    double sorted[UWB_RADIAL_MAX_ROWS];
-    int m = 0;
-    for (int i = 0; i < r->n; i++)
-        if (readable[i])
-            sorted[m++] = offset[i];
-    qsort(sorted, (size_t)m, sizeof *sorted, compare_doubles);
-    struct line line = {.a = sorted[m / 2], .b = 0.0, .y_mid = 0.5 * (lo + hi)};
+    /* The first line: level at the offset most rows agree with (within
+     * half the watch limit), which a change over fewer rows than the rest
+     * does not move. A median would fall between two groups of rows (a
+     * bulge over half the face) and the next pass would fit its flank. */
+    int best_count = -1;
+    double level = 0.0;
+    for (int i = 0; i < r->n; i++) {
+        if (!readable[i])
+            continue;
+        int count = 0;
+        for (int j = 0; j < r->n; j++)
+            count += readable[j] && fabs(offset[j] - offset[i]) <= 0.5 * watch_m;
+        if (count > best_count) {
+            best_count = count;
+            level = offset[i];
+        }
+    }
+    struct line line = {.a = level, .b = 0.0, .y_mid = 0.5 * (lo + hi)};
     for (int pass = 0; pass < LINE_PASSES; pass++) {
         for (int i = 0; i < r->n; i++)
             use[i] = readable[i] && fabs(offset[i] - line_at(&line, r->y0_m + i * r->dy_m)) <= 0.5 * watch_m;
