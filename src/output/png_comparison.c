@@ -377,12 +377,19 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
         double largest = uwb_paint_difference(&c, &L.diff, current, baseline);
         uwb_mark_antenna_travel(&c, &L.diff, o.provenance, 0);
         int ks = s > 1 ? s - 1 : 1;
-        char full[48];
-        snprintf(full, sizeof full, "full colour: %.0f%% of peak", 100.0 * largest);
-        const char *key[3] = {"red: stronger now", "blue: weaker now", full};
-        for (int i = 0; i < 3; i++) {
+        char full[48], percent[32];
+        snprintf(percent, sizeof percent, "%.0f%% of peak", 100.0 * largest);
+        snprintf(full, sizeof full, "full colour: %s", percent);
+        const char *key[4] = {"red: stronger now", "blue: weaker now", full, NULL};
+        int n_key = 3;
+        if (uwb_text_width(full, ks) > L.diff.w - 8) { /* a narrow panel: the last line in two */
+            key[2] = "full colour:";
+            key[3] = percent;
+            n_key = 4;
+        }
+        for (int i = 0; i < n_key; i++) {
             int w = uwb_text_width(key[i], ks),
-                ky = L.diff.y + L.diff.h - (3 - i) * (UWB_FONT_LINE_HEIGHT * ks + 2) - 4;
+                ky = L.diff.y + L.diff.h - (n_key - i) * (UWB_FONT_LINE_HEIGHT * ks + 2) - 4;
             uwb_canvas_fill_rect(&c, L.diff.x + 3, ky - 2, w + 4, UWB_FONT_CAP_HEIGHT * ks + 4, page);
             uwb_draw_text(&c, L.diff.x + 5, ky, key[i], ks, ink);
         }
@@ -422,7 +429,8 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
                                       .y_labels_left = 1,
                                       .x_title = "range z (mm)",
                                       .y_title = "height y (mm)",
-                                      .panel_gap = PANEL_GAP};
+                                      /* labels keep clear of the next panel's */
+                                      .panel_gap = PANEL_GAP / 2};
     uwb_draw_axes(&c, &L.base, &img_axes);
     img_axes.y_labels_left = 0;
     img_axes.x_title = NULL; /* the baseline's says it: two would run into each other */
@@ -431,7 +439,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     struct uwb_axis_style radial_axes = {.x_label_scale = 1000.0,
                                          .y_label_scale = 1000.0,
                                          .font_scale = s,
-                                         .x_ticks = 2,
+                                         .x_ticks = 3,
                                          .y_ticks = 10,
                                          .x_labels = 1,
                                          .panel_gap = PANEL_GAP};

@@ -282,7 +282,7 @@ void uwb_draw_radial_panel(struct uwb_canvas *c, const struct uwb_plot *p, const
     }
     char figure[256];
     uwb_describe_radial(v, figure, sizeof figure);
-    const char *lines[3] = {"x: mm nearer", figure, level};
+    const char *lines[3] = {"x: mm nearer the antenna", figure, level};
     draw_key(c, p, lines, level[0] ? 3 : 2, ks,
              v->baseline.found ? v->baseline.lower_m + compare_shift(v) : NAN,
              r->measured && r->status != UWB_STATUS_OK ? uwb_status_colour(r->status) : ink);

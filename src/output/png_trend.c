@@ -468,7 +468,7 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         .y_ticks = 8,
         .x_labels = 0,
         .y_labels_left = 1,
-        .y_title = radial_figures ? "mm (up +; radial: nearer +)" : "displacement, mm (up +)",
+        .y_title = radial_figures ? "mm (up +, radial nearer +)" : "displacement, mm (up +)",
     };
     uwb_draw_axes(c, p, &style);
     x_labels(c, &l, t);
