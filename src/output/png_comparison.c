@@ -439,7 +439,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     struct uwb_axis_style radial_axes = {.x_label_scale = 1000.0,
                                          .y_label_scale = 1000.0,
                                          .font_scale = s,
-                                         .x_ticks = 3,
+                                         .x_ticks = 2,
                                          .y_ticks = 10,
                                          .x_labels = 1,
                                          .panel_gap = PANEL_GAP};

@@ -181,8 +181,17 @@ void uwb_radial_panel_range(const struct uwb_analysis *cur, const struct uwb_ana
             }
         curves_free(&k);
     }
-    p->x_min = lo;
-    p->x_max = hi;
+    /* Symmetric about no change, at a half-span whose ticks fall on round
+     * figures (-2 0 2, -5 0 5, -10 0 10 mm): the panel is narrow. */
+    static const double half_spans_m[] = {0.003, 0.006, 0.012, 0.025, 0.06, 0.12};
+    double half = fmax(-lo, hi);
+    for (size_t i = 0; i < sizeof half_spans_m / sizeof half_spans_m[0]; i++)
+        if (half_spans_m[i] >= half) {
+            half = half_spans_m[i];
+            break;
+        }
+    p->x_min = -half;
+    p->x_max = half;
 }
 
 /* A curve as polylines broken where a row has no range. */
