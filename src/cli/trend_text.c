@@ -1,5 +1,6 @@
 /* A TREND reply as a table for people (uwbd ctl --text trend): one line
- * per verdict, oldest first, then the rate and the image. */
+ * per verdict (axial figure, height change, radial change), oldest
+ * first, then the rate and the image. */
 #include <ctype.h>
 #include <stdio.h>
 #include <string.h>
@@ -50,7 +51,7 @@ static void column(FILE *out, const char *s, int width)
 
 static void verdict_line(const cJSON *v, FILE *out)
 {
-    char status[16], figure[64], height[32];
+    char status[16], figure[64], height[32], radial[64];
     upper(status, sizeof status, text(v, "status", "?"));
     double d, u, h;
     if (number(v, "axial_displacement_mm", &d) && number(v, "uncertainty_mm", &u))
@@ -61,12 +62,23 @@ static void verdict_line(const cJSON *v, FILE *out)
         snprintf(height, sizeof height, "%+7.2f mm", h);
     else
         snprintf(height, sizeof height, "-"); /* right-aligned under the figures' "mm" */
+    /* The radial change with its status; "-" where the verdict has none
+     * (older lines), the status alone where it made no figure. */
+    double r, ru;
+    const char *radial_status = text(v, "radial_status", NULL);
+    if (number(v, "radial_max_change_mm", &r) && number(v, "radial_uncertainty_mm", &ru))
+        snprintf(radial, sizeof radial, "%+6.2f \u00b1 %.2f mm %s", r, ru,
+                 radial_status ? radial_status : "");
+    else
+        snprintf(radial, sizeof radial, "%s", radial_status ? radial_status : "-");
     /* "*" marks a baseline change: the figures before and after it are
      * against different references. */
     fprintf(out, "%-20s %c %-12s  ", text(v, "created", "(no time)"),
             cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ', status);
     column(out, figure, 20);
-    fprintf(out, "  %10s  %s", height, text(v, "scan_id", ""));
+    fprintf(out, "  %10s  ", height);
+    column(out, radial, 24);
+    fprintf(out, "  %s", text(v, "scan_id", ""));
     if (cJSON_IsTrue(item(v, "baseline_set")))
         fputs("  (became the baseline)", out);
     const char *reason = text(v, "reason", NULL);
@@ -92,7 +104,9 @@ int uwbd_trend_text(const char *reply, FILE *out)
     fputc('\n', out);
     fprintf(out, "%-20s   %-12s  ", "created (UTC)", "status");
     column(out, "displacement \u00b1 1\u03c3", 20);
-    fprintf(out, "  %10s  %s\n", "height chg", "scan");
+    fprintf(out, "  %10s  ", "height chg");
+    column(out, "radial \u00b1 1\u03c3", 24);
+    fprintf(out, "  %s\n", "scan");
     const cJSON *v;
     cJSON_ArrayForEach(v, list) verdict_line(v, out);
     double unreadable;

@@ -75,6 +75,12 @@ static cJSON *point_object(const struct uwb_trend_point *p)
     }
     if (p->has_height_change)
         add_mm(o, "height_change_mm", p->height_change_mm);
+    if (p->has_radial)
+        cJSON_AddStringToObject(o, "radial_status", uwb_status_name(p->radial_status));
+    if (p->has_radial_change) {
+        add_mm(o, "radial_max_change_mm", p->radial_mm);
+        add_mm(o, "radial_uncertainty_mm", p->radial_sigma_mm);
+    }
     if (!p->has_displacement && p->reason[0])
         cJSON_AddStringToObject(o, "reason", p->reason);
     if (p->baseline_id[0])

@@ -151,8 +151,14 @@ void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenanc
     if (prov && uwb_thresholds_usable(prov->thresholds))
         snprintf(limits, sizeof limits, "; thresholds watch %.2f mm, alarm %.2f mm",
                  prov->thresholds->watch_m * 1e3, prov->thresholds->alarm_m * 1e3);
-    snprintf(buf, len, "scan %s created %s; status %s; %s; edges %s%s%s%s%s%s%s; %s", scan_name(v, prov),
-             or_unknown(v->created), uwb_status_name(v->status), disp, now,
+    char radial[320] = "";
+    if (v->has_baseline) {
+        radial[0] = ';';
+        radial[1] = ' ';
+        uwb_describe_radial(v, radial + 2, sizeof radial - 2);
+    }
+    snprintf(buf, len, "scan %s created %s; status %s; %s%s; edges %s%s%s%s%s%s%s; %s", scan_name(v, prov),
+             or_unknown(v->created), uwb_status_name(v->status), disp, radial, now,
              v->has_baseline ? "; baseline " : "", v->has_baseline ? or_unknown(v->baseline_scan_id) : "",
              v->has_baseline ? " edges " : "", v->has_baseline ? base : "",
              prov && prov->became_baseline ? "; this scan became the baseline" : "", limits, source);
@@ -374,8 +380,10 @@ int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const c
                                  const struct uwb_verdict *v, const struct uwb_provenance *prov, char *err,
                                  size_t errlen)
 {
-    char summary[2048], stack[32] = "", eps[32] = "", snr[32] = "";
+    char summary[2048], stack[32] = "", eps[32] = "", snr[32] = "", radial[320] = "";
     uwb_verdict_summary(v, prov, summary, sizeof summary);
+    if (v && v->has_baseline)
+        uwb_describe_radial(v, radial, sizeof radial);
     if (prov && prov->stack > 0)
         snprintf(stack, sizeof stack, "%d", prov->stack);
     if (prov && prov->eps_r > 0.0 && isfinite(prov->eps_r))
@@ -395,6 +403,7 @@ int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const c
         {"Stack", stack[0] ? stack : NULL},
         {"eps_r", eps[0] ? eps : NULL},
         {"SNR dB", snr[0] ? snr : NULL},
+        {"Radial", radial[0] ? radial : NULL},
     };
     int rc = uwb_canvas_write_png(c, path, texts, (int)(sizeof texts / sizeof texts[0]), err, errlen);
     uwb_canvas_free(c);

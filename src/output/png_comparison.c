@@ -1,5 +1,5 @@
 /* Baseline against this scan, side by side so the shift shows at a glance:
- *   [baseline image] [this scan's image] [this - baseline] [face profiles]
+ *   [baseline image] [this scan's image] [this - baseline] [radial] [face profiles]
  * The two image panels are cropped to the face, share the height axis and
  * the dB scale (each re its own peak: the scans may differ in gain); this
  * scan's panel also carries the baseline's edges dashed, so the gap between
@@ -13,6 +13,9 @@
  * each re its own peak, on a linear diverging scale (red: stronger now,
  * blue: stronger in the baseline, white: unchanged): a moved winding shows
  * as a red/blue pair at its ends.
+ * The radial panel (png_radial.c) draws the face's range along the height
+ * in both scans, aligned by the axial shift, with the verdict's radial
+ * change shaded and labelled.
  * Without a baseline the left panel says so and only this scan is drawn:
  * the archive keeps the same set of files for every scan. */
 #include "output/render_internal.h"
@@ -34,7 +37,7 @@ static const struct uwb_rgb baseline_ink = {150, 20, 110};
 const struct uwb_rgb UWB_RGB_NOT_MEASURED = {150, 150, 150};
 
 struct comparison_layout {
-    struct uwb_plot base, cur, diff, prof;
+    struct uwb_plot base, cur, diff, rad, prof;
     int bar_x, bar_w;
 };
 
@@ -53,10 +56,12 @@ static void layout(int width, int height, int s, int caption_height, struct comp
     L->bar_w = 10 + 6 * s;
     int right = 22 + L->bar_w + 12 + (3 * UWB_FONT_ADVANCE - 1) * s + 10;
     int bottom = 12 + UWB_FONT_CAP_HEIGHT * s + 10 + 9 * s + 14 + UWB_FONT_LINE_HEIGHT * s + 10;
-    int avail = width - left - right - right_labels - 3 * PANEL_GAP;
-    int panel = avail * 25 / 100;
+    int avail = width - left - right - right_labels - 4 * PANEL_GAP;
+    int panel = avail * 20 / 100, radial = avail * 16 / 100;
     if (panel < 16)
         panel = 16;
+    if (radial < 16)
+        radial = 16;
     struct uwb_plot p = {0};
     p.y = top;
     p.h = height - top - bottom;
@@ -71,9 +76,12 @@ static void layout(int width, int height, int s, int caption_height, struct comp
     L->diff = p;
     L->diff.x = L->cur.x + panel + PANEL_GAP;
     L->diff.w = panel;
+    L->rad = p;
+    L->rad.x = L->diff.x + panel + PANEL_GAP;
+    L->rad.w = radial;
     L->prof = p;
-    L->prof.x = L->diff.x + panel + PANEL_GAP;
-    L->prof.w = avail - 3 * panel > 16 ? avail - 3 * panel : 16;
+    L->prof.x = L->rad.x + radial + PANEL_GAP;
+    L->prof.w = avail - 3 * panel - radial > 16 ? avail - 3 * panel - radial : 16;
     L->bar_x = L->prof.x + L->prof.w + right_labels + 22;
 }
 
@@ -232,18 +240,16 @@ static void draw_not_measured(struct uwb_canvas *c, const struct uwb_plot *p, co
     uwb_draw_text(c, bx + (bw - wr) / 2, by + 2 * s + line, why, s, page);
 }
 
-void uwb_render_comparison_layout(const struct uwb_analysis *current_scan,
-                                  const struct uwb_analysis *baseline_scan, const struct uwb_verdict *v,
-                                  const struct uwb_render_options *opt, struct uwb_plot *base_panel,
-                                  struct uwb_plot *current_panel, struct uwb_plot *difference_panel,
-                                  struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w)
+/* Every panel's place and data ranges for this pair and verdict. */
+static void full_layout(const struct uwb_analysis *current_scan, const struct uwb_analysis *baseline_scan,
+                        const struct uwb_verdict *v, const struct uwb_render_options *opt,
+                        struct comparison_layout *L)
 {
     const struct uwb_image *current = &current_scan->intensity;
     const struct uwb_image *baseline = baseline_scan ? &baseline_scan->intensity : NULL;
     struct uwb_render_options o;
     uwb_render_options_sane(opt, &o);
-    struct comparison_layout L;
-    layout(o.width, o.height, o.font_scale, uwb_caption_height(v, o.provenance, o.width, o.font_scale), &L);
+    layout(o.width, o.height, o.font_scale, uwb_caption_height(v, o.provenance, o.width, o.font_scale), L);
     const struct uwb_edges *ec = v && v->current.found ? &v->current : NULL;
     const struct uwb_edges *eb = v && v->has_baseline && v->baseline.found ? &v->baseline : NULL;
     /* Crop centre: the faces found, else the brightest range. */
@@ -260,23 +266,45 @@ void uwb_render_comparison_layout(const struct uwb_analysis *current_scan,
     image_y_range(current, &ylo, &yhi);
     if (baseline)
         image_y_range(baseline, &ylo, &yhi);
-    struct uwb_plot *panels[3] = {&L.base, &L.cur, &L.diff};
+    struct uwb_plot *panels[3] = {&L->base, &L->cur, &L->diff};
     for (int i = 0; i < 3; i++) {
         panels[i]->x_min = zc - CROP_HALF_WIDTH_M;
         panels[i]->x_max = zc + CROP_HALF_WIDTH_M;
         panels[i]->y_min = ylo;
         panels[i]->y_max = yhi;
     }
-    L.prof.x_min = 0.0;
-    L.prof.x_max = 1.05; /* a little room right of the peak */
-    L.prof.y_min = ylo;
-    L.prof.y_max = yhi;
+    L->prof.x_min = 0.0;
+    L->prof.x_max = 1.05; /* a little room right of the peak */
+    L->prof.y_min = ylo;
+    L->prof.y_max = yhi;
+    L->rad.y_min = ylo;
+    L->rad.y_max = yhi;
+    uwb_radial_panel_range(current_scan, baseline_scan, v, &L->rad);
+}
+
+void uwb_render_comparison_layout(const struct uwb_analysis *current_scan,
+                                  const struct uwb_analysis *baseline_scan, const struct uwb_verdict *v,
+                                  const struct uwb_render_options *opt, struct uwb_plot *base_panel,
+                                  struct uwb_plot *current_panel, struct uwb_plot *difference_panel,
+                                  struct uwb_plot *profile_panel, int *colorbar_x, int *colorbar_w)
+{
+    struct comparison_layout L;
+    full_layout(current_scan, baseline_scan, v, opt, &L);
     *base_panel = L.base;
     *current_panel = L.cur;
     *difference_panel = L.diff;
     *profile_panel = L.prof;
     *colorbar_x = L.bar_x;
     *colorbar_w = L.bar_w;
+}
+
+void uwb_render_comparison_radial_layout(const struct uwb_analysis *current,
+                                         const struct uwb_analysis *baseline, const struct uwb_verdict *v,
+                                         const struct uwb_render_options *opt, struct uwb_plot *radial_panel)
+{
+    struct comparison_layout L;
+    full_layout(current, baseline, v, opt, &L);
+    *radial_panel = L.rad;
 }
 
 int uwb_render_comparison_png(const char *path, const struct uwb_analysis *current,
@@ -312,8 +340,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
     if (uwb_canvas_init(&c, o.width, o.height, page, err, errlen) != 0)
         return -1;
     struct comparison_layout L;
-    uwb_render_comparison_layout(current_scan, baseline_scan, v, &o, &L.base, &L.cur, &L.diff, &L.prof,
-                                 &L.bar_x, &L.bar_w);
+    full_layout(current_scan, baseline_scan, v, &o, &L);
     const struct uwb_edges *ec = v && v->current.found ? &v->current : NULL;
     const struct uwb_edges *eb = v && v->has_baseline && v->baseline.found ? &v->baseline : NULL;
 
@@ -350,12 +377,19 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
         double largest = uwb_paint_difference(&c, &L.diff, current, baseline);
         uwb_mark_antenna_travel(&c, &L.diff, o.provenance, 0);
         int ks = s > 1 ? s - 1 : 1;
-        char full[48];
-        snprintf(full, sizeof full, "full colour: %.0f%% of peak", 100.0 * largest);
-        const char *key[3] = {"red: stronger now", "blue: weaker now", full};
-        for (int i = 0; i < 3; i++) {
+        char full[48], percent[32];
+        snprintf(percent, sizeof percent, "%.0f%% of peak", 100.0 * largest);
+        snprintf(full, sizeof full, "full colour: %s", percent);
+        const char *key[4] = {"red: stronger now", "blue: weaker now", full, NULL};
+        int n_key = 3;
+        if (uwb_text_width(full, ks) > L.diff.w - 8) { /* a narrow panel: the last line in two */
+            key[2] = "full colour:";
+            key[3] = percent;
+            n_key = 4;
+        }
+        for (int i = 0; i < n_key; i++) {
             int w = uwb_text_width(key[i], ks),
-                ky = L.diff.y + L.diff.h - (3 - i) * (UWB_FONT_LINE_HEIGHT * ks + 2) - 4;
+                ky = L.diff.y + L.diff.h - (n_key - i) * (UWB_FONT_LINE_HEIGHT * ks + 2) - 4;
             uwb_canvas_fill_rect(&c, L.diff.x + 3, ky - 2, w + 4, UWB_FONT_CAP_HEIGHT * ks + 4, page);
             uwb_draw_text(&c, L.diff.x + 5, ky, key[i], ks, ink);
         }
@@ -365,6 +399,9 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
         uwb_draw_text(&c, L.diff.x + (L.diff.w - w) / 2, L.diff.y + L.diff.h / 2, no_baseline, s, page);
     }
     panel_title(&c, &L.diff, "now - base", s, ink);
+
+    uwb_draw_radial_panel(&c, &L.rad, current_scan, baseline_scan, v, s);
+    panel_title(&c, &L.rad, "radial", s, ink);
 
     /* Profiles. */
     uwb_canvas_fill_rect(&c, L.prof.x, L.prof.y, L.prof.w, L.prof.h, profile_background);
@@ -392,12 +429,21 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
                                       .y_labels_left = 1,
                                       .x_title = "range z (mm)",
                                       .y_title = "height y (mm)",
-                                      .panel_gap = PANEL_GAP};
+                                      /* labels keep clear of the next panel's */
+                                      .panel_gap = PANEL_GAP / 2};
     uwb_draw_axes(&c, &L.base, &img_axes);
     img_axes.y_labels_left = 0;
+    img_axes.x_title = NULL; /* the baseline's says it: two would run into each other */
     uwb_draw_axes(&c, &L.cur, &img_axes);
-    img_axes.x_title = NULL; /* the neighbours say it; the profile's title would run into it */
     uwb_draw_axes(&c, &L.diff, &img_axes);
+    struct uwb_axis_style radial_axes = {.x_label_scale = 1000.0,
+                                         .y_label_scale = 1000.0,
+                                         .font_scale = s,
+                                         .x_ticks = 2,
+                                         .y_ticks = 10,
+                                         .x_labels = 1,
+                                         .panel_gap = PANEL_GAP};
+    uwb_draw_axes(&c, &L.rad, &radial_axes);
     struct uwb_axis_style prof_axes = {.x_label_scale = 1.0,
                                        .y_label_scale = 1000.0,
                                        .font_scale = s,

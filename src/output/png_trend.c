@@ -1,6 +1,7 @@
 /* The trend PNG (see output/render_trend.h): displacement over time with
- * 2-sigma bars, the thresholds, baseline changes, and the verdicts that
- * have no figure shown as marks of their own. */
+ * 2-sigma bars, the radial change as a second series, the thresholds,
+ * baseline changes, and the verdicts that have no figure shown as marks
+ * of their own. */
 #include "output/render_trend.h"
 
 #include <math.h>
@@ -27,6 +28,8 @@ static const struct uwb_rgb zero_grey = {200, 200, 200};
 static const struct uwb_rgb series_grey = {150, 150, 150};
 static const struct uwb_rgb strip_fill = {242, 242, 242};
 static const struct uwb_rgb baseline_ink = {150, 20, 110};
+static const struct uwb_rgb radial_line = {130, 195, 205};
+const struct uwb_rgb UWB_TREND_RADIAL_INK = {0, 120, 140};
 
 static double mm_per_year(double mm_per_day)
 {
@@ -86,6 +89,30 @@ static void describe_rate(const struct uwb_trend *t, const char *sep, char *buf,
         snprintf(buf, len, "not known yet: %s", t->rate.withheld);
 }
 
+/* The radial series: how many figures, and the latest (NULL: none). */
+static const struct uwb_trend_point *latest_radial(const struct uwb_trend *t, int *figures)
+{
+    const struct uwb_trend_point *last = NULL;
+    *figures = 0;
+    for (int i = 0; i < t->count; i++)
+        if (t->points[i].has_radial_change) {
+            last = &t->points[i];
+            ++*figures;
+        }
+    return last;
+}
+
+static void describe_radial(const struct uwb_trend *t, const char *sep, char *buf, size_t len)
+{
+    int figures;
+    const struct uwb_trend_point *q = latest_radial(t, &figures);
+    buf[0] = '\0';
+    if (q)
+        snprintf(buf, len, "%d radial figure%s, latest %+.2f %s %.2f mm (%s)", figures,
+                 figures == 1 ? "" : "s", q->radial_mm, sep, q->radial_sigma_mm,
+                 uwb_status_name(q->radial_status));
+}
+
 void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *th, char *buf, size_t len)
 {
     int figures, inconclusive, errors, edges, undated;
@@ -93,12 +120,14 @@ void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *t
     char last[300], rate[200];
     describe_point(latest(t), "+/-", last, sizeof last);
     describe_rate(t, "+/-", rate, sizeof rate);
+    char radial[160];
+    describe_radial(t, "+/-", radial, sizeof radial);
     const struct uwb_trend_point *p = latest(t);
     snprintf(buf, len,
              "%d verdicts: %d with a figure, %d inconclusive, %d error, %d edges only; latest %s: %s; "
-             "rate %s; thresholds watch %.2f mm, alarm %.2f mm; bars +/-%.0f sigma (95 %%)",
+             "rate %s; %s%sthresholds watch %.2f mm, alarm %.2f mm; bars +/-%.0f sigma (95 %%)",
              t->count, figures, inconclusive, errors, edges, p && p->created[0] ? p->created : "(none)", last,
-             rate, th->watch_m * 1e3, th->alarm_m * 1e3, UWB_TREND_BAR_SIGMAS);
+             rate, radial, radial[0] ? "; " : "", th->watch_m * 1e3, th->alarm_m * 1e3, UWB_TREND_BAR_SIGMAS);
 }
 
 static int first_last_time(const struct uwb_trend *t, time_t *first, time_t *last)
@@ -146,7 +175,7 @@ static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct
     int scale = FONT_SCALE, x = 12, y = 10;
     char a[512], b[400];
     if (c)
-        uwb_draw_text(c, x, y, "uwbd trend: axial displacement", scale + 1, ink);
+        uwb_draw_text(c, x, y, "uwbd trend: axial displacement and radial change", scale + 1, ink);
     y += UWB_FONT_LINE_HEIGHT * (scale + 1) + 6;
     int label_w = uwb_text_width("latest  ", scale);
     int text_w = UWB_TREND_PNG_WIDTH - x - label_w - x;
@@ -167,6 +196,13 @@ static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct
         uwb_draw_text(c, x, y, "rate", scale, muted);
     describe_rate(t, "\u00b1", a, sizeof a);
     y += wrapped_text(c, x + label_w, y, a, scale, ink, text_w);
+    describe_radial(t, "\u00b1", b, sizeof b);
+    if (b[0]) {
+        if (c)
+            uwb_draw_text(c, x, y, "radial", scale, UWB_TREND_RADIAL_INK);
+        snprintf(a, sizeof a, "%s; diamonds, + toward the antenna", b);
+        y += wrapped_text(c, x + label_w, y, a, scale, UWB_TREND_RADIAL_INK, text_w);
+    }
     if (c) {
         /* Legend: a sample of each line next to what it means. */
         int lx = x, mid = y + UWB_FONT_CAP_HEIGHT * scale / 2;
@@ -233,6 +269,8 @@ void uwb_render_trend_layout(const struct uwb_trend *t, const struct uwb_thresho
         const struct uwb_trend_point *q = &t->points[i];
         if (q->has_displacement)
             lim = fmax(lim, 1.1 * (fabs(q->displacement_mm) + UWB_TREND_BAR_SIGMAS * q->sigma_mm));
+        if (q->has_radial_change)
+            lim = fmax(lim, 1.1 * (fabs(q->radial_mm) + UWB_TREND_BAR_SIGMAS * q->radial_sigma_mm));
     }
     p->y_min = -lim;
     p->y_max = lim;
@@ -292,6 +330,26 @@ static void figure(struct uwb_canvas *c, const struct uwb_plot *p, int col, cons
     uwb_canvas_fill_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1,
                          uwb_status_colour(q->status));
     uwb_canvas_frame_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1, ink);
+}
+
+/* A radial figure: its bar in the radial ink, a diamond in its status colour. */
+static void radial_figure(struct uwb_canvas *c, const struct uwb_plot *p, int col,
+                          const struct uwb_trend_point *q)
+{
+    double bar = UWB_TREND_BAR_SIGMAS * q->radial_sigma_mm;
+    int top = uwb_plot_row(p, q->radial_mm + bar), bottom = uwb_plot_row(p, q->radial_mm - bar);
+    int row = uwb_plot_row(p, q->radial_mm);
+    uwb_canvas_line(c, col, top, col, bottom, UWB_TREND_RADIAL_INK, 1, 0, 0);
+    uwb_canvas_line(c, col - CAP, top, col + CAP, top, UWB_TREND_RADIAL_INK, 1, 0, 0);
+    uwb_canvas_line(c, col - CAP, bottom, col + CAP, bottom, UWB_TREND_RADIAL_INK, 1, 0, 0);
+    int r = MARKER + 1;
+    for (int dy = -r; dy <= r; dy++) {
+        int half = r - (dy < 0 ? -dy : dy);
+        uwb_canvas_fill_rect(c, col - half, row + dy, 2 * half + 1, 1, UWB_TREND_RADIAL_INK);
+        if (half > 0)
+            uwb_canvas_fill_rect(c, col - half + 1, row + dy, 2 * half - 1, 1,
+                                 uwb_status_colour(q->radial_status));
+    }
 }
 
 static void x_labels(struct uwb_canvas *c, const struct uwb_trend_layout *l, const struct uwb_trend *t)
@@ -374,6 +432,21 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         prev_row = row;
         have_prev = 1;
     }
+    /* The radial series likewise, beside the axial one. */
+    have_prev = 0;
+    for (int i = 0; i < t->count; i++) {
+        const struct uwb_trend_point *q = &t->points[i];
+        if (q->baseline_change)
+            have_prev = 0;
+        if (!q->has_radial_change || !q->has_time)
+            continue;
+        int col = uwb_trend_col(&l, q->t) + UWB_TREND_RADIAL_OFFSET, row = uwb_plot_row(p, q->radial_mm);
+        if (have_prev)
+            uwb_canvas_line(c, prev_col, prev_row, col, row, radial_line, 1, 0, 0);
+        prev_col = col;
+        prev_row = row;
+        have_prev = 1;
+    }
     for (int i = 0; i < t->count; i++) {
         const struct uwb_trend_point *q = &t->points[i];
         if (!q->has_time)
@@ -382,7 +455,11 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
             figure(c, p, uwb_trend_col(&l, q->t), q);
         else
             no_figure_mark(c, &l, q);
+        if (q->has_radial_change)
+            radial_figure(c, p, uwb_trend_col(&l, q->t) + UWB_TREND_RADIAL_OFFSET, q);
     }
+    int radial_figures;
+    latest_radial(t, &radial_figures);
     struct uwb_axis_style style = {
         .x_label_scale = 1.0,
         .y_label_scale = 1.0,
@@ -391,7 +468,7 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         .y_ticks = 8,
         .x_labels = 0,
         .y_labels_left = 1,
-        .y_title = "displacement, mm (up +)",
+        .y_title = radial_figures ? "mm (up +, radial nearer +)" : "displacement, mm (up +)",
     };
     uwb_draw_axes(c, p, &style);
     x_labels(c, &l, t);
@@ -414,7 +491,7 @@ int uwb_render_trend_png(const char *path, const struct uwb_trend *t, const stru
     /* The description is ASCII ("+/-", "sigma"); a site label may be UTF-8,
      * which uwb_canvas_write_png stores as iTXt (tEXt is Latin-1). */
     struct uwb_png_text texts[] = {
-        {"Title", "uwbd trend: axial displacement"},
+        {"Title", "uwbd trend: axial displacement and radial change"},
         {"Description", summary},
         {"Asset", site && site[0] ? site : NULL},
         {"Software", "uwbd " UWBD_VERSION},

@@ -166,7 +166,7 @@ void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenanc
                          size_t len);
 /* Write the canvas as `path` with Title (title), Description (the verdict
  * summary), Software ("uwbd VERSION") and, where known, Scan, Asset, Stack,
- * eps_r and "SNR dB" text chunks, then free it. */
+ * eps_r, "SNR dB" and (against a baseline) Radial text chunks, then free it. */
 int uwb_canvas_save_with_verdict(struct uwb_canvas *c, const char *path, const char *title,
                                  const struct uwb_verdict *v, const struct uwb_provenance *prov, char *err,
                                  size_t errlen);
@@ -283,6 +283,22 @@ void uwb_render_comparison_layout(const struct uwb_analysis *current, const stru
  * peak, diverging map, full colour at the largest |difference| (returned). */
 double uwb_paint_difference(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *current,
                             const struct uwb_image *baseline);
+/* The comparison's radial panel (src/output/png_radial.c): the face's
+ * range along the height in both scans, aligned by the compare shift,
+ * x in m toward the antenna re the baseline's median range. */
+void uwb_render_comparison_radial_layout(const struct uwb_analysis *current,
+                                         const struct uwb_analysis *baseline, const struct uwb_verdict *v,
+                                         const struct uwb_render_options *opt, struct uwb_plot *radial_panel);
+/* Sets p's x range (m) to hold both curves, at least +/- 3 mm. */
+void uwb_radial_panel_range(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                            const struct uwb_verdict *v, struct uwb_plot *p);
+void uwb_draw_radial_panel(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_analysis *current,
+                           const struct uwb_analysis *baseline, const struct uwb_verdict *v, int font_scale);
+/* The colour of the rows past the watch limit in the radial panel. */
+struct uwb_rgb uwb_radial_shade_colour(enum uwb_status status);
+/* "radial +3.1 ± 0.4 mm at 267 mm (bulge toward the antenna)", or
+ * "radial: not measured (why)", or "radial: no baseline". */
+void uwb_describe_radial(const struct uwb_verdict *v, char *buf, size_t len);
 /* The points of a face profile's curve in the comparison's profile panel:
  * one per profile sample inside the panel's heights, x = value / the
  * profile's peak. xs and ys hold profile->n entries; returns how many were

@@ -1,5 +1,6 @@
 /* The trend PNG: a winding's axial displacement over time, each figure
- * with its 2-sigma (95 %) bar, the watch and alarm thresholds as lines,
+ * with its 2-sigma (95 %) bar, the radial change beside it (where the
+ * verdicts carry one), the watch and alarm thresholds as lines,
  * baseline changes as vertical lines, and every verdict without a figure
  * (inconclusive, error, edges only) as a mark in a strip below the plot,
  * never as a point. Written atomically (atomic_file.h) like every image. */
@@ -17,6 +18,10 @@
 #define UWB_TREND_PNG_HEIGHT 620
 /* The bars' half-length in sigmas of the verdict's uncertainty. */
 #define UWB_TREND_BAR_SIGMAS UWB_SIGMAS_95
+/* The radial change is a second series: diamonds in their status colour
+ * with bars in this ink, this many px right of the axial figure's column. */
+#define UWB_TREND_RADIAL_OFFSET 7
+extern const struct uwb_rgb UWB_TREND_RADIAL_INK;
 
 /* Where uwb_render_trend_png draws: plot.x data is (time - t_ref) / unit_s,
  * plot.y data is displacement in mm; the strip of verdicts without a

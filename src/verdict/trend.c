@@ -41,6 +41,13 @@ static int read_point(const char *line, struct uwb_verdict_record *r, struct uwb
     p->sigma_mm = p->has_displacement ? r->uncertainty_mm : 0;
     p->has_height_change = decided && r->has_height_change;
     p->height_change_mm = p->has_height_change ? r->height_change_mm : 0;
+    p->has_radial = r->has_radial;
+    p->radial_status = r->radial_status;
+    p->has_radial_change = r->has_radial && r->radial_measured &&
+                           (r->radial_status == UWB_STATUS_OK || r->radial_status == UWB_STATUS_WATCH ||
+                            r->radial_status == UWB_STATUS_ALARM);
+    p->radial_mm = p->has_radial_change ? r->radial_max_change_mm : 0;
+    p->radial_sigma_mm = p->has_radial_change ? r->radial_uncertainty_mm : 0;
     return 0;
 }
 

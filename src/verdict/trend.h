@@ -21,6 +21,13 @@ struct uwb_trend_point {
     double displacement_mm, sigma_mm; /* sigma: 1-sigma, as uncertainty_mm in the verdict */
     int has_height_change;
     double height_change_mm;
+    /* The face's radial change (+ toward the antenna): has_radial where the
+     * verdict carried one (older lines do not), a figure only where it was
+     * measured and graded ok, watch or alarm. */
+    int has_radial;
+    enum uwb_status radial_status;
+    int has_radial_change;
+    double radial_mm, radial_sigma_mm;      /* sigma: 1-sigma */
     char baseline_id[UWB_TREND_ID_MAX + 1]; /* the baseline compared against, "" when none */
     int became_baseline;                    /* this scan was made the baseline (baseline_set) */
     int baseline_change; /* became_baseline, or compared against another baseline than the scans before */

@@ -677,6 +677,101 @@ static void test_a_short_trend_is_drawn_at_its_own_scale(void)
     uwb_trend_free(&t);
 }
 
+/* The radial change over time (issue 30): a second series in the reply,
+ * its text and trend.png; verdicts without a radial object (older lines)
+ * and radial figures withheld are left out of it, never read as 0. */
+static const char *const radial_lines[] = {
+    "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"R1\",\"created\":\"2026-03-01T06:00:00Z\","
+    "\"axial_displacement_mm\":0.1,\"uncertainty_mm\":0.3,\"baseline\":{\"scan_id\":\"B1\"}}",
+    "{\"class\":\"VERDICT\",\"status\":\"watch\",\"scan_id\":\"R2\",\"created\":\"2026-03-02T06:00:00Z\","
+    "\"axial_displacement_mm\":0.2,\"uncertainty_mm\":0.3,\"radial\":{\"status\":\"watch\",\"max_change_"
+    "mm\":3.11,\"at_mm\":267,\"uncertainty_mm\":0.39,\"tilt_mm\":-1.4},\"baseline\":{\"scan_id\":\"B1\"}}",
+    "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"R3\",\"created\":\"2026-03-03T06:00:00Z\","
+    "\"axial_displacement_mm\":0.0,\"uncertainty_mm\":0.3,\"radial\":{\"status\":\"inconclusive\","
+    "\"withheld\":\"too few rows of the face are bright enough\"},\"baseline\":{\"scan_id\":\"B1\"}}",
+    "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"R4\",\"created\":\"2026-03-04T06:00:00Z\","
+    "\"axial_displacement_mm\":-0.1,\"uncertainty_mm\":0.3,\"radial\":{\"status\":\"ok\",\"max_change_mm\":"
+    "-0.5,\"at_mm\":300,\"uncertainty_mm\":0.2,\"tilt_mm\":0.1},\"baseline\":{\"scan_id\":\"B1\"}}",
+};
+
+/* Pixels of the radial series' ink in a column band around col. */
+static int radial_ink_near(const struct png_read *png, const struct uwb_plot *p, int col)
+{
+    int n = 0;
+    for (int y = p->y; y < p->y + p->h; y++)
+        for (int x = col - 12; x <= col + 12; x++)
+            n += is(pixel(png, x, y), UWB_TREND_RADIAL_INK);
+    return n;
+}
+
+static void test_radial_change_is_a_second_series(void)
+{
+    struct uwb_trend t;
+    TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines((char *const *)radial_lines, 4, &t));
+    TEST_ASSERT_EQUAL_INT(4, t.count);
+    TEST_ASSERT_FALSE(t.points[0].has_radial);
+    TEST_ASSERT_FALSE(t.points[0].has_radial_change);
+    TEST_ASSERT_TRUE(t.points[1].has_radial_change);
+    TEST_ASSERT_EQUAL_DOUBLE(3.11, t.points[1].radial_mm);
+    TEST_ASSERT_EQUAL_DOUBLE(0.39, t.points[1].radial_sigma_mm);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_WATCH, t.points[1].radial_status);
+    TEST_ASSERT_TRUE(t.points[2].has_radial);
+    TEST_ASSERT_FALSE(t.points[2].has_radial_change);
+    TEST_ASSERT_TRUE(t.points[3].has_radial_change);
+
+    struct uwb_thresholds th = {.watch_m = 2e-3, .alarm_m = 5e-3};
+    char *reply = uwbd_reply_trend(&t, 20, &th, NULL);
+    TEST_ASSERT_NOT_NULL(reply);
+    const char *r1 = strstr(reply, "\"scan_id\":\"R1\""), *r2 = strstr(reply, "\"scan_id\":\"R2\"");
+    const char *r3 = strstr(reply, "\"scan_id\":\"R3\"");
+    TEST_ASSERT_TRUE(r1 && r2 && r3);
+    char one[512];
+    snprintf(one, sizeof one, "%.*s", (int)(r2 - r1), r1);
+    TEST_ASSERT_NULL_MESSAGE(strstr(one, "radial"), one);
+    snprintf(one, sizeof one, "%.*s", (int)(r3 - r2), r2);
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(one,
+               "\"radial_status\":\"watch\",\"radial_max_change_mm\":3.11,\"radial_uncertainty_mm\":0.39"),
+        one);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r3, "\"radial_status\":\"inconclusive\""), r3);
+    snprintf(one, sizeof one, "%.*s", (int)(strstr(r3, "}") - r3), r3);
+    TEST_ASSERT_NULL_MESSAGE(strstr(one, "radial_max_change_mm"), one);
+
+    char *text = trend_as_text(reply);
+    const char *line1 = strstr(text, "2026-03-01T06:00:00Z"), *line2 = strstr(text, "2026-03-02T06:00:00Z");
+    const char *line3 = strstr(text, "2026-03-03T06:00:00Z");
+    TEST_ASSERT_TRUE(line1 && line2 && line3);
+    TEST_ASSERT_NOT_NULL(strstr(text, "radial \u00b1 1\u03c3"));
+    snprintf(one, sizeof one, "%.*s", (int)(strchr(line2, '\n') - line2), line2);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(one, "+3.11 \u00b1 0.39 mm watch"), one);
+    snprintf(one, sizeof one, "%.*s", (int)(strchr(line3, '\n') - line3), line3);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(one, "inconclusive"), one);
+    /* Scan ids still line up under "scan". */
+    int scan_col = column_of(text, strstr(text, "scan\n"));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "R1\n")));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "R2\n")));
+    TEST_ASSERT_EQUAL_INT(scan_col, column_of(text, strstr(text, "R3\n")));
+    free(text);
+    free(reply);
+
+    scratch_scratch_dir(dir, sizeof dir, "trend");
+    char path[600], err[512];
+    snprintf(path, sizeof path, "%s/trend.png", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_trend_png(path, &t, &th, NULL, err, sizeof err), err);
+    struct png_read png = read_png(path);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(png.description, "2 radial figures, latest -0.50 +/- 0.20 mm (ok)"),
+                                 png.description);
+    struct uwb_trend_layout l;
+    uwb_render_trend_layout(&t, &th, NULL, &l);
+    TEST_ASSERT_EQUAL_INT(0, radial_ink_near(&png, &l.plot, uwb_trend_col(&l, t.points[0].t)));
+    TEST_ASSERT_TRUE(radial_ink_near(&png, &l.plot, uwb_trend_col(&l, t.points[1].t)) > 10);
+    /* R2's marker: in the watch colour at +3.11 mm, beside the axial one. */
+    int col = uwb_trend_col(&l, t.points[1].t) + UWB_TREND_RADIAL_OFFSET;
+    TEST_ASSERT_TRUE(is(pixel(&png, col, row_of(&l.plot, 3.11)), uwb_status_colour(UWB_STATUS_WATCH)));
+    free(png.px);
+    uwb_trend_free(&t);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -694,5 +789,6 @@ int main(void)
     RUN_TEST(test_rate_needs_both_the_figures_and_the_span);
     RUN_TEST(test_rate_over_a_week_is_given_with_its_sigma);
     RUN_TEST(test_a_short_trend_is_drawn_at_its_own_scale);
+    RUN_TEST(test_radial_change_is_a_second_series);
     return UNITY_END();
 }
