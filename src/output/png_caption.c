@@ -66,7 +66,7 @@ static void upper_case(char *dst, size_t len, const char *src)
 
 static int displacement_known(const struct uwb_verdict *v)
 {
-    return v->has_baseline &&
+    return v->has_baseline && !v->axial_withheld &&
            (v->status == UWB_STATUS_OK || v->status == UWB_STATUS_WATCH || v->status == UWB_STATUS_ALARM) &&
            v->current.found && v->baseline.found;
 }
@@ -108,6 +108,9 @@ void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t le
                  MM(v->height_change_m));
     } else if (v->status == UWB_STATUS_INCONCLUSIVE || v->status == UWB_STATUS_ERROR) {
         snprintf(buf, len, "no displacement: %s", v->reason[0] ? v->reason : uwb_status_name(v->status));
+    } else if (v->axial_withheld) {
+        /* The status is the radial change's; the reason says both. */
+        snprintf(buf, len, "axial figure withheld: %s", v->reason);
     } else if (!v->has_baseline) {
         snprintf(buf, len, "no baseline given: edges only");
     } else {
