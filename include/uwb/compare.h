@@ -46,12 +46,9 @@ struct uwb_pair_figures {
     /* The face's radial change (uwb/radial.h), and the axial shift fitted
      * again without the changed rows (has_refit): how far it parts from
      * displacement_m is the axial figure's deformation term. */
-    int has_radial;
-    double radial_max_m, radial_at_m, radial_uncertainty_m, radial_uncertainty_noise_m, radial_tilt_m;
+    int has_radial;                      /* radial filled; else radial.withheld says why */
+    struct uwb_radial_verdict radial;    /* its status is graded in compare.c */
     double radial_profile_uncertainty_m; /* the profile's own, at a row: whether it can tell a change */
-    int radial_has_span;
-    double radial_from_m, radial_to_m;
-    char radial_withheld[160];
     int has_refit;
     double refit_displacement_m;
     int deformed_at_end; /* the change reaches the face's end: the axial figure cannot be parted from it */

@@ -243,20 +243,23 @@ static void measure_radial(const struct uwb_analysis *cur_a, const struct uwb_an
     struct uwb_radial radial;
     uwb_radial_measure(cur_a, base_a, pair->displacement_m, copt->radial_thresholds.watch_m, noise_rms,
                        &radial);
+    struct uwb_radial_verdict *r = &pair->radial;
     if (!radial.measured) {
-        snprintf(pair->radial_withheld, sizeof pair->radial_withheld, "%s", radial.why);
+        snprintf(r->withheld, sizeof r->withheld, "%s", radial.why);
         return;
     }
     pair->has_radial = 1;
-    pair->radial_max_m = radial.max_change_m;
-    pair->radial_at_m = radial.at_m;
-    pair->radial_uncertainty_m = radial.uncertainty_m;
-    pair->radial_uncertainty_noise_m = radial.uncertainty_noise_m;
+    *r = (struct uwb_radial_verdict){.measured = 1,
+                                     .max_change_m = radial.max_change_m,
+                                     .at_m = radial.at_m,
+                                     .has_span = radial.has_span,
+                                     .from_m = radial.from_m,
+                                     .to_m = radial.to_m,
+                                     .uncertainty_m = radial.uncertainty_m,
+                                     .uncertainty_noise_m = radial.uncertainty_noise_m,
+                                     .tilt_m = radial.tilt_m,
+                                     .shift_m = pair->displacement_m};
     pair->radial_profile_uncertainty_m = radial.uncertainty_profile_m;
-    pair->radial_tilt_m = radial.tilt_m;
-    pair->radial_has_span = radial.has_span;
-    pair->radial_from_m = radial.from_m;
-    pair->radial_to_m = radial.to_m;
     pair->deformed_at_end = radial.has_excluded && radial.excluded_at_end;
     char why[256];
     if (radial.has_excluded &&

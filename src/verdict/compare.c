@@ -110,24 +110,15 @@ static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures 
                            const struct uwb_compare_options *opt)
 {
     struct uwb_radial_verdict *r = &v->radial;
-    memset(r, 0, sizeof *r);
     if (!pair || !pair->valid || !pair->has_radial) {
+        memset(r, 0, sizeof *r);
         r->status = UWB_STATUS_INCONCLUSIVE;
         snprintf(r->withheld, sizeof r->withheld, "%s",
-                 pair && pair->radial_withheld[0] ? pair->radial_withheld
+                 pair && pair->radial.withheld[0] ? pair->radial.withheld
                                                   : "the face's range was not compared");
         return;
     }
-    r->measured = 1;
-    r->max_change_m = pair->radial_max_m;
-    r->at_m = pair->radial_at_m;
-    r->has_span = pair->radial_has_span;
-    r->from_m = pair->radial_from_m;
-    r->to_m = pair->radial_to_m;
-    r->uncertainty_m = pair->radial_uncertainty_m;
-    r->uncertainty_noise_m = pair->radial_uncertainty_noise_m;
-    r->tilt_m = pair->radial_tilt_m;
-    r->shift_m = pair->displacement_m;
+    *r = pair->radial;
     /* Whether the profile can tell a change at all: its own scatter at a
      * row, not the share of the size a large change carries. */
     if (pair->radial_profile_uncertainty_m > opt->max_uncertainty_m) {
@@ -226,8 +217,8 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
      * physical optics (tools/accuracy/radial-limits.sh), counted once the
      * lean is past the radial watch limit (pure shifts read up to 1.5 mm
      * of lean that is none). */
-    if (pair && pair->valid && pair->has_radial && fabs(pair->radial_tilt_m) > opt->radial_thresholds.watch_m)
-        terms.deformation_m = hypot(terms.deformation_m, TILT_TO_AXIAL * pair->radial_tilt_m);
+    if (pair && pair->valid && pair->has_radial && fabs(pair->radial.tilt_m) > opt->radial_thresholds.watch_m)
+        terms.deformation_m = hypot(terms.deformation_m, TILT_TO_AXIAL * pair->radial.tilt_m);
     v->uncertainty_m = uwb_displacement_uncertainty(&terms);
     int deformed_at_end = pair && pair->valid && pair->deformed_at_end;
     radial_verdict(v, pair, opt);
@@ -250,7 +241,7 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
             snprintf(v->reason, sizeof v->reason,
                      "the face leans %+.2f mm top to bottom, which moves the axial reading: axial figure "
                      "withheld",
-                     pair->radial_tilt_m * 1e3);
+                     pair->radial.tilt_m * 1e3);
         else
             snprintf(v->reason, sizeof v->reason,
                      "uncertainty %.2f mm exceeds %.2f mm: too little signal for a figure",
