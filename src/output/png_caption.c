@@ -119,6 +119,29 @@ void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t le
     }
 }
 
+/* The radial change in words (the radial panel's label and the caption). */
+void uwb_describe_radial(const struct uwb_verdict *v, char *buf, size_t len)
+{
+    if (!v || !v->has_baseline) {
+        snprintf(buf, len, "radial: no baseline");
+        return;
+    }
+    const struct uwb_radial_verdict *r = &v->radial;
+    if (!r->measured) {
+        snprintf(buf, len, "radial: not measured (%s)", r->withheld[0] ? r->withheld : "no reason given");
+        return;
+    }
+    const char *kind = r->max_change_m > 0.0   ? "bulge toward the antenna"
+                       : r->max_change_m < 0.0 ? "dent, away from the antenna"
+                                               : "no change";
+    int n = snprintf(buf, len, "radial %+.1f \u00b1 %.1f mm at %.0f mm (%s)", r->max_change_m * 1e3,
+                     r->uncertainty_m * 1e3, r->at_m * 1e3, kind);
+    if (n < 0 || (size_t)n >= len)
+        return;
+    if (r->status == UWB_STATUS_INCONCLUSIVE)
+        snprintf(buf + n, len - (size_t)n, ", inconclusive: %s", r->withheld);
+}
+
 void uwb_describe_edges(const struct uwb_edges *e, char *buf, size_t len)
 {
     if (!e->found) {
