@@ -73,6 +73,11 @@ for src in "${sources[@]}"; do
     pass "$name: $(wc -l < "$out/src") words and $paragraphs paragraphs rendered, none lost; groff quiet"
 done
 
+# The check the package test runs on every installed page passes here too.
+tools/man/no-lost-text.sh "$UWB_BUILD_DIR"/man/*.7 > "$out/lost" 2>&1 ||
+    fail "tools/man/no-lost-text.sh: $(grep -v ', none lost$' "$out/lost")"
+pass "tools/man/no-lost-text.sh: $(tr '\n' ';' < "$out/lost")"
+
 # What the README's sections list, the pages list too.
 section() { awk -v h="$1" '$0 == h { on = 1; next } on && /^##/ { exit } on' README.md; }
 page_text() { words_rendered "$UWB_BUILD_DIR/man/$1.7" | tr '\n' ' '; }
