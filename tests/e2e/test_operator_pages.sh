@@ -94,7 +94,7 @@ done
 registers=$(section '## Modbus (RTU and TCP)' | grep -oE '^\| [0-9]+(–[0-9]+)? \|' | tr -d '| ')
 (( $(wc -l <<< "$registers") >= 16 )) || fail "only $(wc -l <<< "$registers") registers found in the README"
 for register in $registers; do
-    grep -qxF "$register" <(sed 's/\\\[u2013\]/–/g' "$UWB_BUILD_DIR/man/uwbd-modbus.7") ||
+    grep -qF "\\fB$register\\fR: " <(sed 's/\\\[u2013\]/–/g' "$UWB_BUILD_DIR/man/uwbd-modbus.7") ||
         fail "uwbd-modbus(7) lacks register $register"
 done
 pass "the README's $(wc -w <<< "$topics") MQTT topics, $(wc -w <<< "$metrics") metrics and $(wc -w <<< "$registers") Modbus registers are in the pages"
