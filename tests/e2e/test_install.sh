@@ -71,8 +71,12 @@ fi
 # (the manual pages in section 7 hold what the operator needs from it).
 readme_refs=$(grep -rnI 'README' "$root" | sed "s|^$root||" || true)
 [[ -z $readme_refs ]] || fail "installed files refer to the README, which is not installed: $(head -5 <<< "$readme_refs")"
-# Every manual page an installed file names as NAME(7) is installed.
-for ref in $(grep -rhoIE 'uwbd-[a-z]+\(7\)|uwbd-[a-z]+\\fR\(7\)' "$root" | sed -E 's/\\fR//; s/\(7\)//' | sort -u); do
+# Every section 7 page an installed file names (NAME(7), as roff or
+# Markdown, or "man 7 NAME") is installed.
+named=$(grep -rhoIE 'uwbd(\\?-[a-z]+)+(\\fR| )?\(7\)|man 7 uwbd-[a-z-]+' "$root" |
+    sed -E 's/^man 7 //; s/\\fR//; s/\\-/-/g; s/ ?\(7\)$//' | sort -u)
+(( $(wc -w <<< "$named") >= 6 )) || fail "only $(wc -w <<< "$named") section 7 pages named in the installed files: $named"
+for ref in $named; do
     [[ -f $root/usr/share/man/man7/$ref.7 ]] || fail "an installed file names $ref(7), which is not installed"
 done
 if [[ -e $root/usr/share/uwbd/emulated/uwbd.json && ! -e $root/usr/bin/uwbemu ]]; then
