@@ -52,7 +52,7 @@ for src in "${sources[@]}"; do
     groff -man -Tutf8 -ww -z "$page" 2> "$out/groff.err" || fail "$page: groff failed"
     [[ ! -s $out/groff.err ]] || fail "$page: groff warns: $(head -3 "$out/groff.err")"
     if command -v man > /dev/null; then
-        MANWIDTH=80 man -l "$page" > "$out/man" 2> "$out/man.err" || fail "$page: man -l failed"
+        MANWIDTH=80 man --warnings -l "$page" > "$out/man" 2> "$out/man.err" || fail "$page: man -l failed"
         [[ ! -s $out/man.err ]] || fail "$page: man -l warns: $(head -3 "$out/man.err")"
     fi
     words_of_scd "$src" > "$out/src"
