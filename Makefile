@@ -499,12 +499,24 @@ coverage: dev-deps
 # board/man/, as is uwbsim(1), installed with uwbsim. A cross build runs the
 # target's uwbd under TEST_RUNNER.
 MAN_PAGES     := $(BUILD)/man/uwbd.8 $(BUILD)/man/uwbd-ctl.1 $(BUILD)/man/uwbd.json.5 $(BUILD)/man/uwbsim.1
+# The operator's chapters (MQTT, Modbus, contacts, Prometheus, the images) are
+# section 7 pages written in scdoc (board/man/*.7.scd): scdoc refuses a
+# malformed source where roff would silently drop text. preconv makes them
+# ASCII roff; the date is the package's (debian/changelog), not the build's.
+OPERATOR_PAGES := $(patsubst board/man/%.scd,$(BUILD)/man/%,$(wildcard board/man/*.7.scd))
+MAN_PAGES     += $(OPERATOR_PAGES)
+MAN_EPOCH     := $(shell date -d "$$(sed -n 's/^ -- .*>  //p' board/debian/changelog | head -n 1)" +%s 2>/dev/null)
 .PHONY: man
 man: $(MAN_PAGES)
 
 $(BUILD)/man/uwbd.json.5: $(BUILD)/uwbd
 	@mkdir -p $(dir $@)
 	$(TEST_RUNNER) $(BUILD)/uwbd --config-keys=man > $@.tmp && mv $@.tmp $@
+
+$(BUILD)/man/%.7: board/man/%.7.scd
+	@mkdir -p $(dir $@)
+	SOURCE_DATE_EPOCH=$(MAN_EPOCH) scdoc < $< > $@.scdoc
+	preconv -e UTF-8 < $@.scdoc | sed '1{/^\.lf /d}' > $@.tmp && rm $@.scdoc && mv $@.tmp $@
 
 $(BUILD)/man/%: board/man/%
 	@mkdir -p $(dir $@)
@@ -528,7 +540,8 @@ install: all $(MAN_PAGES)
 	install -m 0755 $(BUILD)/uwbsim '$(DESTDIR)$(PREFIX)/bin/uwbsim'
 	install -d '$(DESTDIR)$(UNITDIR)' '$(DESTDIR)$(UDEVRULESDIR)' \
 	    '$(DESTDIR)$(PREFIX)/share/uwbd/raspberry-pi-4' '$(DESTDIR)$(DOCDIR)/raspberry-pi-4' \
-	    '$(DESTDIR)$(MANDIR)/man1' '$(DESTDIR)$(MANDIR)/man5' '$(DESTDIR)$(MANDIR)/man8'
+	    '$(DESTDIR)$(MANDIR)/man1' '$(DESTDIR)$(MANDIR)/man5' '$(DESTDIR)$(MANDIR)/man7' \
+	    '$(DESTDIR)$(MANDIR)/man8'
 	sed -e 's|@bindir@|$(PREFIX)/bin|g' -e 's|@docdir@|$(DOCDIR)|g' board/uwbd.service \
 	    > '$(DESTDIR)$(UNITDIR)/uwbd.service'
 	install -D -m 0644 board/systemd-time-wait-sync-uwbd.conf \
@@ -540,6 +553,7 @@ install: all $(MAN_PAGES)
 	install -m 0644 $(BUILD)/man/uwbsim.1 '$(DESTDIR)$(MANDIR)/man1/'
 	install -m 0644 $(BUILD)/man/uwbd.json.5 '$(DESTDIR)$(MANDIR)/man5/'
 	install -m 0644 $(BUILD)/man/uwbd.8 '$(DESTDIR)$(MANDIR)/man8/'
+	install -m 0644 $(OPERATOR_PAGES) '$(DESTDIR)$(MANDIR)/man7/'
 
 # ---- the Debian package -----------------------------------------------------
 # make deb: board/debian is copied into place (the top level stays Makefile,

@@ -271,7 +271,7 @@ const struct config_key uwbd_config_keys[] = {
         "the trend image"),
 
     BOOLEAN("contacts.enabled", site.contacts_enabled, 0,
-            "drive the alarm contacts (README: Alarm contacts): watch and alarm energised by those verdicts, "
+            "drive the alarm contacts (uwbd-contacts(7)): watch and alarm energised by those verdicts, "
             "fault energised while the appliance is healthy (fail-safe)"),
     SITE_LINE("contacts.watch.line", UWB_LINE_WATCH, "required with libgpiod when contacts.enabled",
               "the watch contact's output: line offset (integer) or line name (string)"),
@@ -308,14 +308,14 @@ const struct config_key uwbd_config_keys[] = {
                  "how often the event input is read; at most event.debounce_ms where that is above 0"),
 
     BOOLEAN("prometheus.enabled", site.prometheus_enabled, 0,
-            "write the Prometheus textfile (README: Prometheus textfile) after every verdict"),
+            "write the Prometheus textfile (uwbd-prometheus(7)) after every verdict"),
     STRING("prometheus.textfile", site.prometheus_textfile, "",
            "where: a NAME.prom in node_exporter's --collector.textfile.directory (Debian: "
            "/var/lib/prometheus/node-exporter/uwbd.prom); replaced atomically; required when "
            "prometheus.enabled"),
 
     BOOLEAN("mqtt.enabled", site.mqtt_enabled, 0,
-            "publish verdicts and status to an MQTT broker (README: MQTT); needs mqtt.endpoint and "
+            "publish verdicts and status to an MQTT broker (uwbd-mqtt(7)); needs mqtt.endpoint and "
             "site.asset_id"),
     STRING("mqtt.endpoint", site.mqtt_endpoint, "",
            "the broker: tcp:HOST:PORT (8883 with TLS); required when mqtt.enabled"),
@@ -342,7 +342,7 @@ const struct config_key uwbd_config_keys[] = {
     BOOLEAN(
         "modbus.enabled", modbus.enabled, 0,
         "serve the latest verdict, health and contact states as Modbus registers and take `ack` and `event` "
-        "as coils (README \"Modbus\" has the map); off: nothing is opened"),
+        "as coils (uwbd-modbus(7) has the map); off: nothing is opened"),
     STRING("modbus.endpoint", modbus.endpoint, "",
            "serial:/dev/ttyX?baud=N: Modbus RTU on that line (RS-485; 8 data bits, no parity, 1 stop bit); "
            "unix:PATH: RTU over a local socket uwbd connects to (the tests); tcp:HOST:PORT: Modbus TCP, "

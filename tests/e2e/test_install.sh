@@ -20,7 +20,9 @@ rm -f "$root.log"
 for f in usr/bin/uwbd usr/lib/systemd/system/uwbd.service usr/lib/udev/rules.d/99-uwbd-gpio.rules \
          usr/lib/udev/rules.d/99-uwbd-digitiser.rules usr/share/uwbd/raspberry-pi-4/uwbd.json \
          usr/share/man/man8/uwbd.8 usr/share/man/man5/uwbd.json.5 usr/share/man/man1/uwbd-ctl.1 \
-         usr/share/doc/uwbd/install-guide.md usr/share/doc/uwbd/config.md usr/share/doc/uwbd/state-dir.md; do
+         usr/share/doc/uwbd/install-guide.md usr/share/doc/uwbd/config.md usr/share/doc/uwbd/state-dir.md \
+         usr/share/man/man7/uwbd-mqtt.7 usr/share/man/man7/uwbd-modbus.7 usr/share/man/man7/uwbd-contacts.7 \
+         usr/share/man/man7/uwbd-prometheus.7 usr/share/man/man7/uwbd-images.7 usr/share/man/man7/uwbd-verdict.7; do
     [[ -f $root/$f ]] || fail "not installed: /$f"
 done
 grep -qx 'ExecStart=/usr/bin/uwbd --config /etc/uwbd/uwbd.json' "$root/usr/lib/systemd/system/uwbd.service" ||
@@ -65,10 +67,22 @@ pass "$links relative links in $(wc -w <<< "$docs") installed documents resolve 
 if grep -nE '/work/|\.\./shared|/home/[a-z]' $docs; then
     fail "an installed document names a path outside the repository"
 fi
+# The README is not installed: nothing installed sends the reader to it
+# (the manual pages in section 7 hold what the operator needs from it).
+readme_refs=$(grep -rnI 'README' "$root" | sed "s|^$root||" || true)
+[[ -z $readme_refs ]] || fail "installed files refer to the README, which is not installed: $(head -5 <<< "$readme_refs")"
+# Every section 7 page an installed file names (NAME(7), as roff or
+# Markdown, or "man 7 NAME") is installed.
+named=$(grep -rhoIE 'uwbd(\\?-[a-z]+)+(\\fR| )?\(7\)|man 7 uwbd-[a-z-]+' "$root" |
+    sed -E 's/^man 7 //; s/\\fR//; s/\\-/-/g; s/ ?\(7\)$//' | sort -u)
+(( $(wc -w <<< "$named") >= 6 )) || fail "only $(wc -w <<< "$named") section 7 pages named in the installed files: $named"
+for ref in $named; do
+    [[ -f $root/usr/share/man/man7/$ref.7 ]] || fail "an installed file names $ref(7), which is not installed"
+done
 if [[ -e $root/usr/share/uwbd/emulated/uwbd.json && ! -e $root/usr/bin/uwbemu ]]; then
     fail "the emulated sample config is installed without uwbemu"
 fi
-pass "no paths outside the repository; no emulated sample without uwbemu"
+pass "no paths outside the repository, no README, every named section 7 page installed; no emulated sample without uwbemu"
 
 # The clock: the unit pulls in systemd-time-wait-sync (off by default) and
 # starts after it and time-sync.target; the drop-in installed with it bounds

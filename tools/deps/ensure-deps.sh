@@ -39,7 +39,7 @@ set -euo pipefail
 REPO_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 readonly REPO_ROOT
 readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto libmodbus)
-readonly NATIVE_PACKAGES=(gcc make libc6-dev pkg-config groff-base
+readonly NATIVE_PACKAGES=(gcc make libc6-dev pkg-config groff-base scdoc
     libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev
     libmosquitto-dev mosquitto libmodbus-dev)
 readonly UNITY_FILES=(unity.c unity.h unity_internals.h)
@@ -125,8 +125,9 @@ apt_install() {
 # Prints what the native build lacks, one item a line.
 missing_native() {
     local command_name
-    # groff: tests/e2e/test_man_pages.sh renders the manual pages.
-    for command_name in gcc make pkg-config groff; do
+    # groff: tests/e2e/test_man_pages.sh renders the manual pages; scdoc
+    # writes the section 7 ones (board/man/*.7.scd) for make man and install.
+    for command_name in gcc make pkg-config groff scdoc; do
         have_command "$command_name" || echo "$command_name"
     done
     # The MQTT tests start a real broker (Debian installs it in /usr/sbin).

@@ -20,18 +20,20 @@ command -v groff > /dev/null || { echo "$0: groff is not installed (package grof
 source_of() { if [[ $1 == *.gz ]]; then zcat -- "$1"; else cat -- "$1"; fi; }
 
 # The words a reader should see: comment lines, .TH (it makes the header and
-# footer), requests that print nothing and the indents of .IP/.TP/.RS dropped;
-# font changes removed, special characters and non-printing escapes made
-# separators. \" is left as a quote: what the author meant.
+# footer), requests that print nothing, scdoc's preamble (.ie/.el/.ds), the
+# troff (.el) branch of scdoc's lists and the indents of .IP/.TP/.RS dropped;
+# font changes and motions (\h'..' around a list's bullet) removed, special
+# characters and non-printing escapes made separators. \" is left as a quote: what the author meant.
 words_of_source() {
     sed -E -e '/^[.'\''][[:space:]]*\\"/d' -e '/^\.TH( |$)/d' \
+        -e '/^\.el \\\{\\$/,/^\.\\\}$/d' -e '/^\.(ie|el|ds)( |$)/d' -e '/^\.\\\}$/d' \
         -e 's/^\.(TP|PP|LP|P|br|sp|nf|fi|EX|EE|RS|RE|ad|na|nh|hy|in|ne)( .*)?$//' \
         -e 's/^\.IP ("[^"]*"|[^ ]*).*$/\1/' \
         -e 's/^\.[A-Za-z]+ ?//' \
         -e 's/\\\\/ /g' \
         -e 's/\\f(\[[^]]*\]|\(..|.)//g' \
         -e 's/\\\(..|\\\[[^]]*\]/ /g' \
-        -e 's/\\[&|^%]//g' |
+        -e 's/\\[hv]'\''[^'\'']*'\''//g' -e 's/\\[&|^%c]//g' |
         tr -cs 'A-Za-z0-9' '\n' | sed '/^$/d'
 }
 

@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# The operator's chapters as section 7 manual pages (board/man/*.7.scd,
+# rendered by scdoc through the Makefile): each one renders with groff
+# warning about nothing, and every word of its scdoc source is on the
+# rendered page, in order (no text lost: a roff page once lost half of
+# itself to a stray \"); each paragraph's first words are found together.
+# The MQTT topics, Prometheus metrics and Modbus registers the README's
+# sections list are all in the pages.
+set -euo pipefail
+export LC_ALL=C
+fail() { echo "FAIL: $*" >&2; exit 1; }
+passed=0
+pass() { echo "PASS: $*"; passed=$((passed + 1)); }
+command -v scdoc > /dev/null || fail "scdoc is not installed (make deps installs it: package scdoc)"
+command -v groff > /dev/null || fail "groff is not installed (make deps installs it: package groff-base)"
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+
+make --no-print-directory -s man BUILD="$UWB_BUILD_DIR" TEST_RUNNER="${UWB_EXEC_PREFIX:-}" > "$out/make.log" 2>&1 ||
+    { cat "$out/make.log" >&2; fail "make man"; }
+sources=(board/man/*.7.scd)
+for name in uwbd-mqtt uwbd-modbus uwbd-contacts uwbd-prometheus uwbd-images; do
+    [[ -f board/man/$name.7.scd ]] || fail "no board/man/$name.7.scd"
+done
+
+# The words a reader should see in an scdoc source: not its first line (the
+# page's name, made the header and footer), nor code fences; an ordered
+# list item (". ") is numbered as scdoc numbers it.
+words_of_scd() {
+    sed 1d "$1" | awk '
+        /^```/ { next }
+        /^\. / { n++; sub(/^\. /, n ". "); print; next }
+        /^[^ \t]/ { n = 0 }
+        { print }' | sed -E 's/^#+ //; s/\\(.)/\1/g' | tr -cs 'A-Za-z0-9' '\n' | sed '/^$/d'
+}
+# What groff prints, as man(1) would (no hyphenation), less the header and
+# footer lines.
+words_rendered() {
+    groff -man -Tutf8 -rHY=0 -P-cbou "$1" 2> /dev/null | sed '/^[[:space:]]*$/d' | sed '1d;$d' |
+        tr -cs 'A-Za-z0-9' '\n' | sed '/^$/d'
+}
+
+for src in "${sources[@]}"; do
+    name=$(basename "$src" .scd)
+    page=$UWB_BUILD_DIR/man/$name
+    [[ -f $page ]] || fail "make man did not make $page from $src"
+    head -n 1 "$src" | grep -qxF "${name%.7}(7)" || fail "$src: its first line is not ${name%.7}(7)"
+    for s in NAME DESCRIPTION 'SEE ALSO'; do
+        grep -qx "# $s" "$src" || fail "$src: no $s section"
+    done
+    LC_ALL=C grep -q '[^[:print:][:space:]]' "$page" && fail "$page: not ASCII roff (preconv)"
+    groff -man -Tutf8 -ww -z "$page" 2> "$out/groff.err" || fail "$page: groff failed"
+    [[ ! -s $out/groff.err ]] || fail "$page: groff warns: $(head -3 "$out/groff.err")"
+    if command -v man > /dev/null; then
+        MANWIDTH=80 man --warnings -l "$page" > "$out/man" 2> "$out/man.err" || fail "$page: man -l failed"
+        [[ ! -s $out/man.err ]] || fail "$page: man -l warns: $(head -3 "$out/man.err")"
+    fi
+    words_of_scd "$src" > "$out/src"
+    words_rendered "$page" > "$out/rendered"
+    (( $(wc -l < "$out/src") > 100 )) || fail "$src: only $(wc -l < "$out/src") words"
+    diff "$out/src" "$out/rendered" > "$out/diff" ||
+        fail "$name: the rendered page is not its source's text (diff source rendered: $(head -8 "$out/diff" | tr '\n' ' '))"
+    # Each paragraph's first words, together on the rendered page.
+    tr -s '[:space:]' ' ' < <(words_rendered "$page") > "$out/flat"
+    paragraphs=0
+    while IFS= read -r first; do
+        opening=$(tr -cs 'A-Za-z0-9' '\n' <<< "$first" | sed '/^$/d' | head -n 4 | tr '\n' ' ')
+        [[ -n $opening ]] || continue
+        paragraphs=$((paragraphs + 1))
+        grep -qF " $opening" <<< " $(cat "$out/flat")" || fail "$name: the paragraph starting '$first' is not rendered"
+    done < <(awk 'NR > 1 && prev == "" && $0 != "" && $0 !~ /^(#|```)/ { print } { prev = $0 }' "$src" |
+        sed -E 's/\\(.)/\1/g')
+    pass "$name: $(wc -l < "$out/src") words and $paragraphs paragraphs rendered, none lost; groff quiet"
+done
+
+# The check the package test runs on every installed page passes here too.
+tools/man/no-lost-text.sh "$UWB_BUILD_DIR"/man/*.7 > "$out/lost" 2>&1 ||
+    fail "tools/man/no-lost-text.sh: $(grep -v ', none lost$' "$out/lost")"
+pass "tools/man/no-lost-text.sh: $(tr '\n' ';' < "$out/lost")"
+
+# What the README's sections list, the pages list too.
+section() { awk -v h="$1" '$0 == h { on = 1; next } on && /^##/ { exit } on' README.md; }
+page_text() { words_rendered "$UWB_BUILD_DIR/man/$1.7" | tr '\n' ' '; }
+topics=$(section '### MQTT' | grep -oE '^\| `PREFIX/ASSET_ID/[a-z]+`' | grep -oE '[a-z]+`$' | tr -d '`')
+(( $(wc -l <<< "$topics") >= 5 )) || fail "only $(wc -l <<< "$topics") MQTT topics found in the README"
+for topic in $topics; do
+    grep -qF "PREFIX ASSET ID $topic " <<< "$(page_text uwbd-mqtt)" || fail "uwbd-mqtt(7) lacks the topic $topic"
+done
+metrics=$(section '### Prometheus textfile' | grep -oE 'uwbd_[a-z_]+' | sort -u)
+(( $(wc -l <<< "$metrics") >= 12 )) || fail "only $(wc -l <<< "$metrics") metrics found in the README"
+for metric in $metrics; do
+    grep -qF "$metric" "$UWB_BUILD_DIR/man/uwbd-prometheus.7" || fail "uwbd-prometheus(7) lacks $metric"
+done
+registers=$(section '## Modbus (RTU and TCP)' | grep -oE '^\| [0-9]+(–[0-9]+)? \|' | tr -d '| ')
+(( $(wc -l <<< "$registers") >= 16 )) || fail "only $(wc -l <<< "$registers") registers found in the README"
+for register in $registers; do
+    grep -qF "\\fB$register\\fR: " <(sed 's/\\\[u2013\]/–/g' "$UWB_BUILD_DIR/man/uwbd-modbus.7") ||
+        fail "uwbd-modbus(7) lacks register $register"
+done
+pass "the README's $(wc -w <<< "$topics") MQTT topics, $(wc -w <<< "$metrics") metrics and $(wc -w <<< "$registers") Modbus registers are in the pages"
+echo "$passed passed"
