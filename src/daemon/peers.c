@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <sys/statvfs.h>
 #include <sys/timerfd.h>
 #include <time.h>
 #include <unistd.h>
@@ -209,6 +210,10 @@ static char *status_reply(struct daemon *d)
     int has_progress = uwbd_scan_progress_now(d, &progress);
     struct uwbd_mqtt_link mqtt;
     int has_mqtt = uwbd_mqtt_link_now(d, &mqtt);
+    struct uwbd_contact_states contacts;
+    uwbd_contact_states(d, &contacts);
+    struct statvfs fs;
+    int has_free = statvfs(d->store.root, &fs) == 0;
     struct uwbd_status st = {
         .version = UWBD_VERSION,
         .state = d->stopping   ? "stopping"
@@ -233,6 +238,13 @@ static char *status_reply(struct daemon *d)
         .site_phase = d->cfg.site_phase,
         .site_label = d->cfg.site_label,
         .mqtt = has_mqtt ? &mqtt : NULL,
+        .asset_id = d->cfg.site.asset_id,
+        .modbus_endpoint = d->cfg.modbus.enabled ? d->cfg.modbus.endpoint : NULL,
+        .modbus_listening = d->modbus != NULL,
+        .contacts = contacts.watch >= 0 ? &contacts : NULL,
+        .now = time(NULL),
+        .has_state_dir_free = has_free,
+        .state_dir_free_bytes = has_free ? (unsigned long long)fs.f_bavail * fs.f_frsize : 0,
     };
     return uwbd_reply_status(&st);
 }
