@@ -29,7 +29,8 @@ void uwbd_ctl_usage(FILE *f)
     fprintf(f,
             "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text | --csv] COMMAND...\n"
             "\n"
-            "Sends COMMAND to the running daemon and prints its reply (one JSON line).\n"
+            "Sends COMMAND to the running daemon and prints its reply (one JSON line; text with --text).\n"
+            "Commands are read case-insensitively; a mistyped one is answered with the one meant.\n"
             "Commands: status, scan, verdict, history [N], trend [N], baseline set [N], watch, watch off, "
             "contacts test [S], help.\n"
             "`contacts test [S]` energises each alarm contact (watch, alarm, fault) alone in turn for S s\n"
@@ -43,10 +44,11 @@ void uwbd_ctl_usage(FILE *f)
             "  --config FILE    take the socket's path from this configuration\n"
             "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
             "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
-            "  --text           print a verdict as lines for people (status, displacement or\n"
-            "                   edges or reason, images), and a trend as a table (time, status,\n"
-            "                   displacement \u00b1 1 sigma, height change, rate, image), instead\n"
-            "                   of its JSON line\n"
+            "  --text           print the reply for people instead of its JSON line: status as a\n"
+            "                   page of \"Name : value\" lines (MQTT, Modbus, contacts, baseline\n"
+            "                   age, free space), history and trend as tables, help as a list,\n"
+            "                   a verdict as lines (status, displacement or edges or reason,\n"
+            "                   images), an error as \"error: MESSAGE\"; watch as a line each\n"
             "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
             "                   (a header naming each column and its unit, then a row per\n"
             "                   verdict, oldest first; a figure not given is an empty cell)\n"
@@ -301,7 +303,7 @@ static int send_command(int fd, struct ctl_args *a)
 
 /* `watch`: every line as it comes, until the daemon goes or --timeout
  * (explicit_s > 0) passes. */
-static int follow(struct reply_reader *reader, double explicit_s)
+static int follow(struct reply_reader *reader, double explicit_s, int as_text)
 {
     double until = explicit_s > 0 ? uwb_monotonic_s() + explicit_s : 0;
     char *reply = NULL;
@@ -314,7 +316,8 @@ static int follow(struct reply_reader *reader, double explicit_s)
             return UWBD_CTL_OK; /* --timeout ended it; reply is no longer a line */
         if (rc != 0)
             return rc;
-        puts(reply);
+        if (!as_text || uwbd_reply_text(reply, stdout) != 0)
+            puts(reply);
         fflush(stdout);
         if (first && is_error_reply(reply))
             return UWBD_CTL_REFUSED;
@@ -385,7 +388,7 @@ static int talk(struct ctl_args *a)
     if (rc != CTL_GOES_ON)
         goto done;
     if (a->cmd.kind == UWB_COMMAND_WATCH && a->cmd.watch != 0) {
-        rc = follow(&reader, explicit_timeout ? timeout_s : 0);
+        rc = follow(&reader, explicit_timeout ? timeout_s : 0, a->as_text);
         goto done;
     }
     rc = await_reply(&reader, timeout_s, a->cmd.kind == UWB_COMMAND_SCAN, &reply);
@@ -394,7 +397,7 @@ static int talk(struct ctl_args *a)
     rc = is_error_reply(reply) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
     if (a->as_csv && rc == UWBD_CTL_OK)
         rc = print_csv(reply);
-    else if (!a->as_text || (uwbd_verdict_text(reply, stdout) != 0 && uwbd_trend_text(reply, stdout) != 0))
+    else if (!a->as_text || uwbd_reply_text(reply, stdout) != 0)
         puts(reply);
 done:
     close(fd);
