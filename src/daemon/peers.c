@@ -475,8 +475,11 @@ static void feed_console(struct daemon *d, struct peer *p, const char *buf, size
             return;
         if (ev != UWBD_LINE_NONE) /* Enter: the cursor left the prompt's line */
             p->console_at_prompt = p->console_progress_shown = 0;
-        else if (echo_len >= plen && memcmp(echo + echo_len - plen, UWBD_CONSOLE_PROMPT, plen) == 0)
-            p->console_at_prompt = 1; /* Ctrl-C prompted again */
+        else if (echo_len >= plen && memcmp(echo + echo_len - plen, UWBD_CONSOLE_PROMPT, plen) == 0) {
+            /* Ctrl-C: a new line, a prompt */
+            p->console_at_prompt = 1;
+            p->console_progress_shown = 0;
+        }
         if (ev == UWBD_LINE_TOO_LONG) {
             char msg[96];
             snprintf(msg, sizeof msg, "command line too long (at most %d bytes); ignored",
