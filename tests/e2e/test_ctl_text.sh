@@ -32,6 +32,15 @@ json_check status.json 'class == STATUS' 'state == idle' "baseline.scan_id == $b
     'latest.status == edges' || fail "status: $(cat status.json)"
 pass "status JSON: asset_id, modbus, contacts, baseline.age_s, state_dir_free_bytes beside the old keys"
 
+# --json says so explicitly (the default): the reply line as the daemon sent it.
+ctl --json verdict > verdict-json.json || fail "--json verdict: exit $?"
+ctl verdict > verdict-plain.json
+cmp -s verdict-json.json verdict-plain.json || fail "--json differs from the default: $(cat verdict-json.json)"
+rc=0
+ctl --json --text status > both.out 2> both.err || rc=$?
+[[ $rc == 64 ]] && grep -q 'give one of --json, --text or --csv' both.err || fail "--json --text: exit $rc: $(cat both.err)"
+pass "--json: the JSON line, as without it; with --text refused (exit 64)"
+
 # ---- --text: a page for people ---------------------------------------------------
 ctl --text status > status.txt
 grep -q '{' status.txt && fail "--text status printed JSON: $(cat status.txt)"
