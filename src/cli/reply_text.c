@@ -27,6 +27,13 @@ static const char *text(const cJSON *o, const char *key)
     return cJSON_IsString(v) && v->valuestring ? v->valuestring : NULL;
 }
 
+/* Never NULL: what is printed where the key is missing. */
+static const char *text_or(const cJSON *o, const char *key, const char *otherwise)
+{
+    const char *t = text(o, key);
+    return t ? t : otherwise;
+}
+
 static int number(const cJSON *o, const char *key, double *out)
 {
     const cJSON *v = item(o, key);
@@ -112,7 +119,7 @@ static void status_baseline(FILE *out, const cJSON *o)
     if (!cJSON_IsObject(b)) {
         fputs("none", out);
     } else {
-        fputs(text(b, "scan_id") ? text(b, "scan_id") : "?", out);
+        fputs(text_or(b, "scan_id", "?"), out);
         if (text(b, "set_at"))
             fprintf(out, ", set %s", text(b, "set_at"));
         if (number(b, "age_s", &age)) {
@@ -138,7 +145,7 @@ static void status_integrations(FILE *out, const cJSON *o)
     double queued, free_bytes;
     name(out, "MQTT");
     if (cJSON_IsObject(mqtt)) {
-        fputs(text(mqtt, "link") ? text(mqtt, "link") : "?", out);
+        fputs(text_or(mqtt, "link", "?"), out);
         if (number(mqtt, "queued", &queued))
             fprintf(out, ", %.0f verdict%s queued", queued, queued == 1 ? "" : "s");
         if (text(mqtt, "reason"))
@@ -150,7 +157,7 @@ static void status_integrations(FILE *out, const cJSON *o)
     name(out, "Modbus");
     if (cJSON_IsObject(modbus))
         fprintf(out, "%s %s\n", yes(modbus, "listening") ? "listening on" : "NOT listening on",
-                text(modbus, "endpoint") ? text(modbus, "endpoint") : "?");
+                text_or(modbus, "endpoint", "?"));
     else
         fputs("off\n", out);
     name(out, "Contacts");
@@ -165,7 +172,7 @@ static void status_integrations(FILE *out, const cJSON *o)
         fputs("off\n", out);
     }
     name(out, "State directory");
-    fputs(text(o, "state_dir") ? text(o, "state_dir") : "?", out);
+    fputs(text_or(o, "state_dir", "?"), out);
     if (number(o, "state_dir_free_bytes", &free_bytes)) {
         fputs(", ", out);
         print_bytes(out, free_bytes);
@@ -179,7 +186,7 @@ static void status_text(FILE *out, const cJSON *o)
     double v, major, minor;
     const cJSON *site = item(o, "site"), *latest = item(o, "latest"), *progress = item(o, "progress");
     name(out, "State");
-    fprintf(out, "%s\n", text(o, "state") ? text(o, "state") : "?");
+    fprintf(out, "%s\n", text_or(o, "state", "?"));
     if (cJSON_IsObject(progress)) {
         name(out, "Scan");
         print_progress(out, progress);
@@ -197,12 +204,12 @@ static void status_text(FILE *out, const cJSON *o)
         name(out, "Site");
         if (text(site, "phase"))
             fprintf(out, "phase %s%s", text(site, "phase"), text(site, "label") ? ", " : "");
-        fprintf(out, "%s\n", text(site, "label") ? text(site, "label") : "");
+        fprintf(out, "%s\n", text_or(site, "label", ""));
     }
     name(out, "Latest verdict");
     if (cJSON_IsObject(latest)) {
         print_figure(out, latest);
-        fprintf(out, ", %s\n", text(latest, "created") ? text(latest, "created") : "?");
+        fprintf(out, ", %s\n", text_or(latest, "created", "?"));
     } else {
         fputs("none\n", out);
     }
@@ -226,14 +233,14 @@ static void status_text(FILE *out, const cJSON *o)
         fprintf(out, "%.0f\n", v);
     }
     name(out, "Rig");
-    fprintf(out, "%s\n", text(o, "rig") ? text(o, "rig") : "?");
+    fprintf(out, "%s\n", text_or(o, "rig", "?"));
     status_integrations(out, o);
     if (text(o, "console")) {
         name(out, "Console");
         fprintf(out, "%s\n", text(o, "console"));
     }
     name(out, "Version");
-    fputs(text(o, "version") ? text(o, "version") : "?", out);
+    fputs(text_or(o, "version", "?"), out);
     if (number(o, "proto_major", &major) && number(o, "proto_minor", &minor))
         fprintf(out, " (protocol %.0f.%.0f)", major, minor);
     if (number(o, "uptime_s", &v)) {
@@ -264,9 +271,8 @@ static void history_text(FILE *out, const cJSON *o)
             snprintf(height, sizeof height, "%+.2f", h);
         /* The figure has a "±" (2 bytes, 1 column): pad by columns. */
         int extra = strstr(figure, "\u00b1") ? 1 : 0;
-        fprintf(out, "%-20s  %-*s  %-12s  %s%s\n", text(v, "created") ? text(v, "created") : "?", 26 + extra,
-                figure, height, text(v, "scan_id") ? text(v, "scan_id") : "?",
-                yes(v, "baseline_set") ? " (baseline)" : "");
+        fprintf(out, "%-20s  %-*s  %-12s  %s%s\n", text_or(v, "created", "?"), 26 + extra, figure, height,
+                text_or(v, "scan_id", "?"), yes(v, "baseline_set") ? " (baseline)" : "");
     }
     if (cJSON_GetArraySize(list) == 0)
         fputs("(no verdicts yet)\n", out);
@@ -302,7 +308,7 @@ static void help_text(FILE *out, const cJSON *o)
     fputs("Commands (case does not matter):\n", out);
     cJSON_ArrayForEach(c, item(o, "commands"))
     {
-        const char *usage = text(c, "command") ? text(c, "command") : "?";
+        const char *usage = text_or(c, "command", "?");
         int used = fprintf(out, "  %-*s", HELP_USAGE_WIDTH - 3, usage);
         if ((int)strlen(usage) > HELP_USAGE_WIDTH - 3) {
             fprintf(out, "\n%*s", HELP_USAGE_WIDTH, "");
@@ -311,7 +317,7 @@ static void help_text(FILE *out, const cJSON *o)
             fputc(' ', out);
             used++;
         }
-        print_wrapped(out, text(c, "description") ? text(c, "description") : "", used);
+        print_wrapped(out, text_or(c, "description", ""), used);
     }
 }
 
@@ -326,7 +332,7 @@ static void contacts_text(FILE *out, const cJSON *contacts)
 static int short_text(FILE *out, const char *cls, const cJSON *o)
 {
     if (strcmp(cls, "ERROR") == 0)
-        fprintf(out, "error: %s\n", text(o, "message") ? text(o, "message") : "?");
+        fprintf(out, "error: %s\n", text_or(o, "message", "?"));
     else if (strcmp(cls, "WATCH") == 0)
         fputs(yes(o, "verdicts")   ? "watching: progress and verdicts\n"
               : yes(o, "progress") ? "watching: progress\n"
@@ -337,15 +343,15 @@ static int short_text(FILE *out, const char *cls, const cJSON *o)
         print_progress(out, o);
         fputc('\n', out);
     } else if (strcmp(cls, "EVENT") == 0 || strcmp(cls, "SCAN") == 0)
-        fprintf(out, "scan %s\n", text(o, "scan") ? text(o, "scan") : "?");
+        fprintf(out, "scan %s\n", text_or(o, "scan", "?"));
     else if (strcmp(cls, "ACK") == 0)
         contacts_text(out, item(o, "contacts"));
     else if (strcmp(cls, "BASELINE") == 0) {
-        fprintf(out, "%s\n", text(o, "message") ? text(o, "message") : "?");
+        fprintf(out, "%s\n", text_or(o, "message", "?"));
         const cJSON *b = item(o, "current");
         if (cJSON_IsObject(b))
-            fprintf(out, "current baseline: %s%s%s\n", text(b, "scan_id") ? text(b, "scan_id") : "?",
-                    text(b, "set_at") ? ", set " : "", text(b, "set_at") ? text(b, "set_at") : "");
+            fprintf(out, "current baseline: %s%s%s\n", text_or(b, "scan_id", "?"),
+                    text(b, "set_at") ? ", set " : "", text_or(b, "set_at", ""));
     } else
         return -1;
     return 0;
