@@ -26,35 +26,40 @@
 
 void uwbd_ctl_usage(FILE *f)
 {
-    fprintf(f,
-            "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--text | --csv] COMMAND...\n"
-            "\n"
-            "Sends COMMAND to the running daemon and prints its reply (one JSON line).\n"
-            "Commands: status, scan, verdict, history [N], trend [N], baseline set [N], watch, watch off, "
-            "contacts test [S], help.\n"
-            "`contacts test [S]` energises each alarm contact (watch, alarm, fault) alone in turn for S s\n"
-            "(default 10) for a point-to-point check with the RTU, then returns them to what the verdicts\n"
-            "call for; it is refused while a scan runs, and ends on time even when uwbd ctl has gone.\n"
-            "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
-            "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
-            "closes the connection or --timeout S passes (then exit 0).\n"
-            "\n"
-            "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
-            "  --config FILE    take the socket's path from this configuration\n"
-            "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
-            "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
-            "  --text           print a verdict as lines for people (status, displacement or\n"
-            "                   edges or reason, images), and a trend as a table (time, status,\n"
-            "                   displacement \u00b1 1 sigma, height change, rate, image), instead\n"
-            "                   of its JSON line\n"
-            "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
-            "                   (a header naming each column and its unit, then a row per\n"
-            "                   verdict, oldest first; a figure not given is an empty cell)\n"
-            "\n"
-            "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
-            "69 no daemon on the socket; 75 not accepted or no reply in time; 77 you may not open\n"
-            "the socket (the message names its group).\n",
-            SCAN_TIMEOUT_S, OTHER_TIMEOUT_S, OTHER_TIMEOUT_S);
+    fprintf(
+        f,
+        "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--json | --text | --csv] COMMAND...\n"
+        "\n"
+        "Sends COMMAND to the running daemon and prints its reply (one JSON line; text with --text).\n"
+        "Commands are read case-insensitively; a mistyped one is answered with the one meant.\n"
+        "Commands: status, scan, verdict, history [N], trend [N], baseline set [N], watch, watch off, "
+        "contacts test [S], help.\n"
+        "`contacts test [S]` energises each alarm contact (watch, alarm, fault) alone in turn for S s\n"
+        "(default 10) for a point-to-point check with the RTU, then returns them to what the verdicts\n"
+        "call for; it is refused while a scan runs, and ends on time even when uwbd ctl has gone.\n"
+        "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
+        "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
+        "closes the connection or --timeout S passes (then exit 0).\n"
+        "\n"
+        "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
+        "  --config FILE    take the socket's path from this configuration\n"
+        "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
+        "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
+        "  --json           print the reply's JSON line as the daemon sent it (the default; for\n"
+        "                   programs)\n"
+        "  --text           print the reply for people instead of its JSON line: status as a\n"
+        "                   page of \"Name : value\" lines (MQTT, Modbus, contacts, baseline\n"
+        "                   age, free space), history and trend as tables, help as a list,\n"
+        "                   a verdict as lines (status, displacement or edges or reason,\n"
+        "                   images), an error as \"error: MESSAGE\"; watch as a line each\n"
+        "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
+        "                   (a header naming each column and its unit, then a row per\n"
+        "                   verdict, oldest first; a figure not given is an empty cell)\n"
+        "\n"
+        "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
+        "69 no daemon on the socket; 75 not accepted or no reply in time; 77 you may not open\n"
+        "the socket (the message names its group).\n",
+        SCAN_TIMEOUT_S, OTHER_TIMEOUT_S, OTHER_TIMEOUT_S);
 }
 
 static int is_error_reply(const char *line)
@@ -168,13 +173,10 @@ static void show_progress(const char *line, int on_terminal)
 }
 
 static const struct option ctl_options[] = {
-    {"socket", required_argument, 0, 's'},
-    {"config", required_argument, 0, 'c'},
-    {"timeout", required_argument, 0, 't'},
-    {"text", no_argument, 0, 'T'},
-    {"csv", no_argument, 0, 'C'},
-    {"help", no_argument, 0, 'h'},
-    {0, 0, 0, 0},
+    {"socket", required_argument, 0, 's'},  {"config", required_argument, 0, 'c'},
+    {"timeout", required_argument, 0, 't'}, {"text", no_argument, 0, 'T'},
+    {"json", no_argument, 0, 'J'},          {"csv", no_argument, 0, 'C'},
+    {"help", no_argument, 0, 'h'},          {0, 0, 0, 0},
 };
 
 /* Returned by the steps below when uwbd ctl goes on (exit statuses are >= 0). */
@@ -184,7 +186,7 @@ static const struct option ctl_options[] = {
 struct ctl_args {
     const char *socket_path, *config_path;
     double timeout_s; /* 0: not given */
-    int as_text, as_csv;
+    int as_text, as_csv, as_json;
     char line[UWB_COMMAND_MAX_LINE + 2]; /* the command words joined, room for its newline */
     size_t len;
     struct uwb_command cmd;
@@ -209,6 +211,7 @@ static int read_ctl_options(int argc, char **argv, struct ctl_args *a)
             }
             break;
         case 'T': a->as_text = 1; break;
+        case 'J': a->as_json = 1; break;
         case 'C': a->as_csv = 1; break;
         case 'h': uwbd_ctl_usage(stdout); return UWBD_CTL_OK;
         default:
@@ -224,8 +227,8 @@ static int read_ctl_options(int argc, char **argv, struct ctl_args *a)
         fprintf(stderr, "uwbd ctl: give either --socket or --config\n");
         return UWBD_CTL_USAGE;
     }
-    if (a->as_text && a->as_csv) {
-        fprintf(stderr, "uwbd ctl: give either --text or --csv\n");
+    if (a->as_json + a->as_text + a->as_csv > 1) {
+        fprintf(stderr, "uwbd ctl: give one of --json, --text or --csv\n");
         return UWBD_CTL_USAGE;
     }
     return CTL_GOES_ON;
@@ -301,7 +304,7 @@ static int send_command(int fd, struct ctl_args *a)
 
 /* `watch`: every line as it comes, until the daemon goes or --timeout
  * (explicit_s > 0) passes. */
-static int follow(struct reply_reader *reader, double explicit_s)
+static int follow(struct reply_reader *reader, double explicit_s, int as_text)
 {
     double until = explicit_s > 0 ? uwb_monotonic_s() + explicit_s : 0;
     char *reply = NULL;
@@ -314,7 +317,8 @@ static int follow(struct reply_reader *reader, double explicit_s)
             return UWBD_CTL_OK; /* --timeout ended it; reply is no longer a line */
         if (rc != 0)
             return rc;
-        puts(reply);
+        if (!as_text || uwbd_reply_text(reply, stdout) != 0)
+            puts(reply);
         fflush(stdout);
         if (first && is_error_reply(reply))
             return UWBD_CTL_REFUSED;
@@ -385,7 +389,7 @@ static int talk(struct ctl_args *a)
     if (rc != CTL_GOES_ON)
         goto done;
     if (a->cmd.kind == UWB_COMMAND_WATCH && a->cmd.watch != 0) {
-        rc = follow(&reader, explicit_timeout ? timeout_s : 0);
+        rc = follow(&reader, explicit_timeout ? timeout_s : 0, a->as_text);
         goto done;
     }
     rc = await_reply(&reader, timeout_s, a->cmd.kind == UWB_COMMAND_SCAN, &reply);
@@ -394,7 +398,7 @@ static int talk(struct ctl_args *a)
     rc = is_error_reply(reply) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
     if (a->as_csv && rc == UWBD_CTL_OK)
         rc = print_csv(reply);
-    else if (!a->as_text || (uwbd_verdict_text(reply, stdout) != 0 && uwbd_trend_text(reply, stdout) != 0))
+    else if (!a->as_text || uwbd_reply_text(reply, stdout) != 0)
         puts(reply);
 done:
     close(fd);

@@ -5,32 +5,7 @@
 #include <string.h>
 
 #include "uwb/cli.h"
-
-/* Edit distance (insert, delete, substitute), capped: names are short. */
-static size_t edit_distance(const char *a, size_t na, const char *b, size_t nb)
-{
-    enum { MAX_NAME = 40 };
-    if (na > MAX_NAME || nb > MAX_NAME)
-        return (size_t)-1;
-    size_t row[MAX_NAME + 1];
-    for (size_t j = 0; j <= nb; j++)
-        row[j] = j;
-    for (size_t i = 1; i <= na; i++) {
-        size_t diagonal = row[0];
-        row[0] = i;
-        for (size_t j = 1; j <= nb; j++) {
-            size_t above = row[j];
-            size_t best = diagonal + (a[i - 1] != b[j - 1]);
-            if (above + 1 < best)
-                best = above + 1;
-            if (row[j - 1] + 1 < best)
-                best = row[j - 1] + 1;
-            row[j] = best;
-            diagonal = above;
-        }
-    }
-    return row[nb];
-}
+#include "util/edit_distance.h"
 
 /* The long option closest to `name` (at most 2 edits away), or NULL. */
 static const char *closest_option(const char *name, size_t n, const struct option *longopts)
@@ -38,7 +13,7 @@ static const char *closest_option(const char *name, size_t n, const struct optio
     const char *best = NULL;
     size_t best_distance = 3;
     for (const struct option *o = longopts; o->name; o++) {
-        size_t d = edit_distance(name, n, o->name, strlen(o->name));
+        size_t d = uwb_edit_distance(name, n, o->name, strlen(o->name));
         if (d < best_distance) {
             best_distance = d;
             best = o->name;

@@ -3,8 +3,11 @@
  * number of words and each word's length. */
 #include "daemon/command.h"
 
+#include <ctype.h>
 #include <stdio.h>
 #include <string.h>
+
+#include "util/edit_distance.h"
 
 #define MAX_WORDS 3
 #define MAX_WORD 16
@@ -148,7 +151,9 @@ static int split_words(const char *line, size_t len, struct words *w, char *err,
             set_error(err, errlen, "unknown command or argument (too long; see help)", NULL);
             return UWB_COMMAND_INVALID;
         }
-        memcpy(w->word[w->n], line + start, i - start);
+        /* Case-insensitive: every word is a keyword or a number. */
+        for (size_t k = 0; k < i - start; k++)
+            w->word[w->n][k] = (char)tolower((unsigned char)line[start + k]);
         w->word[w->n][i - start] = '\0';
         w->n++;
     }
@@ -243,6 +248,25 @@ static const struct verb {
 };
 // clang-format on
 
+/* "unknown command", naming the verb at most 2 edits away when there is one
+ * (`stauts`: did you mean `status`?). */
+static void unknown_verb(const char *word, char *err, size_t errlen)
+{
+    const char *meant = NULL;
+    size_t best = 3, n = strlen(word);
+    for (size_t i = 0; i < sizeof verbs / sizeof verbs[0]; i++) {
+        size_t d = uwb_edit_distance(word, n, verbs[i].name, strlen(verbs[i].name));
+        if (d < best) {
+            best = d;
+            meant = verbs[i].name;
+        }
+    }
+    if (!meant)
+        set_error(err, errlen, "unknown command (try help):", word);
+    else if (err && errlen)
+        snprintf(err, errlen, "unknown command `%s` (did you mean `%s`? try help)", word, meant);
+}
+
 static int parse_words(const struct words *w, struct uwb_command *out, char *err, size_t errlen)
 {
     const struct verb *v = NULL;
@@ -250,7 +274,7 @@ static int parse_words(const struct words *w, struct uwb_command *out, char *err
         if (strcmp(w->word[0], verbs[i].name) == 0)
             v = &verbs[i];
     if (!v) {
-        set_error(err, errlen, "unknown command (try help):", w->word[0]);
+        unknown_verb(w->word[0], err, errlen);
         return UWB_COMMAND_INVALID;
     }
     struct uwb_command cmd = {.kind = v->kind};

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "config/config_keys.h"
+#include "util/edit_distance.h"
 #include "uwb/migrate.h"
 #include "uwb/read_file.h"
 #include "uwb/scan.h"
@@ -63,6 +64,40 @@ static int is_section(const char *path)
             return 1;
     }
     return 0;
+}
+
+/* The key or section at path's depth at most 2 edits from path ("" when
+ * none), for "did you mean": `digitiser.sampels` -> `digitiser.samples`. */
+static void closest_key(const char *path, char *meant, size_t n)
+{
+    size_t best = 3, depth = 0, len = strlen(path);
+    for (const char *dot = strchr(path, '.'); dot; dot = strchr(dot + 1, '.'))
+        depth++;
+    meant[0] = '\0';
+    for (size_t i = 0; i < uwbd_config_key_total; i++) {
+        const char *p = uwbd_config_keys[i].path;
+        size_t cut = 0, dots = 0;
+        while (p[cut] && !(p[cut] == '.' && dots == depth))
+            dots += p[cut++] == '.';
+        if (dots < depth)
+            continue; /* a shallower key */
+        size_t d = uwb_edit_distance(path, len, p, cut);
+        if (d > 0 && d < best) {
+            best = d;
+            snprintf(meant, n, "%.*s", (int)cut, p);
+        }
+    }
+}
+
+/* "unknown key", naming the one meant when one is close. */
+static void unknown_key_text(const char *path, char *out, size_t n)
+{
+    char meant[PATH_TEXT_MAX];
+    closest_key(path, meant, sizeof meant);
+    if (meant[0])
+        snprintf(out, n, "unknown key (did you mean `%s`? uwbd --config-keys lists them all)", meant);
+    else
+        snprintf(out, n, "unknown key (uwbd --config-keys lists them all)");
 }
 
 /* Key names come from the file: quote them printable and short. */
@@ -347,7 +382,9 @@ static int walk_object(struct load_context *ctx, const cJSON *obj, const char *p
             if (walk_object(ctx, item, path, cfg) != 0)
                 return -1;
         } else {
-            fail(ctx, path, "unknown key (uwbd --config-keys lists them all)");
+            char why[2 * PATH_TEXT_MAX + 64];
+            unknown_key_text(path, why, sizeof why);
+            fail(ctx, path, "%s", why);
             return -1;
         }
     }
@@ -395,8 +432,9 @@ static int apply_override(struct load_context *ctx, cJSON *root, const struct uw
     char shown[PATH_TEXT_MAX];
     printable_name(o->key, shown, sizeof shown);
     if (strcmp(shown, o->key) != 0 || (!find_key(o->key, NULL) && !is_section(o->key))) {
-        snprintf(ctx->err, ctx->errlen, "override: key `%s`: unknown key (uwbd --config-keys lists them all)",
-                 shown);
+        char why[2 * PATH_TEXT_MAX + 64];
+        unknown_key_text(shown, why, sizeof why);
+        snprintf(ctx->err, ctx->errlen, "override: key `%s`: %s", shown, why);
         return -1;
     }
     cJSON *value = cJSON_ParseWithOpts(o->value, NULL, 1);

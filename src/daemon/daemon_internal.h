@@ -62,11 +62,13 @@ struct peer {
     struct uwb_link *link; /* console */
     struct uwbd_line_buffer lines;
     struct uwbd_console_line console_line; /* the console's: echo and editing keys */
-    unsigned long waiting_for;             /* cycle whose verdict this peer asked for; 0 = none */
-    int watching;         /* `watch`: WATCH_ALL, WATCH_PROGRESS (what `uwbd ctl scan` asks) or 0 */
-    double last_active_s; /* CLOCK_MONOTONIC of its connection or last input */
-    double line_since_s;  /* CLOCK_MONOTONIC of its connection or last complete line */
-    char *out;            /* queued reply bytes not yet sent (control clients) */
+    int console_at_prompt;                 /* the console's cursor is on the prompt's line */
+    int console_progress_shown; /* the line above the prompt is a PROGRESS line, redrawn in place */
+    unsigned long waiting_for;  /* cycle whose verdict this peer asked for; 0 = none */
+    int watching;               /* `watch`: WATCH_ALL, WATCH_PROGRESS (what `uwbd ctl scan` asks) or 0 */
+    double last_active_s;       /* CLOCK_MONOTONIC of its connection or last input */
+    double line_since_s;        /* CLOCK_MONOTONIC of its connection or last complete line */
+    char *out;                  /* queued reply bytes not yet sent (control clients) */
     size_t out_len, out_cap;
     double out_progress_s; /* CLOCK_MONOTONIC of the queue's last progress */
     int privileged;        /* connected as root or the daemon's own user (SO_PEERCRED) */

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <sys/statvfs.h>
 #include <sys/timerfd.h>
 #include <time.h>
 #include <unistd.h>
@@ -21,6 +22,7 @@
 #include "daemon/reply.h"
 #include "daemon/trend.h"
 #include "daemon/verdict_log.h"
+#include "uwb/cli.h"
 #include "uwb/monotonic.h"
 
 void uwbd_peers_init(struct daemon *d)
@@ -51,6 +53,7 @@ void uwbd_peer_close(struct peer *p)
     p->out_len = p->out_cap = 0;
     memset(&p->lines, 0, sizeof p->lines);
     memset(&p->console_line, 0, sizeof p->console_line);
+    p->console_at_prompt = p->console_progress_shown = 0;
 }
 
 static void drop_client(struct peer *p, const char *why)
@@ -160,6 +163,58 @@ static void console_write(struct daemon *d, struct peer *p, const char *bytes, s
         console_lost(d, err);
 }
 
+static void console_prompt(struct daemon *d, struct peer *p)
+{
+    console_write(d, p, UWBD_CONSOLE_PROMPT, strlen(UWBD_CONSOLE_PROMPT));
+    p->console_at_prompt = 1;
+}
+
+/* ESC sequences every terminal program (VT100 on) knows: the cursor to the
+ * line's start and the line cleared; one line up. */
+#define CLEAR_LINE "\r\033[K"
+#define LINE_UP "\033[A"
+
+/* The text of a reply as the console shows it (CRLF line ends), with what
+ * goes before it (clearing the prompt's line when something was typed or
+ * prompted) and after it (the prompt, and what the person had typed). */
+static char *console_text(struct peer *p, const char *line, size_t *len)
+{
+    char *text = NULL, *shown = NULL;
+    size_t n = 0, k = 0;
+    FILE *f = open_memstream(&text, &n);
+    if (!f)
+        return NULL;
+    if (uwbd_reply_text(line, f) != 0)
+        fprintf(f, "%s\n", line);
+    if (fclose(f) != 0) {
+        free(text);
+        return NULL;
+    }
+    int progress = strncmp(line, "{\"class\":\"PROGRESS\"", 19) == 0;
+    int on_prompt_line = p->console_at_prompt || p->console_line.len > 0;
+    const char *before = !on_prompt_line                         ? ""
+                         : progress && p->console_progress_shown ? CLEAR_LINE LINE_UP CLEAR_LINE
+                                                                 : CLEAR_LINE;
+    size_t typed = p->console_line.overlong ? 0 : p->console_line.len;
+    size_t cap = strlen(before) + 2 * n + strlen(UWBD_CONSOLE_PROMPT) + typed + 1;
+    shown = malloc(cap);
+    if (shown) {
+        k = (size_t)snprintf(shown, cap, "%s", before);
+        for (size_t i = 0; i < n; i++) {
+            if (text[i] == '\n')
+                shown[k++] = '\r';
+            shown[k++] = text[i];
+        }
+        k += (size_t)snprintf(shown + k, cap - k, "%s%.*s", UWBD_CONSOLE_PROMPT, (int)typed,
+                              p->console_line.text);
+        p->console_at_prompt = 1;
+        p->console_progress_shown = progress;
+    }
+    free(text);
+    *len = k;
+    return shown;
+}
+
 static void send_line(struct daemon *d, struct peer *p, const char *line)
 {
     if (!p->in_use)
@@ -169,21 +224,19 @@ static void send_line(struct daemon *d, struct peer *p, const char *line)
         return;
     }
     size_t n = strlen(line);
-    /* The console ends a reply as a terminal wants it (CRLF), then prompts again. */
-    static const char console_end[] = "\r\n" UWBD_CONSOLE_PROMPT;
-    char *text = malloc(n + sizeof console_end);
+    /* The console is for people: the reply as text, then a prompt. */
+    char *text = p->kind == PEER_CONTROL ? malloc(n + 1) : console_text(p, line, &n);
     if (!text) {
         uwbd_log(UWBD_LOG_ERR, "out of memory sending a reply");
         return;
     }
-    // NOLINTNEXTLINE(bugprone-not-null-terminated-result): a counted reply (newline-framed below), not a C string
-    memcpy(text, line, n);
     if (p->kind == PEER_CONTROL) {
+        // NOLINTNEXTLINE(bugprone-not-null-terminated-result): a counted reply (newline-framed), not a C string
+        memcpy(text, line, n);
         text[n] = '\n';
         queue_line(p, text, n + 1);
     } else {
-        memcpy(text + n, console_end, sizeof console_end - 1);
-        console_write(d, p, text, n + sizeof console_end - 1);
+        console_write(d, p, text, n);
     }
     free(text);
 }
@@ -209,6 +262,10 @@ static char *status_reply(struct daemon *d)
     int has_progress = uwbd_scan_progress_now(d, &progress);
     struct uwbd_mqtt_link mqtt;
     int has_mqtt = uwbd_mqtt_link_now(d, &mqtt);
+    struct uwbd_contact_states contacts;
+    uwbd_contact_states(d, &contacts);
+    struct statvfs fs;
+    int has_free = statvfs(d->store.root, &fs) == 0;
     struct uwbd_status st = {
         .version = UWBD_VERSION,
         .state = d->stopping   ? "stopping"
@@ -233,6 +290,13 @@ static char *status_reply(struct daemon *d)
         .site_phase = d->cfg.site_phase,
         .site_label = d->cfg.site_label,
         .mqtt = has_mqtt ? &mqtt : NULL,
+        .asset_id = d->cfg.site.asset_id,
+        .modbus_endpoint = d->cfg.modbus.enabled ? d->cfg.modbus.endpoint : NULL,
+        .modbus_listening = d->modbus != NULL,
+        .contacts = contacts.watch >= 0 ? &contacts : NULL,
+        .now = time(NULL),
+        .has_state_dir_free = has_free,
+        .state_dir_free_bytes = has_free ? (unsigned long long)fs.f_bavail * fs.f_frsize : 0,
     };
     return uwbd_reply_status(&st);
 }
@@ -380,7 +444,7 @@ static void handle_line(struct daemon *d, struct peer *p, const char *line, size
     int rc = uwb_command_parse(line, len, &cmd, err, sizeof err);
     if (rc == UWB_COMMAND_EMPTY) {
         if (p->kind == PEER_CONSOLE)
-            console_write(d, p, UWBD_CONSOLE_PROMPT, strlen(UWBD_CONSOLE_PROMPT));
+            console_prompt(d, p);
         return;
     }
     if (rc != UWB_COMMAND_OK) {
@@ -403,10 +467,19 @@ static void feed_console(struct daemon *d, struct peer *p, const char *buf, size
     int ev;
     do {
         ev = uwbd_console_line_feed(&p->console_line, buf, n, &used, &line, &len);
-        console_write(d, p, p->console_line.echo, p->console_line.echo_len);
+        const char *echo = p->console_line.echo;
+        size_t echo_len = p->console_line.echo_len, plen = strlen(UWBD_CONSOLE_PROMPT);
+        console_write(d, p, echo, echo_len);
         p->console_line.echo_len = 0;
         if (!p->in_use)
             return;
+        if (ev != UWBD_LINE_NONE) /* Enter: the cursor left the prompt's line */
+            p->console_at_prompt = p->console_progress_shown = 0;
+        else if (echo_len >= plen && memcmp(echo + echo_len - plen, UWBD_CONSOLE_PROMPT, plen) == 0) {
+            /* Ctrl-C: a new line, a prompt */
+            p->console_at_prompt = 1;
+            p->console_progress_shown = 0;
+        }
         if (ev == UWBD_LINE_TOO_LONG) {
             char msg[96];
             snprintf(msg, sizeof msg, "command line too long (at most %d bytes); ignored",
@@ -574,7 +647,7 @@ void uwbd_console_open(struct daemon *d)
     d->console.link = link;
     d->console_failing = 0;
     uwbd_log(UWBD_LOG_INFO, "console on %s", d->cfg.console_endpoint);
-    console_write(d, &d->console, UWBD_CONSOLE_PROMPT, strlen(UWBD_CONSOLE_PROMPT));
+    console_prompt(d, &d->console);
 }
 
 void uwbd_peer_readable(struct daemon *d, struct peer *p)

@@ -7,6 +7,8 @@
 
 #include "daemon/command.h"
 #include "integrations/mqtt_publisher.h"
+#include "integrations/site_io.h"
+#include "uwb/utc_time.h"
 #include "uwb/verdict_json.h"
 
 static char *finish(cJSON *o)
@@ -84,6 +86,36 @@ static cJSON *baseline_object(const struct uwbd_baseline_info *b)
     return o;
 }
 
+/* Seconds since the baseline was set (or, for an older one without set_at,
+ * taken). */
+static void add_baseline_age(cJSON *baseline, const struct uwbd_baseline_info *b, time_t now)
+{
+    time_t at;
+    const char *when = b->set_at[0] ? b->set_at : b->created;
+    if (baseline && now > 0 && uwb_utc_parse(when, &at) == 0 && now >= at)
+        cJSON_AddNumberToObject(baseline, "age_s", (double)(now - at));
+}
+
+/* Issue 31: what the site's integrations are doing, after the older keys. */
+static void add_integrations(cJSON *o, const struct uwbd_status *st)
+{
+    if (st->asset_id && st->asset_id[0])
+        cJSON_AddStringToObject(o, "asset_id", st->asset_id);
+    cJSON *modbus = st->modbus_endpoint ? cJSON_AddObjectToObject(o, "modbus") : NULL;
+    if (modbus) {
+        cJSON_AddBoolToObject(modbus, "listening", st->modbus_listening);
+        cJSON_AddStringToObject(modbus, "endpoint", st->modbus_endpoint);
+    }
+    cJSON *contacts = st->contacts ? cJSON_AddObjectToObject(o, "contacts") : NULL;
+    if (contacts) {
+        cJSON_AddBoolToObject(contacts, "watch", st->contacts->watch > 0);
+        cJSON_AddBoolToObject(contacts, "alarm", st->contacts->alarm > 0);
+        cJSON_AddBoolToObject(contacts, "fault", st->contacts->fault > 0);
+    }
+    if (st->has_state_dir_free)
+        cJSON_AddNumberToObject(o, "state_dir_free_bytes", (double)st->state_dir_free_bytes);
+}
+
 char *uwbd_reply_status(const struct uwbd_status *st)
 {
     cJSON *o = start("STATUS");
@@ -113,6 +145,8 @@ char *uwbd_reply_status(const struct uwbd_status *st)
     cJSON_AddBoolToObject(o, "baseline_pending", st->baseline_pending);
     if (st->has_baseline)
         cJSON_AddItemToObject(o, "baseline", baseline_object(&st->baseline));
+    if (st->has_baseline)
+        add_baseline_age(cJSON_GetObjectItemCaseSensitive(o, "baseline"), &st->baseline, st->now);
     if (st->has_baseline && st->fault)
         cJSON_AddStringToObject(cJSON_GetObjectItemCaseSensitive(o, "baseline"), "check", "failed");
     if (st->latest) {
@@ -137,6 +171,7 @@ char *uwbd_reply_status(const struct uwbd_status *st)
     cJSON_AddStringToObject(o, "rig", st->rig);
     if (st->console)
         cJSON_AddStringToObject(o, "console", st->console);
+    add_integrations(o, st);
     return finish(o);
 }
 

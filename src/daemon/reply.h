@@ -6,6 +6,8 @@
 #ifndef UWB_DAEMON_REPLY_H
 #define UWB_DAEMON_REPLY_H
 
+#include <time.h>
+
 #include "daemon/scan_progress.h"
 
 #include "daemon/baseline_store.h"
@@ -14,6 +16,7 @@
 #define UWBD_PROTOCOL_MINOR 0
 
 struct uwbd_mqtt_link;
+struct uwbd_contact_states;
 
 struct uwbd_status {
     const char *version;
@@ -29,12 +32,19 @@ struct uwbd_status {
     struct uwbd_baseline_info baseline;
     const struct uwb_verdict_record *latest; /* the latest verdict, or NULL */
     const char *state_dir;
-    const char *rig;                           /* "ready" or why not */
-    const char *console;                       /* endpoint, or NULL when none */
-    const char *fault;                         /* a device fault (the baseline failed its check), or NULL */
-    const struct uwbd_scan_progress *progress; /* while scanning, or NULL */
-    const char *site_phase, *site_label;       /* site.phase, site.label; "" or NULL: not set */
-    const struct uwbd_mqtt_link *mqtt;         /* the MQTT link and queue, or NULL when MQTT is off */
+    const char *rig;                            /* "ready" or why not */
+    const char *console;                        /* endpoint, or NULL when none */
+    const char *fault;                          /* a device fault (the baseline failed its check), or NULL */
+    const struct uwbd_scan_progress *progress;  /* while scanning, or NULL */
+    const char *site_phase, *site_label;        /* site.phase, site.label; "" or NULL: not set */
+    const struct uwbd_mqtt_link *mqtt;          /* the MQTT link and queue, or NULL when MQTT is off */
+    const char *asset_id;                       /* site.asset_id; "" or NULL: not set */
+    const char *modbus_endpoint;                /* modbus.endpoint, or NULL when Modbus is off */
+    int modbus_listening;                       /* its server is open */
+    const struct uwbd_contact_states *contacts; /* energised (1) or not, or NULL when there are none */
+    time_t now;                                 /* for the baseline's age; 0: not given */
+    int has_state_dir_free;
+    unsigned long long state_dir_free_bytes; /* statvfs: what an unprivileged writer may still use */
 };
 
 char *uwbd_reply_error(const char *message);

@@ -72,7 +72,7 @@ wait_for() {
 #   json_check FILE 'PATH OP ARG'...   assertions, see json_check.c
 #   json_get KEY... < JSON             the values, strings bare
 #   json_edit IN OUT 'PATH=JSON' '-PATH'...
-#   unix_peer ask|console|slots ...    see unix_peer.c
+#   unix_peer ask|console|session|slots ... see unix_peer.c
 json_check() { $HOST_PREFIX "$HOST_BUILD/e2e/json_check" "$@"; }
 json_get() { $HOST_PREFIX "$HOST_BUILD/e2e/state_check" get "$@"; }
 json_edit() { $HOST_PREFIX "$HOST_BUILD/e2e/json_edit" "$@"; }

@@ -34,7 +34,7 @@ pass "a wrong option: one line naming it (and the option meant), then 'see --hel
 # --csv is for history only, and one rendering at a time: refused before connecting.
 one_line_error ctl-csv-status 64 '^uwbd ctl: --csv is for `history \[N\]` only, not `status`$' \
     uwbd ctl --socket nowhere.sock --csv status
-one_line_error ctl-csv-text 64 '^uwbd ctl: give either --text or --csv$' uwbd ctl --socket nowhere.sock --text --csv history
+one_line_error ctl-csv-text 64 '^uwbd ctl: give one of --json, --text or --csv$' uwbd ctl --socket nowhere.sock --text --csv history
 pass "uwbd ctl --csv with a command other than history, or with --text: one line, exit 64"
 
 # Issue 27, break 3: --timeout covers connecting. A daemon that stopped

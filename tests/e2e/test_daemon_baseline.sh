@@ -98,7 +98,7 @@ pass "uncertainty over the limit: without a budget inconclusive ($(get reason < 
 emu 'set displacement_m 0' > /dev/null
 # `baseline set 3` on the serial console (a unix endpoint the daemon connects to).
 rm -f run/console.go
-$HOST_PREFIX "$HOST_BUILD/e2e/unix_peer" console run/console.sock run/console.go console.out \
+$HOST_PREFIX "$HOST_BUILD/e2e/unix_peer" session run/console.sock run/console.go console.out \
     "baseline set 3" scan > console.log 2>&1 &
 console_pid=$!
 pids+=($console_pid)
@@ -107,9 +107,10 @@ start_daemon uwbd-n.log --state-dir run/state4 --set digitiser.stack=4 --set bas
     --console unix:run/console.sock
 touch run/console.go
 wait "$console_pid" || fail "console peer: $(cat console.log)"
-[[ $(sed -n 1p console.out | get class pending | paste -sd' ') == "BASELINE true" ]] ||
+[[ $(sed -n 1p console.out) == "the next good scan becomes the baseline" ]] ||
     fail "console baseline set 3: $(cat console.out)"
-sed -n 2p console.out > n-base.json
+grep -q '^status EDGES: .*became the baseline: yes$' console.out || fail "console scan: $(cat console.out)"
+ctl verdict > n-base.json
 read -r set scans acq pulses rep < <(get baseline_set baseline_scans acquisitions pulses_per_position \
                                          baseline_repeatability_mm < n-base.json | paste -sd' ')
 [[ $set == true && $scans == 3 && $acq == 3 && $pulses == 12 && $rep != "(missing)" ]] ||

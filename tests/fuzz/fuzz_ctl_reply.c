@@ -1,6 +1,8 @@
 /* Fuzzing what `uwbd ctl` makes of the daemon's reply line: the --text
  * renderings (uwbd_verdict_text, uwbd_trend_text), which read a VERDICT's
- * or a TREND's fields (issues 17, 19).
+ * or a TREND's fields (issues 17, 19), and uwbd_reply_text, which prints
+ * any reply with a class (issue 31: status, history, help...; the console
+ * prints the same).
  *
  * Contract, for each: its class of object is printed as text (0),
  * anything else is refused (-1) with nothing printed. And the one verdict
@@ -73,9 +75,10 @@ int fuzz_ctl_reply_input(const uint8_t *data, size_t size, char *why, size_t why
     line[size] = '\0';
     int verdict = render(uwbd_verdict_text, line, "VERDICT", why, whylen);
     int trend = verdict == FUZZ_BROKEN ? verdict : render(uwbd_trend_text, line, "TREND", why, whylen);
-    int record = trend == FUZZ_BROKEN ? trend : record_round_trip(line, why, whylen);
+    int any = trend == FUZZ_BROKEN ? trend : render(uwbd_reply_text, line, "reply", why, whylen);
+    int record = any == FUZZ_BROKEN ? any : record_round_trip(line, why, whylen);
     free(line);
-    if (verdict == FUZZ_BROKEN || trend == FUZZ_BROKEN || record == FUZZ_BROKEN)
+    if (verdict == FUZZ_BROKEN || trend == FUZZ_BROKEN || any == FUZZ_BROKEN || record == FUZZ_BROKEN)
         return FUZZ_BROKEN;
     if (verdict == FUZZ_ACCEPTED || trend == FUZZ_ACCEPTED) {
         why[0] = '\0';

@@ -129,8 +129,28 @@ static void test_bad_arguments(void)
     assert_invalid("baseline set 0", "1 to 16");
     assert_invalid("baseline set 17", "1 to 16");
     assert_invalid("baseline set 4 now", "too many words");
-    assert_invalid("Status", "unknown command");
     assert_invalid("rm -rf", "unknown command");
+}
+
+/* Issue 31: people type `Baseline set` and `stauts`. Commands are read
+ * case-insensitively; a near miss names the command meant. */
+static void test_case_and_near_misses(void)
+{
+    assert_command("Status", UWB_COMMAND_STATUS);
+    assert_command("Baseline set", UWB_COMMAND_BASELINE_SET);
+    assert_command("BASELINE SET FORCE", UWB_COMMAND_BASELINE_SET);
+    TEST_ASSERT_EQUAL_INT(1, cmd.force);
+    assert_command("Watch Off", UWB_COMMAND_WATCH);
+    TEST_ASSERT_EQUAL_INT(0, cmd.watch);
+    assert_command("HISTORY 5", UWB_COMMAND_HISTORY);
+    TEST_ASSERT_EQUAL_INT(5, cmd.count);
+    assert_invalid("stauts", "did you mean `status`?");
+    assert_invalid("histroy 3", "did you mean `history`?");
+    assert_invalid("baselin set", "did you mean `baseline`?");
+    assert_invalid("verdit", "did you mean `verdict`?");
+    /* Nothing near: no guess. */
+    assert_invalid("frobnicate", "unknown command");
+    TEST_ASSERT_NULL_MESSAGE(strstr(err, "did you mean"), err);
 }
 
 static void test_bounds_and_bytes(void)
@@ -240,6 +260,7 @@ int main(void)
     RUN_TEST(test_line_endings_and_spacing);
     RUN_TEST(test_bad_arguments);
     RUN_TEST(test_bounds_and_bytes);
+    RUN_TEST(test_case_and_near_misses);
     RUN_TEST(test_random_lines_never_crash_and_are_classified);
     RUN_TEST(test_line_buffer_cuts_lines_across_reads);
     RUN_TEST(test_line_buffer_drops_an_overlong_line_whole);

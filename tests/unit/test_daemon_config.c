@@ -147,6 +147,21 @@ static void test_unknown_keys_are_errors(void)
     assert_refused("gpio.lines.bogus", "3", "unknown key");
 }
 
+/* Issue 31: a near miss names the key meant, as a mistyped option does. */
+static void test_unknown_keys_name_the_one_meant(void)
+{
+    assert_refused("digitiser.sampels", "2048", "unknown key (did you mean `digitiser.samples`?");
+    assert_refused("schedule.intervall_s", "60", "did you mean `schedule.interval_s`?");
+    TEST_ASSERT_EQUAL_INT(-1, parse_changed("digitizer.samples", "2048"));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "key `digitizer`: unknown key (did you mean `digitiser`?"), err);
+    assert_refused("bogus", "1", "unknown key (uwbd --config-keys lists them all)");
+
+    struct uwbd_override typo[] = {{"schedule.intervall_s", "60"}};
+    TEST_ASSERT_EQUAL_INT(
+        -1, uwbd_config_parse(sample_text, strlen(sample_text), "f", typo, 1, &cfg, err, sizeof err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "did you mean `schedule.interval_s`?"), err);
+}
+
 static void test_wrong_types_are_errors(void)
 {
     assert_refused("digitiser.samples", "\"2048\"", "expected an integer");
@@ -354,6 +369,7 @@ int main(void)
     RUN_TEST(test_syntax_errors_name_the_place);
     RUN_TEST(test_overrides_are_checked_like_the_file);
     RUN_TEST(test_config_md_documents_every_key);
+    RUN_TEST(test_unknown_keys_name_the_one_meant);
     RUN_TEST(test_display_half_range_key_sets_the_analysis_option);
     return UNITY_END();
 }

@@ -7,10 +7,18 @@
  *   unix_peer console SOCKET GO_FILE OUT_FILE LINE...
  *       Listens on SOCKET for the daemon's console to connect; once GO_FILE
  *       exists, sends each LINE and writes each reply line to OUT_FILE.
+ *   unix_peer session SOCKET GO_FILE OUT_FILE LINE...
+ *       Like console, for uwbd's console of text replies: waits for its
+ *       prompt, and writes each reply's lines (between the echo and the
+ *       next prompt, CRs dropped) to OUT_FILE.
  *   unix_peer terminal SOCKET GO_FILE OUT_FILE KEYS...
  *       Like console, but types each KEYS (C escapes: \r \n \b \e \xHH) a
  *       byte at a time as minicom or picocom would, waits for the prompt(s)
- *       it earns, and writes every byte the console sent to OUT_FILE.
+ *       it earns, and writes every byte the console sent to OUT_FILE. A KEYS
+ *       of "@until:TEXT" types nothing: it waits for TEXT from the console.
+ *   unix_peer screen FILE
+ *       Prints what a terminal shows after FILE's bytes (a terminal
+ *       transcript): one line per screen row.
  *   unix_peer slots SOCKET N
  *       Fills the daemon's N control-client slots with silent clients and
  *       checks: one more is told "too many control clients"; after 2.5 s
@@ -215,6 +223,39 @@ static int accept_console(const char *path, const char *go_file, int *srv_out)
  * the echo of what was typed, not a reply. */
 #define CONSOLE_PROMPT "uwbd> "
 
+/* Reads until the inbox ends with the console's prompt and holds a line
+ * end before it (the echo of what was sent): 0, or -1. */
+static int read_to_prompt(int fd, struct inbox *in)
+{
+    size_t plen = strlen(CONSOLE_PROMPT);
+    double deadline = uwb_monotonic_s() + WAIT_S;
+    for (;;) {
+        if (in->len >= plen && memcmp(in->buf + in->len - plen, CONSOLE_PROMPT, plen) == 0 &&
+            memchr(in->buf, '\n', in->len))
+            return 0;
+        double left = deadline - uwb_monotonic_s();
+        struct pollfd p = {.fd = fd, .events = POLLIN};
+        if (left <= 0 || poll(&p, 1, (int)(left * 1000) + 1) <= 0)
+            return -1;
+        if (in->len + 65536 > in->cap) {
+            if (in->cap >= (size_t)MAX_REPLY)
+                return -1;
+            char *grown = realloc(in->buf, in->cap + 65536 + 1);
+            if (!grown)
+                return -1;
+            in->buf = grown;
+            in->cap += 65536;
+        }
+        ssize_t n = recv(fd, in->buf + in->len, in->cap - in->len, 0);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return -1;
+        in->len += (size_t)n;
+        in->buf[in->len] = '\0';
+    }
+}
+
 static int console(const char *path, const char *go_file, const char *out_path, int n_lines, char **lines)
 {
     int srv = -1, conn = accept_console(path, go_file, &srv);
@@ -252,6 +293,59 @@ static int console(const char *path, const char *go_file, const char *out_path, 
         fprintf(out, "%s\n", reply);
         fflush(out);
         free(reply);
+    }
+    free(in.buf);
+    fclose(out);
+    close(conn);
+    close(srv);
+    return ok ? 0 : 1;
+}
+
+/* A line at a time, as a person would type it; OUT_FILE gets each reply's
+ * lines (the text between the echo and the next prompt, CRs dropped). */
+static int session(const char *path, const char *go_file, const char *out_path, int n_lines, char **lines)
+{
+    int srv = -1, conn = accept_console(path, go_file, &srv);
+    if (conn < 0)
+        return 1;
+    FILE *out = fopen(out_path, "w");
+    if (!out)
+        return fail("session: cannot write the output file");
+    struct inbox in = {0};
+    size_t plen = strlen(CONSOLE_PROMPT);
+    /* The prompt the console shows when it opens. */
+    double deadline = uwb_monotonic_s() + WAIT_S;
+    while (in.len < plen && uwb_monotonic_s() < deadline) {
+        if (!in.buf && !(in.buf = calloc(1, (in.cap = 65536) + 1)))
+            return fail("out of memory");
+        struct pollfd p = {.fd = conn, .events = POLLIN};
+        ssize_t n = poll(&p, 1, 1000) > 0 ? recv(conn, in.buf + in.len, plen - in.len, 0) : 0;
+        if (n < 0 || (n == 0 && p.revents))
+            break;
+        in.len += (size_t)n;
+    }
+    int ok = in.len == plen && memcmp(in.buf, CONSOLE_PROMPT, plen) == 0;
+    if (!ok)
+        fprintf(stderr, "unix_peer: session: no prompt when the console opened\n");
+    for (int i = 0; ok && i < n_lines; i++) {
+        in.len = 0; /* the prompt before this line */
+        size_t n = strlen(lines[i]);
+        char *line = malloc(n + 2);
+        if (!line)
+            return fail("out of memory");
+        memcpy(line, lines[i], n);
+        line[n] = '\n';
+        ok = send_all(conn, line, n + 1) == 0 && read_to_prompt(conn, &in) == 0;
+        free(line);
+        if (!ok) {
+            fprintf(stderr, "unix_peer: session: no reply and prompt after '%s'\n", lines[i]);
+            break;
+        }
+        const char *reply = memchr(in.buf, '\n', in.len) + 1; /* after the echo */
+        for (const char *c = reply; c < in.buf + in.len - plen; c++)
+            if (*c != '\r')
+                fputc(*c, out);
+        fflush(out);
     }
     free(in.buf);
     fclose(out);
@@ -315,6 +409,33 @@ static int terminal(const char *path, const char *go_file, const char *out_path,
     int ok = 1;
     size_t prompts_seen = 0;
     for (int i = 0; ok && i < n_keys; i++) {
+        if (strncmp(keys[i], "@until:", 7) == 0) {
+            /* Not keys: wait for TEXT from the console (an asynchronous line). */
+            double until = uwb_monotonic_s() + WAIT_S;
+            while (ok && !(in.buf && strstr(in.buf, keys[i] + 7))) {
+                if (in.len + 4096 > in.cap) {
+                    char *grown = realloc(in.buf, in.cap + 65536 + 1);
+                    if (!grown)
+                        return fail("out of memory");
+                    in.buf = grown;
+                    in.cap += 65536;
+                }
+                double left = until - uwb_monotonic_s();
+                struct pollfd p = {.fd = conn, .events = POLLIN};
+                ssize_t r = left > 0 && poll(&p, 1, (int)(left * 1000) + 1) > 0
+                                ? recv(conn, in.buf + in.len, in.cap - in.len, 0)
+                                : -1;
+                if (r <= 0) {
+                    fprintf(stderr, "unix_peer: terminal: never saw '%s'\n", keys[i] + 7);
+                    ok = 0;
+                    break;
+                }
+                in.len += (size_t)r;
+                in.buf[in.len] = '\0';
+            }
+            prompts_seen = count_prompts(in.buf ? in.buf : "", in.len);
+            continue;
+        }
         char *bytes = malloc(strlen(keys[i]) + 1);
         if (!bytes)
             return fail("out of memory");
@@ -572,6 +693,49 @@ static int slots(const char *path, const char *count)
     return reserved_slot(path, n);
 }
 
+/* unix_peer screen FILE: what a VT100 terminal shows after FILE's bytes (a
+ * terminal transcript), a line each: CR, LF, BS, ESC [ K (clear to the
+ * line's end) and ESC [ A (up a line) move and erase; a byte is a column. */
+enum { SCREEN_ROWS = 4096, SCREEN_COLS = 512 };
+static int screen(const char *path)
+{
+    static char rows[SCREEN_ROWS][SCREEN_COLS + 1];
+    char *bytes, err[512];
+    size_t len;
+    if (uwb_read_file(path, (size_t)MAX_REPLY, &bytes, &len, err, sizeof err) != UWB_READ_OK)
+        return fail(err);
+    int row = 0, col = 0, last = 0;
+    for (size_t i = 0; i < len; i++) {
+        unsigned char c = (unsigned char)bytes[i];
+        if (c == '\r')
+            col = 0;
+        else if (c == '\n')
+            row = row + 1 < SCREEN_ROWS ? row + 1 : row;
+        else if (c == '\b')
+            col = col > 0 ? col - 1 : 0;
+        else if (c == 0x1b && i + 2 < len && bytes[i + 1] == '[' &&
+                 (bytes[i + 2] == 'K' || bytes[i + 2] == 'A')) {
+            if (bytes[i + 2] == 'K')
+                rows[row][col] = '\0';
+            else
+                row = row > 0 ? row - 1 : 0;
+            i += 2;
+        } else if (c >= 0x20 && col < SCREEN_COLS) {
+            size_t have = strlen(rows[row]);
+            while ((int)have < col)
+                rows[row][have++] = ' ';
+            rows[row][col++] = (char)c;
+            if ((size_t)col > have)
+                rows[row][col] = '\0';
+        }
+        last = row > last ? row : last;
+    }
+    for (int r = 0; r <= last; r++)
+        puts(rows[r]);
+    free(bytes);
+    return 0;
+}
+
 static int invert(const char *path, const char *timeout_arg)
 {
     double deadline = uwb_monotonic_s() + (timeout_arg ? atof(timeout_arg) : 30.0);
@@ -617,6 +781,10 @@ int main(int argc, char **argv)
         return ask(argv[2], argv[3]);
     if (argc >= 5 && strcmp(argv[1], "console") == 0)
         return console(argv[2], argv[3], argv[4], argc - 5, argv + 5);
+    if (argc == 3 && strcmp(argv[1], "screen") == 0)
+        return screen(argv[2]);
+    if (argc >= 5 && strcmp(argv[1], "session") == 0)
+        return session(argv[2], argv[3], argv[4], argc - 5, argv + 5);
     if (argc >= 5 && strcmp(argv[1], "terminal") == 0)
         return terminal(argv[2], argv[3], argv[4], argc - 5, argv + 5);
     if (argc == 4 && strcmp(argv[1], "slots") == 0)
@@ -625,7 +793,9 @@ int main(int argc, char **argv)
         return invert(argv[2], argc == 4 ? argv[3] : NULL);
     fprintf(stderr, "usage: unix_peer ask SOCKET N < BYTES\n"
                     "       unix_peer console SOCKET GO_FILE OUT_FILE LINE...\n"
+                    "       unix_peer session SOCKET GO_FILE OUT_FILE LINE...\n"
                     "       unix_peer terminal SOCKET GO_FILE OUT_FILE KEYS...\n"
+                    "       unix_peer screen FILE\n"
                     "       unix_peer slots SOCKET N\n"
                     "       unix_peer invert SOCKET [CONNECT_TIMEOUT_S]\n");
     return 64;

@@ -1,0 +1,401 @@
+/* Any reply line as text for people: `uwbd ctl --text` and the serial
+ * console. A status page of aligned "Name : value" lines (as chronyc's
+ * `tracking`), a history table, the help list, and a line or two for the
+ * short replies; a VERDICT and a TREND as verdict_text.c and trend_text.c
+ * print them. The control socket's JSON stays the programs' form. */
+#include <stdio.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "uwb/cli.h"
+
+/* The status page's names are padded to this many columns. */
+#define NAME_WIDTH 16
+/* The help list wraps its descriptions to fit a terminal's 80 columns. */
+#define HELP_USAGE_WIDTH 22
+#define HELP_LINE_WIDTH 79
+
+static const cJSON *item(const cJSON *o, const char *key)
+{
+    return cJSON_GetObjectItemCaseSensitive(o, key);
+}
+
+static const char *text(const cJSON *o, const char *key)
+{
+    const cJSON *v = item(o, key);
+    return cJSON_IsString(v) && v->valuestring ? v->valuestring : NULL;
+}
+
+/* Never NULL: what is printed where the key is missing. */
+static const char *text_or(const cJSON *o, const char *key, const char *otherwise)
+{
+    const char *t = text(o, key);
+    return t ? t : otherwise;
+}
+
+static int number(const cJSON *o, const char *key, double *out)
+{
+    const cJSON *v = item(o, key);
+    if (!cJSON_IsNumber(v))
+        return 0;
+    *out = v->valuedouble;
+    return 1;
+}
+
+static int yes(const cJSON *o, const char *key)
+{
+    return cJSON_IsTrue(item(o, key));
+}
+
+static void name(FILE *out, const char *label)
+{
+    fprintf(out, "%-*s: ", NAME_WIDTH, label);
+}
+
+/* 3 d 4 h, 2 h 5 min, 40 s: the two largest units. */
+static void print_duration(FILE *out, double s)
+{
+    long t = s > 0 ? (long)(s + 0.5) : 0;
+    if (t >= 86400)
+        fprintf(out, "%ld d %ld h", t / 86400, t % 86400 / 3600);
+    else if (t >= 3600)
+        fprintf(out, "%ld h %ld min", t / 3600, t % 3600 / 60);
+    else if (t >= 60)
+        fprintf(out, "%ld min %ld s", t / 60, t % 60);
+    else
+        fprintf(out, "%ld s", t);
+}
+
+static void print_bytes(FILE *out, double bytes)
+{
+    static const char *const units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+    int u = 0;
+    while (bytes >= 1024 && u < 4) {
+        bytes /= 1024;
+        u++;
+    }
+    fprintf(out, u ? "%.1f %s" : "%.0f %s", bytes, units[u]);
+}
+
+static void print_upper(FILE *out, const char *s)
+{
+    for (; s && *s; s++)
+        fputc(*s >= 'a' && *s <= 'z' ? *s - 'a' + 'A' : *s, out);
+}
+
+/* "ALARM +11.97 ± 0.35 mm", or the status and its reason. */
+static void print_figure(FILE *out, const cJSON *v)
+{
+    double d, u;
+    print_upper(out, text(v, "status"));
+    if (number(v, "axial_displacement_mm", &d)) {
+        fprintf(out, " %+.2f", d);
+        if (number(v, "uncertainty_mm", &u))
+            fprintf(out, " \u00b1 %.2f", u);
+        fputs(" mm", out);
+    } else if (text(v, "reason")) {
+        fprintf(out, " (%s)", text(v, "reason"));
+    }
+}
+
+static void print_progress(FILE *out, const cJSON *p)
+{
+    double k, n, elapsed, left;
+    if (!number(p, "position", &k) || !number(p, "positions", &n))
+        return;
+    fprintf(out, "position %.0f of %.0f", k, n);
+    if (number(p, "elapsed_s", &elapsed))
+        fprintf(out, ", %.0f s", elapsed);
+    if (number(p, "left_s", &left))
+        fprintf(out, ", about %.0f s left", left);
+}
+
+static void status_baseline(FILE *out, const cJSON *o)
+{
+    const cJSON *b = item(o, "baseline");
+    double age, scans, rep;
+    name(out, "Baseline");
+    if (!cJSON_IsObject(b)) {
+        fputs("none", out);
+    } else {
+        fputs(text_or(b, "scan_id", "?"), out);
+        if (text(b, "set_at"))
+            fprintf(out, ", set %s", text(b, "set_at"));
+        if (number(b, "age_s", &age)) {
+            fputs(" (", out);
+            print_duration(out, age);
+            fputs(" ago)", out);
+        }
+        if (number(b, "scans", &scans))
+            fprintf(out, ", %.0f scans", scans);
+        if (number(b, "repeatability_mm", &rep))
+            fprintf(out, ", repeatability %.2f mm", rep);
+        if (text(b, "check"))
+            fprintf(out, ", check %s", text(b, "check"));
+    }
+    if (yes(o, "baseline_pending"))
+        fputs("; the next good scan becomes the baseline", out);
+    fputc('\n', out);
+}
+
+static void status_integrations(FILE *out, const cJSON *o)
+{
+    const cJSON *mqtt = item(o, "mqtt"), *modbus = item(o, "modbus"), *contacts = item(o, "contacts");
+    double queued, free_bytes;
+    name(out, "MQTT");
+    if (cJSON_IsObject(mqtt)) {
+        fputs(text_or(mqtt, "link", "?"), out);
+        if (number(mqtt, "queued", &queued))
+            fprintf(out, ", %.0f verdict%s queued", queued, queued == 1 ? "" : "s");
+        if (text(mqtt, "reason"))
+            fprintf(out, " (%s)", text(mqtt, "reason"));
+        fputc('\n', out);
+    } else {
+        fputs("off\n", out);
+    }
+    name(out, "Modbus");
+    if (cJSON_IsObject(modbus))
+        fprintf(out, "%s %s\n", yes(modbus, "listening") ? "listening on" : "NOT listening on",
+                text_or(modbus, "endpoint", "?"));
+    else
+        fputs("off\n", out);
+    name(out, "Contacts");
+    if (cJSON_IsObject(contacts)) {
+        static const char *const which[] = {"watch", "alarm", "fault"};
+        int any = 0;
+        for (int i = 0; i < 3; i++)
+            if (yes(contacts, which[i]))
+                fprintf(out, "%s%s", any++ ? ", " : "", which[i]);
+        fprintf(out, "%s energised\n", any ? "" : "none");
+    } else {
+        fputs("off\n", out);
+    }
+    name(out, "State directory");
+    fputs(text_or(o, "state_dir", "?"), out);
+    if (number(o, "state_dir_free_bytes", &free_bytes)) {
+        fputs(", ", out);
+        print_bytes(out, free_bytes);
+        fputs(" free", out);
+    }
+    fputc('\n', out);
+}
+
+static void status_text(FILE *out, const cJSON *o)
+{
+    double v, major, minor;
+    const cJSON *site = item(o, "site"), *latest = item(o, "latest"), *progress = item(o, "progress");
+    name(out, "State");
+    fprintf(out, "%s\n", text_or(o, "state", "?"));
+    if (cJSON_IsObject(progress)) {
+        name(out, "Scan");
+        print_progress(out, progress);
+        fputc('\n', out);
+    }
+    if (text(o, "fault")) {
+        name(out, "Fault");
+        fprintf(out, "%s\n", text(o, "fault"));
+    }
+    if (text(o, "asset_id")) {
+        name(out, "Asset");
+        fprintf(out, "%s\n", text(o, "asset_id"));
+    }
+    if (cJSON_IsObject(site)) {
+        name(out, "Site");
+        if (text(site, "phase"))
+            fprintf(out, "phase %s%s", text(site, "phase"), text(site, "label") ? ", " : "");
+        fprintf(out, "%s\n", text_or(site, "label", ""));
+    }
+    name(out, "Latest verdict");
+    if (cJSON_IsObject(latest)) {
+        print_figure(out, latest);
+        fprintf(out, ", %s\n", text_or(latest, "created", "?"));
+    } else {
+        fputs("none\n", out);
+    }
+    status_baseline(out, o);
+    name(out, "Schedule");
+    if (number(o, "interval_s", &v) && v > 0) {
+        fputs("every ", out);
+        print_duration(out, v);
+    } else {
+        fputs("on request only", out);
+    }
+    if (number(o, "next_scan_in_s", &v)) {
+        fputs(", next in ", out);
+        print_duration(out, v);
+    }
+    if (yes(o, "scan_queued"))
+        fputs("; a scan is queued", out);
+    fputc('\n', out);
+    if (number(o, "scans_this_run", &v)) {
+        name(out, "Scans this run");
+        fprintf(out, "%.0f\n", v);
+    }
+    name(out, "Rig");
+    fprintf(out, "%s\n", text_or(o, "rig", "?"));
+    status_integrations(out, o);
+    if (text(o, "console")) {
+        name(out, "Console");
+        fprintf(out, "%s\n", text(o, "console"));
+    }
+    name(out, "Version");
+    fputs(text_or(o, "version", "?"), out);
+    if (number(o, "proto_major", &major) && number(o, "proto_minor", &minor))
+        fprintf(out, " (protocol %.0f.%.0f)", major, minor);
+    if (number(o, "uptime_s", &v)) {
+        fputs(", up ", out);
+        print_duration(out, v);
+    }
+    fputc('\n', out);
+}
+
+static void history_text(FILE *out, const cJSON *o)
+{
+    const cJSON *list = item(o, "verdicts"), *v;
+    double skipped;
+    fprintf(out, "%-20s  %-26s  %-12s  %s\n", "time", "status, displacement", "height (mm)", "scan");
+    cJSON_ArrayForEach(v, list)
+    {
+        char figure[160];
+        double h;
+        FILE *f = fmemopen(figure, sizeof figure, "w");
+        if (f) {
+            print_figure(f, v);
+            fclose(f);
+        } else {
+            figure[0] = '\0';
+        }
+        char height[32] = "";
+        if (number(v, "height_change_mm", &h))
+            snprintf(height, sizeof height, "%+.2f", h);
+        /* The figure has a "±" (2 bytes, 1 column): pad by columns. */
+        int extra = strstr(figure, "\u00b1") ? 1 : 0;
+        fprintf(out, "%-20s  %-*s  %-12s  %s%s\n", text_or(v, "created", "?"), 26 + extra, figure, height,
+                text_or(v, "scan_id", "?"), yes(v, "baseline_set") ? " (baseline)" : "");
+    }
+    if (cJSON_GetArraySize(list) == 0)
+        fputs("(no verdicts yet)\n", out);
+    if (number(o, "unreadable_lines", &skipped))
+        fprintf(out, "%.0f line%s of the log could not be read\n", skipped, skipped == 1 ? "" : "s");
+}
+
+/* Words of s from column `from`, wrapped at HELP_LINE_WIDTH and indented. */
+static void print_wrapped(FILE *out, const char *s, int from)
+{
+    int column = from;
+    while (*s) {
+        size_t n = strcspn(s, " ");
+        if (column > HELP_USAGE_WIDTH && column + 1 + (int)n > HELP_LINE_WIDTH) {
+            fprintf(out, "\n%*s", HELP_USAGE_WIDTH, "");
+            column = HELP_USAGE_WIDTH;
+        } else if (column > HELP_USAGE_WIDTH) {
+            fputc(' ', out);
+            column++;
+        }
+        fwrite(s, 1, n, out);
+        column += (int)n;
+        s += n;
+        while (*s == ' ')
+            s++;
+    }
+    fputc('\n', out);
+}
+
+static void help_text(FILE *out, const cJSON *o)
+{
+    const cJSON *c;
+    fputs("Commands (case does not matter):\n", out);
+    cJSON_ArrayForEach(c, item(o, "commands"))
+    {
+        const char *usage = text_or(c, "command", "?");
+        int used = fprintf(out, "  %-*s", HELP_USAGE_WIDTH - 3, usage);
+        if ((int)strlen(usage) > HELP_USAGE_WIDTH - 3) {
+            fprintf(out, "\n%*s", HELP_USAGE_WIDTH, "");
+            used = HELP_USAGE_WIDTH;
+        } else {
+            fputc(' ', out);
+            used++;
+        }
+        print_wrapped(out, text_or(c, "description", ""), used);
+    }
+}
+
+static void contacts_text(FILE *out, const cJSON *contacts)
+{
+    fprintf(
+        out, "contacts: watch %s, alarm %s, fault %s\n", yes(contacts, "watch") ? "energised" : "released",
+        yes(contacts, "alarm") ? "energised" : "released", yes(contacts, "fault") ? "energised" : "released");
+}
+
+/* The short replies: a line each. */
+static int short_text(FILE *out, const char *cls, const cJSON *o)
+{
+    if (strcmp(cls, "ERROR") == 0)
+        fprintf(out, "error: %s\n", text_or(o, "message", "?"));
+    else if (strcmp(cls, "WATCH") == 0)
+        fputs(yes(o, "verdicts")   ? "watching: progress and verdicts\n"
+              : yes(o, "progress") ? "watching: progress\n"
+                                   : "not watching\n",
+              out);
+    else if (strcmp(cls, "PROGRESS") == 0) {
+        fputs("scan: ", out);
+        print_progress(out, o);
+        fputc('\n', out);
+    } else if (strcmp(cls, "EVENT") == 0 || strcmp(cls, "SCAN") == 0)
+        fprintf(out, "scan %s\n", text_or(o, "scan", "?"));
+    else if (strcmp(cls, "ACK") == 0)
+        contacts_text(out, item(o, "contacts"));
+    else if (strcmp(cls, "BASELINE") == 0) {
+        fprintf(out, "%s\n", text_or(o, "message", "?"));
+        const cJSON *b = item(o, "current");
+        if (cJSON_IsObject(b))
+            fprintf(out, "current baseline: %s%s%s\n", text_or(b, "scan_id", "?"),
+                    text(b, "set_at") ? ", set " : "", text_or(b, "set_at", ""));
+    } else
+        return -1;
+    return 0;
+}
+
+/* Any other reply: its class, then "key: value" for each plain value. */
+static void generic_text(FILE *out, const char *cls, const cJSON *o)
+{
+    const cJSON *v;
+    fprintf(out, "%s\n", cls);
+    cJSON_ArrayForEach(v, o)
+    {
+        if (strcmp(v->string, "class") == 0)
+            continue;
+        if (cJSON_IsString(v))
+            fprintf(out, "  %s: %s\n", v->string, v->valuestring);
+        else if (cJSON_IsNumber(v))
+            fprintf(out, "  %s: %g\n", v->string, v->valuedouble);
+        else if (cJSON_IsBool(v))
+            fprintf(out, "  %s: %s\n", v->string, cJSON_IsTrue(v) ? "yes" : "no");
+    }
+}
+
+int uwbd_reply_text(const char *reply, FILE *out)
+{
+    cJSON *o = cJSON_Parse(reply);
+    const char *cls = text(o, "class");
+    if (!cls) {
+        cJSON_Delete(o);
+        return -1;
+    }
+    int rc = 0;
+    if (strcmp(cls, "VERDICT") == 0)
+        rc = uwbd_verdict_text(reply, out);
+    else if (strcmp(cls, "TREND") == 0)
+        rc = uwbd_trend_text(reply, out);
+    else if (strcmp(cls, "STATUS") == 0)
+        status_text(out, o);
+    else if (strcmp(cls, "HISTORY") == 0)
+        history_text(out, o);
+    else if (strcmp(cls, "HELP") == 0)
+        help_text(out, o);
+    else if (short_text(out, cls, o) != 0)
+        generic_text(out, cls, o);
+    cJSON_Delete(o);
+    return rc;
+}

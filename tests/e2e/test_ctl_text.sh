@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Issue 31, findings 2 and 7: `uwbd ctl --text` prints text for people for
+# every reply (a status page of aligned "Name : value" lines, as chronyc's
+# `tracking`; a history table; the help list; watch as a line each), while
+# plain `uwbd ctl` keeps the JSON line for programs. `status` shows the
+# integrations: the asset, the MQTT link (off here), Modbus listening and
+# on what, the contacts energised, the baseline's age and the free space
+# in the state directory (JSON keys added, none changed).
+set -euo pipefail
+source "$(dirname "$0")/daemon_e2e.sh"
+e2e_workdir uwbd-ctl-text
+
+config="$work/uwbd.json"
+cp "$REPO/board/emulated/uwbd.json" "$config"
+ctl() { uwbd ctl --socket run/control.sock "$@"; }
+port=$($HOST_PREFIX "$HOST_BUILD/e2e/modbus_client" freeport)
+start_emulated_board --site-io unix:run/site.sock
+${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" --set baseline.scans=1 \
+    --set site.asset_id=T3-north --set contacts.enabled=true --set gpio.site_endpoint=unix:run/site.sock \
+    --set modbus.enabled=true --set modbus.endpoint="\"tcp:127.0.0.1:$port\"" -v > uwbd.log 2>&1 &
+pids+=($!)
+wait_for ctl status || fail "uwbd does not answer: $(tail -5 uwbd.log)"
+ctl baseline set > /dev/null
+ctl scan > base.json 2>/dev/null || fail "baseline scan: $(cat base.json)"
+base_id=$(json_get scan_id < base.json)
+
+# ---- status: the JSON for programs gains keys, keeps its others ----------------
+ctl status > status.json
+json_check status.json 'class == STATUS' 'state == idle' "baseline.scan_id == $base_id" 'asset_id == T3-north' \
+    'modbus.listening = true' "modbus.endpoint == tcp:127.0.0.1:$port" 'contacts.watch = false' \
+    'contacts.alarm = false' 'contacts.fault = true' 'baseline.age_s >= 0' 'state_dir_free_bytes > 0' \
+    'latest.status == edges' || fail "status: $(cat status.json)"
+pass "status JSON: asset_id, modbus, contacts, baseline.age_s, state_dir_free_bytes beside the old keys"
+
+# --json says so explicitly (the default): the reply line as the daemon sent it.
+ctl --json verdict > verdict-json.json || fail "--json verdict: exit $?"
+ctl verdict > verdict-plain.json
+cmp -s verdict-json.json verdict-plain.json || fail "--json differs from the default: $(cat verdict-json.json)"
+rc=0
+ctl --json --text status > both.out 2> both.err || rc=$?
+[[ $rc == 64 ]] && grep -q 'give one of --json, --text or --csv' both.err || fail "--json --text: exit $rc: $(cat both.err)"
+pass "--json: the JSON line, as without it; with --text refused (exit 64)"
+
+# ---- --text: a page for people ---------------------------------------------------
+ctl --text status > status.txt
+grep -q '{' status.txt && fail "--text status printed JSON: $(cat status.txt)"
+for want in '^State           : idle$' '^Asset           : T3-north$' "^Baseline        : $base_id, set .* ago)" \
+    '^Latest verdict  : EDGES, ' '^MQTT            : off$' "^Modbus          : listening on tcp:127.0.0.1:$port$" \
+    '^Contacts        : fault energised$' '^State directory : .*run/state, [0-9.]* [KMGT]iB free$' \
+    '^Version         : .* (protocol 1\.0), up '; do
+    grep -q "$want" status.txt || fail "--text status: no line /$want/: $(cat status.txt)"
+done
+pass "--text status: aligned Name : value lines with the integrations"
+
+ctl --text history 5 > history.txt
+[[ $(head -1 history.txt) =~ ^time\ +status ]] || fail "--text history: no header: $(cat history.txt)"
+grep -q "^20[0-9-]*T[0-9:]*Z  EDGES  .*$base_id (baseline)$" history.txt || fail "--text history: $(cat history.txt)"
+ctl --text help > help.txt
+grep -q '^  baseline set force  the same' help.txt || fail "--text help: $(cat help.txt)"
+[[ $(awk 'length > 79' help.txt | wc -l) == 0 ]] || fail "--text help: lines over 79 columns"
+ctl --text --timeout 2 watch > watch.txt 2>/dev/null || true
+[[ $(head -1 watch.txt) == 'watching: progress and verdicts' ]] || fail "--text watch: $(cat watch.txt)"
+pass "--text history is a table, help a list within 79 columns, watch a line"
+
+# ---- a mistyped command: ctl names the one meant --------------------------------
+rc=0
+ctl stauts > typo.out 2> typo.err || rc=$?
+[[ $rc == 64 ]] && grep -qF 'did you mean `status`?' typo.err || fail "stauts: exit $rc: $(cat typo.err)"
+ctl Baseline Set > upper.json || fail "Baseline Set refused: $(cat upper.json)"
+json_check upper.json 'class == BASELINE' 'pending = true' || fail "Baseline Set: $(cat upper.json)"
+pass "stauts: exit 64, did you mean status; 'Baseline Set' accepted"
+echo "$passed passed"

@@ -1,0 +1,127 @@
+/* Issue 31, finding 2: people get text. The status page (aligned
+ * "Name : value" lines, as chronyc's `tracking`), the history table and
+ * the help list that `uwbd ctl --text` and the serial console print. */
+#define _GNU_SOURCE /* open_memstream */
+#include "unity.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "daemon/reply.h"
+#include "integrations/site_io.h"
+#include "uwb/cli.h"
+
+static char *printed;
+
+void setUp(void)
+{
+    printed = NULL;
+}
+void tearDown(void)
+{
+    free(printed);
+}
+
+static const char *as_text(char *reply)
+{
+    size_t n;
+    FILE *f = open_memstream(&printed, &n);
+    TEST_ASSERT_NOT_NULL(f);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_reply_text(reply, f), reply);
+    fclose(f);
+    free(reply);
+    return printed;
+}
+
+static void assert_has(const char *text, const char *part)
+{
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, part), text);
+}
+
+static void test_status_is_a_page_of_names_and_values(void)
+{
+    struct uwbd_contact_states contacts = {.watch = 0, .alarm = 1, .fault = 1};
+    struct uwbd_status st = {
+        .version = "1.2",
+        .state = "idle",
+        .uptime_s = 7500,
+        .interval_s = 3600,
+        .state_dir = "/var/lib/uwbd",
+        .rig = "ready",
+        .asset_id = "GT2-L1",
+        .modbus_endpoint = "tcp:0.0.0.0:502",
+        .modbus_listening = 1,
+        .contacts = &contacts,
+        .has_baseline = 1,
+        .now = 1700000000 + 3 * 86400 + 3600,
+        .has_state_dir_free = 1,
+        .state_dir_free_bytes = 5ULL * 1024 * 1024 * 1024,
+    };
+    snprintf(st.baseline.scan_id, sizeof st.baseline.scan_id, "b1");
+    snprintf(st.baseline.set_at, sizeof st.baseline.set_at, "2023-11-14T22:13:20Z");
+    const char *t = as_text(uwbd_reply_status(&st));
+    TEST_ASSERT_NULL_MESSAGE(strchr(t, '{'), t);
+    assert_has(t, "State           : idle\n");
+    assert_has(t, "Asset           : GT2-L1\n");
+    assert_has(t, "Baseline        : b1, set 2023-11-14T22:13:20Z (3 d 1 h ago)\n");
+    assert_has(t, "Latest verdict  : none\n");
+    assert_has(t, "Schedule        : every 1 h 0 min\n");
+    assert_has(t, "MQTT            : off\n");
+    assert_has(t, "Modbus          : listening on tcp:0.0.0.0:502\n");
+    assert_has(t, "Contacts        : alarm, fault energised\n");
+    assert_has(t, "State directory : /var/lib/uwbd, 5.0 GiB free\n");
+    assert_has(t, "Version         : 1.2 (protocol 1.0), up 2 h 5 min\n");
+}
+
+static void test_help_is_a_list_that_fits_a_terminal(void)
+{
+    const char *t = as_text(uwbd_reply_help());
+    TEST_ASSERT_NULL_MESSAGE(strstr(t, "{\"class\""), t);
+    assert_has(t, "\n  status              daemon state");
+    assert_has(t, "\n  baseline set force");
+    for (const char *line = t; *line; line += strcspn(line, "\n") + (line[strcspn(line, "\n")] != 0)) {
+        size_t n = strcspn(line, "\n");
+        TEST_ASSERT_TRUE_MESSAGE(n <= 79, line);
+    }
+}
+
+static void test_history_is_a_table(void)
+{
+    char *lines[] = {
+        "{\"class\":\"VERDICT\",\"scan_id\":\"s1\",\"created\":\"2026-11-27T08:00:00Z\",\"status\":\"edges\","
+        "\"baseline_set\":true}",
+    };
+    char *reply = uwbd_reply_history(lines, 1, 10, 0);
+    TEST_ASSERT_NOT_NULL(reply);
+    /* Whatever the verdict reader makes of this minimal line, the table has its header and no JSON. */
+    const char *t = as_text(reply);
+    TEST_ASSERT_NULL_MESSAGE(strchr(t, '{'), t);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(t, "time ", 5), t);
+}
+
+static void test_errors_and_short_replies_are_a_line(void)
+{
+    TEST_ASSERT_EQUAL_STRING(
+        "error: unknown command `stauts` (did you mean `status`? try help)\n",
+        as_text(uwbd_reply_error("unknown command `stauts` (did you mean `status`? try help)")));
+    free(printed);
+    TEST_ASSERT_EQUAL_STRING("watching: progress and verdicts\n", as_text(uwbd_reply_watch(1)));
+    free(printed);
+    printed = NULL;
+    size_t n;
+    FILE *f = open_memstream(&printed, &n);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_reply_text("not json", f));
+    fclose(f);
+    TEST_ASSERT_EQUAL_STRING("", printed);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_status_is_a_page_of_names_and_values);
+    RUN_TEST(test_help_is_a_list_that_fits_a_terminal);
+    RUN_TEST(test_history_is_a_table);
+    RUN_TEST(test_errors_and_short_replies_are_a_line);
+    return UNITY_END();
+}

@@ -1,0 +1,105 @@
+/* Issue 31, finding 7: `status` tells the engineer at the tank how the
+ * integrations stand: the asset, Modbus (listening, on what), the alarm
+ * contacts energised, the baseline's age and the free space in the state
+ * directory, beside the MQTT link it already gave. Additive keys only: the
+ * reply's other keys stay as they were. */
+#include "unity.h"
+
+#include <cjson/cJSON.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "daemon/reply.h"
+#include "integrations/site_io.h"
+
+void setUp(void)
+{
+}
+void tearDown(void)
+{
+}
+
+static cJSON *status(const struct uwbd_status *st)
+{
+    char *line = uwbd_reply_status(st);
+    TEST_ASSERT_NOT_NULL(line);
+    cJSON *o = cJSON_Parse(line);
+    TEST_ASSERT_NOT_NULL_MESSAGE(o, line);
+    free(line);
+    return o;
+}
+
+static const cJSON *item(const cJSON *o, const char *path)
+{
+    char key[64];
+    const char *dot = strchr(path, '.');
+    if (!dot)
+        return cJSON_GetObjectItemCaseSensitive(o, path);
+    snprintf(key, sizeof key, "%.*s", (int)(dot - path), path);
+    return item(cJSON_GetObjectItemCaseSensitive(o, key), dot + 1);
+}
+
+static void test_the_integrations_are_shown(void)
+{
+    struct uwbd_contact_states contacts = {.watch = 0, .alarm = 1, .fault = 1};
+    struct uwbd_status st = {
+        .version = "test",
+        .state = "idle",
+        .state_dir = "/var/lib/uwbd",
+        .rig = "ready",
+        .asset_id = "GT2-L1",
+        .modbus_endpoint = "tcp:0.0.0.0:502",
+        .modbus_listening = 1,
+        .contacts = &contacts,
+        .has_baseline = 1,
+        .now = 1700000000 + 3 * 86400 + 60,
+        .has_state_dir_free = 1,
+        .state_dir_free_bytes = 123456789,
+    };
+    snprintf(st.baseline.scan_id, sizeof st.baseline.scan_id, "b1");
+    snprintf(st.baseline.set_at, sizeof st.baseline.set_at, "2023-11-14T22:13:20Z"); /* 1700000000 */
+    cJSON *o = status(&st);
+    TEST_ASSERT_EQUAL_STRING("GT2-L1", cJSON_GetStringValue(item(o, "asset_id")));
+    TEST_ASSERT_TRUE(cJSON_IsTrue(item(o, "modbus.listening")));
+    TEST_ASSERT_EQUAL_STRING("tcp:0.0.0.0:502", cJSON_GetStringValue(item(o, "modbus.endpoint")));
+    TEST_ASSERT_TRUE(cJSON_IsFalse(item(o, "contacts.watch")));
+    TEST_ASSERT_TRUE(cJSON_IsTrue(item(o, "contacts.alarm")));
+    TEST_ASSERT_TRUE(cJSON_IsTrue(item(o, "contacts.fault")));
+    TEST_ASSERT_EQUAL_DOUBLE(3 * 86400 + 60, cJSON_GetNumberValue(item(o, "baseline.age_s")));
+    TEST_ASSERT_EQUAL_DOUBLE(123456789, cJSON_GetNumberValue(item(o, "state_dir_free_bytes")));
+    /* The keys that were there stay. */
+    TEST_ASSERT_EQUAL_STRING("b1", cJSON_GetStringValue(item(o, "baseline.scan_id")));
+    TEST_ASSERT_EQUAL_STRING("/var/lib/uwbd", cJSON_GetStringValue(item(o, "state_dir")));
+    cJSON_Delete(o);
+}
+
+static void test_what_is_off_is_left_out_or_says_so(void)
+{
+    struct uwbd_status st = {
+        .version = "test",
+        .state = "idle",
+        .state_dir = "/var/lib/uwbd",
+        .rig = "ready",
+        .modbus_endpoint = "tcp:0.0.0.0:502",
+        .modbus_listening = 0, /* enabled, but its port could not be opened */
+    };
+    cJSON *o = status(&st);
+    TEST_ASSERT_TRUE(cJSON_IsFalse(item(o, "modbus.listening")));
+    TEST_ASSERT_NULL(item(o, "asset_id"));
+    TEST_ASSERT_NULL(item(o, "contacts"));
+    TEST_ASSERT_NULL(item(o, "state_dir_free_bytes"));
+    TEST_ASSERT_NULL(item(o, "baseline"));
+    cJSON_Delete(o);
+    st.modbus_endpoint = NULL; /* Modbus off */
+    o = status(&st);
+    TEST_ASSERT_NULL(item(o, "modbus"));
+    cJSON_Delete(o);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_the_integrations_are_shown);
+    RUN_TEST(test_what_is_off_is_left_out_or_says_so);
+    return UNITY_END();
+}
