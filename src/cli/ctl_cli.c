@@ -11,6 +11,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "uwb/reply_text.h"
 #include "uwb/cli.h"
 #include "daemon/command.h"
 #include "daemon/config.h"

@@ -22,7 +22,7 @@
 #include "daemon/reply.h"
 #include "daemon/trend.h"
 #include "daemon/verdict_log.h"
-#include "uwb/cli.h"
+#include "uwb/reply_text.h"
 #include "uwb/monotonic.h"
 
 void uwbd_peers_init(struct daemon *d)

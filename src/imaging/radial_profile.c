@@ -179,6 +179,11 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
         }
     }
     model = unchanged > 0 ? sqrt(model / unchanged) : 0.0;
+    if (at < 0) { /* no readable row: cannot happen past the count above */
+        r->measured = 0;
+        snprintf(r->why, sizeof r->why, "too few rows of the face are bright enough in both scans");
+        return 0;
+    }
     /* The size: the mean over the rows around the largest past half of it. */
     double largest = r->change_m[at];
     int from = at, to = at;

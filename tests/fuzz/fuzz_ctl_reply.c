@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "fuzz_harness.h"
+#include "uwb/reply_text.h"
 #include "uwb/cli.h"
 #include "uwb/verdict_json.h"
 #include "uwb/verdict_record.h"

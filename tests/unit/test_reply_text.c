@@ -10,6 +10,7 @@
 
 #include "daemon/reply.h"
 #include "integrations/site_io.h"
+#include "uwb/reply_text.h"
 #include "uwb/cli.h"
 
 static char *printed;

@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 
 #include "scratch_support.h"
+#include "uwb/reply_text.h"
 #include "uwb/cli.h"
 #include "daemon/command.h"
 #include "daemon/store.h"

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "uwb/reply_text.h"
 #include "uwb/cli.h"
 
 static char *text;

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "uwb/cli.h"
+#include "uwb/reply_text.h"
 #include "uwb/verdict_json.h"
 #include "uwb/verdict_record.h"
 

@@ -8,7 +8,7 @@
 
 #include <cjson/cJSON.h>
 
-#include "uwb/cli.h"
+#include "uwb/reply_text.h"
 
 /* The status page's names are padded to this many columns. */
 #define NAME_WIDTH 16

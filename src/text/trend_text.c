@@ -7,7 +7,7 @@
 
 #include <cjson/cJSON.h>
 
-#include "uwb/cli.h"
+#include "uwb/reply_text.h"
 
 static const cJSON *item(const cJSON *o, const char *key)
 {

@@ -1,0 +1,24 @@
+/* Replies of the control protocol as text for people (src/text/): what
+ * `uwbd ctl --text` and the serial console print. */
+#ifndef UWB_REPLY_TEXT_H
+#define UWB_REPLY_TEXT_H
+
+#include <stdio.h>
+
+/* A VERDICT reply (one JSON line) as text for people: "status ALARM:
+ * displacement +12.04 ± 0.23 mm (edges ...)", or the edges, or the reason;
+ * then "image: PATH" lines. -1, nothing printed, for any other reply. */
+int uwbd_verdict_text(const char *reply, FILE *out);
+
+/* A TREND reply as a table: time, status, displacement ± 1 sigma, height
+ * change and scan per verdict ("*" at a baseline change), then the rate and
+ * the image. -1, nothing printed, for any other reply. */
+int uwbd_trend_text(const char *reply, FILE *out);
+
+/* Any reply line as text for people (uwbd ctl --text, the serial console):
+ * a STATUS page of aligned "Name : value" lines, a HISTORY table, the HELP
+ * list, a VERDICT and a TREND as above, a line for the short replies. -1,
+ * nothing printed, when the line is not a reply (no "class"). */
+int uwbd_reply_text(const char *reply, FILE *out);
+
+#endif
