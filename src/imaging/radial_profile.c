@@ -90,6 +90,23 @@ static int fit_line(const struct uwb_radial *r, const double *offset, const unsi
     return 0;
 }
 
+/* The readable rows about row `at` whose change has the sign of the
+ * largest (at's) and at least `fraction` of its size: *from..*to. */
+static void same_sign_span(const struct uwb_radial *r, const unsigned char *readable, int at, double fraction,
+                           int *from, int *to)
+{
+    double largest = r->change_m[at], least = fraction * largest * largest;
+    int f = at, t = at;
+    while (f > 0 && readable[f - 1] && r->change_m[f - 1] * largest > 0 &&
+           r->change_m[f - 1] * largest >= least)
+        f--;
+    while (t < r->n - 1 && readable[t + 1] && r->change_m[t + 1] * largest > 0 &&
+           r->change_m[t + 1] * largest >= least)
+        t++;
+    *from = f;
+    *to = t;
+}
+
 /* Range noise of one row's face: the envelope's peak moves by about its
  * half-width, a quarter wavelength, times noise over signal. */
 static double row_noise_m(const struct uwb_analysis *a, double noise_rms, double y)
@@ -185,14 +202,8 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
         return 0;
     }
     /* The size: the mean over the rows around the largest past half of it. */
-    double largest = r->change_m[at];
-    int from = at, to = at;
-    while (from > 0 && readable[from - 1] && fabs(r->change_m[from - 1]) >= 0.5 * fabs(largest) &&
-           r->change_m[from - 1] * largest > 0)
-        from--;
-    while (to < r->n - 1 && readable[to + 1] && fabs(r->change_m[to + 1]) >= 0.5 * fabs(largest) &&
-           r->change_m[to + 1] * largest > 0)
-        to++;
+    int from, to;
+    same_sign_span(r, readable, at, 0.5, &from, &to);
     /* Rows within a quarter wavelength share their noise (the image's range
      * resolution): the mean gains only over independent stretches, and a
      * change narrower than that is no disk's (a glint, a row the face's
@@ -243,11 +254,8 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
      * axial fit reads in part as a movement: the rows of a change past the
      * watch limit, down to a quarter of it, for a second fit without them. */
     if (fabs(r->max_change_m) > watch_m) {
-        int f = at, t = at;
-        while (f > 0 && readable[f - 1] && r->change_m[f - 1] * largest >= 0.25 * largest * largest)
-            f--;
-        while (t < r->n - 1 && readable[t + 1] && r->change_m[t + 1] * largest >= 0.25 * largest * largest)
-            t++;
+        int f, t;
+        same_sign_span(r, readable, at, 0.25, &f, &t);
         r->has_excluded = 1;
         /* A change that reaches the face's end moves the end's echo, which
          * is where the axial fit reads the edge: no second fit can part the
