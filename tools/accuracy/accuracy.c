@@ -103,6 +103,12 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+double accuracy_median(double *x, int n)
+{
+    qsort(x, (size_t)n, sizeof *x, cmp_double);
+    return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
+}
+
 int accuracy_impaired(const struct uwb_scan *in, const struct accuracy_level *level, unsigned long long seed,
                       struct uwb_scan *out, char *err, size_t errlen)
 {
@@ -195,14 +201,13 @@ int accuracy_run_case(const char *dir, const struct accuracy_case *c, const stru
         double mean = sum / pairs, ss = 0.0;
         for (int j = 0; j < pairs; j++)
             ss += (error[j] - mean) * (error[j] - mean);
-        qsort(sigma, (size_t)pairs, sizeof *sigma, cmp_double);
         row->pairs = all;
         row->measured = measured;
         row->noisy = level != NULL;
         row->bias_m = mean;
         row->spread_m = pairs > 1 ? sqrt(ss / (pairs - 1)) : 0.0;
         row->worst_m = worst;
-        row->median_sigma_m = pairs % 2 ? sigma[pairs / 2] : 0.5 * (sigma[pairs / 2 - 1] + sigma[pairs / 2]);
+        row->median_sigma_m = accuracy_median(sigma, pairs);
         row->within_2sigma = (double)within / measured; /* of the errors: a pair without one gave no figure */
         row->with_figure = (double)figure / all;
         if (level) {

@@ -58,6 +58,9 @@ extern const int accuracy_case_count;
 extern const struct accuracy_level accuracy_levels[];
 extern const int accuracy_level_count;
 
+/* The median of x[0..n) (n >= 1), sorting x. */
+double accuracy_median(double *x, int n);
+
 struct uwb_scan;
 /* A fixture of the directory into *s: 0, or -1 with err. */
 int accuracy_read_scan(const char *fixture_dir, const char *name, struct uwb_scan *s, char *err,

@@ -26,12 +26,6 @@ const struct radial_case radial_cases[] = {
 };
 const int radial_case_count = (int)(sizeof radial_cases / sizeof radial_cases[0]);
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* One pair's verdict: 0, or -1 with err. */
 static int evaluate_pair(const struct uwb_scan *cur, const struct uwb_scan *base, struct uwb_verdict *v,
                          char *err, size_t errlen)
@@ -84,14 +78,12 @@ static void summarise(struct tally *t, struct radial_row *row)
     double mean = sum / t->measured, ss = 0.0;
     for (int j = 0; j < t->measured; j++)
         ss += (t->error[j] - mean) * (t->error[j] - mean);
-    qsort(t->sigma, (size_t)t->measured, sizeof *t->sigma, cmp_double);
-    qsort(t->noise, (size_t)t->measured, sizeof *t->noise, cmp_double);
     int m = t->measured;
-    row->median_noise_sigma_m = m % 2 ? t->noise[m / 2] : 0.5 * (t->noise[m / 2 - 1] + t->noise[m / 2]);
+    row->median_noise_sigma_m = accuracy_median(t->noise, m);
     row->bias_m = mean;
     row->spread_m = m > 1 ? sqrt(ss / (m - 1)) : 0.0;
     row->worst_m = worst;
-    row->median_sigma_m = m % 2 ? t->sigma[m / 2] : 0.5 * (t->sigma[m / 2 - 1] + t->sigma[m / 2]);
+    row->median_sigma_m = accuracy_median(t->sigma, m);
     row->within_2sigma = (double)t->within / m;
     row->located = (double)t->located / m;
     row->watch_or_worse = (double)t->watch / m;
