@@ -70,18 +70,7 @@ static double median(double *x, int n)
     return x[m / 2];
 }
 
-/* Both curves as (this scan's y, mm-toward-the-antenna) points: the
- * baseline's rows between its edges moved up by the shift, this scan's
- * rows over the same heights. x is re the baseline's median range; this
- * scan's curve is levelled by the median difference (*level_m: the whole
- * face's move, which the oil's temperature makes and no buckle does). */
-struct radial_curves {
-    int n_base, n_cur;
-    double *yb, *xb, *yc, *xc;
-    double level_m;
-};
-
-static void curves_free(struct radial_curves *k)
+void uwb_radial_curves_free(struct uwb_radial_curves *k)
 {
     free(k->yb);
     free(k->xb);
@@ -90,8 +79,8 @@ static void curves_free(struct radial_curves *k)
     memset(k, 0, sizeof *k);
 }
 
-static int curves_read(const struct uwb_analysis *cur, const struct uwb_analysis *base,
-                       const struct uwb_verdict *v, struct radial_curves *k)
+int uwb_radial_curves_read(const struct uwb_analysis *cur, const struct uwb_analysis *base,
+                           const struct uwb_verdict *v, struct uwb_radial_curves *k)
 {
     memset(k, 0, sizeof *k);
     if (!cur || !base || !v || !v->has_baseline || !v->baseline.found || !base->face_range.value ||
@@ -107,7 +96,7 @@ static int curves_read(const struct uwb_analysis *cur, const struct uwb_analysis
     double *scratch = malloc(sizeof *scratch * (nb > nc ? nb : nc));
     if (!k->yb || !k->xb || !k->yc || !k->xc || !scratch) {
         free(scratch);
-        curves_free(k);
+        uwb_radial_curves_free(k);
         return -1;
     }
     for (int i = 0; i < rb->n; i++) {
@@ -131,7 +120,7 @@ static int curves_read(const struct uwb_analysis *cur, const struct uwb_analysis
     k->level_m = median(scratch, n_diff);
     free(scratch);
     if (!isfinite(z_ref) || !isfinite(k->level_m)) {
-        curves_free(k);
+        uwb_radial_curves_free(k);
         return -1;
     }
     for (int i = 0; i < k->n_base; i++)
@@ -145,8 +134,8 @@ void uwb_radial_panel_range(const struct uwb_analysis *cur, const struct uwb_ana
                             const struct uwb_verdict *v, struct uwb_plot *p)
 {
     double lo = -MIN_HALF_SPAN_M, hi = MIN_HALF_SPAN_M;
-    struct radial_curves k;
-    if (curves_read(cur, base, v, &k) == 0) {
+    struct uwb_radial_curves k;
+    if (uwb_radial_curves_read(cur, base, v, &k) == 0) {
         for (int i = 0; i < k.n_base; i++)
             if (isfinite(k.xb[i])) {
                 lo = fmin(lo, k.xb[i] - PAD_M);
@@ -157,7 +146,7 @@ void uwb_radial_panel_range(const struct uwb_analysis *cur, const struct uwb_ana
                 lo = fmin(lo, k.xc[i] - PAD_M);
                 hi = fmax(hi, k.xc[i] + PAD_M);
             }
-        curves_free(&k);
+        uwb_radial_curves_free(&k);
     }
     /* Symmetric about no change, at a half-span whose ticks fall on round
      * figures (-2 0 2, -5 0 5, -10 0 10 mm): the panel is narrow. */
@@ -259,13 +248,13 @@ void uwb_draw_radial_panel(struct uwb_canvas *c, const struct uwb_plot *p, const
         shade_span(c, p, r);
     int zero = uwb_plot_col(p, 0.0);
     uwb_canvas_line(c, zero, p->y, zero, p->y + p->h - 1, panel_grid, 1, 2, 3);
-    struct radial_curves k;
+    struct uwb_radial_curves k;
     char level[64] = "";
-    if (curves_read(cur, base, v, &k) == 0) {
+    if (uwb_radial_curves_read(cur, base, v, &k) == 0) {
         draw_curve(c, p, k.yb, k.xb, k.n_base, UWB_EDGE_BASELINE);
         draw_curve(c, p, k.yc, k.xc, k.n_cur, UWB_EDGE_CURRENT);
         snprintf(level, sizeof level, "face as a whole %+.1f mm, taken out", k.level_m * 1e3);
-        curves_free(&k);
+        uwb_radial_curves_free(&k);
     }
     char figure[256];
     uwb_describe_radial(v, figure, sizeof figure);

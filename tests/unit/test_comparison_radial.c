@@ -14,7 +14,10 @@
 
 #include "fixture_support.h"
 #include "output/render_internal.h"
+#include "scene_support.h"
 #include "uwb/evaluate.h"
+#include "uwb/radial.h"
+#include "uwbsim/simulate.h"
 
 #define TANK_BASE "tests/fixtures/fdtd2d-tank-d+00.0.uwbscan"
 #define PNG_PATH "/tmp/test_comparison_radial.png"
@@ -193,6 +196,135 @@ static void test_a_withheld_radial_figure_says_why(void)
     TEST_ASSERT_EQUAL_STRING("radial -3.1 \u00b1 0.4 mm at 267 mm (dent, away from the antenna)", text);
 }
 
+/* 8 kB of profile: static rather than on the stack. */
+static struct uwb_radial profile;
+
+/* A curve's x at y, linear between its points (ascending y); NAN outside. */
+static double curve_at(const double *ys, const double *xs, int n, double y)
+{
+    for (int i = 0; i + 1 < n; i++)
+        if (ys[i] <= y && y <= ys[i + 1]) {
+            double t = ys[i + 1] > ys[i] ? (y - ys[i]) / (ys[i + 1] - ys[i]) : 0.0;
+            return (1.0 - t) * xs[i] + t * xs[i + 1];
+        }
+    return NAN;
+}
+
+/* The panel draws the verdict's own change: at every readable row of the
+ * face, what stands off between the two curves is the change the verdict
+ * read there (Delta r less the line through the unchanged rows, level and
+ * tilt), within a pixel of the panel; at the verdict's at_mm too. */
+static void check_panel_draws_the_verdicts_change(const struct uwb_scan *cur, const struct uwb_scan *base,
+                                                  const char *what)
+{
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    struct uwb_analysis ca, ba;
+    struct uwb_verdict v;
+    char err[256];
+    struct uwb_baseline_record rec = {.scan = base};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(cur, &rec, &opt, &v, &ca, &ba, err, sizeof err), err);
+    TEST_ASSERT_TRUE_MESSAGE(v.radial.measured, v.radial.withheld);
+    struct uwb_plot panel;
+    uwb_render_comparison_radial_layout(&ca, &ba, &v, NULL, &panel);
+    double pixel_m = (panel.x_max - panel.x_min) / (panel.w - 1);
+    TEST_ASSERT_EQUAL_INT(0, uwb_radial_measure(&ca, &ba, v.radial.shift_m,
+                                                opt.compare.radial_thresholds.watch_m, 0.0, &profile));
+    TEST_ASSERT_TRUE_MESSAGE(profile.measured, profile.why);
+    struct uwb_radial_curves k;
+    TEST_ASSERT_EQUAL_INT(0, uwb_radial_curves_read(&ca, &ba, &v, &k));
+    double worst = 0.0, worst_y = NAN, at_drawn = NAN, at_change = NAN;
+    int rows = 0;
+    for (int i = 0; i < profile.n; i++) {
+        if (profile.change_m[i] == 0.0)
+            continue; /* not readable in both scans: the verdict read nothing there */
+        double y = profile.y0_m + i * profile.dy_m + v.radial.shift_m;
+        double drawn = curve_at(k.yc, k.xc, k.n_cur, y) - curve_at(k.yb, k.xb, k.n_base, y);
+        if (!isfinite(drawn))
+            continue;
+        rows++;
+        double off = fabs(drawn - profile.change_m[i]);
+        if (off >= worst) {
+            worst = off;
+            worst_y = y;
+        }
+        if (fabs(y - v.radial.at_m) < 0.5 * profile.dy_m) {
+            at_drawn = drawn;
+            at_change = profile.change_m[i];
+        }
+    }
+    uwb_radial_curves_free(&k);
+    char msg[320];
+    snprintf(msg, sizeof msg,
+             "%s: radial %+.2f mm at %.1f mm (there %+.2f mm, drawn %+.2f mm), tilt %+.2f mm; over %d rows "
+             "the drawn change is off the verdict's by up to %.2f mm (at %.1f mm), a pixel %.3f mm",
+             what, v.radial.max_change_m * 1e3, v.radial.at_m * 1e3, at_change * 1e3, at_drawn * 1e3,
+             v.radial.tilt_m * 1e3, rows, worst * 1e3, worst_y * 1e3, pixel_m * 1e3);
+    printf("%s\n", msg);
+    uwb_analysis_free(&ca);
+    uwb_analysis_free(&ba);
+    TEST_ASSERT_TRUE_MESSAGE(rows > 20, msg);
+    TEST_ASSERT_TRUE_MESSAGE(isfinite(at_drawn), msg);
+    TEST_ASSERT_TRUE_MESSAGE(worst <= pixel_m, msg);
+}
+
+static void check_fixture_panel(const char *current)
+{
+    struct uwb_scan cur, base;
+    fixture_load_scan(current, &cur);
+    fixture_load_scan(TANK_BASE, &base);
+    check_panel_draws_the_verdicts_change(&cur, &base, current);
+    uwb_scan_free(&cur);
+    uwb_scan_free(&base);
+}
+
+/* The top three disks bulged 8 mm: the median of the whole face's change
+ * is not the verdict's line through the rows that did not change. */
+static void test_a_top_bulge_is_drawn_as_the_verdict_reads_it(void)
+{
+    check_fixture_panel("tests/fixtures/fdtd2d-tank-radial-r5-7+8-d+00.0.uwbscan");
+}
+
+static void test_a_bulge_with_a_rise_is_drawn_as_the_verdict_reads_it(void)
+{
+    check_fixture_panel("tests/fixtures/fdtd2d-tank-radial-r4-5+6-d+10.0.uwbscan");
+}
+
+/* The shared tank's winding in the simulator (tools/accuracy/radial-limits.sh:
+ * its scene with a direct coupling, for the time zero), intact as the
+ * baseline, against the same with one parameter changed. */
+static void check_simulated_panel(const char *key, const char *value, const char *what)
+{
+    struct sim_scene scene;
+    char err[512];
+    TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&scene));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, sim_scene_load_json("tools/uwbsim/scenes/fdtd2d-tank-winding.json", &scene, err, sizeof err), err);
+    scene_set_or_fail(&scene, "coupling_gain", "0.05");
+    scene_set_or_fail(&scene, "t0_s", "-1e-9");
+    struct uwb_scan base, cur;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &base, err, sizeof err), err);
+    scene_set_or_fail(&scene, key, value);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &cur, err, sizeof err), err);
+    check_panel_draws_the_verdicts_change(&cur, &base, what);
+    uwb_scan_free(&cur);
+    uwb_scan_free(&base);
+}
+
+/* The face's top 6 mm nearer than its bottom and no disk bulged: the
+ * verdict reads the lean as the tilt, no change; the panel must not draw
+ * it as one either. */
+static void test_a_tilted_face_draws_no_lean(void)
+{
+    check_simulated_panel("face_tilt_m", "0.006", "tank winding, face tilted 6 mm");
+}
+
+/* Disks 2-6 of 7 bulged 4 mm: the whole face's median lies in the bulge. */
+static void test_a_bulge_over_most_of_the_face_is_drawn_as_the_verdict_reads_it(void)
+{
+    check_simulated_panel("radial_m", "2-6:0.004", "tank winding, disks 2-6 bulged 4 mm");
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -200,5 +332,9 @@ int main(void)
     RUN_TEST(test_a_withheld_axial_figure_is_not_drawn);
     RUN_TEST(test_a_pure_shift_shades_nothing);
     RUN_TEST(test_a_withheld_radial_figure_says_why);
+    RUN_TEST(test_a_top_bulge_is_drawn_as_the_verdict_reads_it);
+    RUN_TEST(test_a_bulge_with_a_rise_is_drawn_as_the_verdict_reads_it);
+    RUN_TEST(test_a_tilted_face_draws_no_lean);
+    RUN_TEST(test_a_bulge_over_most_of_the_face_is_drawn_as_the_verdict_reads_it);
     return UNITY_END();
 }
