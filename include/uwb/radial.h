@@ -26,7 +26,9 @@ struct uwb_radial {
     /* Where |change| exceeds the watch limit around the largest (has_span). */
     int has_span;
     double from_m, to_m;
-    /* The face's tilt: the line's top minus its bottom (+ top nearer). */
+    /* The line through the unchanged rows, and the face's tilt: its top
+     * minus its bottom (+ top nearer). */
+    struct uwb_radial_line line;
     double tilt_m;
     /* 1-sigma of max_change: the two scans' range noise over the changed
      * rows; the model term, the scatter of the unchanged rows about their

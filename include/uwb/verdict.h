@@ -46,6 +46,22 @@ struct uwb_thresholds {
 
 #define UWB_MAX_IMAGES 4
 
+/* The line the face's unchanged rows lie on (uwb/radial.h): the
+ * baseline's face range less this scan's (+ nearer now) at the baseline's
+ * height y is level_m + slope (y - y_mid_m). The whole face's move (the
+ * oil's temperature) and a lean are no buckle: the change is what stands
+ * off this line, the tilt its rise over the face. */
+struct uwb_radial_line {
+    double level_m;
+    double slope;   /* m of range per m of height */
+    double y_mid_m; /* in the baseline's y */
+};
+
+static inline double uwb_radial_line_at(const struct uwb_radial_line *line, double y_m)
+{
+    return line->level_m + line->slope * (y_m - line->y_mid_m);
+}
+
 /* The face's radial change against the baseline (uwb/radial.h), as the
  * verdict gives it: + toward the antenna (a bulge), - away (a dent). */
 struct uwb_radial_verdict {
@@ -55,9 +71,10 @@ struct uwb_radial_verdict {
     double at_m;            /* its height, in this scan's y */
     int has_span;           /* where |change| exceeds the watch limit */
     double from_m, to_m;
-    double uncertainty_m;       /* 1-sigma of max_change */
-    double uncertainty_noise_m; /* its part from the scans' noise alone */
-    double tilt_m;              /* the face's top minus its bottom, + top nearer */
+    double uncertainty_m;        /* 1-sigma of max_change */
+    double uncertainty_noise_m;  /* its part from the scans' noise alone */
+    double tilt_m;               /* the face's top minus its bottom, + top nearer */
+    struct uwb_radial_line line; /* what the change is measured from (the images draw it so) */
     double shift_m;     /* the axial shift the faces were compared at: baseline y + shift_m = this scan's y */
     char withheld[160]; /* why not measured, or empty */
 };

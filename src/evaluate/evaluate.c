@@ -258,6 +258,7 @@ static void measure_radial(const struct uwb_analysis *cur_a, const struct uwb_an
                                      .uncertainty_m = radial.uncertainty_m,
                                      .uncertainty_noise_m = radial.uncertainty_noise_m,
                                      .tilt_m = radial.tilt_m,
+                                     .line = radial.line,
                                      .shift_m = pair->displacement_m};
     pair->radial_profile_uncertainty_m = radial.uncertainty_profile_m;
     pair->deformed_at_end = radial.has_excluded && radial.excluded_at_end;

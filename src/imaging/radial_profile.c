@@ -55,18 +55,9 @@ static double profile_peak(const struct uwb_face_profile *p, double lo_m, double
     return peak;
 }
 
-struct line {
-    double a, b, y_mid; /* a + b (y - y_mid) */
-};
-
-static double line_at(const struct line *l, double y)
-{
-    return l->a + l->b * (y - l->y_mid);
-}
-
 /* Least squares over the rows `use` marks; 0, or -1 with fewer than 3. */
 static int fit_line(const struct uwb_radial *r, const double *offset, const unsigned char *use,
-                    struct line *l)
+                    struct uwb_radial_line *l)
 {
     double n = 0, sy = 0, so = 0;
     for (int i = 0; i < r->n; i++)
@@ -77,16 +68,16 @@ static int fit_line(const struct uwb_radial *r, const double *offset, const unsi
         }
     if (n < 3)
         return -1;
-    l->y_mid = sy / n;
+    l->y_mid_m = sy / n;
     double syy = 0, syo = 0;
     for (int i = 0; i < r->n; i++)
         if (use[i]) {
-            double dy = r->y0_m + i * r->dy_m - l->y_mid;
+            double dy = r->y0_m + i * r->dy_m - l->y_mid_m;
             syy += dy * dy;
             syo += dy * offset[i];
         }
-    l->a = so / n;
-    l->b = syy > 0.0 ? syo / syy : 0.0;
+    l->level_m = so / n;
+    l->slope = syy > 0.0 ? syo / syy : 0.0;
     return 0;
 }
 
@@ -170,10 +161,11 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
             level = offset[i];
         }
     }
-    struct line line = {.a = level, .b = 0.0, .y_mid = 0.5 * (lo + hi)};
+    struct uwb_radial_line line = {.level_m = level, .slope = 0.0, .y_mid_m = 0.5 * (lo + hi)};
     for (int pass = 0; pass < LINE_PASSES; pass++) {
         for (int i = 0; i < r->n; i++)
-            use[i] = readable[i] && fabs(offset[i] - line_at(&line, r->y0_m + i * r->dy_m)) <= 0.5 * watch_m;
+            use[i] = readable[i] &&
+                     fabs(offset[i] - uwb_radial_line_at(&line, r->y0_m + i * r->dy_m)) <= 0.5 * watch_m;
         if (fit_line(r, offset, use, &line) != 0) {
             snprintf(r->why, sizeof r->why,
                      "no part of the face stayed where it was: the change cannot be told from a tilt");
@@ -181,13 +173,14 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
         }
     }
     r->measured = 1;
-    r->tilt_m = line.b * (hi - lo);
+    r->line = line;
+    r->tilt_m = line.slope * (hi - lo);
     int at = -1;
     double model = 0.0;
     int unchanged = 0;
     for (int i = 0; i < r->n; i++) {
         double y = r->y0_m + i * r->dy_m;
-        r->change_m[i] = readable[i] ? offset[i] - line_at(&line, y) : 0.0;
+        r->change_m[i] = readable[i] ? offset[i] - uwb_radial_line_at(&line, y) : 0.0;
         if (readable[i] && (at < 0 || fabs(r->change_m[i]) > fabs(r->change_m[at])))
             at = i;
         if (use[i]) {

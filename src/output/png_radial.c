@@ -3,7 +3,10 @@
  * each row), the baseline's moved up by the axial shift the verdict
  * compared the faces at, so that what stands off between the curves is
  * the face's radial change. x is millimetres toward the antenna re the
- * baseline's median range (a bulge leans right). Only the rows between
+ * baseline's median range (a bulge leans right); this scan's curve has the
+ * verdict's line through the unchanged rows taken out (the whole face's
+ * move and its tilt, uwb_radial_line), so the curves stand apart by the
+ * very change the verdict reads. Only the rows between
  * the baseline's edges are drawn: elsewhere there is no face to read.
  * The rows where the verdict found the change past the watch limit are
  * shaded in the radial status's colour, and the verdict's figure is
@@ -38,17 +41,6 @@ static double compare_shift(const struct uwb_verdict *v)
     if (v->radial.measured)
         return v->radial.shift_m;
     return uwb_displacement_measured(v) ? v->axial_displacement_m : 0.0;
-}
-
-/* A face range at y (linear between rows); NAN outside or unread. */
-static double range_at(const struct uwb_face_profile *p, double y)
-{
-    double x = (y - p->y0_m) / p->dy_m;
-    int i = (int)floor(x);
-    if (!p->value || p->n < 2 || i < 0 || i + 1 >= p->n)
-        return NAN;
-    double t = x - i;
-    return (1.0 - t) * p->value[i] + t * p->value[i + 1];
 }
 
 static int compare_doubles(const void *a, const void *b)
@@ -93,7 +85,7 @@ int uwb_radial_curves_read(const struct uwb_analysis *cur, const struct uwb_anal
     k->xb = malloc(sizeof *k->xb * nb);
     k->yc = malloc(sizeof *k->yc * nc);
     k->xc = malloc(sizeof *k->xc * nc);
-    double *scratch = malloc(sizeof *scratch * (nb > nc ? nb : nc));
+    double *scratch = malloc(sizeof *scratch * nb);
     if (!k->yb || !k->xb || !k->yc || !k->xc || !scratch) {
         free(scratch);
         uwb_radial_curves_free(k);
@@ -108,25 +100,23 @@ int uwb_radial_curves_read(const struct uwb_analysis *cur, const struct uwb_anal
     }
     memcpy(scratch, k->xb, sizeof *scratch * (size_t)k->n_base);
     double z_ref = median(scratch, k->n_base);
-    int n_diff = 0;
+    free(scratch);
+    if (!isfinite(z_ref)) {
+        uwb_radial_curves_free(k);
+        return -1;
+    }
+    /* Not measured, no line: the ranges as read. */
+    const struct uwb_radial_line none = {0};
+    const struct uwb_radial_line *line = v->radial.measured ? &v->radial.line : &none;
     for (int i = 0; i < rc->n; i++) {
         double y = rc->y0_m + i * rc->dy_m;
         if (y < lo + shift || y > hi + shift)
             continue;
         k->yc[k->n_cur] = y;
-        k->xc[k->n_cur++] = rc->value[i];
-        scratch[n_diff++] = range_at(rb, y - shift) - rc->value[i];
-    }
-    k->level_m = median(scratch, n_diff);
-    free(scratch);
-    if (!isfinite(z_ref) || !isfinite(k->level_m)) {
-        uwb_radial_curves_free(k);
-        return -1;
+        k->xc[k->n_cur++] = z_ref - rc->value[i] - uwb_radial_line_at(line, y - shift);
     }
     for (int i = 0; i < k->n_base; i++)
         k->xb[i] = z_ref - k->xb[i];
-    for (int i = 0; i < k->n_cur; i++)
-        k->xc[i] = z_ref - k->xc[i] - k->level_m;
     return 0;
 }
 
@@ -249,12 +239,15 @@ void uwb_draw_radial_panel(struct uwb_canvas *c, const struct uwb_plot *p, const
     int zero = uwb_plot_col(p, 0.0);
     uwb_canvas_line(c, zero, p->y, zero, p->y + p->h - 1, panel_grid, 1, 2, 3);
     struct uwb_radial_curves k;
-    char level[64] = "";
+    char level[96] = "";
     if (uwb_radial_curves_read(cur, base, v, &k) == 0) {
         draw_curve(c, p, k.yb, k.xb, k.n_base, UWB_EDGE_BASELINE);
         draw_curve(c, p, k.yc, k.xc, k.n_cur, UWB_EDGE_CURRENT);
-        snprintf(level, sizeof level, "face as a whole %+.1f mm, taken out", k.level_m * 1e3);
         uwb_radial_curves_free(&k);
+        if (r->measured)
+            snprintf(level, sizeof level, "face as a whole %+.1f mm, tilt %+.1f mm, taken out",
+                     uwb_radial_line_at(&r->line, 0.5 * (v->baseline.lower_m + v->baseline.upper_m)) * 1e3,
+                     r->tilt_m * 1e3);
     }
     char figure[256];
     uwb_describe_radial(v, figure, sizeof figure);

@@ -292,13 +292,13 @@ void uwb_render_comparison_radial_layout(const struct uwb_analysis *current,
 /* The radial panel's two curves as drawn, (this scan's y, m toward the
  * antenna) points: the baseline's rows between its edges moved up by the
  * shift, this scan's rows over the same heights. x is re the baseline's
- * median range; this scan's curve is levelled by the median difference
- * (level_m: the whole face's move, which the oil's temperature makes and
- * no buckle does). 0, or -1 (nothing to draw; k empty). */
+ * median range; this scan's curve less the verdict's radial line (the
+ * whole face's move and its tilt; none where not measured), so the curves
+ * stand apart by the verdict's change. 0, or -1 (nothing to draw; k
+ * empty). */
 struct uwb_radial_curves {
     int n_base, n_cur;
     double *yb, *xb, *yc, *xc;
-    double level_m;
 };
 int uwb_radial_curves_read(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                            const struct uwb_verdict *v, struct uwb_radial_curves *k);
