@@ -11,8 +11,17 @@
 #define UWB_RADIAL_MAX_ROWS 1024
 
 struct uwb_radial {
-    int measured; /* 0: see why */
-    char why[160];
+    /* The figures as the verdict gives them (their status aside, which
+     * compare.c grades): measured, else withheld says why; the largest
+     * change, signed, and where it lies in this scan's y; where |change|
+     * exceeds the watch limit around it (has_span); the line through the
+     * face's unchanged rows and its tilt; the shift compared at. The
+     * change's 1-sigma holds the two scans' range noise over the changed
+     * rows; the model term, the scatter of the unchanged rows about their
+     * line (what the imaging leaves of a pure shift), as large as the
+     * largest of the profile's stretches reads by chance; and the blur's
+     * share of a change's size. */
+    struct uwb_radial_verdict figures;
     /* The change profile over the baseline's face, edge to edge, in the
      * baseline's own y: change_m[i] at y0_m + i dy_m, + toward the antenna,
      * relative to the line through the face's unchanged rows (a change
@@ -21,22 +30,6 @@ struct uwb_radial {
     int n;
     double y0_m, dy_m;
     double change_m[UWB_RADIAL_MAX_ROWS];
-    /* The largest change, signed, and where it lies in this scan's y. */
-    double max_change_m, at_m;
-    /* Where |change| exceeds the watch limit around the largest (has_span). */
-    int has_span;
-    double from_m, to_m;
-    /* The line through the unchanged rows, and the face's tilt: its top
-     * minus its bottom (+ top nearer). */
-    struct uwb_radial_line line;
-    double tilt_m;
-    /* 1-sigma of max_change: the two scans' range noise over the changed
-     * rows; the model term, the scatter of the unchanged rows about their
-     * line (what the imaging leaves of a pure shift), as large as the
-     * largest of the profile's stretches reads by chance; and the blur's
-     * share of a change's size. */
-    double uncertainty_m;
-    double uncertainty_noise_m; /* its part from the two scans' noise alone */
     /* The profile's own 1-sigma at a row (noise and model term, neither
      * the chance of the largest nor the size's share): whether the
      * profile can tell a change at all. */
@@ -51,7 +44,8 @@ struct uwb_radial {
 /* Compare the two analyses' face ranges with the current one shifted back
  * by shift_m. watch_m sets the span reported; noise_rms is the noise per
  * sample of each scan's conditioned traces (the pair's, where measured).
- * Returns 0 (measured or not, see r->measured). */
+ * r is 8 kB: the caller's, not on a small stack. Returns 0 (measured or
+ * not, see r->figures.measured). */
 int uwb_radial_measure(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                        double shift_m, double watch_m, double noise_rms, struct uwb_radial *r);
 

@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "uwb/direct_coupling.h"
@@ -236,37 +237,31 @@ static int rig_unchanged(struct uwb_analysis *cur_a, struct uwb_analysis *base_a
  * its rows out loses the lean the imaging's blur spreads beyond them.
  * Neither fit is then the movement; how far they part is the axial
  * figure's deformation term (compare.c). */
-static void measure_radial(const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
-                           const struct uwb_compare_options *copt, double noise_rms,
-                           struct uwb_pair_figures *pair)
+static int measure_radial(const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
+                          const struct uwb_compare_options *copt, double noise_rms,
+                          struct uwb_pair_figures *pair, char *err, size_t errlen)
 {
-    struct uwb_radial radial;
-    uwb_radial_measure(cur_a, base_a, pair->displacement_m, copt->radial_thresholds.watch_m, noise_rms,
-                       &radial);
-    struct uwb_radial_verdict *r = &pair->radial;
-    if (!radial.measured) {
-        snprintf(r->withheld, sizeof r->withheld, "%s", radial.why);
-        return;
+    /* 8 kB of profile, once an evaluation: off the worker's stack. */
+    struct uwb_radial *radial = malloc(sizeof *radial);
+    if (!radial) {
+        snprintf(err, errlen, "radial profile: out of memory");
+        return -1;
     }
-    pair->has_radial = 1;
-    *r = (struct uwb_radial_verdict){.measured = 1,
-                                     .max_change_m = radial.max_change_m,
-                                     .at_m = radial.at_m,
-                                     .has_span = radial.has_span,
-                                     .from_m = radial.from_m,
-                                     .to_m = radial.to_m,
-                                     .uncertainty_m = radial.uncertainty_m,
-                                     .uncertainty_noise_m = radial.uncertainty_noise_m,
-                                     .tilt_m = radial.tilt_m,
-                                     .line = radial.line,
-                                     .shift_m = pair->displacement_m};
-    pair->radial_profile_uncertainty_m = radial.uncertainty_profile_m;
-    pair->deformed_at_end = radial.has_excluded && radial.excluded_at_end;
-    char why[256];
-    if (radial.has_excluded &&
-        uwb_measure_shift_skipping(cur_a, base_a, radial.excluded_lo_m, radial.excluded_hi_m,
-                                   &pair->refit_displacement_m, why, sizeof why) == 0)
-        pair->has_refit = 1;
+    uwb_radial_measure(cur_a, base_a, pair->displacement_m, copt->radial_thresholds.watch_m, noise_rms,
+                       radial);
+    pair->radial = radial->figures;
+    if (radial->figures.measured) {
+        pair->has_radial = 1;
+        pair->radial_profile_uncertainty_m = radial->uncertainty_profile_m;
+        pair->deformed_at_end = radial->has_excluded && radial->excluded_at_end;
+        char why[256];
+        if (radial->has_excluded &&
+            uwb_measure_shift_skipping(cur_a, base_a, radial->excluded_lo_m, radial->excluded_hi_m,
+                                       &pair->refit_displacement_m, why, sizeof why) == 0)
+            pair->has_refit = 1;
+    }
+    free(radial);
+    return 0;
 }
 
 int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_record *baseline,
@@ -357,9 +352,14 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
             pair.noise_ratio_current = fmax(noise.noise_rms / cur_a->noise_sigma, 1e-9);
             pair.noise_ratio_baseline = fmax(noise.noise_rms / base_a->noise_sigma, 1e-9);
         }
-        measure_radial(cur_a, base_a, &copt,
-                       noise.measured ? noise.noise_rms : 0.5 * (cur_a->noise_sigma + base_a->noise_sigma),
-                       &pair);
+        if (measure_radial(cur_a, base_a, &copt,
+                           noise.measured ? noise.noise_rms
+                                          : 0.5 * (cur_a->noise_sigma + base_a->noise_sigma),
+                           &pair, err, errlen) != 0) {
+            uwb_analysis_free(cur_a);
+            uwb_analysis_free(base_a);
+            return -1;
+        }
         pair.has_shoulders = uwb_measure_shoulder_shifts(cur_a, base_a, &pair.lower_shift_m,
                                                          &pair.upper_shift_m, err, errlen) == 0;
     }

@@ -111,8 +111,10 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
                        double watch_m, double noise_rms, struct uwb_radial *r)
 {
     memset(r, 0, sizeof *r);
+    struct uwb_radial_verdict *fig = &r->figures;
+    fig->shift_m = shift_m;
     if (!cur->edges.found || !base->edges.found || !cur->face_range.value || !base->face_range.value) {
-        snprintf(r->why, sizeof r->why, "the face's range is not measured in both scans");
+        snprintf(fig->withheld, sizeof fig->withheld, "the face's range is not measured in both scans");
         return 0;
     }
     const struct uwb_face_profile *rb = &base->face_range;
@@ -124,7 +126,9 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
         r->n = UWB_RADIAL_MAX_ROWS;
     double peak_b = profile_peak(&base->profile, lo, hi);
     double peak_c = profile_peak(&cur->profile, lo + shift_m, hi + shift_m);
-    double offset[UWB_RADIAL_MAX_ROWS], noise[UWB_RADIAL_MAX_ROWS];
+    /* change_m holds each row's offset until the line is taken out of it:
+     * no second row array on the stack. */
+    double *offset = r->change_m;
     unsigned char readable[UWB_RADIAL_MAX_ROWS], use[UWB_RADIAL_MAX_ROWS];
     int rows = 0;
     for (int i = 0; i < r->n; i++) {
@@ -134,14 +138,13 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
         readable[i] =
             isfinite(zb) && isfinite(zc) && eb >= ROW_FRACTION * peak_b && ec >= ROW_FRACTION * peak_c;
         offset[i] = readable[i] ? zb - zc : 0.0; /* + : nearer the antenna now */
-        noise[i] = readable[i]
-                       ? hypot(row_noise_m(base, noise_rms, y), row_noise_m(cur, noise_rms, y + shift_m))
-                       : INFINITY;
         use[i] = readable[i];
         rows += readable[i];
     }
     if (rows < 3) {
-        snprintf(r->why, sizeof r->why, "too few rows of the face are bright enough in both scans");
+        memset(r->change_m, 0, sizeof r->change_m); /* offsets, no change */
+        snprintf(fig->withheld, sizeof fig->withheld,
+                 "too few rows of the face are bright enough in both scans");
         return 0;
     }
     /* The first line: level at the offset most rows agree with (within
@@ -167,20 +170,21 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
             use[i] = readable[i] &&
                      fabs(offset[i] - uwb_radial_line_at(&line, r->y0_m + i * r->dy_m)) <= 0.5 * watch_m;
         if (fit_line(r, offset, use, &line) != 0) {
-            snprintf(r->why, sizeof r->why,
+            memset(r->change_m, 0, sizeof r->change_m);
+            snprintf(fig->withheld, sizeof fig->withheld,
                      "no part of the face stayed where it was: the change cannot be told from a tilt");
             return 0;
         }
     }
-    r->measured = 1;
-    r->line = line;
-    r->tilt_m = line.slope * (hi - lo);
+    fig->measured = 1;
+    fig->line = line;
+    fig->tilt_m = line.slope * (hi - lo);
     int at = -1;
     double model = 0.0;
     int unchanged = 0;
     for (int i = 0; i < r->n; i++) {
         double y = r->y0_m + i * r->dy_m;
-        r->change_m[i] = readable[i] ? offset[i] - uwb_radial_line_at(&line, y) : 0.0;
+        r->change_m[i] = readable[i] ? offset[i] - uwb_radial_line_at(&line, y) : 0.0; /* in place */
         if (readable[i] && (at < 0 || fabs(r->change_m[i]) > fabs(r->change_m[at])))
             at = i;
         if (use[i]) {
@@ -190,8 +194,9 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
     }
     model = unchanged > 0 ? sqrt(model / unchanged) : 0.0;
     if (at < 0) { /* no readable row: cannot happen past the count above */
-        r->measured = 0;
-        snprintf(r->why, sizeof r->why, "too few rows of the face are bright enough in both scans");
+        fig->measured = 0;
+        snprintf(fig->withheld, sizeof fig->withheld,
+                 "too few rows of the face are bright enough in both scans");
         return 0;
     }
     /* The size: the mean over the rows around the largest past half of it. */
@@ -211,12 +216,14 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
     }
     double sum = 0.0, noise2 = 0.0;
     for (int i = from; i <= to; i++) {
+        double y = r->y0_m + i * r->dy_m;
+        double noise = hypot(row_noise_m(base, noise_rms, y), row_noise_m(cur, noise_rms, y + shift_m));
         sum += r->change_m[i];
-        noise2 += noise[i] * noise[i];
+        noise2 += noise * noise;
     }
     int width = to - from + 1;
-    r->max_change_m = sum / width;
-    r->at_m = r->y0_m + at * r->dy_m + shift_m;
+    fig->max_change_m = sum / width;
+    fig->at_m = r->y0_m + at * r->dy_m + shift_m;
     double independent = fmax(1.0, width / correlated_rows);
     double noise_mean = sqrt(noise2 / width) / sqrt(independent);
     /* The largest of the profile's independent stretches stands out by
@@ -225,28 +232,28 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
      * cannot know of itself. */
     double stretches = fmax(1.0, rows / correlated_rows);
     double look_elsewhere = stretches > 1.0 ? sqrt(2.0 * log(stretches)) : 1.0;
-    r->uncertainty_noise_m = noise_mean;
+    fig->uncertainty_noise_m = noise_mean;
     r->uncertainty_profile_m = hypot(noise_mean, model);
     double size =
-        (width < NARROW_CELLS * correlated_rows ? NARROW_SIZE_FRACTION : SIZE_FRACTION) * r->max_change_m;
-    r->uncertainty_m =
+        (width < NARROW_CELLS * correlated_rows ? NARROW_SIZE_FRACTION : SIZE_FRACTION) * fig->max_change_m;
+    fig->uncertainty_m =
         sqrt(noise_mean * noise_mean + model * model * look_elsewhere * look_elsewhere + size * size);
-    if (fabs(r->max_change_m) > watch_m) {
+    if (fabs(fig->max_change_m) > watch_m) {
         int f = at, t = at;
         while (f > 0 && readable[f - 1] && fabs(r->change_m[f - 1]) > watch_m)
             f--;
         while (t < r->n - 1 && readable[t + 1] && fabs(r->change_m[t + 1]) > watch_m)
             t++;
         if (fabs(r->change_m[at]) > watch_m) {
-            r->has_span = 1;
-            r->from_m = r->y0_m + f * r->dy_m + shift_m;
-            r->to_m = r->y0_m + t * r->dy_m + shift_m;
+            fig->has_span = 1;
+            fig->from_m = r->y0_m + f * r->dy_m + shift_m;
+            fig->to_m = r->y0_m + t * r->dy_m + shift_m;
         }
     }
     /* Where the echo moved in range its strength moved too, which the
      * axial fit reads in part as a movement: the rows of a change past the
      * watch limit, down to a quarter of it, for a second fit without them. */
-    if (fabs(r->max_change_m) > watch_m) {
+    if (fabs(fig->max_change_m) > watch_m) {
         int f, t;
         same_sign_span(r, readable, at, 0.25, &f, &t);
         r->has_excluded = 1;

@@ -230,7 +230,7 @@ static void check_panel_draws_the_verdicts_change(const struct uwb_scan *cur, co
     double pixel_m = (panel.x_max - panel.x_min) / (panel.w - 1);
     TEST_ASSERT_EQUAL_INT(0, uwb_radial_measure(&ca, &ba, v.radial.shift_m,
                                                 opt.compare.radial_thresholds.watch_m, 0.0, &profile));
-    TEST_ASSERT_TRUE_MESSAGE(profile.measured, profile.why);
+    TEST_ASSERT_TRUE_MESSAGE(profile.figures.measured, profile.figures.withheld);
     struct uwb_radial_curves k;
     TEST_ASSERT_EQUAL_INT(0, uwb_radial_curves_read(&ca, &ba, &v, &k));
     double worst = 0.0, worst_y = NAN, at_drawn = NAN, at_change = NAN;

@@ -59,10 +59,11 @@ static void radial_of(const char *cur_path, const char *base_path, struct uwb_ra
     TEST_ASSERT_TRUE_MESSAGE(ca.edges.found && ba.edges.found, cur_path);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_measure_shift(&ca, &ba, shift_m, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(0, uwb_radial_measure(&ca, &ba, *shift_m, WATCH_M, 0.0, r));
-    TEST_ASSERT_TRUE_MESSAGE(r->measured, r->why);
+    TEST_ASSERT_TRUE_MESSAGE(r->figures.measured, r->figures.withheld);
     printf("%s: shift %+.2f mm, radial %+.2f +- %.2f mm at %.1f mm, span %d %.1f..%.1f mm, tilt %+.2f mm\n",
-           cur_path, *shift_m * 1e3, r->max_change_m * 1e3, r->uncertainty_m * 1e3, r->at_m * 1e3,
-           r->has_span, r->from_m * 1e3, r->to_m * 1e3, r->tilt_m * 1e3);
+           cur_path, *shift_m * 1e3, r->figures.max_change_m * 1e3, r->figures.uncertainty_m * 1e3,
+           r->figures.at_m * 1e3, r->figures.has_span, r->figures.from_m * 1e3, r->figures.to_m * 1e3,
+           r->figures.tilt_m * 1e3);
     uwb_analysis_free(&ca);
     uwb_analysis_free(&ba);
     uwb_scan_free(&cur);
@@ -77,12 +78,13 @@ static void check_radial(const char *name, double y_from_m, double y_to_m, doubl
     struct uwb_radial *r = &radial;
     double shift;
     radial_of(path, TANK_BASE, r, &shift);
-    TEST_ASSERT_TRUE_MESSAGE(r->max_change_m * change_m > 0.0, "sign");
-    TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(size_tol_m, change_m, r->max_change_m, "size");
-    TEST_ASSERT_TRUE_MESSAGE(r->at_m >= y_from_m - 0.010 && r->at_m <= y_to_m + 0.010, "located");
-    TEST_ASSERT_TRUE_MESSAGE(r->has_span, "span past the watch limit");
-    TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(SPAN_END_M, y_from_m, r->from_m, "span's lower end");
-    TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(SPAN_END_M, y_to_m, r->to_m, "span's upper end");
+    TEST_ASSERT_TRUE_MESSAGE(r->figures.max_change_m * change_m > 0.0, "sign");
+    TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(size_tol_m, change_m, r->figures.max_change_m, "size");
+    TEST_ASSERT_TRUE_MESSAGE(r->figures.at_m >= y_from_m - 0.010 && r->figures.at_m <= y_to_m + 0.010,
+                             "located");
+    TEST_ASSERT_TRUE_MESSAGE(r->figures.has_span, "span past the watch limit");
+    TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(SPAN_END_M, y_from_m, r->figures.from_m, "span's lower end");
+    TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(SPAN_END_M, y_to_m, r->figures.to_m, "span's upper end");
 }
 
 static double goal_tolerance(double change_m)
@@ -115,8 +117,8 @@ static void check_pure_shift(const char *cur_path, const char *base_path, double
     struct uwb_radial *r = &radial;
     double shift;
     radial_of(cur_path, base_path, r, &shift);
-    TEST_ASSERT_TRUE_MESSAGE(fabs(r->max_change_m) <= bound_m, cur_path);
-    TEST_ASSERT_FALSE_MESSAGE(r->has_span, cur_path);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(r->figures.max_change_m) <= bound_m, cur_path);
+    TEST_ASSERT_FALSE_MESSAGE(r->figures.has_span, cur_path);
 }
 
 static void test_pure_shifts_read_no_radial_change(void)
