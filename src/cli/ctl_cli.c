@@ -32,35 +32,39 @@ void uwbd_ctl_usage(FILE *f)
         "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--json | --text | --csv] COMMAND...\n"
         "\n"
         "Sends COMMAND to the running daemon and prints its reply (one JSON line; text with --text).\n"
-        "Commands are read case-insensitively; a mistyped one is answered with the one meant.\n"
-        "Commands: status, scan, verdict, history [N], trend [N], baseline set [N], watch, watch off, "
-        "contacts test [S], help.\n"
-        "`contacts test [S]` energises each alarm contact (watch, alarm, fault) alone in turn for S s\n"
-        "(default 10) for a point-to-point check with the RTU, then returns them to what the verdicts\n"
-        "call for; it is refused while a scan runs, and ends on time even when uwbd ctl has gone.\n"
-        "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
-        "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
-        "closes the connection or --timeout S passes (then exit 0).\n"
         "\n"
-        "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
-        "  --config FILE    take the socket's path from this configuration\n"
-        "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
-        "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
-        "  --json           print the reply's JSON line as the daemon sent it (the default; for\n"
-        "                   programs)\n"
-        "  --text           print the reply for people instead of its JSON line: status as a\n"
-        "                   page of \"Name : value\" lines (MQTT, Modbus, contacts, baseline\n"
-        "                   age, free space), history and trend as tables, help as a list,\n"
-        "                   a verdict as lines (status, displacement or edges or reason,\n"
-        "                   images), an error as \"error: MESSAGE\"; watch as a line each\n"
-        "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
-        "                   (a header naming each column and its unit, then a row per\n"
-        "                   verdict, oldest first; a figure not given is an empty cell)\n"
-        "\n"
-        "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
-        "69 no daemon on the socket; 75 not accepted or no reply in time; 77 you may not open\n"
-        "the socket (the message names its group).\n",
-        SCAN_TIMEOUT_S, OTHER_TIMEOUT_S, OTHER_TIMEOUT_S);
+        "Commands (read case-insensitively; a mistyped one is answered with the one meant):\n");
+    /* The daemon's own table, so that this list is what the daemon takes. */
+    for (size_t i = 0; i < uwb_command_help_count; i++)
+        fprintf(f, "  %-19s %s\n", uwb_command_help[i].usage, uwb_command_help[i].brief);
+    fprintf(f,
+            "\n"
+            "`contacts test [S]` energises each alarm contact (watch, alarm, fault) alone in turn for S s\n"
+            "(default 10) for a point-to-point check with the RTU, then returns them to what the verdicts\n"
+            "call for; it is refused while a scan runs, and ends on time even when uwbd ctl has gone.\n"
+            "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
+            "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
+            "closes the connection or --timeout S passes (then exit 0).\n"
+            "\n"
+            "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
+            "  --config FILE    take the socket's path from this configuration\n"
+            "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
+            "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
+            "  --json           print the reply's JSON line as the daemon sent it (the default; for\n"
+            "                   programs)\n"
+            "  --text           print the reply for people instead of its JSON line: status as a\n"
+            "                   page of \"Name : value\" lines (MQTT, Modbus, contacts, baseline\n"
+            "                   age, free space), history and trend as tables, help as a list,\n"
+            "                   a verdict as lines (status, displacement or edges or reason,\n"
+            "                   images), an error as \"error: MESSAGE\"; watch as a line each\n"
+            "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
+            "                   (a header naming each column and its unit, then a row per\n"
+            "                   verdict, oldest first; a figure not given is an empty cell)\n"
+            "\n"
+            "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
+            "69 no daemon on the socket; 75 not accepted or no reply in time; 77 you may not open\n"
+            "the socket (the message names its group).\n",
+            SCAN_TIMEOUT_S, OTHER_TIMEOUT_S, OTHER_TIMEOUT_S);
 }
 
 static int is_error_reply(const char *line)

@@ -26,7 +26,7 @@ json_get "${keys[@]}" < help.json | grep -vx '(missing)' > table.txt
 
 uwbd ctl --help > ctl-usage.txt
 # The usage's command list: "  COMMAND  meaning" lines after "Commands".
-sed -n '/^Commands/,/^$/p' ctl-usage.txt | sed -n 's/^  \([a-z][a-z ]*\( \[[A-Z]\]\)\?\)  .*/\1/p' > ctl-listed.txt
+sed -n '/^Commands/,/^$/p' ctl-usage.txt | sed -n 's/^  \([a-z][a-z ]*[a-z]\( \[[A-Z]\]\)\?\)  .*/\1/p' > ctl-listed.txt
 ctl --text help > console-help.txt
 if command -v man > /dev/null; then
     MANWIDTH=100 man -l "$REPO/board/man/uwbd-ctl.1" 2> /dev/null | col -bx > man.txt

@@ -143,6 +143,10 @@ static void test_help_lists_exactly_the_commands_accepted(void)
                 snprintf(help_words[n_help_words], sizeof help_words[0], "%s", w);
                 vocabulary[n++] = help_words[n_help_words++];
             }
+        /* uwbd ctl --help prints the brief meaning after 22 columns, within 78. */
+        TEST_ASSERT_NOT_NULL_MESSAGE(uwb_command_help[h].brief, uwb_command_help[h].usage);
+        TEST_ASSERT_TRUE_MESSAGE(strlen(uwb_command_help[h].brief) <= 56, uwb_command_help[h].brief);
+        TEST_ASSERT_TRUE_MESSAGE(strlen(uwb_command_help[h].usage) <= 19, uwb_command_help[h].usage);
         /* Each help line is accepted, with its optional number and without. */
         char line[64];
         snprintf(line, sizeof line, "%s", uwb_command_help[h].usage);
