@@ -19,7 +19,7 @@ trap 'rm -rf "$out"' EXIT
 make --no-print-directory -s man BUILD="$UWB_BUILD_DIR" TEST_RUNNER="${UWB_EXEC_PREFIX:-}" > "$out/make.log" 2>&1 ||
     { cat "$out/make.log" >&2; fail "make man"; }
 sources=(board/man/*.7.scd)
-for name in uwbd-mqtt uwbd-modbus uwbd-contacts uwbd-prometheus uwbd-images; do
+for name in uwbd-mqtt uwbd-modbus uwbd-contacts uwbd-prometheus uwbd-images uwbd-recovery; do
     [[ -f board/man/$name.7.scd ]] || fail "no board/man/$name.7.scd"
 done
 
@@ -98,4 +98,12 @@ for register in $registers; do
         fail "uwbd-modbus(7) lacks register $register"
 done
 pass "the README's $(wc -w <<< "$topics") MQTT topics, $(wc -w <<< "$metrics") metrics and $(wc -w <<< "$registers") Modbus registers are in the pages"
+# uwbd-recovery(7) explains every exit status uwbd ctl --help gives.
+codes=$(${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" ctl --help | sed -n '/^Exit status:/,$p' | grep -oE '(^|[;:] )[0-9]+' |
+    grep -oE '[0-9]+')
+(( $(wc -w <<< "$codes") >= 6 )) || fail "only $(wc -w <<< "$codes") exit statuses in uwbd ctl --help"
+for code in $codes; do
+    grep -qE "^\\fB$code\\fR\$" "$UWB_BUILD_DIR/man/uwbd-recovery.7" || fail "uwbd-recovery(7) does not explain uwbd ctl's exit status $code"
+done
+pass "uwbd-recovery(7) explains uwbd ctl's exit statuses $(echo $codes)"
 echo "$passed passed"
