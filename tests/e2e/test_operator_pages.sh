@@ -103,7 +103,8 @@ codes=$(${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" ctl --help | sed -n '/^Exit s
     grep -oE '[0-9]+')
 (( $(wc -w <<< "$codes") >= 6 )) || fail "only $(wc -w <<< "$codes") exit statuses in uwbd ctl --help"
 for code in $codes; do
-    grep -qE "^\\fB$code\\fR\$" "$UWB_BUILD_DIR/man/uwbd-recovery.7" || fail "uwbd-recovery(7) does not explain uwbd ctl's exit status $code"
+    sed -n '/^\.SH EXIT STATUS OF UWBD CTL/,/^\.SH /p' "$UWB_BUILD_DIR/man/uwbd-recovery.7" |
+        grep -qxF "\\fB$code\\fR" || fail "uwbd-recovery(7) does not explain uwbd ctl's exit status $code"
 done
 pass "uwbd-recovery(7) explains uwbd ctl's exit statuses $(echo $codes)"
 echo "$passed passed"
