@@ -160,14 +160,22 @@ static void show_progress(const char *line, int on_terminal)
     const cJSON *n = cJSON_GetObjectItemCaseSensitive(o, "positions");
     const cJSON *elapsed = cJSON_GetObjectItemCaseSensitive(o, "elapsed_s");
     const cJSON *left = cJSON_GetObjectItemCaseSensitive(o, "left_s");
+    const cJSON *fraction = cJSON_GetObjectItemCaseSensitive(o, "fraction");
+    const cJSON *pass = cJSON_GetObjectItemCaseSensitive(o, "pass");
+    const cJSON *passes = cJSON_GetObjectItemCaseSensitive(o, "passes");
     if (cJSON_IsNumber(k) && cJSON_IsNumber(n) && n->valueint > 0) {
         enum { WIDTH = 30 };
         char bar[WIDTH + 1];
-        int filled = k->valueint * WIDTH / n->valueint;
+        /* One bar over every pass of the cycle (a daemon without "fraction": this pass). */
+        double whole = cJSON_IsNumber(fraction) ? fraction->valuedouble : (double)k->valueint / n->valueint;
+        int filled = (int)(whole * WIDTH + 1e-3); /* 0.3333 of 30 is 10 */
         for (int i = 0; i < WIDTH; i++)
             bar[i] = i < filled ? '#' : '-';
         bar[WIDTH] = '\0';
-        fprintf(stderr, "\r[%s] %d/%d positions  %.0f s", bar, k->valueint, n->valueint,
+        fprintf(stderr, "\r[%s] ", bar);
+        if (cJSON_IsNumber(pass) && cJSON_IsNumber(passes) && passes->valueint > 1)
+            fprintf(stderr, "pass %d of %d, ", pass->valueint, passes->valueint);
+        fprintf(stderr, "%d/%d positions  %.0f s", k->valueint, n->valueint,
                 cJSON_IsNumber(elapsed) ? elapsed->valuedouble : 0.0);
         if (cJSON_IsNumber(left))
             fprintf(stderr, ", about %.0f s left", left->valuedouble);

@@ -14,8 +14,8 @@ config="$work/uwbd.json"
 cp "$REPO/board/emulated/uwbd.json" "$config"
 ctl() { uwbd ctl --socket run/control.sock "$@"; }
 start_emulated_board
-# Paced so that each pass lasts a few seconds: an estimate to look at.
-${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" --set scan.time_scale=0.15 -v \
+# Paced (each pass about a second), so that the time left is an estimate of something.
+${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" --config "$config" "${root_flag[@]}" --set scan.time_scale=0.05 -v \
     > uwbd.log 2>&1 &
 pids+=($!)
 wait_for ctl status || fail "uwbd does not answer: $(tail -5 uwbd.log)"
@@ -47,24 +47,34 @@ check_passes() {
     echo "$lines"
 }
 
+# One commissioning, watched twice: `watch progress` takes the PROGRESS lines
+# and `uwbd ctl scan` draws its bar, on a terminal when script(1) gives one.
 ctl baseline set 3 > set.json
 json_check set.json 'class == BASELINE' || fail "baseline set 3: $(cat set.json)"
-ctl scan > scan.json 2> progress.txt || fail "ctl scan: $(cat progress.txt)"
+uwbd ctl --socket run/control.sock watch progress > progress.txt 2> watch.err &
+watch_pid=$!
+pids+=($watch_pid)
+wait_for grep -q WATCH progress.txt || fail "watch progress: no WATCH answer: $(cat watch.err)"
+scan_cmd="${UWB_EXEC_PREFIX:-} $BUILD/uwbd ctl --socket run/control.sock scan"
+if command -v script > /dev/null; then
+    script -qec "$scan_cmd" /dev/null > tty.out || fail "ctl scan on a terminal: $(cat -v tty.out)"
+    tail -n 1 tty.out | tr -d '\r' > scan.json
+else
+    $scan_cmd > scan.json 2> /dev/null || fail "ctl scan: $(cat scan.json)"
+fi
 json_check scan.json 'class == VERDICT' 'baseline_set = true' 'baseline_scans = 3' || fail "commissioning: $(cat scan.json)"
+kill "$watch_pid"
+wait "$watch_pid" 2> /dev/null || true
 lines=$(check_passes progress.txt)
 pass "3-pass commissioning: $lines PROGRESS lines, pass 1..3, fraction rising to 1 only at the end, time left at each pass's end"
 
-# On a terminal: one bar over the whole, full only at the end (script(1) gives a pty).
-if command -v script > /dev/null; then
-    ctl baseline set 3 > /dev/null
-    script -qec "${UWB_EXEC_PREFIX:-} $BUILD/uwbd ctl --socket run/control.sock scan" /dev/null > tty.out ||
-        fail "ctl scan on a terminal: $(cat -v tty.out)"
+if [[ -f tty.out ]]; then
     tr '\r' '\n' < tty.out | grep -oE '^\[[#-]{30}\]' | tr -cd '#\n' | awk '{ print length }' > fills.txt
     (( $(wc -l < fills.txt) >= 3 * positions )) || fail "the bar was not drawn at every position: $(cat -v tty.out)"
     sort -n -c fills.txt 2> /dev/null || fail "the bar went back: $(tr '\n' ' ' < fills.txt)"
     [[ $(grep -c '^30$' fills.txt) == 1 && $(tail -n 1 fills.txt) == 30 ]] ||
         fail "the bar was full before the end: $(tr '\n' ' ' < fills.txt)"
-    tr '\r' '\n' < tty.out | grep -q "scan 3 of 3, $positions/$positions positions" ||
+    tr '\r' '\n' < tty.out | grep -q "pass 3 of 3, $positions/$positions positions" ||
         fail "the bar does not say which pass: $(cat -v tty.out)"
     pass "ctl scan on a terminal: one bar over 3 passes ($(wc -l < fills.txt) draws), full only at the end"
 fi
