@@ -168,7 +168,10 @@ static void show_progress(const char *line, int on_terminal)
         char bar[WIDTH + 1];
         /* One bar over every pass of the cycle (a daemon without "fraction": this pass). */
         double whole = cJSON_IsNumber(fraction) ? fraction->valuedouble : (double)k->valueint / n->valueint;
-        int filled = (int)(whole * WIDTH + 1e-3); /* 0.3333 of 30 is 10 */
+        /* Within 0..1 whatever the line says (NaN too), so the cast cannot overflow;
+         * 1e-3 makes 0.3333 of 30 the 10 it means. */
+        whole = whole > 0 ? whole < 1 ? whole : 1 : 0;
+        int filled = (int)(whole * WIDTH + 1e-3);
         for (int i = 0; i < WIDTH; i++)
             bar[i] = i < filled ? '#' : '-';
         bar[WIDTH] = '\0';
