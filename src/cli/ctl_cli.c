@@ -32,35 +32,39 @@ void uwbd_ctl_usage(FILE *f)
         "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--json | --text | --csv] COMMAND...\n"
         "\n"
         "Sends COMMAND to the running daemon and prints its reply (one JSON line; text with --text).\n"
-        "Commands are read case-insensitively; a mistyped one is answered with the one meant.\n"
-        "Commands: status, scan, verdict, history [N], trend [N], baseline set [N], watch, watch off, "
-        "contacts test [S], help.\n"
-        "`contacts test [S]` energises each alarm contact (watch, alarm, fault) alone in turn for S s\n"
-        "(default 10) for a point-to-point check with the RTU, then returns them to what the verdicts\n"
-        "call for; it is refused while a scan runs, and ends on time even when uwbd ctl has gone.\n"
-        "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
-        "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
-        "closes the connection or --timeout S passes (then exit 0).\n"
         "\n"
-        "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
-        "  --config FILE    take the socket's path from this configuration\n"
-        "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
-        "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
-        "  --json           print the reply's JSON line as the daemon sent it (the default; for\n"
-        "                   programs)\n"
-        "  --text           print the reply for people instead of its JSON line: status as a\n"
-        "                   page of \"Name : value\" lines (MQTT, Modbus, contacts, baseline\n"
-        "                   age, free space), history and trend as tables, help as a list,\n"
-        "                   a verdict as lines (status, displacement or edges or reason,\n"
-        "                   images), an error as \"error: MESSAGE\"; watch as a line each\n"
-        "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
-        "                   (a header naming each column and its unit, then a row per\n"
-        "                   verdict, oldest first; a figure not given is an empty cell)\n"
-        "\n"
-        "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
-        "69 no daemon on the socket; 75 not accepted or no reply in time; 77 you may not open\n"
-        "the socket (the message names its group).\n",
-        SCAN_TIMEOUT_S, OTHER_TIMEOUT_S, OTHER_TIMEOUT_S);
+        "Commands (read case-insensitively; a mistyped one is answered with the one meant):\n");
+    /* The daemon's own table, so that this list is what the daemon takes. */
+    for (size_t i = 0; i < uwb_command_help_count; i++)
+        fprintf(f, "  %-19s %s\n", uwb_command_help[i].usage, uwb_command_help[i].brief);
+    fprintf(f,
+            "\n"
+            "`contacts test [S]` energises each alarm contact (watch, alarm, fault) alone in turn for S s\n"
+            "(default 10) for a point-to-point check with the RTU, then returns them to what the verdicts\n"
+            "call for; it is refused while a scan runs, and ends on time even when uwbd ctl has gone.\n"
+            "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
+            "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
+            "closes the connection or --timeout S passes (then exit 0).\n"
+            "\n"
+            "  --socket PATH    the control socket (default " UWBD_DEFAULT_CONTROL_SOCKET ")\n"
+            "  --config FILE    take the socket's path from this configuration\n"
+            "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
+            "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
+            "  --json           print the reply's JSON line as the daemon sent it (the default; for\n"
+            "                   programs)\n"
+            "  --text           print the reply for people instead of its JSON line: status as a\n"
+            "                   page of \"Name : value\" lines (MQTT, Modbus, contacts, baseline\n"
+            "                   age, free space), history and trend as tables, help as a list,\n"
+            "                   a verdict as lines (status, displacement or edges or reason,\n"
+            "                   images), an error as \"error: MESSAGE\"; watch as a line each\n"
+            "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
+            "                   (a header naming each column and its unit, then a row per\n"
+            "                   verdict, oldest first; a figure not given is an empty cell)\n"
+            "\n"
+            "Exit status: 0 a reply; 1 the daemon refused the command (ERROR reply); 64 bad usage;\n"
+            "69 no daemon on the socket; 75 not accepted or no reply in time; 77 you may not open\n"
+            "the socket (the message names its group).\n",
+            SCAN_TIMEOUT_S, OTHER_TIMEOUT_S, OTHER_TIMEOUT_S);
 }
 
 static int is_error_reply(const char *line)
@@ -156,14 +160,25 @@ static void show_progress(const char *line, int on_terminal)
     const cJSON *n = cJSON_GetObjectItemCaseSensitive(o, "positions");
     const cJSON *elapsed = cJSON_GetObjectItemCaseSensitive(o, "elapsed_s");
     const cJSON *left = cJSON_GetObjectItemCaseSensitive(o, "left_s");
+    const cJSON *fraction = cJSON_GetObjectItemCaseSensitive(o, "fraction");
+    const cJSON *pass = cJSON_GetObjectItemCaseSensitive(o, "pass");
+    const cJSON *passes = cJSON_GetObjectItemCaseSensitive(o, "passes");
     if (cJSON_IsNumber(k) && cJSON_IsNumber(n) && n->valueint > 0) {
         enum { WIDTH = 30 };
         char bar[WIDTH + 1];
-        int filled = k->valueint * WIDTH / n->valueint;
+        /* One bar over every pass of the cycle (a daemon without "fraction": this pass). */
+        double whole = cJSON_IsNumber(fraction) ? fraction->valuedouble : (double)k->valueint / n->valueint;
+        /* Within 0..1 whatever the line says (NaN too), so the cast cannot overflow;
+         * 1e-3 makes 0.3333 of 30 the 10 it means. */
+        whole = whole > 0 ? whole < 1 ? whole : 1 : 0;
+        int filled = (int)(whole * WIDTH + 1e-3);
         for (int i = 0; i < WIDTH; i++)
             bar[i] = i < filled ? '#' : '-';
         bar[WIDTH] = '\0';
-        fprintf(stderr, "\r[%s] %d/%d positions  %.0f s", bar, k->valueint, n->valueint,
+        fprintf(stderr, "\r[%s] ", bar);
+        if (cJSON_IsNumber(pass) && cJSON_IsNumber(passes) && passes->valueint > 1)
+            fprintf(stderr, "pass %d of %d, ", pass->valueint, passes->valueint);
+        fprintf(stderr, "%d/%d positions  %.0f s", k->valueint, n->valueint,
                 cJSON_IsNumber(elapsed) ? elapsed->valuedouble : 0.0);
         if (cJSON_IsNumber(left))
             fprintf(stderr, ", about %.0f s left", left->valuedouble);

@@ -13,36 +13,46 @@
 #define MAX_WORD 16
 
 const struct uwb_command_help uwb_command_help[] = {
-    {"status", "daemon state, schedule, baseline and the latest verdict"},
-    {"scan", "scan now; the reply is that scan's verdict"},
-    {"verdict", "the latest verdict"},
-    {"history [N]", "the last N verdicts, oldest first (N 1..100, default 10)"},
+    {"status", "daemon state, schedule, baseline and the latest verdict",
+     "daemon state, baseline, latest verdict, integrations"},
+    {"scan", "scan now; the reply is that scan's verdict", "scan now; the reply is its verdict"},
+    {"verdict", "the latest verdict", "the latest verdict"},
+    {"history [N]", "the last N verdicts, oldest first (N 1..100, default 10)",
+     "the last N verdicts, oldest first (1..100, default 10)"},
     {"trend [N]",
      "the last N verdicts (N 1..100, default 20) as a series: time, status, displacement +/- 1 sigma, "
      "height change, baseline changes, the rate of change since the last baseline change, and the "
-     "trend image"},
+     "trend image",
+     "the last N verdicts as a series, with the rate (1..100)"},
     {"baseline set [N]",
      "the next good scan, averaged over N acquisitions (1..16; default baseline.scans), becomes "
-     "the baseline (the old one is kept in baseline/history)"},
+     "the baseline (the old one is kept in baseline/history)",
+     "the next good scan, mean of N (1..16), is the baseline"},
     {"baseline set force",
      "the same, also when the scan is an alarm against the current baseline (after a repair "
-     "that moved the winding); logged"},
+     "that moved the winding); logged",
+     "the same, even if that scan is an alarm (a repair)"},
     {"watch",
      "stream PROGRESS lines (position k of N, elapsed, time left) while scanning and a VERDICT line for "
-     "every verdict to this connection, until it closes; gpsd's ?WATCH={\"enable\":true} is the same"},
-    {"watch progress", "stream PROGRESS lines only (what `uwbd ctl scan` asks for its progress bar)"},
-    {"watch off", "stop the stream"},
+     "every verdict to this connection, until it closes; gpsd's ?WATCH={\"enable\":true} is the same",
+     "stream PROGRESS and VERDICT lines"},
+    {"watch progress", "stream PROGRESS lines only (what `uwbd ctl scan` asks for its progress bar)",
+     "stream PROGRESS lines only"},
+    {"watch off", "stop the stream", "stop the stream"},
     {"ack",
      "acknowledge the alarm contacts: a latched watch or alarm contact falls back to what the latest verdict "
-     "calls for"},
+     "calls for",
+     "latched alarm contacts follow the latest verdict again"},
     {"event",
      "a through-fault (or another event) happened: scan as soon as the running scan ends; the verdict says "
-     "\"trigger\": \"event\""},
+     "\"trigger\": \"event\"",
+     "a through-fault happened: scan after the running scan"},
     {"contacts test [S]",
      "point-to-point check with the RTU: every alarm contact released for 1 s, then watch, alarm and fault "
      "each energised alone for S s (1..60, default 10) with 1 s released between, then back to what the "
-     "verdicts call for; refused while a scan runs; logged"},
-    {"help", "this list"},
+     "verdicts call for; refused while a scan runs; logged",
+     "energise each alarm contact in turn, S s, for the RTU"},
+    {"help", "this list", "the commands, with what each does"},
 };
 const size_t uwb_command_help_count = sizeof uwb_command_help / sizeof uwb_command_help[0];
 

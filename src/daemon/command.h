@@ -53,10 +53,12 @@ int uwb_command_parse(const char *line, size_t len, struct uwb_command *out, cha
 
 const char *uwb_command_name(enum uwb_command_kind kind);
 
-/* One line per command for the HELP reply: "usage" and "what it does". */
+/* One line per command for the HELP reply: "usage" and "what it does";
+ * `brief`, its meaning in at most 56 columns, for `uwbd ctl --help`. */
 struct uwb_command_help {
     const char *usage;
     const char *description;
+    const char *brief;
 };
 extern const struct uwb_command_help uwb_command_help[];
 extern const size_t uwb_command_help_count;

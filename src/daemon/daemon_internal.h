@@ -141,6 +141,9 @@ struct daemon {
      * by the loop; progress_fd tells the loop a position was acquired. */
     int progress_fd;
     _Atomic int progress_done, progress_total;
+    /* Which acquisition of the cycle (1-based; 0 before the first), of how many:
+     * `baseline set N` plans N; one re-acquired for a decisive verdict adds one. */
+    _Atomic int progress_pass, progress_passes;
     _Atomic long long progress_start_ms, progress_first_ms, progress_last_ms;
 
     char *latest_verdict;                    /* VERDICT line or NULL: what is sent and stored */

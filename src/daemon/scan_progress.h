@@ -6,11 +6,13 @@
 #define UWB_DAEMON_SCAN_PROGRESS_H
 
 struct uwbd_scan_progress {
-    int done;         /* positions acquired */
-    int total;        /* positions in the scan */
-    double elapsed_s; /* since the scan started */
+    int done;         /* positions acquired in this pass */
+    int total;        /* positions in a pass */
+    int pass, passes; /* this pass, of how many: `baseline set N` acquires N scans in one cycle */
+    double fraction;  /* of the whole cycle's positions (all passes) acquired, 0..1 */
+    double elapsed_s; /* since the cycle's first pass started */
     int has_left;     /* 0 until a position has been acquired */
-    double left_s;    /* estimated time to the last position */
+    double left_s;    /* estimated time to the last position of the last pass */
 };
 
 /* started_s, first_s (the first position's completion), last_s (the latest
@@ -20,6 +22,14 @@ struct uwbd_scan_progress {
  * includes homing). The estimate counts from last_s, less what has passed. */
 void uwbd_scan_progress_estimate(int done, int total, double started_s, double first_s, double last_s,
                                  double now_s, struct uwbd_scan_progress *out);
+
+/* The same over a cycle of `passes` scans of `total` positions each, in
+ * pass `pass` (1-based) with `done` of its positions acquired: the pace and
+ * the time left run over every pass, first_s being the first position of the
+ * first pass (so the homing between passes counts in the pace). */
+void uwbd_scan_progress_estimate_passes(int pass, int passes, int done, int total, double started_s,
+                                        double first_s, double last_s, double now_s,
+                                        struct uwbd_scan_progress *out);
 
 /* The PROGRESS line (JSON, no newline; malloc'd, NULL when out of memory). */
 char *uwbd_reply_progress(const struct uwbd_scan_progress *p);

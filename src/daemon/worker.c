@@ -60,9 +60,17 @@ static void rig_progress(void *ctx, int done, int total)
     struct daemon *d = ctx;
     long long now_ms = (long long)(uwb_monotonic_s() * 1000.0);
     atomic_store(&d->worker_beat_ms, now_ms);
-    if (done == 0)
+    int pass = atomic_load(&d->progress_pass);
+    if (done == 0) { /* a new acquisition of this cycle begins */
+        pass++;
+        atomic_store(&d->progress_pass, pass);
+        if (pass > atomic_load(&d->progress_passes))
+            atomic_store(&d->progress_passes, pass);
+    }
+    /* The times run over the whole cycle: its first pass's start and first position. */
+    if (done == 0 && pass <= 1)
         atomic_store(&d->progress_start_ms, now_ms);
-    if (done == 1)
+    if (done == 1 && pass <= 1)
         atomic_store(&d->progress_first_ms, now_ms);
     atomic_store(&d->progress_last_ms, now_ms);
     atomic_store(&d->progress_total, total);
@@ -75,10 +83,11 @@ int uwbd_scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out)
     if (!d->scanning)
         return 0;
     int done = atomic_load(&d->progress_done);
-    uwbd_scan_progress_estimate(done, atomic_load(&d->progress_total),
-                                atomic_load(&d->progress_start_ms) / 1000.0,
-                                atomic_load(&d->progress_first_ms) / 1000.0,
-                                atomic_load(&d->progress_last_ms) / 1000.0, uwb_monotonic_s(), out);
+    uwbd_scan_progress_estimate_passes(atomic_load(&d->progress_pass), atomic_load(&d->progress_passes), done,
+                                       atomic_load(&d->progress_total),
+                                       atomic_load(&d->progress_start_ms) / 1000.0,
+                                       atomic_load(&d->progress_first_ms) / 1000.0,
+                                       atomic_load(&d->progress_last_ms) / 1000.0, uwb_monotonic_s(), out);
     return 1;
 }
 
@@ -160,6 +169,11 @@ int uwbd_worker_start(struct daemon *d)
     long long now_ms = (long long)(uwb_monotonic_s() * 1000.0);
     atomic_store(&d->progress_done, 0);
     atomic_store(&d->progress_total, d->cfg.rig.positions);
+    int passes = d->job.request.make_baseline ? d->job.request.baseline_scans : 1;
+    atomic_store(&d->progress_pass, 0);
+    atomic_store(&d->progress_passes, passes < 1                        ? 1
+                                      : passes > UWB_BASELINE_SCANS_MAX ? UWB_BASELINE_SCANS_MAX
+                                                                        : passes);
     atomic_store(&d->progress_start_ms, now_ms);
     scan_stop = 0; /* before the thread exists: pthread_create orders it */
     int rc = pthread_create(&d->job.thread, NULL, worker_main, d);

@@ -104,7 +104,10 @@ static void print_progress(FILE *out, const cJSON *p)
     double k, n, elapsed, left;
     if (!number(p, "position", &k) || !number(p, "positions", &n))
         return;
+    double pass, passes;
     fprintf(out, "position %.0f of %.0f", k, n);
+    if (number(p, "pass", &pass) && number(p, "passes", &passes) && passes > 1)
+        fprintf(out, ", pass %.0f of %.0f", pass, passes);
     if (number(p, "elapsed_s", &elapsed))
         fprintf(out, ", %.0f s", elapsed);
     if (number(p, "left_s", &left))

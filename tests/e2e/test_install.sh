@@ -22,7 +22,8 @@ for f in usr/bin/uwbd usr/lib/systemd/system/uwbd.service usr/lib/udev/rules.d/9
          usr/share/man/man8/uwbd.8 usr/share/man/man5/uwbd.json.5 usr/share/man/man1/uwbd-ctl.1 \
          usr/share/doc/uwbd/install-guide.md usr/share/doc/uwbd/config.md usr/share/doc/uwbd/state-dir.md \
          usr/share/man/man7/uwbd-mqtt.7 usr/share/man/man7/uwbd-modbus.7 usr/share/man/man7/uwbd-contacts.7 \
-         usr/share/man/man7/uwbd-prometheus.7 usr/share/man/man7/uwbd-images.7 usr/share/man/man7/uwbd-verdict.7; do
+         usr/share/man/man7/uwbd-prometheus.7 usr/share/man/man7/uwbd-images.7 usr/share/man/man7/uwbd-verdict.7 \
+         usr/share/man/man7/uwbd-recovery.7; do
     [[ -f $root/$f ]] || fail "not installed: /$f"
 done
 grep -qx 'ExecStart=/usr/bin/uwbd --config /etc/uwbd/uwbd.json' "$root/usr/lib/systemd/system/uwbd.service" ||

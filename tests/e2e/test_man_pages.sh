@@ -76,8 +76,8 @@ done
 for opt in $(uwbd ctl --help | options_in); do
     grep -qF -- "${opt//-/\\-}" board/man/uwbd-ctl.1 || fail "uwbd-ctl(1) does not document $opt"
 done
-commands=$(uwbd ctl --help | sed -n 's/^Commands: //p' | tr -d '.' | tr ',' '\n' | sed 's/^ *//; s/ \[.*//')
-[[ -n $commands ]] || fail "no Commands: line in uwbd ctl --help"
+commands=$(uwbd ctl --help | sed -n '/^Commands/,/^$/s/^  \([a-z][a-z ]*[a-z]\)\( \[[A-Z]\]\)\?  .*/\1/p')
+(( $(wc -l <<< "$commands") >= 12 )) || fail "no list of commands in uwbd ctl --help: $commands"
 while read -r cmd; do
     grep -qE "^\.B(I)? \"?$cmd" board/man/uwbd-ctl.1 || fail "uwbd-ctl(1) does not document the command '$cmd'"
 done <<< "$commands"

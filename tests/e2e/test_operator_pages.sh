@@ -4,8 +4,8 @@
 # warning about nothing, and every word of its scdoc source is on the
 # rendered page, in order (no text lost: a roff page once lost half of
 # itself to a stray \"); each paragraph's first words are found together.
-# The MQTT topics, Prometheus metrics and Modbus registers the README's
-# sections list are all in the pages.
+# The MQTT topics, Prometheus metrics and Modbus registers the code
+# publishes, writes and serves are all in the pages.
 set -euo pipefail
 export LC_ALL=C
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -19,7 +19,7 @@ trap 'rm -rf "$out"' EXIT
 make --no-print-directory -s man BUILD="$UWB_BUILD_DIR" TEST_RUNNER="${UWB_EXEC_PREFIX:-}" > "$out/make.log" 2>&1 ||
     { cat "$out/make.log" >&2; fail "make man"; }
 sources=(board/man/*.7.scd)
-for name in uwbd-mqtt uwbd-modbus uwbd-contacts uwbd-prometheus uwbd-images; do
+for name in uwbd-mqtt uwbd-modbus uwbd-contacts uwbd-prometheus uwbd-images uwbd-recovery; do
     [[ -f board/man/$name.7.scd ]] || fail "no board/man/$name.7.scd"
 done
 
@@ -78,24 +78,34 @@ tools/man/no-lost-text.sh "$UWB_BUILD_DIR"/man/*.7 > "$out/lost" 2>&1 ||
     fail "tools/man/no-lost-text.sh: $(grep -v ', none lost$' "$out/lost")"
 pass "tools/man/no-lost-text.sh: $(tr '\n' ';' < "$out/lost")"
 
-# What the README's sections list, the pages list too.
-section() { awk -v h="$1" '$0 == h { on = 1; next } on && /^##/ { exit } on' README.md; }
+# What the code publishes, writes and serves, the pages list (the README
+# points to them): every MQTT topic, Prometheus metric and Modbus register.
 page_text() { words_rendered "$UWB_BUILD_DIR/man/$1.7" | tr '\n' ' '; }
-topics=$(section '### MQTT' | grep -oE '^\| `PREFIX/ASSET_ID/[a-z]+`' | grep -oE '[a-z]+`$' | tr -d '`')
-(( $(wc -l <<< "$topics") >= 5 )) || fail "only $(wc -l <<< "$topics") MQTT topics found in the README"
+topics=$(grep -oE '"%s/%s/[a-z]+"' src/integrations/mqtt_publisher.c | grep -oE '[a-z]+"$' | tr -d '"' | sort -u)
+(( $(wc -l <<< "$topics") >= 5 )) || fail "only $(wc -l <<< "$topics") MQTT topics found in src/integrations/mqtt_publisher.c"
 for topic in $topics; do
     grep -qF "PREFIX ASSET ID $topic " <<< "$(page_text uwbd-mqtt)" || fail "uwbd-mqtt(7) lacks the topic $topic"
 done
-metrics=$(section '### Prometheus textfile' | grep -oE 'uwbd_[a-z_]+' | sort -u)
-(( $(wc -l <<< "$metrics") >= 12 )) || fail "only $(wc -l <<< "$metrics") metrics found in the README"
+metrics=$(grep -oE '"uwbd_[a-z_]+' src/integrations/prometheus_textfile.c | tr -d '"' | sort -u)
+(( $(wc -l <<< "$metrics") >= 12 )) || fail "only $(wc -l <<< "$metrics") metrics found in src/integrations/prometheus_textfile.c"
 for metric in $metrics; do
     grep -qF "$metric" "$UWB_BUILD_DIR/man/uwbd-prometheus.7" || fail "uwbd-prometheus(7) lacks $metric"
 done
-registers=$(section '## Modbus (RTU and TCP)' | grep -oE '^\| [0-9]+(–[0-9]+)? \|' | tr -d '| ')
-(( $(wc -l <<< "$registers") >= 16 )) || fail "only $(wc -l <<< "$registers") registers found in the README"
+registers=$(grep -oE 'UWBD_MODBUS_REG_[A-Z_]+ = [0-9]+' src/integrations/modbus_registers.h | grep -oE '[0-9]+$' | sort -un)
+(( $(wc -l <<< "$registers") >= 16 )) || fail "only $(wc -l <<< "$registers") registers found in src/integrations/modbus_registers.h"
+sed 's/\\\[u2013\]/–/g' "$UWB_BUILD_DIR/man/uwbd-modbus.7" > "$out/modbus.7"
 for register in $registers; do
-    grep -qF "\\fB$register\\fR: " <(sed 's/\\\[u2013\]/–/g' "$UWB_BUILD_DIR/man/uwbd-modbus.7") ||
-        fail "uwbd-modbus(7) lacks register $register"
+    grep -qE "^\\\\fB$register(–[0-9]+)?\\\\fR: " "$out/modbus.7" || fail "uwbd-modbus(7) lacks register $register"
 done
-pass "the README's $(wc -w <<< "$topics") MQTT topics, $(wc -w <<< "$metrics") metrics and $(wc -w <<< "$registers") Modbus registers are in the pages"
+pass "the $(wc -w <<< "$topics") MQTT topics, $(wc -w <<< "$metrics") metrics and $(wc -w <<< "$registers") Modbus registers of the code are in the pages"
+
+# uwbd-recovery(7) explains every exit status uwbd ctl --help gives.
+codes=$(${UWB_EXEC_PREFIX:-} "$UWB_BUILD_DIR/uwbd" ctl --help | sed -n '/^Exit status:/,$p' | grep -oE '(^|[;:] )[0-9]+' |
+    grep -oE '[0-9]+')
+(( $(wc -w <<< "$codes") >= 6 )) || fail "only $(wc -w <<< "$codes") exit statuses in uwbd ctl --help"
+for code in $codes; do
+    sed -n '/^\.SH EXIT STATUS OF UWBD CTL/,/^\.SH /p' "$UWB_BUILD_DIR/man/uwbd-recovery.7" |
+        grep -qxF "\\fB$code\\fR" || fail "uwbd-recovery(7) does not explain uwbd ctl's exit status $code"
+done
+pass "uwbd-recovery(7) explains uwbd ctl's exit statuses $(echo $codes)"
 echo "$passed passed"

@@ -4,6 +4,7 @@
 #include "unity.h"
 
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "daemon/command.h"
@@ -82,6 +83,97 @@ static void test_watch_forms(void)
     TEST_ASSERT_NULL_MESSAGE(strstr(err, "too long"), err);
     assert_invalid("watch on", "watch off");
     assert_invalid("watch off now", "unexpected argument");
+}
+
+/* Does `line` (lower case, single spaces) match the help usage `usage`:
+ * its words in order, where "[N]" or "[S]" is an optional number? */
+static int matches_usage(const char *usage, const char *line)
+{
+    char u[64], l[64];
+    snprintf(u, sizeof u, "%s", usage);
+    snprintf(l, sizeof l, "%s", line);
+    char *us = NULL, *ls = NULL;
+    char *uw = strtok_r(u, " ", &us), *lw = strtok_r(l, " ", &ls);
+    for (; uw; uw = strtok_r(NULL, " ", &us)) {
+        int optional_number = uw[0] == '[';
+        if (optional_number && lw && strspn(lw, "0123456789") == strlen(lw))
+            lw = strtok_r(NULL, " ", &ls);
+        else if (!optional_number) {
+            if (!lw || strcmp(uw, lw) != 0)
+                return 0;
+            lw = strtok_r(NULL, " ", &ls);
+        }
+    }
+    return lw == NULL;
+}
+
+/* Issue 31, finding 9: the help list is the table of what the daemon
+ * dispatches on. Every line of one to three words drawn from the help's
+ * words, every kind's name and a few likely extras that the parser accepts
+ * has its help line, and every help line (with and without its number) is
+ * accepted; every kind has a help line. */
+static void test_help_lists_exactly_the_commands_accepted(void)
+{
+    const char *vocabulary[64];
+    size_t n = 0;
+    const char *extras[] = {"1",     "on",     "all",  "now",      "get",   "clear",
+                            "reset", "test",   "off",  "progress", "force", "set",
+                            "relay", "reload", "stop", "version",  "quit",  "list"};
+    for (size_t i = 0; i < sizeof extras / sizeof extras[0]; i++)
+        vocabulary[n++] = extras[i];
+    for (int kind = 0; kind <= UWB_COMMAND_CONTACTS_TEST; kind++) {
+        const char *name = uwb_command_name((enum uwb_command_kind)kind);
+        TEST_ASSERT_TRUE_MESSAGE(n < 64, "vocabulary too small");
+        vocabulary[n++] = strchr(name, ' ') ? NULL : name;
+        if (!vocabulary[n - 1])
+            n--;
+        int listed = 0;
+        for (size_t h = 0; h < uwb_command_help_count; h++)
+            listed |= strncmp(uwb_command_help[h].usage, name, strlen(name)) == 0;
+        TEST_ASSERT_TRUE_MESSAGE(listed, name);
+    }
+    static char help_words[64][24];
+    size_t n_help_words = 0;
+    for (size_t h = 0; h < uwb_command_help_count; h++) {
+        char usage[64];
+        snprintf(usage, sizeof usage, "%s", uwb_command_help[h].usage);
+        char *save = NULL;
+        for (char *w = strtok_r(usage, " ", &save); w; w = strtok_r(NULL, " ", &save))
+            if (w[0] != '[' && n_help_words < 64 && n < 64) {
+                snprintf(help_words[n_help_words], sizeof help_words[0], "%s", w);
+                vocabulary[n++] = help_words[n_help_words++];
+            }
+        /* uwbd ctl --help prints the brief meaning after 22 columns, within 78. */
+        TEST_ASSERT_NOT_NULL_MESSAGE(uwb_command_help[h].brief, uwb_command_help[h].usage);
+        TEST_ASSERT_TRUE_MESSAGE(strlen(uwb_command_help[h].brief) <= 56, uwb_command_help[h].brief);
+        TEST_ASSERT_TRUE_MESSAGE(strlen(uwb_command_help[h].usage) <= 19, uwb_command_help[h].usage);
+        /* Each help line is accepted, with its optional number and without. */
+        char line[64];
+        snprintf(line, sizeof line, "%s", uwb_command_help[h].usage);
+        char *bracket = strchr(line, '[');
+        if (bracket) {
+            snprintf(bracket, sizeof line - (size_t)(bracket - line), "3");
+            TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_COMMAND_OK, parse(line), line);
+            bracket[bracket > line ? -1 : 0] = '\0';
+        }
+        TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_COMMAND_OK, parse(line), line);
+    }
+    char line[64];
+    int accepted = 0;
+    for (size_t a = 0; a < n; a++)
+        for (size_t b = 0; b <= n; b++)
+            for (size_t c = 0; c <= (b < n ? n : 0); c++) {
+                snprintf(line, sizeof line, "%s%s%s%s%s", vocabulary[a], b < n ? " " : "",
+                         b < n ? vocabulary[b] : "", c < n ? " " : "", c < n ? vocabulary[c] : "");
+                if (parse(line) != UWB_COMMAND_OK)
+                    continue;
+                accepted++;
+                int listed = 0;
+                for (size_t h = 0; h < uwb_command_help_count && !listed; h++)
+                    listed = matches_usage(uwb_command_help[h].usage, line);
+                TEST_ASSERT_TRUE_MESSAGE(listed, line);
+            }
+    TEST_ASSERT_GREATER_THAN_INT(15, accepted);
 }
 
 /* `contacts test [S]`: the seconds each relay is held, bounded. */
@@ -257,6 +349,7 @@ int main(void)
     RUN_TEST(test_every_command);
     RUN_TEST(test_watch_forms);
     RUN_TEST(test_contacts_test);
+    RUN_TEST(test_help_lists_exactly_the_commands_accepted);
     RUN_TEST(test_line_endings_and_spacing);
     RUN_TEST(test_bad_arguments);
     RUN_TEST(test_bounds_and_bytes);

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "daemon/reply.h"
+#include "daemon/scan_progress.h"
 #include "integrations/site_io.h"
 #include "uwb/reply_text.h"
 #include "uwb/cli.h"
@@ -117,6 +118,19 @@ static void test_errors_and_short_replies_are_a_line(void)
     TEST_ASSERT_EQUAL_STRING("", printed);
 }
 
+/* Issue 31, finding 10: a PROGRESS line of a commissioning says its pass. */
+static void test_progress_says_its_pass(void)
+{
+    struct uwbd_scan_progress p;
+    uwbd_scan_progress_estimate_passes(2, 3, 7, 21, 0.0, 2.0, 40.0, 40.0, &p);
+    TEST_ASSERT_EQUAL_STRING("scan: position 7 of 21, pass 2 of 3, 40 s, about 49 s left\n",
+                             as_text(uwbd_reply_progress(&p)));
+    free(printed);
+    uwbd_scan_progress_estimate(7, 21, 0.0, 2.0, 14.0, 14.0, &p);
+    TEST_ASSERT_EQUAL_STRING("scan: position 7 of 21, 14 s, about 28 s left\n",
+                             as_text(uwbd_reply_progress(&p)));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -124,5 +138,6 @@ int main(void)
     RUN_TEST(test_help_is_a_list_that_fits_a_terminal);
     RUN_TEST(test_history_is_a_table);
     RUN_TEST(test_errors_and_short_replies_are_a_line);
+    RUN_TEST(test_progress_says_its_pass);
     return UNITY_END();
 }
