@@ -105,11 +105,47 @@ static void test_3d_tank_whose_fit_finds_no_best_is_right_or_withheld(void)
     assert_right(&r, 0.5);
 }
 
+/* Three more drawn tanks, every pair (a clamp plate above or below, a
+ * squeezed spacer in one of each tank's two): a figure lies within 2 sigma
+ * of the truth. Before the displacement's floor was the family's scatter
+ * (it was the first tank's alone, 0.1 mm), four of these six read 2.2-5.0
+ * sigma off: s04 +26 -0.50, s07 +14 -0.43, s07 -2 +0.24, s08 +2 +0.22 mm. */
+static void test_family_figures_lie_within_two_sigma(void)
+{
+    static const char *const pairs[][2] = {
+        {FIXTURE("fdtd2d-var-s04-d+00"), FIXTURE("fdtd2d-var-s04-d+26")},
+        {FIXTURE("fdtd2d-var-s04-d+00"), FIXTURE("fdtd2d-var-s04-d-10")},
+        {FIXTURE("fdtd2d-var-s07-d+00"), FIXTURE("fdtd2d-var-s07-d+14")},
+        {FIXTURE("fdtd2d-var-s07-d+00"), FIXTURE("fdtd2d-var-s07-d-02")},
+        {FIXTURE("fdtd2d-var-s08-d+00"), FIXTURE("fdtd2d-var-s08-d+02")},
+        {FIXTURE("fdtd2d-var-s08-d+00"), FIXTURE("fdtd2d-var-s08-d+14")},
+    };
+    int figures = 0;
+    for (size_t i = 0; i < sizeof pairs / sizeof pairs[0]; i++) {
+        struct replayed r;
+        replay(pairs[i][0], pairs[i][1], &r);
+        if (r.v.status == UWB_STATUS_INCONCLUSIVE) {
+            TEST_ASSERT_TRUE_MESSAGE(strlen(r.v.reason) > 0, "inconclusive without a reason");
+            continue;
+        }
+        figures++;
+        /* Within 2 sigma; 0.25 mm is the issue's goal, not met by all. */
+        assert_right(&r, INFINITY);
+        /* No blanket inflation: sigma at most 0.3 mm where the figure is
+         * within 0.15 mm (issue 28). */
+        if (fabs(r.error_mm) <= 0.15) {
+            TEST_ASSERT_TRUE_MESSAGE(r.v.uncertainty_m < 0.000305, pairs[i][1]);
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(6, figures);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_family_tank_behind_a_plate_edge_gets_a_right_figure);
     RUN_TEST(test_3d_tank_with_plate_below_is_right_or_withheld);
     RUN_TEST(test_3d_tank_whose_fit_finds_no_best_is_right_or_withheld);
+    RUN_TEST(test_family_figures_lie_within_two_sigma);
     return UNITY_END();
 }
