@@ -12,6 +12,7 @@ struct uwb_compare_options {
     struct uwb_thresholds thresholds;
     struct uwb_thresholds radial_thresholds; /* on the radial change (radial.watch_mm, radial.alarm_mm) */
     double systematic_displacement_m;        /* 1-sigma floor of a displacement between two scans */
+    double least_displacement_uncertainty_m; /* no displacement's 1-sigma is given smaller */
     double max_uncertainty_m;                /* above this 1-sigma the verdict is inconclusive */
     double max_height_uncertainty_m;         /* above this 1-sigma the height change is withheld */
     double baseline_repeatability_m; /* 1-sigma of the baseline's centre from the spread of its commissioning
@@ -64,9 +65,11 @@ struct uwb_uncertainty_terms {
     double baseline_repeatability_m; /* spread of the baseline's commissioning scans (baseline set N) */
     double deformation_m; /* the face deformed: the shift with and without its changed rows disagree, or
                              the face leans (a third of the tilt past the watch limit) */
+    double least_m;       /* the least the sum may be (uwb_compare_options) */
 };
 
-/* Their sum in quadrature: the one place the verdict's sigma is composed. */
+/* Their sum in quadrature, never under least_m: the one place the
+ * verdict's sigma is composed. */
 double uwb_displacement_uncertainty(const struct uwb_uncertainty_terms *t);
 
 /* uwb_compare_edges with the pair's own figures (pair may be NULL). */

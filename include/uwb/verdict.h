@@ -91,6 +91,8 @@ struct uwb_verdict {
     char baseline_scan_id[128];
     double axial_displacement_m; /* Yc - Yc(baseline), positive = up */
     double uncertainty_m;        /* 1-sigma of the displacement */
+    double uncertainty_noise_m;  /* its part from the scans' noise alone (averages down with more pulses;
+                                    not in the JSON: the accuracy report checks it against noisy spreads) */
     int axial_withheld;          /* the displacement is no figure (its sigma too large); the status may
                                     still be the radial one's */
     /* (the 95 % interval is UWB_SIGMAS_95 of these either side) */

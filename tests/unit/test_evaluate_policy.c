@@ -134,6 +134,9 @@ static void test_a_scan_without_a_direct_coupling_is_not_compared(void)
 
 static void test_the_recorded_repeatability_adds_spread_over_root_n(void)
 {
+    /* The sum in quadrature alone: the least sigma (0.3 mm) is above the
+     * noiseless pair's own terms (0.1 mm) and would hide them. */
+    opt.compare.least_displacement_uncertainty_m = 0.0;
     struct uwb_baseline_record rec = {.scan = &intact};
     struct uwb_verdict plain, repeat;
     evaluate(&rec, &plain);
@@ -146,6 +149,22 @@ static void test_the_recorded_repeatability_adds_spread_over_root_n(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-9, plain.axial_displacement_m, repeat.axial_displacement_m);
 }
 
+/* The least sigma: a noiseless pair whose terms sum to 0.1 mm reads 0.3;
+ * a repeatability that takes the sum past it is carried whole. */
+static void test_no_sigma_is_given_under_the_least(void)
+{
+    struct uwb_baseline_record rec = {.scan = &intact};
+    struct uwb_verdict plain, repeat;
+    evaluate(&rec, &plain);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, opt.compare.least_displacement_uncertainty_m, plain.uncertainty_m);
+    TEST_ASSERT_TRUE(plain.uncertainty_noise_m < plain.uncertainty_m);
+    rec.has_repeatability = 1;
+    rec.repeatability_m = 0.0008;
+    rec.scans = 1;
+    evaluate(&rec, &repeat);
+    TEST_ASSERT_TRUE(repeat.uncertainty_m >= 0.0008);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -155,5 +174,6 @@ int main(void)
     RUN_TEST(test_a_shift_that_rounds_to_zero_prints_as_zero);
     RUN_TEST(test_a_scan_without_a_direct_coupling_is_not_compared);
     RUN_TEST(test_the_recorded_repeatability_adds_spread_over_root_n);
+    RUN_TEST(test_no_sigma_is_given_under_the_least);
     return UNITY_END();
 }

@@ -29,10 +29,11 @@ struct accuracy_row {
     int noisy;
     double bias_m, spread_m, worst_m;
     double median_sigma_m;
-    double within_2sigma;   /* share of the errors (measured pairs) within 2 sigma */
-    double with_figure;     /* share not inconclusive (default uncertainty limit) */
-    double crb_m;           /* 0 for the clean replay */
-    double crb_face_cell_m; /* the bound from the face's range cell alone (see accuracy_crb_m) */
+    double median_noise_sigma_m; /* sigma's part from the scans' noise (without the least sigma) */
+    double within_2sigma;        /* share of the errors (measured pairs) within 2 sigma */
+    double with_figure;          /* share not inconclusive (default uncertainty limit) */
+    double crb_m;                /* 0 for the clean replay */
+    double crb_face_cell_m;      /* the bound from the face's range cell alone (see accuracy_crb_m) */
 };
 
 /* The Cramer-Rao bound of a displacement measured between two scans that

@@ -5,6 +5,11 @@
 # the height change (a squeezed spacer: data/README.md). A figure is right
 # when it is within 0.25 mm and 2 sigma of the truth. Prints a line per
 # pair and a closing count; the figures are in the README's family table.
+# Then the same for the pairs uwbd was developed on (the paper's, the
+# tank's), and the robust scatter of the errors, 1.4826 x their median
+# absolute value (a normal spread's sigma, a gross error or two aside):
+# of the family, and of every pair, from which the least sigma a
+# displacement is given comes (src/verdict/compare.c).
 #
 # Usage: tools/accuracy/family.sh [DATA_DIR [BUILD_DIR]]
 set -euo pipefail
@@ -14,23 +19,23 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 number() { grep -o "\"$1\": *[-0-9.]*" | head -n 1 | grep -o '[-0-9.]*$' || true; }
 
-shopt -s nullglob
 right=0 close=0 wrong=0 withheld=0 pairs=0
-for moved in "$data"/fdtd2d-var-s*-d[+-]*.uwbscan; do
-    [[ $moved == *-d+00.uwbscan ]] && continue
+# replay_pair MOVED BASELINE: one line, and the error's size to $out/KIND.
+replay_pair() {
+    local moved=$1 baseline=$2 kind=$3 name truth want verdict status got sigma verdict_word
     name=$(basename "$moved" .uwbscan)
     truth=${moved%.uwbscan}.truth.json
     want=$(awk -v s="$(number displacement_mm < "$truth")" -v h="$(number height_change_mm < "$truth")" \
         'BEGIN { print s + h / 2 }')
-    verdict=$("$build/uwbd" --replay "$moved" --baseline "${moved%-d*}-d+00.uwbscan" --out "$out" | head -n 1)
-    status=$(grep -o '"status":"[a-z]*"' <<< "$verdict" | cut -d'"' -f4)
+    verdict=$("$build/uwbd" --replay "$moved" --baseline "$baseline" --out "$out" | head -n 1)
+    status=$(grep -o '"status":"[a-z]*"' <<< "$verdict" | head -n 1 | cut -d'"' -f4)
     got=$(sed 's/":/": /g' <<< "$verdict" | number axial_displacement_mm)
     sigma=$(sed 's/":/": /g' <<< "$verdict" | number uncertainty_mm)
     pairs=$((pairs + 1))
     if [[ -z $got ]]; then
         withheld=$((withheld + 1))
-        printf '%-20s truth %+7.2f  %s, no figure\n' "$name" "$want" "$status"
-        continue
+        printf '%-28s truth %+7.2f  %s, no figure\n' "$name" "$want" "$status"
+        return
     fi
     verdict_word=$(awk -v w="$want" -v g="$got" -v s="$sigma" 'BEGIN {
         e = g - w; if (e < 0) e = -e
@@ -40,10 +45,36 @@ for moved in "$data"/fdtd2d-var-s*-d[+-]*.uwbscan; do
         within-2sigma) close=$((close + 1)) ;;
         *) wrong=$((wrong + 1)) ;;
     esac
+    awk -v w="$want" -v g="$got" 'BEGIN { e = g - w; print (e < 0) ? -e : e }' >> "$out/$kind"
     awk -v n="$name" -v w="$want" -v g="$got" -v s="$sigma" -v st="$status" -v v="$verdict_word" 'BEGIN {
-        printf "%-20s truth %+7.2f  read %+7.2f ± %.2f %-6s off %+.2f (%.1f sigma)  %s\n",
+        printf "%-28s truth %+7.2f  read %+7.2f ± %.2f %-6s off %+.2f (%.1f sigma)  %s\n",
                n, w, g, s, st, g - w, (g - w) / s, v }'
+}
+tally() {
+    echo "$pairs pairs: $right within 0.25 mm and 2 sigma, $close within 2 sigma only," \
+        "$wrong outside 2 sigma, $withheld without a figure"
+    right=0 close=0 wrong=0 withheld=0 pairs=0
+}
+# robust_scatter FILE...: 1.4826 x the median of the sizes in the files.
+robust_scatter() {
+    sort -g "$@" | awk '{ e[NR] = $1 } END {
+        m = (NR % 2) ? e[(NR + 1) / 2] : (e[NR / 2] + e[NR / 2 + 1]) / 2
+        printf "%.2f mm (%d figures)", 1.4826 * m, NR }'
+}
+
+shopt -s nullglob
+for moved in "$data"/fdtd2d-var-s*-d[+-]*.uwbscan; do
+    [[ $moved == *-d+00.uwbscan ]] && continue
+    replay_pair "$moved" "${moved%-d*}-d+00.uwbscan" family
 done
 (( pairs > 0 )) || { echo "family: no fdtd2d-var-* pairs in $data" >&2; exit 66; }
-echo "$pairs pairs: $right within 0.25 mm and 2 sigma, $close within 2 sigma only," \
-    "$wrong outside 2 sigma, $withheld without a figure"
+tally
+echo "developed on:"
+for moved in "$data"/fdtd2d-tank-d[+-]*.uwbscan; do
+    [[ $moved == *-d+00.0.uwbscan ]] && continue
+    replay_pair "$moved" "$data/fdtd2d-tank-d+00.0.uwbscan" developed
+done
+replay_pair "$data/fdtd2d-paper-up20mm.uwbscan" "$data/fdtd2d-paper-intact.uwbscan" developed
+tally
+echo "robust scatter of the errors: family $(robust_scatter "$out/family"), every pair" \
+    "$(robust_scatter "$out/family" "$out/developed")"
