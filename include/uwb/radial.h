@@ -41,6 +41,12 @@ struct uwb_radial {
     int excluded_at_end; /* ...and they reach the face's end (its edge moved with them) */
 };
 
+/* The baseline's face range at its height y less at y + shift_m (0
+ * where either is off its image): a ripple held in place by the tank and
+ * the aperture shows in a pure shift's offsets as this, times the line's
+ * frame_share. */
+double uwb_radial_frame_ripple(const struct uwb_face_profile *baseline_range, double y_m, double shift_m);
+
 /* Compare the two analyses' face ranges with the current one shifted back
  * by shift_m. watch_m sets the span reported; noise_rms is the noise per
  * sample of each scan's conditioned traces (the pair's, where measured).
