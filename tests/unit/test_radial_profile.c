@@ -89,6 +89,7 @@ static void check_radial(const char *name, double y_from_m, double y_to_m, doubl
     TEST_ASSERT_TRUE_MESSAGE(r->figures.has_span, "span past the watch limit");
     TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(SPAN_END_M, y_from_m, r->figures.from_m, "span's lower end");
     TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(SPAN_END_M, y_to_m, r->figures.to_m, "span's upper end");
+    TEST_ASSERT_TRUE_MESSAGE(fabs(r->figures.tilt_m) <= TILT_GOAL_M, "tilt (the winding does not lean)");
 }
 
 static double goal_tolerance(double change_m)
