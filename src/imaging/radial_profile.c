@@ -81,11 +81,11 @@ static double line_reference(const struct uwb_radial *r, const struct uwb_radial
 }
 
 /* Least squares over the rows `use` marks of offset = level + slope (y -
- * mid) + share ripple, the share held to 0..1 (the ripple's part left
- * after level and slope, regressed; then level and slope without it); 0,
- * or -1 with fewer than 3 rows. */
+ * mid) + share ripple (slope 0 without with_slope), the share held to
+ * 0..1 (the ripple's part left after level and slope, regressed; then
+ * level and slope without it); 0, or -1 with fewer than 3 rows. */
 static int fit_line(const struct uwb_radial *r, const double *offset, const struct uwb_face_profile *rb,
-                    const unsigned char *use, struct uwb_radial_line *l)
+                    const unsigned char *use, int with_slope, struct uwb_radial_line *l)
 {
     double n = 0, sy = 0, so = 0, sr = 0;
     for (int i = 0; i < r->n; i++)
@@ -106,7 +106,8 @@ static int fit_line(const struct uwb_radial *r, const double *offset, const stru
             syo += dy * offset[i];
             syr += dy * uwb_radial_frame_ripple(rb, r->y0_m + i * r->dy_m, r->figures.shift_m);
         }
-    double slope_o = syy > 0.0 ? syo / syy : 0.0, slope_r = syy > 0.0 ? syr / syy : 0.0;
+    double slope_o = with_slope && syy > 0.0 ? syo / syy : 0.0;
+    double slope_r = with_slope && syy > 0.0 ? syr / syy : 0.0;
     double cross = 0, ripple2 = 0;
     for (int i = 0; i < r->n; i++)
         if (use[i]) {
@@ -120,6 +121,49 @@ static int fit_line(const struct uwb_radial *r, const double *offset, const stru
     l->level_m = (so - l->frame_share * sr) / n;
     l->slope = slope_o - l->frame_share * slope_r;
     return 0;
+}
+
+/* The line through the rows that did not change: from the level most
+ * rows agree with, LINE_PASSES fits each leaving out the rows standing
+ * off the last by more than half the watch limit; use gets the rows of
+ * the last. 0, or -1 when fewer than 3 rows are left. */
+static int fit_reference(const struct uwb_radial *r, const double *offset, const struct uwb_face_profile *rb,
+                         const unsigned char *readable, double level, double y_mid_m, double watch_m,
+                         int with_slope, unsigned char *use, struct uwb_radial_line *line)
+{
+    *line = (struct uwb_radial_line){.level_m = level, .slope = 0.0, .y_mid_m = y_mid_m};
+    for (int pass = 0; pass < LINE_PASSES; pass++) {
+        for (int i = 0; i < r->n; i++)
+            use[i] = readable[i] && fabs(offset[i] - line_reference(r, line, rb, i)) <= 0.5 * watch_m;
+        if (fit_line(r, offset, rb, use, with_slope, line) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+/* Whether the largest change off the line is past the watch limit with
+ * unchanged rows on one side of it only (it reaches the face's end). */
+static int change_one_sided(const struct uwb_radial *r, const double *offset,
+                            const struct uwb_face_profile *rb, const unsigned char *readable,
+                            const unsigned char *use, const struct uwb_radial_line *line, double watch_m)
+{
+    int at = -1;
+    double largest = 0.0;
+    for (int i = 0; i < r->n; i++) {
+        double change = fabs(offset[i] - line_reference(r, line, rb, i));
+        if (readable[i] && change > largest) {
+            largest = change;
+            at = i;
+        }
+    }
+    if (at < 0 || largest <= watch_m)
+        return 0;
+    int below = 0, above = 0;
+    for (int i = 0; i < r->n; i++) {
+        below |= use[i] && i < at;
+        above |= use[i] && i > at;
+    }
+    return !(below && above);
 }
 
 /* The readable rows about row `at` whose change has the sign of the
@@ -205,16 +249,24 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
             level = offset[i];
         }
     }
-    struct uwb_radial_line line = {.level_m = level, .slope = 0.0, .y_mid_m = 0.5 * (lo + hi)};
-    for (int pass = 0; pass < LINE_PASSES; pass++) {
-        for (int i = 0; i < r->n; i++)
-            use[i] = readable[i] && fabs(offset[i] - line_reference(r, &line, rb, i)) <= 0.5 * watch_m;
-        if (fit_line(r, offset, rb, use, &line) != 0) {
-            memset(r->change_m, 0, sizeof r->change_m);
-            snprintf(fig->withheld, sizeof fig->withheld,
-                     "no part of the face stayed where it was: the change cannot be told from a tilt");
-            return 0;
-        }
+    /* A change that reaches the face's end leaves unchanged rows on one
+     * side of it only, and its own blur leans them (the flanks of a change
+     * in the middle of the face stand off it by about a tenth of it, the
+     * other way, on both sides, where their leans cancel): a slope through
+     * them, carried over the change, is that blur's, not the face's. The
+     * line is then level; how far the sloped one would read the change is
+     * a term of its sigma. */
+    struct uwb_radial_line line;
+    int fitted = fit_reference(r, offset, rb, readable, level, 0.5 * (lo + hi), watch_m, 1, use, &line) == 0;
+    struct uwb_radial_line sloped = line;
+    int one_sided = fitted && change_one_sided(r, offset, rb, readable, use, &line, watch_m);
+    if (one_sided)
+        fitted = fit_reference(r, offset, rb, readable, level, 0.5 * (lo + hi), watch_m, 0, use, &line) == 0;
+    if (!fitted) {
+        memset(r->change_m, 0, sizeof r->change_m);
+        snprintf(fig->withheld, sizeof fig->withheld,
+                 "no part of the face stayed where it was: the change cannot be told from a tilt");
+        return 0;
     }
     fig->measured = 1;
     fig->line = line;
@@ -255,14 +307,17 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
     }
     /* The line's share of the baseline's ripple mixes two of its rows,
      * which is no noisier than one: each row's noise is the two scans'. */
-    double sum = 0.0, noise2 = 0.0;
+    double sum = 0.0, noise2 = 0.0, lean = 0.0;
     for (int i = from; i <= to; i++) {
         double y = r->y0_m + i * r->dy_m;
+        if (one_sided)
+            lean += line_reference(r, &sloped, rb, i) - line_reference(r, &line, rb, i);
         double noise = hypot(row_noise_m(base, noise_rms, y), row_noise_m(cur, noise_rms, y + shift_m));
         sum += r->change_m[i];
         noise2 += noise * noise;
     }
     int width = to - from + 1;
+    lean /= width; /* the sloped line's read of the change less the level one's */
     fig->max_change_m = sum / width;
     fig->at_m = r->y0_m + at * r->dy_m + shift_m;
     double independent = fmax(1.0, width / correlated_rows);
@@ -277,8 +332,8 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
     r->uncertainty_profile_m = hypot(noise_mean, model);
     double size =
         (width < NARROW_CELLS * correlated_rows ? NARROW_SIZE_FRACTION : SIZE_FRACTION) * fig->max_change_m;
-    fig->uncertainty_m =
-        sqrt(noise_mean * noise_mean + model * model * look_elsewhere * look_elsewhere + size * size);
+    fig->uncertainty_m = sqrt(noise_mean * noise_mean + model * model * look_elsewhere * look_elsewhere +
+                              size * size + lean * lean);
     if (fabs(fig->max_change_m) > watch_m) {
         int f = at, t = at;
         while (f > 0 && readable[f - 1] && fabs(r->change_m[f - 1]) > watch_m)
