@@ -8,7 +8,9 @@
  * whose winding also rose 10 mm reads 1.25 mm over 6, asserted at 1.5 mm
  * until the axial figure is taken from the undeformed rows), its sign is
  * right, its largest lies inside the changed disks (+-10 mm) and the span
- * past the watch limit covers them; a pure shift reads at most 1 mm and
+ * past the watch limit covers them, and no lean past 1.5 mm is read (the
+ * top three disks' bulge read -1.78 mm before a change at the face's end
+ * was measured off a level line); a pure shift reads at most 1 mm and
  * a lean within 1.5 mm (the tank's +30 mm shift +0.26 mm and +1.03 mm;
  * -1.53 mm and -1.66 mm before the line took the share of the face
  * range's ripple that stays in the image). */
