@@ -11,9 +11,11 @@
  * Why a share of the baseline's own ripple in that line: the face's range
  * ripples along the height by about a millimetre, and in the tank most of
  * that ripple stays where it is in the image as the winding moves (the
- * tank's walls and the aperture put it there), so a row compared with the
- * baseline's row at the same height of the winding reads the ripple's
- * difference over the shift: -1.5 mm on a 30 mm shift. In the family's and
+ * tank's fixed scene puts it there: tools/uwbsim's winding without its
+ * clutter has none, with it a share of 0.6 on a 16 mm shift), so a row
+ * compared with the baseline's row at the same height of the winding
+ * reads the ripple's difference over the shift: -1.5 mm on a 30 mm shift
+ * of the full-wave tank. In the family's and
  * the paper's scenes it moves with the winding instead. The share is
  * fitted with the line, on the rows that did not change, between 0 (all
  * moves with the winding) and 1 (all stays in the image).
