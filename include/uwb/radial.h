@@ -19,8 +19,9 @@ struct uwb_radial {
      * change's 1-sigma holds the two scans' range noise over the changed
      * rows; the model term, the scatter of the unchanged rows about their
      * line (what the imaging leaves of a pure shift), as large as the
-     * largest of the profile's stretches reads by chance; and the blur's
-     * share of a change's size. */
+     * largest of the profile's stretches reads by chance; the blur's
+     * share of a change's size; and, for a change that reaches the face's
+     * end (the line then level), how far a sloped line would read it. */
     struct uwb_radial_verdict figures;
     /* The change profile over the baseline's face, edge to edge, in the
      * baseline's own y: change_m[i] at y0_m + i dy_m, + toward the antenna,
@@ -40,6 +41,12 @@ struct uwb_radial {
     double excluded_lo_m, excluded_hi_m;
     int excluded_at_end; /* ...and they reach the face's end (its edge moved with them) */
 };
+
+/* The baseline's face range at its height y less at y + shift_m (0
+ * where either is off its image): a ripple held in place by the tank and
+ * the aperture shows in a pure shift's offsets as this, times the line's
+ * frame_share. */
+double uwb_radial_frame_ripple(const struct uwb_face_profile *baseline_range, double y_m, double shift_m);
 
 /* Compare the two analyses' face ranges with the current one shifted back
  * by shift_m. watch_m sets the span reported; noise_rms is the noise per

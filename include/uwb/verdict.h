@@ -48,13 +48,18 @@ struct uwb_thresholds {
 
 /* The line the face's unchanged rows lie on (uwb/radial.h): the
  * baseline's face range less this scan's (+ nearer now) at the baseline's
- * height y is level_m + slope (y - y_mid_m). The whole face's move (the
- * oil's temperature) and a lean are no buckle: the change is what stands
- * off this line, the tilt its rise over the face. */
+ * height y is level_m + slope (y - y_mid_m), plus frame_share of the
+ * baseline's own ripple over the shift (uwb_radial_frame_ripple). The
+ * whole face's move (the oil's temperature) and a lean are no buckle: the
+ * change is what stands off this line, the tilt its rise over the face.
+ * frame_share (0..1, fitted on the pair's unchanged rows) is how much of
+ * the face range's ripple stays in place as the winding moves (what the
+ * tank and the aperture put there) rather than moving with it. */
 struct uwb_radial_line {
     double level_m;
     double slope;   /* m of range per m of height */
     double y_mid_m; /* in the baseline's y */
+    double frame_share;
 };
 
 static inline double uwb_radial_line_at(const struct uwb_radial_line *line, double y_m)

@@ -13,6 +13,7 @@
  * written in the panel. Nothing here is measured again: the verdict
  * holds the figure, the analyses the curves. */
 #include "output/render_internal.h"
+#include "uwb/radial.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -91,12 +92,16 @@ int uwb_radial_curves_read(const struct uwb_analysis *cur, const struct uwb_anal
         uwb_radial_curves_free(k);
         return -1;
     }
+    /* The baseline as the verdict compared it: its ripple that stays in
+     * the image as the winding moves (the line's frame share) read where
+     * this scan's row is. */
+    double share = v->radial.measured ? v->radial.line.frame_share : 0.0;
     for (int i = 0; i < rb->n; i++) {
         double y = rb->y0_m + i * rb->dy_m;
         if (y < lo || y > hi)
             continue;
         k->yb[k->n_base] = y + shift;
-        k->xb[k->n_base++] = rb->value[i];
+        k->xb[k->n_base++] = rb->value[i] - share * uwb_radial_frame_ripple(rb, y, shift);
     }
     memcpy(scratch, k->xb, sizeof *scratch * (size_t)k->n_base);
     double z_ref = median(scratch, k->n_base);
