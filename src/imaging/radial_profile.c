@@ -162,8 +162,10 @@ static int change_one_sided(const struct uwb_radial *r, const double *offset,
         return 0;
     int below = 0, above = 0;
     for (int i = 0; i < r->n; i++) {
-        below |= use[i] && i < at;
-        above |= use[i] && i > at;
+        if (!use[i])
+            continue;
+        below |= i < at;
+        above |= i > at;
     }
     return !(below && above);
 }
