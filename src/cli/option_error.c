@@ -7,19 +7,14 @@
 #include "uwb/cli.h"
 #include "util/edit_distance.h"
 
-/* The long option closest to `name` (at most 2 edits away), or NULL. */
+/* The long option closest to `name` (uwb_nearest's rules), or NULL. */
 static const char *closest_option(const char *name, size_t n, const struct option *longopts)
 {
-    const char *best = NULL;
-    size_t best_distance = 3;
-    for (const struct option *o = longopts; o->name; o++) {
-        size_t d = uwb_edit_distance(name, n, o->name, strlen(o->name));
-        if (d < best_distance) {
-            best_distance = d;
-            best = o->name;
-        }
-    }
-    return best;
+    struct uwb_nearest near;
+    uwb_nearest_start(&near, name, n);
+    for (const struct option *o = longopts; o->name; o++)
+        uwb_nearest_offer(&near, o->name, strlen(o->name));
+    return near.best;
 }
 
 static const struct option *option_with_val(const struct option *longopts, int val)

@@ -262,15 +262,11 @@ static const struct verb {
  * (`stauts`: did you mean `status`?). */
 static void unknown_verb(const char *word, char *err, size_t errlen)
 {
-    const char *meant = NULL;
-    size_t best = 3, n = strlen(word);
-    for (size_t i = 0; i < sizeof verbs / sizeof verbs[0]; i++) {
-        size_t d = uwb_edit_distance(word, n, verbs[i].name, strlen(verbs[i].name));
-        if (d < best) {
-            best = d;
-            meant = verbs[i].name;
-        }
-    }
+    struct uwb_nearest near;
+    uwb_nearest_start(&near, word, strlen(word));
+    for (size_t i = 0; i < sizeof verbs / sizeof verbs[0]; i++)
+        uwb_nearest_offer(&near, verbs[i].name, strlen(verbs[i].name));
+    const char *meant = near.best;
     if (!meant)
         set_error(err, errlen, "unknown command (try help):", word);
     else if (err && errlen)

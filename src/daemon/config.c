@@ -70,23 +70,20 @@ static int is_section(const char *path)
  * none), for "did you mean": `digitiser.sampels` -> `digitiser.samples`. */
 static void closest_key(const char *path, char *meant, size_t n)
 {
-    size_t best = 3, depth = 0, len = strlen(path);
+    size_t depth = 0;
     for (const char *dot = strchr(path, '.'); dot; dot = strchr(dot + 1, '.'))
         depth++;
-    meant[0] = '\0';
+    struct uwb_nearest near;
+    uwb_nearest_start(&near, path, strlen(path));
     for (size_t i = 0; i < uwbd_config_key_total; i++) {
         const char *p = uwbd_config_keys[i].path;
         size_t cut = 0, dots = 0;
         while (p[cut] && !(p[cut] == '.' && dots == depth))
             dots += p[cut++] == '.';
-        if (dots < depth)
-            continue; /* a shallower key */
-        size_t d = uwb_edit_distance(path, len, p, cut);
-        if (d > 0 && d < best) {
-            best = d;
-            snprintf(meant, n, "%.*s", (int)cut, p);
-        }
+        if (dots >= depth) /* else a shallower key */
+            uwb_nearest_offer(&near, p, cut);
     }
+    snprintf(meant, n, "%.*s", near.best ? (int)near.best_len : 0, near.best ? near.best : "");
 }
 
 /* "unknown key", naming the one meant when one is close. */

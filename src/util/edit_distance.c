@@ -24,3 +24,22 @@ size_t uwb_edit_distance(const char *a, size_t na, const char *b, size_t nb)
     }
     return row[nb];
 }
+
+void uwb_nearest_start(struct uwb_nearest *n, const char *word, size_t word_len)
+{
+    n->word = word;
+    n->word_len = word_len;
+    n->best = NULL;
+    n->best_len = 0;
+    n->best_distance = UWB_NEAREST_MAX_EDITS + 1;
+}
+
+void uwb_nearest_offer(struct uwb_nearest *n, const char *candidate, size_t candidate_len)
+{
+    size_t d = uwb_edit_distance(n->word, n->word_len, candidate, candidate_len);
+    if (d > 0 && d < n->best_distance) {
+        n->best = candidate;
+        n->best_len = candidate_len;
+        n->best_distance = d;
+    }
+}
