@@ -21,4 +21,18 @@ int uwbd_trend_text(const char *reply, FILE *out);
  * nothing printed, when the line is not a reply (no "class"). */
 int uwbd_reply_text(const char *reply, FILE *out);
 
+/* A PROGRESS reply's figures, read in one place for the console's line
+ * and uwbd ctl's bar. pass and passes are 1 when the daemon sent none; the
+ * has_ flags say which optional figures came. */
+struct uwbd_progress {
+    double position, positions;
+    double pass, passes;
+    int has_elapsed, has_left, has_fraction;
+    double elapsed_s, left_s, fraction;
+};
+
+/* 0 and *p filled from a reply line carrying position and positions, else
+ * -1 (not JSON, or either missing). */
+int uwbd_progress_read(const char *reply, struct uwbd_progress *p);
+
 #endif

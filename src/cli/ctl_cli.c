@@ -155,37 +155,29 @@ static void show_progress(const char *line, int on_terminal)
         fprintf(stderr, "%s\n", line);
         return;
     }
-    cJSON *o = cJSON_Parse(line);
-    const cJSON *k = cJSON_GetObjectItemCaseSensitive(o, "position");
-    const cJSON *n = cJSON_GetObjectItemCaseSensitive(o, "positions");
-    const cJSON *elapsed = cJSON_GetObjectItemCaseSensitive(o, "elapsed_s");
-    const cJSON *left = cJSON_GetObjectItemCaseSensitive(o, "left_s");
-    const cJSON *fraction = cJSON_GetObjectItemCaseSensitive(o, "fraction");
-    const cJSON *pass = cJSON_GetObjectItemCaseSensitive(o, "pass");
-    const cJSON *passes = cJSON_GetObjectItemCaseSensitive(o, "passes");
-    if (cJSON_IsNumber(k) && cJSON_IsNumber(n) && n->valueint > 0) {
-        enum { WIDTH = 30 };
-        char bar[WIDTH + 1];
-        /* One bar over every pass of the cycle (a daemon without "fraction": this pass). */
-        double whole = cJSON_IsNumber(fraction) ? fraction->valuedouble : (double)k->valueint / n->valueint;
-        /* Within 0..1 whatever the line says (NaN too), so the cast cannot overflow;
-         * 1e-3 makes 0.3333 of 30 the 10 it means. */
-        whole = whole > 0 ? whole < 1 ? whole : 1 : 0;
-        int filled = (int)(whole * WIDTH + 1e-3);
-        for (int i = 0; i < WIDTH; i++)
-            bar[i] = i < filled ? '#' : '-';
-        bar[WIDTH] = '\0';
-        fprintf(stderr, "\r[%s] ", bar);
-        if (cJSON_IsNumber(pass) && cJSON_IsNumber(passes) && passes->valueint > 1)
-            fprintf(stderr, "pass %d of %d, ", pass->valueint, passes->valueint);
-        fprintf(stderr, "%d/%d positions  %.0f s", k->valueint, n->valueint,
-                cJSON_IsNumber(elapsed) ? elapsed->valuedouble : 0.0);
-        if (cJSON_IsNumber(left))
-            fprintf(stderr, ", about %.0f s left", left->valuedouble);
-        fputs("\033[K", stderr);
-        fflush(stderr);
-    }
-    cJSON_Delete(o);
+    struct uwbd_progress p;
+    if (uwbd_progress_read(line, &p) != 0 || !(p.positions > 0))
+        return;
+    enum { WIDTH = 30 };
+    char bar[WIDTH + 1];
+    /* One bar over every pass of the cycle (a daemon without "fraction": this pass). */
+    double whole = p.has_fraction ? p.fraction : p.position / p.positions;
+    /* Within 0..1 whatever the line says (NaN too), so the cast cannot overflow;
+     * 1e-3 makes 0.3333 of 30 the 10 it means. */
+    whole = whole > 0 ? whole < 1 ? whole : 1 : 0;
+    int filled = (int)(whole * WIDTH + 1e-3);
+    for (int i = 0; i < WIDTH; i++)
+        bar[i] = i < filled ? '#' : '-';
+    bar[WIDTH] = '\0';
+    fprintf(stderr, "\r[%s] ", bar);
+    if (p.passes > 1)
+        fprintf(stderr, "pass %.0f of %.0f, ", p.pass, p.passes);
+    fprintf(stderr, "%.0f/%.0f positions  %.0f s", p.position, p.positions,
+            p.has_elapsed ? p.elapsed_s : 0.0);
+    if (p.has_left)
+        fprintf(stderr, ", about %.0f s left", p.left_s);
+    fputs("\033[K", stderr);
+    fflush(stderr);
 }
 
 static const struct option ctl_options[] = {

@@ -99,19 +99,39 @@ static void print_figure(FILE *out, const cJSON *v)
     }
 }
 
-static void print_progress(FILE *out, const cJSON *p)
+static int progress_of(const cJSON *o, struct uwbd_progress *p)
 {
-    double k, n, elapsed, left;
-    if (!number(p, "position", &k) || !number(p, "positions", &n))
+    memset(p, 0, sizeof *p);
+    if (!number(o, "position", &p->position) || !number(o, "positions", &p->positions))
+        return -1;
+    if (!number(o, "pass", &p->pass) || !number(o, "passes", &p->passes))
+        p->pass = p->passes = 1.0;
+    p->has_elapsed = number(o, "elapsed_s", &p->elapsed_s);
+    p->has_left = number(o, "left_s", &p->left_s);
+    p->has_fraction = number(o, "fraction", &p->fraction);
+    return 0;
+}
+
+int uwbd_progress_read(const char *reply, struct uwbd_progress *p)
+{
+    cJSON *o = cJSON_Parse(reply);
+    int rc = cJSON_IsObject(o) ? progress_of(o, p) : -1;
+    cJSON_Delete(o);
+    return rc;
+}
+
+static void print_progress(FILE *out, const cJSON *o)
+{
+    struct uwbd_progress p;
+    if (progress_of(o, &p) != 0)
         return;
-    double pass, passes;
-    fprintf(out, "position %.0f of %.0f", k, n);
-    if (number(p, "pass", &pass) && number(p, "passes", &passes) && passes > 1)
-        fprintf(out, ", pass %.0f of %.0f", pass, passes);
-    if (number(p, "elapsed_s", &elapsed))
-        fprintf(out, ", %.0f s", elapsed);
-    if (number(p, "left_s", &left))
-        fprintf(out, ", about %.0f s left", left);
+    fprintf(out, "position %.0f of %.0f", p.position, p.positions);
+    if (p.passes > 1)
+        fprintf(out, ", pass %.0f of %.0f", p.pass, p.passes);
+    if (p.has_elapsed)
+        fprintf(out, ", %.0f s", p.elapsed_s);
+    if (p.has_left)
+        fprintf(out, ", about %.0f s left", p.left_s);
 }
 
 static void status_baseline(FILE *out, const cJSON *o)

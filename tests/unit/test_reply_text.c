@@ -131,6 +131,33 @@ static void test_progress_says_its_pass(void)
                              as_text(uwbd_reply_progress(&p)));
 }
 
+/* The console's line and uwbd ctl's bar read a PROGRESS line's figures
+ * through one reader: what the daemon sends is what both get. */
+static void test_progress_figures_read_back(void)
+{
+    struct uwbd_scan_progress sent;
+    uwbd_scan_progress_estimate_passes(2, 3, 7, 21, 0.0, 2.0, 40.0, 40.0, &sent);
+    char *line = uwbd_reply_progress(&sent);
+    struct uwbd_progress got;
+    TEST_ASSERT_EQUAL_INT(0, uwbd_progress_read(line, &got));
+    free(line);
+    TEST_ASSERT_EQUAL_DOUBLE(7.0, got.position);
+    TEST_ASSERT_EQUAL_DOUBLE(21.0, got.positions);
+    TEST_ASSERT_EQUAL_DOUBLE(2.0, got.pass);
+    TEST_ASSERT_EQUAL_DOUBLE(3.0, got.passes);
+    TEST_ASSERT_TRUE(got.has_elapsed && got.has_left && got.has_fraction);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 40.0, got.elapsed_s);
+    TEST_ASSERT_DOUBLE_WITHIN(0.5, 49.0, got.left_s);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-3, (1.0 + 7.0 / 21.0) / 3.0, got.fraction);
+    /* An older daemon's line: no passes, no fraction, no estimate. */
+    TEST_ASSERT_EQUAL_INT(
+        0, uwbd_progress_read("{\"class\":\"PROGRESS\",\"position\":3,\"positions\":9}", &got));
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, got.passes);
+    TEST_ASSERT_FALSE(got.has_elapsed || got.has_left || got.has_fraction);
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_progress_read("{\"class\":\"PROGRESS\",\"position\":3}", &got));
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_progress_read("not json", &got));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -139,5 +166,6 @@ int main(void)
     RUN_TEST(test_history_is_a_table);
     RUN_TEST(test_errors_and_short_replies_are_a_line);
     RUN_TEST(test_progress_says_its_pass);
+    RUN_TEST(test_progress_figures_read_back);
     return UNITY_END();
 }
