@@ -13,9 +13,7 @@ int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
      * the far end of the range window onto the near end, and on to a power
      * of two: FFTW is several times slower on lengths with large prime
      * factors (2 x 501 = 2 x 3 x 167), and this runs on every image row. */
-    int n = 2;
-    while (n < 2 * img->nz)
-        n *= 2;
+    int n = uwb_fft_padded_length(2 * img->nz);
     int nh = n / 2 + 1;
     int rc = -1;
     fftwf_plan fwd = NULL, inv = NULL;

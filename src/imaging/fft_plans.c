@@ -50,3 +50,11 @@ void uwb_fft_plan_release(fftwf_plan plan)
             return;
     fftwf_destroy_plan(plan);
 }
+
+int uwb_fft_padded_length(int n)
+{
+    int padded = 2;
+    while (padded < n && padded < (1 << 29))
+        padded *= 2;
+    return padded;
+}

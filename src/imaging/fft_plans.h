@@ -1,11 +1,11 @@
 /* FFTW plans kept for the process's life (private to src/imaging).
  *
- * Planning costs more than transforming: 190 us for the pair of plans of a
- * 1697-sample trace (a prime: the paper scans' length) against 60 us to run
- * both, and the replay of one pair asks for the same few lengths about 250
- * times. So each (kind, length) is planned once and reused through FFTW's
- * new-array execute functions, whose arrays must come from fftwf_alloc_*
- * (the alignment the plan was made for) and be out of place.
+ * Planning costs more than transforming: 0.4-1 ms for a plan of a few
+ * thousand samples against a few microseconds to run it, and the replay of
+ * one pair asks for the same few lengths thousands of times. So each
+ * (kind, length) is planned once and reused through FFTW's new-array
+ * execute functions, whose arrays must come from fftwf_alloc_* (the
+ * alignment the plan was made for) and be out of place.
  *
  * Like FFTW's planner itself, this is for one thread at a time: the daemon
  * analyses in one worker thread at a time (src/daemon/worker.c). */
@@ -24,5 +24,12 @@ enum fft_kind {
  * memory for it. */
 fftwf_plan uwb_fft_plan_acquire(enum fft_kind kind, int n);
 void uwb_fft_plan_release(fftwf_plan plan);
+
+/* The length a record of n samples is transformed at, zeros after it: the
+ * next power of two. FFTW takes some ten times as long on a prime length
+ * (the full-wave scans' 1697 and 2333 samples: 39 us a trace against
+ * 2.2 us at 2048), and the zeros keep a filter's circular wrap from
+ * folding the record's end onto its start. */
+int uwb_fft_padded_length(int n);
 
 #endif

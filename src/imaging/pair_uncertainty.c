@@ -130,9 +130,7 @@ static int noise_source_init(struct noise_source *ns, const struct uwb_scan *sha
                              size_t errlen)
 {
     *ns = (struct noise_source){0};
-    ns->n = 2;
-    while (ns->n < shape->samples)
-        ns->n *= 2;
+    ns->n = uwb_fft_padded_length(shape->samples);
     int nh = ns->n / 2 + 1;
     ns->gain = malloc((size_t)nh * sizeof *ns->gain);
     ns->trace = fftwf_alloc_real((size_t)ns->n);

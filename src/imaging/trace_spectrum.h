@@ -9,8 +9,9 @@
 #include "uwb/scan.h"
 
 /* Called with trace k's spectrum (bins 0..n/2, spacing df_hz: FFTW's
- * unnormalised r2c output of n samples); it changes spec in place,
- * including the 1/n the inverse transform needs. */
+ * unnormalised r2c output of n samples, the trace and zeros after it to
+ * uwb_fft_padded_length); it changes spec in place, including the 1/n the
+ * inverse transform needs. */
 typedef void (*trace_spectrum_fn)(void *ctx, int k, fftwf_complex *spec, int n, double df_hz);
 
 /* Transform every trace, let `filter` change its spectrum, transform back.

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "imaging/fft_plans.h"
 #include "imaging/side_reflector.h"
 #include "uwb/scan.h"
 
@@ -15,6 +16,20 @@ void setUp(void)
 
 void tearDown(void)
 {
+}
+
+static void test_padded_length_is_the_next_power_of_two(void)
+{
+    TEST_ASSERT_EQUAL_INT(2048, uwb_fft_padded_length(1697)); /* the paper scans' prime length */
+    TEST_ASSERT_EQUAL_INT(4096, uwb_fft_padded_length(2333)); /* the family's */
+    TEST_ASSERT_EQUAL_INT(1024, uwb_fft_padded_length(936));  /* the 3-D scans' */
+    TEST_ASSERT_EQUAL_INT(2048, uwb_fft_padded_length(2048));
+    TEST_ASSERT_EQUAL_INT(2, uwb_fft_padded_length(1));
+    for (int n = 2; n < 5000; n += 37) {
+        int m = uwb_fft_padded_length(n);
+        TEST_ASSERT_TRUE(m >= n && m < 2 * n);
+        TEST_ASSERT_EQUAL_INT(0, m & (m - 1));
+    }
 }
 
 /* An echo 20 samples before the record's end: its quadrature (a Hilbert
@@ -52,6 +67,7 @@ static void test_a_late_echo_does_not_wrap_onto_the_start(void)
 int main(void)
 {
     UNITY_BEGIN();
+    RUN_TEST(test_padded_length_is_the_next_power_of_two);
     RUN_TEST(test_a_late_echo_does_not_wrap_onto_the_start);
     return UNITY_END();
 }
