@@ -468,7 +468,9 @@ static int share_linear(const struct uwb_analysis *a, const struct uwb_analysis 
         snprintf(err, errlen, "pair uncertainty: out of memory for the displacement's gradient");
         goto done;
     }
-    /* The real image (before the envelope), as the migration sums it. */
+    /* The real image (before the envelope), as the migration sums it: on
+     * the rows the fit reads only (grad 0 elsewhere), which the adjoint
+     * below alone uses. */
     memset(real.pix, 0, (size_t)real.ny * nz * sizeof *real.pix);
     for (int k = 0; k < K; k++) {
         if (!(a->weight[k] > 0.0))
@@ -476,6 +478,8 @@ static int share_linear(const struct uwb_analysis *a, const struct uwb_analysis 
         uwb_delay_table_fill_trace(&plan.table, &a->measured, &g, &real, k);
         const float *tr = a->measured.data + (size_t)k * S;
         for (int iy = 0; iy < real.ny; iy++) {
+            if (grad[iy] == 0.0)
+                continue;
             size_t row = delay_table_row(table, k, iy);
             float *out = real.pix + (size_t)iy * nz;
             for (int iz = 0; iz < nz; iz++) {
@@ -494,6 +498,8 @@ static int share_linear(const struct uwb_analysis *a, const struct uwb_analysis 
         uwb_delay_table_fill_trace(&plan.table, &a->measured, &g, &real, k);
         double *vk = v + (size_t)k * (S + 2);
         for (int iy = 0; iy < real.ny; iy++) {
+            if (grad[iy] == 0.0)
+                continue; /* its weights are all 0 (profile_adjoint) */
             size_t row = delay_table_row(table, k, iy);
             const double *w = weight + (size_t)iy * nz;
             for (int iz = 0; iz < nz; iz++) {
