@@ -11,7 +11,7 @@
 struct uwb_compare_options {
     struct uwb_thresholds thresholds;
     struct uwb_thresholds radial_thresholds; /* on the radial change (radial.watch_mm, radial.alarm_mm) */
-    double systematic_displacement_m;        /* 1-sigma floor of a displacement between two scans */
+    double systematic_displacement_m;        /* 1-sigma term: what two scans do not share */
     double least_displacement_uncertainty_m; /* no displacement's 1-sigma is given smaller */
     double max_uncertainty_m;                /* above this 1-sigma the verdict is inconclusive */
     double max_height_uncertainty_m;         /* above this 1-sigma the height change is withheld */
