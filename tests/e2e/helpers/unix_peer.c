@@ -110,27 +110,23 @@ static int send_all(int fd, const char *bytes, size_t len)
     return 0;
 }
 
-/* Reads until the buffer holds `lines` newlines: 0; -1 closed, timed out or too long. */
 struct inbox {
     char *buf;
     size_t len, cap;
 };
 
-static int read_lines(int fd, struct inbox *in, int lines)
+/* Waits until `deadline` for bytes from fd and appends them to the inbox
+ * (grown as needed, up to MAX_REPLY): 0 when some came, -1 on timeout, a
+ * closed or failed socket, or an inbox that would grow past MAX_REPLY. */
+static int receive_more(int fd, struct inbox *in, double deadline)
 {
-    double deadline = uwb_monotonic_s() + WAIT_S;
     for (;;) {
-        int have = 0;
-        for (size_t i = 0; i < in->len; i++)
-            have += in->buf[i] == '\n';
-        if (have >= lines)
-            return 0;
         double left = deadline - uwb_monotonic_s();
         struct pollfd p = {.fd = fd, .events = POLLIN};
         if (left <= 0 || poll(&p, 1, (int)(left * 1000) + 1) <= 0)
             return -1;
         if (in->len + 65536 > in->cap) {
-            if (in->cap >= MAX_REPLY)
+            if (in->cap >= (size_t)MAX_REPLY)
                 return -1;
             char *grown = realloc(in->buf, in->cap + 65536 + 1);
             if (!grown)
@@ -145,6 +141,22 @@ static int read_lines(int fd, struct inbox *in, int lines)
             return -1;
         in->len += (size_t)n;
         in->buf[in->len] = '\0';
+        return 0;
+    }
+}
+
+/* Reads until the buffer holds `lines` newlines: 0; -1 closed, timed out or too long. */
+static int read_lines(int fd, struct inbox *in, int lines)
+{
+    double deadline = uwb_monotonic_s() + WAIT_S;
+    for (;;) {
+        int have = 0;
+        for (size_t i = 0; i < in->len; i++)
+            have += in->buf[i] == '\n';
+        if (have >= lines)
+            return 0;
+        if (receive_more(fd, in, deadline) != 0)
+            return -1;
     }
 }
 
@@ -233,26 +245,8 @@ static int read_to_prompt(int fd, struct inbox *in)
         if (in->len >= plen && memcmp(in->buf + in->len - plen, CONSOLE_PROMPT, plen) == 0 &&
             memchr(in->buf, '\n', in->len))
             return 0;
-        double left = deadline - uwb_monotonic_s();
-        struct pollfd p = {.fd = fd, .events = POLLIN};
-        if (left <= 0 || poll(&p, 1, (int)(left * 1000) + 1) <= 0)
+        if (receive_more(fd, in, deadline) != 0)
             return -1;
-        if (in->len + 65536 > in->cap) {
-            if (in->cap >= (size_t)MAX_REPLY)
-                return -1;
-            char *grown = realloc(in->buf, in->cap + 65536 + 1);
-            if (!grown)
-                return -1;
-            in->buf = grown;
-            in->cap += 65536;
-        }
-        ssize_t n = recv(fd, in->buf + in->len, in->cap - in->len, 0);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0)
-            return -1;
-        in->len += (size_t)n;
-        in->buf[in->len] = '\0';
     }
 }
 
