@@ -21,7 +21,8 @@ struct uwb_radial {
      * line (what the imaging leaves of a pure shift), as large as the
      * largest of the profile's stretches reads by chance; the blur's
      * share of a change's size; and, for a change that reaches the face's
-     * end (the line then level), how far a sloped line would read it. */
+     * end (the line then level, the tilt withheld: tilt_withheld says
+     * why), how far a sloped line would read it. */
     struct uwb_radial_verdict figures;
     /* The change profile over the baseline's face, edge to edge, in the
      * baseline's own y: change_m[i] at y0_m + i dy_m, + toward the antenna,

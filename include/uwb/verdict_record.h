@@ -48,7 +48,11 @@ struct uwb_verdict_record {
     int has_radial;
     enum uwb_status radial_status;
     int radial_measured;
-    double radial_max_change_mm, radial_at_mm, radial_uncertainty_mm, radial_tilt_mm;
+    double radial_max_change_mm, radial_at_mm, radial_uncertainty_mm;
+    int radial_has_tilt; /* measured, and the face's lean given: tilt_mm, else radial_tilt_withheld says why
+                          */
+    double radial_tilt_mm;
+    char radial_tilt_withheld[128];
     int radial_has_span;
     double radial_from_mm, radial_to_mm;
     char radial_withheld[160];

@@ -258,7 +258,7 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
      * in the middle of the face stand off it by about a tenth of it, the
      * other way, on both sides, where their leans cancel): a slope through
      * them, carried over the change, is that blur's, not the face's. The
-     * line is then level; how far the sloped one would read the change is
+     * line is then level (no tilt is given); how far the sloped one would read the change is
      * a term of its sigma. */
     struct uwb_radial_line line;
     int fitted = fit_reference(r, offset, rb, readable, level, 0.5 * (lo + hi), watch_m, 1, use, &line) == 0;
@@ -275,6 +275,10 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
     fig->measured = 1;
     fig->line = line;
     fig->tilt_m = line.slope * (hi - lo);
+    /* The level line's 0 is no lean measured: withheld, not published as 0. */
+    if (one_sided)
+        snprintf(fig->tilt_withheld, sizeof fig->tilt_withheld,
+                 "the change reaches the face's end: a lean cannot be told from it there");
     int at = -1;
     double model = 0.0;
     int unchanged = 0;

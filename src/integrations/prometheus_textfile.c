@@ -48,7 +48,8 @@ void uwbd_prometheus_from_record(struct uwbd_prometheus_metrics *m, const struct
     m->radial_change_m = m->has_radial_change ? v->radial_max_change_mm / 1e3 : 0;
     m->radial_uncertainty_m = m->has_radial_change ? v->radial_uncertainty_mm / 1e3 : 0;
     m->radial_at_m = m->has_radial_change ? v->radial_at_mm / 1e3 : 0;
-    m->radial_tilt_m = m->has_radial_change ? v->radial_tilt_mm / 1e3 : 0;
+    m->has_radial_tilt = m->has_radial_change && v->radial_has_tilt;
+    m->radial_tilt_m = m->has_radial_tilt ? v->radial_tilt_mm / 1e3 : 0;
     time_t created_s;
     m->created_s = 0;
     if (uwb_utc_parse(v->created, &created_s) == 0)
@@ -134,9 +135,10 @@ char *uwbd_prometheus_text(const struct uwbd_prometheus_metrics *m)
         gauge(&t, "uwbd_radial_max_change_uncertainty_meters", "Its 1-sigma uncertainty.",
               m->radial_uncertainty_m);
         gauge(&t, "uwbd_radial_max_change_height_meters", "The height where it is largest.", m->radial_at_m);
+    }
+    if (m->has_radial_tilt)
         gauge(&t, "uwbd_radial_tilt_meters",
               "The face's tilt from the baseline, top minus bottom, positive top nearer.", m->radial_tilt_m);
-    }
     if (m->has_duration)
         gauge(&t, "uwbd_scan_duration_seconds", "How long the latest scan cycle took, start to verdict.",
               m->scan_duration_s);

@@ -24,7 +24,9 @@ struct uwbd_prometheus_metrics {
     int has_radial;        /* the verdict has a radial object: its status */
     int radial_status;     /* index into uwbd_prometheus_status_name */
     int has_radial_change; /* ...and its figures (not withheld) */
-    double radial_change_m, radial_uncertainty_m, radial_at_m, radial_tilt_m;
+    double radial_change_m, radial_uncertainty_m, radial_at_m;
+    int has_radial_tilt; /* ...and the face's tilt (withheld when the change reaches the face's end) */
+    double radial_tilt_m;
     double created_s; /* the verdict's time, Unix seconds; 0: unknown */
     int has_duration;
     double scan_duration_s;                     /* the latest scan cycle, start to verdict */

@@ -226,6 +226,21 @@ static void draw_key(struct uwb_canvas *c, const struct uwb_plot *p, const char 
         uwb_draw_text(c, p->x + 4, by + 3 + i * line, wrapped[i], scale, colour);
 }
 
+void uwb_radial_level_text(const struct uwb_verdict *v, char *buf, size_t len)
+{
+    const struct uwb_radial_verdict *r = &v->radial;
+    double whole_m = uwb_radial_line_at(&r->line, 0.5 * (v->baseline.lower_m + v->baseline.upper_m));
+    if (len == 0)
+        return;
+    if (!r->measured)
+        buf[0] = '\0';
+    else if (!r->tilt_withheld[0])
+        snprintf(buf, len, "face as a whole %+.1f mm, tilt %+.1f mm, taken out", whole_m * 1e3,
+                 r->tilt_m * 1e3);
+    else /* the line is level: no lean was read, so none is said */
+        snprintf(buf, len, "face as a whole %+.1f mm taken out; tilt withheld", whole_m * 1e3);
+}
+
 void uwb_draw_radial_panel(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_analysis *cur,
                            const struct uwb_analysis *base, const struct uwb_verdict *v, int font_scale)
 {
@@ -249,10 +264,7 @@ void uwb_draw_radial_panel(struct uwb_canvas *c, const struct uwb_plot *p, const
         draw_curve(c, p, k.yb, k.xb, k.n_base, UWB_EDGE_BASELINE);
         draw_curve(c, p, k.yc, k.xc, k.n_cur, UWB_EDGE_CURRENT);
         uwb_radial_curves_free(&k);
-        if (r->measured)
-            snprintf(level, sizeof level, "face as a whole %+.1f mm, tilt %+.1f mm, taken out",
-                     uwb_radial_line_at(&r->line, 0.5 * (v->baseline.lower_m + v->baseline.upper_m)) * 1e3,
-                     r->tilt_m * 1e3);
+        uwb_radial_level_text(v, level, sizeof level);
     }
     char figure[256];
     uwb_describe_radial(v, figure, sizeof figure);

@@ -308,6 +308,10 @@ void uwb_radial_panel_range(const struct uwb_analysis *current, const struct uwb
                             const struct uwb_verdict *v, struct uwb_plot *p);
 void uwb_draw_radial_panel(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_analysis *current,
                            const struct uwb_analysis *baseline, const struct uwb_verdict *v, int font_scale);
+/* The radial panel's line on what was taken out: "face as a whole +0.4 mm,
+ * tilt -1.2 mm, taken out", or with the tilt withheld "... taken out; tilt
+ * withheld"; empty when the change was not measured. */
+void uwb_radial_level_text(const struct uwb_verdict *v, char *buf, size_t len);
 /* The colour of the rows past the watch limit in the radial panel. */
 struct uwb_rgb uwb_radial_shade_colour(enum uwb_status status);
 /* "radial +3.1 ± 0.4 mm at 267 mm (bulge toward the antenna)", or

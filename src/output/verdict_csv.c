@@ -75,17 +75,23 @@ static void number_field(struct row *w, int given, double x)
     put(w, digits, strlen(digits));
 }
 
-/* The record's reason, and why a height change or the radial change was
- * withheld when it was. */
+/* The record's reason, and why a height change, the radial change or the
+ * face's tilt was withheld when it was. */
 static void reason_field(struct row *w, const struct uwb_verdict_record *r)
 {
-    char why[sizeof r->reason + sizeof r->height_change_withheld + sizeof r->radial_withheld + 64];
+    char why[sizeof r->reason + sizeof r->height_change_withheld + sizeof r->radial_withheld +
+             sizeof r->radial_tilt_withheld + 96];
     const char *withheld = r->has_height_change ? "" : r->height_change_withheld;
     const char *radial = r->has_radial && !r->radial_measured ? r->radial_withheld : "";
+    const char *tilt =
+        r->has_radial && r->radial_measured && !r->radial_has_tilt ? r->radial_tilt_withheld : "";
     int n = snprintf(why, sizeof why, "%s%s%s%s", r->reason, r->reason[0] && withheld[0] ? "; " : "",
                      withheld[0] ? "height change withheld: " : "", withheld);
     if (radial[0] && n >= 0 && (size_t)n < sizeof why)
-        snprintf(why + n, sizeof why - (size_t)n, "%sradial change withheld: %s", n > 0 ? "; " : "", radial);
+        n += snprintf(why + n, sizeof why - (size_t)n, "%sradial change withheld: %s", n > 0 ? "; " : "",
+                      radial);
+    if (tilt[0] && n >= 0 && (size_t)n < sizeof why)
+        snprintf(why + n, sizeof why - (size_t)n, "%stilt withheld: %s", n > 0 ? "; " : "", tilt);
     text_field(w, why);
 }
 
@@ -120,7 +126,7 @@ int uwb_verdict_csv_row(const struct uwb_verdict_record *r, char *buf, size_t le
     number_field(&w, radial && r->radial_has_span, r->radial_from_mm);
     number_field(&w, radial && r->radial_has_span, r->radial_to_mm);
     number_field(&w, radial, r->radial_uncertainty_mm);
-    number_field(&w, radial, r->radial_tilt_mm);
+    number_field(&w, radial && r->radial_has_tilt, r->radial_tilt_mm);
     put(&w, "\r\n", 2);
     if (w.full) {
         buf[0] = '\0';

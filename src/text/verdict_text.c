@@ -29,7 +29,10 @@ static void print_radial(const struct uwb_verdict_record *v, FILE *out)
             v->radial_uncertainty_mm, v->radial_at_mm);
     if (v->radial_has_span)
         fprintf(out, ", past the watch limit from %.0f to %.0f mm", v->radial_from_mm, v->radial_to_mm);
-    fprintf(out, "; tilt %+.2f mm (+: top nearer): ", v->radial_tilt_mm);
+    if (v->radial_has_tilt)
+        fprintf(out, "; tilt %+.2f mm (+: top nearer): ", v->radial_tilt_mm);
+    else
+        fprintf(out, "; tilt withheld (%s): ", v->radial_tilt_withheld);
     print_upper(out, uwb_status_name(v->radial_status));
     if (v->radial_withheld[0])
         fprintf(out, " (%s)", v->radial_withheld);

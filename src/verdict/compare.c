@@ -227,7 +227,8 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
      * physical optics (tools/accuracy/radial-limits.sh), counted once the
      * lean is past the radial watch limit (pure shifts read up to 1.5 mm
      * of lean that is none). */
-    if (pair && pair->valid && pair->has_radial && fabs(pair->radial.tilt_m) > opt->radial_thresholds.watch_m)
+    if (pair && pair->valid && pair->has_radial && !pair->radial.tilt_withheld[0] &&
+        fabs(pair->radial.tilt_m) > opt->radial_thresholds.watch_m)
         terms.deformation_m = hypot(terms.deformation_m, TILT_TO_AXIAL * pair->radial.tilt_m);
     v->uncertainty_m = uwb_displacement_uncertainty(&terms);
     v->uncertainty_noise_m = hypot(terms.noise_current_m, terms.noise_baseline_m);

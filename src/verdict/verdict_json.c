@@ -88,7 +88,10 @@ static void add_radial(cJSON *o, const struct uwb_verdict_record *r)
             cJSON_AddNumberToObject(radial, "to_mm", r->radial_to_mm);
         }
         cJSON_AddNumberToObject(radial, "uncertainty_mm", r->radial_uncertainty_mm);
-        cJSON_AddNumberToObject(radial, "tilt_mm", r->radial_tilt_mm);
+        if (r->radial_has_tilt)
+            cJSON_AddNumberToObject(radial, "tilt_mm", r->radial_tilt_mm);
+        else
+            add_text(radial, "tilt_withheld", r->radial_tilt_withheld);
     }
     add_text(radial, "withheld", r->radial_withheld);
 }
@@ -332,7 +335,8 @@ static void read_radial(struct reader *rd, struct uwb_verdict_record *r)
     r->radial_has_span = number_at(rd, radial, "from_mm", &r->radial_from_mm) &
                          number_at(rd, radial, "to_mm", &r->radial_to_mm);
     number_at(rd, radial, "uncertainty_mm", &r->radial_uncertainty_mm);
-    number_at(rd, radial, "tilt_mm", &r->radial_tilt_mm);
+    r->radial_has_tilt = number_at(rd, radial, "tilt_mm", &r->radial_tilt_mm);
+    text_at(rd, radial, "tilt_withheld", r->radial_tilt_withheld, sizeof r->radial_tilt_withheld);
     text_at(rd, radial, "withheld", r->radial_withheld, sizeof r->radial_withheld);
 }
 

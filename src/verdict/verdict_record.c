@@ -64,7 +64,11 @@ void uwb_record_from_verdict(struct uwb_verdict_record *r, const struct uwb_verd
             r->radial_max_change_mm = uwb_record_mm(rv->max_change_m);
             r->radial_at_mm = uwb_record_mm(rv->at_m);
             r->radial_uncertainty_mm = uwb_record_mm(rv->uncertainty_m);
-            r->radial_tilt_mm = uwb_record_mm(rv->tilt_m);
+            r->radial_has_tilt = !rv->tilt_withheld[0];
+            if (r->radial_has_tilt)
+                r->radial_tilt_mm = uwb_record_mm(rv->tilt_m);
+            else
+                snprintf(r->radial_tilt_withheld, sizeof r->radial_tilt_withheld, "%s", rv->tilt_withheld);
             r->radial_has_span = rv->has_span;
             if (rv->has_span) {
                 r->radial_from_mm = uwb_record_mm(rv->from_m);

@@ -159,8 +159,13 @@ bulge=$(sed -n 1p bulge.out)
 [[ $(field "$bulge" radial_change) != none && $(field "$bulge" radial_status) != 0 ]] ||
     fail "no radial change in the registers: $bulge"
 why=$(verdict_matches "$bulge" bulged.json) || fail "TCP registers vs the bulge's verdict: $why: $bulge / $(cat bulged.json)"
+# Disks 4-6 are the scene's top three: the change reaches the face's end,
+# where no lean can be read: the tilt withheld, its register "none", not 0.
+json_check bulged.json 'radial.tilt_mm absent' 'radial.tilt_withheld exists' ||
+    fail "a bulge at the face's end gives a tilt: $(cat bulged.json)"
+[[ $(field "$bulge" radial_tilt) == none ]] || fail "tilt withheld, yet register 20 reads $(field "$bulge" radial_tilt)"
 emu 'set radial 4 6 0' > /dev/null
-pass "a bulge of disks 4-6 by 8 mm: radial registers = the verdict's radial object ($bulge)"
+pass "a bulge of disks 4-6 by 8 mm: radial registers = the verdict's radial object, the tilt withheld ($bulge)"
 
 # ---- issue 27, break 1: four idle masters do not lock Modbus out ----------------
 # Four connections that say nothing (bash's /dev/tcp) hold every slot; past

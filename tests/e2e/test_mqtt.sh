@@ -125,19 +125,26 @@ for d in 0.003 0.008; do
     ctl scan > "away-$d.json" 2>/dev/null || fail "scan while the broker is away: $(cat "away-$d.json")"
     ids+=("$(json_get scan_id < "away-$d.json")")
 done
+# A third: back in place, the scene's top three disks bulged 8 mm (a change
+# at the face's end, where the tilt is withheld).
+emu 'set displacement_m 0' > /dev/null
+emu 'set radial 4 6 8' > /dev/null
+ctl scan > away-bulge.json 2>/dev/null || fail "bulge scan while the broker is away: $(cat away-bulge.json)"
+ids+=("$(json_get scan_id < away-bulge.json)")
+emu 'set radial 4 6 0' > /dev/null
 queued=$(ls run/state/mqtt-queue | wc -l)
-[[ $queued == 2 ]] || fail "$queued verdicts in run/state/mqtt-queue, want 2"
+[[ $queued == 3 ]] || fail "$queued verdicts in run/state/mqtt-queue, want 3"
 # The broker back, at first without uwbd's user: the subscriber is in before
 # uwbd can send; then the password file with uwbd, re-read on SIGHUP.
 MOSQUITTO_PORT=$port start_broker tester-only.pw
-mqtt_sub "$port" tester tester-secret uwbd/T7/verdict 2 30 > back.out 2> back.err &
+mqtt_sub "$port" tester tester-secret uwbd/T7/verdict 3 30 > back.out 2> back.err &
 sub_pid=$!
 pids+=($sub_pid)
 E2E_WAIT_TRIES=600 wait_for grep -q subscribed back.err || fail "the subscriber did not subscribe"
 cp broker.pw active.pw
 kill -HUP "$broker_pid"
 wait "$sub_pid" || fail "the queued verdicts did not arrive: $(cat back.out; tail -5 uwbd2.log)"
-got=$(awk '{print $3}' back.out | while read -r line; do printf '%s\n' "$line" | json_get scan_id; done | paste -sd ' ')
+got=$(cut -d' ' -f3- back.out | while read -r line; do printf '%s\n' "$line" | json_get scan_id; done | paste -sd ' ')
 [[ $got == "${ids[*]}" ]] || fail "after the broker came back: $got, want ${ids[*]} in that order"
 wait_for test -z "$(ls run/state/mqtt-queue)" || fail "the queue is not empty: $(ls run/state/mqtt-queue)"
 pass "broker away: ${#ids[@]} verdicts queued on disk, sent in order once it was back; queue empty"
@@ -152,6 +159,11 @@ for d in 0.003 0.008; do
         fail "MQTT verdict at $d m: radial $got, ctl scan gave $want"
 done
 pass "the MQTT verdicts carry the radial object ($(json_get radial < away-0.008.json))"
+sent=$(sed -n 3p back.out | cut -d' ' -f3-)
+[[ $(json_get radial <<<"$sent") == "$(json_get radial < away-bulge.json)" ]] &&
+    json_check - 'radial.tilt_mm absent' 'radial.tilt_withheld exists' <<<"$sent" > /dev/null ||
+    fail "MQTT verdict of a bulge at the face's end: radial $(json_get radial <<<"$sent")"
+pass "a bulge at the face's end: the MQTT verdict leaves tilt_mm out, tilt_withheld says why"
 
 
 # ---- commands from the cmd topic -------------------------------------------------

@@ -311,6 +311,43 @@ static void check_simulated_panel(const char *key, const char *value, const char
     uwb_scan_free(&base);
 }
 
+/* The panel's line on what was taken out: the lean read, or with a change
+ * at the face's end (its line level, no lean read) the tilt withheld, never
+ * "tilt +0.0". */
+static void check_level_text(const char *key, const char *value, const char *want)
+{
+    struct sim_scene scene;
+    char err[512], level[128];
+    TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&scene));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, sim_scene_load_json("tools/uwbsim/scenes/fdtd2d-tank-winding.json", &scene, err, sizeof err), err);
+    scene_set_or_fail(&scene, "coupling_gain", "0.05");
+    scene_set_or_fail(&scene, "t0_s", "-1e-9");
+    struct uwb_scan base, cur;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &base, err, sizeof err), err);
+    scene_set_or_fail(&scene, key, value);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &cur, err, sizeof err), err);
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    struct uwb_analysis ca, ba;
+    struct uwb_verdict v;
+    struct uwb_baseline_record rec = {.scan = &base};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(&cur, &rec, &opt, &v, &ca, &ba, err, sizeof err), err);
+    uwb_radial_level_text(&v, level, sizeof level);
+    printf("%s %s: %s\n", key, value, level);
+    uwb_analysis_free(&ca);
+    uwb_analysis_free(&ba);
+    uwb_scan_free(&cur);
+    uwb_scan_free(&base);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(level, want), level);
+}
+
+static void test_the_panel_gives_a_lean_and_withholds_one_not_read(void)
+{
+    check_level_text("face_tilt_m", "0.006", ", tilt +6.8 mm, taken out");
+    check_level_text("radial_m", "1:0.004", "taken out; tilt withheld");
+}
+
 /* The face's top 6 mm nearer than its bottom and no disk bulged: the
  * verdict reads the lean as the tilt, no change; the panel must not draw
  * it as one either. */
@@ -335,6 +372,7 @@ int main(void)
     RUN_TEST(test_a_top_bulge_is_drawn_as_the_verdict_reads_it);
     RUN_TEST(test_a_bulge_with_a_rise_is_drawn_as_the_verdict_reads_it);
     RUN_TEST(test_a_tilted_face_draws_no_lean);
+    RUN_TEST(test_the_panel_gives_a_lean_and_withholds_one_not_read);
     RUN_TEST(test_a_bulge_over_most_of_the_face_is_drawn_as_the_verdict_reads_it);
     return UNITY_END();
 }

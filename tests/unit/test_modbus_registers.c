@@ -160,6 +160,14 @@ static void test_radial_change_in_the_registers_after_the_first_map(void)
     TEST_ASSERT_EQUAL_HEX32(UWBD_MODBUS_NONE32, (uint32_t)reg32(UWBD_MODBUS_REG_RADIAL_AT));
     TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_TILT]);
 
+    /* Measured, the tilt withheld (a change at the face's end): its register "none", not 0. */
+    fill_from_line(
+        "{\"status\":\"alarm\",\"radial\":{\"status\":\"alarm\",\"max_change_mm\":8.45,"
+        "\"at_mm\":341,\"uncertainty_mm\":1.57,\"tilt_withheld\":\"the change reaches the face's end\"}}",
+        &st, regs);
+    TEST_ASSERT_EQUAL_INT16(845, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_CHANGE]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_TILT]);
+
     /* Not compared (no radial object), and no verdict at all: status 0, "none". */
     fill_from_line(compared, &st, regs);
     TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_RADIAL_STATUS]);

@@ -140,6 +140,14 @@ static void test_the_radial_change_in_base_units(void)
     TEST_ASSERT_NULL_MESSAGE(strstr(text, "uwbd_axial_displacement_meters{"), "the axial figure withheld");
     free(text);
 
+    /* Measured, the tilt withheld (a change at the face's end): the change given, no tilt metric. */
+    text = text_of_verdict("{\"class\":\"VERDICT\",\"status\":\"alarm\",\"radial\":{\"status\":\"alarm\","
+                           "\"max_change_mm\":8.45,\"at_mm\":341,\"uncertainty_mm\":1.57,"
+                           "\"tilt_withheld\":\"the change reaches the face's end\"}}");
+    expect_line(text, "uwbd_radial_max_change_meters{asset_id=\"T1\"} 0.00845");
+    TEST_ASSERT_NULL_MESSAGE(strstr(text, "uwbd_radial_tilt"), "tilt withheld: no tilt metric");
+    free(text);
+
     text = text_of_verdict("{\"class\":\"VERDICT\",\"status\":\"inconclusive\",\"radial\":{\"status\":"
                            "\"inconclusive\",\"withheld\":\"the face's range was not compared\"}}");
     expect_line(text, "uwbd_radial_status{asset_id=\"T1\",status=\"inconclusive\"} 1");

@@ -138,6 +138,17 @@ static void test_withheld_figures_are_empty_cells_and_the_reason_says_why(void)
         "\"at_mm\":300,\"uncertainty_mm\":0.5,\"tilt_mm\":0},\"images\":[]}");
     TEST_ASSERT_GREATER_THAN(0, uwb_verdict_csv_row(&rec, row, sizeof row));
     TEST_ASSERT_EQUAL_STRING(",,ok,,,,,,,,,,,,,,,,,ok,0.4,300,,,0.5,0\r\n", row);
+
+    /* Measured, the tilt withheld (a change at the face's end): its cell empty, not 0; the reason says why.
+     */
+    read_verdict(
+        "{\"class\":\"VERDICT\",\"status\":\"alarm\",\"reason\":\"radial change +8.45 mm\","
+        "\"radial\":{\"status\":\"alarm\",\"max_change_mm\":8.45,\"at_mm\":341,\"uncertainty_mm\":1.57,"
+        "\"tilt_withheld\":\"the change reaches the face's end\"},\"images\":[]}");
+    TEST_ASSERT_GREATER_THAN(0, uwb_verdict_csv_row(&rec, row, sizeof row));
+    TEST_ASSERT_EQUAL_STRING(",,alarm,,,,,,,,,,,,,,radial change +8.45 mm; tilt withheld: the change reaches "
+                             "the face's end,,,alarm,8.45,341,,,1.57,\r\n",
+                             row);
 }
 
 static void test_a_reason_with_a_comma_and_a_quote_is_quoted(void)

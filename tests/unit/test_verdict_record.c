@@ -117,6 +117,39 @@ static void test_withheld_height_change_and_inconclusive_round_trip(void)
     free(text);
 }
 
+/* The radial change measured, its tilt given or withheld with why: never
+ * a tilt_mm of 0 for a lean that could not be read. */
+static void test_a_withheld_tilt_round_trips_as_its_reason(void)
+{
+    struct uwb_verdict v;
+    compared_verdict(&v);
+    v.radial = (struct uwb_radial_verdict){.measured = 1,
+                                           .status = UWB_STATUS_ALARM,
+                                           .max_change_m = 0.00845,
+                                           .at_m = 0.3411,
+                                           .uncertainty_m = 0.00157,
+                                           .tilt_m = 0.0012};
+    uwb_record_from_verdict(&first, &v);
+    char *text = assert_round_trip(&first);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "\"uncertainty_mm\":1.57,\"tilt_mm\":1.2}"), text);
+    TEST_ASSERT_TRUE(again.radial_has_tilt);
+    TEST_ASSERT_EQUAL_DOUBLE(1.2, again.radial_tilt_mm);
+    free(text);
+
+    snprintf(v.radial.tilt_withheld, sizeof v.radial.tilt_withheld, "the change reaches the face's end");
+    v.radial.tilt_m = 0.0;
+    uwb_record_from_verdict(&first, &v);
+    text = assert_round_trip(&first);
+    TEST_ASSERT_NULL_MESSAGE(strstr(text, "tilt_mm"), text);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "\"tilt_withheld\":\"the change reaches the face's end\""),
+                                 text);
+    TEST_ASSERT_TRUE(again.radial_measured);
+    TEST_ASSERT_FALSE(again.radial_has_tilt);
+    TEST_ASSERT_EQUAL_STRING("the change reaches the face's end", again.radial_tilt_withheld);
+    TEST_ASSERT_EQUAL_DOUBLE(8.45, again.radial_max_change_mm);
+    free(text);
+}
+
 static void test_error_verdict_with_no_figures_round_trips(void)
 {
     struct uwb_verdict v;
@@ -251,6 +284,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_compared_verdict_round_trips_with_its_figures_as_published);
     RUN_TEST(test_withheld_height_change_and_inconclusive_round_trip);
+    RUN_TEST(test_a_withheld_tilt_round_trips_as_its_reason);
     RUN_TEST(test_error_verdict_with_no_figures_round_trips);
     RUN_TEST(test_daemon_fields_round_trip_in_their_order);
     RUN_TEST(test_lines_that_are_not_verdicts_are_refused_naming_the_key);

@@ -76,6 +76,30 @@ static void test_a_withheld_height_change_says_why(void)
                              text);
 }
 
+static void test_a_radial_change_gives_its_tilt(void)
+{
+    TEST_ASSERT_EQUAL_INT(
+        0, render("{\"class\":\"VERDICT\",\"status\":\"ok\",\"radial\":{\"status\":\"ok\","
+                  "\"max_change_mm\":0.4,\"at_mm\":300,\"uncertainty_mm\":0.5,\"tilt_mm\":-1.5}}"));
+    TEST_ASSERT_EQUAL_STRING(
+        "status OK\n"
+        "radial change +0.40 \u00b1 0.50 mm 1\u03c3 at 300 mm; tilt -1.50 mm (+: top nearer): OK\n",
+        text);
+}
+
+/* A change at the face's end: the tilt withheld, saying why, never "tilt +0.00". */
+static void test_a_withheld_tilt_says_why(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, render("{\"class\":\"VERDICT\",\"status\":\"alarm\",\"radial\":{\"status\":"
+                                    "\"alarm\",\"max_change_mm\":8.45,\"at_mm\":341,\"uncertainty_mm\":1.57,"
+                                    "\"tilt_withheld\":\"the change reaches the face's end\"}}"));
+    TEST_ASSERT_EQUAL_STRING(
+        "status ALARM\n"
+        "radial change +8.45 \u00b1 1.57 mm 1\u03c3 at 341 mm; tilt withheld (the change "
+        "reaches the face's end): ALARM\n",
+        text);
+}
+
 static void test_edges_only_says_where_the_winding_is_and_whether_it_became_the_baseline(void)
 {
     TEST_ASSERT_EQUAL_INT(0,
@@ -112,6 +136,8 @@ int main(void)
     RUN_TEST(test_a_downward_shift_keeps_its_sign);
     RUN_TEST(test_a_height_change_is_given_with_its_sigma);
     RUN_TEST(test_a_withheld_height_change_says_why);
+    RUN_TEST(test_a_radial_change_gives_its_tilt);
+    RUN_TEST(test_a_withheld_tilt_says_why);
     RUN_TEST(test_edges_only_says_where_the_winding_is_and_whether_it_became_the_baseline);
     RUN_TEST(test_an_error_verdict_gives_its_reason);
     RUN_TEST(test_other_replies_are_not_rendered);

@@ -34,10 +34,13 @@ row() { # label truth uwbsim-options...
     axial=withheld
     [[ -n $(field axial_displacement_mm <<< "$v") ]] &&
         axial=$(printf '%+.2f ± %.2f mm' "$(field axial_displacement_mm <<< "$v")" "$(field uncertainty_mm <<< "$v")")
-    printf '| %s | %s | %s | %+.2f ± %.2f mm | %.0f mm | %+.2f mm | %s |\n' "$label" "$truth" \
+    # A tilt withheld (a change at the face's end) is said so, not printed as 0.
+    local tilt=withheld
+    [[ -n $(field tilt_mm <<< "$radial") ]] && tilt=$(printf '%+.2f mm' "$(field tilt_mm <<< "$radial")")
+    printf '| %s | %s | %s | %+.2f ± %.2f mm | %.0f mm | %s | %s |\n' "$label" "$truth" \
         "$(field status <<< "$radial")" "$(field max_change_mm <<< "$radial")" \
         "$(field uncertainty_mm <<< "$radial")" "$(field at_mm <<< "$radial")" \
-        "$(field tilt_mm <<< "$radial")" "$axial" >> "$table"
+        "$tilt" "$axial" >> "$table"
 }
 row "disk 4 bulged 2 mm" "+2 mm at 300-318 mm" --radial-m 4:0.002
 row "disk 4 bulged 3 mm" "+3 mm at 300-318 mm" --radial-m 4:0.003

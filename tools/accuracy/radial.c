@@ -43,7 +43,7 @@ static int evaluate_pair(const struct uwb_scan *cur, const struct uwb_scan *base
 
 struct tally {
     double *error, *sigma, *noise;
-    int measured, within, located, watch, n;
+    int measured, within, located, watch, n, tilt_withheld;
     double tilt_worst;
 };
 
@@ -61,7 +61,10 @@ static void count(struct tally *t, const struct radial_case *c, const struct uwb
     t->within += fabs(e) <= 2.0 * r->uncertainty_m;
     t->located += c->change_m != 0.0 && r->at_m >= c->from_m - 0.010 && r->at_m <= c->to_m + 0.010;
     t->watch += r->status == UWB_STATUS_WATCH || r->status == UWB_STATUS_ALARM;
-    t->tilt_worst = fmax(t->tilt_worst, fabs(r->tilt_m));
+    if (r->tilt_withheld[0])
+        t->tilt_withheld++; /* no lean read: not a 0 to count */
+    else
+        t->tilt_worst = fmax(t->tilt_worst, fabs(r->tilt_m));
 }
 
 static void summarise(struct tally *t, struct radial_row *row)
@@ -88,6 +91,7 @@ static void summarise(struct tally *t, struct radial_row *row)
     row->located = (double)t->located / m;
     row->watch_or_worse = (double)t->watch / m;
     row->tilt_worst_m = t->tilt_worst;
+    row->tilt_withheld = t->tilt_withheld;
 }
 
 int radial_run_case(const char *dir, const struct radial_case *c, const struct accuracy_level *level,
@@ -148,7 +152,7 @@ void radial_print_header(FILE *out)
 void radial_print_row(FILE *out, const struct radial_case *c, const struct accuracy_level *level,
                       const struct radial_row *r)
 {
-    char noise[32], pairs[48], spread[16], ratio[16], noise_ratio[16], located[16];
+    char noise[32], pairs[48], spread[16], ratio[16], noise_ratio[16], located[16], tilt[40];
     snprintf(noise, sizeof noise, level ? "%.0f dB" : "none", level ? level->snr_db : 0.0);
     if (r->measured == r->pairs)
         snprintf(pairs, sizeof pairs, "%d", r->pairs);
@@ -160,10 +164,16 @@ void radial_print_row(FILE *out, const struct radial_case *c, const struct accur
     snprintf(noise_ratio, sizeof noise_ratio, level && r->median_noise_sigma_m > 0 ? "%.2f" : "—",
              r->median_noise_sigma_m > 0 ? r->spread_m / r->median_noise_sigma_m : 0.0);
     snprintf(located, sizeof located, c->change_m != 0.0 ? "%.0f %%" : "—", 100.0 * r->located);
+    if (r->measured > 0 && r->tilt_withheld == r->measured)
+        snprintf(tilt, sizeof tilt, "withheld");
+    else if (r->tilt_withheld > 0)
+        snprintf(tilt, sizeof tilt, "%.2f (%d withheld)", r->tilt_worst_m * 1e3, r->tilt_withheld);
+    else
+        snprintf(tilt, sizeof tilt, "%.2f", r->tilt_worst_m * 1e3);
     fprintf(out,
             "| %s | %s | %s | %+.2f | %+.2f | %s | %.2f | %.2f | %s | %.2f | %s | %.0f %% | %s | %.0f %% | "
-            "%.2f |\n",
+            "%s |\n",
             c->name, noise, pairs, c->change_m * 1e3, (c->change_m + r->bias_m) * 1e3, spread,
             r->worst_m * 1e3, r->median_sigma_m * 1e3, ratio, r->median_noise_sigma_m * 1e3, noise_ratio,
-            100.0 * r->within_2sigma, located, 100.0 * r->watch_or_worse, r->tilt_worst_m * 1e3);
+            100.0 * r->within_2sigma, located, 100.0 * r->watch_or_worse, tilt);
 }

@@ -26,7 +26,8 @@ struct radial_row {
     double within_2sigma;
     double located; /* share with at_mm inside the changed span +-10 mm (changes only) */
     double watch_or_worse;
-    double tilt_worst_m;
+    double tilt_worst_m; /* over the pairs whose tilt was given */
+    int tilt_withheld;   /* pairs whose tilt was withheld (a change at the face's end) */
 };
 
 extern const struct radial_case radial_cases[];
