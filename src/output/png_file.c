@@ -62,10 +62,12 @@ static int write_rows(FILE *fp, const struct uwb_canvas *c, const struct uwb_png
     }
     png_init_io(png, fp);
     /* Fixed settings, no time chunk: identical input gives identical bytes. */
-    /* Fast deflate with the SUB filter: a third of the time of level 6 with
-     * adaptive filters for files about 1.5 times as large (make bench). */
+    /* Fast deflate with the UP filter: a third of the time of level 6 with
+     * adaptive filters for files about 1.3 times as large (make bench); UP
+     * takes the time SUB took and leaves files 15-20 % smaller, as the
+     * images' rows repeat their neighbours more than their left pixels. */
     png_set_compression_level(png, 1);
-    png_set_filter(png, 0, PNG_FILTER_SUB);
+    png_set_filter(png, 0, PNG_FILTER_UP);
     png_set_IHDR(png, info, (png_uint_32)c->width, (png_uint_32)c->height, 8, PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_text chunks[16];
