@@ -364,5 +364,12 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
                                                          &pair.upper_shift_m, err, errlen) == 0;
     }
     uwb_compare_pair(v, &cur_a->edges, &base_a->edges, &pair, &copt);
+    /* With no winding found in this scan there is no movement to tell a
+     * rig fault from, and a baseline face found on another reflector (a
+     * target range that misses the winding) would put the winding itself
+     * in the static scene the check compares: the verdict stays that the
+     * winding was not found. */
+    if (!cur_a->edges.found)
+        return 0;
     return rig_unchanged(cur_a, base_a, &pair, v, err, errlen);
 }

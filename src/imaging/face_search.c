@@ -81,6 +81,7 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
     int sep = (int)ceil(CANDIDATE_SEPARATION_M / img->dz_m);
     int found = 0;
     double strongest_rejected_z = -1.0;
+    int rejected_at_limit = 0;
     struct face_candidate seen[MAX_CANDIDATES] = {{0}};
     int n_seen = 0;
     double strongest_seen = 0.0;
@@ -96,7 +97,11 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
                 used[iz] = 1;
         if (excluded_range(img->z0_m + best * img->dz_m, excluded_z_m, n_excluded))
             continue;
-        if (ends_seen(img, best, row[best], peak[best], inner_lo, inner_hi)) {
+        /* Brightest at the range searched's own limit: the flank of a
+         * reflector beyond it (the winding's, when a target range given at
+         * commissioning misses it), whatever its ends do. */
+        int at_limit = best == 0 || best == img->nz - 1;
+        if (!at_limit && ends_seen(img, best, row[best], peak[best], inner_lo, inner_hi)) {
             seen[n_seen].z_m = img->z0_m + best * img->dz_m;
             seen[n_seen].peak = peak[best];
             if (peak[best] > strongest_seen)
@@ -104,6 +109,7 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
             n_seen++;
         } else if (strongest_rejected_z < 0.0) {
             strongest_rejected_z = img->z0_m + best * img->dz_m;
+            rejected_at_limit = at_limit;
         }
     }
     /* The winding shadows what stands behind it (the core leg), and once the
@@ -125,8 +131,9 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
         else if (strongest_rejected_z >= 0.0)
             snprintf(reason, reasonlen,
                      "winding not found: no reflector between %.3f and %.3f m range has both ends inside "
-                     "the antenna travel (strongest, at %.3f m, runs past it)",
-                     img->z0_m, img->z0_m + (img->nz - 1) * img->dz_m, strongest_rejected_z);
+                     "the antenna travel (strongest, at %.3f m, %s)",
+                     img->z0_m, img->z0_m + (img->nz - 1) * img->dz_m, strongest_rejected_z,
+                     rejected_at_limit ? "is the range's limit: a reflector beyond it" : "runs past it");
         else
             snprintf(reason, reasonlen, "winding not found: no reflector between %.3f and %.3f m range",
                      img->z0_m, img->z0_m + (img->nz - 1) * img->dz_m);
