@@ -15,6 +15,7 @@ struct uwb_compare_options {
     double least_displacement_uncertainty_m; /* no displacement's 1-sigma is given smaller */
     double max_uncertainty_m;                /* above this 1-sigma the verdict is inconclusive */
     double max_height_uncertainty_m;         /* above this 1-sigma the height change is withheld */
+    double height_change_per_shift;          /* its 1-sigma term per metre moved: the static scene's share */
     double baseline_repeatability_m; /* 1-sigma of the baseline's centre from the spread of its commissioning
                                         scans */
 };
