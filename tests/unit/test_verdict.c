@@ -86,6 +86,9 @@ static void test_target_range_excluding_the_winding_finds_nothing_there(void)
     uwb_analysis_free(&b);
     /* Only the winding's far-off sidelobes are there: not a confident figure. */
     TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, v.status);
+    /* ...and no rig fault: the baseline's face there is another
+     * reflector's, and the winding itself no static scene. */
+    TEST_ASSERT_EQUAL_STRING_MESSAGE("", v.fault, v.reason);
 }
 
 static void test_pure_noise_is_inconclusive(void)
