@@ -9,7 +9,9 @@
 # tank's), and the robust scatter of the errors, 1.4826 x their median
 # absolute value (a normal spread's sigma, a gross error or two aside):
 # of the family, and of every pair, from which the least sigma a
-# displacement is given comes (src/verdict/compare.c).
+# displacement is given comes (src/verdict/compare.c); and the same scatter
+# of the height change's error per mm moved, its sigma's static-scene
+# share (compare.c's height_change_per_shift).
 #
 # Usage: tools/accuracy/family.sh [DATA_DIR [BUILD_DIR]]
 set -euo pipefail
@@ -32,6 +34,7 @@ replay_pair() {
     got=$(sed 's/":/": /g' <<< "$verdict" | number axial_displacement_mm)
     sigma=$(sed 's/":/": /g' <<< "$verdict" | number uncertainty_mm)
     pairs=$((pairs + 1))
+    height_share "$verdict" "$truth"
     if [[ -z $got ]]; then
         withheld=$((withheld + 1))
         printf '%-28s truth %+7.2f  %s, no figure\n' "$name" "$want" "$status"
@@ -49,6 +52,19 @@ replay_pair() {
     awk -v n="$name" -v w="$want" -v g="$got" -v s="$sigma" -v st="$status" -v v="$verdict_word" 'BEGIN {
         printf "%-28s truth %+7.2f  read %+7.2f ± %.2f %-6s off %+.2f (%.1f sigma)  %s\n",
                n, w, g, s, st, g - w, (g - w) / s, v }'
+}
+# height_share VERDICT TRUTH: where both faces' edges were read, the height
+# change they give (even when withheld) off the truth, per metre moved, to
+# $out/height (the static scene's share of its sigma in compare.c).
+height_share() {
+    local edges shift truth_h
+    edges=$(grep -o '"\(lower\|upper\)_edge_mm":[-0-9.]*' <<< "$1" | cut -d: -f2 | tr '\n' ' ' || true)
+    shift=$(number displacement_mm < "$2")
+    truth_h=$(number height_change_mm < "$2")
+    awk -v e="$edges" -v s="${shift:-0}" -v h="${truth_h:-0}" 'BEGIN {
+        if (split(e, x, " ") < 4 || s == 0) exit
+        err = (x[2] - x[1]) - (x[4] - x[3]) - h
+        printf "%.6f\n", (err < 0 ? -err : err) / (s < 0 ? -s : s) }' >> "$out/height"
 }
 tally() {
     echo "$pairs pairs: $right within 0.25 mm and 2 sigma, $close within 2 sigma only," \
@@ -78,3 +94,6 @@ replay_pair "$data/fdtd2d-paper-up20mm.uwbscan" "$data/fdtd2d-paper-intact.uwbsc
 tally
 echo "robust scatter of the errors: family $(robust_scatter "$out/family"), every pair" \
     "$(robust_scatter "$out/family" "$out/developed")"
+sort -g "$out/height" | awk '{ e[NR] = $1 } END {
+    m = (NR % 2) ? e[(NR + 1) / 2] : (e[NR / 2] + e[NR / 2 + 1]) / 2
+    printf "height change read off its truth per mm moved (robust scatter): %.3f (%d pairs)\n", 1.4826 * m, NR }'
