@@ -97,12 +97,12 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
                 used[iz] = 1;
         if (excluded_range(img->z0_m + best * img->dz_m, excluded_z_m, n_excluded))
             continue;
-        /* Brightest at the range searched's own limit, or on a slope
-         * rising to a brighter column already taken: the flank of a
-         * reflector (beyond the range, when a target range given at
-         * commissioning misses the winding), whatever its ends do. */
-        int at_limit =
-            best == 0 || best == img->nz - 1 || peak[best - 1] > peak[best] || peak[best + 1] > peak[best];
+        /* Brightest at the range searched's own limit: the flank of a
+         * reflector beyond it (the winding's, when a target range given at
+         * commissioning misses it), whatever its ends do. (Not every
+         * flank: a scan stretched by a steps-per-mm error finds its face
+         * on one, which the rig check then reads as the fault it is.) */
+        int at_limit = best == 0 || best == img->nz - 1;
         if (!at_limit && ends_seen(img, best, row[best], peak[best], inner_lo, inner_hi)) {
             seen[n_seen].z_m = img->z0_m + best * img->dz_m;
             seen[n_seen].peak = peak[best];

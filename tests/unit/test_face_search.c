@@ -1,6 +1,6 @@
 /* Which reflector is the winding (src/imaging/face_search.c): one whose
  * two ends fall inside the antenna travel, and never the range searched's
- * own limit, where the flank of a reflector beyond it is brightest. */
+ * own limit, where a reflector beyond it shows brightest. */
 #include "unity.h"
 
 #include <math.h>
@@ -19,8 +19,8 @@ void tearDown(void)
 
 /* An image 0..0.6 m high, 0.3..0.6 m in range (10 mm pixels), with a
  * compact blob: rows 0.2..0.4 m, peak at range z_peak, falling off over
- * 30 mm in range. */
-static void blob_image(struct uwb_image *img, double z_peak)
+ * `width` in range. */
+static void blob_image(struct uwb_image *img, double z_peak, double width)
 {
     char err[128];
     TEST_ASSERT_EQUAL_INT(0, uwb_image_alloc(img, 61, 31, err, sizeof err));
@@ -32,14 +32,14 @@ static void blob_image(struct uwb_image *img, double z_peak)
         for (int iz = 0; iz < img->nz; iz++) {
             double y = img->y0_m + iy * img->dy_m, z = img->z0_m + iz * img->dz_m;
             double along = (y >= 0.2 && y <= 0.4) ? 1.0 : exp(-pow((fabs(y - 0.3) - 0.1) / 0.02, 2));
-            img->pix[(size_t)iy * img->nz + iz] = (float)(along * exp(-pow((z - z_peak) / 0.03, 2)));
+            img->pix[(size_t)iy * img->nz + iz] = (float)(along * exp(-pow((z - z_peak) / width, 2)));
         }
 }
 
 static void test_a_compact_reflector_inside_the_range_is_found(void)
 {
     struct uwb_image img;
-    blob_image(&img, 0.45);
+    blob_image(&img, 0.45, 0.03);
     struct face_candidate face = {0};
     char reason[256] = "";
     TEST_ASSERT_EQUAL_INT_MESSAGE(
@@ -52,7 +52,9 @@ static void test_brightest_at_the_range_limit_is_no_reflector_of_it(void)
 {
     for (int end = 0; end < 2; end++) {
         struct uwb_image img;
-        blob_image(&img, end == 0 ? 0.28 : 0.62); /* peaks just outside 0.3..0.6 m */
+        /* Peaks just outside 0.3..0.6 m, narrow: inside, only the limit's
+         * column is within 40 dB of the brightest. */
+        blob_image(&img, end == 0 ? 0.28 : 0.62, 0.01);
         struct face_candidate face = {0};
         char reason[256] = "";
         TEST_ASSERT_EQUAL_INT(1,
