@@ -56,18 +56,18 @@ static int static_bscan(const struct uwb_analysis *a, const struct uwb_analysis 
 {
     const struct uwb_scan *s = &a->conditioned;
     memset(out, 0, sizeof *out);
-    struct uwb_image img = {0};
-    if (uwb_image_alloc(&img, s->positions, s->samples, err, errlen) != 0)
+    float *env = malloc((size_t)s->positions * (size_t)s->samples * sizeof *env);
+    if (!env) {
+        snprintf(err, errlen, "rig check: out of memory for %d x %d envelopes", s->positions, s->samples);
         return -1;
-    memcpy(img.pix, s->data, (size_t)s->positions * (size_t)s->samples * sizeof *img.pix);
-    img.dz_m = 1; /* along "z" = along time */
-    if (uwb_envelope_along_z(&img, err, errlen) != 0) {
-        uwb_image_free(&img);
+    }
+    if (uwb_envelope_of_traces(s, env, err, errlen) != 0) {
+        free(env);
         return -1;
     }
     out->k = s->positions;
     out->s = s->samples;
-    out->env = img.pix; /* taken over */
+    out->env = env;
     out->y = s->antenna_y_m;
     out->dy =
         s->positions > 1 ? (s->antenna_y_m[s->positions - 1] - s->antenna_y_m[0]) / (s->positions - 1) : 0;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "fft_plans.h"
+#include "side_reflector.h"
 
 int uwb_envelope_along_z(struct uwb_image *img, char *err, size_t errlen)
 {
@@ -60,4 +61,18 @@ done:
     fftwf_free(row);
     fftwf_free(half);
     return rc;
+}
+
+int uwb_envelope_of_traces(const struct uwb_scan *scan, float *env, char *err, size_t errlen)
+{
+    struct uwb_scan quadrature = {0};
+    if (uwb_quadrature_scan(scan, &quadrature, err, errlen) != 0)
+        return -1;
+    size_t n = (size_t)scan->positions * (size_t)scan->samples;
+    for (size_t i = 0; i < n; i++) {
+        double re = scan->data[i], im = quadrature.data[i];
+        env[i] = (float)sqrt(re * re + im * im);
+    }
+    uwb_scan_free(&quadrature);
+    return 0;
 }
