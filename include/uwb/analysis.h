@@ -16,7 +16,9 @@ struct uwb_analysis_options {
     double time_zero_offset_s; /* calibration added to the header's t0 */
     int has_target_z;          /* overrides the header's target_z_m */
     double target_z_m[2];
-    double search_z_min_m; /* face search without a target range */
+    int has_winding_span;     /* where the drawings put the winding's ends (commissioning) */
+    double winding_span_m[2]; /* lower, upper: in the scans' own y */
+    double search_z_min_m;    /* face search without a target range */
     double search_z_max_m;
     double edge_fraction;        /* edge where the face profile crosses this fraction of its peak */
     double min_snr_db;           /* below this the winding is "not established" */

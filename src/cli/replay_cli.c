@@ -46,6 +46,8 @@ void uwbd_replay_usage(FILE *f)
         "  --migration fixed|float  migration arithmetic (default fixed: int16 samples, Q15 weights)\n"
         "  --target-z NEAR:FAR      look for the winding's face only between these ranges, metres\n"
         "                           (default: the scan's target_z_m, else 0.15:1.6)\n"
+        "  --winding-span LOW:HIGH  where the drawings put the winding's lower and upper ends, metres in\n"
+        "                           the scan's y: a face found elsewhere is another reflector's\n"
         "  --time-zero-offset-ps T  calibration added to the header's t0_s, picoseconds (default 0)\n"
         "  --watch-mm D             |displacement| from which status is watch (default 2)\n"
         "  --alarm-mm D             |displacement| from which status is alarm (default 5)\n"
@@ -98,6 +100,20 @@ static int parse_target_z(const char *text, double *near_m, double *far_m)
     return isfinite(*near_m) && isfinite(*far_m) && *near_m >= 0.0 && *far_m > *near_m ? 0 : -1;
 }
 
+/* --winding-span LOW:HIGH, metres, LOW < HIGH, both finite. */
+static int parse_span(const char *text, double *low_m, double *high_m)
+{
+    char *colon, *end;
+    errno = 0;
+    *low_m = strtod(text, &colon);
+    if (errno || colon == text || *colon != ':')
+        return -1;
+    *high_m = strtod(colon + 1, &end);
+    if (errno || end == colon + 1 || *end != '\0')
+        return -1;
+    return isfinite(*low_m) && isfinite(*high_m) && *high_m > *low_m ? 0 : -1;
+}
+
 /* Reads a scan the analysis can take: what the format or the analysis
  * refuses is bad input (65), so that 70 is left to internal faults. */
 static int read_scan(const char *path, struct uwb_scan *scan)
@@ -145,6 +161,7 @@ enum {
     OPT_OUT,
     OPT_MIGRATION,
     OPT_TARGET_Z,
+    OPT_WINDING_SPAN,
     OPT_T0,
     OPT_WATCH,
     OPT_ALARM,
@@ -231,6 +248,7 @@ static const struct option replay_options[] = {
     {"out", required_argument, 0, OPT_OUT},
     {"migration", required_argument, 0, OPT_MIGRATION},
     {"target-z", required_argument, 0, OPT_TARGET_Z},
+    {"winding-span", required_argument, 0, OPT_WINDING_SPAN},
     {"time-zero-offset-ps", required_argument, 0, OPT_T0},
     {"watch-mm", required_argument, 0, OPT_WATCH},
     {"alarm-mm", required_argument, 0, OPT_ALARM},
@@ -296,6 +314,15 @@ static int read_analysis_option(int c, const char *text, struct uwb_analysis_opt
         analysis->target_z_m[0] = near_m;
         analysis->target_z_m[1] = far_m;
         return REPLAY_GOES_ON;
+    case OPT_WINDING_SPAN:
+        if (parse_span(text, &near_m, &far_m) != 0) {
+            fprintf(stderr, "uwbd: --winding-span: '%s' is not LOW:HIGH with LOW < HIGH (metres)\n", text);
+            return EX_USAGE;
+        }
+        analysis->has_winding_span = 1;
+        analysis->winding_span_m[0] = near_m;
+        analysis->winding_span_m[1] = far_m;
+        return REPLAY_GOES_ON;
     case OPT_T0:
         if (parse_number("--time-zero-offset-ps", text, &v) != 0)
             return EX_USAGE;
@@ -341,6 +368,7 @@ static int read_option(int c, int argc, char **argv, struct replay_args *a)
     case OPT_OUT: a->out_dir = optarg; return REPLAY_GOES_ON;
     case OPT_MIGRATION:
     case OPT_TARGET_Z:
+    case OPT_WINDING_SPAN:
     case OPT_T0:
     case OPT_EDGE_FRACTION: return read_analysis_option(c, optarg, &a->opt.analysis);
     case OPT_WATCH:

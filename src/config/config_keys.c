@@ -217,6 +217,18 @@ const struct config_key uwbd_config_keys[] = {
                       "[near, far] range where the drawings put the winding's face; it is searched only "
                       "there. Absent: searched from 150 to 1600 mm"),
 
+    {.path = "analysis.winding_span_mm",
+     .type = KEY_PAIR,
+     .offset = AT(evaluate.analysis.winding_span_m),
+     .flag_offset = AT(evaluate.analysis.has_winding_span),
+     .scale = 1e-3,
+     .min = -1e5,
+     .max = 1e5,
+     .unit = "mm",
+     .doc = "[lower, upper] height where the transformer's drawings put the winding's ends, in the scans' "
+            "own y (commissioning): the baseline's face must have both ends within a quarter of that height "
+            "of them, else it is another reflector's (a clamp plate level with the face) and the baseline is "
+            "not established. Absent: not checked"},
     NUMBER_ABOVE("analysis.watch_mm", evaluate.compare.thresholds.watch_m, "mm", 1e-3, 0, 1000, 2,
                  "a displacement (up or down) from this size on gives the status watch"),
     NUMBER_ABOVE("analysis.alarm_mm", evaluate.compare.thresholds.alarm_m, "mm", 1e-3, 0, 1000, 5,

@@ -619,6 +619,12 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
     const struct uwb_rig_config *r = &cfg->rig;
     if (check_gpio_keys(ctx, r) != 0 || check_endpoints_and_paths(ctx, cfg) != 0)
         return -1;
+    const struct uwb_analysis_options *analysis = &cfg->evaluate.analysis;
+    if (analysis->has_winding_span && !(analysis->winding_span_m[1] > analysis->winding_span_m[0])) {
+        fail(ctx, "analysis.winding_span_mm", "lower (%g mm) must be below upper (%g mm)",
+             analysis->winding_span_m[0] * 1e3, analysis->winding_span_m[1] * 1e3);
+        return -1;
+    }
     if (cfg->evaluate.compare.thresholds.alarm_m < cfg->evaluate.compare.thresholds.watch_m) {
         fail(ctx, "analysis.alarm_mm", "%g mm is below analysis.watch_mm (%g mm)",
              cfg->evaluate.compare.thresholds.alarm_m * 1e3, cfg->evaluate.compare.thresholds.watch_m * 1e3);

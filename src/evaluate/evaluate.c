@@ -46,23 +46,26 @@ static int one_side_reflector(const struct uwb_edges *a, const struct uwb_edges 
  * reflector the other scan does not share is measured again without the
  * removal. */
 static int keep_common_side_reflector(const struct uwb_scan *cur, const struct uwb_scan *base,
-                                      const struct uwb_analysis_options *aopt, struct uwb_analysis *ca,
+                                      const struct uwb_analysis_options *cur_opt,
+                                      const struct uwb_analysis_options *base_opt, struct uwb_analysis *ca,
                                       struct uwb_analysis *ba, char *err, size_t errlen)
 {
     if (!ca->edges.found || !ba->edges.found)
         return 0;
     int redo_cur = one_side_reflector(&ca->edges, &ba->edges);
     int redo_base = one_side_reflector(&ba->edges, &ca->edges);
-    struct uwb_analysis_options plain = *aopt;
-    plain.remove_side_reflector = 0;
     struct uwb_analysis again;
     if (redo_cur) {
+        struct uwb_analysis_options plain = *cur_opt;
+        plain.remove_side_reflector = 0;
         if (uwb_analyse_scan(cur, &plain, &again, err, errlen) != 0)
             return -1;
         uwb_analysis_free(ca);
         *ca = again;
     }
     if (redo_base) {
+        struct uwb_analysis_options plain = *base_opt;
+        plain.remove_side_reflector = 0;
         if (uwb_analyse_scan(base, &plain, &again, err, errlen) != 0)
             return -1;
         uwb_analysis_free(ba);
@@ -138,13 +141,14 @@ static int same_face(const struct uwb_analysis *ca, const struct uwb_analysis *b
  * searched again near the baseline's face, or, when the baseline found
  * none, the baseline near the current's. */
 static int match_faces(const struct uwb_scan *cur, const struct uwb_scan *base,
-                       const struct uwb_analysis_options *aopt, struct uwb_analysis *ca,
+                       const struct uwb_analysis_options *cur_opt,
+                       const struct uwb_analysis_options *base_opt, struct uwb_analysis *ca,
                        struct uwb_analysis *ba, char *err, size_t errlen)
 {
     if (ba->edges.found && (!ca->edges.found || !same_face(ca, ba, base)))
-        return analyse_near(cur, aopt, ba, base, ca, err, errlen);
+        return analyse_near(cur, cur_opt, ba, base, ca, err, errlen);
     if (!ba->edges.found && ca->edges.found)
-        return analyse_near(base, aopt, ca, cur, ba, err, errlen);
+        return analyse_near(base, base_opt, ca, cur, ba, err, errlen);
     return 0;
 }
 
@@ -285,7 +289,13 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
         }
     }
 
-    if (uwb_analyse_scan(current, &opt->analysis, cur_a, err, errlen) != 0)
+    /* The drawings' winding span is checked against the baseline's image
+     * (and a scan with no baseline, which may become one): this scan's face
+     * is the baseline's reflector wherever the winding has moved to. */
+    struct uwb_analysis_options cur_opt = opt->analysis;
+    if (baseline)
+        cur_opt.has_winding_span = 0;
+    if (uwb_analyse_scan(current, &cur_opt, cur_a, err, errlen) != 0)
         return -1;
     if (!baseline) {
         uwb_compare_edges(v, &cur_a->edges, NULL, &opt->compare);
@@ -305,9 +315,9 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
         return 0;
     }
     if (uwb_analyse_scan(baseline->scan, &opt->analysis, base_a, err, errlen) != 0 ||
-        match_faces(current, baseline->scan, &opt->analysis, cur_a, base_a, err, errlen) != 0 ||
-        keep_common_side_reflector(current, baseline->scan, &opt->analysis, cur_a, base_a, err, errlen) !=
-            0) {
+        match_faces(current, baseline->scan, &cur_opt, &opt->analysis, cur_a, base_a, err, errlen) != 0 ||
+        keep_common_side_reflector(current, baseline->scan, &cur_opt, &opt->analysis, cur_a, base_a, err,
+                                   errlen) != 0) {
         uwb_analysis_free(cur_a);
         uwb_analysis_free(base_a);
         return -1;

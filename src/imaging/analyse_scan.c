@@ -50,6 +50,12 @@
 /* No image starts nearer than 10 mm: inside the window's own thickness
  * nothing but the direct coupling replies. */
 #define NEAREST_RANGE_M 0.01
+/* How far each edge of the face may lie from where the drawings put the
+ * winding's, as a fraction of the drawings' height: the imaging blurs an
+ * absolute edge by a few to 10 mm (edge_uncertainty_mm), a drawing and
+ * its installation differ by some more; a plate's image beside the
+ * winding is off by half the height and more. */
+#define SPAN_TOLERANCE 0.25
 /* The display image's pixels: about what a PNG pixel spans (0.8 m of
  * height in 400 px, 0.5 m of range in 255 px, drawn bilinearly); finer
  * costs migration time and shows nothing more. */
@@ -624,6 +630,22 @@ static enum step judge_edges(struct analysis_run *r)
                  r->z_lo_m, r->z_hi_m);
         r->face_rejected = 1;
         return STEP_DONE;
+    }
+    /* What the installer read off the transformer's drawings: a face whose
+     * ends lie elsewhere is another reflector's (a clamp plate level with
+     * the face, nearer than it: the 3-D family's), whatever else holds. */
+    if (opt->has_winding_span) {
+        double tolerance = SPAN_TOLERANCE * (opt->winding_span_m[1] - opt->winding_span_m[0]);
+        if (fabs(pe->lower_m - opt->winding_span_m[0]) > tolerance ||
+            fabs(pe->upper_m - opt->winding_span_m[1]) > tolerance) {
+            snprintf(edges->reason, sizeof edges->reason,
+                     "the face found at %.3f m range spans %.0f..%.0f mm; the drawings put the winding at "
+                     "%.0f..%.0f mm",
+                     r->z_face_m, pe->lower_m * 1e3, pe->upper_m * 1e3, opt->winding_span_m[0] * 1e3,
+                     opt->winding_span_m[1] * 1e3);
+            r->face_rejected = 1;
+            return STEP_DONE;
+        }
     }
     if (edges->snr_db < opt->min_snr_db) {
         snprintf(edges->reason, sizeof edges->reason,

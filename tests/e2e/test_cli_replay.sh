@@ -50,6 +50,17 @@ for bad in "5" "5:" ":6" "5:6x" "5x:6" "6:5" "-1:2" "0:inf" "nan:1" "5::6" ""; d
     grep -qF -- "--target-z: '$bad' is not NEAR:FAR" "$out/etz" || fail "--target-z '$bad': message $(cat "$out/etz")"
     [[ ! -s "$out/otz" ]] || fail "--target-z '$bad': stdout written"
 done
+# --winding-span is LOW:HIGH, both finite, LOW < HIGH (heights may be negative).
+for bad in "0.2" "0.4:0.2" "0.2:0.2" "x:0.3" "0.2:inf" ""; do
+    set +e
+    uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan --winding-span "$bad" > "$out/ows" 2> "$out/ews"
+    rc=$?
+    set -e
+    [[ $rc -eq 64 ]] || fail "--winding-span '$bad': exit $rc, want 64"
+    grep -qF -- "--winding-span: '$bad' is not LOW:HIGH" "$out/ews" || fail "--winding-span '$bad': $(cat "$out/ews")"
+done
+uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan --winding-span -0.05:0.5 > "$out/ows" ||
+    fail "--winding-span -0.05:0.5 refused"
 grep -q "missing.uwbscan" "$out/e1" || fail "error does not name the missing file"
 grep -q "short.uwbscan" "$out/e2" || fail "error does not name the malformed file"
 [[ ! -s "$out/o1" && ! -s "$out/o2" ]] || fail "stdout written on error"
@@ -156,7 +167,7 @@ grep -q '"status":"edges"' "$out/o-at" || fail "a scan at the limit, the winding
 
 # --help documents every option the parser accepts.
 help=$(uwbd --help)
-for opt in --replay --baseline --out --migration --target-z --time-zero-offset-ps --watch-mm \
+for opt in --replay --baseline --out --migration --target-z --winding-span --time-zero-offset-ps --watch-mm \
            --alarm-mm --max-uncertainty-mm --edge-fraction --direct-coupling-window-ns \
            --direct-coupling-tolerance-ps --help --version; do
     grep -q -- "$opt" <<< "$help" || fail "--help does not mention $opt"

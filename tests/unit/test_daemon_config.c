@@ -204,6 +204,7 @@ static void test_keys_that_depend_on_others(void)
     assert_refused("digitiser.endpoint", "\"ttyUSB0\"", "ttyUSB0");
     assert_refused("console.endpoint", "\"9600\"", "9600");
     assert_refused("geometry.target_z_mm", "[900, 300]", "below far");
+    assert_refused("analysis.winding_span_mm", "[400, 230]", "lower (400 mm) must be below upper (230 mm)");
     assert_refused("carriage.home_rate_hz", "5000", "above carriage.max_rate_hz");
     /* Issue 17, break 5: the rig may not record a scan the reader refuses. */
     assert_refused("scan.step_mm", "0.5", "under the smallest step a scan file may hold (1 mm");
