@@ -30,6 +30,12 @@ struct uwb_analysis_options {
 
 void uwb_analysis_defaults(struct uwb_analysis_options *opt);
 
+/* Whether a face's ends (this scan's y) lie where the drawings put the
+ * winding's (opt->winding_span_m, within a quarter of its height): 1, or
+ * when they are given and do not, 0 with why filled. */
+int uwb_face_within_drawings(const struct uwb_analysis_options *opt, double face_z_m, double lower_m,
+                             double upper_m, char *why, size_t whylen);
+
 struct uwb_face_profile {
     int n;
     double y0_m, dy_m;

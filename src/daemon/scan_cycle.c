@@ -281,6 +281,14 @@ static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, c
             "not set: the winding's edges were not found in this scan; the next good scan will be tried");
         return;
     }
+    char why[200];
+    if (!uwb_face_within_drawings(&c->cfg->evaluate.analysis, v->current.face_z_m, v->current.lower_m,
+                                  v->current.upper_m, why, sizeof why)) {
+        c->res->baseline_refused = 1;
+        snprintf(c->baseline_note, sizeof c->baseline_note, "not set: %.200s", why);
+        uwbd_log(UWBD_LOG_WARNING, "scan %s: baseline %s", c->id, c->baseline_note);
+        return;
+    }
     if (!v->has_direct_coupling) {
         snprintf(
             c->baseline_note, sizeof c->baseline_note,

@@ -604,6 +604,22 @@ static enum step image_for_display(struct analysis_run *r)
     return STEP_NEXT;
 }
 
+int uwb_face_within_drawings(const struct uwb_analysis_options *opt, double face_z_m, double lower_m,
+                             double upper_m, char *why, size_t whylen)
+{
+    if (!opt->has_winding_span)
+        return 1;
+    double tolerance = SPAN_TOLERANCE * (opt->winding_span_m[1] - opt->winding_span_m[0]);
+    if (fabs(lower_m - opt->winding_span_m[0]) <= tolerance &&
+        fabs(upper_m - opt->winding_span_m[1]) <= tolerance)
+        return 1;
+    snprintf(
+        why, whylen,
+        "the face found at %.3f m range spans %.0f..%.0f mm; the drawings put the winding at %.0f..%.0f mm",
+        face_z_m, lower_m * 1e3, upper_m * 1e3, opt->winding_span_m[0] * 1e3, opt->winding_span_m[1] * 1e3);
+    return 0;
+}
+
 static enum step judge_edges(struct analysis_run *r)
 {
     const struct uwb_analysis_options *opt = r->opt;
@@ -634,18 +650,10 @@ static enum step judge_edges(struct analysis_run *r)
     /* What the installer read off the transformer's drawings: a face whose
      * ends lie elsewhere is another reflector's (a clamp plate level with
      * the face, nearer than it: the 3-D family's), whatever else holds. */
-    if (opt->has_winding_span) {
-        double tolerance = SPAN_TOLERANCE * (opt->winding_span_m[1] - opt->winding_span_m[0]);
-        if (fabs(pe->lower_m - opt->winding_span_m[0]) > tolerance ||
-            fabs(pe->upper_m - opt->winding_span_m[1]) > tolerance) {
-            snprintf(edges->reason, sizeof edges->reason,
-                     "the face found at %.3f m range spans %.0f..%.0f mm; the drawings put the winding at "
-                     "%.0f..%.0f mm",
-                     r->z_face_m, pe->lower_m * 1e3, pe->upper_m * 1e3, opt->winding_span_m[0] * 1e3,
-                     opt->winding_span_m[1] * 1e3);
-            r->face_rejected = 1;
-            return STEP_DONE;
-        }
+    if (!uwb_face_within_drawings(opt, r->z_face_m, pe->lower_m, pe->upper_m, edges->reason,
+                                  sizeof edges->reason)) {
+        r->face_rejected = 1;
+        return STEP_DONE;
     }
     if (edges->snr_db < opt->min_snr_db) {
         snprintf(edges->reason, sizeof edges->reason,

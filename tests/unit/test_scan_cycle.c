@@ -317,6 +317,32 @@ static void test_a_scan_without_winding_or_coupling_does_not_become_the_baseline
     }
 }
 
+/* Issue 28, item 1: what the drawings say of the winding's height is held
+ * against the face of every scan that would become the baseline, also
+ * when one is already set (that scan is compared without it). */
+static void test_a_face_away_from_the_drawings_span_does_not_become_the_baseline(void)
+{
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(1, res.baseline_set);
+    struct uwbd_baseline_info first;
+    current_baseline(&first);
+    cfg.evaluate.analysis.has_winding_span = 1;
+    cfg.evaluate.analysis.winding_span_m[0] = -0.9;
+    cfg.evaluate.analysis.winding_span_m[1] = -0.8;
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(0, res.baseline_set);
+    TEST_ASSERT_EQUAL_INT(1, res.baseline_refused);
+    cJSON *v = verdict();
+    const cJSON *note = cJSON_GetObjectItemCaseSensitive(v, "baseline_note");
+    TEST_ASSERT_TRUE(cJSON_IsString(note));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(note->valuestring, "the drawings put the winding at -900..-800 mm"),
+                                 note->valuestring);
+    cJSON_Delete(v);
+    struct uwbd_baseline_info still;
+    current_baseline(&still);
+    TEST_ASSERT_EQUAL_STRING(first.scan_id, still.scan_id);
+}
+
 static void test_a_stopped_scan_records_nothing(void)
 {
     rig.stopped = 1;
@@ -528,6 +554,7 @@ int main(void)
     RUN_TEST(test_moved_direct_coupling_is_inconclusive_not_compared);
     RUN_TEST(test_a_lost_scan_is_an_error_verdict_and_the_baseline_stays);
     RUN_TEST(test_a_scan_without_winding_or_coupling_does_not_become_the_baseline);
+    RUN_TEST(test_a_face_away_from_the_drawings_span_does_not_become_the_baseline);
     RUN_TEST(test_a_stopped_scan_records_nothing);
     RUN_TEST(test_an_unusable_archive_loses_the_scan_with_an_error_verdict);
     RUN_TEST(test_an_image_the_archive_refuses_is_named_and_the_verdict_kept);
