@@ -53,7 +53,8 @@ enum uwbd_modbus_register {
     UWBD_MODBUS_REG_RADIAL_SIGMA = 17,
     UWBD_MODBUS_REG_RADIAL_AT = 18, /* two registers */
     UWBD_MODBUS_REG_RADIAL_TILT = 20,
-    UWBD_MODBUS_REGISTER_COUNT = 21,
+    UWBD_MODBUS_REG_RADIAL_TILT_SIGMA = 21,
+    UWBD_MODBUS_REGISTER_COUNT = 22,
 };
 
 enum uwbd_modbus_coil {
