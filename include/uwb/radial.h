@@ -22,7 +22,9 @@ struct uwb_radial {
      * largest of the profile's stretches reads by chance; the blur's
      * share of a change's size; and, for a change that reaches the face's
      * end (the line then level, the tilt withheld: tilt_withheld says
-     * why), how far a sloped line would read it. */
+     * why), how far a sloped line would read it. The tilt's 1-sigma
+     * (tilt_uncertainty_m, 0 when withheld) holds the line's slope error
+     * from the rows' scatter and noise, and a share of the shift. */
     struct uwb_radial_verdict figures;
     /* The change profile over the baseline's face, edge to edge, in the
      * baseline's own y: change_m[i] at y0_m + i dy_m, + toward the antenna,

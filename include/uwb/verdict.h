@@ -79,6 +79,7 @@ struct uwb_radial_verdict {
     double uncertainty_m;        /* 1-sigma of max_change */
     double uncertainty_noise_m;  /* its part from the scans' noise alone */
     double tilt_m;               /* the face's top minus its bottom, + top nearer; 0 when withheld */
+    double tilt_uncertainty_m;   /* 1-sigma of tilt_m; 0 when withheld */
     char tilt_withheld[128];     /* why the tilt is not given (measured, yet no lean can be read), or empty */
     struct uwb_radial_line line; /* what the change is measured from (the images draw it so) */
     double shift_m;     /* the axial shift the faces were compared at: baseline y + shift_m = this scan's y */

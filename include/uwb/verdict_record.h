@@ -52,6 +52,8 @@ struct uwb_verdict_record {
     int radial_has_tilt; /* measured, and the face's lean given: tilt_mm, else radial_tilt_withheld says why
                           */
     double radial_tilt_mm;
+    int radial_has_tilt_uncertainty; /* with the tilt, its 1-sigma (absent from records before it) */
+    double radial_tilt_uncertainty_mm;
     char radial_tilt_withheld[128];
     int radial_has_span;
     double radial_from_mm, radial_to_mm;

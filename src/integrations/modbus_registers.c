@@ -87,6 +87,8 @@ void uwbd_modbus_registers_fill(const struct uwb_verdict_record *verdict,
     regs[UWBD_MODBUS_REG_RADIAL_SIGMA] = mm16(radial, v->radial_uncertainty_mm);
     mm32(&regs[UWBD_MODBUS_REG_RADIAL_AT], radial, v->radial_at_mm);
     regs[UWBD_MODBUS_REG_RADIAL_TILT] = mm16(radial && v->radial_has_tilt, v->radial_tilt_mm);
+    regs[UWBD_MODBUS_REG_RADIAL_TILT_SIGMA] =
+        mm16(radial && v->radial_has_tilt && v->radial_has_tilt_uncertainty, v->radial_tilt_uncertainty_mm);
     unsigned health = 0;
     if (status->device_fault)
         health |= UWBD_MODBUS_HEALTH_DEVICE_FAULT;

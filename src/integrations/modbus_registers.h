@@ -22,6 +22,8 @@
  *   17     its uncertainty sigma, int16, 0.01 mm
  *   18-19  the height of that change, int32, 0.01 mm
  *   20     the face's tilt (top minus bottom, + = top nearer), int16, 0.01 mm
+ * Added in map version 3 (0-20 as in version 2):
+ *   21     the tilt's uncertainty sigma, int16, 0.01 mm
  * A figure the verdict does not carry reads 0x8000 (int16) or 0x80000000
  * (int32): never a plausible value. Figures beyond int16 are clipped to
  * +-327.67 mm, the status still telling an alarm.
@@ -34,7 +36,7 @@
 
 #include "uwb/verdict_record.h"
 
-#define UWBD_MODBUS_MAP_VERSION 2
+#define UWBD_MODBUS_MAP_VERSION 3
 
 enum uwbd_modbus_register {
     UWBD_MODBUS_REG_MAP_VERSION = 0,
@@ -53,7 +55,8 @@ enum uwbd_modbus_register {
     UWBD_MODBUS_REG_RADIAL_SIGMA = 17,
     UWBD_MODBUS_REG_RADIAL_AT = 18, /* two registers */
     UWBD_MODBUS_REG_RADIAL_TILT = 20,
-    UWBD_MODBUS_REGISTER_COUNT = 21,
+    UWBD_MODBUS_REG_RADIAL_TILT_SIGMA = 21,
+    UWBD_MODBUS_REGISTER_COUNT = 22,
 };
 
 enum uwbd_modbus_coil {

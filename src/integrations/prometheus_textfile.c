@@ -50,6 +50,8 @@ void uwbd_prometheus_from_record(struct uwbd_prometheus_metrics *m, const struct
     m->radial_at_m = m->has_radial_change ? v->radial_at_mm / 1e3 : 0;
     m->has_radial_tilt = m->has_radial_change && v->radial_has_tilt;
     m->radial_tilt_m = m->has_radial_tilt ? v->radial_tilt_mm / 1e3 : 0;
+    m->has_radial_tilt_uncertainty = m->has_radial_tilt && v->radial_has_tilt_uncertainty;
+    m->radial_tilt_uncertainty_m = m->has_radial_tilt_uncertainty ? v->radial_tilt_uncertainty_mm / 1e3 : 0;
     time_t created_s;
     m->created_s = 0;
     if (uwb_utc_parse(v->created, &created_s) == 0)
@@ -139,6 +141,9 @@ char *uwbd_prometheus_text(const struct uwbd_prometheus_metrics *m)
     if (m->has_radial_tilt)
         gauge(&t, "uwbd_radial_tilt_meters",
               "The face's tilt from the baseline, top minus bottom, positive top nearer.", m->radial_tilt_m);
+    if (m->has_radial_tilt_uncertainty)
+        gauge(&t, "uwbd_radial_tilt_uncertainty_meters", "The 1-sigma uncertainty of the face's tilt.",
+              m->radial_tilt_uncertainty_m);
     if (m->has_duration)
         gauge(&t, "uwbd_scan_duration_seconds", "How long the latest scan cycle took, start to verdict.",
               m->scan_duration_s);

@@ -27,6 +27,8 @@ struct uwbd_prometheus_metrics {
     double radial_change_m, radial_uncertainty_m, radial_at_m;
     int has_radial_tilt; /* ...and the face's tilt (withheld when the change reaches the face's end) */
     double radial_tilt_m;
+    int has_radial_tilt_uncertainty; /* ...and its 1-sigma (absent from records before it) */
+    double radial_tilt_uncertainty_m;
     double created_s; /* the verdict's time, Unix seconds; 0: unknown */
     int has_duration;
     double scan_duration_s;                     /* the latest scan cycle, start to verdict */

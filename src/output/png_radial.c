@@ -235,8 +235,8 @@ void uwb_radial_level_text(const struct uwb_verdict *v, char *buf, size_t len)
     if (!r->measured)
         buf[0] = '\0';
     else if (!r->tilt_withheld[0])
-        snprintf(buf, len, "face as a whole %+.1f mm, tilt %+.1f mm, taken out", whole_m * 1e3,
-                 r->tilt_m * 1e3);
+        snprintf(buf, len, "face as a whole %+.1f mm, tilt %+.1f \u00b1 %.1f mm, taken out", whole_m * 1e3,
+                 r->tilt_m * 1e3, r->tilt_uncertainty_m * 1e3);
     else /* the line is level: no lean was read, so none is said */
         snprintf(buf, len, "face as a whole %+.1f mm taken out; tilt withheld", whole_m * 1e3);
 }

@@ -13,7 +13,7 @@ static const char header[] =
     "height_change_uncertainty_mm,lower_edge_mm,upper_edge_mm,center_mm,height_mm,"
     "face_range_mm,snr_db,baseline_scan_id,baseline_set,fault,reason,trigger,asset_id,"
     "radial_status,radial_max_change_mm,radial_at_mm,radial_from_mm,radial_to_mm,"
-    "radial_uncertainty_mm,radial_tilt_mm\r\n";
+    "radial_uncertainty_mm,radial_tilt_mm,radial_tilt_uncertainty_mm\r\n";
 
 const char *uwb_verdict_csv_header(void)
 {
@@ -127,6 +127,8 @@ int uwb_verdict_csv_row(const struct uwb_verdict_record *r, char *buf, size_t le
     number_field(&w, radial && r->radial_has_span, r->radial_to_mm);
     number_field(&w, radial, r->radial_uncertainty_mm);
     number_field(&w, radial && r->radial_has_tilt, r->radial_tilt_mm);
+    number_field(&w, radial && r->radial_has_tilt && r->radial_has_tilt_uncertainty,
+                 r->radial_tilt_uncertainty_mm);
     put(&w, "\r\n", 2);
     if (w.full) {
         buf[0] = '\0';

@@ -29,7 +29,10 @@ static void print_radial(const struct uwb_verdict_record *v, FILE *out)
             v->radial_uncertainty_mm, v->radial_at_mm);
     if (v->radial_has_span)
         fprintf(out, ", past the watch limit from %.0f to %.0f mm", v->radial_from_mm, v->radial_to_mm);
-    if (v->radial_has_tilt)
+    if (v->radial_has_tilt && v->radial_has_tilt_uncertainty)
+        fprintf(out, "; tilt %+.2f \u00b1 %.2f mm (+: top nearer): ", v->radial_tilt_mm,
+                v->radial_tilt_uncertainty_mm);
+    else if (v->radial_has_tilt)
         fprintf(out, "; tilt %+.2f mm (+: top nearer): ", v->radial_tilt_mm);
     else
         fprintf(out, "; tilt withheld (%s): ", v->radial_tilt_withheld);

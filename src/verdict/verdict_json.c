@@ -88,9 +88,11 @@ static void add_radial(cJSON *o, const struct uwb_verdict_record *r)
             cJSON_AddNumberToObject(radial, "to_mm", r->radial_to_mm);
         }
         cJSON_AddNumberToObject(radial, "uncertainty_mm", r->radial_uncertainty_mm);
-        if (r->radial_has_tilt)
+        if (r->radial_has_tilt) {
             cJSON_AddNumberToObject(radial, "tilt_mm", r->radial_tilt_mm);
-        else
+            if (r->radial_has_tilt_uncertainty)
+                cJSON_AddNumberToObject(radial, "tilt_uncertainty_mm", r->radial_tilt_uncertainty_mm);
+        } else
             add_text(radial, "tilt_withheld", r->radial_tilt_withheld);
     }
     add_text(radial, "withheld", r->radial_withheld);
@@ -336,6 +338,8 @@ static void read_radial(struct reader *rd, struct uwb_verdict_record *r)
                          number_at(rd, radial, "to_mm", &r->radial_to_mm);
     number_at(rd, radial, "uncertainty_mm", &r->radial_uncertainty_mm);
     r->radial_has_tilt = number_at(rd, radial, "tilt_mm", &r->radial_tilt_mm);
+    r->radial_has_tilt_uncertainty =
+        r->radial_has_tilt && number_at(rd, radial, "tilt_uncertainty_mm", &r->radial_tilt_uncertainty_mm);
     text_at(rd, radial, "tilt_withheld", r->radial_tilt_withheld, sizeof r->radial_tilt_withheld);
     text_at(rd, radial, "withheld", r->radial_withheld, sizeof r->radial_withheld);
 }

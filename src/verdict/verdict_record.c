@@ -65,9 +65,11 @@ void uwb_record_from_verdict(struct uwb_verdict_record *r, const struct uwb_verd
             r->radial_at_mm = uwb_record_mm(rv->at_m);
             r->radial_uncertainty_mm = uwb_record_mm(rv->uncertainty_m);
             r->radial_has_tilt = !rv->tilt_withheld[0];
-            if (r->radial_has_tilt)
+            if (r->radial_has_tilt) {
                 r->radial_tilt_mm = uwb_record_mm(rv->tilt_m);
-            else
+                r->radial_has_tilt_uncertainty = 1;
+                r->radial_tilt_uncertainty_mm = uwb_record_mm(rv->tilt_uncertainty_m);
+            } else
                 snprintf(r->radial_tilt_withheld, sizeof r->radial_tilt_withheld, "%s", rv->tilt_withheld);
             r->radial_has_span = rv->has_span;
             if (rv->has_span) {

@@ -72,7 +72,7 @@ verdict_matches() {
     [[ $(field "$dump" radial_status) == "$want" ]] ||
         { echo "radial_status: $(field "$dump" radial_status), verdict $want"; return 1; }
     for pair in radial.max_change_mm:radial_change radial.uncertainty_mm:radial_sigma radial.at_mm:radial_at \
-        radial.tilt_mm:radial_tilt; do
+        radial.tilt_mm:radial_tilt radial.tilt_uncertainty_mm:radial_tilt_sigma; do
         key=${pair%%:*} reg=${pair##*:}
         want=$(hundredths "$(json_get "$key" < "$verdict")")
         got=$(field "$dump" "$reg")
@@ -80,7 +80,7 @@ verdict_matches() {
     done
     want=$(date -u -d "$(json_get created < "$verdict")" +%s)
     [[ $(field "$dump" scan_time) == "$want" ]] || { echo "scan_time: $(field "$dump" scan_time), created $want"; return 1; }
-    [[ $(field "$dump" version) == 2 ]] || { echo "map version $(field "$dump" version)"; return 1; }
+    [[ $(field "$dump" version) == 3 ]] || { echo "map version $(field "$dump" version)"; return 1; }
 }
 
 start_emulated_board --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7
@@ -161,9 +161,11 @@ bulge=$(sed -n 1p bulge.out)
 why=$(verdict_matches "$bulge" bulged.json) || fail "TCP registers vs the bulge's verdict: $why: $bulge / $(cat bulged.json)"
 # Disks 4-6 are the scene's top three: the change reaches the face's end,
 # where no lean can be read: the tilt withheld, its register "none", not 0.
-json_check bulged.json 'radial.tilt_mm absent' 'radial.tilt_withheld exists' ||
+json_check bulged.json 'radial.tilt_mm absent' 'radial.tilt_uncertainty_mm absent' 'radial.tilt_withheld exists' ||
     fail "a bulge at the face's end gives a tilt: $(cat bulged.json)"
 [[ $(field "$bulge" radial_tilt) == none ]] || fail "tilt withheld, yet register 20 reads $(field "$bulge" radial_tilt)"
+[[ $(field "$bulge" radial_tilt_sigma) == none ]] ||
+    fail "tilt withheld, yet register 21 reads $(field "$bulge" radial_tilt_sigma)"
 emu 'set radial 4 6 0' > /dev/null
 pass "a bulge of disks 4-6 by 8 mm: radial registers = the verdict's radial object, the tilt withheld ($bulge)"
 

@@ -157,13 +157,18 @@ for d in 0.003 0.008; do
     want=$(json_get radial < "away-$d.json")
     [[ $got != "(missing)" && $got == "$want" ]] && json_check - 'radial.status exists' <<<"$sent" > /dev/null ||
         fail "MQTT verdict at $d m: radial $got, ctl scan gave $want"
+    # A tilt given carries its sigma.
+    [[ $(json_get radial.tilt_mm <<<"$sent") == "(missing)" ]] ||
+        json_check - 'radial.tilt_uncertainty_mm exists' <<<"$sent" > /dev/null ||
+        fail "MQTT verdict at $d m: a tilt without its sigma: $got"
 done
 pass "the MQTT verdicts carry the radial object ($(json_get radial < away-0.008.json))"
 sent=$(sed -n 3p back.out | cut -d' ' -f3-)
 [[ $(json_get radial <<<"$sent") == "$(json_get radial < away-bulge.json)" ]] &&
-    json_check - 'radial.tilt_mm absent' 'radial.tilt_withheld exists' <<<"$sent" > /dev/null ||
+    json_check - 'radial.tilt_mm absent' 'radial.tilt_uncertainty_mm absent' 'radial.tilt_withheld exists' \
+        <<<"$sent" > /dev/null ||
     fail "MQTT verdict of a bulge at the face's end: radial $(json_get radial <<<"$sent")"
-pass "a bulge at the face's end: the MQTT verdict leaves tilt_mm out, tilt_withheld says why"
+pass "a bulge at the face's end: the MQTT verdict leaves tilt_mm and its sigma out, tilt_withheld says why"
 
 
 # ---- commands from the cmd topic -------------------------------------------------

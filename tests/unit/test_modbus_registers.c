@@ -138,7 +138,7 @@ static void test_radial_change_in_the_registers_after_the_first_map(void)
     fill_from_line("{\"status\":\"alarm\",\"created\":\"2026-11-24T05:30:00Z\",\"lower_edge_mm\":230.1,"
                    "\"upper_edge_mm\":382.2,\"radial\":{\"status\":\"alarm\",\"max_change_mm\":-5.75,"
                    "\"at_mm\":359.59,\"from_mm\":332.59,\"to_mm\":384.59,\"uncertainty_mm\":0.46,"
-                   "\"tilt_mm\":2}}",
+                   "\"tilt_mm\":2,\"tilt_uncertainty_mm\":0.31}}",
                    &st, regs);
     TEST_ASSERT_EQUAL_UINT16(4, regs[UWBD_MODBUS_REG_STATUS]);
     TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_DISPLACEMENT]);
@@ -149,6 +149,7 @@ static void test_radial_change_in_the_registers_after_the_first_map(void)
     TEST_ASSERT_EQUAL_INT16(46, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_SIGMA]);
     TEST_ASSERT_EQUAL_INT32(35959, reg32(UWBD_MODBUS_REG_RADIAL_AT));
     TEST_ASSERT_EQUAL_INT16(200, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_TILT]);
+    TEST_ASSERT_EQUAL_INT16(31, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_TILT_SIGMA]);
 
     /* Withheld: the status told, every figure "none". */
     fill_from_line("{\"status\":\"inconclusive\",\"radial\":{\"status\":\"inconclusive\","
@@ -167,6 +168,14 @@ static void test_radial_change_in_the_registers_after_the_first_map(void)
         &st, regs);
     TEST_ASSERT_EQUAL_INT16(845, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_CHANGE]);
     TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_TILT]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_TILT_SIGMA]);
+
+    /* A record from before the tilt's sigma: the tilt, its sigma "none". */
+    fill_from_line("{\"status\":\"ok\",\"radial\":{\"status\":\"ok\",\"max_change_mm\":0.4,"
+                   "\"at_mm\":300,\"uncertainty_mm\":0.5,\"tilt_mm\":-1.5}}",
+                   &st, regs);
+    TEST_ASSERT_EQUAL_INT16(-150, (int16_t)regs[UWBD_MODBUS_REG_RADIAL_TILT]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_TILT_SIGMA]);
 
     /* Not compared (no radial object), and no verdict at all: status 0, "none". */
     fill_from_line(compared, &st, regs);
@@ -177,6 +186,7 @@ static void test_radial_change_in_the_registers_after_the_first_map(void)
     TEST_ASSERT_EQUAL_UINT16(0, regs[UWBD_MODBUS_REG_RADIAL_STATUS]);
     TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_SIGMA]);
     TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_TILT]);
+    TEST_ASSERT_EQUAL_HEX16(UWBD_MODBUS_NONE16, regs[UWBD_MODBUS_REG_RADIAL_TILT_SIGMA]);
 
     /* Beyond int16: clipped, never "none". */
     fill_from_line("{\"status\":\"alarm\",\"radial\":{\"status\":\"alarm\",\"max_change_mm\":-400,"
@@ -240,6 +250,7 @@ static void test_manual_page_documents_the_map(void)
         {UWBD_MODBUS_REG_RADIAL_SIGMA, 1, "its uncertainty"},
         {UWBD_MODBUS_REG_RADIAL_AT, 2, "height of the radial change"},
         {UWBD_MODBUS_REG_RADIAL_TILT, 1, "face tilt"},
+        {UWBD_MODBUS_REG_RADIAL_TILT_SIGMA, 1, "its uncertainty"},
     };
     char row[128];
     for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {

@@ -128,7 +128,8 @@ static void test_the_radial_change_in_base_units(void)
 {
     char *text = text_of_verdict(
         "{\"class\":\"VERDICT\",\"status\":\"alarm\",\"radial\":{\"status\":\"alarm\",\"max_change_mm\":"
-        "-5.75,\"at_mm\":359.59,\"from_mm\":332.59,\"to_mm\":384.59,\"uncertainty_mm\":0.46,\"tilt_mm\":2}}");
+        "-5.75,\"at_mm\":359.59,\"from_mm\":332.59,\"to_mm\":384.59,\"uncertainty_mm\":0.46,\"tilt_mm\":2,"
+        "\"tilt_uncertainty_mm\":0.31}}");
     expect_line(text, "# TYPE uwbd_radial_status gauge");
     expect_line(text, "uwbd_radial_status{asset_id=\"T1\",status=\"alarm\"} 1");
     expect_line(text, "uwbd_radial_status{asset_id=\"T1\",status=\"ok\"} 0");
@@ -137,7 +138,16 @@ static void test_the_radial_change_in_base_units(void)
     expect_line(text, "uwbd_radial_max_change_uncertainty_meters{asset_id=\"T1\"} 0.00046");
     expect_line(text, "uwbd_radial_max_change_height_meters{asset_id=\"T1\"} 0.35959");
     expect_line(text, "uwbd_radial_tilt_meters{asset_id=\"T1\"} 0.002");
+    expect_line(text, "# TYPE uwbd_radial_tilt_uncertainty_meters gauge");
+    expect_line(text, "uwbd_radial_tilt_uncertainty_meters{asset_id=\"T1\"} 0.00031");
     TEST_ASSERT_NULL_MESSAGE(strstr(text, "uwbd_axial_displacement_meters{"), "the axial figure withheld");
+    free(text);
+
+    /* A record from before the tilt's sigma: the tilt, no sigma metric. */
+    text = text_of_verdict("{\"class\":\"VERDICT\",\"status\":\"ok\",\"radial\":{\"status\":\"ok\","
+                           "\"max_change_mm\":0.4,\"at_mm\":300,\"uncertainty_mm\":0.5,\"tilt_mm\":-1.5}}");
+    expect_line(text, "uwbd_radial_tilt_meters{asset_id=\"T1\"} -0.0015");
+    TEST_ASSERT_NULL_MESSAGE(strstr(text, "uwbd_radial_tilt_uncertainty"), "no sigma: no sigma metric");
     free(text);
 
     /* Measured, the tilt withheld (a change at the face's end): the change given, no tilt metric. */

@@ -67,10 +67,12 @@ static void radial_of_scans(const struct uwb_scan *cur, const struct uwb_scan *b
     TEST_ASSERT_EQUAL_INT(0, uwb_radial_measure(&ca, &ba, *shift_m, WATCH_M, 0.0, r));
     TEST_ASSERT_TRUE_MESSAGE(r->figures.measured, r->figures.withheld);
     printf(
-        "%s: shift %+.2f mm, radial %+.2f +- %.2f mm at %.1f mm, span %d %.1f..%.1f mm, tilt %+.2f mm%s%s\n",
+        "%s: shift %+.2f mm, radial %+.2f +- %.2f mm at %.1f mm, span %d %.1f..%.1f mm, tilt %+.2f +- %.2f "
+        "mm%s%s\n",
         what, *shift_m * 1e3, r->figures.max_change_m * 1e3, r->figures.uncertainty_m * 1e3,
         r->figures.at_m * 1e3, r->figures.has_span, r->figures.from_m * 1e3, r->figures.to_m * 1e3,
-        r->figures.tilt_m * 1e3, r->figures.tilt_withheld[0] ? ", withheld: " : "", r->figures.tilt_withheld);
+        r->figures.tilt_m * 1e3, r->figures.tilt_uncertainty_m * 1e3,
+        r->figures.tilt_withheld[0] ? ", withheld: " : "", r->figures.tilt_withheld);
     uwb_analysis_free(&ca);
     uwb_analysis_free(&ba);
 }
@@ -108,6 +110,17 @@ static void radial_of_simulated(const char *key, const char *value, struct uwb_r
     uwb_scan_free(&base);
 }
 
+/* Every figure given carries its sigma, and the truth lies within 2 sigma
+ * of it (the house rule on full-wave scenes). */
+static void assert_tilt_within_two_sigma(const struct uwb_radial *r, double truth_m, const char *what)
+{
+    char msg[256];
+    snprintf(msg, sizeof msg, "%s: tilt %+.2f +- %.2f mm, truth %+.2f mm", what, r->figures.tilt_m * 1e3,
+             r->figures.tilt_uncertainty_m * 1e3, truth_m * 1e3);
+    TEST_ASSERT_TRUE_MESSAGE(r->figures.tilt_uncertainty_m > 0.0, msg);
+    TEST_ASSERT_TRUE_MESSAGE(fabs(r->figures.tilt_m - truth_m) <= 2.0 * r->figures.tilt_uncertainty_m, msg);
+}
+
 /* A radial scan: its truth's one change (heights in the scan's own y). */
 static void check_radial(const char *name, double y_from_m, double y_to_m, double change_m, double size_tol_m)
 {
@@ -124,6 +137,8 @@ static void check_radial(const char *name, double y_from_m, double y_to_m, doubl
     TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(SPAN_END_M, y_from_m, r->figures.from_m, "span's lower end");
     TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(SPAN_END_M, y_to_m, r->figures.to_m, "span's upper end");
     TEST_ASSERT_TRUE_MESSAGE(fabs(r->figures.tilt_m) <= TILT_GOAL_M, "tilt (the winding does not lean)");
+    if (!r->figures.tilt_withheld[0])
+        assert_tilt_within_two_sigma(r, 0.0, name);
 }
 
 /* The tilt is a figure or withheld with why, never a 0 that was not
@@ -135,6 +150,7 @@ static void assert_tilt_withheld(const struct uwb_radial *r)
     TEST_ASSERT_TRUE_MESSAGE(r->figures.measured, r->figures.withheld);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r->figures.tilt_withheld, "face's end"),
                                  "a change at the face's end: the tilt withheld, saying why");
+    TEST_ASSERT_EQUAL_DOUBLE_MESSAGE(0.0, r->figures.tilt_uncertainty_m, "a withheld tilt has no sigma");
 }
 
 static void assert_tilt_given(const struct uwb_radial *r, double truth_m)
@@ -142,6 +158,7 @@ static void assert_tilt_given(const struct uwb_radial *r, double truth_m)
     TEST_ASSERT_TRUE_MESSAGE(r->figures.measured, r->figures.withheld);
     TEST_ASSERT_EQUAL_STRING_MESSAGE("", r->figures.tilt_withheld, "the tilt is given");
     TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(TILT_GOAL_M, truth_m, r->figures.tilt_m, "tilt");
+    assert_tilt_within_two_sigma(r, truth_m, "tilt");
 }
 
 static void test_a_bulge_of_the_top_three_disks_withholds_the_tilt(void)
@@ -169,7 +186,10 @@ static void test_a_bulge_in_the_middle_of_the_face_gives_the_tilt(void)
 static void test_a_leaning_face_gives_its_tilt(void)
 {
     radial_of_simulated("face_tilt_m", "0.006", &radial);
-    assert_tilt_given(&radial, 0.006);
+    /* face_tilt_m leans the disks' fronts by 6 mm from the bottom disk to
+     * the top one, 6 pitches of 24 mm apart; the tilt is the face's top
+     * edge less its bottom one, 162 mm apart: 6.75 mm of the same lean. */
+    assert_tilt_given(&radial, 0.006 * 0.162 / 0.144);
 }
 
 static double goal_tolerance(double change_m)
@@ -205,6 +225,27 @@ static void check_pure_shift(const char *cur_path, const char *base_path, double
     TEST_ASSERT_TRUE_MESSAGE(fabs(r->figures.max_change_m) <= bound_m, cur_path);
     TEST_ASSERT_TRUE_MESSAGE(fabs(r->figures.tilt_m) <= TILT_GOAL_M, cur_path);
     TEST_ASSERT_FALSE_MESSAGE(r->figures.has_span, cur_path);
+    assert_tilt_within_two_sigma(r, 0.0, cur_path);
+}
+
+/* The family's pure shifts (no lean, no radial change): where the tilt is
+ * given, 0 lies within its 2 sigma. */
+static void test_family_shifts_read_a_tilt_within_two_sigma_of_none(void)
+{
+    static const char *const pairs[][2] = {
+        {"fdtd2d-var-s04-d+26", "fdtd2d-var-s04-d+00"}, {"fdtd2d-var-s04-d-10", "fdtd2d-var-s04-d+00"},
+        {"fdtd2d-var-s07-d+14", "fdtd2d-var-s07-d+00"}, {"fdtd2d-var-s07-d-02", "fdtd2d-var-s07-d+00"},
+        {"fdtd2d-var-s08-d+02", "fdtd2d-var-s08-d+00"}, {"fdtd2d-var-s08-d+14", "fdtd2d-var-s08-d+00"},
+    };
+    for (size_t i = 0; i < sizeof pairs / sizeof pairs[0]; i++) {
+        char cur[128], base[128];
+        double shift;
+        snprintf(cur, sizeof cur, "tests/fixtures/%s.uwbscan", pairs[i][0]);
+        snprintf(base, sizeof base, "tests/fixtures/%s.uwbscan", pairs[i][1]);
+        radial_of(cur, base, &radial, &shift);
+        if (!radial.figures.tilt_withheld[0])
+            assert_tilt_within_two_sigma(&radial, 0.0, cur);
+    }
 }
 
 static void test_pure_shifts_read_no_radial_change(void)
@@ -234,6 +275,8 @@ int main(void)
     RUN_TEST(test_a_bulge_of_the_bottom_disk_withholds_the_tilt);
     RUN_TEST(test_a_bulge_in_the_middle_of_the_face_gives_the_tilt);
     RUN_TEST(test_a_leaning_face_gives_its_tilt);
+    if (!emulated())
+        RUN_TEST(test_family_shifts_read_a_tilt_within_two_sigma_of_none);
     if (!emulated())
         RUN_TEST(test_a_bulge_of_the_top_three_disks_withholds_the_tilt);
     return UNITY_END();

@@ -128,25 +128,50 @@ static void test_a_withheld_tilt_round_trips_as_its_reason(void)
                                            .max_change_m = 0.00845,
                                            .at_m = 0.3411,
                                            .uncertainty_m = 0.00157,
-                                           .tilt_m = 0.0012};
+                                           .tilt_m = 0.0012,
+                                           .tilt_uncertainty_m = 0.00031};
     uwb_record_from_verdict(&first, &v);
     char *text = assert_round_trip(&first);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "\"uncertainty_mm\":1.57,\"tilt_mm\":1.2}"), text);
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(text, "\"uncertainty_mm\":1.57,\"tilt_mm\":1.2,\"tilt_uncertainty_mm\":0.31}"), text);
     TEST_ASSERT_TRUE(again.radial_has_tilt);
     TEST_ASSERT_EQUAL_DOUBLE(1.2, again.radial_tilt_mm);
+    TEST_ASSERT_TRUE(again.radial_has_tilt_uncertainty);
+    TEST_ASSERT_EQUAL_DOUBLE(0.31, again.radial_tilt_uncertainty_mm);
     free(text);
 
     snprintf(v.radial.tilt_withheld, sizeof v.radial.tilt_withheld, "the change reaches the face's end");
     v.radial.tilt_m = 0.0;
+    v.radial.tilt_uncertainty_m = 0.0;
     uwb_record_from_verdict(&first, &v);
     text = assert_round_trip(&first);
     TEST_ASSERT_NULL_MESSAGE(strstr(text, "tilt_mm"), text);
+    TEST_ASSERT_NULL_MESSAGE(strstr(text, "tilt_uncertainty_mm"), text);
+    TEST_ASSERT_FALSE(again.radial_has_tilt_uncertainty);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "\"tilt_withheld\":\"the change reaches the face's end\""),
                                  text);
     TEST_ASSERT_TRUE(again.radial_measured);
     TEST_ASSERT_FALSE(again.radial_has_tilt);
     TEST_ASSERT_EQUAL_STRING("the change reaches the face's end", again.radial_tilt_withheld);
     TEST_ASSERT_EQUAL_DOUBLE(8.45, again.radial_max_change_mm);
+    free(text);
+}
+
+/* A record from before the tilt carried its sigma still reads: the tilt
+ * given, its sigma absent (not 0). */
+static void test_a_tilt_without_its_sigma_still_reads(void)
+{
+    char err[256];
+    const char *line = "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"S1\",\"radial\":{\"status\":"
+                       "\"ok\",\"max_change_mm\":0.4,"
+                       "\"at_mm\":300,\"uncertainty_mm\":0.5,\"tilt_mm\":-1.5}}";
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_record_from_json(line, &again, err, sizeof err), err);
+    TEST_ASSERT_TRUE(again.radial_has_tilt);
+    TEST_ASSERT_EQUAL_DOUBLE(-1.5, again.radial_tilt_mm);
+    TEST_ASSERT_FALSE(again.radial_has_tilt_uncertainty);
+    char *text = uwb_record_to_json(&again);
+    TEST_ASSERT_NOT_NULL(text);
+    TEST_ASSERT_NULL_MESSAGE(strstr(text, "tilt_uncertainty_mm"), text);
     free(text);
 }
 
@@ -285,6 +310,7 @@ int main(void)
     RUN_TEST(test_compared_verdict_round_trips_with_its_figures_as_published);
     RUN_TEST(test_withheld_height_change_and_inconclusive_round_trip);
     RUN_TEST(test_a_withheld_tilt_round_trips_as_its_reason);
+    RUN_TEST(test_a_tilt_without_its_sigma_still_reads);
     RUN_TEST(test_error_verdict_with_no_figures_round_trips);
     RUN_TEST(test_daemon_fields_round_trip_in_their_order);
     RUN_TEST(test_lines_that_are_not_verdicts_are_refused_naming_the_key);

@@ -87,6 +87,19 @@ static void test_a_radial_change_gives_its_tilt(void)
         text);
 }
 
+/* The tilt with its sigma, as every figure. */
+static void test_a_tilt_gives_its_sigma(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, render("{\"class\":\"VERDICT\",\"status\":\"ok\",\"radial\":{\"status\":\"ok\","
+                                    "\"max_change_mm\":0.4,\"at_mm\":300,\"uncertainty_mm\":0.5,"
+                                    "\"tilt_mm\":0.42,\"tilt_uncertainty_mm\":0.31}}"));
+    TEST_ASSERT_EQUAL_STRING(
+        "status OK\n"
+        "radial change +0.40 \u00b1 0.50 mm 1\u03c3 at 300 mm; tilt +0.42 \u00b1 0.31 mm "
+        "(+: top nearer): OK\n",
+        text);
+}
+
 /* A change at the face's end: the tilt withheld, saying why, never "tilt +0.00". */
 static void test_a_withheld_tilt_says_why(void)
 {
@@ -137,6 +150,7 @@ int main(void)
     RUN_TEST(test_a_height_change_is_given_with_its_sigma);
     RUN_TEST(test_a_withheld_height_change_says_why);
     RUN_TEST(test_a_radial_change_gives_its_tilt);
+    RUN_TEST(test_a_tilt_gives_its_sigma);
     RUN_TEST(test_a_withheld_tilt_says_why);
     RUN_TEST(test_edges_only_says_where_the_winding_is_and_whether_it_became_the_baseline);
     RUN_TEST(test_an_error_verdict_gives_its_reason);

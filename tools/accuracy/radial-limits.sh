@@ -36,7 +36,8 @@ row() { # label truth uwbsim-options...
         axial=$(printf '%+.2f ± %.2f mm' "$(field axial_displacement_mm <<< "$v")" "$(field uncertainty_mm <<< "$v")")
     # A tilt withheld (a change at the face's end) is said so, not printed as 0.
     local tilt=withheld
-    [[ -n $(field tilt_mm <<< "$radial") ]] && tilt=$(printf '%+.2f mm' "$(field tilt_mm <<< "$radial")")
+    [[ -n $(field tilt_mm <<< "$radial") ]] &&
+        tilt=$(printf '%+.2f ± %.2f mm' "$(field tilt_mm <<< "$radial")" "$(field tilt_uncertainty_mm <<< "$radial")")
     printf '| %s | %s | %s | %+.2f ± %.2f mm | %.0f mm | %s | %s |\n' "$label" "$truth" \
         "$(field status <<< "$radial")" "$(field max_change_mm <<< "$radial")" \
         "$(field uncertainty_mm <<< "$radial")" "$(field at_mm <<< "$radial")" \

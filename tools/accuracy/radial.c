@@ -43,7 +43,7 @@ static int evaluate_pair(const struct uwb_scan *cur, const struct uwb_scan *base
 
 struct tally {
     double *error, *sigma, *noise;
-    int measured, within, located, watch, n, tilt_withheld;
+    int measured, within, located, watch, n, tilt_withheld, tilt_within;
     double tilt_worst;
 };
 
@@ -61,10 +61,12 @@ static void count(struct tally *t, const struct radial_case *c, const struct uwb
     t->within += fabs(e) <= 2.0 * r->uncertainty_m;
     t->located += c->change_m != 0.0 && r->at_m >= c->from_m - 0.010 && r->at_m <= c->to_m + 0.010;
     t->watch += r->status == UWB_STATUS_WATCH || r->status == UWB_STATUS_ALARM;
-    if (r->tilt_withheld[0])
+    if (r->tilt_withheld[0]) {
         t->tilt_withheld++; /* no lean read: not a 0 to count */
-    else
+    } else {
         t->tilt_worst = fmax(t->tilt_worst, fabs(r->tilt_m));
+        t->tilt_within += fabs(r->tilt_m) <= 2.0 * r->tilt_uncertainty_m; /* no case's face leans */
+    }
 }
 
 static void summarise(struct tally *t, struct radial_row *row)
@@ -92,6 +94,8 @@ static void summarise(struct tally *t, struct radial_row *row)
     row->watch_or_worse = (double)t->watch / m;
     row->tilt_worst_m = t->tilt_worst;
     row->tilt_withheld = t->tilt_withheld;
+    row->tilt_within_2sigma =
+        t->measured > t->tilt_withheld ? (double)t->tilt_within / (t->measured - t->tilt_withheld) : 0.0;
 }
 
 int radial_run_case(const char *dir, const struct radial_case *c, const struct accuracy_level *level,
@@ -144,15 +148,14 @@ void radial_print_header(FILE *out)
     fprintf(out,
             "| pair | noise | pairs | true change | read (bias) | spread (1σ) | worst error | σ reported "
             "(median) | spread / σ | its noise part | spread / that | within 2σ | located | watch or alarm | "
-            "largest "
-            "tilt |\n");
+            "largest tilt (within 2σ of none) |\n");
     fprintf(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
 void radial_print_row(FILE *out, const struct radial_case *c, const struct accuracy_level *level,
                       const struct radial_row *r)
 {
-    char noise[32], pairs[48], spread[16], ratio[16], noise_ratio[16], located[16], tilt[40];
+    char noise[32], pairs[48], spread[16], ratio[16], noise_ratio[16], located[16], tilt[64];
     snprintf(noise, sizeof noise, level ? "%.0f dB" : "none", level ? level->snr_db : 0.0);
     if (r->measured == r->pairs)
         snprintf(pairs, sizeof pairs, "%d", r->pairs);
@@ -167,9 +170,10 @@ void radial_print_row(FILE *out, const struct radial_case *c, const struct accur
     if (r->measured > 0 && r->tilt_withheld == r->measured)
         snprintf(tilt, sizeof tilt, "withheld");
     else if (r->tilt_withheld > 0)
-        snprintf(tilt, sizeof tilt, "%.2f (%d withheld)", r->tilt_worst_m * 1e3, r->tilt_withheld);
+        snprintf(tilt, sizeof tilt, "%.2f (%.0f %%; %d withheld)", r->tilt_worst_m * 1e3,
+                 100.0 * r->tilt_within_2sigma, r->tilt_withheld);
     else
-        snprintf(tilt, sizeof tilt, "%.2f", r->tilt_worst_m * 1e3);
+        snprintf(tilt, sizeof tilt, "%.2f (%.0f %%)", r->tilt_worst_m * 1e3, 100.0 * r->tilt_within_2sigma);
     fprintf(out,
             "| %s | %s | %s | %+.2f | %+.2f | %s | %.2f | %.2f | %s | %.2f | %s | %.0f %% | %s | %.0f %% | "
             "%s |\n",

@@ -26,8 +26,9 @@ struct radial_row {
     double within_2sigma;
     double located; /* share with at_mm inside the changed span +-10 mm (changes only) */
     double watch_or_worse;
-    double tilt_worst_m; /* over the pairs whose tilt was given */
-    int tilt_withheld;   /* pairs whose tilt was withheld (a change at the face's end) */
+    double tilt_worst_m;       /* over the pairs whose tilt was given */
+    int tilt_withheld;         /* pairs whose tilt was withheld (a change at the face's end) */
+    double tilt_within_2sigma; /* share of the given tilts within 2 sigma of 0 (no case leans) */
 };
 
 extern const struct radial_case radial_cases[];

@@ -133,6 +133,7 @@ static int dump(modbus_t *ctx)
     print16("radial_sigma", in[UWBD_MODBUS_REG_RADIAL_SIGMA]);
     print32("radial_at", &in[UWBD_MODBUS_REG_RADIAL_AT], 1);
     print16("radial_tilt", in[UWBD_MODBUS_REG_RADIAL_TILT]);
+    print16("radial_tilt_sigma", in[UWBD_MODBUS_REG_RADIAL_TILT_SIGMA]);
     printf("\n");
     return 0;
 }
