@@ -86,32 +86,24 @@ static int parse_number(const char *opt, const char *text, double *out)
     return 0;
 }
 
-/* --target-z NEAR:FAR, metres, 0 <= NEAR < FAR, both finite. */
-static int parse_target_z(const char *text, double *near_m, double *far_m)
+/* A:B, two finite numbers with A < B (strtod, not sscanf: "5x:6" is no pair). */
+static int parse_pair(const char *text, double *a, double *b)
 {
     char *colon, *end;
     errno = 0;
-    *near_m = strtod(text, &colon);
+    *a = strtod(text, &colon);
     if (errno || colon == text || *colon != ':')
         return -1;
-    *far_m = strtod(colon + 1, &end);
+    *b = strtod(colon + 1, &end);
     if (errno || end == colon + 1 || *end != '\0')
         return -1;
-    return isfinite(*near_m) && isfinite(*far_m) && *near_m >= 0.0 && *far_m > *near_m ? 0 : -1;
+    return isfinite(*a) && isfinite(*b) && *b > *a ? 0 : -1;
 }
 
-/* --winding-span LOW:HIGH, metres, LOW < HIGH, both finite. */
-static int parse_span(const char *text, double *low_m, double *high_m)
+/* --target-z NEAR:FAR, metres, 0 <= NEAR < FAR. */
+static int parse_target_z(const char *text, double *near_m, double *far_m)
 {
-    char *colon, *end;
-    errno = 0;
-    *low_m = strtod(text, &colon);
-    if (errno || colon == text || *colon != ':')
-        return -1;
-    *high_m = strtod(colon + 1, &end);
-    if (errno || end == colon + 1 || *end != '\0')
-        return -1;
-    return isfinite(*low_m) && isfinite(*high_m) && *high_m > *low_m ? 0 : -1;
+    return parse_pair(text, near_m, far_m) == 0 && *near_m >= 0.0 ? 0 : -1;
 }
 
 /* Reads a scan the analysis can take: what the format or the analysis
@@ -315,7 +307,7 @@ static int read_analysis_option(int c, const char *text, struct uwb_analysis_opt
         analysis->target_z_m[1] = far_m;
         return REPLAY_GOES_ON;
     case OPT_WINDING_SPAN:
-        if (parse_span(text, &near_m, &far_m) != 0) {
+        if (parse_pair(text, &near_m, &far_m) != 0) {
             fprintf(stderr, "uwbd: --winding-span: '%s' is not LOW:HIGH with LOW < HIGH (metres)\n", text);
             return EX_USAGE;
         }
