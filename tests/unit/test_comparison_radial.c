@@ -295,17 +295,8 @@ static void test_a_bulge_with_a_rise_is_drawn_as_the_verdict_reads_it(void)
  * baseline, against the same with one parameter changed. */
 static void check_simulated_panel(const char *key, const char *value, const char *what)
 {
-    struct sim_scene scene;
-    char err[512];
-    TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&scene));
-    TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, sim_scene_load_json("tools/uwbsim/scenes/fdtd2d-tank-winding.json", &scene, err, sizeof err), err);
-    scene_set_or_fail(&scene, "coupling_gain", "0.05");
-    scene_set_or_fail(&scene, "t0_s", "-1e-9");
     struct uwb_scan base, cur;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &base, err, sizeof err), err);
-    scene_set_or_fail(&scene, key, value);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &cur, err, sizeof err), err);
+    scene_tank_winding_pair(key, value, &base, &cur);
     check_panel_draws_the_verdicts_change(&cur, &base, what);
     uwb_scan_free(&cur);
     uwb_scan_free(&base);
@@ -316,17 +307,9 @@ static void check_simulated_panel(const char *key, const char *value, const char
  * "tilt +0.0". */
 static void check_level_text(const char *key, const char *value, const char *want)
 {
-    struct sim_scene scene;
     char err[512], level[128];
-    TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&scene));
-    TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, sim_scene_load_json("tools/uwbsim/scenes/fdtd2d-tank-winding.json", &scene, err, sizeof err), err);
-    scene_set_or_fail(&scene, "coupling_gain", "0.05");
-    scene_set_or_fail(&scene, "t0_s", "-1e-9");
     struct uwb_scan base, cur;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &base, err, sizeof err), err);
-    scene_set_or_fail(&scene, key, value);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &cur, err, sizeof err), err);
+    scene_tank_winding_pair(key, value, &base, &cur);
     struct uwb_evaluate_options opt;
     uwb_evaluate_defaults(&opt);
     struct uwb_analysis ca, ba;

@@ -92,17 +92,9 @@ static void radial_of(const char *cur_path, const char *base_path, struct uwb_ra
  * baseline, against the same with one parameter changed. */
 static void radial_of_simulated(const char *key, const char *value, struct uwb_radial *r)
 {
-    struct sim_scene scene;
-    char err[512], what[128];
-    TEST_ASSERT_EQUAL_INT(0, sim_scene_default(&scene));
-    TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, sim_scene_load_json("tools/uwbsim/scenes/fdtd2d-tank-winding.json", &scene, err, sizeof err), err);
-    scene_set_or_fail(&scene, "coupling_gain", "0.05");
-    scene_set_or_fail(&scene, "t0_s", "-1e-9");
+    char what[128];
     struct uwb_scan base, cur;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &base, err, sizeof err), err);
-    scene_set_or_fail(&scene, key, value);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &cur, err, sizeof err), err);
+    scene_tank_winding_pair(key, value, &base, &cur);
     snprintf(what, sizeof what, "simulated tank winding, %s %s", key, value);
     double shift;
     radial_of_scans(&cur, &base, what, r, &shift);
