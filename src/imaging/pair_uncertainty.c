@@ -132,7 +132,9 @@ static int noise_source_init(struct noise_source *ns, const struct uwb_scan *sha
     *ns = (struct noise_source){0};
     ns->n = uwb_fft_padded_length(shape->samples);
     int nh = ns->n / 2 + 1;
-    ns->gain = malloc((size_t)nh * sizeof *ns->gain);
+    /* Zeroed though the loop below sets every bin: the static analyser
+     * cannot see that the padded length is at least 2. */
+    ns->gain = calloc((size_t)nh, sizeof *ns->gain);
     ns->trace = fftwf_alloc_real((size_t)ns->n);
     ns->spec = fftwf_alloc_complex((size_t)nh);
     ns->inverse = uwb_fft_plan_acquire(FFT_C2R, ns->n);
