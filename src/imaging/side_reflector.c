@@ -71,16 +71,10 @@ static double trace_at(const float *tr, int n, const struct uwb_geometry *g, dou
     return sample_at(tr, n, (delay_s - g->t0_s) / g->dt_s);
 }
 
-/* The echo model and its quadrature partner, s seconds after the echo's delay. */
-static double complex echo_at(const struct side_reflector *r, double dt, double s)
-{
-    double x = (s - r->lead_s) / dt;
-    return sample_at(r->echo, r->len, x) + I * sample_at(r->quadrature, r->len, x);
-}
-
-/* echo_at's two parts added to *re and *im, times a: the index found once
- * for both, and no complex value made on the way, as point_asymmetry calls
- * it some hundred thousand times a pass. */
+/* The echo model and its quadrature partner, s seconds after the echo's
+ * delay (linear interpolation, zero outside), times a, added to *re and
+ * *im: the index is found once for both, and no complex value is made on
+ * the way, as point_asymmetry calls it some hundred thousand times a pass. */
 static inline void add_echo_at(const struct side_reflector *r, double dt, double s, double a, double *re,
                                double *im)
 {
@@ -92,6 +86,13 @@ static inline void add_echo_at(const struct side_reflector *r, double dt, double
     const float *e = r->echo + i, *q = r->quadrature + i;
     *re += a * (e[0] + (e[1] - e[0]) * f);
     *im += a * (q[0] + (q[1] - q[0]) * f);
+}
+
+static double complex echo_at(const struct side_reflector *r, double dt, double s)
+{
+    double re = 0.0, im = 0.0;
+    add_echo_at(r, dt, s, 1.0, &re, &im);
+    return re + I * im;
 }
 
 static double point_amplitude(double dy, double z)
