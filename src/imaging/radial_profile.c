@@ -225,8 +225,9 @@ static double slope_uncertainty(const struct uwb_radial *r, const struct uwb_ana
             syy += dy * dy;
             scatter += r->change_m[i] * r->change_m[i];
             noise += dy * dy * row * row;
-            sr += uwb_radial_frame_ripple(&base->face_range, y, r->figures.shift_m);
-            syr += dy * uwb_radial_frame_ripple(&base->face_range, y, r->figures.shift_m);
+            double ripple = uwb_radial_frame_ripple(&base->face_range, y, r->figures.shift_m);
+            sr += ripple;
+            syr += dy * ripple;
         }
     if (n < 3 || syy <= 0.0)
         return INFINITY;
