@@ -49,8 +49,8 @@ struct uwb_verdict_record {
     enum uwb_status radial_status;
     int radial_measured;
     double radial_max_change_mm, radial_at_mm, radial_uncertainty_mm;
-    int radial_has_tilt; /* measured, and the face's lean given: tilt_mm, else radial_tilt_withheld says why
-                          */
+    /* Measured, and the face's lean given (tilt_mm); else radial_tilt_withheld says why. */
+    int radial_has_tilt;
     double radial_tilt_mm;
     int radial_has_tilt_uncertainty; /* with the tilt, its 1-sigma (absent from records before it) */
     double radial_tilt_uncertainty_mm;
