@@ -406,7 +406,7 @@ static enum step search_for_face(struct analysis_run *r)
     if (rc != 0)
         return STEP_FAILED;
     if (uwb_face_search(&out->intensity, out->aperture_lo_m, out->aperture_hi_m, antenna_step(r->scan),
-                        r->excluded_z_m, r->n_excluded, &r->face, out->edges.reason,
+                        r->wavelength, r->excluded_z_m, r->n_excluded, &r->face, out->edges.reason,
                         sizeof out->edges.reason) != 0)
         return STEP_DONE;
     return STEP_NEXT;
@@ -629,6 +629,20 @@ static enum step judge_edges(struct analysis_run *r)
     double ap_lo = out->aperture_lo_m, ap_hi = out->aperture_hi_m;
     double image_noise = out->noise_sigma * sqrt((double)r->scan->positions);
     edges->snr_db = image_noise > 0.0 ? 20.0 * log10(pe->peak / image_noise) : NOISELESS_SNR_DB;
+    /* The search saw the winding's rows; a profile brightest well beyond
+     * them at the face's range is another reflector's there (a clamp
+     * plate's corner with the winding's end, level with the face), and
+     * edges read on it would be that reflector's. */
+    double beyond = uwb_point_blur_m(r->wavelength, pe->peak_y_m, r->z_face_m, ap_lo, ap_hi);
+    if (pe->peak_y_m < r->face.lower_m - beyond || pe->peak_y_m > r->face.upper_m + beyond) {
+        snprintf(edges->reason, sizeof edges->reason,
+                 "a reflector level with the face outshines the winding: at %.3f m range the brightest "
+                 "height is %.0f mm, beyond the face seen at %.0f..%.0f mm (a plate's corner with the "
+                 "winding's end?)",
+                 r->z_face_m, pe->peak_y_m * 1e3, r->face.lower_m * 1e3, r->face.upper_m * 1e3);
+        r->face_rejected = 1;
+        return STEP_DONE;
+    }
     if (!pe->ok || pe->lower_m < ap_lo || pe->upper_m > ap_hi) {
         snprintf(edges->reason, sizeof edges->reason,
                  "edge outside the seen aperture: the face at %.3f m does not fall off inside the "

@@ -1,6 +1,7 @@
 /* Which reflector is the winding: the strongest one whose two ends are both
- * seen. Core legs, barriers and the far wall run past the aperture; the
- * winding's face starts and stops inside it. */
+ * seen and that stands taller than a point. Core legs, barriers and the far
+ * wall run past the aperture; the winding's face starts and stops inside
+ * it; a plate's edge is a point. */
 #include "imaging_internal.h"
 
 #include <math.h>
@@ -16,6 +17,13 @@
  * beyond it. */
 #define END_MARGIN_STEPS 2.0
 #define SHADOW_MARGIN 0.316 /* -10 dB */
+/* A clamp plate shows the antennas its edge, or its corner with the
+ * winding's end, which image as the blur of a point, as bright as the face
+ * and often nearer. The winding is a stack of disks: at half its peak it
+ * stands at least this many times as tall as that blur (full-wave scenes:
+ * windings 2.4-6.6 times, plate edges and corners 0.7-1.4, ringing behind
+ * the face up to 2.0; see uwb_point_blur_m). */
+#define FACE_OVER_POINT_BLUR 2.0
 
 double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row)
 {
@@ -31,19 +39,43 @@ double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row)
     return best;
 }
 
-static int ends_seen(const struct uwb_image *img, int iz, int peak_row, double peak, double lo_m, double hi_m)
+/* Where range column iz falls below END_FRACTION of its peak on either side
+ * of peak_row: the rows, and whether it does inside the image at all. */
+struct column_ends {
+    int lower_row, upper_row;
+    int lower_drops, upper_drops;
+};
+
+static struct column_ends column_ends(const struct uwb_image *img, int iz, int peak_row, double peak)
 {
+    struct column_ends e;
     int iy = peak_row;
     while (iy > 0 && img->pix[(size_t)iy * img->nz + iz] >= END_FRACTION * peak)
         iy--;
-    int lower_ok =
-        img->pix[(size_t)iy * img->nz + iz] < END_FRACTION * peak && img->y0_m + iy * img->dy_m >= lo_m;
+    e.lower_row = iy;
+    e.lower_drops = img->pix[(size_t)iy * img->nz + iz] < END_FRACTION * peak;
     iy = peak_row;
     while (iy < img->ny - 1 && img->pix[(size_t)iy * img->nz + iz] >= END_FRACTION * peak)
         iy++;
-    int upper_ok =
-        img->pix[(size_t)iy * img->nz + iz] < END_FRACTION * peak && img->y0_m + iy * img->dy_m <= hi_m;
-    return lower_ok && upper_ok;
+    e.upper_row = iy;
+    e.upper_drops = img->pix[(size_t)iy * img->nz + iz] < END_FRACTION * peak;
+    return e;
+}
+
+static int ends_seen(const struct uwb_image *img, const struct column_ends *e, double lo_m, double hi_m)
+{
+    return e->lower_drops && img->y0_m + e->lower_row * img->dy_m >= lo_m && e->upper_drops &&
+           img->y0_m + e->upper_row * img->dy_m <= hi_m;
+}
+
+/* How tall delay-and-sum draws a point at (y, z) at half its peak: the
+ * aperture lo..hi sees it over angles whose sines reach s1 below and s2
+ * above, so the two-way image resolves lambda / (2 (s1 + s2)) along y. */
+double uwb_point_blur_m(double wavelength_m, double y_m, double z_m, double lo_m, double hi_m)
+{
+    double below = fmax(y_m - lo_m, 0.0), above = fmax(hi_m - y_m, 0.0);
+    double s1 = below / hypot(below, z_m), s2 = above / hypot(above, z_m);
+    return s1 + s2 > 0.0 ? wavelength_m / (2.0 * (s1 + s2)) : INFINITY;
 }
 
 /* Whether range z lies within a candidate's separation of one already
@@ -57,8 +89,8 @@ static int excluded_range(double z_m, const double *excluded_z_m, int n_excluded
 }
 
 int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double aperture_hi_m, double step_m,
-                    const double *excluded_z_m, int n_excluded, struct face_candidate *face, char *reason,
-                    size_t reasonlen)
+                    double wavelength_m, const double *excluded_z_m, int n_excluded,
+                    struct face_candidate *face, char *reason, size_t reasonlen)
 {
     double inner_lo = aperture_lo_m + END_MARGIN_STEPS * step_m;
     double inner_hi = aperture_hi_m - END_MARGIN_STEPS * step_m;
@@ -82,6 +114,7 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
     int found = 0;
     double strongest_rejected_z = -1.0;
     int rejected_at_limit = 0;
+    double point_z = -1.0, point_tall = 0.0, point_blur = 0.0;
     struct face_candidate seen[MAX_CANDIDATES] = {{0}};
     int n_seen = 0;
     double strongest_seen = 0.0;
@@ -103,14 +136,28 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
          * flank: a scan stretched by a steps-per-mm error finds its face
          * on one, which the rig check then reads as the fault it is.) */
         int at_limit = best == 0 || best == img->nz - 1;
-        if (!at_limit && ends_seen(img, best, row[best], peak[best], inner_lo, inner_hi)) {
-            seen[n_seen].z_m = img->z0_m + best * img->dz_m;
+        struct column_ends e = column_ends(img, best, row[best], peak[best]);
+        double z = img->z0_m + best * img->dz_m;
+        double tall = (e.upper_row - e.lower_row) * img->dy_m;
+        double blur = uwb_point_blur_m(wavelength_m, img->y0_m + row[best] * img->dy_m, z, aperture_lo_m,
+                                       aperture_hi_m);
+        int seen_ends = !at_limit && ends_seen(img, &e, inner_lo, inner_hi);
+        if (seen_ends && tall < FACE_OVER_POINT_BLUR * blur) {
+            if (point_z < 0.0) {
+                point_z = z;
+                point_tall = tall;
+                point_blur = blur;
+            }
+        } else if (seen_ends) {
+            seen[n_seen].z_m = z;
+            seen[n_seen].lower_m = img->y0_m + e.lower_row * img->dy_m;
+            seen[n_seen].upper_m = img->y0_m + e.upper_row * img->dy_m;
             seen[n_seen].peak = peak[best];
             if (peak[best] > strongest_seen)
                 strongest_seen = peak[best];
             n_seen++;
         } else if (strongest_rejected_z < 0.0) {
-            strongest_rejected_z = img->z0_m + best * img->dz_m;
+            strongest_rejected_z = z;
             rejected_at_limit = at_limit;
         }
     }
@@ -130,6 +177,12 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
                      "winding not found: no reflector between %.3f and %.3f m range besides the %d measured "
                      "and rejected",
                      img->z0_m, img->z0_m + (img->nz - 1) * img->dz_m, n_excluded);
+        else if (point_z >= 0.0)
+            snprintf(reason, reasonlen,
+                     "winding not found: the strongest reflector with both ends seen, at %.3f m range, is a "
+                     "point (%.0f mm tall at half its peak, where the imaging draws a point %.0f mm tall): "
+                     "a plate's edge or corner, not a winding's face",
+                     point_z, point_tall * 1e3, point_blur * 1e3);
         else if (strongest_rejected_z >= 0.0)
             snprintf(reason, reasonlen,
                      "winding not found: no reflector between %.3f and %.3f m range has both ends inside "

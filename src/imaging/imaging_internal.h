@@ -36,17 +36,23 @@ double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row);
 struct face_candidate {
     double z_m;
     double peak;
+    double lower_m, upper_m; /* where its column falls below half its peak */
 };
 
 /* The winding's face range: the strongest reflector in [z_lo, z_hi] whose
  * profile along y falls off before both ends of the antenna travel (at
- * least two antenna steps inside them), passing over the n_excluded ranges
- * (reflectors already measured and rejected; excluded_z_m may be NULL when
- * n_excluded is 0).
+ * least two antenna steps inside them) and stands taller than the imaging
+ * draws a point (wavelength_m: the pulse's, in the medium), passing over
+ * the n_excluded ranges (reflectors already measured and rejected;
+ * excluded_z_m may be NULL when n_excluded is 0).
  * Returns 0 and fills *face, or 1 with reason filled when none qualifies. */
 int uwb_face_search(const struct uwb_image *intensity, double aperture_lo_m, double aperture_hi_m,
-                    double step_m, const double *excluded_z_m, int n_excluded, struct face_candidate *face,
-                    char *reason, size_t reasonlen);
+                    double step_m, double wavelength_m, const double *excluded_z_m, int n_excluded,
+                    struct face_candidate *face, char *reason, size_t reasonlen);
+
+/* How tall delay-and-sum over the antenna travel lo_m..hi_m draws a point
+ * at height y_m and range z_m, at half its peak. */
+double uwb_point_blur_m(double wavelength_m, double y_m, double z_m, double lo_m, double hi_m);
 
 /* Profile along y at the face: the largest envelope within +-half_width_m
  * of z_face; and, when range is not NULL, the range (m) where each row's

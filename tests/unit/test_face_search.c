@@ -1,6 +1,7 @@
 /* Which reflector is the winding (src/imaging/face_search.c): one whose
- * two ends fall inside the antenna travel, and never the range searched's
- * own limit, where a reflector beyond it shows brightest. */
+ * two ends fall inside the antenna travel, taller than the imaging draws a
+ * point, and never the range searched's own limit, where a reflector
+ * beyond it shows brightest. */
 #include "unity.h"
 
 #include <math.h>
@@ -17,10 +18,10 @@ void tearDown(void)
 {
 }
 
-/* An image 0..0.6 m high, 0.3..0.6 m in range (10 mm pixels), with a
- * compact blob: rows 0.2..0.4 m, peak at range z_peak, falling off over
- * `width` in range. */
-static void blob_image(struct uwb_image *img, double z_peak, double width)
+#define WAVELENGTH_M 0.08 /* 2.5 GHz in oil */
+
+/* An image 0..0.6 m high, 0.3..0.6 m in range (10 mm pixels), empty. */
+static void empty_image(struct uwb_image *img)
 {
     char err[128];
     TEST_ASSERT_EQUAL_INT(0, uwb_image_alloc(img, 61, 31, err, sizeof err));
@@ -28,12 +29,29 @@ static void blob_image(struct uwb_image *img, double z_peak, double width)
     img->dy_m = 0.01;
     img->z0_m = 0.3;
     img->dz_m = 0.01;
+    memset(img->pix, 0, (size_t)img->ny * img->nz * sizeof *img->pix);
+}
+
+/* Adds a reflector at range z_peak, falling off over `width` in range,
+ * bright from y_lo to y_hi and falling off over 20 mm beyond them. */
+static void add_reflector(struct uwb_image *img, double z_peak, double width, double y_lo, double y_hi,
+                          double amplitude)
+{
     for (int iy = 0; iy < img->ny; iy++)
         for (int iz = 0; iz < img->nz; iz++) {
             double y = img->y0_m + iy * img->dy_m, z = img->z0_m + iz * img->dz_m;
-            double along = (y >= 0.2 && y <= 0.4) ? 1.0 : exp(-pow((fabs(y - 0.3) - 0.1) / 0.02, 2));
-            img->pix[(size_t)iy * img->nz + iz] = (float)(along * exp(-pow((z - z_peak) / width, 2)));
+            double beyond = y < y_lo ? y_lo - y : (y > y_hi ? y - y_hi : 0.0);
+            double along = exp(-pow(beyond / 0.02, 2));
+            img->pix[(size_t)iy * img->nz + iz] +=
+                (float)(amplitude * along * exp(-pow((z - z_peak) / width, 2)));
         }
+}
+
+/* A compact blob: rows 0.2..0.4 m, peak at range z_peak. */
+static void blob_image(struct uwb_image *img, double z_peak, double width)
+{
+    empty_image(img);
+    add_reflector(img, z_peak, width, 0.2, 0.4, 1.0);
 }
 
 static void test_a_compact_reflector_inside_the_range_is_found(void)
@@ -43,7 +61,8 @@ static void test_a_compact_reflector_inside_the_range_is_found(void)
     struct face_candidate face = {0};
     char reason[256] = "";
     TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, uwb_face_search(&img, 0.0, 0.6, 0.03, NULL, 0, &face, reason, sizeof reason), reason);
+        0, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, &face, reason, sizeof reason),
+        reason);
     TEST_ASSERT_DOUBLE_WITHIN(0.005, 0.45, face.z_m);
     uwb_image_free(&img);
 }
@@ -57,11 +76,52 @@ static void test_brightest_at_the_range_limit_is_no_reflector_of_it(void)
         blob_image(&img, end == 0 ? 0.28 : 0.62, 0.01);
         struct face_candidate face = {0};
         char reason[256] = "";
-        TEST_ASSERT_EQUAL_INT(1,
-                              uwb_face_search(&img, 0.0, 0.6, 0.03, NULL, 0, &face, reason, sizeof reason));
+        TEST_ASSERT_EQUAL_INT(
+            1, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, &face, reason, sizeof reason));
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(reason, "is the range's limit: a reflector beyond it"), reason);
         uwb_image_free(&img);
     }
+}
+
+/* A clamp plate level with the winding shows its edge: a point, nearer than
+ * the face and nearly as bright. The nearest bright reflector is not the
+ * winding when it is no taller than a point. */
+static void test_a_plate_edge_nearer_than_the_face_is_passed_over(void)
+{
+    struct uwb_image img;
+    blob_image(&img, 0.45, 0.03);
+    add_reflector(&img, 0.35, 0.02, 0.15, 0.15, 0.8);
+    struct face_candidate face = {0};
+    char reason[256] = "";
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, &face, reason, sizeof reason),
+        reason);
+    TEST_ASSERT_DOUBLE_WITHIN(0.005, 0.45, face.z_m);
+    uwb_image_free(&img);
+}
+
+static void test_a_lone_point_is_no_winding(void)
+{
+    struct uwb_image img;
+    empty_image(&img);
+    add_reflector(&img, 0.35, 0.02, 0.15, 0.15, 1.0);
+    struct face_candidate face = {0};
+    char reason[256] = "";
+    TEST_ASSERT_EQUAL_INT(
+        1, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, &face, reason, sizeof reason));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(reason, "at 0.350 m range, is a point"), reason);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(reason, "a plate's edge"), reason);
+    uwb_image_free(&img);
+}
+
+/* lambda / (4 sin theta) seen from the middle of the travel; from its end,
+ * half the angles, twice the blur's share of them. */
+static void test_point_blur_follows_the_angles_seen(void)
+{
+    TEST_ASSERT_DOUBLE_WITHIN(1e-6, 0.08 / (4.0 * sqrt(0.5)), uwb_point_blur_m(0.08, 0.3, 0.3, 0.0, 0.6));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-6, 0.08 / (2.0 * 0.6 / hypot(0.6, 0.3)),
+                              uwb_point_blur_m(0.08, 0.0, 0.3, 0.0, 0.6));
+    TEST_ASSERT_TRUE(uwb_point_blur_m(0.08, 0.3, 0.6, 0.0, 0.6) > uwb_point_blur_m(0.08, 0.3, 0.3, 0.0, 0.6));
 }
 
 int main(void)
@@ -69,5 +129,8 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_a_compact_reflector_inside_the_range_is_found);
     RUN_TEST(test_brightest_at_the_range_limit_is_no_reflector_of_it);
+    RUN_TEST(test_a_plate_edge_nearer_than_the_face_is_passed_over);
+    RUN_TEST(test_a_lone_point_is_no_winding);
+    RUN_TEST(test_point_blur_follows_the_angles_seen);
     return UNITY_END();
 }

@@ -11,6 +11,7 @@
 
 #include "fixture_support.h"
 #include "unity.h"
+#include "uwb/analysis.h"
 #include "uwb/evaluate.h"
 
 #define FIXTURE(name) "tests/fixtures/" name ".uwbscan"
@@ -140,6 +141,55 @@ static void test_family_figures_lie_within_two_sigma(void)
     TEST_ASSERT_EQUAL_INT(6, figures);
 }
 
+/* Tank 5: clamp plates above and below the winding, their front edges
+ * 110 mm nearer than the face and in the search within 10 dB of it. Taken
+ * as the nearest bright reflector, the lower plate's edge was the moved
+ * scan's face (its edges 111..196 mm); it is a point, which the winding is
+ * not. Read on its own, the moved scan finds the winding. */
+static void test_family_plate_edge_is_passed_over_for_the_winding(void)
+{
+    struct uwb_scan scan;
+    struct fixture_truth t;
+    fixture_load_scan(FIXTURE("fdtd2d-var-s05-d+14"), &scan);
+    fixture_load_truth(FIXTURE("fdtd2d-var-s05-d+14"), &t);
+    struct uwb_analysis_options opt;
+    uwb_analysis_defaults(&opt);
+    struct uwb_analysis a;
+    char err[256];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_analyse_scan(&scan, &opt, &a, err, sizeof err), err);
+    TEST_ASSERT_TRUE_MESSAGE(a.edges.found, a.edges.reason);
+    char msg[200];
+    snprintf(msg, sizeof msg, "face at %.3f m, %.3f..%.3f m; truth %.3f m, %.3f..%.3f m", a.edges.face_z_m,
+             a.edges.lower_m, a.edges.upper_m, t.z_face_m, t.y1_m, t.y2_m);
+    TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(0.010, t.z_face_m, a.edges.face_z_m, msg);
+    TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(0.010, t.y1_m, a.edges.lower_m, msg);
+    TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(0.010, t.y2_m, a.edges.upper_m, msg);
+    uwb_analysis_free(&a);
+    uwb_scan_free(&scan);
+}
+
+/* ...and its baseline, at the face's range, is brightest beyond the
+ * winding's top, where the upper plate meets the winding's end ring: the
+ * edges would be that corner's. The pair is inconclusive, and the reason
+ * says what outshines the winding and where (it said "edge outside the
+ * seen aperture", true of the corner, not of the winding). */
+static void test_family_corner_level_with_the_face_is_named(void)
+{
+    struct replayed r;
+    replay(FIXTURE("fdtd2d-var-s05-d+00"), FIXTURE("fdtd2d-var-s05-d+14"), &r);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_STATUS_INCONCLUSIVE, r.v.status, r.v.reason);
+    const char *at = strstr(r.v.reason, "a reflector level with the face outshines the winding");
+    TEST_ASSERT_NOT_NULL_MESSAGE(at, r.v.reason);
+    const char *height = strstr(at, "the brightest height is ");
+    TEST_ASSERT_NOT_NULL_MESSAGE(height, r.v.reason);
+    struct fixture_truth t;
+    fixture_load_truth(FIXTURE("fdtd2d-var-s05-d+00"), &t);
+    double height_mm = 0.0;
+    TEST_ASSERT_EQUAL_INT(1, sscanf(height + strlen("the brightest height is "), "%lf", &height_mm));
+    /* Above the winding's top by more than a disk. */
+    TEST_ASSERT_TRUE_MESSAGE(height_mm > t.y2_m * 1e3 + 50.0, r.v.reason);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -147,5 +197,7 @@ int main(void)
     RUN_TEST(test_3d_tank_with_plate_below_is_right_or_withheld);
     RUN_TEST(test_3d_tank_whose_fit_finds_no_best_is_right_or_withheld);
     RUN_TEST(test_family_figures_lie_within_two_sigma);
+    RUN_TEST(test_family_plate_edge_is_passed_over_for_the_winding);
+    RUN_TEST(test_family_corner_level_with_the_face_is_named);
     return UNITY_END();
 }
