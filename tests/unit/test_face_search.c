@@ -54,17 +54,23 @@ static void blob_image(struct uwb_image *img, double z_peak, double width)
     add_reflector(img, z_peak, width, 0.2, 0.4, 1.0);
 }
 
+/* The search over 0..0.6 m of travel in 30 mm steps finds the face at
+ * z_m; frees the image. */
+static void assert_face_found_at(struct uwb_image *img, double z_m)
+{
+    struct face_candidate face = {0};
+    char reason[256] = "";
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwb_face_search(img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, &face, reason, sizeof reason), reason);
+    TEST_ASSERT_DOUBLE_WITHIN(0.005, z_m, face.z_m);
+    uwb_image_free(img);
+}
+
 static void test_a_compact_reflector_inside_the_range_is_found(void)
 {
     struct uwb_image img;
     blob_image(&img, 0.45, 0.03);
-    struct face_candidate face = {0};
-    char reason[256] = "";
-    TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, &face, reason, sizeof reason),
-        reason);
-    TEST_ASSERT_DOUBLE_WITHIN(0.005, 0.45, face.z_m);
-    uwb_image_free(&img);
+    assert_face_found_at(&img, 0.45);
 }
 
 static void test_brightest_at_the_range_limit_is_no_reflector_of_it(void)
@@ -91,13 +97,7 @@ static void test_a_plate_edge_nearer_than_the_face_is_passed_over(void)
     struct uwb_image img;
     blob_image(&img, 0.45, 0.03);
     add_reflector(&img, 0.35, 0.02, 0.15, 0.15, 0.8);
-    struct face_candidate face = {0};
-    char reason[256] = "";
-    TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, &face, reason, sizeof reason),
-        reason);
-    TEST_ASSERT_DOUBLE_WITHIN(0.005, 0.45, face.z_m);
-    uwb_image_free(&img);
+    assert_face_found_at(&img, 0.45);
 }
 
 static void test_a_lone_point_is_no_winding(void)
