@@ -63,10 +63,15 @@ static struct column_ends column_ends(const struct uwb_image *img, int iz, int p
     return e;
 }
 
+static double row_y(const struct uwb_image *img, int iy)
+{
+    return img->y0_m + iy * img->dy_m;
+}
+
 static int ends_seen(const struct uwb_image *img, const struct column_ends *e, double lo_m, double hi_m)
 {
-    return e->lower_drops && img->y0_m + e->lower_row * img->dy_m >= lo_m && e->upper_drops &&
-           img->y0_m + e->upper_row * img->dy_m <= hi_m;
+    return e->lower_drops && row_y(img, e->lower_row) >= lo_m && e->upper_drops &&
+           row_y(img, e->upper_row) <= hi_m;
 }
 
 /* How tall delay-and-sum draws a point at (y, z) at half its peak: the
@@ -129,7 +134,8 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
         for (int iz = best - sep; iz <= best + sep; iz++)
             if (iz >= 0 && iz < img->nz)
                 used[iz] = 1;
-        if (excluded_range(img->z0_m + best * img->dz_m, excluded_z_m, n_excluded))
+        double z = img->z0_m + best * img->dz_m;
+        if (excluded_range(z, excluded_z_m, n_excluded))
             continue;
         /* Brightest at the range searched's own limit: the flank of a
          * reflector beyond it (the winding's, when a target range given at
@@ -138,21 +144,21 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
          * on one, which the rig check then reads as the fault it is.) */
         int at_limit = best == 0 || best == img->nz - 1;
         struct column_ends e = column_ends(img, best, row[best], peak[best]);
-        double z = img->z0_m + best * img->dz_m;
-        double tall = (e.upper_row - e.lower_row) * img->dy_m;
-        double blur = uwb_point_blur_m(wavelength_m, img->y0_m + row[best] * img->dy_m, z, aperture_lo_m,
-                                       aperture_hi_m);
-        int seen_ends = !at_limit && ends_seen(img, &e, inner_lo, inner_hi);
-        if (seen_ends && tall < FACE_OVER_POINT_BLUR * blur) {
-            if (point_z < 0.0) {
-                point_z = z;
-                point_tall = tall;
-                point_blur = blur;
+        if (!at_limit && ends_seen(img, &e, inner_lo, inner_hi)) {
+            double tall = (e.upper_row - e.lower_row) * img->dy_m;
+            double blur =
+                uwb_point_blur_m(wavelength_m, row_y(img, row[best]), z, aperture_lo_m, aperture_hi_m);
+            if (tall < FACE_OVER_POINT_BLUR * blur) {
+                if (point_z < 0.0) {
+                    point_z = z;
+                    point_tall = tall;
+                    point_blur = blur;
+                }
+                continue;
             }
-        } else if (seen_ends) {
             seen[n_seen].z_m = z;
-            seen[n_seen].lower_m = img->y0_m + e.lower_row * img->dy_m;
-            seen[n_seen].upper_m = img->y0_m + e.upper_row * img->dy_m;
+            seen[n_seen].lower_m = row_y(img, e.lower_row);
+            seen[n_seen].upper_m = row_y(img, e.upper_row);
             seen[n_seen].peak = peak[best];
             if (peak[best] > strongest_seen)
                 strongest_seen = peak[best];

@@ -2,6 +2,7 @@
  * two ends fall inside the antenna travel, taller than the imaging draws a
  * point, and never the range searched's own limit, where a reflector
  * beyond it shows brightest. */
+#include "fixture_support.h"
 #include "unity.h"
 
 #include <math.h>
@@ -23,13 +24,7 @@ void tearDown(void)
 /* An image 0..0.6 m high, 0.3..0.6 m in range (10 mm pixels), empty. */
 static void empty_image(struct uwb_image *img)
 {
-    char err[128];
-    TEST_ASSERT_EQUAL_INT(0, uwb_image_alloc(img, 61, 31, err, sizeof err));
-    img->y0_m = 0.0;
-    img->dy_m = 0.01;
-    img->z0_m = 0.3;
-    img->dz_m = 0.01;
-    memset(img->pix, 0, (size_t)img->ny * img->nz * sizeof *img->pix);
+    fixture_image_grid(img, 61, 31, 0.0, 0.01, 0.3, 0.01);
 }
 
 /* Adds a reflector at range z_peak, falling off over `width` in range,
