@@ -164,6 +164,8 @@ int main(int argc, char **argv)
         if (only_case >= 0 && c != only_case)
             continue;
         for (int l = custom ? 0 : -1; l < (custom ? 1 : accuracy_level_count); l++) {
+            if (!custom && l >= 0 && l < accuracy_cases[c].from_level)
+                continue;
             struct accuracy_row row;
             const struct accuracy_level *level = custom ? &level_custom : l < 0 ? NULL : &accuracy_levels[l];
             unsigned long long seed =
