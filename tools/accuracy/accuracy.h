@@ -18,8 +18,8 @@ struct accuracy_case {
     /* The noisy levels run: from this index of accuracy_levels on (the
      * family's members: 32 dB only, as issue 28 asks). */
     int from_level;
-    /* Reported, not held by test_accuracy_noise: tanks uwbd was not
-     * developed on, where the report shows the limits missed (README). */
+    /* Reported, not held by test_accuracy_noise: a pair whose report
+     * shows the issue's limits missed (the README says why). */
     int reported_only;
 };
 
