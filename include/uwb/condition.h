@@ -24,7 +24,9 @@ struct uwb_condition_options {
 
 void uwb_condition_defaults(struct uwb_condition_options *opt);
 
-/* Dominant frequency (Hz) of the scan: the peak of its mean power spectrum.
+/* Dominant frequency (Hz) of the scan: the peak of its mean power spectrum,
+ * each trace's spectrum taken as a share of its own power (so that no
+ * trace's gain weighs in).
  * Returns 0 with *hz > 0, or -1 with err filled (no memory for the
  * transform, or a scan with no spectrum) and *hz = 0. */
 int uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, size_t errlen);

@@ -345,7 +345,9 @@ static enum step read_scan_basics(struct analysis_run *r)
         }
     uwb_geometry_from_scan(&r->g, r->scan, r->opt->time_zero_offset_s);
     aperture(r->scan, &out->aperture_lo_m, &out->aperture_hi_m);
-    if (uwb_dominant_frequency(r->scan, &out->dominant_hz, r->err, r->errlen) != 0)
+    if (r->opt->has_dominant_hz && r->opt->dominant_hz > 0.0)
+        out->dominant_hz = r->opt->dominant_hz;
+    else if (uwb_dominant_frequency(r->scan, &out->dominant_hz, r->err, r->errlen) != 0)
         return STEP_FAILED;
     r->wavelength = r->g.velocity_m_s / out->dominant_hz;
     out->wavelength_m = r->wavelength;

@@ -57,8 +57,18 @@ int uwb_dominant_frequency(const struct uwb_scan *scan, double *hz, char *err, s
         for (int s = 0; s < S; s++)
             in[s] = (float)(tr[s] - mean);
         fftwf_execute_dft_r2c(p, in, spec);
+        /* Each trace's spectrum as a share of its own power: a gain that
+         * drifts from position to position must not move the peak. On the
+         * full-wave family's s04, whose spectrum is a comb with two highest
+         * bins within 0.3 % of each other, 2 % rms of drift moved it from
+         * 1.45 to 2.45 GHz in some draws, and the figure by 0.8 mm. */
+        double total = 0.0;
         for (int i = 0; i < nh; i++)
-            power[i] += (double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1];
+            total += (double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1];
+        if (!(total > 0.0))
+            continue;
+        for (int i = 0; i < nh; i++)
+            power[i] += ((double)spec[i][0] * spec[i][0] + (double)spec[i][1] * spec[i][1]) / total;
     }
     uwb_fft_plan_release(p);
     int best = 1;
