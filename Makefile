@@ -345,9 +345,10 @@ accuracy: deps
 	$(TEST_RUNNER) $(BUILD)/uwbaccuracy $(if $(ACCURACY_PAIRS),--pairs $(ACCURACY_PAIRS)) --readme README.md
 
 # The shared family of random tanks (../shared/data/fdtd2d-var-*), each pair
-# against its truth: the README's family table (tools/accuracy/family.sh).
+# against its truth, then the fresh draws in tests/fixtures (fdtd2d-fresh-*):
+# the README's family tables (tools/accuracy/family.sh).
 accuracy-family: all
-	bash tools/accuracy/family.sh ../shared/data '$(BUILD)'
+	bash tools/accuracy/family.sh ../shared/data '$(BUILD)' tests/fixtures
 
 # Where the radial figure stops: single-disk and wider changes and a lean
 # in the simulator (tools/accuracy/radial-limits.sh); rewrites the README's

@@ -190,6 +190,62 @@ static void test_family_corner_level_with_the_face_is_named(void)
     TEST_ASSERT_TRUE_MESSAGE(height_mm > t.y2_m * 1e3 + 50.0, r.v.reason);
 }
 
+/* Fresh draws (tests/fixtures/fdtd2d-fresh-*: tanks of the family's kind
+ * drawn by tools/fdtd/draw_tank.py and simulated with gprMax after every
+ * constant here was set, none tuned to them). The 15 pairs of 20 that
+ * read within 2 sigma stay there (s104 +2 and s106 +4 carry 0.37 mm, a
+ * side reflector's share, for errors of 0.03 and 0.14). The README's
+ * "Fresh draws" lists the ones that do not (a clamp plate protruding in
+ * front of the face near a winding's end: 0.9-3.3 mm off at 2.5-11 sigma),
+ * an open bug of issue 28, not held here. */
+static void test_fresh_draws_that_read_right_stay_right(void)
+{
+    static const char *const pairs[][2] = {
+        {FIXTURE("fdtd2d-fresh-s101-d+00"), FIXTURE("fdtd2d-fresh-s101-d+08")},
+        {FIXTURE("fdtd2d-fresh-s101-d+00"), FIXTURE("fdtd2d-fresh-s101-d+14")},
+        {FIXTURE("fdtd2d-fresh-s103-d+00"), FIXTURE("fdtd2d-fresh-s103-d+06")},
+        {FIXTURE("fdtd2d-fresh-s103-d+00"), FIXTURE("fdtd2d-fresh-s103-d+28")},
+        {FIXTURE("fdtd2d-fresh-s104-d+00"), FIXTURE("fdtd2d-fresh-s104-d+02")},
+        {FIXTURE("fdtd2d-fresh-s104-d+00"), FIXTURE("fdtd2d-fresh-s104-d+16")},
+        {FIXTURE("fdtd2d-fresh-s106-d+00"), FIXTURE("fdtd2d-fresh-s106-d+04")},
+        {FIXTURE("fdtd2d-fresh-s107-d+00"), FIXTURE("fdtd2d-fresh-s107-d+04")},
+        {FIXTURE("fdtd2d-fresh-s107-d+00"), FIXTURE("fdtd2d-fresh-s107-d-08")},
+        {FIXTURE("fdtd2d-fresh-s108-d+00"), FIXTURE("fdtd2d-fresh-s108-d+02")},
+        {FIXTURE("fdtd2d-fresh-s108-d+00"), FIXTURE("fdtd2d-fresh-s108-d-24")},
+        {FIXTURE("fdtd2d-fresh-s109-d+00"), FIXTURE("fdtd2d-fresh-s109-d+20")},
+        {FIXTURE("fdtd2d-fresh-s109-d+00"), FIXTURE("fdtd2d-fresh-s109-d-24")},
+        {FIXTURE("fdtd2d-fresh-s110-d+00"), FIXTURE("fdtd2d-fresh-s110-d+12")},
+        {FIXTURE("fdtd2d-fresh-s110-d+00"), FIXTURE("fdtd2d-fresh-s110-d-14")},
+    };
+    for (size_t i = 0; i < sizeof pairs / sizeof pairs[0]; i++) {
+        struct replayed r;
+        replay(pairs[i][0], pairs[i][1], &r);
+        TEST_ASSERT_NOT_EQUAL_MESSAGE(UWB_STATUS_INCONCLUSIVE, r.v.status, pairs[i][1]);
+        /* Within 2 sigma; 0.25 mm, the issue's goal, is not met by all. */
+        assert_right(&r, INFINITY);
+    }
+}
+
+/* The controls: tanks s102 and s105, whose moves read 1.5-3.3 mm off with
+ * their clamp plates (s102: 96 mm below and 140 mm above the disks, their
+ * fronts 102 and 122 mm in front of the face; s105: 218 mm above, 56 mm
+ * in front), simulated again without the plates: +30 and -24 mm read
+ * right. What moves the figure there is the plates, not the winding's
+ * own image. */
+static void test_fresh_tanks_without_their_plates_read_right(void)
+{
+    static const char *const pairs[][2] = {
+        {FIXTURE("fdtd2d-fresh-s102-noplate-d+00"), FIXTURE("fdtd2d-fresh-s102-noplate-d+30")},
+        {FIXTURE("fdtd2d-fresh-s105-noplate-d+00"), FIXTURE("fdtd2d-fresh-s105-noplate-d-24")},
+    };
+    for (size_t i = 0; i < sizeof pairs / sizeof pairs[0]; i++) {
+        struct replayed r;
+        replay(pairs[i][0], pairs[i][1], &r);
+        TEST_ASSERT_NOT_EQUAL_MESSAGE(UWB_STATUS_INCONCLUSIVE, r.v.status, r.v.reason);
+        assert_right(&r, 0.25);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -199,5 +255,7 @@ int main(void)
     RUN_TEST(test_family_figures_lie_within_two_sigma);
     RUN_TEST(test_family_plate_edge_is_passed_over_for_the_winding);
     RUN_TEST(test_family_corner_level_with_the_face_is_named);
+    RUN_TEST(test_fresh_draws_that_read_right_stay_right);
+    RUN_TEST(test_fresh_tanks_without_their_plates_read_right);
     return UNITY_END();
 }

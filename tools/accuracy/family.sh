@@ -13,10 +13,17 @@
 # of the height change's error per mm moved, its sigma's static-scene
 # share (compare.c's height_change_per_shift).
 #
-# Usage: tools/accuracy/family.sh [DATA_DIR [BUILD_DIR]]
+# Last, the fresh draws (FRESH_DIR/fdtd2d-fresh-*: tanks drawn by
+# tools/fdtd/draw_tank.py and simulated with gprMax after every constant
+# above was set, so none was tuned to them), tallied apart; then the
+# control pairs with a tank's clamp plates taken out of the model
+# (fdtd2d-fresh-*-noplate-*: what the plate does to the figure).
+#
+# Usage: tools/accuracy/family.sh [DATA_DIR [BUILD_DIR [FRESH_DIR]]]
 set -euo pipefail
 data=${1:-../shared/data}
 build=${2:-build}
+fresh=${3:-tests/fixtures}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 number() { grep -o "\"$1\": *[-0-9.]*" | head -n 1 | grep -o '[-0-9.]*$' || true; }
@@ -97,3 +104,22 @@ echo "robust scatter of the errors: family $(robust_scatter "$out/family"), ever
 sort -g "$out/height" | awk '{ e[NR] = $1 } END {
     m = (NR % 2) ? e[(NR + 1) / 2] : (e[NR / 2] + e[NR / 2 + 1]) / 2
     printf "height change read off its truth per mm moved (robust scatter): %.3f (%d pairs)\n", 1.4826 * m, NR }'
+fresh_pairs=0
+for moved in "$fresh"/fdtd2d-fresh-s*-d[+-]*.uwbscan; do
+    [[ $moved == *-d+00.uwbscan || $moved == *-noplate-* ]] && continue
+    ((fresh_pairs > 0)) || echo "fresh draws (not used to set any constant):"
+    fresh_pairs=$((fresh_pairs + 1))
+    replay_pair "$moved" "${moved%-d*}-d+00.uwbscan" fresh
+done
+if ((fresh_pairs > 0)); then
+    tally
+    echo "robust scatter of the errors: fresh draws $(robust_scatter "$out/fresh")"
+fi
+controls=0
+for moved in "$fresh"/fdtd2d-fresh-s*-noplate-d[+-]*.uwbscan; do
+    [[ $moved == *-d+00.uwbscan ]] && continue
+    ((controls > 0)) || echo "the same tanks with their clamp plates left out of the model:"
+    controls=$((controls + 1))
+    replay_pair "$moved" "${moved%-d*}-d+00.uwbscan" control
+done
+((controls == 0)) || tally
