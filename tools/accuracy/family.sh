@@ -85,11 +85,21 @@ robust_scatter() {
         printf "%.2f mm (%d figures)", 1.4826 * m, NR }'
 }
 
+# replay_tanks KIND HEADING MOVED...: each moved scan against its own
+# tank's intact one (NAME-d+00), HEADING printed before the first.
+replay_tanks() {
+    local kind=$1 heading=$2 moved
+    shift 2
+    for moved; do
+        [[ $moved == *-d+00.uwbscan ]] && continue
+        [[ -n $heading ]] && echo "$heading"
+        heading=
+        replay_pair "$moved" "${moved%-d*}-d+00.uwbscan" "$kind"
+    done
+}
+
 shopt -s nullglob
-for moved in "$data"/fdtd2d-var-s*-d[+-]*.uwbscan; do
-    [[ $moved == *-d+00.uwbscan ]] && continue
-    replay_pair "$moved" "${moved%-d*}-d+00.uwbscan" family
-done
+replay_tanks family "" "$data"/fdtd2d-var-s*-d[+-]*.uwbscan
 (( pairs > 0 )) || { echo "family: no fdtd2d-var-* pairs in $data" >&2; exit 66; }
 tally
 echo "developed on:"
@@ -104,22 +114,14 @@ echo "robust scatter of the errors: family $(robust_scatter "$out/family"), ever
 sort -g "$out/height" | awk '{ e[NR] = $1 } END {
     m = (NR % 2) ? e[(NR + 1) / 2] : (e[NR / 2] + e[NR / 2 + 1]) / 2
     printf "height change read off its truth per mm moved (robust scatter): %.3f (%d pairs)\n", 1.4826 * m, NR }'
-fresh_pairs=0
-for moved in "$fresh"/fdtd2d-fresh-s*-d[+-]*.uwbscan; do
-    [[ $moved == *-d+00.uwbscan || $moved == *-noplate-* ]] && continue
-    ((fresh_pairs > 0)) || echo "fresh draws (not used to set any constant):"
-    fresh_pairs=$((fresh_pairs + 1))
-    replay_pair "$moved" "${moved%-d*}-d+00.uwbscan" fresh
-done
-if ((fresh_pairs > 0)); then
+replay_tanks fresh "fresh draws (not used to set any constant):" \
+    "$fresh"/fdtd2d-fresh-s[0-9][0-9][0-9]-d[+-]*.uwbscan
+if ((pairs > 0)); then
     tally
     echo "robust scatter of the errors: fresh draws $(robust_scatter "$out/fresh")"
 fi
-controls=0
-for moved in "$fresh"/fdtd2d-fresh-s*-noplate-d[+-]*.uwbscan; do
-    [[ $moved == *-d+00.uwbscan ]] && continue
-    ((controls > 0)) || echo "the same tanks with their clamp plates left out of the model:"
-    controls=$((controls + 1))
-    replay_pair "$moved" "${moved%-d*}-d+00.uwbscan" control
-done
-((controls == 0)) || tally
+replay_tanks control "the same tanks with their clamp plates left out of the model:" \
+    "$fresh"/fdtd2d-fresh-s*-noplate-d[+-]*.uwbscan
+if ((pairs > 0)); then
+    tally
+fi

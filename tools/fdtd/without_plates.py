@@ -8,6 +8,8 @@ Usage: without_plates.py IN.in np|bare OUT.in
 import sys
 from collections import Counter
 
+if len(sys.argv) != 4 or sys.argv[2] not in ("np", "bare"):
+    sys.exit("usage: without_plates.py IN.in np|bare OUT.in")
 source, mode, target = sys.argv[1:4]
 lines = open(source).read().splitlines()
 # The winding's boxes share one x0 (its face), more boxes than any other.
