@@ -54,12 +54,15 @@ struct uwb_thresholds {
  * change is what stands off this line, the tilt its rise over the face.
  * frame_share (0..1, fitted on the pair's unchanged rows) is how much of
  * the face range's ripple stays in place as the winding moves (what the
- * tank and the aperture put there) rather than moving with it. */
+ * tank and the aperture put there) rather than moving with it.
+ * lean_slope is the unchanged rows' own rise, the share's ripple in it:
+ * the tilt (uwb/radial.h says why). */
 struct uwb_radial_line {
     double level_m;
     double slope;   /* m of range per m of height */
     double y_mid_m; /* in the baseline's y */
     double frame_share;
+    double lean_slope; /* m of range per m of height */
 };
 
 static inline double uwb_radial_line_at(const struct uwb_radial_line *line, double y_m)

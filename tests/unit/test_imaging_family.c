@@ -206,12 +206,13 @@ static void test_family_corner_level_with_the_face_is_named(void)
 
 /* Fresh draws (tests/fixtures/fdtd2d-fresh-*: tanks of the family's kind
  * drawn by tools/fdtd/draw_tank.py and simulated with gprMax after every
- * constant here was set, none tuned to them). The 15 pairs of 20 that
+ * constant here was set, none tuned to them). The 14 pairs of 20 that
  * read within 2 sigma stay there (s104 +2 and s106 +4 carry 0.37 mm, a
  * side reflector's share, for errors of 0.03 and 0.14). The README's
  * "Fresh draws" lists the ones that do not (a clamp plate protruding in
- * front of the face near a winding's end: 0.9-3.3 mm off at 2.5-11 sigma),
- * an open bug of issue 28, not held here. */
+ * front of the face near a winding's end: 0.7-3.3 mm off at 2.4-11 sigma),
+ * an open bug of issue 28, not held here. s108 -24 (0.71 mm off) was
+ * within 2 sigma only while a false lean of 2.02 mm widened its sigma. */
 static void test_fresh_draws_that_read_right_stay_right(void)
 {
     static const char *const pairs[][2] = {
@@ -225,7 +226,6 @@ static void test_fresh_draws_that_read_right_stay_right(void)
         {FIXTURE("fdtd2d-fresh-s107-d+00"), FIXTURE("fdtd2d-fresh-s107-d+04")},
         {FIXTURE("fdtd2d-fresh-s107-d+00"), FIXTURE("fdtd2d-fresh-s107-d-08")},
         {FIXTURE("fdtd2d-fresh-s108-d+00"), FIXTURE("fdtd2d-fresh-s108-d+02")},
-        {FIXTURE("fdtd2d-fresh-s108-d+00"), FIXTURE("fdtd2d-fresh-s108-d-24")},
         {FIXTURE("fdtd2d-fresh-s109-d+00"), FIXTURE("fdtd2d-fresh-s109-d+20")},
         {FIXTURE("fdtd2d-fresh-s109-d+00"), FIXTURE("fdtd2d-fresh-s109-d-24")},
         {FIXTURE("fdtd2d-fresh-s110-d+00"), FIXTURE("fdtd2d-fresh-s110-d+12")},
