@@ -36,12 +36,14 @@ void uwbd_ctl_usage(FILE *f)
         "Commands (read case-insensitively; a mistyped one is answered with the one meant):\n");
     /* The daemon's own table, so that this list is what the daemon takes. */
     for (size_t i = 0; i < uwb_command_help_count; i++)
-        fprintf(f, "  %-19s %s\n", uwb_command_help[i].usage, uwb_command_help[i].brief);
+        fprintf(f, "  %-19s  %s\n", uwb_command_help[i].usage, uwb_command_help[i].brief);
     fprintf(f,
             "\n"
             "`contacts test [S]` energises each alarm contact (watch, alarm, fault) alone in turn for S s\n"
             "(default 10) for a point-to-point check with the RTU, then returns them to what the verdicts\n"
             "call for; it is refused while a scan runs, and ends on time even when uwbd ctl has gone.\n"
+            "Only root, uwbd's own user and contacts.test_group may, once per contacts.test_min_interval_s;\n"
+            "while a watch or alarm stands, say `contacts test force` (the RTU sees it clear; logged).\n"
             "`scan` draws a progress bar on stderr when it is a terminal (PROGRESS lines\n"
             "otherwise); `watch` prints every PROGRESS and VERDICT line until the daemon\n"
             "closes the connection or --timeout S passes (then exit 0).\n"

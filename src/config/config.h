@@ -48,10 +48,12 @@ struct uwbd_config {
     char control_group[UWBD_GROUP_MAX]; /* "": the daemon's own group */
     int control_max_clients_per_user;   /* control slots one ordinary user may hold */
     double control_scan_min_interval_s; /* an ordinary user's scans at most once per this; 0: no limit */
-    int baseline_scans;                 /* `baseline set` without N averages this many scans */
-    double reacquire_budget_s;          /* time a cycle may spend acquiring again to be decisive; 0: never */
-    char site_phase[8];                 /* site.phase: the phase as the site names it ("B", "L2"); "": none */
-    char site_label[64];                /* site.label: free text for people; "": none */
+    char contacts_test_group[UWBD_GROUP_MAX]; /* may run `contacts test` besides root and the daemon's user */
+    double contacts_test_min_interval_s;      /* at most one `contacts test` per this; 0: no limit */
+    int baseline_scans;                       /* `baseline set` without N averages this many scans */
+    double reacquire_budget_s;    /* time a cycle may spend acquiring again to be decisive; 0: never */
+    char site_phase[8];           /* site.phase: the phase as the site names it ("B", "L2"); "": none */
+    char site_label[64];          /* site.label: free text for people; "": none */
     struct uwbd_site_config site; /* the site's integrations: asset id, alarm contacts, event input, ... */
     struct uwbd_modbus_config modbus;
     struct uwbd_csv_config csv;

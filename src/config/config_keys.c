@@ -285,6 +285,13 @@ const struct config_key uwbd_config_keys[] = {
     BOOLEAN("contacts.enabled", site.contacts_enabled, 0,
             "drive the alarm contacts (uwbd-contacts(7)): watch and alarm energised by those verdicts, "
             "fault energised while the appliance is healthy (fail-safe)"),
+    STRING(
+        "contacts.test_group", contacts_test_group, "",
+        "a group whose members may run `contacts test` (the RTU sees every contact rise and fall); root and "
+        "the daemon's own user always may; empty = only they"),
+    NUMBER("contacts.test_min_interval_s", contacts_test_min_interval_s, "s", 1, 0, 86400, 60,
+           "at most one `contacts test` per this long, counted from the start of the last, whoever asks; "
+           "sooner is refused, naming when the next is allowed; 0 = no limit"),
     SITE_LINE("contacts.watch.line", UWB_LINE_WATCH, "required with libgpiod when contacts.enabled",
               "the watch contact's output: line offset (integer) or line name (string)"),
     BOOLEAN("contacts.watch.active_low", site.io.active_low[UWB_LINE_WATCH], 0,

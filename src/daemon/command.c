@@ -9,7 +9,7 @@
 
 #include "util/edit_distance.h"
 
-#define MAX_WORDS 3
+#define MAX_WORDS 4
 #define MAX_WORD 16
 
 const struct uwb_command_help uwb_command_help[] = {
@@ -50,8 +50,13 @@ const struct uwb_command_help uwb_command_help[] = {
     {"contacts test [S]",
      "point-to-point check with the RTU: every alarm contact released for 1 s, then watch, alarm and fault "
      "each energised alone for S s (1..60, default 10) with 1 s released between, then back to what the "
-     "verdicts call for; refused while a scan runs; logged",
+     "verdicts call for; refused while a scan runs; only root, the service's user and contacts.test_group "
+     "may, once per contacts.test_min_interval_s; logged",
      "energise each alarm contact in turn, S s, for the RTU"},
+    {"contacts test force",
+     "`contacts test [S]` while a watch or alarm stands, which the RTU then sees clear and return (force "
+     "before or after S); logged with the user",
+     "the same during a standing watch or alarm"},
     {"help", "this list", "the commands, with what each does"},
 };
 const size_t uwb_command_help_count = sizeof uwb_command_help / sizeof uwb_command_help[0];
@@ -223,6 +228,7 @@ static int baseline_args(const struct words *w, struct uwb_command *cmd, char *e
     return UWB_COMMAND_OK;
 }
 
+/* `contacts test [force] [S]`, force before or after S. */
 static int contacts_args(const struct words *w, struct uwb_command *cmd, char *err, size_t errlen)
 {
     if (w->n < 2 || strcmp(w->word[1], "test") != 0) {
@@ -231,11 +237,24 @@ static int contacts_args(const struct words *w, struct uwb_command *cmd, char *e
         return UWB_COMMAND_INVALID;
     }
     cmd->count = UWB_CONTACTS_TEST_DEFAULT_S;
-    if (w->n == 3 && (parse_count(w->word[2], &cmd->count) != 0 || cmd->count > UWB_CONTACTS_TEST_MAX_S)) {
-        set_error(err, errlen,
-                  "contacts test: S (seconds each relay is held) must be a whole number from 1 to 60, not",
-                  w->word[2]);
-        return UWB_COMMAND_INVALID;
+    int have_count = 0;
+    for (int i = 2; i < w->n; i++) {
+        if (strcmp(w->word[i], "force") == 0 && !cmd->force) {
+            cmd->force = 1;
+            continue;
+        }
+        if (have_count) {
+            set_error(err, errlen, "contacts test: after S only `force` may follow, not", w->word[i]);
+            return UWB_COMMAND_INVALID;
+        }
+        if (parse_count(w->word[i], &cmd->count) != 0 || cmd->count > UWB_CONTACTS_TEST_MAX_S) {
+            set_error(
+                err, errlen,
+                "contacts test: S (seconds each relay is held) must be a whole number from 1 to 60, not",
+                w->word[i]);
+            return UWB_COMMAND_INVALID;
+        }
+        have_count = 1;
     }
     return UWB_COMMAND_OK;
 }
@@ -254,7 +273,7 @@ static const struct verb {
     {"ack", UWB_COMMAND_ACK, 0, NULL},           {"event", UWB_COMMAND_EVENT, 0, NULL},
     {"watch", UWB_COMMAND_WATCH, 1, watch_args}, {"history", UWB_COMMAND_HISTORY, 1, history_args},
     {"trend", UWB_COMMAND_TREND, 1, trend_args}, {"baseline", UWB_COMMAND_BASELINE_SET, 2, baseline_args},
-    {"contacts", UWB_COMMAND_CONTACTS_TEST, 2, contacts_args},
+    {"contacts", UWB_COMMAND_CONTACTS_TEST, 3, contacts_args},
 };
 // clang-format on
 

@@ -535,20 +535,26 @@ static const char *names_system_directory(const char *path)
     return NULL;
 }
 
+/* A group a key names must exist here. */
+static int check_group(const char *key, const char *group, const char *name, char *err, size_t errlen)
+{
+    if (!group[0])
+        return 0;
+    char buf[4096];
+    struct group gr, *found = NULL;
+    int rc = getgrnam_r(group, &gr, buf, sizeof buf, &found);
+    if (rc == 0 && found)
+        return 0;
+    snprintf(err, errlen, "%s: key `%s`: no group named \"%s\" on this system%s%s", name, key, group,
+             rc ? ": " : " (create it, or leave the key empty)", rc ? strerror(rc) : "");
+    return -1;
+}
+
 int uwbd_config_check_system(const struct uwbd_config *cfg, const char *name, char *err, size_t errlen)
 {
-    if (cfg->control_group[0]) {
-        char buf[4096];
-        struct group gr, *found = NULL;
-        int rc = getgrnam_r(cfg->control_group, &gr, buf, sizeof buf, &found);
-        if (rc != 0 || !found) {
-            snprintf(err, errlen, "%s: key `control.group`: no group named \"%s\" on this system%s%s", name,
-                     cfg->control_group, rc ? ": " : " (create it, or leave the key empty)",
-                     rc ? strerror(rc) : "");
-            return -1;
-        }
-    }
-    return 0;
+    if (check_group("control.group", cfg->control_group, name, err, errlen) != 0)
+        return -1;
+    return check_group("contacts.test_group", cfg->contacts_test_group, name, err, errlen);
 }
 
 /* The GPIO keys each backend needs, and only those. */

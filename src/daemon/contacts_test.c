@@ -1,13 +1,22 @@
-/* `contacts test [S]`: the point-to-point check of the alarm contacts with
- * the RTU at commissioning. Every contact is released for GAP_S, then
+/* `contacts test [force] [S]`: the point-to-point check of the alarm
+ * contacts with the RTU at commissioning. Every contact is released for GAP_S, then
  * watch, alarm and fault are each energised alone for S seconds with GAP_S
  * released between, so that the RTU sees every input rise and fall on its
  * own; then the contacts go back to what the verdicts call for. The steps
  * run on the main loop's clock, not on the connection that asked, so the
- * contacts come back even when that client is long gone. */
+ * contacts come back even when that client is long gone. Who may ask is
+ * peers.c's to say; one test per contacts.test_min_interval_s, and during
+ * a standing watch or alarm only with `force`. */
+#define _GNU_SOURCE /* struct ucred */
 #include <cjson/cJSON.h>
+#include <errno.h>
+#include <grp.h>
 #include <math.h>
+#include <pwd.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include "daemon/command.h"
 #include "daemon/outputs.h"
@@ -73,7 +82,63 @@ static char *started_reply(int hold_s)
     return line;
 }
 
-char *uwbd_contacts_test_start(struct daemon *d, int hold_s, const char *who)
+#ifndef SO_PEERGROUPS
+#define SO_PEERGROUPS 59 /* Linux 4.13; older headers lack the name */
+#endif
+
+/* Whether the peer on `fd` has `gid` as its primary or a supplementary
+ * group, as the kernel recorded at connect (no lookup of the user). */
+static int peer_in_group(int fd, gid_t gid)
+{
+    struct ucred cred;
+    socklen_t len = sizeof cred;
+    if (getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) == 0 && len == sizeof cred && cred.gid == gid)
+        return 1;
+    gid_t small[64], *groups = small;
+    len = sizeof small;
+    if (getsockopt(fd, SOL_SOCKET, SO_PEERGROUPS, groups, &len) != 0) {
+        if (errno != ERANGE || !(groups = malloc(len)))
+            return 0;
+        if (getsockopt(fd, SOL_SOCKET, SO_PEERGROUPS, groups, &len) != 0)
+            len = 0;
+    }
+    int found = 0;
+    for (size_t i = 0; i < len / sizeof *groups && !found; i++)
+        found = groups[i] == gid;
+    if (groups != small)
+        free(groups);
+    return found;
+}
+
+int uwbd_contacts_test_permitted(const struct daemon *d, const struct peer *p, char *why, size_t n)
+{
+    if (p->kind == PEER_CONSOLE || p->privileged)
+        return 0; /* at the board, root, or the daemon's own user */
+    const char *group = d->cfg.contacts_test_group;
+    char buf[4096];
+    struct group gr, *found = NULL;
+    if (group[0] && getgrnam_r(group, &gr, buf, sizeof buf, &found) == 0 && found &&
+        peer_in_group(p->fd, found->gr_gid))
+        return 0;
+    struct passwd pw, *me = NULL;
+    char self[64] = "";
+    if (getpwuid_r(geteuid(), &pw, buf, sizeof buf, &me) == 0 && me)
+        snprintf(self, sizeof self, " (%s)", me->pw_name);
+    if (group[0])
+        snprintf(why, n,
+                 "contacts test: refused for uid %u: only root, the service's user%s and members of group "
+                 "\"%s\" (contacts.test_group) may test the contacts",
+                 (unsigned)p->uid, self, group);
+    else
+        snprintf(
+            why, n,
+            "contacts test: refused for uid %u: only root and the service's user%s may test the contacts "
+            "(contacts.test_group names a group that may too)",
+            (unsigned)p->uid, self);
+    return -1;
+}
+
+char *uwbd_contacts_test_start(struct daemon *d, int hold_s, int force, const char *who)
 {
     if (!d->cfg.site.contacts_enabled)
         return uwbd_reply_error("contacts test: there are no alarm contacts (contacts.enabled is false)");
@@ -88,7 +153,32 @@ char *uwbd_contacts_test_start(struct daemon *d, int hold_s, const char *who)
         return uwbd_reply_error("contacts test: one is already running; wait for it to end (see the log)");
     if (hold_s < 1 || hold_s > UWB_CONTACTS_TEST_MAX_S)
         return uwbd_reply_error("contacts test: S must be from 1 to 60 seconds");
-    d->contacts_test.hold_s = hold_s;
+    char why[200];
+    double now = uwb_monotonic_s(), interval = d->cfg.contacts_test_min_interval_s;
+    struct uwbd_contacts_test *t = &d->contacts_test;
+    if (interval > 0 && t->last_start_s > 0 && now - t->last_start_s < interval) {
+        snprintf(why, sizeof why,
+                 "contacts test: one per %g s (contacts.test_min_interval_s); the next is allowed in %.0f s",
+                 interval, interval - (now - t->last_start_s) + 0.5);
+        return uwbd_reply_error(why);
+    }
+    /* A test releases every contact in turn: during a standing alarm the
+     * RTU would see it clear, so only on purpose. */
+    const char *standing = uwbd_contacts_energised(&d->contacts, UWBD_CONTACT_ALARM)   ? "an alarm"
+                           : uwbd_contacts_energised(&d->contacts, UWBD_CONTACT_WATCH) ? "a watch"
+                                                                                       : NULL;
+    if (standing && !force) {
+        snprintf(why, sizeof why,
+                 "contacts test: refused while %s stands (the RTU would see it clear and return); say "
+                 "`contacts test force` to test anyway",
+                 standing);
+        return uwbd_reply_error(why);
+    }
+    if (standing)
+        uwbd_log(UWBD_LOG_WARNING, "contacts test: forced by %s while %s stands: the RTU sees it clear", who,
+                 standing);
+    t->hold_s = hold_s;
+    t->last_start_s = now;
     uwbd_log(UWBD_LOG_NOTICE,
              "contacts test: started by %s: watch, alarm and fault energised alone in turn, %d s each, %d s "
              "released between",

@@ -85,7 +85,8 @@ struct scan_start {
 struct uwbd_contacts_test {
     int phase;
     int hold_s;
-    double phase_end_s; /* CLOCK_MONOTONIC */
+    double phase_end_s;  /* CLOCK_MONOTONIC */
+    double last_start_s; /* CLOCK_MONOTONIC of the last test's start; 0: none yet */
 };
 
 struct scan_job {
@@ -146,16 +147,19 @@ struct daemon {
     _Atomic int progress_pass, progress_passes;
     _Atomic long long progress_start_ms, progress_first_ms, progress_last_ms;
 
-    char *latest_verdict;                    /* VERDICT line or NULL: what is sent and stored */
-    struct uwb_verdict_record *latest;       /* the same verdict as a record, or NULL: what is read */
-    struct uwbd_site_io *site_io;            /* the site's lines and event input (output_site_io.c) */
-    struct uwbd_mqtt *mqtt;                  /* NULL: MQTT off (output_mqtt.c) */
-    struct uwbd_contacts contacts;           /* the alarm contacts' logic (output_contacts.c) */
-    struct uwbd_contacts_test contacts_test; /* lines held by `contacts test` (contacts_test.c) */
-    struct uwbd_prometheus_metrics prom;     /* the textfile's figures (output_textfile.c) */
-    int prom_failing;                        /* log a failing textfile once, not every verdict */
-    enum scan_trigger pending_trigger;       /* what asked for the next scan */
-    struct uwbd_modbus_server *modbus;       /* NULL: Modbus off (output_modbus.c) */
+    char *latest_verdict;                      /* VERDICT line or NULL: what is sent and stored */
+    struct uwb_verdict_record *latest;         /* the same verdict as a record, or NULL: what is read */
+    struct uwbd_site_io *site_io;              /* the site's lines and event input (output_site_io.c) */
+    struct uwbd_mqtt *mqtt;                    /* NULL: MQTT off (output_mqtt.c) */
+    struct uwbd_contacts contacts;             /* the alarm contacts' logic (output_contacts.c) */
+    struct uwbd_contacts_test contacts_test;   /* lines held by `contacts test` (contacts_test.c) */
+    struct uwbd_contacts_memory contacts_kept; /* what contacts-latch.json holds (output_contacts.c) */
+    int contacts_kept_valid;                   /* ...as far as known: 0 until written or read */
+    int contacts_latch_failing;                /* log a latch file that cannot be written once */
+    struct uwbd_prometheus_metrics prom;       /* the textfile's figures (output_textfile.c) */
+    int prom_failing;                          /* log a failing textfile once, not every verdict */
+    enum scan_trigger pending_trigger;         /* what asked for the next scan */
+    struct uwbd_modbus_server *modbus;         /* NULL: Modbus off (output_modbus.c) */
     int csv_failing; /* log a failing CSV file once, not every verdict (output_csv.c) */
     int has_baseline;
     struct uwbd_baseline_info baseline;
@@ -210,9 +214,13 @@ void uwbd_scan_now(struct daemon *d);                            /* start a cycl
 void uwbd_scan_request(struct daemon *d, enum scan_trigger why); /* uwbd_scan_now, saying why */
 const char *uwbd_scan_trigger_name(enum scan_trigger why);
 
-/* contacts_test.c: `contacts test [S]` (the reply), whether one runs (the
- * lines are then its, not the verdicts'), ending one early (why: logged) */
-char *uwbd_contacts_test_start(struct daemon *d, int hold_s, const char *who);
+/* contacts_test.c: `contacts test [force] [S]` (the reply) from `who`, a
+ * peer already found to be allowed; whether one runs (the lines are then
+ * its, not the verdicts'), ending one early (why: logged) */
+char *uwbd_contacts_test_start(struct daemon *d, int hold_s, int force, const char *who);
+/* Root, the daemon's own user, the console and contacts.test_group's
+ * members may test the contacts: 0, or -1 with `why` naming who may. */
+int uwbd_contacts_test_permitted(const struct daemon *d, const struct peer *p, char *why, size_t n);
 int uwbd_contacts_testing(const struct daemon *d);
 void uwbd_contacts_test_end(struct daemon *d, const char *why);
 int uwbd_contacts_test_watch(struct daemon *d, struct uwbd_event_loop *loop);

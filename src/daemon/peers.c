@@ -426,12 +426,17 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         uwbd_scan_request(d, TRIGGER_EVENT);
         return;
     case UWB_COMMAND_CONTACTS_TEST: {
-        char who[48];
+        char who[48], refused[300];
+        if (uwbd_contacts_test_permitted(d, p, refused, sizeof refused) != 0) {
+            uwbd_log(UWBD_LOG_NOTICE, "control: %s", refused);
+            reply(d, p, uwbd_reply_error(refused));
+            return;
+        }
         if (p->kind == PEER_CONSOLE)
             snprintf(who, sizeof who, "the console");
         else
             snprintf(who, sizeof who, "a control client (uid %u)", (unsigned)p->uid);
-        reply(d, p, uwbd_contacts_test_start(d, cmd->count, who));
+        reply(d, p, uwbd_contacts_test_start(d, cmd->count, cmd->force, who));
         return;
     }
     }

@@ -34,10 +34,32 @@ void uwbd_contacts_verdict(struct uwbd_contacts *c, const char *status, int devi
     /* inconclusive, error: the winding's state is not known better than before */
 }
 
-void uwbd_contacts_restore(struct uwbd_contacts *c, const char *status)
+void uwbd_contacts_remember(const struct uwbd_contacts *c, struct uwbd_contacts_memory *out)
 {
-    uwbd_contacts_verdict(c, status, 0);
-    c->healthy = 1; /* the daemon has just opened its hardware */
+    out->watch_called = c->watch_called;
+    out->alarm_called = c->alarm_called;
+    out->watch_unacked = c->watch_unacked;
+    out->alarm_unacked = c->alarm_unacked;
+}
+
+void uwbd_contacts_restore(struct uwbd_contacts *c, enum uwbd_contacts_kept kept,
+                           const struct uwbd_contacts_memory *memory, const char *latest_status,
+                           int latest_fault)
+{
+    if (kept == UWBD_CONTACTS_KEPT && memory) {
+        c->watch_called = memory->watch_called != 0;
+        c->alarm_called = memory->alarm_called != 0;
+        c->watch_unacked = memory->watch_unacked != 0;
+        c->alarm_unacked = memory->alarm_unacked != 0;
+    } else if (kept == UWBD_CONTACTS_KEPT_UNREADABLE) {
+        /* Whether an alarm stood unacknowledged is unknown: hold it. */
+        c->watch_unacked = 1;
+        c->alarm_unacked = 1;
+    }
+    if (latest_status)
+        uwbd_contacts_verdict(c, latest_status, latest_fault);
+    else
+        c->healthy = 1;
 }
 
 void uwbd_contacts_ack(struct uwbd_contacts *c)

@@ -26,9 +26,28 @@ void uwbd_contacts_init(struct uwbd_contacts *c, int latch_watch, int latch_alar
  * fault opens the fault contact; inconclusive leaves watch and alarm as
  * they are (nothing was learnt about the winding). */
 void uwbd_contacts_verdict(struct uwbd_contacts *c, const char *status, int device_fault);
-/* Like a verdict, from the one recorded before a restart: the condition
- * comes back, and with it an unacknowledged latch. */
-void uwbd_contacts_restore(struct uwbd_contacts *c, const char *status);
+/* What a restart must not lose: what the verdicts called for and what is
+ * raised unacknowledged (kept in the state directory: contacts_latch.c). */
+struct uwbd_contacts_memory {
+    int watch_called, alarm_called;
+    int watch_unacked, alarm_unacked;
+};
+enum uwbd_contacts_kept {
+    UWBD_CONTACTS_KEPT_NONE,      /* nothing kept: an older or a new state directory */
+    UWBD_CONTACTS_KEPT,           /* the memory read back */
+    UWBD_CONTACTS_KEPT_UNREADABLE /* a file that cannot be read: fail safe */
+};
+void uwbd_contacts_remember(const struct uwbd_contacts *c, struct uwbd_contacts_memory *out);
+/* At start, after init: the memory kept before the restart (`memory` read
+ * when `kept` is UWBD_CONTACTS_KEPT; an unreadable one holds watch and
+ * alarm as raised until `ack`), then the latest recorded verdict on top of
+ * it (NULL: none), since the latch may have been kept just before that
+ * verdict came; applying a verdict the memory already reflects changes
+ * nothing. The fault contact follows that verdict: open after an error or
+ * a device fault. */
+void uwbd_contacts_restore(struct uwbd_contacts *c, enum uwbd_contacts_kept kept,
+                           const struct uwbd_contacts_memory *memory, const char *latest_status,
+                           int latest_fault);
 void uwbd_contacts_ack(struct uwbd_contacts *c);
 /* Whether `which` is energised now. */
 int uwbd_contacts_energised(const struct uwbd_contacts *c, enum uwbd_contact which);

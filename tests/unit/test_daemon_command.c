@@ -143,9 +143,9 @@ static void test_help_lists_exactly_the_commands_accepted(void)
                 snprintf(help_words[n_help_words], sizeof help_words[0], "%s", w);
                 vocabulary[n++] = help_words[n_help_words++];
             }
-        /* uwbd ctl --help prints the brief meaning after 22 columns, within 78. */
+        /* uwbd ctl --help prints the brief meaning after 23 columns, within 78. */
         TEST_ASSERT_NOT_NULL_MESSAGE(uwb_command_help[h].brief, uwb_command_help[h].usage);
-        TEST_ASSERT_TRUE_MESSAGE(strlen(uwb_command_help[h].brief) <= 56, uwb_command_help[h].brief);
+        TEST_ASSERT_TRUE_MESSAGE(strlen(uwb_command_help[h].brief) <= 55, uwb_command_help[h].brief);
         TEST_ASSERT_TRUE_MESSAGE(strlen(uwb_command_help[h].usage) <= 19, uwb_command_help[h].usage);
         /* Each help line is accepted, with its optional number and without. */
         char line[64];
@@ -191,7 +191,27 @@ static void test_contacts_test(void)
     assert_invalid("contacts test 0", "1 to 60");
     assert_invalid("contacts test 61", "1 to 60");
     assert_invalid("contacts test forever", "1 to 60");
-    assert_invalid("contacts test 5 now", "too many words");
+    assert_invalid("contacts test 5 now", "force");
+    assert_invalid("contacts test 5 force now", "too many words");
+}
+
+/* Issue 43, break 2: `contacts test force [S]` tests during a standing
+ * watch or alarm; the word may come before or after S. */
+static void test_contacts_test_force(void)
+{
+    assert_command("contacts test", UWB_COMMAND_CONTACTS_TEST);
+    TEST_ASSERT_EQUAL_INT(0, cmd.force);
+    assert_command("contacts test force", UWB_COMMAND_CONTACTS_TEST);
+    TEST_ASSERT_EQUAL_INT(1, cmd.force);
+    TEST_ASSERT_EQUAL_INT(UWB_CONTACTS_TEST_DEFAULT_S, cmd.count);
+    assert_command("contacts test force 3", UWB_COMMAND_CONTACTS_TEST);
+    TEST_ASSERT_EQUAL_INT(1, cmd.force);
+    TEST_ASSERT_EQUAL_INT(3, cmd.count);
+    assert_command("contacts test 4 FORCE", UWB_COMMAND_CONTACTS_TEST);
+    TEST_ASSERT_EQUAL_INT(1, cmd.force);
+    TEST_ASSERT_EQUAL_INT(4, cmd.count);
+    assert_invalid("contacts test force force", "1 to 60");
+    assert_invalid("contacts test 3 4", "force");
 }
 
 static void test_line_endings_and_spacing(void)
@@ -217,10 +237,11 @@ static void test_bad_arguments(void)
     assert_invalid("baseline", "baseline set");
     assert_invalid("baseline reset", "baseline set");
     assert_invalid("baseline set now", "baseline set");
-    assert_invalid("baseline set now please", "too many words");
+    assert_invalid("baseline set now please", "unexpected argument (see help): `please`");
+    assert_invalid("baseline set now please thanks", "too many words");
     assert_invalid("baseline set 0", "1 to 16");
     assert_invalid("baseline set 17", "1 to 16");
-    assert_invalid("baseline set 4 now", "too many words");
+    assert_invalid("baseline set 4 now", "unexpected argument (see help): `now`");
     assert_invalid("rm -rf", "unknown command");
 }
 
@@ -349,6 +370,7 @@ int main(void)
     RUN_TEST(test_every_command);
     RUN_TEST(test_watch_forms);
     RUN_TEST(test_contacts_test);
+    RUN_TEST(test_contacts_test_force);
     RUN_TEST(test_help_lists_exactly_the_commands_accepted);
     RUN_TEST(test_line_endings_and_spacing);
     RUN_TEST(test_bad_arguments);
