@@ -7,6 +7,7 @@
  * seen, each kind of failure logged once, and `status` shows the link. */
 #include "integrations/mqtt_publisher.h"
 
+#include <cjson/cJSON.h>
 #include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
@@ -81,7 +82,7 @@ struct uwbd_mqtt {
     char lib_error[256];
     char cmd_topic[256], reply_topic[256];
     char health_topic[256];
-    char *health;                 /* the latest health report, sent on every connection */
+    cJSON *health;                /* the latest health report, sent on every connection */
     int command_fd;               /* eventfd: commands wait; -1 without mqtt.commands */
     char *commands[COMMANDS_MAX]; /* received, not yet taken by the main loop */
     size_t n_commands;
@@ -118,6 +119,22 @@ static void send_next(struct uwbd_mqtt *m)
         uwbd_log(UWBD_LOG_WARNING, "mqtt: publish: %s (tried again on reconnecting)", m->lib->strerror(rc));
 }
 
+/* Publishes the health report with its "mqtt_queued" set to the verdicts
+ * waiting now: the daemon's count, taken while its verdict was still on
+ * its way, is stale once the broker has it. Called locked. */
+static void send_health(struct uwbd_mqtt *m)
+{
+    if (!m->connected || !m->health)
+        return;
+    cJSON *queued = cJSON_GetObjectItemCaseSensitive(m->health, "mqtt_queued");
+    if (cJSON_IsNumber(queued))
+        cJSON_SetNumberValue(queued, (double)m->queued);
+    char *text = cJSON_PrintUnformatted(m->health);
+    if (text)
+        m->lib->publish(m->mosq, NULL, m->health_topic, (int)strlen(text), text, QOS, true);
+    free(text);
+}
+
 static void on_connect(struct mosquitto *mosq, void *ctx, int rc)
 {
     struct uwbd_mqtt *m = ctx;
@@ -136,8 +153,7 @@ static void on_connect(struct mosquitto *mosq, void *ctx, int rc)
     m->lib->publish(mosq, NULL, m->status_topic, 6, "online", QOS, true);
     if (m->command_fd >= 0)
         m->lib->subscribe(mosq, NULL, m->cmd_topic, QOS);
-    if (m->health)
-        m->lib->publish(mosq, NULL, m->health_topic, (int)strlen(m->health), m->health, QOS, true);
+    send_health(m);
     uwbd_log(UWBD_LOG_NOTICE, "mqtt: connected; %zu verdict(s) queued", m->queued);
     send_next(m);
     pthread_mutex_unlock(&m->lock);
@@ -181,6 +197,7 @@ static void on_publish(struct mosquitto *mosq, void *ctx, int mid)
         m->queued--;
         m->inflight_mid = 0;
         send_next(m);
+        send_health(m); /* its queue count, one fewer */
     }
     pthread_mutex_unlock(&m->lock);
 }
@@ -681,14 +698,15 @@ void uwbd_mqtt_health(struct uwbd_mqtt *m, const char *health_json)
 {
     if (!m || !health_json)
         return;
-    char *copy = strdup(health_json);
+    cJSON *report = cJSON_Parse(health_json);
+    if (!report)
+        uwbd_log(UWBD_LOG_ERR, "mqtt: the health report is not JSON; the previous one stays");
     pthread_mutex_lock(&m->lock);
-    if (copy) {
-        free(m->health);
-        m->health = copy;
+    if (report) {
+        cJSON_Delete(m->health);
+        m->health = report;
     }
-    if (m->connected && m->health)
-        m->lib->publish(m->mosq, NULL, m->health_topic, (int)strlen(m->health), m->health, QOS, true);
+    send_health(m);
     pthread_mutex_unlock(&m->lock);
 }
 
@@ -747,7 +765,7 @@ void uwbd_mqtt_close(struct uwbd_mqtt *m)
     pthread_mutex_destroy(&m->error_lock);
     for (size_t i = 0; i < m->n_commands; i++)
         free(m->commands[i]);
-    free(m->health);
+    cJSON_Delete(m->health);
     if (m->command_fd >= 0)
         close(m->command_fd);
     free(m->queue);
