@@ -30,6 +30,8 @@ struct uwb_endpoint {
     char host[UWB_ENDPOINT_MAX]; /* tcp: name or address, IPv6 without its [] */
     char port[8];                /* tcp: 1..65535 as text */
     int baud;                    /* serial: ?baud=N, else UWB_SERIAL_DEFAULT_BAUD */
+    char parity;                 /* serial: ?parity=none|even|odd as 'N', 'E', 'O'; else 'N' */
+    int stop_bits;               /* serial: ?stopbits=1|2, else 1 */
 };
 
 /* Pure parsing, no I/O. Returns UWB_LINK_OK or UWB_LINK_ERR_ENDPOINT with

@@ -363,7 +363,9 @@ const struct config_key uwbd_config_keys[] = {
         "serve the latest verdict, health and contact states as Modbus registers and take `ack` and `event` "
         "as coils (uwbd-modbus(7) has the map); off: nothing is opened"),
     STRING("modbus.endpoint", modbus.endpoint, "",
-           "serial:/dev/ttyX?baud=N: Modbus RTU on that line (RS-485; 8 data bits, no parity, 1 stop bit); "
+           "serial:/dev/ttyX?baud=N[&parity=P][&stopbits=S]: Modbus RTU on that line (RS-485; 8 data bits, "
+           "parity P none, even or odd, S 1 or 2 stop bits; without them no parity and 1 stop bit, as "
+           "before, though the Modbus serial line standard's default, and many RTUs', is parity=even); "
            "unix:PATH: RTU over a local socket uwbd connects to (the tests); tcp:HOST:PORT: Modbus TCP, "
            "listening on that address (the substation LAN's, e.g. tcp:192.0.2.10:502; a port under 1024 "
            "needs CAP_NET_BIND_SERVICE); "

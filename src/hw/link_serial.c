@@ -1,5 +1,7 @@
-/* serial:/dev/ttyX?baud=N through libserialport: 8 data bits, no parity,
- * one stop bit, no flow control (a digitiser's UART or a USB bridge). */
+/* serial:/dev/ttyX?baud=N&parity=P&stopbits=S through libserialport: 8
+ * data bits, the endpoint's parity (none unless given) and stop bits (1
+ * unless given), no flow control (a digitiser's UART, a USB bridge, an
+ * RS-485 Modbus line). */
 #include <errno.h>
 #include <libserialport.h>
 #include <stdio.h>
@@ -45,11 +47,19 @@ static int serial_open(struct uwb_link *link, const struct uwb_endpoint *ep, cha
         return UWB_LINK_ERR_OPEN;
     }
     const char *step = "open";
+    enum sp_parity parity = ep->parity == 'E'   ? SP_PARITY_EVEN
+                            : ep->parity == 'O' ? SP_PARITY_ODD
+                                                : SP_PARITY_NONE;
+    const char *set_parity = parity == SP_PARITY_EVEN  ? "set even parity"
+                             : parity == SP_PARITY_ODD ? "set odd parity"
+                                                       : "set no parity";
+    int stop_bits = ep->stop_bits == 2 ? 2 : 1;
     sp = sp_open(port, SP_MODE_READ_WRITE);
     if (sp == SP_OK && (step = "set baud rate", sp = sp_set_baudrate(port, ep->baud)) == SP_OK &&
         (step = "set 8 data bits", sp = sp_set_bits(port, 8)) == SP_OK &&
-        (step = "set no parity", sp = sp_set_parity(port, SP_PARITY_NONE)) == SP_OK &&
-        (step = "set 1 stop bit", sp = sp_set_stopbits(port, 1)) == SP_OK &&
+        (step = set_parity, sp = sp_set_parity(port, parity)) == SP_OK &&
+        (step = stop_bits == 2 ? "set 2 stop bits" : "set 1 stop bit",
+         sp = sp_set_stopbits(port, stop_bits)) == SP_OK &&
         (step = "turn off flow control", sp = sp_set_flowcontrol(port, SP_FLOWCONTROL_NONE)) == SP_OK) {
         link->port = port;
         return UWB_LINK_OK;

@@ -159,9 +159,13 @@ int uwbd_modbus_server_open(const char *endpoint, int unit_id, const struct uwbd
         }
         uwbd_log(UWBD_LOG_INFO, "modbus: TCP listening on %s", endpoint);
     } else {
-        s->rtu = set_up(
-            s, s->lib->new_rtu(s->ep.path, s->ep.baud > 0 ? s->ep.baud : UWB_SERIAL_DEFAULT_BAUD, 'N', 8, 1),
-            unit_id);
+        /* The line's framing is the link's (src/hw/link_serial.c sets the
+         * tty); libmodbus is told the same, for its timing. unix: is 8N1. */
+        int serial = s->ep.kind == UWB_ENDPOINT_SERIAL;
+        s->rtu = set_up(s,
+                        s->lib->new_rtu(s->ep.path, s->ep.baud > 0 ? s->ep.baud : UWB_SERIAL_DEFAULT_BAUD,
+                                        serial ? s->ep.parity : 'N', 8, serial ? s->ep.stop_bits : 1),
+                        unit_id);
         if (!s->rtu) {
             snprintf(err, errlen, "modbus: RTU context for %s: %s", endpoint, s->lib->strerror(errno));
             goto fail;

@@ -32,8 +32,8 @@ struct uwbd_modbus_handlers {
 
 struct uwbd_modbus_server;
 
-/* endpoint: serial:/dev/ttyX[?baud=N] or unix:PATH (RTU; uwbd connects, and
- * connects again every few seconds after the peer went away), or
+/* endpoint: serial:/dev/ttyX[?baud=N&parity=P&stopbits=S] or unix:PATH
+ * (RTU; uwbd connects, and connects again every few seconds after the peer went away), or
  * tcp:HOST:PORT (Modbus TCP, listening). unit_id: the RTU address (1-247).
  * 0, or -1 with err naming the endpoint and the problem, or libmodbus when
  * it cannot be loaded. A serial or unix endpoint that cannot be opened yet

@@ -29,6 +29,7 @@
     X(connect_async) \
     X(reconnect_async) \
     X(loop) \
+    X(socket) \
     X(disconnect) \
     X(publish) \
     X(subscribe) \

@@ -7,15 +7,19 @@
  * seen, each kind of failure logged once, and `status` shows the link. */
 #include "integrations/mqtt_publisher.h"
 
+#include <cjson/cJSON.h>
 #include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
+#include <netdb.h>
+#include <poll.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <stdint.h>
 #include <sys/eventfd.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -34,6 +38,8 @@
 #define LOOP_MS 100
 /* The sentinel for an attempt that timed out (not a libmosquitto code). */
 #define LINK_TIMED_OUT (-1000)
+/* The broker closed the connection in the TLS handshake (not a libmosquitto code). */
+#define LINK_CLOSED_IN_HANDSHAKE (-1001)
 #define QOS 1
 #define CLOSE_WAIT_MS 2000
 #define QUEUE_DIR "mqtt-queue"
@@ -76,7 +82,7 @@ struct uwbd_mqtt {
     char lib_error[256];
     char cmd_topic[256], reply_topic[256];
     char health_topic[256];
-    char *health;                 /* the latest health report, sent on every connection */
+    cJSON *health;                /* the latest health report, sent on every connection */
     int command_fd;               /* eventfd: commands wait; -1 without mqtt.commands */
     char *commands[COMMANDS_MAX]; /* received, not yet taken by the main loop */
     size_t n_commands;
@@ -113,6 +119,22 @@ static void send_next(struct uwbd_mqtt *m)
         uwbd_log(UWBD_LOG_WARNING, "mqtt: publish: %s (tried again on reconnecting)", m->lib->strerror(rc));
 }
 
+/* Publishes the health report with its "mqtt_queued" set to the verdicts
+ * waiting now: the daemon's count, taken while its verdict was still on
+ * its way, is stale once the broker has it. Called locked. */
+static void send_health(struct uwbd_mqtt *m)
+{
+    if (!m->connected || !m->health)
+        return;
+    cJSON *queued = cJSON_GetObjectItemCaseSensitive(m->health, "mqtt_queued");
+    if (cJSON_IsNumber(queued))
+        cJSON_SetNumberValue(queued, (double)m->queued);
+    char *text = cJSON_PrintUnformatted(m->health);
+    if (text)
+        m->lib->publish(m->mosq, NULL, m->health_topic, (int)strlen(text), text, QOS, true);
+    free(text);
+}
+
 static void on_connect(struct mosquitto *mosq, void *ctx, int rc)
 {
     struct uwbd_mqtt *m = ctx;
@@ -131,8 +153,7 @@ static void on_connect(struct mosquitto *mosq, void *ctx, int rc)
     m->lib->publish(mosq, NULL, m->status_topic, 6, "online", QOS, true);
     if (m->command_fd >= 0)
         m->lib->subscribe(mosq, NULL, m->cmd_topic, QOS);
-    if (m->health)
-        m->lib->publish(mosq, NULL, m->health_topic, (int)strlen(m->health), m->health, QOS, true);
+    send_health(m);
     uwbd_log(UWBD_LOG_NOTICE, "mqtt: connected; %zu verdict(s) queued", m->queued);
     send_next(m);
     pthread_mutex_unlock(&m->lock);
@@ -176,6 +197,7 @@ static void on_publish(struct mosquitto *mosq, void *ctx, int mid)
         m->queued--;
         m->inflight_mid = 0;
         send_next(m);
+        send_health(m); /* its queue count, one fewer */
     }
     pthread_mutex_unlock(&m->lock);
 }
@@ -348,9 +370,70 @@ static double seconds_since(const struct timespec *t)
     return (double)(now.tv_sec - t->tv_sec) + (double)(now.tv_nsec - t->tv_nsec) * 1e-9;
 }
 
+/* A TCP connection to the broker, non-blocking and bounded by the time
+ * left of the attempt: 0 when it connects, else the errno that ended it
+ * (ETIMEDOUT when the deadline passed first). */
+static int probe_tcp(const struct uwbd_mqtt *m, double seconds)
+{
+    char port[16];
+    snprintf(port, sizeof port, "%d", m->port);
+    struct addrinfo hints = {.ai_family = AF_UNSPEC, .ai_socktype = SOCK_STREAM}, *found;
+    if (getaddrinfo(m->host, port, &hints, &found) != 0)
+        return EHOSTUNREACH;
+    int err_no = ECONNREFUSED;
+    for (struct addrinfo *a = found; a; a = a->ai_next) {
+        int fd = socket(a->ai_family, a->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, a->ai_protocol);
+        if (fd < 0) {
+            err_no = errno;
+            continue;
+        }
+        if (connect(fd, a->ai_addr, a->ai_addrlen) == 0) {
+            err_no = 0;
+        } else if (errno != EINPROGRESS) {
+            err_no = errno;
+        } else {
+            struct pollfd p = {.fd = fd, .events = POLLOUT};
+            int ready = poll(&p, 1, (int)(seconds * 1e3));
+            socklen_t len = sizeof err_no;
+            if (ready <= 0)
+                err_no = ETIMEDOUT;
+            else if (getsockopt(fd, SOL_SOCKET, SO_ERROR, &err_no, &len) != 0)
+                err_no = errno;
+        }
+        close(fd);
+        if (err_no == 0)
+            break;
+    }
+    freeaddrinfo(found);
+    return err_no;
+}
+
+/* With TLS, libmosquitto takes a TCP connection that failed for a handshake
+ * still under way (OpenSSL's SSL_ERROR_SYSCALL means "try again" to it) and
+ * would wait out CONNECT_TIMEOUT_S in silence: a hung-up socket before the
+ * CONNACK is that failure. Its errno is gone (the handshake's write read
+ * it), so a probe of our own asks the broker's port again. 0: no failure
+ * seen; else the errno (*err_no) or LINK_CLOSED_IN_HANDSHAKE. */
+static int tls_connect_failure(struct uwbd_mqtt *m, double seconds_left, int *err_no)
+{
+    int fd = m->lib->socket(m->mosq);
+    struct pollfd p = {.fd = fd, .events = POLLOUT};
+    if (fd < 0 || poll(&p, 1, 0) != 1 || !(p.revents & (POLLERR | POLLHUP)))
+        return 0;
+    int so_error = 0;
+    socklen_t len = sizeof so_error;
+    if (getsockopt(fd, SOL_SOCKET, SO_ERROR, &so_error, &len) != 0 || so_error == 0)
+        so_error = probe_tcp(m, seconds_left > 0 ? seconds_left : 0);
+    if (so_error == 0)
+        return LINK_CLOSED_IN_HANDSHAKE;
+    *err_no = so_error;
+    return so_error == ETIMEDOUT ? LINK_TIMED_OUT : MOSQ_ERR_ERRNO;
+}
+
 /* Runs one connection until it ends: the libmosquitto code that ended it,
- * LINK_TIMED_OUT, or MOSQ_ERR_SUCCESS when stopped. *was_up: it connected. */
-static int run_link(struct uwbd_mqtt *m, int *was_up)
+ * LINK_TIMED_OUT, LINK_CLOSED_IN_HANDSHAKE, or MOSQ_ERR_SUCCESS when
+ * stopped. *was_up: it connected. *err_no: the errno of a failed connect. */
+static int run_link(struct uwbd_mqtt *m, int *was_up, int *err_no)
 {
     struct timespec start;
     clock_gettime(CLOCK_MONOTONIC, &start);
@@ -359,11 +442,16 @@ static int run_link(struct uwbd_mqtt *m, int *was_up)
         if (flag(m, &m->stopping))
             return MOSQ_ERR_SUCCESS;
         int rc = m->lib->loop(m->mosq, LOOP_MS, 1);
+        *err_no = errno;
         if (flag(m, &m->connected))
             *was_up = 1;
         if (rc != MOSQ_ERR_SUCCESS)
             return rc;
-        if (!*was_up && !flag(m, &m->closing) && seconds_since(&start) > CONNECT_TIMEOUT_S)
+        if (*was_up || flag(m, &m->closing))
+            continue;
+        if (m->tls && (rc = tls_connect_failure(m, CONNECT_TIMEOUT_S - seconds_since(&start), err_no)) != 0)
+            return rc;
+        if (seconds_since(&start) > CONNECT_TIMEOUT_S)
             return LINK_TIMED_OUT;
     }
 }
@@ -382,9 +470,12 @@ static enum failure_kind classify(struct uwbd_mqtt *m, int rc, int err_no, char 
         return FAILURE_REFUSED;
     }
     if (m->tls && rc != LINK_TIMED_OUT &&
-        (rc == MOSQ_ERR_TLS || strstr(lib_error, "SSL") || (rc == MOSQ_ERR_ERRNO && err_no == EPROTO))) {
+        (rc == MOSQ_ERR_TLS || rc == LINK_CLOSED_IN_HANDSHAKE || strstr(lib_error, "SSL") ||
+         (rc == MOSQ_ERR_ERRNO && err_no == EPROTO))) {
         snprintf(why, n, "TLS handshake failed: %s (is the broker's port TLS? mqtt.ca_file turns TLS on)",
-                 lib_error[0] ? lib_error : m->lib->strerror(rc));
+                 lib_error[0]                     ? lib_error
+                 : rc == LINK_CLOSED_IN_HANDSHAKE ? "the broker closed the connection"
+                                                  : m->lib->strerror(rc));
         return FAILURE_TLS;
     }
     if (rc == LINK_TIMED_OUT)
@@ -441,10 +532,8 @@ static void *network_main(void *arg)
         int rc = attempt == 0 ? m->lib->connect_async(m->mosq, m->host, m->port, KEEPALIVE_S)
                               : m->lib->reconnect_async(m->mosq);
         int err_no = errno, was_up = 0;
-        if (rc == MOSQ_ERR_SUCCESS) {
-            rc = run_link(m, &was_up);
-            err_no = errno;
-        }
+        if (rc == MOSQ_ERR_SUCCESS)
+            rc = run_link(m, &was_up, &err_no);
         if (flag(m, &m->closing) || flag(m, &m->stopping))
             break;
         if (was_up) /* the loss is on_disconnect's to log */
@@ -609,14 +698,15 @@ void uwbd_mqtt_health(struct uwbd_mqtt *m, const char *health_json)
 {
     if (!m || !health_json)
         return;
-    char *copy = strdup(health_json);
+    cJSON *report = cJSON_Parse(health_json);
+    if (!report)
+        uwbd_log(UWBD_LOG_ERR, "mqtt: the health report is not JSON; the previous one stays");
     pthread_mutex_lock(&m->lock);
-    if (copy) {
-        free(m->health);
-        m->health = copy;
+    if (report) {
+        cJSON_Delete(m->health);
+        m->health = report;
     }
-    if (m->connected && m->health)
-        m->lib->publish(m->mosq, NULL, m->health_topic, (int)strlen(m->health), m->health, QOS, true);
+    send_health(m);
     pthread_mutex_unlock(&m->lock);
 }
 
@@ -675,7 +765,7 @@ void uwbd_mqtt_close(struct uwbd_mqtt *m)
     pthread_mutex_destroy(&m->error_lock);
     for (size_t i = 0; i < m->n_commands; i++)
         free(m->commands[i]);
-    free(m->health);
+    cJSON_Delete(m->health);
     if (m->command_fd >= 0)
         close(m->command_fd);
     free(m->queue);

@@ -30,7 +30,9 @@ int uwbd_mqtt_command_fd(const struct uwbd_mqtt *mqtt);
 char *uwbd_mqtt_next_command(struct uwbd_mqtt *mqtt);
 void uwbd_mqtt_reply(struct uwbd_mqtt *mqtt, const char *reply_json);
 /* The health report (one JSON line), on PREFIX/ASSET/health, retained:
- * sent now when connected, and again on every (re)connection. */
+ * sent now when connected, again on every (re)connection, and again each
+ * time a queued verdict is delivered. Its "mqtt_queued", if present, is set
+ * to the verdicts waiting when it is sent (not when it was made). */
 void uwbd_mqtt_health(struct uwbd_mqtt *mqtt, const char *health_json);
 /* Verdicts waiting for the broker. */
 size_t uwbd_mqtt_queued(struct uwbd_mqtt *mqtt);

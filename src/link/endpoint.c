@@ -15,8 +15,9 @@
 static int bad(const char *text, char *err, size_t errlen, const char *problem)
 {
     snprintf(err, errlen,
-             "endpoint '%s': %s (expected serial:/dev/ttyX[?baud=N], tcp:HOST:PORT or unix:PATH)", text,
-             problem);
+             "endpoint '%s': %s (expected serial:/dev/ttyX[?baud=N&parity=none|even|odd&stopbits=1|2], "
+             "tcp:HOST:PORT or unix:PATH)",
+             text, problem);
     return UWB_LINK_ERR_ENDPOINT;
 }
 
@@ -83,7 +84,66 @@ static int parse_tcp(const char *text, const char *rest, struct uwb_endpoint *ep
     return UWB_LINK_OK;
 }
 
-/* serial:PATH[?baud=N] */
+#define SERIAL_OPTIONS "baud=N, parity=none|even|odd, stopbits=1|2"
+
+/* One serial option, NAME=VALUE, len bytes at opt; `seen` has a bit per
+ * option already given. */
+static int parse_serial_option(const char *text, const char *opt, size_t len, unsigned *seen,
+                               struct uwb_endpoint *ep, char *err, size_t errlen)
+{
+    static const char *const names[] = {"baud", "parity", "stopbits"};
+    char option[64], problem[160];
+    if (len == 0)
+        return bad(text, err, errlen, "empty serial option (separate them with one '&')");
+    if (len >= sizeof option) {
+        snprintf(problem, sizeof problem, "unknown serial option '%.40s...' (" SERIAL_OPTIONS ")", opt);
+        return bad(text, err, errlen, problem);
+    }
+    memcpy(option, opt, len);
+    option[len] = '\0';
+    char *value = strchr(option, '=');
+    size_t which = sizeof names / sizeof names[0];
+    if (value) {
+        *value++ = '\0';
+        for (which = 0; which < sizeof names / sizeof names[0]; which++)
+            if (strcmp(option, names[which]) == 0)
+                break;
+    }
+    if (which == sizeof names / sizeof names[0]) {
+        snprintf(problem, sizeof problem, "unknown serial option '%.*s' (" SERIAL_OPTIONS ")", (int)len, opt);
+        return bad(text, err, errlen, problem);
+    }
+    if (*seen & (1u << which)) {
+        snprintf(problem, sizeof problem, "%s given twice", names[which]);
+        return bad(text, err, errlen, problem);
+    }
+    *seen |= 1u << which;
+    if (which == 0) {
+        char *end;
+        errno = 0;
+        long baud = strtol(value, &end, 10);
+        if (!*value || *end || errno || value[0] == '-' || value[0] == '+' || baud < 1 || baud > MAX_BAUD)
+            return bad(text, err, errlen, "baud must be a positive number of bits per second");
+        ep->baud = (int)baud;
+    } else if (which == 1) {
+        if (strcmp(value, "none") == 0)
+            ep->parity = 'N';
+        else if (strcmp(value, "even") == 0)
+            ep->parity = 'E';
+        else if (strcmp(value, "odd") == 0)
+            ep->parity = 'O';
+        else
+            return bad(text, err, errlen, "parity must be none, even or odd");
+    } else {
+        if (strcmp(value, "1") != 0 && strcmp(value, "2") != 0)
+            return bad(text, err, errlen, "stopbits must be 1 or 2");
+        ep->stop_bits = value[0] - '0';
+    }
+    return UWB_LINK_OK;
+}
+
+/* serial:PATH[?OPTION&...]: baud=N, parity=none|even|odd, stopbits=1|2;
+ * 8 data bits always. Without them, UWB_SERIAL_DEFAULT_BAUD 8N1. */
 static int parse_serial(const char *text, const char *rest, struct uwb_endpoint *ep, char *err, size_t errlen)
 {
     const char *query = strchr(rest, '?');
@@ -92,24 +152,22 @@ static int parse_serial(const char *text, const char *rest, struct uwb_endpoint 
         return bad(text, err, errlen, "serial: needs a device path");
     ep->kind = UWB_ENDPOINT_SERIAL;
     ep->baud = UWB_SERIAL_DEFAULT_BAUD;
+    ep->parity = 'N';
+    ep->stop_bits = 1;
     if (copy_text(ep->path, sizeof ep->path, rest, pathlen) != 0)
         return bad(text, err, errlen, "device path too long");
     if (!query)
         return UWB_LINK_OK;
-    const char *opt = query + 1;
-    if (strncmp(opt, "baud=", 5) != 0) {
-        char problem[128];
-        snprintf(problem, sizeof problem, "unknown serial option '%.60s' (only baud=N)", opt);
-        return bad(text, err, errlen, problem);
+    unsigned seen = 0;
+    for (const char *opt = query + 1;;) {
+        size_t len = strcspn(opt, "&");
+        int rc = parse_serial_option(text, opt, len, &seen, ep, err, errlen);
+        if (rc != UWB_LINK_OK)
+            return rc;
+        if (!opt[len])
+            return UWB_LINK_OK;
+        opt += len + 1;
     }
-    const char *value = opt + 5;
-    char *end;
-    errno = 0;
-    long baud = strtol(value, &end, 10);
-    if (!*value || *end || errno || value[0] == '-' || value[0] == '+' || baud < 1 || baud > MAX_BAUD)
-        return bad(text, err, errlen, "baud must be a positive number of bits per second");
-    ep->baud = (int)baud;
-    return UWB_LINK_OK;
 }
 
 int uwb_endpoint_parse(const char *text, struct uwb_endpoint *ep, char *err, size_t errlen)

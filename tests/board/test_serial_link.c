@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <termios.h>
 
 #include "uwb/link.h"
 
@@ -111,6 +112,38 @@ static void test_silent_peer_times_out(void)
     uwb_link_close(link);
 }
 
+/* Issue 43, break 5: the framing the endpoint names is the tty's (a Modbus
+ * RTU at 19200 8E1, the serial line standard's default, or 8O1, 8N2), and
+ * bytes cross the UART with it (the socket behind qemu's UART carries
+ * bytes, not frames, so every framing round-trips). */
+static void test_the_endpoints_parity_and_stop_bits_are_the_ttys(void)
+{
+    const struct {
+        const char *options;
+        int parenb, parodd, cstopb;
+    } framings[] = {
+        {"baud=19200", 0, 0, 0},
+        {"baud=19200&parity=even", 1, 0, 0},
+        {"baud=19200&parity=odd", 1, 1, 0},
+        {"baud=19200&parity=none&stopbits=2", 0, 0, 1},
+        {"baud=19200&parity=even&stopbits=2", 1, 0, 1},
+    };
+    for (size_t i = 0; i < sizeof framings / sizeof framings[0]; i++) {
+        snprintf(endpoint, sizeof endpoint, "serial:%s?%s", device, framings[i].options);
+        struct uwb_link *link = open_port();
+        struct termios tio;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, tcgetattr(uwb_link_fd(link), &tio), endpoint);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(framings[i].parenb, !!(tio.c_cflag & PARENB), endpoint);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(framings[i].parodd, !!(tio.c_cflag & PARODD), endpoint);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(framings[i].cstopb, !!(tio.c_cflag & CSTOPB), endpoint);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(CS8, (int)(tio.c_cflag & CSIZE), endpoint);
+        TEST_ASSERT_TRUE_MESSAGE(cfgetospeed(&tio) == B19200, endpoint);
+        uint8_t frame[] = {0x07, 0x04, 0x00, 0x00, 0x00, 0x02, 0x71, 0xad}; /* an RTU request */
+        round_trip(link, frame, sizeof frame);
+        uwb_link_close(link);
+    }
+}
+
 static void expect_open_error(const char *text, int want, const char *must_mention)
 {
     struct uwb_link *link = NULL;
@@ -140,6 +173,7 @@ int main(void)
     RUN_TEST(test_a_block_larger_than_the_buffers_round_trips);
     RUN_TEST(test_port_reopens_after_close);
     RUN_TEST(test_silent_peer_times_out);
+    RUN_TEST(test_the_endpoints_parity_and_stop_bits_are_the_ttys);
     RUN_TEST(test_missing_port_is_an_open_error_naming_it);
     RUN_TEST(test_tty_without_a_uart_is_an_open_error);
     return UNITY_END();

@@ -46,6 +46,20 @@ rc=0
 uwbd --check-config bad-unit.json > check3.out 2>&1 || rc=$?
 [[ $rc == 78 ]] && grep -q 'modbus.unit_id' check3.out || fail "unit 248: exit $rc: $(cat check3.out)"
 pass "--check-config refuses modbus.enabled without modbus.endpoint, a bad endpoint and unit 248, naming the key"
+# Issue 43, break 5: an RTU line's parity and stop bits (8E1 is the Modbus
+# serial line standard's default) were refused as "baud must be a positive number".
+for framing in parity=even parity=odd parity=none "parity=none&stopbits=2" "stopbits=2&parity=even"; do
+    json_edit "$config" framed.json "modbus={\"enabled\":true,\"endpoint\":\"serial:/dev/ttyUSB0?baud=19200&$framing\",\"unit_id\":7}"
+    rc=0
+    uwbd --check-config framed.json > check4.out 2>&1 || rc=$?
+    [[ $rc == 0 ]] || fail "RTU at 19200 baud with $framing: exit $rc: $(cat check4.out)"
+done
+json_edit "$config" mark.json 'modbus={"enabled":true,"endpoint":"serial:/dev/ttyUSB0?baud=19200&parity=mark"}'
+rc=0
+uwbd --check-config mark.json > check5.out 2>&1 || rc=$?
+[[ $rc == 78 ]] && grep -q 'modbus.endpoint' check5.out && grep -q 'parity must be none, even or odd' check5.out ||
+    fail "parity=mark: exit $rc: $(cat check5.out)"
+pass "--check-config takes an RTU line's parity (none, even, odd) and stop bits (1, 2); parity=mark refused naming the key"
 
 # verdict_matches DUMP_LINE VERDICT_JSON: every figure of the verdict in the registers.
 status_code() {

@@ -96,6 +96,15 @@ cut -d' ' -f3- health.out | json_check - 'class == HEALTH' 'asset_id == T7' 'hea
     "latest_status == $(json_get status < latest.json)" 'verdicts_since_start = 1' 'mqtt_queued exists' 'time exists' ||
     fail "health: $(cat health.out)"
 pass "health report retained on uwbd/T7/health: healthy, the latest status, verdicts since start, queue length"
+# Issue 43, break 4: the report made while the verdict was on its way said
+# "mqtt_queued":1 and stayed so, retained, while status said 0 queued.
+health_queue_empty() {
+    mqtt_sub "$port" tester tester-secret uwbd/T7/health 1 5 > health.out &&
+        cut -d' ' -f3- health.out | json_check - 'verdicts_since_start = 1' 'mqtt_queued = 0' 2>/dev/null
+}
+wait_for health_queue_empty || fail "the retained health after a delivered verdict: $(cat health.out)"
+ctl status > link.json && json_check link.json 'mqtt.queued = 0' || fail "status: $(cat link.json)"
+pass "after the verdict was delivered, the retained health says mqtt_queued 0, as status does"
 
 # ---- the last will ---------------------------------------------------------------
 mqtt_sub "$port" tester tester-secret uwbd/T7/status 2 20 > will.out 2> will.err &

@@ -199,6 +199,35 @@ static void test_bad_endpoint_and_unbindable_address_are_errors(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "cannot listen on tcp:192.0.2.1:1502"), err);
 }
 
+/* Issue 43, break 5: an RTU line at 8E1 (the Modbus serial line
+ * standard's default), 8O1 or 8N2 was refused ("baud must be a positive
+ * number..."). Each opens; the tty not being there yet is retried, as for
+ * 8N1 (the link itself is tests/board/test_serial_link.c's, on a UART). */
+static void test_an_rtu_line_opens_with_each_parity_and_stop_bits(void)
+{
+    static const char *const framings[] = {"",
+                                           "&parity=none",
+                                           "&parity=even",
+                                           "&parity=odd",
+                                           "&parity=none&stopbits=2",
+                                           "&stopbits=2&parity=even"};
+    struct uwbd_modbus_handlers h = {.fill = fill};
+    for (size_t i = 0; i < sizeof framings / sizeof framings[0]; i++) {
+        char line[400];
+        snprintf(line, sizeof line, "serial:%s/ttyRS485-not-there?baud=19200%s", dir, framings[i]);
+        struct uwbd_modbus_server *s = NULL;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_modbus_server_open(line, 7, &h, &s, err, sizeof err), err);
+        TEST_ASSERT_NOT_NULL(s);
+        uwbd_modbus_server_close(s);
+    }
+    struct uwbd_modbus_server *s = NULL;
+    TEST_ASSERT_EQUAL_INT(-1, uwbd_modbus_server_open("serial:/dev/ttyUSB0?baud=19200&parity=mark", 7, &h, &s,
+                                                      err, sizeof err));
+    TEST_ASSERT_NULL(s);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "modbus.endpoint"), err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "parity must be none, even or odd"), err);
+}
+
 static int free_port(void)
 {
     int fd = socket(AF_INET, SOCK_STREAM, 0);
@@ -377,6 +406,7 @@ int main(void)
     RUN_TEST(test_an_unwired_coil_is_illegal_address);
     RUN_TEST(test_registers_cannot_be_written);
     RUN_TEST(test_bad_endpoint_and_unbindable_address_are_errors);
+    RUN_TEST(test_an_rtu_line_opens_with_each_parity_and_stop_bits);
     RUN_TEST(test_a_slow_tcp_master_never_blocks_the_loop);
     RUN_TEST(test_a_tcp_peer_that_speaks_no_modbus_is_dropped);
     RUN_TEST(test_a_full_house_evicts_the_longest_idle_master);
