@@ -154,6 +154,75 @@ static char *valid_line(const char *text, size_t len)
     return copy;
 }
 
+/* The log's lines from its end backwards, one read block at a time, so
+ * that reading back past any number of unreadable lines takes no more
+ * memory than one line: a line is gathered at the end of `line` as its
+ * blocks come in (right to left); one longer than MAX_LINE is only
+ * counted, never held. */
+struct backward_reader {
+    int fd;
+    off_t pos;                /* bytes [0, pos) not read yet */
+    char block[TAIL_BLOCK];   /* [0, block_len) read from pos */
+    size_t block_len, cursor; /* block[0, cursor) not looked at yet */
+    char *line;               /* MAX_LINE bytes; the line gathered is its last line_len */
+    size_t line_len;
+    int overlong; /* the line gathered ran past MAX_LINE */
+    int torn;     /* the line gathered is the file's unterminated last one */
+};
+
+enum { LINE_NONE = 0, LINE_WHOLE = 1, LINE_DAMAGED = 2 };
+
+/* Prepend block[from, to) to the line gathered. */
+static void gather(struct backward_reader *r, size_t from, size_t to)
+{
+    size_t len = to - from;
+    if (r->overlong || r->line_len + len > MAX_LINE) {
+        r->overlong = 1;
+        return;
+    }
+    memcpy(r->line + MAX_LINE - r->line_len - len, r->block + from, len);
+    r->line_len += len;
+}
+
+/* The next line back: LINE_WHOLE with its text in line[MAX_LINE - *len,
+ * MAX_LINE), LINE_DAMAGED for one torn or too long, LINE_NONE at the start of
+ * the file; -1 with err on a read error. Empty lines are passed over. */
+static int previous_line(struct backward_reader *r, const char **text, size_t *len, const char *path,
+                         char *err, size_t errlen)
+{
+    for (;;) {
+        if (r->cursor == 0 && r->pos > 0) {
+            size_t want = r->pos > (off_t)TAIL_BLOCK ? TAIL_BLOCK : (size_t)r->pos;
+            ssize_t got = pread(r->fd, r->block, want, r->pos - (off_t)want);
+            if (got != (ssize_t)want) {
+                snprintf(err, errlen, "%s: cannot read: %s", path, got < 0 ? strerror(errno) : "short read");
+                return -1;
+            }
+            r->pos -= (off_t)want;
+            r->block_len = r->cursor = want;
+        }
+        size_t end = r->cursor, i = end;
+        while (i > 0 && r->block[i - 1] != '\n')
+            i--;
+        gather(r, i, end);
+        int at_start = i == 0 && r->pos == 0;
+        if (i == 0 && !at_start) {
+            r->cursor = 0; /* the line began in an earlier block */
+            continue;
+        }
+        r->cursor = i > 0 ? i - 1 : 0; /* before the newline that ends the previous line */
+        int kind = r->torn || r->overlong ? LINE_DAMAGED : r->line_len > 0 ? LINE_WHOLE : LINE_NONE;
+        *text = r->line + MAX_LINE - r->line_len;
+        *len = r->line_len;
+        r->line_len = 0;
+        r->overlong = r->torn = 0;
+        if (kind != LINE_NONE)
+            return kind;
+        if (at_start)
+            return LINE_NONE;
+    }
+}
+
 int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines_out, int *count_out,
                           int *skipped_out, char *err, size_t errlen)
 {
@@ -168,75 +237,52 @@ int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines_o
     int opened = open_log(store, O_RDONLY, &fd, &size, err, errlen);
     if (opened != 0)
         return opened > 0 ? 0 : -1;
-    /* Read blocks from the end until n + 1 newlines are in hand (the
-     * extra one marks where the oldest wanted line starts), or the start. */
-    off_t start = size;
-    size_t have = 0, cap = 0;
-    char *buf = NULL;
-    int newlines = 0;
-    while (start > 0 && newlines <= n && have < (size_t)n * MAX_LINE) {
-        size_t block = start > TAIL_BLOCK ? TAIL_BLOCK : (size_t)start;
-        if (have + block > cap) {
-            cap = (have + block) * 2;
-            char *grown = malloc(cap);
-            if (!grown) {
-                free(buf);
-                close(fd);
-                snprintf(err, errlen, "%s: out of memory", store->verdict_log);
-                return -1;
-            }
-            if (have)
-                memcpy(grown + block, buf, have);
-            free(buf);
-            buf = grown;
-        } else {
-            memmove(buf + block, buf, have);
-        }
-        start -= (off_t)block;
-        ssize_t r = pread(fd, buf, block, start);
-        if (r != (ssize_t)block) {
-            free(buf);
-            close(fd);
-            snprintf(err, errlen, "%s: cannot read: %s", store->verdict_log,
-                     r < 0 ? strerror(errno) : "short read");
-            return -1;
-        }
-        have += block;
-        for (size_t i = 0; i < block; i++) /* the new block only: the rest was counted */
-            newlines += buf[i] == '\n';
-    }
-    close(fd);
-
+    struct backward_reader *r = calloc(1, sizeof *r);
     char **lines = calloc((size_t)n, sizeof *lines);
-    if (!lines) {
-        free(buf);
+    char *line = malloc(MAX_LINE);
+    if (!r || !lines || !line) {
+        free(r);
+        free(lines);
+        free(line);
+        close(fd);
         snprintf(err, errlen, "%s: out of memory", store->verdict_log);
         return -1;
     }
-    /* Walk back over complete lines; a last line without its newline is torn. */
-    int count = 0, skipped = 0;
-    size_t end = have;
-    while (end > 0 && buf[end - 1] != '\n')
-        end--;
-    if (end < have)
-        skipped++;
-    while (end > 0 && count < n) {
-        size_t line_end = end - 1; /* at the newline */
-        size_t line_start = line_end;
-        while (line_start > 0 && buf[line_start - 1] != '\n')
-            line_start--;
-        if (line_start == 0 && start > 0)
-            break; /* this line began before what was read */
-        if (line_end > line_start) {
-            char *copy = valid_line(buf + line_start, line_end - line_start);
-            if (copy)
-                lines[count++] = copy;
-            else
-                skipped++;
+    r->fd = fd;
+    r->pos = size;
+    r->line = line;
+    /* A last line without its newline is torn (a crash mid-write). */
+    char last = '\n';
+    if (size > 0 && pread(fd, &last, 1, size - 1) == 1 && last != '\n')
+        r->torn = 1;
+    else if (size > 0)
+        r->pos = size - 1; /* the final newline ends the last line */
+    /* Back until n valid lines are in hand or the start: lines that cannot
+     * be read (damage after a crash, a full disk's) hide nothing before them. */
+    int count = 0, skipped = 0, rc = 0;
+    while (count < n) {
+        const char *text;
+        size_t len;
+        int kind = previous_line(r, &text, &len, store->verdict_log, err, errlen);
+        if (kind < 0) {
+            rc = -1;
+            break;
         }
-        end = line_start;
+        if (kind == LINE_NONE)
+            break;
+        char *copy = kind == LINE_WHOLE ? valid_line(text, len) : NULL;
+        if (copy)
+            lines[count++] = copy;
+        else
+            skipped++;
     }
-    free(buf);
+    close(fd);
+    free(line);
+    free(r);
+    if (rc != 0) {
+        uwbd_verdict_lines_free(lines, count);
+        return -1;
+    }
     /* Collected newest first; hand them out oldest first. */
     for (int i = 0; i < count / 2; i++) {
         char *t = lines[i];

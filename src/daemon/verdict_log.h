@@ -15,8 +15,10 @@
 int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, char *err, size_t errlen);
 
 /* The last n (at most) parseable lines, oldest first, as malloc'd strings
- * in a malloc'd array (free with uwbd_verdict_lines_free). *skipped counts
- * lines that did not parse (may be NULL). A missing log is zero lines. */
+ * in a malloc'd array (free with uwbd_verdict_lines_free). The log is read
+ * back from its end, one block at a time, until n lines parse or it
+ * begins: lines that do not parse hide none before them. *skipped counts
+ * them (may be NULL). A missing log is zero lines. */
 int uwbd_verdict_log_tail(const struct uwbd_store *store, int n, char ***lines, int *count, int *skipped,
                           char *err, size_t errlen);
 void uwbd_verdict_lines_free(char **lines, int count);

@@ -895,8 +895,8 @@ static void test_the_tail_skips_what_is_not_one_whole_verdict(void)
     TEST_ASSERT_EQUAL_STRING("{\"n\":3}", lines[1]);
     uwbd_verdict_lines_free(lines, count);
 
-    /* 600 KiB of one line (past 2 verdicts' bound), then a verdict: asked for 2,
-     * only the verdict comes; the long line is not read to its start. */
+    /* 600 KiB of one line (past a verdict's bound), then a verdict: asked for 2,
+     * only the verdict comes; the long line is counted, never held whole. */
     size_t big = 600 * 1024;
     char *text = malloc(big + 32);
     TEST_ASSERT_NOT_NULL(text);
@@ -907,6 +907,7 @@ static void test_the_tail_skips_what_is_not_one_whole_verdict(void)
     free(text);
     TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_tail(&store, 2, &lines, &count, &skipped, err, sizeof err));
     TEST_ASSERT_EQUAL_INT(1, count);
+    TEST_ASSERT_EQUAL_INT(1, skipped);
     TEST_ASSERT_EQUAL_STRING("{\"n\":9}", lines[0]);
     uwbd_verdict_lines_free(lines, count);
     TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_latest_created(&store, created, sizeof created));
@@ -917,6 +918,47 @@ static void test_the_tail_skips_what_is_not_one_whole_verdict(void)
         err);
     TEST_ASSERT_EQUAL_INT(1, uwbd_verdict_log_latest_created(&store, created, sizeof created));
     TEST_ASSERT_EQUAL_STRING("2030-01-02T03:04:05Z", created);
+}
+
+/* Issue 43, break 7: lines that cannot be read at the end of the log (more
+ * than one read block of them) do not hide the valid lines before them:
+ * the tail reads back until it has its lines, so `verdict` after a restart
+ * without latest.json answers with the last valid one. */
+static void test_the_tail_reads_back_past_unreadable_last_lines(void)
+{
+    char *line = malloc(2048);
+    TEST_ASSERT_NOT_NULL(line);
+    for (int i = 0; i < 40; i++) {
+        int n = snprintf(line, 2048, "{\"n\":%d,\"pad\":\"", i);
+        memset(line + n, 'v', 1000);
+        strcpy(line + n + 1000, "\"}");
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_append(&store, line, err, sizeof err), err);
+    }
+    /* 100 KiB of damage after them: whole lines, none of them JSON. */
+    FILE *f = fopen(store.verdict_log, "ab");
+    TEST_ASSERT_NOT_NULL(f);
+    for (int i = 0; i < 100; i++) {
+        memset(line, 'x', 1023);
+        line[0] = '{';
+        line[1023] = '\n';
+        TEST_ASSERT_EQUAL_INT(1024, (int)fwrite(line, 1, 1024, f));
+    }
+    fclose(f);
+    free(line);
+    char **lines;
+    int count, skipped;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_verdict_log_tail(&store, 1, &lines, &count, &skipped, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(1, count);
+    TEST_ASSERT_EQUAL_INT(100, skipped);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(lines[0], "{\"n\":39,", 8));
+    uwbd_verdict_lines_free(lines, count);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwbd_verdict_log_tail(&store, 3, &lines, &count, &skipped, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(3, count);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(lines[0], "{\"n\":37,", 8));
+    TEST_ASSERT_EQUAL_INT(0, strncmp(lines[2], "{\"n\":39,", 8));
+    uwbd_verdict_lines_free(lines, count);
 }
 
 /* A crash mid-line with no newline anywhere (over several read blocks):
@@ -1017,6 +1059,7 @@ int main(void)
     RUN_TEST(test_a_json_file_in_a_missing_directory_is_refused_by_name);
     RUN_TEST(test_a_verdict_that_does_not_fit_leaves_the_log_as_it_was);
     RUN_TEST(test_the_tail_skips_what_is_not_one_whole_verdict);
+    RUN_TEST(test_the_tail_reads_back_past_unreadable_last_lines);
     RUN_TEST(test_repair_of_a_log_without_any_whole_line_empties_it);
     RUN_TEST(test_latest_json_must_be_one_object);
     RUN_TEST(test_a_directory_in_place_of_the_verdict_log_is_refused_by_name);
