@@ -15,6 +15,7 @@
 
 #include "uwb/atomic_file.h"
 #include "uwb/cli.h"
+#include "config/winding_span.h"
 #include "daemon/baseline_store.h"
 #include "daemon/daemon.h"
 #include "uwb/evaluate.h"
@@ -306,15 +307,23 @@ static int read_analysis_option(int c, const char *text, struct uwb_analysis_opt
         analysis->target_z_m[0] = near_m;
         analysis->target_z_m[1] = far_m;
         return REPLAY_GOES_ON;
-    case OPT_WINDING_SPAN:
+    case OPT_WINDING_SPAN: {
         if (parse_pair(text, &near_m, &far_m) != 0) {
             fprintf(stderr, "uwbd: --winding-span: '%s' is not LOW:HIGH with LOW < HIGH (metres)\n", text);
+            return EX_USAGE;
+        }
+        double span_m[2] = {near_m, far_m};
+        char problem[200];
+        if (uwbd_winding_span_check(span_m, problem, sizeof problem) != 0) {
+            fprintf(stderr, "uwbd: --winding-span: '%s': %s (the limits of " UWBD_WINDING_SPAN_KEY ")\n",
+                    text, problem);
             return EX_USAGE;
         }
         analysis->has_winding_span = 1;
         analysis->winding_span_m[0] = near_m;
         analysis->winding_span_m[1] = far_m;
         return REPLAY_GOES_ON;
+    }
     case OPT_T0:
         if (parse_number("--time-zero-offset-ps", text, &v) != 0)
             return EX_USAGE;

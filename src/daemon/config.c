@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "config/config_keys.h"
+#include "config/winding_span.h"
 #include "util/edit_distance.h"
 #include "uwb/migrate.h"
 #include "uwb/read_file.h"
@@ -626,9 +627,10 @@ static int check_together(struct load_context *ctx, const struct uwbd_config *cf
     if (check_gpio_keys(ctx, r) != 0 || check_endpoints_and_paths(ctx, cfg) != 0)
         return -1;
     const struct uwb_analysis_options *analysis = &cfg->evaluate.analysis;
-    if (analysis->has_winding_span && !(analysis->winding_span_m[1] > analysis->winding_span_m[0])) {
-        fail(ctx, "analysis.winding_span_mm", "lower (%g mm) must be below upper (%g mm)",
-             analysis->winding_span_m[0] * 1e3, analysis->winding_span_m[1] * 1e3);
+    char span_problem[200];
+    if (analysis->has_winding_span &&
+        uwbd_winding_span_check(analysis->winding_span_m, span_problem, sizeof span_problem) != 0) {
+        fail(ctx, UWBD_WINDING_SPAN_KEY, "%s", span_problem);
         return -1;
     }
     if (cfg->evaluate.compare.thresholds.alarm_m < cfg->evaluate.compare.thresholds.watch_m) {

@@ -61,6 +61,20 @@ for bad in "0.2" "0.4:0.2" "0.2:0.2" "x:0.3" "0.2:inf" ""; do
 done
 uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan --winding-span -0.05:0.5 > "$out/ows" ||
     fail "--winding-span -0.05:0.5 refused"
+# Issue 43, break 7: the same limits as analysis.winding_span_mm (+-100,000 mm),
+# by the same validator, named in the message.
+for bad in "1e300:1e301" "-101:0.5" "0.2:100.001"; do
+    set +e
+    uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan --winding-span "$bad" > "$out/ows" 2> "$out/ews"
+    rc=$?
+    set -e
+    [[ $rc -eq 64 ]] || fail "--winding-span '$bad': exit $rc, want 64 (past analysis.winding_span_mm's range)"
+    grep -qF -- "--winding-span: '$bad':" "$out/ews" && grep -qF "is out of range [-100000, 100000] mm" "$out/ews" ||
+        fail "--winding-span '$bad': $(cat "$out/ews")"
+    [[ ! -s "$out/ows" ]] || fail "--winding-span '$bad': stdout written"
+done
+uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan --winding-span -100:100 > "$out/ows" ||
+    fail "--winding-span -100:100 (the key's limits) refused"
 grep -q "missing.uwbscan" "$out/e1" || fail "error does not name the missing file"
 grep -q "short.uwbscan" "$out/e2" || fail "error does not name the malformed file"
 [[ ! -s "$out/o1" && ! -s "$out/o2" ]] || fail "stdout written on error"

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "scratch_support.h"
+#include "config/winding_span.h"
 #include "daemon/config.h"
 
 #define SAMPLE_EMULATED "board/emulated/uwbd.json"
@@ -211,6 +212,30 @@ static void test_keys_that_depend_on_others(void)
     assert_refused("scan.positions", "4000", "over the largest travel a scan file may hold (5000 mm)");
 }
 
+/* Issue 43, break 7: `--winding-span` and analysis.winding_span_mm are
+ * judged by one validator: what the key refuses (past +-100,000 mm, or not
+ * lower < upper) the validator refuses too, in the same words. */
+static void test_the_winding_span_has_one_validator(void)
+{
+    static const char *const refused[][2] = {
+        {"[1e300, 1e301]", "out of range [-100000, 100000] mm"},
+        {"[-100001, 0]", "out of range [-100000, 100000] mm"},
+        {"[0, 100000.5]", "out of range [-100000, 100000] mm"},
+        {"[400, 230]", "lower (400 mm) must be below upper (230 mm)"},
+    };
+    static const double refused_m[][2] = {{1e297, 1e298}, {-100.001, 0}, {0, 100.0005}, {0.4, 0.23}};
+    char problem[200];
+    for (size_t i = 0; i < sizeof refused / sizeof refused[0]; i++) {
+        assert_refused("analysis.winding_span_mm", refused[i][0], refused[i][1]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(-1, uwbd_winding_span_check(refused_m[i], problem, sizeof problem),
+                                      refused[i][0]);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(problem, refused[i][1]), problem);
+    }
+    static const double limits_m[2] = {-100.0, 100.0};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_winding_span_check(limits_m, problem, sizeof problem), problem);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, parse_changed("analysis.winding_span_mm", "[-100000, 100000]"), err);
+}
+
 /* Issue 27, break 11: a rig whose scan is over the 64 MiB of samples a
  * scan file may hold would record what no reader takes back. */
 static void test_a_rig_whose_scan_the_reader_refuses_is_refused(void)
@@ -363,6 +388,7 @@ int main(void)
     RUN_TEST(test_out_of_range_and_bad_choices_are_errors);
     RUN_TEST(test_missing_required_keys_are_errors);
     RUN_TEST(test_keys_that_depend_on_others);
+    RUN_TEST(test_the_winding_span_has_one_validator);
     RUN_TEST(test_a_rig_whose_scan_the_reader_refuses_is_refused);
     RUN_TEST(test_state_dir_must_be_a_directory_of_its_own);
     RUN_TEST(test_check_system_refuses_a_missing_control_group);
