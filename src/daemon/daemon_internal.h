@@ -21,6 +21,7 @@
 #include "daemon/line_buffer.h"
 #include "daemon/scan_cycle.h"
 #include "daemon/scan_progress.h"
+#include "daemon/state_writes.h"
 #include "daemon/store.h"
 #include "integrations/alarm_contacts.h"
 #include "integrations/mqtt_publisher.h"
@@ -123,6 +124,7 @@ struct daemon {
     int baseline_scans;              /* scans the pending request averages */
     int baseline_force;              /* ...and it is `baseline set force` */
     char fault[512];                 /* "" or the device fault the last scan found (the baseline) */
+    struct uwbd_state_writes writes; /* whether the state directory takes the cycles' writes */
     int lock_watch_fd;               /* inotify on the state directory's lock file, -1 none */
     int exit_code;                   /* non-zero: stop and exit with it */
     int stopping;

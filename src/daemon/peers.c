@@ -297,6 +297,7 @@ static char *status_reply(struct daemon *d)
         .now = time(NULL),
         .has_state_dir_free = has_free,
         .state_dir_free_bytes = has_free ? (unsigned long long)fs.f_bavail * fs.f_frsize : 0,
+        .writes = d->writes.failing ? &d->writes : NULL,
     };
     return uwbd_reply_status(&st);
 }

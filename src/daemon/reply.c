@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "daemon/command.h"
+#include "daemon/state_writes.h"
 #include "integrations/mqtt_publisher.h"
 #include "integrations/site_io.h"
 #include "uwb/utc_time.h"
@@ -114,6 +115,15 @@ static void add_integrations(cJSON *o, const struct uwbd_status *st)
     }
     if (st->has_state_dir_free)
         cJSON_AddNumberToObject(o, "state_dir_free_bytes", (double)st->state_dir_free_bytes);
+    /* Issue 43, break 6: only while writes fail, so a healthy reply is as it was. */
+    cJSON *writes = st->writes && st->writes->failing ? cJSON_AddObjectToObject(o, "state_dir_writes") : NULL;
+    if (writes) {
+        cJSON_AddBoolToObject(writes, "failing", 1);
+        cJSON_AddBoolToObject(writes, "disk_full", st->writes->disk_full);
+        cJSON_AddStringToObject(writes, "since", st->writes->since);
+        cJSON_AddNumberToObject(writes, "cycles", st->writes->cycles);
+        cJSON_AddStringToObject(writes, "error", st->writes->error);
+    }
 }
 
 char *uwbd_reply_status(const struct uwbd_status *st)

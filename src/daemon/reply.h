@@ -17,6 +17,7 @@
 
 struct uwbd_mqtt_link;
 struct uwbd_contact_states;
+struct uwbd_state_writes;
 
 struct uwbd_status {
     const char *version;
@@ -45,6 +46,7 @@ struct uwbd_status {
     time_t now;                                 /* for the baseline's age; 0: not given */
     int has_state_dir_free;
     unsigned long long state_dir_free_bytes; /* statvfs: what an unprivileged writer may still use */
+    const struct uwbd_state_writes *writes;  /* the state directory refusing writes, or NULL: it takes them */
 };
 
 char *uwbd_reply_error(const char *message);

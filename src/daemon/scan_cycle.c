@@ -1,7 +1,9 @@
 /* One scan cycle, from an acquired scan to the archived verdict (see the
  * header). The order of writes matters: the raw scan first (the data is
  * never lost once acquired), then images, the baseline, and last the
- * verdict records, so a verdict never names files that are not there. */
+ * verdict records, so a verdict never names files that are not there. A
+ * raw scan the archive refuses (a full disk) is evaluated all the same and
+ * its verdict says so: the evaluation never waits on the disk. */
 #include "daemon/scan_cycle.h"
 
 #include <math.h>
@@ -88,11 +90,21 @@ static void problem(struct cycle *c, const char *what, const char *err)
     c->res->archive_problems++;
 }
 
-/* A file of the scan's archive was not written (a full or read-only disk):
- * the verdict says which, so it never silently lacks an image. */
-static void archive_problem(struct cycle *c, const char *what, const char *err)
+/* A file of the state directory was not written (a full or read-only
+ * disk): logged, and the first of the cycle goes to the daemon, which
+ * shows it in `status` until a cycle writes everything again. */
+static void write_problem(struct cycle *c, const char *what, const char *err)
 {
     problem(c, what, err);
+    if (!c->res->write_error[0])
+        snprintf(c->res->write_error, sizeof c->res->write_error, "%s", err);
+}
+
+/* A file of the scan's archive was not written: the verdict says which, so
+ * it never silently lacks an image or its raw scan. */
+static void archive_problem(struct cycle *c, const char *what, const char *err)
+{
+    write_problem(c, what, err);
     if (!c->archive_error[0])
         snprintf(c->archive_error, sizeof c->archive_error, "%s", err);
 }
@@ -118,14 +130,14 @@ static int write_verdict_file(struct cycle *c, const char *text, char *err, size
 }
 
 /* What the daemon adds to the evaluation's verdict: where the scan is
- * archived, how it was acquired, what became of a `baseline set`, and
+ * archived (scan_file NULL: it is not), how it was acquired, what became of a `baseline set`, and
  * what of the cycle went wrong. A field only the daemon knows is added
  * here and nowhere else. */
 static void add_cycle_fields(const struct cycle *c, struct uwb_verdict_cycle *out, const char *scan_file,
                              int pulses)
 {
-    out->has_scan_file = 1;
-    snprintf(out->scan_file, sizeof out->scan_file, "%s", scan_file);
+    out->has_scan_file = scan_file != NULL;
+    snprintf(out->scan_file, sizeof out->scan_file, "%s", scan_file ? scan_file : "");
     if (c->req->make_baseline) {
         out->has_baseline_set = 1;
         out->baseline_set = c->res->baseline_set != 0;
@@ -187,13 +199,13 @@ static void record(struct cycle *c, const struct uwb_verdict *v, struct uwb_verd
     }
     char log_err[512];
     if (uwbd_verdict_log_append(c->store, res->verdict_json, log_err, sizeof log_err) != 0) {
-        problem(c, "verdict log", log_err);
+        write_problem(c, "verdict log", log_err);
         snprintf(cy->record_error, sizeof cy->record_error, "%s", log_err);
         if (print_verdict(c) != 0)
             problem(c, "verdict", "out of memory");
     }
     if (uwbd_latest_write(c->store, res->verdict_json, err, sizeof err) != 0)
-        problem(c, "latest verdict", err);
+        write_problem(c, "latest verdict", err);
 }
 
 /* The published record of the evaluation's verdict (malloc'd), or NULL when out of memory. */
@@ -309,7 +321,7 @@ static void set_baseline_if_good(struct cycle *c, const struct uwb_scan *scan, c
     char err[512];
     if (uwbd_baseline_set(c->store, scan, &info, c->cfg->evaluate.direct_coupling.window_end_s, err,
                           sizeof err) != 0) {
-        problem(c, "baseline", err);
+        write_problem(c, "baseline", err);
         snprintf(c->baseline_note, sizeof c->baseline_note, "not set: %.200s", err);
         return;
     }
@@ -424,9 +436,10 @@ static int reacquire_until_decisive(struct cycle *c, struct uwb_scan *scan,
         uwbd_log(UWBD_LOG_INFO, "scan %s: acquired again (%d pulses per position): uncertainty %.2f mm",
                  c->id, scan->stack, v->uncertainty_m * 1e3);
     }
-    /* The archive keeps the scan the verdict was made from. */
+    /* The archive keeps the scan the verdict was made from (scan_path NULL:
+     * the first acquisition could not be stored either). */
     char write_err[512];
-    if (added_any && uwbscan_write_file(scan_path, scan, write_err, sizeof write_err) != 0)
+    if (added_any && scan_path && uwbscan_write_file(scan_path, scan, write_err, sizeof write_err) != 0)
         archive_problem(c, "archive", write_err);
     return 0;
 }
@@ -442,15 +455,20 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
         record_error(c, "out of memory");
         return;
     }
-    if (!c->have_day_dir) {
-        record_error(c, "archive: cannot store the scan: %s", c->day_dir_error);
-        return;
-    }
+    /* A scan that cannot be stored (the disk full, the archive read-only)
+     * is evaluated all the same, from memory: a full disk must not hide a
+     * winding that moved from the contacts and the site. Its verdict says
+     * the raw scan is not archived; no image or baseline is made of it. */
     char scan_path[UWBD_PATH_MAX + 200];
-    snprintf(scan_path, sizeof scan_path, "%s/%s.uwbscan", c->day_dir, c->id);
-    if (uwbscan_write_file(scan_path, scan, err, sizeof err) != 0) {
-        record_error(c, "archive: cannot store the scan: %s", err);
-        return;
+    int stored = 0;
+    if (!c->have_day_dir) {
+        archive_problem(c, "archive, the scan is evaluated unstored", c->day_dir_error);
+    } else {
+        snprintf(scan_path, sizeof scan_path, "%s/%s.uwbscan", c->day_dir, c->id);
+        if (uwbscan_write_file(scan_path, scan, err, sizeof err) != 0)
+            archive_problem(c, "archive, the scan is evaluated unstored", err);
+        else
+            stored = 1;
     }
 
     struct uwb_scan base = {0};
@@ -473,14 +491,18 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     struct uwb_analysis cur_a, base_a;
     if (uwb_evaluate(scan, baseline, &c->cfg->evaluate, &v, &cur_a, &base_a, err, sizeof err) != 0 ||
         (baseline && reacquire_until_decisive(c, scan, baseline, &c->cfg->evaluate, &v, &cur_a, &base_a,
-                                              scan_path, err, sizeof err) != 0)) {
+                                              stored ? scan_path : NULL, err, sizeof err) != 0)) {
         uwb_scan_free(&base);
         record_error(c, "evaluation failed: %s", err);
         return;
     }
     uwb_scan_free(&base);
 
-    if (c->req->make_baseline)
+    if (c->req->make_baseline && !stored)
+        snprintf(c->baseline_note, sizeof c->baseline_note,
+                 "not set: the scan could not be archived (%.160s); the next good scan will be tried",
+                 c->archive_error);
+    else if (c->req->make_baseline)
         set_baseline_if_good(c, scan, &v);
     if (b == UWBD_BASELINE_FAULT) {
         if (c->res->baseline_set) {
@@ -500,13 +522,13 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     struct uwb_provenance site = {.asset = asset,
                                   .thresholds = &c->cfg->evaluate.compare.thresholds,
                                   .became_baseline = c->res->baseline_set};
-    if (uwb_write_images(c->day_dir, c->id, &site, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
+    if (stored && uwb_write_images(c->day_dir, c->id, &site, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
         archive_problem(c, "images", err);
     uwb_analysis_free(&cur_a);
     uwb_analysis_free(&base_a);
     struct uwb_verdict_record *r = new_record(&v);
     if (r)
-        add_cycle_fields(c, &r->cycle, scan_path, scan->stack);
+        add_cycle_fields(c, &r->cycle, stored ? scan_path : NULL, scan->stack);
     record(c, &v, r);
     uwbd_log(UWBD_LOG_INFO, "scan %s: %s%s%s", c->id, uwb_status_name(v.status), v.reason[0] ? ": " : "",
              v.reason);

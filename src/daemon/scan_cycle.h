@@ -3,7 +3,9 @@
  * evaluate it against the baseline (uwb_evaluate: time zero, comparability
  * and figures, as `uwbd --replay` does), write the images and the verdict
  * with what the daemon adds, set the baseline when asked, apply retention. A lost scan becomes an
- * `error` verdict with a reason; nothing is ever half-written. */
+ * `error` verdict with a reason; a scan the archive cannot take (a full
+ * disk) is still evaluated, its verdict naming what was not written;
+ * nothing is ever half-written. */
 #ifndef UWB_DAEMON_SCAN_CYCLE_H
 #define UWB_DAEMON_SCAN_CYCLE_H
 
@@ -55,6 +57,7 @@ struct uwbd_cycle_result {
     char *verdict_json;   /* malloc'd one-line VERDICT object (as archived), NULL when stopped */
     struct uwb_verdict_record *verdict; /* malloc'd: what verdict_json says, NULL when stopped */
     int archive_problems;               /* files that could not be written (logged) */
+    char write_error[512]; /* "" or the cycle's first write into the state directory that failed */
 };
 
 int uwbd_cycle_run(const struct uwbd_config *cfg, const struct uwbd_store *store, uwbd_acquire_fn acquire,

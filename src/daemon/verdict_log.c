@@ -46,14 +46,30 @@ int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, ch
     ssize_t w = writev(fd, line, 2);
     int e = errno;
     int rc = 0;
-    if (w != (ssize_t)(n + 1)) {
-        /* A short write (disk full) would leave a torn line: take it back. */
-        if (w > 0 && before >= 0 && ftruncate(fd, before) != 0)
-            e = errno;
-        snprintf(err, errlen, "%s: cannot append a verdict: %s", store->verdict_log,
-                 w < 0 ? strerror(e) : "short write (disk full?)");
+    if (w >= 0 && (size_t)w < n + 1) {
+        /* A short write: once more for the rest. Still short, the torn line
+         * is taken back, and the system's reason said (ENOSPC: the disk
+         * is full). */
+        size_t done = (size_t)w;
+        struct iovec rest[2];
+        int parts = 0;
+        if (done < n)
+            rest[parts++] = (struct iovec){.iov_base = (void *)(json + done), .iov_len = n - done};
+        rest[parts++] = (struct iovec){.iov_base = "\n", .iov_len = 1};
+        ssize_t more = writev(fd, rest, parts);
+        e = more < 0 ? errno : 0;
+        if (more != (ssize_t)(n + 1 - done)) {
+            if (before >= 0 && ftruncate(fd, before) != 0 && e == 0)
+                e = errno;
+            snprintf(err, errlen, "%s: cannot append a verdict: short write, then %s", store->verdict_log,
+                     e ? strerror(e) : "another short one");
+            rc = -1;
+        }
+    } else if (w < 0) {
+        snprintf(err, errlen, "%s: cannot append a verdict: %s", store->verdict_log, strerror(e));
         rc = -1;
-    } else if (fsync(fd) != 0) {
+    }
+    if (rc == 0 && fsync(fd) != 0) {
         snprintf(err, errlen, "%s: cannot fsync: %s", store->verdict_log, strerror(errno));
         rc = -1;
     }

@@ -1,7 +1,8 @@
 /* verdicts.jsonl and latest.json: the record of every scan cycle.
  * verdicts.jsonl only grows by whole lines: each line goes out in one
- * write() and is fsync'd; a write that falls short (disk full) is cut back
- * off, and a reader skips a torn or unparsable line instead of failing.
+ * write() and is fsync'd; a write that falls short is tried once more for
+ * the rest and, short again (disk full), cut back off with the system's
+ * reason; a reader skips a torn or unparsable line instead of failing.
  * Retention trims its oldest lines by replacing the file atomically. */
 #ifndef UWB_DAEMON_VERDICT_LOG_H
 #define UWB_DAEMON_VERDICT_LOG_H

@@ -213,6 +213,7 @@ void uwbd_worker_collect(struct daemon *d)
         return;
     }
     d->scans_this_run++;
+    uwbd_state_writes_after_cycle(&d->writes, res->write_error, time(NULL));
     if (res->verdict_json && res->verdict) {
         free(d->latest_verdict);
         d->latest_verdict = strdup(res->verdict_json);

@@ -162,6 +162,21 @@ static void status_baseline(FILE *out, const cJSON *o)
     fputc('\n', out);
 }
 
+/* Issue 43, break 6: a state directory that refuses the cycles' writes (a
+ * full disk) is said plainly, with what still works. */
+static void status_state_writes(FILE *out, const cJSON *w)
+{
+    double cycles = 0;
+    if (!cJSON_IsObject(w))
+        return;
+    name(out, "Archive");
+    fprintf(out, "NOT WRITING%s since %s", yes(w, "disk_full") ? ", the disk is full," : "",
+            text_or(w, "since", "?"));
+    if (number(w, "cycles", &cycles))
+        fprintf(out, " (%.0f scan%s)", cycles, cycles == 1 ? "" : "s");
+    fprintf(out, ": %s; scans are still evaluated and published\n", text_or(w, "error", "?"));
+}
+
 static void status_integrations(FILE *out, const cJSON *o)
 {
     const cJSON *mqtt = item(o, "mqtt"), *modbus = item(o, "modbus"), *contacts = item(o, "contacts");
@@ -202,6 +217,7 @@ static void status_integrations(FILE *out, const cJSON *o)
         fputs(" free", out);
     }
     fputc('\n', out);
+    status_state_writes(out, item(o, "state_dir_writes"));
 }
 
 static void status_text(FILE *out, const cJSON *o)

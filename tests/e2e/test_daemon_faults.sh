@@ -2,12 +2,14 @@
 # File-system faults against the running daemon and the emulated board. The
 # state directory is a tmpfs of its own with the archive on a second one
 # inside it, so each can be filled or made read-only:
-#   - the archive full: a scan that does not fit is an `error` verdict naming
-#     the file and ENOSPC; one whose images do not fit keeps its measurement
-#     and says what was not archived;
+#   - the archive full while the winding moves: the scan that does not fit
+#     is still evaluated (alarm, the contacts say so), its verdict names the
+#     file and ENOSPC, `status` says the disk is full until space returns;
+#     one whose images do not fit keeps its measurement and says what was
+#     not archived (issue 43, break 6);
 #   - the archive remounted read-only in the middle of a run;
 #   - the whole state directory read-only, then full with a `baseline set`
-#     pending;
+#     pending (it stays pending);
 #   - kill -9 at random moments during archive and baseline writes, many
 #     times (UWB_FAULT_KILLS, seeded by UWB_FAULT_SEED).
 # After each fault: nothing half-written (tests/e2e/helpers/state_check.c
@@ -72,9 +74,10 @@ config="$work/uwbd.json"
 cp "$REPO/board/emulated/uwbd.json" "$config"
 ctl() { uwbd ctl --socket run/control.sock "$@"; }
 
-# The emulated board with coarse steps (5 per mm) so a scan is mostly imaging.
+# The emulated board with coarse steps (5 per mm) so a scan is mostly imaging,
+# and its site lines for the alarm contacts.
 $HOST_PREFIX "$HOST_BUILD/uwbemu" --gpio unix:run/gpio.sock --digitiser unix:run/digitiser.sock \
-    --control unix:run/emu.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7 \
+    --control unix:run/emu.sock --site-io unix:run/site.sock --scene "$REPO/tools/uwbsim/scenes/tank-3d.json" --set snr_db=40 --seed 7 \
     --steps-per-mm 5 > emu.log 2>&1 &
 emu_pid=$!
 wait_for test -S run/emu.sock || fail "uwbemu did not come up"
@@ -84,7 +87,11 @@ wait_for uwbemu --ctl unix:run/emu.sock status || fail "uwbemu does not answer"
 # one pulse per position: the faults need no averaging, and a scan under
 # qemu-user takes some 10 s instead of 20.
 daemon_args=(--config "$config" "${root_flag[@]}" -v --interval 0 --set carriage.steps_per_mm=5
-             --set digitiser.stack=1 --set retention.max_scans=0)
+             --set digitiser.stack=1 --set retention.max_scans=0
+             --set site.asset_id=faults --set contacts.enabled=true --set gpio.site_endpoint=unix:run/site.sock)
+emu() { uwbemu --ctl unix:run/emu.sock "$*"; }
+# The three contacts as the board sees them: "watch alarm fault", 1 = energised.
+contacts() { emu status | get lines.watch lines.alarm lines.fault | paste -sd ' '; }
 log=uwbd.log
 start_daemon() {
     ${UWB_EXEC_PREFIX:-} "$BUILD/uwbd" "${daemon_args[@]}" --state-dir "$state" >> "$log" 2>&1 &
@@ -121,29 +128,44 @@ scan_size=$(stat -c %s "$(get scan_file < commission.json)")
 baseline_kept() { [[ $(sha "$state/baseline/current.uwbscan") == "$base_sum" ]] || fail "$1: the baseline changed"; }
 
 # ---- the archive full ----------------------------------------------------------
-# Less room than the raw scan needs: the scan is lost.
+# Less room than the raw scan needs, and the winding moves 8 mm: the scan is
+# still evaluated (issue 43, break 6: it was an `error` verdict, so the
+# contacts said fault, not alarm), its verdict names what was not written.
 avail=$(free_bytes "$archive")
 head -c $((avail - 64 * 1024)) /dev/zero > "$archive/filler"
 (($(free_bytes "$archive") < scan_size)) || fail "the filler left $(free_bytes "$archive") bytes, want < $scan_size"
 lines_before=$(lines_of "$state/verdicts.jsonl")
+verdicts_before=$(sha "$state/verdicts.jsonl")
+emu set displacement_m 0.008 > /dev/null
 scan full.json
 full_id=$(get scan_id < full.json)
-[[ $(get status < full.json) == error ]] || fail "archive full: status $(get status < full.json), want error"
-reason=$(get reason < full.json)
-[[ $reason == *"$archive/"*"$full_id.uwbscan"*"No space left on device"* ]] ||
-    fail "archive full: the reason does not name the file and ENOSPC: $reason"
-grep -q "scan $full_id lost: .*$full_id.uwbscan.*No space left on device" "$log" ||
+[[ $(get status < full.json) == alarm ]] || fail "archive full: status $(get status < full.json), want alarm"
+archive_error=$(get archive_error < full.json)
+[[ $archive_error == *"$archive/"*"$full_id.uwbscan"*"No space left on device"* ]] ||
+    fail "archive full: archive_error does not name the file and ENOSPC: $archive_error"
+[[ $(get scan_file < full.json) == "(missing)" ]] || fail "archive full: the verdict names a scan file: $(cat full.json)"
+grep -q "scan $full_id: archive, the scan is evaluated unstored: .*$full_id.uwbscan.*No space left on device" "$log" ||
     fail "archive full: no log line naming the file and ENOSPC"
+wait_for test "$(contacts)" == "1 1 1" || fail "archive full: contacts (watch alarm fault) $(contacts), want 1 1 1"
 [[ $(lines_of "$state/verdicts.jsonl") == $((lines_before + 1)) ]] || fail "archive full: no verdicts.jsonl line"
-[[ $(last_line "$state/verdicts.jsonl" scan_id status) == "$full_id"$'\nerror' ]] ||
-    fail "archive full: the last verdicts.jsonl line is not the error verdict"
-[[ $(get scan_id status < "$state/latest.json") == "$full_id"$'\nerror' ]] || fail "archive full: latest.json"
+[[ $(head -n "$lines_before" "$state/verdicts.jsonl" | sha256sum | cut -d' ' -f1) == "$verdicts_before" ]] ||
+    fail "archive full: the verdicts recorded before changed"
+[[ $(last_line "$state/verdicts.jsonl" scan_id status) == "$full_id"$'\nalarm' ]] ||
+    fail "archive full: the last verdicts.jsonl line is not the alarm"
+[[ $(get scan_id status < "$state/latest.json") == "$full_id"$'\nalarm' ]] || fail "archive full: latest.json"
 ctl status > status.json || fail "the daemon does not answer after the archive filled"
-[[ $(get latest.status < status.json) == error ]] || fail "archive full: status: $(cat status.json)"
+[[ $(get latest.status state_dir_writes.disk_full state_dir_writes.cycles < status.json) == $'alarm\ntrue\n1' ]] ||
+    fail "archive full: status does not say the disk is full: $(cat status.json)"
+ctl --text status > status.txt
+grep -q "^Archive *: NOT WRITING, the disk is full, since .*No space left on device" status.txt ||
+    fail "archive full: the status page does not say the disk is full: $(cat status.txt)"
 tree_ok "$state" --verdict-files
 baseline_kept "archive full"
-pass "archive full: error verdict naming the file and \"No space left on device\", in verdicts.jsonl," \
-     "latest.json and status; nothing half-written; baseline byte-identical"
+ctl ack > /dev/null
+emu set displacement_m 0 > /dev/null
+pass "archive full while the winding moved 8 mm: alarm verdict (contacts 1 1 1) naming the file and" \
+     "\"No space left on device\", in verdicts.jsonl (earlier lines intact) and latest.json; status says the" \
+     "disk is full; nothing half-written; baseline byte-identical"
 
 # Room for the raw scan but not its images: the measurement stands, the
 # verdict names only images that were written and says what was not.
@@ -167,8 +189,12 @@ rm "$archive/filler"
 scan freed.json
 [[ $(get status archive_error < freed.json) == $'ok\n(missing)' && $(get images.2 < freed.json) != "(missing)" ]] ||
     fail "after freeing space: $(cat freed.json)"
+[[ -f $(get scan_file < freed.json) ]] || fail "after freeing space: the raw scan is not archived"
+[[ $(ctl status | get state_dir_writes) == "(missing)" ]] || fail "after freeing space: status still says writes fail"
+grep -q "state directory: writing again; 2 scan cycles since .* could not write everything" "$log" ||
+    fail "after freeing space: no log line saying writing resumed"
 tree_ok "$state" --verdict-files
-pass "space freed: the next scan is ok with its three images"
+pass "space freed: the next scan is ok and archived with its three images; status no longer says the disk is full"
 
 # ---- the archive read-only in the middle of the run ------------------------------
 # The mount's own read-only flag: a user namespace may set it where it may
@@ -177,23 +203,25 @@ mount -o remount,bind,ro "$archive"
 lines_before=$(lines_of "$state/verdicts.jsonl")
 scan ro.json
 ro_id=$(get scan_id < ro.json)
-reason=$(get reason < ro.json)
-[[ $(get status < ro.json) == error && $reason == *"$archive/"*"$ro_id.uwbscan"*"Read-only file system"* ]] ||
+[[ $(get status < ro.json) == ok && $(get archive_error < ro.json) == *"$archive/"*"$ro_id.uwbscan"*"Read-only file system"* ]] ||
     fail "read-only archive: $(cat ro.json)"
-grep -q "scan $ro_id lost: .*$ro_id.uwbscan.*Read-only file system" "$log" ||
+grep -q "scan $ro_id: archive, the scan is evaluated unstored: .*$ro_id.uwbscan.*Read-only file system" "$log" ||
     fail "read-only archive: no log line naming the file and EROFS"
+grep -q "scan $ro_id: archive: .*$ro_id.json.*Read-only file system" "$log" ||
+    fail "read-only archive: no log line saying the verdict's archive copy was not written"
 [[ $(lines_of "$state/verdicts.jsonl") == $((lines_before + 1)) ]] || fail "read-only archive: verdicts.jsonl"
-[[ $(last_line "$state/verdicts.jsonl" scan_id status) == "$ro_id"$'\nerror' ]] ||
-    fail "read-only archive: the error verdict is not in verdicts.jsonl"
-[[ $(get archive_error < ro.json) == *"$ro_id.json"*"Read-only file system"* ]] ||
-    fail "read-only archive: the verdict does not say its archive copy was not written: $(cat ro.json)"
-ctl status > /dev/null || fail "the daemon does not answer after the archive went read-only"
+[[ $(last_line "$state/verdicts.jsonl" scan_id status) == "$ro_id"$'\nok' ]] ||
+    fail "read-only archive: the verdict is not in verdicts.jsonl"
+ctl status > status.json || fail "the daemon does not answer after the archive went read-only"
+[[ $(get state_dir_writes.failing state_dir_writes.disk_full < status.json) == $'true\nfalse' ]] ||
+    fail "read-only archive: status: $(cat status.json)"
 baseline_kept "read-only archive"
 mount -o remount,bind,rw "$archive"
 scan rw.json
 [[ $(get status < rw.json) == ok ]] || fail "archive writable again: $(cat rw.json)"
 tree_ok "$state" --verdict-files
-pass "archive read-only: error verdict naming the file (EROFS); writable again: the next scan is ok"
+pass "archive read-only: the scan still evaluated, archive_error naming the file (EROFS), status says" \
+     "writes fail (not that the disk is full); writable again: the next scan is ok"
 
 # ---- the whole state directory read-only -----------------------------------------
 # A read-only bind mount over it (the daemon's open lock file would keep a
@@ -203,7 +231,7 @@ mount -o remount,bind,ro "$state"
 lines_before=$(lines_of "$state/verdicts.jsonl")
 scan state-ro.json
 ro_id=$(get scan_id < state-ro.json)
-[[ $(get status < state-ro.json) == error && $(get reason < state-ro.json) == *"Read-only file system"* ]] ||
+[[ $(get status < state-ro.json) == ok && $(get archive_error < state-ro.json) == *"Read-only file system"* ]] ||
     fail "state read-only: $(cat state-ro.json)"
 [[ $(get record_error < state-ro.json) == *"$state/verdicts.jsonl"*"Read-only file system"* ]] ||
     fail "state read-only: the verdict does not say it is not in verdicts.jsonl: $(cat state-ro.json)"
@@ -211,7 +239,7 @@ grep -q "scan $ro_id: verdict log: $state/verdicts.jsonl: .*Read-only file syste
     fail "state read-only: no log line for the verdict log"
 ctl status > status.json
 ctl verdict > verdict.json
-[[ $(get latest.scan_id latest.status < status.json) == "$ro_id"$'\nerror' ]] ||
+[[ $(get latest.scan_id latest.status < status.json) == "$ro_id"$'\nok' ]] ||
     fail "state read-only: status: $(cat status.json)"
 cmp -s state-ro.json verdict.json || fail "state read-only: \`verdict\` is not the scan's reply"
 [[ $(lines_of "$state/verdicts.jsonl") == "$lines_before" ]] || fail "state read-only: verdicts.jsonl changed"
@@ -220,8 +248,8 @@ umount "$state"
 scan state-rw.json
 [[ $(get status < state-rw.json) == ok ]] || fail "state writable again: $(cat state-rw.json)"
 tree_ok "$state" --verdict-files
-pass "state directory read-only: error verdict in the reply, status and log, record_error says it is not" \
-     "in verdicts.jsonl; writable again: the next scan is ok"
+pass "state directory read-only: the verdict (ok) in the reply, status and log, record_error says it is" \
+     "not in verdicts.jsonl; writable again: the next scan is ok"
 
 # ---- the whole state directory full, `baseline set` pending ------------------------
 head -c 1G /dev/zero > run/state-fs/filler 2> /dev/null || true   # each stops at ENOSPC
@@ -232,12 +260,15 @@ lines_before=$(lines_of "$state/verdicts.jsonl")
 ctl baseline set > /dev/null
 scan state-full.json
 full_id=$(get scan_id < state-full.json)
-[[ $(get status < state-full.json) == error && $(get reason < state-full.json) == *"No space left on device"* ]] ||
+[[ $(get status < state-full.json) == ok && $(get archive_error < state-full.json) == *"No space left on device"* ]] ||
     fail "state full: $(cat state-full.json)"
-grep -q "scan $full_id lost: .*No space left on device" "$log" || fail "state full: no log line"
+[[ $(get baseline_set baseline_note < state-full.json) == $'false\nnot set: the scan could not be archived'* ]] ||
+    fail "state full: the verdict does not say why the baseline was not set: $(cat state-full.json)"
+grep -q "scan $full_id: archive, the scan is evaluated unstored: .*No space left on device" "$log" ||
+    fail "state full: no log line"
 ctl status > status.json
-[[ $(get latest.scan_id latest.status baseline_pending baseline.scan_id < status.json) == \
-   "$full_id"$'\nerror\ntrue\n'"$base_id" ]] || fail "state full: status: $(cat status.json)"
+[[ $(get latest.scan_id latest.status baseline_pending baseline.scan_id state_dir_writes.disk_full < status.json) == \
+   "$full_id"$'\nok\ntrue\n'"$base_id"$'\ntrue' ]] || fail "state full: status: $(cat status.json)"
 ctl verdict > verdict.json
 cmp -s state-full.json verdict.json || fail "state full: \`verdict\` is not the scan's reply"
 # verdicts.jsonl may still take the line in the room its last page had left;
@@ -252,7 +283,8 @@ else
 fi
 baseline_kept "state full"
 tree_ok "$state" --verdict-files
-pass "state directory full: error verdict in the $where; baseline byte-identical, still pending"
+pass "state directory full: the verdict (ok) in the $where; status says the disk is full;" \
+     "baseline byte-identical, still pending"
 
 rm run/state-fs/filler "$archive/filler"
 started=$EPOCHREALTIME

@@ -10,6 +10,7 @@
 
 #include "daemon/reply.h"
 #include "daemon/scan_progress.h"
+#include "daemon/state_writes.h"
 #include "integrations/site_io.h"
 #include "uwb/reply_text.h"
 #include "uwb/cli.h"
@@ -74,6 +75,26 @@ static void test_status_is_a_page_of_names_and_values(void)
     assert_has(t, "Contacts        : alarm, fault energised\n");
     assert_has(t, "State directory : /var/lib/uwbd, 5.0 GiB free\n");
     assert_has(t, "Version         : 1.2 (protocol 1.0), up 2 h 5 min\n");
+}
+
+/* Issue 43, break 6: a full disk is said in words on the status page, with
+ * what still works; a healthy page has no such line. */
+static void test_status_says_the_disk_is_full(void)
+{
+    struct uwbd_state_writes w = {.failing = 1, .disk_full = 1, .cycles = 2};
+    snprintf(w.since, sizeof w.since, "2030-01-02T00:00:00Z");
+    snprintf(w.error, sizeof w.error, "/s/a.uwbscan: cannot write temporary file: No space left on device");
+    struct uwbd_status st = {
+        .version = "1.2", .state = "idle", .state_dir = "/s", .rig = "ready", .writes = &w};
+    const char *t = as_text(uwbd_reply_status(&st));
+    assert_has(t, "Archive         : NOT WRITING, the disk is full, since 2030-01-02T00:00:00Z (2 scans): "
+                  "/s/a.uwbscan: cannot write temporary file: No space left on device; scans are still "
+                  "evaluated and published\n");
+    free(printed);
+    w.failing = 0;
+    st.writes = NULL;
+    t = as_text(uwbd_reply_status(&st));
+    TEST_ASSERT_NULL_MESSAGE(strstr(t, "Archive"), t);
 }
 
 static void test_help_is_a_list_that_fits_a_terminal(void)
@@ -162,6 +183,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_status_is_a_page_of_names_and_values);
+    RUN_TEST(test_status_says_the_disk_is_full);
     RUN_TEST(test_help_is_a_list_that_fits_a_terminal);
     RUN_TEST(test_history_is_a_table);
     RUN_TEST(test_errors_and_short_replies_are_a_line);

@@ -1,15 +1,20 @@
 /* One scan cycle above the hardware, fed simulated scans: what lands in the
  * state directory, when the baseline changes (only when asked, keeping the
- * old one), the direct-coupling check, and lost scans as `error` verdicts. */
+ * old one), the direct-coupling check, lost scans as `error` verdicts, and
+ * a full disk that hides no verdict. */
 #include "unity.h"
 
 #include <cjson/cJSON.h>
+#include <dirent.h>
+#include <errno.h>
 #include <math.h>
 #include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/uio.h>
+#include <unistd.h>
 
 #include "scene_support.h"
 #include "scratch_support.h"
@@ -19,6 +24,7 @@
 #include "daemon/scan_cycle.h"
 #include "daemon/store.h"
 #include "daemon/verdict_log.h"
+#include "uwb/atomic_file.h"
 #include "uwb/direct_coupling.h"
 #include "uwbsim/uwbsim.h"
 
@@ -85,6 +91,54 @@ static int fake_acquire(void *ctx, const volatile sig_atomic_t *stop, struct uwb
     free(out->scan_id);
     out->scan_id = strdup(id);
     return UWBD_ACQUIRE_OK;
+}
+
+/* A full disk without root (issue 43, break 6): this binary is linked with
+ * -Wl,--wrap for fflush, writev and mkdir (Makefile, TEST_WRAPS_test_scan_cycle),
+ * so while `disk_full` is set every write into the state directory fails
+ * as a full file system fails it: a buffered file's flush with ENOSPC
+ * (what an atomic file's commit sees; the bytes written before it are on
+ * disk in the temporary), the first append cut short after half its bytes
+ * (the room that was left) and the next refused, a new directory refused.
+ * Everything else passes through. */
+static int disk_full;
+
+int __real_fflush(FILE *f);
+ssize_t __real_writev(int fd, const struct iovec *iov, int count);
+int __real_mkdir(const char *path, mode_t mode);
+
+int __wrap_fflush(FILE *f)
+{
+    if (!disk_full || f == NULL || f == stdout || f == stderr)
+        return __real_fflush(f);
+    errno = ENOSPC;
+    return EOF;
+}
+
+ssize_t __wrap_writev(int fd, const struct iovec *iov, int count)
+{
+    static int took_last_room; /* the first append after the disk filled takes what room was left */
+    if (!disk_full || count < 1) {
+        took_last_room = 0;
+        return __real_writev(fd, iov, count);
+    }
+    if (took_last_room || iov[0].iov_len < 2) {
+        errno = ENOSPC;
+        return -1;
+    }
+    took_last_room = 1;
+    struct iovec half = {.iov_base = iov[0].iov_base, .iov_len = iov[0].iov_len / 2};
+    return __real_writev(fd, &half, 1);
+}
+
+int __wrap_mkdir(const char *path, mode_t mode)
+{
+    struct stat st;
+    if (disk_full && stat(path, &st) != 0) {
+        errno = ENOSPC;
+        return -1;
+    }
+    return __real_mkdir(path, mode);
 }
 
 static void set_scene(const char *key, const char *value)
@@ -354,14 +408,29 @@ static void test_a_stopped_scan_records_nothing(void)
     TEST_ASSERT_EQUAL_INT(0, uwbd_archive_count(&store));
 }
 
-static void test_an_unusable_archive_loses_the_scan_with_an_error_verdict(void)
+/* An archive that cannot take the scan (a file where its year directory
+ * goes): the scan is still evaluated (issue 43: it was an `error` verdict,
+ * which would hide an alarm), its verdict says the archive refused it, and
+ * a scan that is not archived does not become the baseline. */
+static void test_an_unusable_archive_still_evaluates_the_scan_and_says_so(void)
 {
     char p[2048];
     snprintf(p, sizeof p, "%s/archive/2030", store.root);
     scratch_spit(p, "a file where the year directory should be");
     run_cycle(1);
-    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, res.status);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(res.reason, "archive"), res.reason);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_STATUS_EDGES, res.status, res.reason);
+    cJSON *v = verdict();
+    const cJSON *why = cJSON_GetObjectItemCaseSensitive(v, "archive_error");
+    TEST_ASSERT_TRUE_MESSAGE(cJSON_IsString(why), res.verdict_json);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(why->valuestring, "archive/2030"), why->valuestring);
+    TEST_ASSERT_NULL_MESSAGE(cJSON_GetObjectItemCaseSensitive(v, "scan_file"), res.verdict_json);
+    const cJSON *note = cJSON_GetObjectItemCaseSensitive(v, "baseline_note");
+    TEST_ASSERT_TRUE_MESSAGE(cJSON_IsString(note), res.verdict_json);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(note->valuestring, "not set: the scan could not be archived"),
+                                 note->valuestring);
+    cJSON_Delete(v);
+    TEST_ASSERT_EQUAL_INT(0, res.baseline_set);
+    TEST_ASSERT_EQUAL_INT(0, res.baseline_refused); /* still pending */
     TEST_ASSERT_FALSE(in_state("baseline/current.uwbscan"));
     TEST_ASSERT_EQUAL_INT(1, scratch_count_lines(store.verdict_log));
 }
@@ -425,6 +494,123 @@ static void test_a_verdict_the_log_refuses_says_so(void)
     TEST_ASSERT_EQUAL_INT(0, uwbd_latest_read(&store, &latest, err, sizeof err));
     TEST_ASSERT_EQUAL_STRING(res.verdict_json, latest);
     free(latest);
+}
+
+/* Temporaries (atomic_file.h) anywhere under the state directory. */
+static int temporaries_under(const char *path)
+{
+    DIR *d = opendir(path);
+    if (!d)
+        return 0;
+    int found = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+            continue;
+        char sub[2048];
+        snprintf(sub, sizeof sub, "%s/%s", path, e->d_name);
+        struct stat st;
+        if (lstat(sub, &st) == 0 && S_ISDIR(st.st_mode))
+            found += temporaries_under(sub);
+        else if (uwb_atomic_file_is_temporary_name(e->d_name))
+            found++;
+    }
+    closedir(d);
+    return found;
+}
+
+static char *state_file(const char *rel)
+{
+    char p[2048];
+    snprintf(p, sizeof p, "%s/%s", store.root, rel);
+    char *text = scratch_slurp(p, NULL);
+    TEST_ASSERT_NOT_NULL_MESSAGE(text, p);
+    return text;
+}
+
+static const char *text_of(const cJSON *v, const char *key)
+{
+    const cJSON *s = cJSON_GetObjectItemCaseSensitive(v, key);
+    return cJSON_IsString(s) ? s->valuestring : NULL;
+}
+
+/* Issue 43, break 6: the disk fills in the middle of the archive. The
+ * winding moves 12 mm meanwhile: the scan is still evaluated (alarm, not
+ * an error), the verdict says what was not written and why, nothing
+ * half-written stays, what was recorded before is intact, and once there
+ * is room the next scan is archived as ever. Two full cycles: one whose
+ * day directory exists (the raw scan's file fails), one on a new day (its
+ * directory cannot be made). */
+static void test_a_full_disk_still_evaluates_and_leaves_nothing_half_written(void)
+{
+    run_cycle(1);
+    TEST_ASSERT_EQUAL_INT(1, res.baseline_set);
+    run_cycle(0);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_STATUS_OK, res.status, res.reason);
+    char *log_before = state_file("verdicts.jsonl"), *latest_before = state_file("latest.json");
+    char *baseline_before = state_file("baseline/current.json");
+    rig.displaced = 1;
+    const time_t days[2] = {CYCLE_TIME + 60, CYCLE_TIME + 86400};
+    for (int i = 0; i < 2; i++) {
+        uwbd_cycle_result_free(&res);
+        struct uwbd_cycle_request req = {.now = days[i]};
+        disk_full = 1;
+        int rc = uwbd_cycle_run(&cfg, &store, fake_acquire, &rig, NULL, &req, &res);
+        disk_full = 0;
+        TEST_ASSERT_EQUAL_INT(0, rc);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_STATUS_ALARM, res.status, res.reason);
+        cJSON *v = verdict();
+        TEST_ASSERT_TRUE_MESSAGE(fabs(number(v, "axial_displacement_mm") - 12.0) < 1.0, res.verdict_json);
+        const char *archive_error = text_of(v, "archive_error"), *record_error = text_of(v, "record_error");
+        TEST_ASSERT_NOT_NULL_MESSAGE(archive_error, res.verdict_json);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(archive_error, "No space left on device"), archive_error);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(archive_error, i == 0 ? ".uwbscan" : "archive/2030/01/03"),
+                                     archive_error);
+        TEST_ASSERT_NOT_NULL_MESSAGE(record_error, res.verdict_json);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(record_error, "verdicts.jsonl"), record_error);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(record_error, "No space left on device"), record_error);
+        /* It names no file that is not there. */
+        TEST_ASSERT_NULL_MESSAGE(cJSON_GetObjectItemCaseSensitive(v, "scan_file"), res.verdict_json);
+        TEST_ASSERT_EQUAL_INT(0, cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(v, "images")));
+        cJSON_Delete(v);
+        /* What the daemon's `status` is told: the cycle's first failed write. */
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(res.write_error, "No space left on device"), res.write_error);
+        TEST_ASSERT_EQUAL_INT(0, temporaries_under(store.root));
+        char *log_now = state_file("verdicts.jsonl"), *latest_now = state_file("latest.json");
+        char *baseline_now = state_file("baseline/current.json");
+        TEST_ASSERT_EQUAL_STRING(log_before, log_now);
+        TEST_ASSERT_EQUAL_STRING(latest_before, latest_now);
+        TEST_ASSERT_EQUAL_STRING(baseline_before, baseline_now);
+        free(log_now);
+        free(latest_now);
+        free(baseline_now);
+    }
+    TEST_ASSERT_FALSE(in_state(DAY_DIR "/sim-3.uwbscan"));
+    TEST_ASSERT_FALSE(in_state(DAY_DIR "/sim-3.json"));
+    TEST_ASSERT_FALSE(in_state("archive/2030/01/03"));
+    free(log_before);
+    free(latest_before);
+    free(baseline_before);
+
+    /* Room again: archived as ever. */
+    uwbd_cycle_result_free(&res);
+    struct uwbd_cycle_request req = {.now = CYCLE_TIME + 2 * 86400};
+    TEST_ASSERT_EQUAL_INT(0, uwbd_cycle_run(&cfg, &store, fake_acquire, &rig, NULL, &req, &res));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_STATUS_ALARM, res.status, res.reason);
+    TEST_ASSERT_EQUAL_STRING("", res.write_error);
+    cJSON *v = verdict();
+    TEST_ASSERT_NULL_MESSAGE(cJSON_GetObjectItemCaseSensitive(v, "archive_error"), res.verdict_json);
+    TEST_ASSERT_NULL_MESSAGE(cJSON_GetObjectItemCaseSensitive(v, "record_error"), res.verdict_json);
+    TEST_ASSERT_TRUE(scratch_file_exists(text_of(v, "scan_file")));
+    cJSON_Delete(v);
+    TEST_ASSERT_EQUAL_INT(3, scratch_count_lines(store.verdict_log));
+    char **lines = NULL;
+    int count = 0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_verdict_log_tail(&store, 1, &lines, &count, NULL, err, sizeof err),
+                                  err);
+    TEST_ASSERT_EQUAL_INT(1, count);
+    TEST_ASSERT_EQUAL_STRING(res.verdict_json, lines[0]);
+    uwbd_verdict_lines_free(lines, count);
 }
 
 /* Lost scans keep the cycles cheap here: each leaves its verdict file,
@@ -556,9 +742,10 @@ int main(void)
     RUN_TEST(test_a_scan_without_winding_or_coupling_does_not_become_the_baseline);
     RUN_TEST(test_a_face_away_from_the_drawings_span_does_not_become_the_baseline);
     RUN_TEST(test_a_stopped_scan_records_nothing);
-    RUN_TEST(test_an_unusable_archive_loses_the_scan_with_an_error_verdict);
+    RUN_TEST(test_an_unusable_archive_still_evaluates_the_scan_and_says_so);
     RUN_TEST(test_an_image_the_archive_refuses_is_named_and_the_verdict_kept);
     RUN_TEST(test_a_verdict_the_log_refuses_says_so);
+    RUN_TEST(test_a_full_disk_still_evaluates_and_leaves_nothing_half_written);
     RUN_TEST(test_retention_runs_after_each_cycle);
     RUN_TEST(test_a_scan_dated_before_the_newest_is_flagged);
     uwb_scan_free(&simulated[0]);

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "daemon/reply.h"
+#include "daemon/state_writes.h"
 #include "integrations/site_io.h"
 
 void setUp(void)
@@ -96,10 +97,56 @@ static void test_what_is_off_is_left_out_or_says_so(void)
     cJSON_Delete(o);
 }
 
+/* Issue 43, break 6: a state directory that refuses the cycles' writes
+ * shows in `status` (the disk full said as such) from the first cycle that
+ * could not write everything until one writes everything again; a
+ * healthy status has no such key. */
+static void test_a_state_directory_refusing_writes_shows_until_it_takes_them(void)
+{
+    const time_t t0 = 1893542400; /* 2030-01-02T00:00:00Z */
+    struct uwbd_state_writes w;
+    memset(&w, 0, sizeof w);
+    uwbd_state_writes_after_cycle(&w, "", t0);
+    TEST_ASSERT_EQUAL_INT(0, w.failing);
+    uwbd_state_writes_after_cycle(
+        &w, "/s/archive/2030/01/02/a.uwbscan: cannot write temporary file: No space left on device", t0);
+    uwbd_state_writes_after_cycle(&w, "/s/verdicts.jsonl: cannot append a verdict: No space left on device",
+                                  t0 + 3600);
+    TEST_ASSERT_EQUAL_INT(1, w.failing);
+    TEST_ASSERT_EQUAL_INT(1, w.disk_full);
+    TEST_ASSERT_EQUAL_INT(2, w.cycles);
+    TEST_ASSERT_EQUAL_STRING("2030-01-02T00:00:00Z", w.since);
+
+    struct uwbd_status st = {
+        .version = "test", .state = "idle", .state_dir = "/s", .rig = "ready", .writes = &w};
+    cJSON *o = status(&st);
+    TEST_ASSERT_TRUE(cJSON_IsTrue(item(o, "state_dir_writes.failing")));
+    TEST_ASSERT_TRUE(cJSON_IsTrue(item(o, "state_dir_writes.disk_full")));
+    TEST_ASSERT_EQUAL_INT(2, (int)item(o, "state_dir_writes.cycles")->valuedouble);
+    TEST_ASSERT_EQUAL_STRING("2030-01-02T00:00:00Z", item(o, "state_dir_writes.since")->valuestring);
+    TEST_ASSERT_NOT_NULL(strstr(item(o, "state_dir_writes.error")->valuestring, "verdicts.jsonl"));
+    cJSON_Delete(o);
+
+    uwbd_state_writes_after_cycle(&w,
+                                  "/s/archive/2030/01/02/b.uwbscan: cannot create temporary file: "
+                                  "Read-only file system",
+                                  t0 + 7200);
+    TEST_ASSERT_EQUAL_INT(0, w.disk_full); /* refused, but not for want of room */
+    TEST_ASSERT_EQUAL_INT(3, w.cycles);
+
+    uwbd_state_writes_after_cycle(&w, "", t0 + 10800);
+    TEST_ASSERT_EQUAL_INT(0, w.failing);
+    TEST_ASSERT_EQUAL_INT(0, w.cycles);
+    o = status(&st);
+    TEST_ASSERT_NULL(item(o, "state_dir_writes"));
+    cJSON_Delete(o);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_the_integrations_are_shown);
     RUN_TEST(test_what_is_off_is_left_out_or_says_so);
+    RUN_TEST(test_a_state_directory_refusing_writes_shows_until_it_takes_them);
     return UNITY_END();
 }
