@@ -161,25 +161,14 @@ static void load_baseline_info(struct daemon *d)
     }
 }
 
-/* The latest verdict's line at start: latest.json, or when that is
- * unreadable the newest line of verdicts.jsonl, so `verdict` still answers. */
+/* The latest verdict's line at start (uwbd_latest_line_at_start), so
+ * `verdict` still answers when latest.json was lost. */
 static void load_latest_line(struct daemon *d)
 {
-    char err[1024];
-    if (uwbd_latest_read(&d->store, &d->latest_verdict, err, sizeof err) == 0)
-        return;
-    char **lines = NULL, log_err[512];
-    int count = 0;
-    if (uwbd_verdict_log_tail(&d->store, 1, &lines, &count, NULL, log_err, sizeof log_err) == 0 &&
-        count == 1) {
-        d->latest_verdict = lines[0];
-        lines[0] = NULL;
-        uwbd_log(UWBD_LOG_WARNING, "%s; the latest verdict is taken from verdicts.jsonl until the next scan",
-                 err);
-    } else {
-        uwbd_log(UWBD_LOG_WARNING, "%s; it is replaced at the next scan", err);
-    }
-    uwbd_verdict_lines_free(lines, count);
+    char note[1024];
+    d->latest_verdict = uwbd_latest_line_at_start(&d->store, note, sizeof note);
+    if (note[0])
+        uwbd_log(UWBD_LOG_WARNING, "%s", note);
 }
 
 /* The latest verdict's record, read from its line once at start for all

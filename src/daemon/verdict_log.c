@@ -525,3 +525,27 @@ int uwbd_verdict_log_latest_created(const struct uwbd_store *store, char *create
     uwbd_verdict_lines_free(lines, count);
     return created[0] != '\0';
 }
+
+char *uwbd_latest_line_at_start(const struct uwbd_store *store, char *note, size_t n)
+{
+    note[0] = '\0';
+    char err[1024], *latest = NULL;
+    int read_rc = uwbd_latest_read(store, &latest, err, sizeof err);
+    if (read_rc == 0 && latest)
+        return latest;
+    /* Missing counts like damaged: verdicts.jsonl may still hold verdicts
+     * (latest.json deleted, or never written on a full disk). */
+    if (read_rc == 0)
+        snprintf(err, sizeof err, "%.900s: missing", store->latest);
+    char **lines = NULL, log_err[512];
+    int count = 0;
+    if (uwbd_verdict_log_tail(store, 1, &lines, &count, NULL, log_err, sizeof log_err) == 0 && count == 1) {
+        latest = lines[0];
+        lines[0] = NULL;
+        snprintf(note, n, "%.700s; the latest verdict is taken from verdicts.jsonl until the next scan", err);
+    } else if (read_rc != 0) {
+        snprintf(note, n, "%.700s; it is replaced at the next scan", err);
+    }
+    uwbd_verdict_lines_free(lines, count);
+    return latest;
+}

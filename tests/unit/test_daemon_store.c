@@ -961,6 +961,44 @@ static void test_the_tail_reads_back_past_unreadable_last_lines(void)
     uwbd_verdict_lines_free(lines, count);
 }
 
+/* Issue 43, break 7: the latest verdict at start is latest.json's, and
+ * when latest.json is missing or damaged, the newest valid line of
+ * verdicts.jsonl (damaged lines after it passed over), not "no scan has
+ * been recorded". */
+static void test_the_latest_verdict_at_start_falls_back_to_the_last_valid_line(void)
+{
+    char note[1024];
+    TEST_ASSERT_NULL(uwbd_latest_line_at_start(&store, note, sizeof note)); /* nothing yet */
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":1}", err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, "{\"n\":2}", err, sizeof err));
+    FILE *f = fopen(store.verdict_log, "ab");
+    TEST_ASSERT_NOT_NULL(f);
+    fputs("{\"n\":3, damaged\n\x01\x02\n", f);
+    fclose(f);
+
+    /* latest.json missing */
+    char *line = uwbd_latest_line_at_start(&store, note, sizeof note);
+    TEST_ASSERT_NOT_NULL_MESSAGE(line, note);
+    TEST_ASSERT_EQUAL_STRING("{\"n\":2}", line);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(note, "taken from verdicts.jsonl"), note);
+    free(line);
+
+    /* latest.json damaged */
+    scratch_spit(store.latest, "{\"n\":");
+    line = uwbd_latest_line_at_start(&store, note, sizeof note);
+    TEST_ASSERT_NOT_NULL_MESSAGE(line, note);
+    TEST_ASSERT_EQUAL_STRING("{\"n\":2}", line);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(note, "latest.json: not one JSON object"), note);
+    free(line);
+
+    /* latest.json whole: it is the latest, nothing to say */
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_write(&store, "{\"n\":4}", err, sizeof err));
+    line = uwbd_latest_line_at_start(&store, note, sizeof note);
+    TEST_ASSERT_EQUAL_STRING("{\"n\":4}", line);
+    TEST_ASSERT_EQUAL_STRING("", note);
+    free(line);
+}
+
 /* A crash mid-line with no newline anywhere (over several read blocks):
  * the repair cuts it all, and says how much. */
 static void test_repair_of_a_log_without_any_whole_line_empties_it(void)
@@ -1060,6 +1098,7 @@ int main(void)
     RUN_TEST(test_a_verdict_that_does_not_fit_leaves_the_log_as_it_was);
     RUN_TEST(test_the_tail_skips_what_is_not_one_whole_verdict);
     RUN_TEST(test_the_tail_reads_back_past_unreadable_last_lines);
+    RUN_TEST(test_the_latest_verdict_at_start_falls_back_to_the_last_valid_line);
     RUN_TEST(test_repair_of_a_log_without_any_whole_line_empties_it);
     RUN_TEST(test_latest_json_must_be_one_object);
     RUN_TEST(test_a_directory_in_place_of_the_verdict_log_is_refused_by_name);
