@@ -130,9 +130,9 @@ static int write_verdict_file(struct cycle *c, const char *text, char *err, size
 }
 
 /* What the daemon adds to the evaluation's verdict: where the scan is
- * archived (scan_file NULL: it is not), how it was acquired, what became of a `baseline set`, and
- * what of the cycle went wrong. A field only the daemon knows is added
- * here and nowhere else. */
+ * archived (scan_file NULL: it is not), how it was acquired, what became
+ * of a `baseline set`, and what of the cycle went wrong. A field only the
+ * daemon knows is added here and nowhere else. */
 static void add_cycle_fields(const struct cycle *c, struct uwb_verdict_cycle *out, const char *scan_file,
                              int pulses)
 {
@@ -462,11 +462,11 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     char scan_path[UWBD_PATH_MAX + 200];
     int stored = 0;
     if (!c->have_day_dir) {
-        archive_problem(c, "archive, the scan is evaluated unstored", c->day_dir_error);
+        archive_problem(c, "archive (the scan is evaluated all the same)", c->day_dir_error);
     } else {
         snprintf(scan_path, sizeof scan_path, "%s/%s.uwbscan", c->day_dir, c->id);
         if (uwbscan_write_file(scan_path, scan, err, sizeof err) != 0)
-            archive_problem(c, "archive, the scan is evaluated unstored", err);
+            archive_problem(c, "archive (the scan is evaluated all the same)", err);
         else
             stored = 1;
     }

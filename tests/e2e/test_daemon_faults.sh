@@ -144,7 +144,7 @@ archive_error=$(get archive_error < full.json)
 [[ $archive_error == *"$archive/"*"$full_id.uwbscan"*"No space left on device"* ]] ||
     fail "archive full: archive_error does not name the file and ENOSPC: $archive_error"
 [[ $(get scan_file < full.json) == "(missing)" ]] || fail "archive full: the verdict names a scan file: $(cat full.json)"
-grep -q "scan $full_id: archive, the scan is evaluated unstored: .*$full_id.uwbscan.*No space left on device" "$log" ||
+grep -q "scan $full_id: archive (the scan is evaluated all the same): .*$full_id.uwbscan.*No space left on device" "$log" ||
     fail "archive full: no log line naming the file and ENOSPC"
 wait_for test "$(contacts)" == "1 1 1" || fail "archive full: contacts (watch alarm fault) $(contacts), want 1 1 1"
 [[ $(lines_of "$state/verdicts.jsonl") == $((lines_before + 1)) ]] || fail "archive full: no verdicts.jsonl line"
@@ -205,7 +205,7 @@ scan ro.json
 ro_id=$(get scan_id < ro.json)
 [[ $(get status < ro.json) == ok && $(get archive_error < ro.json) == *"$archive/"*"$ro_id.uwbscan"*"Read-only file system"* ]] ||
     fail "read-only archive: $(cat ro.json)"
-grep -q "scan $ro_id: archive, the scan is evaluated unstored: .*$ro_id.uwbscan.*Read-only file system" "$log" ||
+grep -q "scan $ro_id: archive (the scan is evaluated all the same): .*$ro_id.uwbscan.*Read-only file system" "$log" ||
     fail "read-only archive: no log line naming the file and EROFS"
 grep -q "scan $ro_id: archive: .*$ro_id.json.*Read-only file system" "$log" ||
     fail "read-only archive: no log line saying the verdict's archive copy was not written"
@@ -264,7 +264,7 @@ full_id=$(get scan_id < state-full.json)
     fail "state full: $(cat state-full.json)"
 [[ $(get baseline_set baseline_note < state-full.json) == $'false\nnot set: the scan could not be archived'* ]] ||
     fail "state full: the verdict does not say why the baseline was not set: $(cat state-full.json)"
-grep -q "scan $full_id: archive, the scan is evaluated unstored: .*No space left on device" "$log" ||
+grep -q "scan $full_id: archive (the scan is evaluated all the same): .*No space left on device" "$log" ||
     fail "state full: no log line"
 ctl status > status.json
 [[ $(get latest.scan_id latest.status baseline_pending baseline.scan_id state_dir_writes.disk_full < status.json) == \
