@@ -526,13 +526,48 @@ int uwbd_verdict_log_latest_created(const struct uwbd_store *store, char *create
     return created[0] != '\0';
 }
 
+/* The "created" text of a verdict line into out ("" when it has none). */
+static void created_of(const char *line, char *out, size_t n)
+{
+    out[0] = '\0';
+    cJSON *o = cJSON_Parse(line);
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(o, "created");
+    if (cJSON_IsString(c) && c->valuestring)
+        snprintf(out, n, "%s", c->valuestring);
+    cJSON_Delete(o);
+}
+
+/* latest.json whole, but a newer verdict in the log: on a full disk the
+ * line may go in (room left in the log's last page) while latest.json
+ * cannot be replaced. The newer by its time is the latest. */
+static char *newer_of_latest_and_log(const struct uwbd_store *store, char *latest, char *note, size_t n)
+{
+    char **lines = NULL, err[512], at_latest[64], at_log[64];
+    int count = 0;
+    if (uwbd_verdict_log_tail(store, 1, &lines, &count, NULL, err, sizeof err) == 0 && count == 1) {
+        created_of(latest, at_latest, sizeof at_latest);
+        created_of(lines[0], at_log, sizeof at_log);
+        if (at_latest[0] && at_log[0] && strcmp(at_log, at_latest) > 0) {
+            snprintf(note, n,
+                     "%.600s (%s) is older than the newest line of verdicts.jsonl (%s): it could not be "
+                     "replaced (a full disk?); the latest verdict is taken from verdicts.jsonl",
+                     store->latest, at_latest, at_log);
+            free(latest);
+            latest = lines[0];
+            lines[0] = NULL;
+        }
+    }
+    uwbd_verdict_lines_free(lines, count);
+    return latest;
+}
+
 char *uwbd_latest_line_at_start(const struct uwbd_store *store, char *note, size_t n)
 {
     note[0] = '\0';
     char err[1024], *latest = NULL;
     int read_rc = uwbd_latest_read(store, &latest, err, sizeof err);
     if (read_rc == 0 && latest)
-        return latest;
+        return newer_of_latest_and_log(store, latest, note, n);
     /* Missing counts like damaged: verdicts.jsonl may still hold verdicts
      * (latest.json deleted, or never written on a full disk). */
     if (read_rc == 0)

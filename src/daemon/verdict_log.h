@@ -47,9 +47,10 @@ int uwbd_latest_write(const struct uwbd_store *store, const char *json, char *er
 int uwbd_latest_read(const struct uwbd_store *store, char **json, char *err, size_t errlen);
 
 /* The latest verdict's line when the daemon starts (malloc'd; NULL when
- * there is none): latest.json, or when that is unreadable the newest
- * line of verdicts.jsonl that parses. note gets what the log should say
- * about it ("" when nothing). */
+ * there is none): latest.json, or when that is missing, unreadable or
+ * older (by "created") than the newest line of verdicts.jsonl that
+ * parses, that line. note gets what the log should say about it ("" when
+ * nothing). */
 char *uwbd_latest_line_at_start(const struct uwbd_store *store, char *note, size_t n);
 
 #endif

@@ -999,6 +999,37 @@ static void test_the_latest_verdict_at_start_falls_back_to_the_last_valid_line(v
     free(line);
 }
 
+/* Issue 43, break 6: on a full disk the verdicts.jsonl line may go in (the
+ * room left in its last page) while latest.json cannot be replaced; after
+ * a restart the newer of the two is the latest verdict, by its time, not
+ * the stale latest.json. A log whose newest valid line is older (damage
+ * after it) leaves latest.json standing. */
+static void test_a_stale_latest_json_yields_to_a_newer_logged_verdict(void)
+{
+    const char *first = "{\"n\":1,\"created\":\"2030-01-02T00:00:00Z\"}";
+    const char *second = "{\"n\":2,\"created\":\"2030-01-02T01:00:00Z\"}";
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, first, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_write(&store, first, err, sizeof err));
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_log_append(&store, second, err, sizeof err));
+    char note[1024];
+    char *line = uwbd_latest_line_at_start(&store, note, sizeof note);
+    TEST_ASSERT_EQUAL_STRING(second, line);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(note, "older than the newest line of"), note);
+    free(line);
+
+    /* latest.json newer than the log's newest valid line: it stands. */
+    const char *third = "{\"n\":3,\"created\":\"2030-01-02T02:00:00Z\"}";
+    TEST_ASSERT_EQUAL_INT(0, uwbd_latest_write(&store, third, err, sizeof err));
+    FILE *f = fopen(store.verdict_log, "ab");
+    TEST_ASSERT_NOT_NULL(f);
+    fputs("{\"n\":3, damaged\n", f);
+    fclose(f);
+    line = uwbd_latest_line_at_start(&store, note, sizeof note);
+    TEST_ASSERT_EQUAL_STRING(third, line);
+    TEST_ASSERT_EQUAL_STRING("", note);
+    free(line);
+}
+
 /* A crash mid-line with no newline anywhere (over several read blocks):
  * the repair cuts it all, and says how much. */
 static void test_repair_of_a_log_without_any_whole_line_empties_it(void)
@@ -1099,6 +1130,7 @@ int main(void)
     RUN_TEST(test_the_tail_skips_what_is_not_one_whole_verdict);
     RUN_TEST(test_the_tail_reads_back_past_unreadable_last_lines);
     RUN_TEST(test_the_latest_verdict_at_start_falls_back_to_the_last_valid_line);
+    RUN_TEST(test_a_stale_latest_json_yields_to_a_newer_logged_verdict);
     RUN_TEST(test_repair_of_a_log_without_any_whole_line_empties_it);
     RUN_TEST(test_latest_json_must_be_one_object);
     RUN_TEST(test_a_directory_in_place_of_the_verdict_log_is_refused_by_name);
