@@ -241,7 +241,8 @@ static int rig_unchanged(struct uwb_analysis *cur_a, struct uwb_analysis *base_a
  * its rows out loses the lean the imaging's blur spreads beyond them.
  * Neither fit is then the movement; how far they part is the axial
  * figure's deformation term (compare.c). */
-static int measure_radial(const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
+static int measure_radial(const struct uwb_scan *current, const struct uwb_scan *baseline,
+                          const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
                           const struct uwb_compare_options *copt, double noise_rms,
                           struct uwb_pair_figures *pair, char *err, size_t errlen)
 {
@@ -251,8 +252,13 @@ static int measure_radial(const struct uwb_analysis *cur_a, const struct uwb_ana
         snprintf(err, errlen, "radial profile: out of memory");
         return -1;
     }
-    uwb_radial_measure(cur_a, base_a, pair->displacement_m, copt->radial_thresholds.watch_m, noise_rms,
-                       radial);
+    /* The oil's own offset at the face, from the static scene: the radial
+     * profile's absolute reference (uwb/oil_reference.h). */
+    struct uwb_oil_reference oil;
+    uwb_oil_reference_measure(current, baseline, 299792458.0 / sqrt(baseline->eps_r), base_a->edges.face_z_m,
+                              face_wavelength(base_a, baseline), &oil);
+    uwb_radial_measure_referenced(cur_a, base_a, pair->displacement_m, copt->radial_thresholds.watch_m,
+                                  noise_rms, &oil, radial);
     pair->radial = radial->figures;
     if (radial->figures.measured) {
         pair->has_radial = 1;
@@ -381,7 +387,7 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
             pair.noise_ratio_current = fmax(noise.noise_rms / cur_a->noise_sigma, 1e-9);
             pair.noise_ratio_baseline = fmax(noise.noise_rms / base_a->noise_sigma, 1e-9);
         }
-        if (measure_radial(cur_a, base_a, &copt,
+        if (measure_radial(current, baseline->scan, cur_a, base_a, &copt,
                            noise.measured ? noise.noise_rms
                                           : 0.5 * (cur_a->noise_sigma + base_a->noise_sigma),
                            &pair, err, errlen) != 0) {
