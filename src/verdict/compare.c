@@ -143,7 +143,7 @@ static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures 
                            const struct uwb_compare_options *opt)
 {
     struct uwb_radial_verdict *r = &v->radial;
-    if (!pair || !pair->valid || !pair->has_radial) {
+    if (!pair || !(pair->valid || pair->axial_withheld[0]) || !pair->has_radial) {
         memset(r, 0, sizeof *r);
         r->status = UWB_STATUS_INCONCLUSIVE;
         snprintf(r->withheld, sizeof r->withheld, "%s",
@@ -227,6 +227,21 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
     if (!base->found) {
         v->status = UWB_STATUS_INCONCLUSIVE;
         copy_reason(v, "baseline: ", base->reason);
+        return;
+    }
+    /* A face that changed shape so that no shift maps it whole: the radial
+     * change measured on the rows that still match decides, the axial
+     * figure withheld (a change past a limit outranks it, combine_radial). */
+    if (pair && !pair->valid && pair->axial_withheld[0]) {
+        v->axial_displacement_m = cur->center_m - base->center_m;
+        v->height_change_m = cur->height_m - base->height_m;
+        v->status = UWB_STATUS_INCONCLUSIVE;
+        v->axial_withheld = 1;
+        snprintf(v->reason, sizeof v->reason, "%s", pair->axial_withheld);
+        snprintf(v->height_change_withheld, sizeof v->height_change_withheld,
+                 "the face changed shape: no shift maps it whole");
+        radial_verdict(v, pair, opt);
+        combine_radial(v, opt);
         return;
     }
     v->axial_displacement_m = pair && pair->valid ? pair->displacement_m : cur->center_m - base->center_m;
