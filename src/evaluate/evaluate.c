@@ -293,9 +293,10 @@ static void rows_unchanged(const struct uwb_radial *r, double watch_m, int *unch
  * reflector match or the axial fit failing); yet the rows that did not
  * change still match at the shift one of its ends, or its centre, moved
  * by. The radial change is measured at the one of those that leaves the
- * most rows unchanged, where at least a third are and the change is past
- * the watch limit (a change that explains the mismatch), and the axial
- * figure is withheld with why. 1 when pair is filled so, 0 when not. */
+ * most rows unchanged, where at least a third are, the change is past
+ * the watch limit (a change that explains the mismatch) and the profile
+ * can tell a change at all (its scatter within the largest sigma), and the
+ * axial figure is withheld with why. 1 when pair is filled so, 0 when not. */
 static int radial_alone(const struct uwb_scan *current, const struct uwb_scan *baseline,
                         const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
                         const struct uwb_compare_options *copt, const char *why,
@@ -319,7 +320,8 @@ static int radial_alone(const struct uwb_scan *current, const struct uwb_scan *b
         uwb_radial_measure_referenced(cur_a, base_a, shifts[k], watch, noise, &oil, radial);
         int unchanged, read;
         rows_unchanged(radial, watch, &unchanged, &read);
-        if (radial->figures.measured && fabs(radial->figures.max_change_m) > watch && 3 * unchanged >= read &&
+        if (radial->figures.measured && fabs(radial->figures.max_change_m) > watch &&
+            radial->uncertainty_profile_m <= copt->max_uncertainty_m && 3 * unchanged >= read &&
             unchanged > best_unchanged) {
             best = k;
             best_unchanged = unchanged;
