@@ -54,6 +54,10 @@ struct uwb_pair_figures {
     int has_refit;
     double refit_displacement_m;
     int deformed_at_end; /* the change reaches the face's end: the axial figure cannot be parted from it */
+    /* No axial figure (valid 0): the faces did not match as a whole, yet
+     * part of the face still does at a shift, and the radial change was
+     * measured there (has_radial): why the axial figure is withheld. */
+    char axial_withheld[224];
 };
 
 /* The terms of a displacement's 1-sigma uncertainty, all independent. */

@@ -5,6 +5,7 @@
 #define UWB_RADIAL_H
 
 #include "uwb/analysis.h"
+#include "uwb/oil_reference.h"
 
 /* At most this many rows (1 mm each) of the face are compared: a winding
  * taller than the antenna travel is not imaged anyway. */
@@ -58,5 +59,15 @@ double uwb_radial_frame_ripple(const struct uwb_face_profile *baseline_range, do
  * not, see r->figures.measured). */
 int uwb_radial_measure(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                        double shift_m, double watch_m, double noise_rms, struct uwb_radial *r);
+
+/* The same with the oil's own offset at the face (uwb/oil_reference.h;
+ * NULL or not measured: none) as the absolute reference that tells a
+ * change over half the face from its complement: of the two levels the
+ * rows gather at, the one the oil's offset lies nearer is the unchanged
+ * rows', where the two lie more than 4 of its sigma apart; else the level
+ * most rows agree with. */
+int uwb_radial_measure_referenced(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
+                                  double shift_m, double watch_m, double noise_rms,
+                                  const struct uwb_oil_reference *oil, struct uwb_radial *r);
 
 #endif

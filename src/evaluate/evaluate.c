@@ -241,7 +241,8 @@ static int rig_unchanged(struct uwb_analysis *cur_a, struct uwb_analysis *base_a
  * its rows out loses the lean the imaging's blur spreads beyond them.
  * Neither fit is then the movement; how far they part is the axial
  * figure's deformation term (compare.c). */
-static int measure_radial(const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
+static int measure_radial(const struct uwb_scan *current, const struct uwb_scan *baseline,
+                          const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
                           const struct uwb_compare_options *copt, double noise_rms,
                           struct uwb_pair_figures *pair, char *err, size_t errlen)
 {
@@ -251,8 +252,13 @@ static int measure_radial(const struct uwb_analysis *cur_a, const struct uwb_ana
         snprintf(err, errlen, "radial profile: out of memory");
         return -1;
     }
-    uwb_radial_measure(cur_a, base_a, pair->displacement_m, copt->radial_thresholds.watch_m, noise_rms,
-                       radial);
+    /* The oil's own offset at the face, from the static scene: the radial
+     * profile's absolute reference (uwb/oil_reference.h). */
+    struct uwb_oil_reference oil;
+    uwb_oil_reference_measure(current, baseline, 299792458.0 / sqrt(baseline->eps_r), base_a->edges.face_z_m,
+                              face_wavelength(base_a, baseline), &oil);
+    uwb_radial_measure_referenced(cur_a, base_a, pair->displacement_m, copt->radial_thresholds.watch_m,
+                                  noise_rms, &oil, radial);
     pair->radial = radial->figures;
     if (radial->figures.measured) {
         pair->has_radial = 1;
@@ -266,6 +272,73 @@ static int measure_radial(const struct uwb_analysis *cur_a, const struct uwb_ana
     }
     free(radial);
     return 0;
+}
+
+/* Rows of a radial profile that did not change (within half the watch
+ * limit of its line; rows not read hold exactly 0 and are not counted),
+ * and rows read. */
+static void rows_unchanged(const struct uwb_radial *r, double watch_m, int *unchanged, int *read)
+{
+    *unchanged = *read = 0;
+    for (int i = 0; i < r->n; i++) {
+        if (r->change_m[i] == 0.0)
+            continue;
+        (*read)++;
+        *unchanged += fabs(r->change_m[i]) <= 0.5 * watch_m;
+    }
+}
+
+/* A face that changed shape (a buckle over a few disks) moves its echo's
+ * strength and its ends, so the faces do not match whole (why: the
+ * reflector match or the axial fit failing); yet the rows that did not
+ * change still match at the shift one of its ends, or its centre, moved
+ * by. The radial change is measured at the one of those that leaves the
+ * most rows unchanged, where at least a third are, the change is past
+ * the watch limit (a change that explains the mismatch) and the profile
+ * can tell a change at all (its scatter within the largest sigma), and the
+ * axial figure is withheld with why. 1 when pair is filled so, 0 when not. */
+static int radial_alone(const struct uwb_scan *current, const struct uwb_scan *baseline,
+                        const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
+                        const struct uwb_compare_options *copt, const char *why,
+                        struct uwb_pair_figures *pair)
+{
+    const struct uwb_edges *c = &cur_a->edges, *b = &base_a->edges;
+    if (!c->found || !b->found ||
+        fabs(c->face_z_m - b->face_z_m) > SEARCH_NEAR_WAVELENGTHS * face_wavelength(base_a, baseline))
+        return 0;
+    struct uwb_radial *radial = malloc(sizeof *radial);
+    if (!radial)
+        return 0;
+    struct uwb_oil_reference oil;
+    uwb_oil_reference_measure(current, baseline, 299792458.0 / sqrt(baseline->eps_r), b->face_z_m,
+                              face_wavelength(base_a, baseline), &oil);
+    double watch = copt->radial_thresholds.watch_m;
+    double noise = 0.5 * (cur_a->noise_sigma + base_a->noise_sigma);
+    const double shifts[] = {c->lower_m - b->lower_m, c->upper_m - b->upper_m, c->center_m - b->center_m};
+    int best = -1, best_unchanged = 0;
+    for (int k = 0; k < 3; k++) {
+        uwb_radial_measure_referenced(cur_a, base_a, shifts[k], watch, noise, &oil, radial);
+        int unchanged, read;
+        rows_unchanged(radial, watch, &unchanged, &read);
+        if (radial->figures.measured && fabs(radial->figures.max_change_m) > watch &&
+            radial->uncertainty_profile_m <= copt->max_uncertainty_m && 3 * unchanged >= read &&
+            unchanged > best_unchanged) {
+            best = k;
+            best_unchanged = unchanged;
+        }
+    }
+    if (best >= 0) {
+        uwb_radial_measure_referenced(cur_a, base_a, shifts[best], watch, noise, &oil, radial);
+        pair->has_radial = 1;
+        pair->radial = radial->figures;
+        pair->radial_profile_uncertainty_m = radial->uncertainty_profile_m;
+        snprintf(pair->axial_withheld, sizeof pair->axial_withheld,
+                 "the face changed shape (%.120s): radial change read where its rows still match, axial "
+                 "figure withheld",
+                 why);
+    }
+    free(radial);
+    return best >= 0;
 }
 
 int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_record *baseline,
@@ -347,6 +420,12 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
         copt.baseline_repeatability_m =
             baseline->repeatability_m / sqrt(baseline->scans > 1 ? baseline->scans : 1);
     faces_differ(cur_a, base_a, baseline->scan, why, sizeof why);
+    struct uwb_pair_figures alone = {0};
+    if (why[0] && radial_alone(current, baseline->scan, cur_a, base_a, &copt,
+                               "not the same reflector in both scans", &alone)) {
+        uwb_compare_pair(v, &cur_a->edges, &base_a->edges, &alone, &copt);
+        return 0;
+    }
     if (why[0]) {
         uwb_compare_edges(v, &cur_a->edges, &base_a->edges, &copt);
         v->status = UWB_STATUS_INCONCLUSIVE;
@@ -357,6 +436,11 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
     int fit = cur_a->edges.found && base_a->edges.found
                   ? uwb_measure_shift(cur_a, base_a, &pair.displacement_m, why, sizeof why)
                   : -1;
+    if (fit == 1 &&
+        radial_alone(current, baseline->scan, cur_a, base_a, &copt, "no shift maps it whole", &alone)) {
+        uwb_compare_pair(v, &cur_a->edges, &base_a->edges, &alone, &copt);
+        return 0;
+    }
     if (fit == 1) {
         /* No shift maps one face onto the other: whatever figure the search
          * stopped at is not a measurement. */
@@ -381,7 +465,7 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
             pair.noise_ratio_current = fmax(noise.noise_rms / cur_a->noise_sigma, 1e-9);
             pair.noise_ratio_baseline = fmax(noise.noise_rms / base_a->noise_sigma, 1e-9);
         }
-        if (measure_radial(cur_a, base_a, &copt,
+        if (measure_radial(current, baseline->scan, cur_a, base_a, &copt,
                            noise.measured ? noise.noise_rms
                                           : 0.5 * (cur_a->noise_sigma + base_a->noise_sigma),
                            &pair, err, errlen) != 0) {

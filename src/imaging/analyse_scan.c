@@ -383,11 +383,25 @@ static enum step choose_search_range(struct analysis_run *r)
     return STEP_NEXT;
 }
 
+/* Where the face search looks with the drawings' span given: the span
+ * widened by the tolerance its ends are held to (uwb_face_within_drawings:
+ * a drawing is only so exact); NULL without one. */
+static const double *search_span(const struct uwb_analysis_options *opt, double span[2])
+{
+    if (!opt->has_winding_span)
+        return NULL;
+    double tolerance = SPAN_TOLERANCE * (opt->winding_span_m[1] - opt->winding_span_m[0]);
+    span[0] = opt->winding_span_m[0] - tolerance;
+    span[1] = opt->winding_span_m[1] + tolerance;
+    return span;
+}
+
 /* Stage 1: find the winding, static clutter estimated at the travel's ends.
  * The coarse image stays in r->out->intensity until the display image
  * replaces it, so a failed search still shows what was searched. */
 static enum step search_for_face(struct analysis_run *r)
 {
+    double span[2];
     const struct uwb_analysis_options *opt = r->opt;
     struct uwb_analysis *out = r->out;
     if (uwb_condition_prepare(r->scan, &r->g, &opt->condition, out->dominant_hz, &r->prepared, r->err,
@@ -408,8 +422,8 @@ static enum step search_for_face(struct analysis_run *r)
     if (rc != 0)
         return STEP_FAILED;
     if (uwb_face_search(&out->intensity, out->aperture_lo_m, out->aperture_hi_m, antenna_step(r->scan),
-                        r->wavelength, r->excluded_z_m, r->n_excluded, &r->face, out->edges.reason,
-                        sizeof out->edges.reason) != 0)
+                        r->wavelength, r->excluded_z_m, r->n_excluded, search_span(r->opt, span), &r->face,
+                        out->edges.reason, sizeof out->edges.reason) != 0)
         return STEP_DONE;
     return STEP_NEXT;
 }

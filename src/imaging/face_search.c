@@ -95,7 +95,7 @@ static int excluded_range(double z_m, const double *excluded_z_m, int n_excluded
 }
 
 int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double aperture_hi_m, double step_m,
-                    double wavelength_m, const double *excluded_z_m, int n_excluded,
+                    double wavelength_m, const double *excluded_z_m, int n_excluded, const double *span_m,
                     struct face_candidate *face, char *reason, size_t reasonlen)
 {
     double inner_lo = aperture_lo_m + END_MARGIN_STEPS * step_m;
@@ -121,6 +121,7 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
     double strongest_rejected_z = -1.0;
     int rejected_at_limit = 0;
     double point_z = -1.0, point_tall = 0.0, point_blur = 0.0;
+    double outside_z = -1.0, outside_y = 0.0;
     struct face_candidate seen[MAX_CANDIDATES] = {{0}};
     int n_seen = 0;
     double strongest_seen = 0.0;
@@ -145,6 +146,18 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
         int at_limit = best == 0 || best == img->nz - 1;
         struct column_ends e = column_ends(img, best, row[best], peak[best]);
         if (!at_limit && ends_seen(img, &e, inner_lo, inner_hi)) {
+            /* The drawings' span, when given, says where the winding is: a
+             * reflector brightest outside it is a plate's or the core's
+             * (the 3-D family's lower plate, its front edge level with the
+             * face, outshines the face in the face's own range column). */
+            double y_peak = row_y(img, row[best]);
+            if (span_m && (y_peak < span_m[0] || y_peak > span_m[1])) {
+                if (outside_z < 0.0) {
+                    outside_z = z;
+                    outside_y = y_peak;
+                }
+                continue;
+            }
             double tall = (e.upper_row - e.lower_row) * img->dy_m;
             double blur =
                 uwb_point_blur_m(wavelength_m, row_y(img, row[best]), z, aperture_lo_m, aperture_hi_m);
@@ -179,7 +192,13 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
             found = 1;
         }
     if (!found) {
-        if (n_excluded > 0)
+        if (outside_z >= 0.0)
+            snprintf(
+                reason, reasonlen,
+                "winding not found at %.0f..%.0f mm, the drawings' span and its tolerance: the strongest "
+                "reflector with both ends seen, at %.3f m range, is brightest at %.0f mm, outside it",
+                span_m[0] * 1e3, span_m[1] * 1e3, outside_z, outside_y * 1e3);
+        else if (n_excluded > 0)
             snprintf(reason, reasonlen,
                      "winding not found: no reflector between %.3f and %.3f m range besides the %d measured "
                      "and rejected",

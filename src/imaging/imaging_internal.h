@@ -44,11 +44,13 @@ struct face_candidate {
  * least two antenna steps inside them) and stands taller than the imaging
  * draws a point (wavelength_m: the pulse's, in the medium), passing over
  * the n_excluded ranges (reflectors already measured and rejected;
- * excluded_z_m may be NULL when n_excluded is 0).
+ * excluded_z_m may be NULL when n_excluded is 0). With span_m (the
+ * drawings' lower and upper end of the winding, or NULL) a reflector
+ * brightest outside it is passed over, and named when none qualifies.
  * Returns 0 and fills *face, or 1 with reason filled when none qualifies. */
 int uwb_face_search(const struct uwb_image *intensity, double aperture_lo_m, double aperture_hi_m,
                     double step_m, double wavelength_m, const double *excluded_z_m, int n_excluded,
-                    struct face_candidate *face, char *reason, size_t reasonlen);
+                    const double *span_m, struct face_candidate *face, char *reason, size_t reasonlen);
 
 /* How tall delay-and-sum over the antenna travel lo_m..hi_m draws a point
  * at height y_m and range z_m, at half its peak. */

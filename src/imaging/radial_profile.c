@@ -259,8 +259,37 @@ static double slope_uncertainty(const struct uwb_radial *r, const struct uwb_ana
     return sqrt(fit + correlated_rows * noise / (syy * syy));
 }
 
+/* Where the rows that stand off `level` by more than half the watch limit
+ * gather: the offset most of them agree with (within half the watch
+ * limit), and how many do (0 when none stand off). */
+static int other_level(const struct uwb_radial *r, const double *offset, const unsigned char *readable,
+                       double level, double watch_m, double *other)
+{
+    int best_count = 0;
+    for (int i = 0; i < r->n; i++) {
+        if (!readable[i] || fabs(offset[i] - level) <= 0.5 * watch_m)
+            continue;
+        int count = 0;
+        for (int j = 0; j < r->n; j++)
+            count += readable[j] && fabs(offset[j] - level) > 0.5 * watch_m &&
+                     fabs(offset[j] - offset[i]) <= 0.5 * watch_m;
+        if (count > best_count) {
+            best_count = count;
+            *other = offset[i];
+        }
+    }
+    return best_count;
+}
+
 int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis *base, double shift_m,
                        double watch_m, double noise_rms, struct uwb_radial *r)
+{
+    return uwb_radial_measure_referenced(cur, base, shift_m, watch_m, noise_rms, NULL, r);
+}
+
+int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct uwb_analysis *base,
+                                  double shift_m, double watch_m, double noise_rms,
+                                  const struct uwb_oil_reference *oil, struct uwb_radial *r)
 {
     memset(r, 0, sizeof *r);
     struct uwb_radial_verdict *fig = &r->figures;
@@ -316,6 +345,14 @@ int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis
             level = offset[i];
         }
     }
+    /* A change over half the face gathers as many rows as the unchanged
+     * rest: the oil's own offset, read from the static scene, says which
+     * of the two levels did not move, where it can tell them apart. */
+    double other = 0.0;
+    if (oil && oil->measured && other_level(r, offset, readable, level, watch_m, &other) >= 3 &&
+        fabs(other - level) > 4.0 * oil->sigma_m &&
+        fabs(other - oil->face_offset_m) < fabs(level - oil->face_offset_m))
+        level = other;
     /* A change that reaches the face's end leaves unchanged rows on one
      * side of it only, and its own blur leans them (the flanks of a change
      * in the middle of the face stand off it by about a tenth of it, the

@@ -125,13 +125,25 @@ static enum uwb_status graded(double magnitude_m, const struct uwb_thresholds *t
     return magnitude_m >= t->watch_m ? UWB_STATUS_WATCH : UWB_STATUS_OK;
 }
 
+/* Whether the face's lean, not its largest change, grades the radial
+ * status: a lean is a deformation like a bulge (the winding shifted in its
+ * clamps), counted once told from none (past 2 sigma: pure shifts read up
+ * to 0.055 mm of lean per mm moved) and graded worse than the change. */
+static int radial_lean_decides(const struct uwb_radial_verdict *r, const struct uwb_compare_options *opt)
+{
+    if (r->tilt_withheld[0] || fabs(r->tilt_m) <= 2.0 * r->tilt_uncertainty_m)
+        return 0;
+    return graded(fabs(r->tilt_m), &opt->radial_thresholds) >
+           graded(fabs(r->max_change_m), &opt->radial_thresholds);
+}
+
 /* The radial verdict from the pair's figures: graded on the change, or
  * inconclusive past the largest 1-sigma a figure may carry. */
 static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures *pair,
                            const struct uwb_compare_options *opt)
 {
     struct uwb_radial_verdict *r = &v->radial;
-    if (!pair || !pair->valid || !pair->has_radial) {
+    if (!pair || !(pair->valid || pair->axial_withheld[0]) || !pair->has_radial) {
         memset(r, 0, sizeof *r);
         r->status = UWB_STATUS_INCONCLUSIVE;
         snprintf(r->withheld, sizeof r->withheld, "%s",
@@ -150,6 +162,8 @@ static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures 
         return;
     }
     r->status = graded(fabs(r->max_change_m), &opt->radial_thresholds);
+    if (radial_lean_decides(r, opt))
+        r->status = graded(fabs(r->tilt_m), &opt->radial_thresholds);
 }
 
 /* How bad a status is for the verdict that combines the axial and the
@@ -166,14 +180,17 @@ static int severity(enum uwb_status s)
 
 /* The verdict's status: the worse of the axial and the radial one, the
  * reason saying which when the radial decides. */
-static void combine_radial(struct uwb_verdict *v)
+static void combine_radial(struct uwb_verdict *v, const struct uwb_compare_options *opt)
 {
     const struct uwb_radial_verdict *r = &v->radial;
     if (!r->measured || severity(r->status) <= severity(v->status))
         return;
     char axial[256];
     snprintf(axial, sizeof axial, "%s", v->reason);
-    if (r->has_span)
+    if (radial_lean_decides(r, opt))
+        snprintf(v->reason, sizeof v->reason, "the face leans %+.2f mm top to bottom (sigma %.2f mm)%s%.150s",
+                 r->tilt_m * 1e3, r->tilt_uncertainty_m * 1e3, axial[0] ? "; axial: " : "", axial);
+    else if (r->has_span)
         snprintf(v->reason, sizeof v->reason, "radial change %+.2f mm at %.0f mm (%.0f..%.0f mm)%s%.150s",
                  r->max_change_m * 1e3, r->at_m * 1e3, r->from_m * 1e3, r->to_m * 1e3,
                  axial[0] ? "; axial: " : "", axial);
@@ -210,6 +227,21 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
     if (!base->found) {
         v->status = UWB_STATUS_INCONCLUSIVE;
         copy_reason(v, "baseline: ", base->reason);
+        return;
+    }
+    /* A face that changed shape so that no shift maps it whole: the radial
+     * change measured on the rows that still match decides, the axial
+     * figure withheld (a change past a limit outranks it, combine_radial). */
+    if (pair && !pair->valid && pair->axial_withheld[0]) {
+        v->axial_displacement_m = cur->center_m - base->center_m;
+        v->height_change_m = cur->height_m - base->height_m;
+        v->status = UWB_STATUS_INCONCLUSIVE;
+        v->axial_withheld = 1;
+        snprintf(v->reason, sizeof v->reason, "%s", pair->axial_withheld);
+        snprintf(v->height_change_withheld, sizeof v->height_change_withheld,
+                 "the face changed shape: no shift maps it whole");
+        radial_verdict(v, pair, opt);
+        combine_radial(v, opt);
         return;
     }
     v->axial_displacement_m = pair && pair->valid ? pair->displacement_m : cur->center_m - base->center_m;
@@ -273,5 +305,5 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
     } else {
         v->status = graded(fabs(v->axial_displacement_m), &opt->thresholds);
     }
-    combine_radial(v);
+    combine_radial(v, opt);
 }

@@ -15,4 +15,9 @@ void scene_set_or_fail(struct sim_scene *scene, const char *key, const char *val
  * fails the current test when the simulator refuses. */
 void scene_tank_winding_pair(const char *key, const char *value, struct uwb_scan *base, struct uwb_scan *cur);
 
+/* The same with `common` (key, value, ... NULL) set in both scans first,
+ * and `changed` (key, value, ... NULL) in the current one only. */
+void scene_tank_winding_pair_with(const char *const *common, const char *const *changed,
+                                  struct uwb_scan *base, struct uwb_scan *cur);
+
 #endif

@@ -56,7 +56,8 @@ static void assert_face_found_at(struct uwb_image *img, double z_m)
     struct face_candidate face = {0};
     char reason[256] = "";
     TEST_ASSERT_EQUAL_INT_MESSAGE(
-        0, uwb_face_search(img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, &face, reason, sizeof reason), reason);
+        0, uwb_face_search(img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, NULL, &face, reason, sizeof reason),
+        reason);
     TEST_ASSERT_DOUBLE_WITHIN(0.005, z_m, face.z_m);
     uwb_image_free(img);
 }
@@ -77,8 +78,8 @@ static void test_brightest_at_the_range_limit_is_no_reflector_of_it(void)
         blob_image(&img, end == 0 ? 0.28 : 0.62, 0.01);
         struct face_candidate face = {0};
         char reason[256] = "";
-        TEST_ASSERT_EQUAL_INT(
-            1, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, &face, reason, sizeof reason));
+        TEST_ASSERT_EQUAL_INT(1, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, NULL, &face,
+                                                 reason, sizeof reason));
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(reason, "is the range's limit: a reflector beyond it"), reason);
         uwb_image_free(&img);
     }
@@ -103,7 +104,7 @@ static void test_a_lone_point_is_no_winding(void)
     struct face_candidate face = {0};
     char reason[256] = "";
     TEST_ASSERT_EQUAL_INT(
-        1, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, &face, reason, sizeof reason));
+        1, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, NULL, &face, reason, sizeof reason));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(reason, "at 0.350 m range, is a point"), reason);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(reason, "a plate's edge"), reason);
     uwb_image_free(&img);
