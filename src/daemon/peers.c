@@ -408,7 +408,7 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
             return;
         }
         uwbd_contact_states(d, &st);
-        reply(d, p, uwbd_reply_ack(st.watch, st.alarm, st.fault));
+        reply(d, p, uwbd_reply_ack(&st, d->latest));
         return;
     }
     case UWB_COMMAND_EVENT:

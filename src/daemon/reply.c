@@ -235,15 +235,20 @@ char *uwbd_reply_watch(int watch)
     return finish(o);
 }
 
-char *uwbd_reply_ack(int watch, int alarm, int fault)
+char *uwbd_reply_ack(const struct uwbd_contact_states *st, const struct uwb_verdict_record *latest)
 {
     cJSON *o = start("ACK");
     if (!o)
         return NULL;
     cJSON *contacts = cJSON_AddObjectToObject(o, "contacts");
-    cJSON_AddBoolToObject(contacts, "watch", watch > 0);
-    cJSON_AddBoolToObject(contacts, "alarm", alarm > 0);
-    cJSON_AddBoolToObject(contacts, "fault", fault > 0);
+    cJSON_AddBoolToObject(contacts, "watch", st->watch > 0);
+    cJSON_AddBoolToObject(contacts, "alarm", st->alarm > 0);
+    cJSON_AddBoolToObject(contacts, "fault", st->fault > 0);
+    /* What the contacts follow now the latches are released: a person
+     * reads from it why a contact still holds. */
+    cJSON *summary = latest ? uwb_record_history_entry(latest) : NULL;
+    if (summary)
+        cJSON_AddItemToObject(o, "latest", summary);
     return finish(o);
 }
 

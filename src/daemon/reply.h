@@ -59,8 +59,9 @@ char *uwbd_reply_history(char *const *verdict_lines, int count, int requested, i
 char *uwbd_reply_baseline(int pending, int has_current, const struct uwbd_baseline_info *current);
 /* The answer to `watch`: what this connection will now be sent. */
 char *uwbd_reply_watch(int watch);
-/* The answer to `ack`: the contacts energised (1) or not after it. */
-char *uwbd_reply_ack(int watch, int alarm, int fault);
+/* The answer to `ack`: the contacts energised (1) or not after it, and the
+ * latest verdict (NULL: none) they now follow. */
+char *uwbd_reply_ack(const struct uwbd_contact_states *st, const struct uwb_verdict_record *latest);
 /* The answer to `event`: the scan it asked for started, or queued behind the running one. */
 char *uwbd_reply_event(int queued);
 /* The answer to `scan` where no one waits for its verdict (MQTT): it started, or queued. */

@@ -33,7 +33,7 @@ static char *site_command(struct daemon *d, const char *text)
         if (uwbd_contacts_acknowledge(d, err, sizeof err) != 0)
             return uwbd_reply_error(err);
         uwbd_contact_states(d, &st);
-        return uwbd_reply_ack(st.watch, st.alarm, st.fault);
+        return uwbd_reply_ack(&st, d->latest);
     }
     case UWB_COMMAND_BASELINE_SET: return uwbd_baseline_request(d, cmd.count, cmd.force);
     default:

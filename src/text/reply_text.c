@@ -367,6 +367,64 @@ static void contacts_text(FILE *out, const cJSON *contacts)
         yes(contacts, "alarm") ? "energised" : "released", yes(contacts, "fault") ? "energised" : "released");
 }
 
+/* The latest verdict as `ack` names it: its figure (and a radial change),
+ * its time and its scan. */
+static void print_latest(FILE *out, const cJSON *latest)
+{
+    double change, at;
+    const cJSON *radial = item(latest, "radial");
+    print_figure(out, latest);
+    if (number(radial, "max_change_mm", &change) && number(radial, "at_mm", &at))
+        fprintf(out, ", radial change %+.1f mm at %.0f mm", change, at);
+    fprintf(out, " (%s, scan %s)\n", text_or(latest, "created", "?"), text_or(latest, "scan_id", "?"));
+}
+
+/* `ack`: said done, then what still holds a contact (the latest verdict
+ * calls for it), or that nothing does. */
+static void ack_text(FILE *out, const cJSON *o)
+{
+    const cJSON *contacts = item(o, "contacts"), *latest = item(o, "latest");
+    int watch = yes(contacts, "watch"), alarm = yes(contacts, "alarm");
+    fputs("acknowledged: the watch and alarm latches are released\n", out);
+    if (!cJSON_IsObject(latest)) {
+        fputs(watch || alarm ? "still energised by the verdicts\n"
+                             : "watch and alarm released (no verdict yet)\n",
+              out);
+    } else if (watch || alarm) {
+        fprintf(out, "still energised: %s%s%s, as the latest verdict calls for: ", watch ? "watch" : "",
+                watch && alarm ? ", " : "", alarm ? "alarm" : "");
+        print_latest(out, latest);
+    } else {
+        fputs("watch and alarm released: the latest verdict is ", out);
+        print_latest(out, latest);
+    }
+    contacts_text(out, contacts);
+}
+
+/* `contacts test`: the sequence the RTU is about to see, in words. */
+static void contacts_test_text(FILE *out, const cJSON *o)
+{
+    const cJSON *sequence = item(o, "sequence"), *c;
+    double hold = 0, gap = 0, duration = 0;
+    number(o, "hold_s", &hold);
+    number(o, "gap_s", &gap);
+    number(o, "duration_s", &duration);
+    int n = cJSON_GetArraySize(sequence), i = 0;
+    fprintf(out, "contacts test started: all contacts released for %.0f s, then ", gap);
+    cJSON_ArrayForEach(c, sequence)
+    {
+        fprintf(out, "%s%s",
+                i == 0       ? ""
+                : i == n - 1 ? " and "
+                             : ", ",
+                cJSON_IsString(c) ? c->valuestring : "?");
+        i++;
+    }
+    fprintf(out, " %s energised alone for %.0f s with %.0f s released between;\n", n > 1 ? "each" : "is",
+            hold, gap);
+    fprintf(out, "%.0f s in all, then the contacts return to what the verdicts call for\n", duration);
+}
+
 /* The short replies: a line each. */
 static int short_text(FILE *out, const char *cls, const cJSON *o)
 {
@@ -384,7 +442,9 @@ static int short_text(FILE *out, const char *cls, const cJSON *o)
     } else if (strcmp(cls, "EVENT") == 0 || strcmp(cls, "SCAN") == 0)
         fprintf(out, "scan %s\n", text_or(o, "scan", "?"));
     else if (strcmp(cls, "ACK") == 0)
-        contacts_text(out, item(o, "contacts"));
+        ack_text(out, o);
+    else if (strcmp(cls, "CONTACTS_TEST") == 0)
+        contacts_test_text(out, o);
     else if (strcmp(cls, "BASELINE") == 0) {
         fprintf(out, "%s\n", text_or(o, "message", "?"));
         const cJSON *b = item(o, "current");

@@ -14,6 +14,7 @@
 #include "integrations/site_io.h"
 #include "uwb/reply_text.h"
 #include "uwb/cli.h"
+#include "uwb/verdict_record.h"
 
 static char *printed;
 
@@ -179,6 +180,47 @@ static void test_progress_figures_read_back(void)
     TEST_ASSERT_EQUAL_INT(-1, uwbd_progress_read("not json", &got));
 }
 
+/* Issue 48, finding 8: `ack` says the alarm was acknowledged and what
+ * still holds a contact: the latest verdict's condition, with its time. */
+static void test_ack_says_what_still_holds_the_contacts(void)
+{
+    struct uwbd_contact_states held = {.watch = 1, .alarm = 1, .fault = 1};
+    struct uwb_verdict_record latest = {.status = UWB_STATUS_ALARM, .has_displacement = 1};
+    latest.axial_displacement_mm = 11.97;
+    latest.uncertainty_mm = 0.35;
+    snprintf(latest.scan_id, sizeof latest.scan_id, "T3-north-uwb-20261207T032316.813Z");
+    snprintf(latest.created, sizeof latest.created, "2026-12-07T03:23:16Z");
+    const char *t = as_text(uwbd_reply_ack(&held, &latest));
+    assert_has(t, "acknowledged: the watch and alarm latches are released\n");
+    assert_has(t, "still energised: watch, alarm, as the latest verdict calls for: ALARM +11.97");
+    assert_has(t, "(2026-12-07T03:23:16Z, scan T3-north-uwb-20261207T032316.813Z)\n");
+    free(printed);
+    struct uwbd_contact_states released = {.fault = 1};
+    latest.status = UWB_STATUS_OK;
+    latest.axial_displacement_mm = 0.1;
+    t = as_text(uwbd_reply_ack(&released, &latest));
+    assert_has(t, "acknowledged: the watch and alarm latches are released\n");
+    assert_has(t, "watch and alarm released: the latest verdict is OK +0.10");
+    TEST_ASSERT_NULL_MESSAGE(strstr(t, "still energised"), t);
+    free(printed);
+    t = as_text(uwbd_reply_ack(&released, NULL));
+    assert_has(t, "watch and alarm released (no verdict yet)\n");
+}
+
+/* Issue 48, finding 8: `contacts test` says its sequence in words. */
+static void test_contacts_test_says_its_sequence(void)
+{
+    char reply[] = "{\"class\":\"CONTACTS_TEST\",\"sequence\":[\"watch\",\"alarm\",\"fault\"],"
+                   "\"hold_s\":2,\"gap_s\":1,\"duration_s\":9}";
+    char *line = malloc(sizeof reply);
+    TEST_ASSERT_NOT_NULL(line);
+    memcpy(line, reply, sizeof reply);
+    TEST_ASSERT_EQUAL_STRING("contacts test started: all contacts released for 1 s, then watch, alarm and "
+                             "fault each energised alone for 2 s with 1 s released between;\n"
+                             "9 s in all, then the contacts return to what the verdicts call for\n",
+                             as_text(line));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -189,5 +231,7 @@ int main(void)
     RUN_TEST(test_errors_and_short_replies_are_a_line);
     RUN_TEST(test_progress_says_its_pass);
     RUN_TEST(test_progress_figures_read_back);
+    RUN_TEST(test_ack_says_what_still_holds_the_contacts);
+    RUN_TEST(test_contacts_test_says_its_sequence);
     return UNITY_END();
 }
