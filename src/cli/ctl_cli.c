@@ -31,7 +31,9 @@ void uwbd_ctl_usage(FILE *f)
         f,
         "usage: uwbd ctl [--socket PATH | --config FILE] [--timeout S] [--json | --text | --csv] COMMAND...\n"
         "\n"
-        "Sends COMMAND to the running daemon and prints its reply (one JSON line; text with --text).\n"
+        "Sends COMMAND to the running daemon and prints its reply: as text for people when standard\n"
+        "output is a terminal, else as the daemon's JSON line (a pipe, a file, a script). Options may\n"
+        "come before or after COMMAND (`uwbd ctl status --text`); after `--` every word is COMMAND's.\n"
         "\n"
         "Commands (read case-insensitively; a mistyped one is answered with the one meant):\n");
     /* The daemon's own table, so that this list is what the daemon takes. */
@@ -52,13 +54,14 @@ void uwbd_ctl_usage(FILE *f)
             "  --config FILE    take the socket's path from this configuration\n"
             "  --timeout S      wait at most S seconds for the daemon to accept the connection, and as\n"
             "                   long for the reply (default %d for scan, %d otherwise; %d to connect)\n"
-            "  --json           print the reply's JSON line as the daemon sent it (the default; for\n"
-            "                   programs)\n"
-            "  --text           print the reply for people instead of its JSON line: status as a\n"
+            "  --json           print the reply's JSON line as the daemon sent it (the default when\n"
+            "                   standard output is not a terminal; for programs)\n"
+            "  --text           print the reply for people (the default on a terminal): status as a\n"
             "                   page of \"Name : value\" lines (MQTT, Modbus, contacts, baseline\n"
             "                   age, free space), history and trend as tables, help as a list,\n"
             "                   a verdict as lines (status, displacement or edges or reason,\n"
-            "                   images), an error as \"error: MESSAGE\"; watch as a line each\n"
+            "                   images), ack and contacts test in words, an error as\n"
+            "                   \"error: MESSAGE\"; watch as a line each\n"
             "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
             "                   (a header naming each column and its unit, then a row per\n"
             "                   verdict, oldest first; a figure not given is an empty cell)\n"
@@ -182,11 +185,18 @@ static void show_progress(const char *line, int on_terminal)
     fflush(stderr);
 }
 
+/* Long options only (but -h): values past any character, so that `-t`
+ * is an unknown option rather than --timeout missing its value. */
+enum { OPT_SOCKET = 256, OPT_CONFIG, OPT_TIMEOUT, OPT_TEXT, OPT_JSON, OPT_CSV };
 static const struct option ctl_options[] = {
-    {"socket", required_argument, 0, 's'},  {"config", required_argument, 0, 'c'},
-    {"timeout", required_argument, 0, 't'}, {"text", no_argument, 0, 'T'},
-    {"json", no_argument, 0, 'J'},          {"csv", no_argument, 0, 'C'},
-    {"help", no_argument, 0, 'h'},          {0, 0, 0, 0},
+    {"socket", required_argument, 0, OPT_SOCKET},
+    {"config", required_argument, 0, OPT_CONFIG},
+    {"timeout", required_argument, 0, OPT_TIMEOUT},
+    {"text", no_argument, 0, OPT_TEXT},
+    {"json", no_argument, 0, OPT_JSON},
+    {"csv", no_argument, 0, OPT_CSV},
+    {"help", no_argument, 0, 'h'},
+    {0, 0, 0, 0},
 };
 
 /* Returned by the steps below when uwbd ctl goes on (exit statuses are >= 0). */
@@ -206,23 +216,24 @@ struct ctl_args {
 static int read_ctl_options(int argc, char **argv, struct ctl_args *a)
 {
     int c;
-    /* "+": stop at the first command word, so "history 5" is not an option. */
+    /* Options anywhere before `--`: getopt moves the command words after
+     * them in argv, in their order (`history 5` stays a command). */
     opterr = 0; /* one line of our own instead of getopt's and the usage */
-    while ((c = getopt_long(argc, argv, "+h", ctl_options, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "h", ctl_options, NULL)) != -1) {
         char *end;
         switch (c) {
-        case 's': a->socket_path = optarg; break;
-        case 'c': a->config_path = optarg; break;
-        case 't':
+        case OPT_SOCKET: a->socket_path = optarg; break;
+        case OPT_CONFIG: a->config_path = optarg; break;
+        case OPT_TIMEOUT:
             a->timeout_s = strtod(optarg, &end);
             if (*end || !(a->timeout_s > 0)) {
                 fprintf(stderr, "uwbd ctl: --timeout: '%s' is not a positive number of seconds\n", optarg);
                 return UWBD_CTL_USAGE;
             }
             break;
-        case 'T': a->as_text = 1; break;
-        case 'J': a->as_json = 1; break;
-        case 'C': a->as_csv = 1; break;
+        case OPT_TEXT: a->as_text = 1; break;
+        case OPT_JSON: a->as_json = 1; break;
+        case OPT_CSV: a->as_csv = 1; break;
         case 'h': uwbd_ctl_usage(stdout); return UWBD_CTL_OK;
         default:
             uwb_cli_option_error("uwbd ctl", "uwbd ctl --help", argv, argc, ctl_options);
@@ -241,6 +252,10 @@ static int read_ctl_options(int argc, char **argv, struct ctl_args *a)
         fprintf(stderr, "uwbd ctl: give one of --json, --text or --csv\n");
         return UWBD_CTL_USAGE;
     }
+    /* People at a terminal read text; a pipe or a file gets the JSON line
+     * scripts have always parsed. */
+    if (!a->as_json && !a->as_csv && isatty(STDOUT_FILENO))
+        a->as_text = 1;
     return CTL_GOES_ON;
 }
 
@@ -305,7 +320,8 @@ static int send_command(int fd, struct ctl_args *a)
     if (refusal[0]) {
         /* The daemon turned the connection away and said why (e.g. too
          * many clients): that is its reply, as if it had come after. */
-        puts(refusal);
+        if (!a->as_text || uwbd_reply_text(refusal, stdout) != 0)
+            puts(refusal);
         return is_error_reply(refusal) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
     }
     fprintf(stderr, "uwbd ctl: %s: cannot send: %s\n", a->socket_path, strerror(e));

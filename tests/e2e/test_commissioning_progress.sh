@@ -55,7 +55,7 @@ uwbd ctl --socket run/control.sock watch progress > progress.txt 2> watch.err &
 watch_pid=$!
 pids+=($watch_pid)
 wait_for grep -q WATCH progress.txt || fail "watch progress: no WATCH answer: $(cat watch.err)"
-scan_cmd="${UWB_EXEC_PREFIX:-} $BUILD/uwbd ctl --socket run/control.sock scan"
+scan_cmd="${UWB_EXEC_PREFIX:-} $BUILD/uwbd ctl --socket run/control.sock --json scan"
 if command -v script > /dev/null; then
     script -qec "$scan_cmd" /dev/null > tty.out || fail "ctl scan on a terminal: $(cat -v tty.out)"
     tail -n 1 tty.out | tr -d '\r' > scan.json

@@ -69,4 +69,33 @@ ctl stauts > typo.out 2> typo.err || rc=$?
 ctl Baseline Set > upper.json || fail "Baseline Set refused: $(cat upper.json)"
 json_check upper.json 'class == BASELINE' 'pending = true' || fail "Baseline Set: $(cat upper.json)"
 pass "stauts: exit 64, did you mean status; 'Baseline Set' accepted"
+
+# ---- issue 48, findings 1, 2 and 8: text on a terminal, options anywhere --------
+# script(1) (bsdutils, in every Debian) gives ctl a pty for its stdout.
+on_terminal() { script -qec "${UWB_EXEC_PREFIX:-} $BUILD/uwbd ctl --socket run/control.sock $*" /dev/null | tr -d '\r'; }
+on_terminal status > tty-status.txt
+grep -q '^State           : idle$' tty-status.txt && ! grep -q '{' tty-status.txt ||
+    fail "status on a terminal is not the text page: $(cat tty-status.txt)"
+on_terminal verdict > tty-verdict.txt
+grep -q '{' tty-verdict.txt && fail "verdict on a terminal printed JSON: $(cat tty-verdict.txt)"
+on_terminal --json status | json_check - 'class == STATUS' || fail "--json on a terminal: not the JSON line"
+on_terminal ack > tty-ack.txt
+grep -q '^acknowledged: the watch and alarm latches are released$' tty-ack.txt &&
+    grep -q "^watch and alarm released: the latest verdict is EDGES (20.*, scan $base_id)$" tty-ack.txt ||
+    fail "ack on a terminal does not say what was done and what holds: $(cat tty-ack.txt)"
+pass "on a terminal: text (status, verdict, ack in words); --json there the JSON line; a pipe the JSON line"
+
+ctl status --text > late-text.txt || fail "status --text: exit $?"
+grep -q '^State           : idle$' late-text.txt ||
+    fail "status --text: $(cat late-text.txt)"
+ctl history --csv > late.csv || fail "history --csv: exit $?"
+[[ $(head -c 4 late.csv) != '{"cl' && $(wc -l < late.csv) -ge 2 ]] || fail "history --csv: $(cat late.csv)"
+ctl history 1 --json | json_check - 'class == HISTORY' || fail "history 1 --json"
+rc=0
+ctl -- history --csv > dashdash.out 2> dashdash.err || rc=$?
+[[ $rc == 64 ]] || fail "after --, --csv is a command word: exit $rc: $(cat dashdash.err)"
+rc=0
+ctl -t status > short.out 2> short.err || rc=$?
+[[ $rc == 64 ]] && grep -qF "unknown option '-t'" short.err || fail "-t: exit $rc: $(cat short.err)"
+pass "options after the command (status --text, history --csv, history 1 --json); after -- none; -t unknown"
 echo "$passed passed"

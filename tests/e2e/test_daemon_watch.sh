@@ -92,7 +92,7 @@ pass "ctl scan: stdout one VERDICT line, stderr $(wc -l < scan.err) PROGRESS lin
 
 # ---- ctl scan on a terminal: a bar redrawn in place (script(1) gives it a pty) --
 if command -v script > /dev/null; then
-    script -qec "${UWB_EXEC_PREFIX:-} $BUILD/uwbd ctl --socket run/control.sock scan" /dev/null > tty.out ||
+    script -qec "${UWB_EXEC_PREFIX:-} $BUILD/uwbd ctl --socket run/control.sock --json scan" /dev/null > tty.out ||
         fail "ctl scan on a terminal: $(cat tty.out)"
     grep -q "\[#\{30\}\] $positions/$positions positions" tty.out || fail "no full progress bar: $(cat -v tty.out)"
     [[ $(tr '\r' '\n' < tty.out | grep -c 'positions  ') -ge $positions ]] ||
