@@ -30,6 +30,10 @@ struct option;
 void uwb_cli_option_error(const char *prog, const char *help, char *const argv[], int argc,
                           const struct option *longopts);
 
+/* One line for words left after the options (argv[first..argc)): when they
+ * are a command of the daemon, the `uwbd ctl` line that was meant. */
+void uwb_cli_unexpected_argument(const char *prog, char *const argv[], int first, int argc);
+
 /* A HISTORY reply as CSV (uwb/verdict_csv.h): the header, then a row per
  * verdict. 0, or -1 with err: not a HISTORY reply (nothing printed), a
  * verdict unreadable or a write failed (the rows before it printed). */

@@ -156,7 +156,7 @@ int uwbd_daemon_main(int argc, char **argv)
     if (bad)
         return UWBD_EXIT_USAGE;
     if (optind < argc) {
-        fprintf(stderr, "uwbd: unexpected argument '%s'\n", argv[optind]);
+        uwb_cli_unexpected_argument("uwbd", argv, optind, argc);
         return UWBD_EXIT_USAGE;
     }
     if (keys == 2) {

@@ -1,10 +1,12 @@
 /* One line for a command-line option getopt_long refused (opterr = 0): the
- * option, what is wrong with it, a likely meant option, and "see --help". */
+ * option, what is wrong with it, a likely meant option, and "see --help";
+ * or for words left over, the `uwbd ctl` command they look like. */
 #include <getopt.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "uwb/cli.h"
+#include "daemon/command.h"
 #include "util/edit_distance.h"
 
 /* The long option closest to `name` (uwb_nearest's rules), or NULL. */
@@ -60,4 +62,28 @@ void uwb_cli_option_error(const char *prog, const char *help, char *const argv[]
                 meant, help);
     else
         fprintf(stderr, "%s: unknown option '--%.*s'; see %s\n", prog, (int)n, name, help);
+}
+
+void uwb_cli_unexpected_argument(const char *prog, char *const argv[], int first, int argc)
+{
+    char line[UWB_COMMAND_MAX_LINE + 1], err[256];
+    size_t len = 0;
+    int fits = 1;
+    for (int i = first; i < argc && fits; i++) {
+        size_t n = strlen(argv[i]);
+        fits = len + n + 1 < sizeof line;
+        if (fits) {
+            if (len)
+                line[len++] = ' ';
+            memcpy(line + len, argv[i], n);
+            len += n;
+        }
+    }
+    line[len] = '\0';
+    struct uwb_command cmd;
+    if (fits && uwb_command_parse(line, len, &cmd, err, sizeof err) == UWB_COMMAND_OK)
+        fprintf(stderr, "%s: unexpected argument '%s' (did you mean `uwbd ctl %s`?)\n", prog, argv[first],
+                line);
+    else
+        fprintf(stderr, "%s: unexpected argument '%s'\n", prog, argv[first]);
 }

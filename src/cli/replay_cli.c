@@ -20,6 +20,7 @@
 #include "daemon/daemon.h"
 #include "uwb/evaluate.h"
 #include "uwb/render.h"
+#include "uwb/reply_text.h"
 #include "uwb/scan.h"
 #include "uwb/verdict_json.h"
 
@@ -57,6 +58,9 @@ void uwbd_replay_usage(FILE *f)
         "  --direct-coupling-window-ns T  look for the direct coupling up to T ns (default 2)\n"
         "  --direct-coupling-tolerance-ps T  against a baseline, a direct coupling moved more than T ps is\n"
         "                           inconclusive, not compared: cable or antenna changed (default 20)\n"
+        "  --text                   print the verdict for people (its status, figures, reason and\n"
+        "                           images as lines, as uwbd ctl --text does) instead of its JSON line;\n"
+        "                           STEM.json in --out is the JSON line still\n"
         "  -h, --help               this text\n"
         "  --version                print the version\n"
         "\n"
@@ -65,13 +69,15 @@ void uwbd_replay_usage(FILE *f)
         "written; 70 internal error. Errors go to stderr, naming the file and the problem.\n");
 }
 
+/* The appliance first (the daemon, then ctl to talk to it), the replay of
+ * a recorded scan last: the order in which an engineer meets them. */
 static void usage(FILE *f)
 {
-    uwbd_replay_usage(f);
-    fputs("\n", f);
     uwbd_daemon_usage(f);
     fputs("\n", f);
     uwbd_ctl_usage(f);
+    fputs("\n", f);
+    uwbd_replay_usage(f);
 }
 
 static int parse_number(const char *opt, const char *text, double *out)
@@ -162,6 +168,7 @@ enum {
     OPT_EDGE_FRACTION,
     OPT_DC_WINDOW,
     OPT_DC_TOLERANCE,
+    OPT_TEXT,
     OPT_VERSION
 };
 
@@ -249,6 +256,7 @@ static const struct option replay_options[] = {
     {"edge-fraction", required_argument, 0, OPT_EDGE_FRACTION},
     {"direct-coupling-window-ns", required_argument, 0, OPT_DC_WINDOW},
     {"direct-coupling-tolerance-ps", required_argument, 0, OPT_DC_TOLERANCE},
+    {"text", no_argument, 0, OPT_TEXT},
     {"help", no_argument, 0, 'h'},
     {"version", no_argument, 0, OPT_VERSION},
     {0, 0, 0, 0},
@@ -259,6 +267,7 @@ struct replay_args {
     const char *replay, *baseline_path, *out_dir;
     struct uwb_evaluate_options opt;
     int watch_given, alarm_given;
+    int as_text; /* --text: the verdict for people, not its JSON line */
 };
 
 /* Returned by the option readers when the replay goes on. */
@@ -367,6 +376,7 @@ static int read_option(int c, int argc, char **argv, struct replay_args *a)
     case OPT_REPLAY: a->replay = optarg; return REPLAY_GOES_ON;
     case OPT_BASELINE: a->baseline_path = optarg; return REPLAY_GOES_ON;
     case OPT_OUT: a->out_dir = optarg; return REPLAY_GOES_ON;
+    case OPT_TEXT: a->as_text = 1; return REPLAY_GOES_ON;
     case OPT_MIGRATION:
     case OPT_TARGET_Z:
     case OPT_WINDING_SPAN:
@@ -396,7 +406,7 @@ static int read_args(int argc, char **argv, struct replay_args *a)
             return rc;
     }
     if (optind < argc) {
-        fprintf(stderr, "uwbd: unexpected argument '%s'\n", argv[optind]);
+        uwb_cli_unexpected_argument("uwbd", argv, optind, argc);
         return EX_USAGE;
     }
     if (!a->replay) {
@@ -461,7 +471,8 @@ static int write_outputs(const struct replay_args *a, const struct uwb_scan *cur
     }
     if (a->out_dir && rc == 0 && write_verdict_file(a->out_dir, stem, json) != 0)
         rc = EX_CANTCREAT;
-    puts(json);
+    if (!a->as_text || uwbd_verdict_text(json, stdout) != 0)
+        puts(json);
     free(json);
     return rc;
 }

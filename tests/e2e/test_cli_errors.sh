@@ -37,6 +37,21 @@ one_line_error ctl-csv-status 64 '^uwbd ctl: --csv is for `history \[N\]` only, 
 one_line_error ctl-csv-text 64 '^uwbd ctl: give one of --json, --text or --csv$' uwbd ctl --socket nowhere.sock --text --csv history
 pass "uwbd ctl --csv with a command other than history, or with --text: one line, exit 64"
 
+# Issue 48, finding 8: a ctl command typed without `ctl` is named with it;
+# -t, which no help shows, is an unknown option, not --timeout's; --help
+# starts with the daemon and ctl, the replay last.
+one_line_error bare-command 64 "^uwbd: unexpected argument 'status' \(did you mean .uwbd ctl status.\?\)$" uwbd status
+one_line_error bare-command-words 64 "^uwbd: unexpected argument 'history' \(did you mean .uwbd ctl history 3.\?\)$" \
+    uwbd history 3
+one_line_error ctl-short-t 64 "^uwbd ctl: unknown option '-t'; see uwbd ctl --help$" uwbd ctl -t 5 status
+uwbd --help > usage.txt
+mapfile -t usages < <(grep -n '^usage: uwbd' usage.txt | cut -d: -f1)
+[[ ${#usages[@]} == 3 ]] || fail "uwbd --help: want three usages: $(grep '^usage' usage.txt)"
+[[ $(sed -n "${usages[0]}p" usage.txt) == 'usage: uwbd --config FILE [options]'* &&
+    $(sed -n "${usages[1]}p" usage.txt) == 'usage: uwbd ctl '* && $(sed -n "${usages[2]}p" usage.txt) == 'usage: uwbd --replay '* ]] ||
+    fail "uwbd --help: want the daemon, then ctl, then --replay: $(grep '^usage' usage.txt)"
+pass "uwbd status: did you mean uwbd ctl status; ctl -t unknown; uwbd --help: daemon, ctl, then --replay"
+
 # Issue 27, break 3: --timeout covers connecting. A daemon that stopped
 # accepting (its backlog full) made `uwbd ctl --timeout 1 status` wait in
 # connect() until killed; now exit 75 within the timeout, saying so.

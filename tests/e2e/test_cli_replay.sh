@@ -26,6 +26,12 @@ ls -A "$out/img" | grep -q '^\.' && fail "temporary files left in the output dir
 cmp -s "$out/stdout" "$out/img/fdtd2d-paper-up20mm.json" || fail "--out: no STEM.json equal to the printed verdict"
 [[ $(ls "$out/img" | wc -l) == 4 ]] || fail "--out: want 3 PNGs and the verdict: $(ls "$out/img")"
 
+# Issue 48, finding 8: --text prints the verdict for people, as uwbd ctl does.
+uwbd --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan \
+     --baseline tests/fixtures/fdtd2d-paper-intact.uwbscan --text > "$out/text"
+grep -q '{' "$out/text" && fail "--replay --text printed JSON: $(cat "$out/text")"
+grep -Eq '^status ALARM.*\+(19\.[5-9]|20\.[0-4])[0-9]* ' "$out/text" || fail "--replay --text: $(cat "$out/text")"
+
 # Without a baseline: edges only.
 uwbd --replay tests/fixtures/fdtd2d-paper-intact.uwbscan | grep -q '"status":"edges"' || fail "edges-only status"
 

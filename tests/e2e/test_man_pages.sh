@@ -69,7 +69,8 @@ pass "uwbd.json(5) lists all ${#keys[@]} keys with type, range and default"
 
 # Every long option in the usage texts, in the page that documents it.
 options_in() { grep -oE -- '--[a-z][a-z-]+' | sort -u; }
-for opt in $(uwbd --help | sed '/^usage: uwbd ctl/,$d' | options_in); do
+# uwbd --help: the daemon, ctl (checked below against uwbd-ctl(1)), the replay.
+for opt in $(uwbd --help | sed '/^usage: uwbd ctl/,/^usage: uwbd --replay/{/^usage: uwbd --replay/!d}' | options_in); do
     escaped=${opt//-/\\-}
     grep -qF -- "$escaped" board/man/uwbd.8 || fail "uwbd(8) does not document $opt"
 done
