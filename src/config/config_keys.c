@@ -347,8 +347,11 @@ const struct config_key uwbd_config_keys[] = {
     STRING("mqtt.cert_file", site.mqtt_cert_file, "", "client certificate (PEM) for TLS, with mqtt.key_file"),
     STRING("mqtt.key_file", site.mqtt_key_file, "",
            "the client certificate's key (PEM), readable by the service only"),
-    STRING("mqtt.topic_prefix", site.mqtt_topic_prefix, "uwbd",
-           "topics are PREFIX/ASSET_ID/verdict and PREFIX/ASSET_ID/status"),
+    STRING(
+        "mqtt.topic_prefix", site.mqtt_topic_prefix, "uwbd",
+        "topics are PREFIX/ASSET_ID/verdict (each verdict, retained), PREFIX/ASSET_ID/status (online or "
+        "offline), PREFIX/ASSET_ID/health (the appliance's health, retained) and, with mqtt.commands, "
+        "PREFIX/ASSET_ID/cmd (commands taken) and PREFIX/ASSET_ID/reply (their answers); see uwbd-mqtt(7)"),
     INTEGER("mqtt.queue_max", site.mqtt_queue_max, "", 1, 100000, 1000,
             "verdicts kept in STATE_DIR/mqtt-queue while the broker is away, sent in order when it is back; "
             "beyond this the oldest is dropped (logged)"),

@@ -73,7 +73,7 @@ enum uwbd_modbus_health {
     UWBD_MODBUS_HEALTH_RIG_DOWN = 1u << 1,     /* the rig is not open (it is tried again at the next scan) */
     UWBD_MODBUS_HEALTH_SCANNING = 1u << 2,
     UWBD_MODBUS_HEALTH_BASELINE = 1u << 3, /* a baseline is set */
-    UWBD_MODBUS_HEALTH_VERDICT = 1u << 4,  /* registers 1-12 and 15-20 hold a verdict */
+    UWBD_MODBUS_HEALTH_VERDICT = 1u << 4,  /* registers 1-12 and 15-21 hold a verdict */
 };
 
 enum uwbd_modbus_contact {

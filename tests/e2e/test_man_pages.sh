@@ -44,6 +44,39 @@ well_formed board/man/uwbd.8 8
 well_formed board/man/uwbd-ctl.1 1
 pass "uwbd.json(5), uwbd(8), uwbd-ctl(1): well-formed roff"
 
+# Issue 48, finding 10: at the widths man fills on common terminals (80 and
+# 100 columns; groff's own 78 is above) no line groff cannot adjust (a wide
+# gap: a long JSON example once) or break.
+if command -v groff > /dev/null; then
+    for page in "$out/uwbd.json.5" board/man/uwbd.8 board/man/uwbd-ctl.1 board/man/uwbsim.1; do
+        for width in 80 100; do
+            groff -man -Tutf8 -ww -z -rLL=${width}n "$page" 2> "$out/groff.err" || fail "$page: groff failed"
+            [[ ! -s "$out/groff.err" ]] || fail "$page at $width columns: groff warns: $(head -3 "$out/groff.err")"
+        done
+    done
+    pass "uwbd.json(5), uwbd(8), uwbd-ctl(1), uwbsim(1): no groff warning at 80 and 100 columns"
+fi
+
+# Issue 48, finding 10: what the pages say agrees with the code and with
+# each other. uwbd-ctl(1) points to every section 7 page; uwbd(8)'s NAME
+# covers both figures; its health bit 4 names the registers up to the last
+# one the map has; uwbd.json(5)'s mqtt.topic_prefix names every topic.
+see_also=$(sed -n '/^\.SH SEE ALSO/,$p' board/man/uwbd-ctl.1)
+for src in board/man/*.7.scd; do
+    name=$(basename "$src" .7.scd)
+    grep -qF ".BR ${name//-/\\-} (7)" <<< "$see_also" || fail "uwbd-ctl(1)'s SEE ALSO lacks $name(7)"
+done
+sed -n '/^\.SH NAME/{n;p}' board/man/uwbd.8 | grep -q 'axial and radial displacement' ||
+    fail "uwbd(8)'s NAME: $(sed -n '/^\.SH NAME/{n;p}' board/man/uwbd.8)"
+last_register=$(grep -oE 'UWBD_MODBUS_REG_[A-Z_]+ = [0-9]+' src/integrations/modbus_registers.h | grep -oE '[0-9]+$' | sort -n | tail -n 1)
+bit4=$(groff -man -Tascii -rLL=200n board/man/uwbd.8 2> /dev/null | grep -E '4 a verdict present' || true)
+[[ $bit4 == *"15-$last_register)"* ]] || fail "uwbd(8)'s health bit 4 does not end at register $last_register: $bit4"
+topic_paragraph=$(grep -A3 -xF '\fBmqtt.topic_prefix\fR' "$out/uwbd.json.5")
+for topic in $(grep -oE '"%s/%s/[a-z]+"' src/integrations/mqtt_publisher.c | grep -oE '[a-z]+"$' | tr -d '"' | sort -u); do
+    grep -qF "ASSET_ID/$topic" <<< "$topic_paragraph" || fail "uwbd.json(5)'s mqtt.topic_prefix lacks the topic $topic: $topic_paragraph"
+done
+pass "uwbd-ctl(1) sees all section 7 pages; uwbd(8): axial and radial, bit 4 to register $last_register; every MQTT topic in uwbd.json(5)"
+
 # Every page rendered as man(1) shows it: all the source's words, in order.
 pages=("$out/uwbd.json.5" board/man/*.[1-8])
 (( ${#pages[@]} >= 3 )) || fail "only ${#pages[@]} manual pages found"
