@@ -6,7 +6,9 @@
 # moves the emulated winding up 12 mm, scans again, then puts it back and
 # bulges disks 2..4 6 mm toward the antennas (a radial change), scans again,
 # prints the verdicts and where the images are, and stops everything.
-# Scan progress: a bar on a terminal; piped into a file, none (only errors).
+# On a terminal uwbd ctl prints text and scan progress is a bar; piped into
+# a file its replies are JSON lines, as scripts read them, and progress is
+# left out (only errors).
 set -euo pipefail
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 BUILD=$(cd "${UWB_BUILD_DIR:-${1:-$REPO/build}}" && pwd)
@@ -43,11 +45,15 @@ wait_for() {
     return 1
 }
 ctl() { "$BUILD/uwbd" ctl --socket run/control.sock "$@"; }
-# `uwbd ctl scan`: its progress bar on a terminal; otherwise its PROGRESS
-# lines (one per position) stay out of the output and only errors show.
+# `uwbd ctl scan`: on a terminal its progress bar, the verdict left to
+# show (its text, once); otherwise its VERDICT line, and its PROGRESS lines
+# (one per position) stay out of the output and only errors show.
 scan() {
-    if [[ -t 2 ]]; then ctl scan; return; fi
     local rc=0
+    if [[ -t 1 ]]; then
+        ctl --text scan > run/scan.txt || { rc=$?; cat run/scan.txt; }
+        return "$rc"
+    fi
     ctl scan 2> run/scan.err || rc=$?
     grep -v '^{"class":"PROGRESS"' run/scan.err >&2 || true
     return "$rc"
@@ -108,16 +114,14 @@ contacts "(fault energised: healthy)"
 echo "\$ uwbd ctl baseline set"
 ctl baseline set
 echo "\$ uwbd ctl scan"
-line=$(scan) || die "commissioning scan: $line"
-echo "$line"
+scan || die "the commissioning scan failed"
 show "commissioning scan of the intact winding (it becomes the baseline)"
 contacts
 
 echo "\$ uwbemu --ctl unix:run/emu.sock 'set displacement_m 0.012'     # the winding moves up 12 mm"
 "$BUILD/uwbemu" --ctl unix:run/emu.sock 'set displacement_m 0.012' > /dev/null || die "cannot move the emulated winding"
 echo "\$ uwbd ctl scan"
-line=$(scan) || die "second scan: $line"
-echo "$line"
+scan || die "the second scan failed"
 show "scan after the emulated winding moved up 12 mm"
 contacts "(watch and alarm latch until ack)"
 echo "\$ uwbd ctl ack"
@@ -129,10 +133,9 @@ echo "\$ uwbemu --ctl unix:run/emu.sock 'set displacement_m 0'     # the winding
 echo "\$ uwbemu --ctl unix:run/emu.sock 'set radial 2 4 6'     # disks 2..4 bulge 6 mm toward the antennas"
 "$BUILD/uwbemu" --ctl unix:run/emu.sock 'set radial 2 4 6' > /dev/null || die "cannot bulge the emulated winding"
 echo "\$ uwbd ctl scan"
-line=$(scan) || die "radial scan: $line"
-echo "$line"
+scan || die "the radial scan failed"
 show "scan after disks 2..4 of the emulated winding bulged 6 mm toward the antennas (a radial change)"
-comparison=$(ctl verdict | tr ',' '\n' | sed -n 's/.*"\([^"]*-comparison\.png\)".*/\1/p')
+comparison=$(ctl --json verdict | tr ',' '\n' | sed -n 's/.*"\([^"]*-comparison\.png\)".*/\1/p')
 [[ -n $comparison ]] || die "the radial scan's verdict names no comparison picture"
 echo "   the comparison picture (baseline and this scan): $comparison"
 contacts
