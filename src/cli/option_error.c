@@ -81,9 +81,26 @@ void uwb_cli_unexpected_argument(const char *prog, char *const argv[], int first
     }
     line[len] = '\0';
     struct uwb_command cmd;
-    if (fits && uwb_command_parse(line, len, &cmd, err, sizeof err) == UWB_COMMAND_OK)
-        fprintf(stderr, "%s: unexpected argument '%s' (did you mean `uwbd ctl %s`?)\n", prog, argv[first],
-                line);
+    const char *word = argv[first];
+    size_t n = strlen(word);
+    if (fits && uwb_command_parse(line, len, &cmd, err, sizeof err) == UWB_COMMAND_OK) {
+        fprintf(stderr, "%s: unexpected argument '%s' (did you mean `uwbd ctl %s`?)\n", prog, word, line);
+        return;
+    }
+    static const char scan_suffix[] = ".uwbscan";
+    if (n > sizeof scan_suffix - 1 && strcmp(word + n - (sizeof scan_suffix - 1), scan_suffix) == 0) {
+        fprintf(stderr, "%s: unexpected argument '%s' (did you mean `uwbd --replay %s`?)\n", prog, word,
+                word);
+        return;
+    }
+    /* A command mistyped: the nearest command's first word. */
+    struct uwb_nearest near;
+    uwb_nearest_start(&near, word, n);
+    for (size_t i = 0; i < uwb_command_help_count; i++)
+        uwb_nearest_offer(&near, uwb_command_help[i].usage, strcspn(uwb_command_help[i].usage, " "));
+    if (near.best)
+        fprintf(stderr, "%s: unexpected argument '%s' (did you mean `uwbd ctl %.*s`?)\n", prog, word,
+                (int)near.best_len, near.best);
     else
-        fprintf(stderr, "%s: unexpected argument '%s'\n", prog, argv[first]);
+        fprintf(stderr, "%s: unexpected argument '%s'\n", prog, word);
 }

@@ -43,6 +43,10 @@ pass "uwbd ctl --csv with a command other than history, or with --text: one line
 one_line_error bare-command 64 "^uwbd: unexpected argument 'status' \(did you mean .uwbd ctl status.\?\)$" uwbd status
 one_line_error bare-command-words 64 "^uwbd: unexpected argument 'history' \(did you mean .uwbd ctl history 3.\?\)$" \
     uwbd history 3
+one_line_error bare-typo 64 "^uwbd: unexpected argument 'stauts' \(did you mean .uwbd ctl status.\?\)$" uwbd stauts
+one_line_error bare-scan-file 64 "^uwbd: unexpected argument 'x.uwbscan' \(did you mean .uwbd --replay x.uwbscan.\?\)$" \
+    uwbd x.uwbscan
+one_line_error bare-other 64 "^uwbd: unexpected argument 'bananas'$" uwbd bananas
 one_line_error ctl-short-t 64 "^uwbd ctl: unknown option '-t'; see uwbd ctl --help$" uwbd ctl -t 5 status
 uwbd --help > usage.txt
 mapfile -t usages < <(grep -n '^usage: uwbd' usage.txt | cut -d: -f1)
@@ -50,7 +54,7 @@ mapfile -t usages < <(grep -n '^usage: uwbd' usage.txt | cut -d: -f1)
 [[ $(sed -n "${usages[0]}p" usage.txt) == 'usage: uwbd --config FILE [options]'* &&
     $(sed -n "${usages[1]}p" usage.txt) == 'usage: uwbd ctl '* && $(sed -n "${usages[2]}p" usage.txt) == 'usage: uwbd --replay '* ]] ||
     fail "uwbd --help: want the daemon, then ctl, then --replay: $(grep '^usage' usage.txt)"
-pass "uwbd status: did you mean uwbd ctl status; ctl -t unknown; uwbd --help: daemon, ctl, then --replay"
+pass "uwbd status, stauts, x.uwbscan: the command meant; ctl -t unknown; uwbd --help: daemon, ctl, then --replay"
 
 # Issue 27, break 3: --timeout covers connecting. A daemon that stopped
 # accepting (its backlog full) made `uwbd ctl --timeout 1 status` wait in
