@@ -7,6 +7,7 @@
 
 #include "accuracy/accuracy.h"
 #include "accuracy/radial.h"
+#include "accuracy/tank3d.h"
 #include "uwb/atomic_file.h"
 #include "uwb/read_file.h"
 
@@ -14,6 +15,8 @@
 #define END_MARK "<!-- make accuracy: end -->\n"
 #define RADIAL_BEGIN_MARK "<!-- make accuracy radial: begin -->\n"
 #define RADIAL_END_MARK "<!-- make accuracy radial: end -->\n"
+#define TANK3D_BEGIN_MARK "<!-- make accuracy 3-D: begin -->\n"
+#define TANK3D_END_MARK "<!-- make accuracy 3-D: end -->\n"
 
 /* The radial rows' noisy level: the 32 dB (3 ps, 2 %). */
 #define RADIAL_LEVEL 1
@@ -95,10 +98,38 @@ static int radial_report(const char *dir, int pairs, FILE *mem)
     return 0;
 }
 
+/* The 3-D rows: every moved scan clean, without and with the drawings'
+ * span; into mem as well when not NULL. 0, or 1 with the error printed. */
+static int tank3d_report(const char *dir, FILE *mem)
+{
+    char err[512];
+    int within[2] = {0, 0};
+    tank3d_print_header(stdout);
+    if (mem)
+        tank3d_print_header(mem);
+    for (int c = 0; c < tank3d_case_count; c++)
+        for (int with_span = 0; with_span <= 1; with_span++) {
+            struct tank3d_row row;
+            if (tank3d_run_case(dir, &tank3d_cases[c], with_span, &row, err, sizeof err) != 0) {
+                fprintf(stderr, "uwbaccuracy: %s\n", err);
+                return 1;
+            }
+            within[with_span] += row.within_2sigma;
+            tank3d_print_row(stdout, &tank3d_cases[c], &row);
+            if (mem)
+                tank3d_print_row(mem, &tank3d_cases[c], &row);
+            fflush(stdout);
+        }
+    tank3d_print_count(stdout, within[0], within[1], tank3d_case_count);
+    if (mem)
+        tank3d_print_count(mem, within[0], within[1], tank3d_case_count);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = "tests/fixtures", *readme = NULL;
-    int pairs = REPORT_PAIRS, only_case = -1, custom = 0, radial_only = 0;
+    int pairs = REPORT_PAIRS, only_case = -1, custom = 0, radial_only = 0, tank3d_only = 0;
     struct accuracy_level level_custom = {0};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--fixtures") && i + 1 < argc)
@@ -125,6 +156,8 @@ int main(int argc, char **argv)
             only_case = (int)n;
         } else if (!strcmp(argv[i], "--radial"))
             radial_only = 1;
+        else if (!strcmp(argv[i], "--3d"))
+            tank3d_only = 1;
         else if (!strcmp(argv[i], "--pair-errors"))
             accuracy_log_pairs(stderr);
         else if (!strcmp(argv[i], "--impair") && i + 4 < argc) {
@@ -140,13 +173,15 @@ int main(int argc, char **argv)
             level_custom.jitter_s = jitter_ps * 1e-12;
         } else {
             fprintf(stderr, "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE] [--case N] "
-                            "[--pair-errors] [--radial]\n"
+                            "[--pair-errors] [--radial] [--3d]\n"
                             "       [--impair SNR_DB JITTER_PS DRIFT_LINEAR DRIFT_RANDOM]\n");
             return 64;
         }
     }
     if (radial_only)
         return radial_report(dir, pairs, NULL);
+    if (tank3d_only)
+        return tank3d_report(dir, NULL);
     if (readme && (custom || only_case >= 0)) {
         fprintf(stderr, "uwbaccuracy: --readme takes the whole report, not --case or --impair\n");
         return 64;
@@ -202,6 +237,24 @@ int main(int argc, char **argv)
     fclose(mem);
     if (rc == 0 && readme &&
         replace_block(readme, table, RADIAL_BEGIN_MARK, RADIAL_END_MARK, err, sizeof err) != 0) {
+        fprintf(stderr, "uwbaccuracy: %s\n", err);
+        rc = 73;
+    }
+    free(table);
+    if (rc != 0)
+        return rc;
+    printf("\n");
+    table = NULL;
+    table_len = 0;
+    mem = open_memstream(&table, &table_len);
+    if (!mem) {
+        fprintf(stderr, "uwbaccuracy: out of memory\n");
+        return 70;
+    }
+    rc = tank3d_report(dir, mem);
+    fclose(mem);
+    if (rc == 0 && readme &&
+        replace_block(readme, table, TANK3D_BEGIN_MARK, TANK3D_END_MARK, err, sizeof err) != 0) {
         fprintf(stderr, "uwbaccuracy: %s\n", err);
         rc = 73;
     }

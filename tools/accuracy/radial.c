@@ -26,6 +26,20 @@ const struct radial_case radial_cases[] = {
 };
 const int radial_case_count = (int)(sizeof radial_cases / sizeof radial_cases[0]);
 
+/* Whether a change was read with the truth's sign, or in its place: right
+ * or wrong on a clean pair, the share over noisy ones; "—" for a pure
+ * shift (no change to place) or nothing measured. */
+static void right_or_wrong(char *out, size_t outlen, const struct radial_case *c,
+                           const struct accuracy_level *level, const struct radial_row *r, double share)
+{
+    if (c->change_m == 0.0 || r->measured == 0)
+        snprintf(out, outlen, "—");
+    else if (!level)
+        snprintf(out, outlen, "%s", share == 1.0 ? "right" : "**wrong**");
+    else
+        snprintf(out, outlen, "%.0f %%", 100.0 * share);
+}
+
 /* One pair's verdict: 0, or -1 with err. */
 static int evaluate_pair(const struct uwb_scan *cur, const struct uwb_scan *base, struct uwb_verdict *v,
                          char *err, size_t errlen)
@@ -43,7 +57,7 @@ static int evaluate_pair(const struct uwb_scan *cur, const struct uwb_scan *base
 
 struct tally {
     double *error, *sigma, *noise;
-    int measured, within, located, watch, n, tilt_withheld, tilt_within;
+    int measured, within, located, sign_right, watch, n, tilt_withheld, tilt_within;
     double tilt_worst;
 };
 
@@ -60,6 +74,7 @@ static void count(struct tally *t, const struct radial_case *c, const struct uwb
     t->measured++;
     t->within += fabs(e) <= 2.0 * r->uncertainty_m;
     t->located += c->change_m != 0.0 && r->at_m >= c->from_m - 0.010 && r->at_m <= c->to_m + 0.010;
+    t->sign_right += c->change_m != 0.0 && (r->max_change_m > 0.0) == (c->change_m > 0.0);
     t->watch += r->status == UWB_STATUS_WATCH || r->status == UWB_STATUS_ALARM;
     if (r->tilt_withheld[0]) {
         t->tilt_withheld++; /* no lean read: not a 0 to count */
@@ -91,6 +106,7 @@ static void summarise(struct tally *t, struct radial_row *row)
     row->median_sigma_m = accuracy_median(t->sigma, m);
     row->within_2sigma = (double)t->within / m;
     row->located = (double)t->located / m;
+    row->sign_right = (double)t->sign_right / m;
     row->watch_or_worse = (double)t->watch / m;
     row->tilt_worst_m = t->tilt_worst;
     row->tilt_withheld = t->tilt_withheld;
@@ -147,15 +163,17 @@ void radial_print_header(FILE *out)
 {
     fprintf(out,
             "| pair | noise | pairs | true change | read (bias) | spread (1σ) | worst error | σ reported "
-            "(median) | spread / σ | its noise part | spread / that | within 2σ | located | watch or alarm | "
-            "largest tilt (within 2σ of none) |\n");
-    fprintf(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+            "(median) | spread / σ | its noise part | spread / that | within 2σ | sign right | place right "
+            "(±10 mm) "
+            "| watch or alarm | largest tilt (within 2σ of none) |\n");
+    fprintf(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
 void radial_print_row(FILE *out, const struct radial_case *c, const struct accuracy_level *level,
                       const struct radial_row *r)
 {
-    char noise[32], pairs[48], spread[16], ratio[16], noise_ratio[16], located[16], tilt[64];
+    char noise[32], pairs[48], read[16], spread[16], ratio[16], noise_ratio[16], located[16], sign[16],
+        tilt[64];
     snprintf(noise, sizeof noise, level ? "%.0f dB" : "none", level ? level->snr_db : 0.0);
     if (r->measured == r->pairs)
         snprintf(pairs, sizeof pairs, "%d", r->pairs);
@@ -166,7 +184,10 @@ void radial_print_row(FILE *out, const struct radial_case *c, const struct accur
              r->median_sigma_m > 0 ? r->spread_m / r->median_sigma_m : 0.0);
     snprintf(noise_ratio, sizeof noise_ratio, level && r->median_noise_sigma_m > 0 ? "%.2f" : "—",
              r->median_noise_sigma_m > 0 ? r->spread_m / r->median_noise_sigma_m : 0.0);
-    snprintf(located, sizeof located, c->change_m != 0.0 ? "%.0f %%" : "—", 100.0 * r->located);
+    /* Nothing measured: no reading to show (the bias of none is 0). */
+    snprintf(read, sizeof read, r->measured > 0 ? "%+.2f" : "withheld", (c->change_m + r->bias_m) * 1e3);
+    right_or_wrong(located, sizeof located, c, level, r, r->located);
+    right_or_wrong(sign, sizeof sign, c, level, r, r->sign_right);
     if (r->measured > 0 && r->tilt_withheld == r->measured)
         snprintf(tilt, sizeof tilt, "withheld");
     else if (r->tilt_withheld > 0)
@@ -175,9 +196,9 @@ void radial_print_row(FILE *out, const struct radial_case *c, const struct accur
     else
         snprintf(tilt, sizeof tilt, "%.2f (%.0f %%)", r->tilt_worst_m * 1e3, 100.0 * r->tilt_within_2sigma);
     fprintf(out,
-            "| %s | %s | %s | %+.2f | %+.2f | %s | %.2f | %.2f | %s | %.2f | %s | %.0f %% | %s | %.0f %% | "
-            "%s |\n",
-            c->name, noise, pairs, c->change_m * 1e3, (c->change_m + r->bias_m) * 1e3, spread,
-            r->worst_m * 1e3, r->median_sigma_m * 1e3, ratio, r->median_noise_sigma_m * 1e3, noise_ratio,
-            100.0 * r->within_2sigma, located, 100.0 * r->watch_or_worse, tilt);
+            "| %s | %s | %s | %+.2f | %s | %s | %.2f | %.2f | %s | %.2f | %s | %.0f %% | %s | %s | %.0f %% "
+            "| %s |\n",
+            c->name, noise, pairs, c->change_m * 1e3, read, spread, r->worst_m * 1e3, r->median_sigma_m * 1e3,
+            ratio, r->median_noise_sigma_m * 1e3, noise_ratio, 100.0 * r->within_2sigma, sign, located,
+            100.0 * r->watch_or_worse, tilt);
 }

@@ -24,7 +24,8 @@ struct radial_row {
     double median_sigma_m;
     double median_noise_sigma_m; /* its noise part */
     double within_2sigma;
-    double located; /* share with at_mm inside the changed span +-10 mm (changes only) */
+    double located;    /* share with at_mm inside the changed span +-10 mm (changes only) */
+    double sign_right; /* share read with the truth's sign (changes only) */
     double watch_or_worse;
     double tilt_worst_m;       /* over the pairs whose tilt was given */
     int tilt_withheld;         /* pairs whose tilt was withheld (a change at the face's end) */
