@@ -15,6 +15,8 @@
 #                         whole replay of the paper pair is over budget (100 ms, 16 MiB; issue 18)
 #   make accuracy         the accuracy report on the full-wave fixtures (build/uwbaccuracy);
 #                         it also rewrites the README's accuracy tables (axial and radial)
+#   make accuracy-model-term  the axial sigma's share of the move, calibrated on every noiseless
+#                         full-wave pair, and each pair's figure, sigma terms and error/sigma
 #   make accuracy-radial-limits  single-disk changes and a lean in the simulator: where the
 #                         radial figure stops (README's table)
 #   make readme-verdict   rewrite the README's paper-pair figure and example verdict from a
@@ -131,7 +133,7 @@ $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIP
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-radial-limits readme-verdict readme-images readme-bench readme-demo readme-test-count soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-model-term accuracy-radial-limits readme-verdict readme-images readme-bench readme-demo readme-test-count soak install deps deps-arm check-hw-headers clean
 all: $(BUILD)/uwbd $(BUILD)/uwbsim $(BUILD)/uwbemu $(BUILD)/uwbimpair
 
 # uwbbench too: tests/e2e/test_bench_budget.sh checks its budget verdict.
@@ -349,6 +351,15 @@ accuracy: deps
 # the README's family tables (tools/accuracy/family.sh).
 accuracy-family: all
 	bash tools/accuracy/family.sh ../shared/data '$(BUILD)' tests/fixtures
+
+# The axial sigma's share of the move (compare.c's axial_sigma_per_shift):
+# the smallest that puts every noiseless full-wave pair (the shared family,
+# the tank, the paper's, the fresh draws) within 2 sigma, rounded up, and
+# each pair's figure, sigma with its terms and error/sigma under it
+# (tools/accuracy/model_term.c).
+accuracy-model-term: all
+	+@$(SUBMAKE) $(BUILD)/uwbaccuracy
+	$(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures
 
 # Where the radial figure stops: single-disk and wider changes and a lean
 # in the simulator (tools/accuracy/radial-limits.sh); rewrites the README's

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "accuracy/accuracy.h"
+#include "accuracy/model_term.h"
 #include "accuracy/radial.h"
 #include "uwb/atomic_file.h"
 #include "uwb/read_file.h"
@@ -123,6 +124,16 @@ int main(int argc, char **argv)
                 return 64;
             }
             only_case = (int)n;
+        } else if (!strcmp(argv[i], "--model-term") && i + 2 < argc) {
+            /* DATA_DIR FRESH_DIR: the axial sigma's share of the move, calibrated */
+            const char *data = argv[++i], *fresh = argv[++i];
+            char err[512];
+            double share;
+            if (accuracy_model_term(stdout, data, fresh, &share, err, sizeof err) != 0) {
+                fprintf(stderr, "uwbaccuracy: %s\n", err);
+                return 1;
+            }
+            return 0;
         } else if (!strcmp(argv[i], "--radial"))
             radial_only = 1;
         else if (!strcmp(argv[i], "--pair-errors"))
@@ -141,6 +152,7 @@ int main(int argc, char **argv)
         } else {
             fprintf(stderr, "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE] [--case N] "
                             "[--pair-errors] [--radial]\n"
+                            "       [--model-term DATA_DIR FRESH_DIR]\n"
                             "       [--impair SNR_DB JITTER_PS DRIFT_LINEAR DRIFT_RANDOM]\n");
             return 64;
         }
