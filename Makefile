@@ -356,10 +356,11 @@ accuracy-family: all
 # the smallest that puts every noiseless full-wave pair (the shared family,
 # the tank, the paper's, the fresh draws) within 2 sigma, rounded up, and
 # each pair's figure, sigma with its terms and error/sigma under it
-# (tools/accuracy/model_term.c).
+# (tools/accuracy/model_term.c); the output also replaces the README's
+# block between its "make accuracy-model-term" markers.
 accuracy-model-term: all
 	+@$(SUBMAKE) $(BUILD)/uwbaccuracy
-	$(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures
+	$(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures --readme README.md
 
 # Where the radial figure stops: single-disk and wider changes and a lean
 # in the simulator (tools/accuracy/radial-limits.sh); rewrites the README's
