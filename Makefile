@@ -14,7 +14,8 @@
 #   make bench            build tools/bench/*.c into $(BUILD)/uwbbench, run it; fails when uwbd's
 #                         whole replay of the paper pair is over budget (100 ms, 16 MiB; issue 18)
 #   make accuracy         the accuracy report on the full-wave fixtures (build/uwbaccuracy);
-#                         it also rewrites the README's accuracy tables (axial and radial)
+#                         it also rewrites the README's accuracy tables (axial and radial), then
+#                         prints every shared noiseless pair's figure, sigma terms and error/sigma
 #   make accuracy-model-term  the axial sigma's share of the move, calibrated on every noiseless
 #                         full-wave pair, and each pair's figure, sigma terms and error/sigma
 #   make accuracy-radial-limits  single-disk changes and a lean in the simulator: where the
@@ -345,6 +346,7 @@ ACCURACY_PAIRS ?=
 accuracy: deps
 	+@$(SUBMAKE) all $(BUILD)/uwbaccuracy
 	$(TEST_RUNNER) $(BUILD)/uwbaccuracy $(if $(ACCURACY_PAIRS),--pairs $(ACCURACY_PAIRS)) --readme README.md
+	$(TEST_RUNNER) $(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures --readme README.md
 
 # The shared family of random tanks (../shared/data/fdtd2d-var-*), each pair
 # against its truth, then the fresh draws in tests/fixtures (fdtd2d-fresh-*):
