@@ -30,7 +30,12 @@ struct term_pair {
     double others_mm; /* sigma's other terms in quadrature, without the least */
     double noise_mm;  /* ...of which the scans' noise */
     double needed;    /* the share of the move this pair needs */
+    int group;        /* enum pair_group */
 };
+
+/* The tallies' groups, in the order the pairs are replayed. */
+enum pair_group { GROUP_FAMILY, GROUP_DEVELOPED, GROUP_FRESH, GROUPS };
+static const char *const group_name[GROUPS] = {"shared family", "tank and paper", "fresh draws"};
 
 /* The truth of the centre's move: the shift plus half the height change (a
  * squeezed spacer, data/README.md). */
@@ -111,7 +116,7 @@ static double needed_share(const struct term_pair *p, double least_mm)
 
 /* Pairs of a glob: each moved scan against its own tank's intact one
  * (the moved scan's name up to "-d", then intact_suffix). */
-static int add_glob(const char *pattern, const char *intact_suffix, const char *fixed_baseline,
+static int add_glob(const char *pattern, const char *intact_suffix, const char *fixed_baseline, int group,
                     struct term_pair *pairs, int *n, char *err, size_t errlen)
 {
     glob_t g;
@@ -138,7 +143,7 @@ static int add_glob(const char *pattern, const char *intact_suffix, const char *
         }
         rc = replay(moved, baseline, &pairs[*n], err, errlen);
         if (rc == 0)
-            (*n)++;
+            pairs[(*n)++].group = group;
     }
     globfree(&g);
     return rc;
@@ -155,18 +160,18 @@ int accuracy_model_term(FILE *out, const char *data_dir, const char *fresh_dir, 
     char pattern[4096], fixed[4096];
     int n = 0, rc = 0;
     snprintf(pattern, sizeof pattern, "%s/fdtd2d-var-s*-d[+-]*.uwbscan", data_dir);
-    rc = add_glob(pattern, "-d+00.uwbscan", NULL, pairs, &n, err, errlen);
+    rc = add_glob(pattern, "-d+00.uwbscan", NULL, GROUP_FAMILY, pairs, &n, err, errlen);
     snprintf(pattern, sizeof pattern, "%s/fdtd2d-tank-d[+-]*.uwbscan", data_dir);
     snprintf(fixed, sizeof fixed, "%s/fdtd2d-tank-d+00.0.uwbscan", data_dir);
     if (rc == 0)
-        rc = add_glob(pattern, NULL, fixed, pairs, &n, err, errlen);
+        rc = add_glob(pattern, NULL, fixed, GROUP_DEVELOPED, pairs, &n, err, errlen);
     snprintf(pattern, sizeof pattern, "%s/fdtd2d-paper-up20mm.uwbscan", data_dir);
     snprintf(fixed, sizeof fixed, "%s/fdtd2d-paper-intact.uwbscan", data_dir);
     if (rc == 0)
-        rc = add_glob(pattern, NULL, fixed, pairs, &n, err, errlen);
+        rc = add_glob(pattern, NULL, fixed, GROUP_DEVELOPED, pairs, &n, err, errlen);
     snprintf(pattern, sizeof pattern, "%s/fdtd2d-fresh-s[0-9][0-9][0-9]-d[+-]*.uwbscan", fresh_dir);
     if (rc == 0)
-        rc = add_glob(pattern, "-d+00.uwbscan", NULL, pairs, &n, err, errlen);
+        rc = add_glob(pattern, "-d+00.uwbscan", NULL, GROUP_FRESH, pairs, &n, err, errlen);
     if (rc == 0 && n == 0) {
         snprintf(err, errlen, "no full-wave pairs in %s or %s", data_dir, fresh_dir);
         rc = -1;
@@ -191,11 +196,14 @@ int accuracy_model_term(FILE *out, const char *data_dir, const char *fresh_dir, 
             largest, worst, share, copt.axial_sigma_per_shift);
     fprintf(out, "| pair | truth | read | sigma | noise | model | other | error/sigma | figure |\n");
     fprintf(out, "|---|---|---|---|---|---|---|---|---|\n");
-    int given = 0, within = 0, withheld = 0, wide = 0;
+    int count[GROUPS] = {0}, given[GROUPS] = {0}, within[GROUPS] = {0}, withheld[GROUPS] = {0},
+        wide[GROUPS] = {0};
     for (int i = 0; i < n; i++) {
         const struct term_pair *p = &pairs[i];
+        int g = p->group;
+        count[g]++;
         if (!p->given) {
-            withheld++;
+            withheld[g]++;
             fprintf(out, "| %s | %+.2f | — | | | | | | withheld: %.90s |\n", p->name, p->truth_mm, p->reason);
             continue;
         }
@@ -206,7 +214,7 @@ int accuracy_model_term(FILE *out, const char *data_dir, const char *fresh_dir, 
         int shown = uwb_figure_given(p->read_mm * 1e-3, sigma * 1e-3, copt.max_uncertainty_m, &t);
         double ratio = (p->read_mm - p->truth_mm) / sigma;
         if (!shown) {
-            withheld++;
+            withheld[g]++;
             fprintf(out,
                     "| %s | %+.2f | (%+.2f) | %.2f | %.2f | %.2f | %.2f | %+.1f | withheld: between "
                     "%+.1f and %+.1f mm |\n",
@@ -214,17 +222,19 @@ int accuracy_model_term(FILE *out, const char *data_dir, const char *fresh_dir, 
                     p->read_mm - 2.0 * sigma, p->read_mm + 2.0 * sigma);
             continue;
         }
-        given++;
-        within += fabs(ratio) <= 2.0;
-        wide += sigma > fmax(0.5, 0.08 * fabs(p->truth_mm));
+        given[g]++;
+        within[g] += fabs(ratio) <= 2.0;
+        wide[g] += sigma > fmax(0.5, 0.08 * fabs(p->truth_mm));
         fprintf(out, "| %s | %+.2f | %+.2f | %.2f | %.2f | %.2f | %.2f | %+.1f | %s |\n", p->name,
                 p->truth_mm, p->read_mm, sigma, p->noise_mm, model, other, ratio,
                 fabs(ratio) <= 2.0 ? "within 2σ" : "OUTSIDE 2σ");
     }
-    fprintf(out,
-            "\n%d pairs: %d figures given, %d within 2 sigma, %d withheld; %d with sigma over max(0.5 mm, "
-            "8 %% of the move)\n",
-            n, given, within, withheld, wide);
+    fprintf(out, "\n");
+    for (int g = 0; g < GROUPS; g++)
+        fprintf(out,
+                "%s: %d pairs, %d figures given, %d within 2 sigma, %d withheld; %d with sigma over "
+                "max(0.5 mm, 8 %% of the move)\n",
+                group_name[g], count[g], given[g], within[g], withheld[g], wide[g]);
     free(pairs);
     *share_out = share;
     return 0;
