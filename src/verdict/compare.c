@@ -158,7 +158,7 @@ static void interval_reason(char *buf, size_t n, const char *what, double figure
 }
 
 /* The radial verdict from the pair's figures: graded on the change, or
- * inconclusive past the largest 1-sigma a figure may carry. */
+ * inconclusive (no size published) when the decision rule withholds it. */
 static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures *pair,
                            const struct uwb_compare_options *opt)
 {
@@ -289,9 +289,9 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
      * follows the echo's strength there as much as the move (the whole
      * face's fit and the refit without the changed rows part by mm on the
      * full-wave bulges, and neither is the move), so none is shown. */
-    int deformed =
-        deformed_at_end || (v->radial.measured && severity(v->radial.status) >= severity(UWB_STATUS_WATCH));
-    if (v->radial.measured && severity(v->radial.status) >= severity(UWB_STATUS_WATCH))
+    int deformed_radially = v->radial.measured && severity(v->radial.status) >= severity(UWB_STATUS_WATCH);
+    int deformed = deformed_at_end || deformed_radially;
+    if (deformed_radially)
         snprintf(v->height_change_withheld, sizeof v->height_change_withheld,
                  "the face deformed radially: its crossings follow the echo's strength there");
     if (deformed || (pair && terms.deformation_m > opt->max_uncertainty_m && pair->has_refit)) {
