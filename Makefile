@@ -14,7 +14,10 @@
 #   make bench            build tools/bench/*.c into $(BUILD)/uwbbench, run it; fails when uwbd's
 #                         whole replay of the paper pair is over budget (100 ms, 16 MiB; issue 18)
 #   make accuracy         the accuracy report on the full-wave fixtures (build/uwbaccuracy);
-#                         it also rewrites the README's accuracy tables (axial and radial)
+#                         it also rewrites the README's accuracy tables (axial and radial), then
+#                         prints every shared noiseless pair's figure, sigma terms and error/sigma
+#   make accuracy-model-term  the axial sigma's share of the move, calibrated on every noiseless
+#                         full-wave pair, and each pair's figure, sigma terms and error/sigma
 #   make accuracy-radial-limits  single-disk changes and a lean in the simulator: where the
 #                         radial figure stops (README's table)
 #   make readme-verdict   rewrite the README's paper-pair figure and example verdict from a
@@ -131,7 +134,7 @@ $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIP
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-radial-limits readme-verdict readme-images readme-bench readme-demo readme-test-count soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-model-term accuracy-radial-limits readme-verdict readme-images readme-bench readme-demo readme-test-count soak install deps deps-arm check-hw-headers clean
 all: $(BUILD)/uwbd $(BUILD)/uwbsim $(BUILD)/uwbemu $(BUILD)/uwbimpair
 
 # uwbbench too: tests/e2e/test_bench_budget.sh checks its budget verdict.
@@ -347,12 +350,23 @@ ACCURACY_PAIRS ?=
 accuracy: deps
 	+@$(SUBMAKE) all $(BUILD)/uwbaccuracy
 	$(TEST_RUNNER) $(BUILD)/uwbaccuracy $(if $(ACCURACY_PAIRS),--pairs $(ACCURACY_PAIRS)) --readme README.md
+	$(TEST_RUNNER) $(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures --readme README.md
 
 # The shared family of random tanks (../shared/data/fdtd2d-var-*), each pair
 # against its truth, then the fresh draws in tests/fixtures (fdtd2d-fresh-*):
 # the README's family tables (tools/accuracy/family.sh).
 accuracy-family: all
 	bash tools/accuracy/family.sh ../shared/data '$(BUILD)' tests/fixtures
+
+# The axial sigma's share of the move (compare.c's axial_sigma_per_shift):
+# the smallest that puts every noiseless full-wave pair (the shared family,
+# the tank, the paper's, the fresh draws) within 2 sigma, rounded up, and
+# each pair's figure, sigma with its terms and error/sigma under it
+# (tools/accuracy/model_term.c); the output also replaces the README's
+# block between its "make accuracy-model-term" markers.
+accuracy-model-term: all
+	+@$(SUBMAKE) $(BUILD)/uwbaccuracy
+	$(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures --readme README.md
 
 # Where the radial figure stops: single-disk and wider changes and a lean
 # in the simulator (tools/accuracy/radial-limits.sh); rewrites the README's

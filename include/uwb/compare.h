@@ -13,9 +13,11 @@ struct uwb_compare_options {
     struct uwb_thresholds radial_thresholds; /* on the radial change (radial.watch_mm, radial.alarm_mm) */
     double systematic_displacement_m;        /* 1-sigma term: what two scans do not share */
     double least_displacement_uncertainty_m; /* no displacement's 1-sigma is given smaller */
-    double max_uncertainty_m;                /* above this 1-sigma the verdict is inconclusive */
-    double max_height_uncertainty_m;         /* above this 1-sigma the height change is withheld */
-    double height_change_per_shift;          /* its 1-sigma term per metre moved: the static scene's share */
+    double axial_sigma_per_shift;            /* the displacement's 1-sigma model term per metre moved */
+    double max_uncertainty_m; /* above this 1-sigma a figure is given only when its 95 % interval lies in
+                                 one status band (uwb_figure_given) */
+    double max_height_uncertainty_m; /* above this 1-sigma the height change is withheld */
+    double height_change_per_shift;  /* its 1-sigma term per metre moved: the static scene's share */
     double baseline_repeatability_m; /* 1-sigma of the baseline's centre from the spread of its commissioning
                                         scans */
 };
@@ -68,6 +70,7 @@ struct uwb_uncertainty_terms {
     double clutter_baseline_m;
     double systematic_m;             /* the floor: what the static scene and sampling leave */
     double baseline_repeatability_m; /* spread of the baseline's commissioning scans (baseline set N) */
+    double model_m;       /* the fit's own error, growing with the move (axial_sigma_per_shift x |shift|) */
     double deformation_m; /* the face deformed: the shift with and without its changed rows disagree, or
                              the face leans (a third of the tilt past the watch limit) */
     double least_m;       /* the least the sum may be (uwb_compare_options) */
@@ -76,6 +79,17 @@ struct uwb_uncertainty_terms {
 /* Their sum in quadrature, never under least_m: the one place the
  * verdict's sigma is composed. */
 double uwb_displacement_uncertainty(const struct uwb_uncertainty_terms *t);
+
+/* The reason the axial figure has on a deformed face: no reading of it is
+ * shown to people as a number (issue 44). */
+#define UWB_AXIAL_NOT_MEASURED_DEFORMED "axial: not measured while the face is deformed (see radial)"
+
+/* The decision rule for a figure of 1-sigma sigma_m: it is given when
+ * sigma_m is at most max_sigma_m, or when its whole 95 % interval
+ * (UWB_SIGMAS_95 sigma either side) lies in one status band of t (ok
+ * below watch, watch to alarm, alarm from alarm), so the band it is graded
+ * in is the band of every value the interval holds. */
+int uwb_figure_given(double figure_m, double sigma_m, double max_sigma_m, const struct uwb_thresholds *t);
 
 /* uwb_compare_edges with the pair's own figures (pair may be NULL). */
 void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *current,

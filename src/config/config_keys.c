@@ -234,7 +234,9 @@ const struct config_key uwbd_config_keys[] = {
     NUMBER_ABOVE("analysis.alarm_mm", evaluate.compare.thresholds.alarm_m, "mm", 1e-3, 0, 1000, 5,
                  "a displacement (up or down) from this size on gives the status alarm (not below watch_mm)"),
     NUMBER_ABOVE("analysis.max_uncertainty_mm", evaluate.compare.max_uncertainty_m, "mm", 1e-3, 0, 1000, 1,
-                 "above this 1-sigma uncertainty of the displacement the verdict is inconclusive"),
+                 "above this 1-sigma uncertainty a displacement is given only when its whole 95 % interval "
+                 "lies in one "
+                 "status band (ok, watch, alarm); otherwise the verdict is inconclusive"),
     NUMBER_ABOVE("radial.watch_mm", evaluate.compare.radial_thresholds.watch_m, "mm", 1e-3, 0, 1000, 2,
                  "a radial change of the winding's face (toward the antenna or away) from this size on gives "
                  "the status watch"),

@@ -99,13 +99,18 @@ void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t le
         snprintf(buf, len, "no verdict");
     } else if (displacement_known(v)) {
         double d = MM(v->axial_displacement_m);
-        /* The ± is one sigma; the 95 % interval has its own line beside the meter. */
-        snprintf(buf, len, "displacement %+.2f \u00b1 %.2f mm (1\u03c3) %s  height change %+.2f mm", d,
-                 MM(v->uncertainty_m),
+        /* The ± is one sigma; the 95 % interval has its own line beside the
+         * meter. A withheld height change is no number here either. */
+        char height[48];
+        if (v->height_change_withheld[0])
+            snprintf(height, sizeof height, "height change withheld");
+        else
+            snprintf(height, sizeof height, "height change %+.2f mm", MM(v->height_change_m));
+        snprintf(buf, len, "displacement %+.2f \u00b1 %.2f mm (1\u03c3) %s  %s", d, MM(v->uncertainty_m),
                  d > 0   ? "up"
                  : d < 0 ? "down"
                          : "none",
-                 MM(v->height_change_m));
+                 height);
     } else if (v->status == UWB_STATUS_INCONCLUSIVE || v->status == UWB_STATUS_ERROR) {
         snprintf(buf, len, "no displacement: %s", v->reason[0] ? v->reason : uwb_status_name(v->status));
     } else if (v->axial_withheld) {

@@ -64,10 +64,13 @@ pass "one stacking default ($default_stack: key table, samples, config.md, READM
 
 # ---- decisive when the data allows: acquire again within the budget -----------------
 # A baseline of 4 pulses per position, then scans of one pulse at 20 dB: the
-# 12 mm rise is over the 1 mm limit, and acquiring again brings the current
-# scan's share down (with 4 pulses the displacement's sigma, about 0.8 mm, is
-# already under the limit; with a one-pulse baseline the baseline's own
-# share is over it and no re-acquisition of the current scan can help).
+# 4 mm rise's sigma is over the 1 mm limit and its 95 % interval reaches
+# across both status limits (a 12 mm rise's lies wholly past the alarm
+# limit, so it is given at any sigma: issue 44), and acquiring again brings
+# the current scan's share down (with 4 pulses the displacement's sigma,
+# about 0.8 mm, is already under the limit; with a one-pulse baseline the
+# baseline's own share is over it and no re-acquisition of the current scan
+# can help).
 emu 'set displacement_m 0' > /dev/null
 few_stack=1
 few=(--state-dir run/state3 --set digitiser.stack=$few_stack --set baseline.scans=1)
@@ -78,7 +81,7 @@ ctl scan > few-base.json
 [[ $(get baseline_set < few-base.json) == true ]] || fail "commissioning with 4 pulses: $(cat few-base.json)"
 stop_daemon
 start_daemon uwbd-few.log "${few[@]}" --set analysis.reacquire_budget_s=0
-emu 'set displacement_m 0.012' > /dev/null
+emu 'set displacement_m 0.004' > /dev/null
 ctl scan > few-nobudget.json
 [[ $(get status acquisitions < few-nobudget.json | paste -sd' ') == "inconclusive 1" ]] ||
     fail "$few_stack pulse(s), no budget: $(cat few-nobudget.json)"
@@ -87,12 +90,12 @@ start_daemon uwbd-few2.log "${few[@]}"
 ctl scan > few-budget.json
 read -r status acq pulses shift sigma < <(get status acquisitions pulses_per_position axial_displacement_mm \
                                              uncertainty_mm < few-budget.json | paste -sd' ')
-[[ $status == alarm && $acq -ge 2 && $pulses == $((few_stack * acq)) ]] ||
+[[ ($status == watch || $status == alarm) && $acq -ge 2 && $pulses == $((few_stack * acq)) ]] ||
     fail "$few_stack pulse(s) with the default budget: $(cat few-budget.json)"
 awk -v s="$sigma" 'BEGIN { exit !(s <= 1.0) }' || fail "uncertainty $sigma mm after acquiring again"
 stop_daemon
 pass "uncertainty over the limit: without a budget inconclusive ($(get reason < few-nobudget.json));" \
-     "with it $acq acquisitions, $pulses pulses per position: alarm $shift ± $sigma mm"
+     "with it $acq acquisitions, $pulses pulses per position: $status $shift ± $sigma mm"
 
 # ---- a baseline from several scans ---------------------------------------------------
 emu 'set displacement_m 0' > /dev/null

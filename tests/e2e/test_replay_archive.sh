@@ -99,7 +99,9 @@ pass "each archived scan replayed against the state's baseline gives the daemon'
 # Without the baseline's current.json the time zero is measured on the
 # baseline scan itself, as the daemon does, but the repeatability of the
 # 3 commissioning scans is not known; with a description saying they
-# spread 2 mm, the mean of 3 carries 1.15 mm, over analysis.max_uncertainty_mm.
+# spread 2 mm, the mean of 3 carries 1.15 mm, over analysis.max_uncertainty_mm:
+# the 12 mm move's figure stands (its whole 95 % interval past the alarm
+# limit, issue 44) with that spread in its sigma.
 mkdir bare
 cp $state/baseline/current.uwbscan bare/base.uwbscan
 scan3=$(find $state/archive -name "$(json_get scan_id < v3.json).uwbscan")
@@ -108,8 +110,9 @@ json_check bare.json "status == alarm" "axial_displacement_mm = $(json_get axial
     "uncertainty_mm <= $(json_get uncertainty_mm < v3.json)" || fail "replay without current.json: $(cat bare.json)"
 json_edit $state/baseline/current.json bare/base.json 'repeatability_mm=2'
 uwbd --replay "$scan3" --baseline bare/base.uwbscan > spread.json
-json_check spread.json "status == inconclusive" 'reason matches ^uncertainty 1\.(1[5-9]|[2-9])' 'direct_coupling_shift_ps = 0' ||
+json_check spread.json "status == alarm" 'uncertainty_mm >= 1.15' \
+    "axial_displacement_mm = $(json_get axial_displacement_mm < v3.json)" 'direct_coupling_shift_ps = 0' ||
     fail "replay with a 2 mm repeatability in base.json: $(cat spread.json)"
-pass "the description beside the baseline is read: without it $(json_get uncertainty_mm < bare.json) mm, recorded $(json_get uncertainty_mm < v3.json) mm, with 2 mm spread over 3 scans: $(json_get reason < spread.json)"
+pass "the description beside the baseline is read: without it $(json_get uncertainty_mm < bare.json) mm, recorded $(json_get uncertainty_mm < v3.json) mm, with 2 mm spread over 3 scans: $(json_get uncertainty_mm < spread.json) mm, $(json_get status < spread.json)"
 
 echo "$passed passed, 0 failed"

@@ -61,12 +61,12 @@ static void test_every_tank_shift_within_a_quarter_millimetre_on_a_slope_of_one(
         printf("%s: true %+.1f mm, measured %+.3f mm, error %+.3f mm, sigma %.3f mm, %s\n", moved[i], truth,
                got, got - truth, v.uncertainty_m * 1e3, uwb_status_name(v.status));
         TEST_ASSERT_TRUE_MESSAGE(v.current.found && v.baseline.found, v.reason);
-        /* A figure, with default settings: no noise, so sigma is the floor,
-         * at most 0.3 mm where the figure is this close (issue 28), and the
-         * truth within 2 sigma (-8 mm read 0.21 mm off with the floor at
-         * 0.1 mm, the tank's own rms). */
+        /* A figure, with default settings: no noise, so sigma is the floor
+         * and the share of the move (issue 44), under max(0.5 mm, 8 % of
+         * the move), and the truth within 2 sigma (-8 mm read 0.21 mm off
+         * with the floor at 0.1 mm, the tank's own rms). */
         TEST_ASSERT_NOT_EQUAL_MESSAGE(UWB_STATUS_INCONCLUSIVE, v.status, v.reason);
-        TEST_ASSERT_TRUE(v.uncertainty_m < 0.000305); /* 0.30 as the verdict prints it */
+        TEST_ASSERT_TRUE(v.uncertainty_m * 1e3 < fmax(0.5, 0.08 * fabs(truth)));
         TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(0.25, truth, got, moved[i]);
         TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(2.0 * v.uncertainty_m * 1e3, truth, got, moved[i]);
         sx += truth;

@@ -1321,6 +1321,23 @@ static void test_the_plus_minus_says_what_it_is(void)
                           uwb_caption_height(&v, &prov, 960, 2));
 }
 
+/* A height change the verdict withheld is no number in any caption: the
+ * comparison image once said "height change -0.42 mm" where the verdict
+ * had withheld it (issue 44). */
+static void test_a_withheld_height_change_shows_no_number(void)
+{
+    struct uwb_verdict v = make_verdict(); /* +20.00 mm, sigma 0.40 mm */
+    v.height_change_m = -0.00042;
+    snprintf(v.height_change_withheld, sizeof v.height_change_withheld,
+             "height change uncertainty over its limit");
+    char line[512], summary[2048];
+    uwb_describe_displacement(&v, line, sizeof line);
+    TEST_ASSERT_NULL_MESSAGE(strstr(line, "0.42"), line);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(line, "height change withheld"), line);
+    uwb_verdict_summary(&v, NULL, summary, sizeof summary);
+    TEST_ASSERT_NULL_MESSAGE(strstr(summary, "0.42"), summary);
+}
+
 /* Nothing in a caption is cut: a source line wider than the image wraps
  * onto a second line, so its end (the SNR, the version) is drawn; a
  * different SNR at the end of a long line changes the caption. */
@@ -1589,6 +1606,7 @@ int main(void)
     RUN_TEST(test_comparison_difference_panel_shows_the_move);
     RUN_TEST(test_images_show_the_watch_and_alarm_zones);
     RUN_TEST(test_the_plus_minus_says_what_it_is);
+    RUN_TEST(test_a_withheld_height_change_shows_no_number);
     RUN_TEST(test_migrated_image_marks_what_lies_beyond_the_antenna_travel);
     RUN_TEST(test_bscan_has_a_range_axis);
     RUN_TEST(test_a_long_source_line_wraps_rather_than_being_cut);

@@ -9,7 +9,11 @@
 #include "unity.h"
 #include "uwb/evaluate.h"
 #include "uwb/geometry.h"
+#include "output/render_internal.h"
+#include "uwb/reply_text.h"
+#include "uwb/verdict_csv.h"
 #include "uwb/verdict_json.h"
+#include "uwb/verdict_record.h"
 
 static struct uwb_scan intact, up20;
 
@@ -165,6 +169,168 @@ static void test_thresholds_ok_watch_alarm(void)
     status_for(0.003, 0.002, UWB_STATUS_INCONCLUSIVE);
 }
 
+/* A pair's figures as uwb_compare_pair takes them: a move of d with noise
+ * sigma_m in the current scan, both shoulders moving with it. */
+static void pair_verdict(double d, double sigma_m, struct uwb_pair_figures *pair, struct uwb_verdict *v)
+{
+    struct uwb_edges base = {.found = 1, .lower_m = 0.2, .upper_m = 0.4, .center_m = 0.3, .height_m = 0.2};
+    struct uwb_edges cur = base;
+    cur.lower_m += d;
+    cur.upper_m += d;
+    cur.center_m += d;
+    memset(pair, 0, sizeof *pair);
+    pair->valid = 1;
+    pair->displacement_m = d;
+    pair->noise_measured = 1;
+    pair->sigma_noise_current_m = sigma_m;
+    pair->has_shoulders = 1;
+    pair->lower_shift_m = d;
+    pair->upper_shift_m = d;
+    struct uwb_compare_options opt;
+    uwb_compare_defaults(&opt);
+    memset(v, 0, sizeof *v);
+    uwb_compare_pair(v, &cur, &base, pair, &opt);
+}
+
+/* The fit's error grows with the move on tanks with clamp plates (issue
+ * 28: up to 3.3 mm on a 30 mm move): sigma carries a share of the move,
+ * and a 30 mm move with sigma near 1.9 mm is still an alarm, its figure
+ * given, its interval lying wholly past the alarm limit. */
+static void test_a_large_move_carries_its_model_term_and_stays_an_alarm(void)
+{
+    struct uwb_pair_figures pair;
+    struct uwb_verdict v;
+    pair_verdict(0.030, 0.0, &pair, &v);
+    TEST_ASSERT_TRUE_MESSAGE(v.uncertainty_m >= 0.05 * 0.030, "sigma lacks the model term");
+    TEST_ASSERT_TRUE(v.uncertainty_m <= 0.1 * 0.030);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ALARM, v.status);
+    TEST_ASSERT_EQUAL_INT(0, v.axial_withheld);
+    TEST_ASSERT_EQUAL_STRING("", v.reason);
+    /* 10 mm with a sigma over 1 mm from noise: still wholly an alarm. */
+    pair_verdict(0.010, 0.00105, &pair, &v);
+    TEST_ASSERT_TRUE(v.uncertainty_m > 0.001);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ALARM, v.status);
+    TEST_ASSERT_EQUAL_INT(0, v.axial_withheld);
+    /* 0.5 mm read with 1.1 mm of sigma: its interval reaches past the
+     * watch limit, so no figure. */
+    pair_verdict(0.0005, 0.0011, &pair, &v);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, v.status);
+}
+
+/* 4 mm read with 1.2 mm of sigma lies between watch and alarm: no
+ * figure, and the reason gives the interval, not the figure. */
+static void test_an_interval_across_a_limit_is_withheld_with_the_interval(void)
+{
+    struct uwb_pair_figures pair;
+    struct uwb_verdict v;
+    pair_verdict(0.004, 0.0012, &pair, &v);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, v.status);
+    TEST_ASSERT_EQUAL_INT(1, v.axial_withheld);
+    char want[96];
+    double s95 = UWB_SIGMAS_95 * v.uncertainty_m * 1e3;
+    snprintf(want, sizeof want, "between %+.1f and %+.1f mm", 4.0 - s95, 4.0 + s95);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(v.reason, want), v.reason);
+    TEST_ASSERT_NULL_MESSAGE(strstr(v.reason, "4.00"), v.reason);
+}
+
+static int has_digit(const char *s)
+{
+    for (; *s; s++)
+        if (*s >= '0' && *s <= '9')
+            return 1;
+    return 0;
+}
+
+/* A face bulged past the watch limit (the board's `set radial 2 4 6`
+ * with no axial move read "+3.81 mm on the whole face, +6.76 mm without
+ * its changed rows"): no axial reading is given as a number, the reason
+ * says why in words, and the height change's reason carries no move. */
+static void deformed_verdict(struct uwb_verdict *v)
+{
+    struct uwb_pair_figures pair;
+    struct uwb_edges base = {.found = 1, .lower_m = 0.2, .upper_m = 0.4, .center_m = 0.3, .height_m = 0.2};
+    /* The edges as read (their centre is no axial reading: issue 44's
+     * edges item); the fits read +3.81 and +6.76 mm. */
+    struct uwb_edges cur = base;
+    memset(&pair, 0, sizeof pair);
+    pair.valid = 1;
+    pair.displacement_m = 0.00381;
+    pair.has_shoulders = 1;
+    pair.lower_shift_m = 0.002;
+    pair.upper_shift_m = 0.006;
+    pair.has_radial = 1;
+    pair.radial.measured = 1;
+    pair.radial.max_change_m = 0.006;
+    pair.radial.at_m = 0.3;
+    pair.radial.uncertainty_m = 0.0003;
+    pair.has_refit = 1;
+    pair.refit_displacement_m = 0.00676;
+    struct uwb_compare_options opt;
+    uwb_compare_defaults(&opt);
+    memset(v, 0, sizeof *v);
+    v->has_baseline = 1;
+    uwb_compare_pair(v, &cur, &base, &pair, &opt);
+}
+
+static void test_a_deformed_face_gives_no_axial_number(void)
+{
+    struct uwb_verdict v;
+    deformed_verdict(&v);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ALARM, v.status); /* the radial change's */
+    TEST_ASSERT_EQUAL_INT(1, v.axial_withheld);
+    const char *axial = strstr(v.reason, "axial: not measured while the face is deformed (see radial)");
+    TEST_ASSERT_NOT_NULL_MESSAGE(axial, v.reason);
+    TEST_ASSERT_FALSE_MESSAGE(has_digit(axial), v.reason);
+    TEST_ASSERT_NULL_MESSAGE(strstr(v.reason, "3.81"), v.reason);
+    TEST_ASSERT_NULL_MESSAGE(strstr(v.reason, "6.76"), v.reason);
+    TEST_ASSERT_TRUE(v.height_change_withheld[0] != '\0');
+    TEST_ASSERT_FALSE_MESSAGE(has_digit(v.height_change_withheld), v.height_change_withheld);
+}
+
+/* ...nor does any output made from that verdict: the text `ctl --text`
+ * prints, the CSV row (its reason) and the images' caption. */
+static void test_no_output_of_a_deformed_face_shows_an_axial_reading(void)
+{
+    struct uwb_verdict v;
+    deformed_verdict(&v);
+    char *json = uwb_verdict_to_json(&v);
+    TEST_ASSERT_NOT_NULL(json);
+    char *text = NULL;
+    size_t text_len = 0;
+    FILE *out = open_memstream(&text, &text_len);
+    TEST_ASSERT_NOT_NULL(out);
+    TEST_ASSERT_EQUAL_INT(0, uwbd_verdict_text(json, out));
+    fclose(out);
+    struct uwb_verdict_record rec;
+    uwb_record_from_verdict(&rec, &v);
+    char csv[4096], summary[4096];
+    TEST_ASSERT_TRUE(uwb_verdict_csv_row(&rec, csv, sizeof csv) > 0);
+    uwb_verdict_summary(&v, NULL, summary, sizeof summary);
+    const char *outputs[] = {json, text, csv, summary};
+    const char *readings[] = {"3.81", "6.76", "3.8 mm", "6.8 mm"};
+    for (size_t i = 0; i < sizeof outputs / sizeof *outputs; i++) {
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(outputs[i], "not measured while the face is deformed"),
+                                     outputs[i]);
+        for (size_t k = 0; k < sizeof readings / sizeof *readings; k++)
+            TEST_ASSERT_NULL_MESSAGE(strstr(outputs[i], readings[k]), outputs[i]);
+    }
+    free(json);
+    free(text);
+}
+
+/* A height change withheld for its sigma names neither its own figure nor
+ * the move (once "crossings read +1.37 mm ... over a 20.0 mm move"). */
+static void test_a_withheld_height_change_reason_has_no_figure(void)
+{
+    struct uwb_pair_figures pair;
+    struct uwb_verdict v;
+    pair_verdict(0.020, 0.0, &pair, &v);
+    TEST_ASSERT_TRUE_MESSAGE(v.height_change_withheld[0] != '\0', "a 20 mm move's height change");
+    TEST_ASSERT_NULL_MESSAGE(strstr(v.height_change_withheld, "20.0"), v.height_change_withheld);
+    TEST_ASSERT_NULL_MESSAGE(strstr(v.height_change_withheld, "move 2"), v.height_change_withheld);
+    TEST_ASSERT_NULL_MESSAGE(strstr(v.height_change_withheld, "read"), v.height_change_withheld);
+}
+
 static void test_json_has_every_field_an_engineer_reads(void)
 {
     struct uwb_verdict v;
@@ -208,6 +374,11 @@ int main(void)
     RUN_TEST(test_winding_beyond_the_travel_is_inconclusive);
     RUN_TEST(test_different_antenna_positions_are_not_compared);
     RUN_TEST(test_thresholds_ok_watch_alarm);
+    RUN_TEST(test_a_large_move_carries_its_model_term_and_stays_an_alarm);
+    RUN_TEST(test_an_interval_across_a_limit_is_withheld_with_the_interval);
+    RUN_TEST(test_a_deformed_face_gives_no_axial_number);
+    RUN_TEST(test_no_output_of_a_deformed_face_shows_an_axial_reading);
+    RUN_TEST(test_a_withheld_height_change_reason_has_no_figure);
     RUN_TEST(test_json_has_every_field_an_engineer_reads);
     return UNITY_END();
 }

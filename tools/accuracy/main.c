@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "accuracy/accuracy.h"
+#include "accuracy/model_term.h"
 #include "accuracy/radial.h"
 #include "accuracy/tank3d.h"
 #include "uwb/atomic_file.h"
@@ -17,6 +18,8 @@
 #define RADIAL_END_MARK "<!-- make accuracy radial: end -->\n"
 #define TANK3D_BEGIN_MARK "<!-- make accuracy 3-D: begin -->\n"
 #define TANK3D_END_MARK "<!-- make accuracy 3-D: end -->\n"
+#define MODEL_BEGIN_MARK "<!-- make accuracy-model-term: begin -->\n"
+#define MODEL_END_MARK "<!-- make accuracy-model-term: end -->\n"
 
 /* The radial rows' noisy level: the 32 dB (3 ps, 2 %). */
 #define RADIAL_LEVEL 1
@@ -126,10 +129,39 @@ static int tank3d_report(const char *dir, FILE *mem)
     return 0;
 }
 
+/* The model term's calibration (model_term.c) to stdout and, with a
+ * README, between its markers there. */
+static int model_term_report(const char *data_dir, const char *fresh_dir, const char *readme)
+{
+    char err[512], *table = NULL;
+    size_t table_len = 0;
+    FILE *mem = open_memstream(&table, &table_len);
+    if (!mem) {
+        fprintf(stderr, "uwbaccuracy: out of memory\n");
+        return 70;
+    }
+    double share;
+    int rc = accuracy_model_term(mem, data_dir, fresh_dir, &share, err, sizeof err);
+    fclose(mem);
+    if (rc != 0) {
+        fprintf(stderr, "uwbaccuracy: %s\n", err);
+        free(table);
+        return 1;
+    }
+    fputs(table, stdout);
+    if (readme && replace_block(readme, table, MODEL_BEGIN_MARK, MODEL_END_MARK, err, sizeof err) != 0) {
+        fprintf(stderr, "uwbaccuracy: %s\n", err);
+        rc = 73;
+    }
+    free(table);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = "tests/fixtures", *readme = NULL;
     int pairs = REPORT_PAIRS, only_case = -1, custom = 0, radial_only = 0, tank3d_only = 0;
+    const char *model_data = NULL, *model_fresh = NULL;
     struct accuracy_level level_custom = {0};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--fixtures") && i + 1 < argc)
@@ -154,6 +186,10 @@ int main(int argc, char **argv)
                 return 64;
             }
             only_case = (int)n;
+        } else if (!strcmp(argv[i], "--model-term") && i + 2 < argc) {
+            /* DATA_DIR FRESH_DIR: the axial sigma's share of the move, calibrated */
+            model_data = argv[++i];
+            model_fresh = argv[++i];
         } else if (!strcmp(argv[i], "--radial"))
             radial_only = 1;
         else if (!strcmp(argv[i], "--3d"))
@@ -174,10 +210,13 @@ int main(int argc, char **argv)
         } else {
             fprintf(stderr, "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE] [--case N] "
                             "[--pair-errors] [--radial] [--3d]\n"
+                            "       [--model-term DATA_DIR FRESH_DIR]\n"
                             "       [--impair SNR_DB JITTER_PS DRIFT_LINEAR DRIFT_RANDOM]\n");
             return 64;
         }
     }
+    if (model_data)
+        return model_term_report(model_data, model_fresh, readme);
     if (radial_only)
         return radial_report(dir, pairs, NULL);
     if (tank3d_only)
