@@ -6,7 +6,8 @@
 #   make test             deps, check-hw-headers, all, tests, run them all
 #   make test SAN=1       the same with ASan+UBSan, in build-san/
 #   make test-arm         cross-build for aarch64 into build-aarch64-linux-gnu/
-#                         and run the unit tests under qemu-aarch64
+#                         and run the unit tests and tests/e2e/aarch64.list
+#                         under qemu-aarch64
 #   make test-board       boot the aarch64 build on an emulated ARM board
 #                         (qemu-system-aarch64) and test it there
 #   make CROSS_COMPILE=aarch64-linux-gnu-   cross-build all
@@ -302,9 +303,12 @@ test: deps check-hw-headers
 # aarch64 programs run under qemu; the emulated board and the scripts' own
 # checkers stand in for hardware and the tester, so they run natively from
 # $(BUILD) (UWB_HOST_BUILD_DIR), as in make test-board.
+# Every unit test, and the e2e scripts tests/e2e/aarch64.list names (code
+# that differs by architecture, each with its reason).
 test-arm: deps deps-arm
 	+@$(SUBMAKE) SAN= all $(E2E_HELPER_BIN)
-	+@UWB_HOST_BUILD_DIR='$(abspath $(BUILD))' $(SUBMAKE) CROSS_COMPILE=$(ARM_PREFIX) SAN= \
+	+@UWB_HOST_BUILD_DIR='$(abspath $(BUILD))' UWB_TEST_E2E_LIST=tests/e2e/aarch64.list \
+	    $(SUBMAKE) CROSS_COMPILE=$(ARM_PREFIX) SAN= \
 	    $(if $(USER_BUILD),BUILD=$(USER_BUILD)-$(ARM_PREFIX:%-=%)) test
 
 # The emulated board (tools/board-in-loop/): the aarch64 build, in

@@ -280,10 +280,15 @@ for binary in "$BUILD_DIR"/tests/test_*; do
     names+=("$name")
 done
 
-[[ -z "$E2E_LIST" ]] || while read -r listed _; do
-    [[ -z "$listed" || "$listed" == \#* ]] && continue
-    [[ -f "tests/e2e/$listed" ]] || { echo "run-tests: $E2E_LIST names $listed, which is not in tests/e2e" >&2; exit 2; }
-done <"$E2E_LIST"
+if [[ -n "$E2E_LIST" ]]; then
+    while read -r listed reason; do
+        [[ -z "$listed" || "$listed" == \#* ]] && continue
+        [[ -f "tests/e2e/$listed" ]] || { echo "run-tests: $E2E_LIST names $listed, which is not in tests/e2e" >&2; exit 2; }
+        [[ -n "$reason" ]] || { echo "run-tests: $E2E_LIST: $listed without its reason" >&2; exit 2; }
+    done <"$E2E_LIST"
+    all_e2e=(tests/e2e/test_*.sh)
+    echo "note  e2e: the $(grep -c '^test_' "$E2E_LIST") scripts $E2E_LIST names, of ${#all_e2e[@]}" >&2
+fi
 
 # Longest first: each program's seconds from the last run here, else from
 # the seed file; one never timed counts as long (an e2e script) or short.
