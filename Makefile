@@ -6,13 +6,16 @@
 #   make test             deps, check-hw-headers, all, tests, run them all
 #   make test SAN=1       the same with ASan+UBSan, in build-san/
 #   make test-arm         cross-build for aarch64 into build-aarch64-linux-gnu/
-#                         and run the unit tests under qemu-aarch64
+#                         and run the unit tests and tests/e2e/aarch64.list
+#                         under qemu-aarch64
 #   make test-board       boot the aarch64 build on an emulated ARM board
 #                         (qemu-system-aarch64) and test it there
 #   make CROSS_COMPILE=aarch64-linux-gnu-   cross-build all
 #   make demo             deps, all, then tools/demo/run-demo.sh
 #   make bench            build tools/bench/*.c into $(BUILD)/uwbbench, run it; fails when uwbd's
-#                         whole replay of the paper pair is over budget (100 ms, 16 MiB; issue 18)
+#                         whole replay of the paper pair is over budget: 1.15 G instructions as
+#                         callgrind counts them (issue 44; valgrind installed if missing) and
+#                         16 MiB peak RSS; its time is shown against 100 ms, not judged
 #   make accuracy         the accuracy report on the full-wave fixtures (build/uwbaccuracy);
 #                         it also rewrites the README's accuracy tables (axial and radial), then
 #                         prints every shared noiseless pair's figure, sigma terms and error/sigma
@@ -298,18 +301,23 @@ check-hw-headers:
 	    echo "$$offenders" | sed 's/^/    /' >&2; exit 1; \
 	fi
 
+# Closes with its own wall time (build and run; the runner's line is the run's).
 test: deps check-hw-headers
-	+@$(SUBMAKE) all tests
-	@bash tests/run-tests.sh '$(BUILD)' $(if $(TEST_RUNNER),'$(TEST_RUNNER)')
+	+@start=$$(date +%s); status=0; $(SUBMAKE) all tests && \
+	    bash tests/run-tests.sh '$(BUILD)' $(if $(TEST_RUNNER),'$(TEST_RUNNER)') || status=$$?; \
+	    echo "make test: $$(($$(date +%s) - start)) s wall time (build and tests)"; exit $$status
 
 # Cross-built unit tests under qemu-user.  Sanitizers stay off: ASan's
 # shadow memory does not work under qemu-user.  In the e2e scripts only our
 # aarch64 programs run under qemu; the emulated board and the scripts' own
 # checkers stand in for hardware and the tester, so they run natively from
 # $(BUILD) (UWB_HOST_BUILD_DIR), as in make test-board.
+# Every unit test, and the e2e scripts tests/e2e/aarch64.list names (code
+# that differs by architecture, each with its reason).
 test-arm: deps deps-arm
 	+@$(SUBMAKE) SAN= all $(E2E_HELPER_BIN)
-	+@UWB_HOST_BUILD_DIR='$(abspath $(BUILD))' $(SUBMAKE) CROSS_COMPILE=$(ARM_PREFIX) SAN= \
+	+@UWB_HOST_BUILD_DIR='$(abspath $(BUILD))' UWB_TEST_E2E_LIST=tests/e2e/aarch64.list \
+	    $(SUBMAKE) CROSS_COMPILE=$(ARM_PREFIX) SAN= \
 	    $(if $(USER_BUILD),BUILD=$(USER_BUILD)-$(ARM_PREFIX:%-=%)) test
 
 # The emulated board (tools/board-in-loop/): the aarch64 build, in
@@ -382,7 +390,8 @@ readme-verdict: deps
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' bash tools/readme/readme-verdict.sh '$(BUILD)' --write README.md
 
 # The README's `make bench` block, from a run (tools/readme/readme-bench.sh).
-readme-bench: deps
+readme-bench:
+	@bash $(DEPS_SCRIPT) $(if $(TEST_RUNNER),$(DEPS_ARGS),--soak)
 	+@$(SUBMAKE) all $(BUILD)/uwbbench
 	bash tools/readme/readme-bench.sh '$(BUILD)' README.md
 
@@ -391,11 +400,17 @@ readme-images: deps
 	+@$(SUBMAKE) all
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' bash tools/readme/readme-images.sh '$(BUILD)'
 
-bench: deps
+# The budget (issue 44): instructions, which a busy machine does not move,
+# counted natively (valgrind does not run under qemu-user), and peak RSS.
+BENCH_INSTRUCTIONS_G ?= 1.15
+bench:
+	@bash $(DEPS_SCRIPT) $(if $(TEST_RUNNER),$(DEPS_ARGS),--soak)
 	+@$(SUBMAKE) all $(BUILD)/uwbbench
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench $(BENCH_ARGS)
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' $(TEST_RUNNER) $(BUILD)/uwbbench --replay-only --assert-budget $(BENCH_ARGS) \
 	    --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan tests/fixtures/fdtd2d-paper-intact.uwbscan
+	$(if $(TEST_RUNNER),@echo "make bench: instructions are counted on the native build (valgrind cannot run under qemu-user)", \
+	    bash tools/bench/instruction-budget.sh '$(BUILD)' --budget-g $(BENCH_INSTRUCTIONS_G))
 
 # Long runs (tools/soak/run-soak.sh): back-to-back scan cycles against the
 # emulated board, judging the daemon's RSS, open descriptors and state

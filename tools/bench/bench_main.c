@@ -1,6 +1,8 @@
 /* uwbbench: prints the performance figures of issues 7 and 18 next to their
  * targets. Figures only, except that with --assert-budget (make bench) a
- * whole replay over its budget (issue 18) fails the run. One core, no
+ * whole replay over its memory budget fails the run; its time is shown
+ * against its target, not judged (issue 44: the budget is callgrind's
+ * instruction count, tools/bench/instruction-budget.sh). One core, no
  * threads; times from CLOCK_MONOTONIC, the median of repeated runs with the
  * best in brackets. */
 #include "bench.h"
@@ -64,11 +66,11 @@ static void usage(FILE *f)
             "  --replay-only    the whole replay alone (no migration figures)\n"
             "  --replay CUR BASE  replay these recorded scans (default: a simulated 21 x 2048 pair;\n"
             "                   make bench passes the paper pair from tests/fixtures)\n"
-            "  --assert-budget  exit 1 unless uwbd's whole replay keeps to the budget: CPU time\n"
-            "                   (median) and wall time (best run: the median carries a shared\n"
-            "                   machine's other work) at most MS, peak RSS at most MIB; make bench\n"
-            "                   asserts it for the paper pair\n"
-            "  --budget-ms MS   the replay's time budget (default %.0f, issue 18)\n"
+            "  --assert-budget  exit 1 unless uwbd's whole replay keeps its peak RSS at most MIB;\n"
+            "                   make bench asserts it for the paper pair. Its times are shown\n"
+            "                   against MS, not judged: a wall time carries a shared machine's\n"
+            "                   other work (the budget is instructions: make bench counts them)\n"
+            "  --budget-ms MS   the replay's time target (default %.0f, issue 18)\n"
             "  --budget-mib MIB uwbd's peak RSS budget (default %.0f, issue 18)\n"
             "\n"
             "UWB_EXEC_PREFIX, if set, is put before uwbd (e.g. \"qemu-aarch64 -L /\").\n",
@@ -357,14 +359,15 @@ int main(int argc, char **argv)
         fprintf(stderr, "uwbbench: replay budget: uwbd was not measured (see --uwbd)\n");
         return 1;
     }
-    if (!(replay_fast && replay_small)) {
+    if (!replay_small) {
         fprintf(stderr,
-                "uwbbench: replay budget NOT met: wall %.1f ms (%s), CPU %.1f ms (median), peak RSS "
-                "%.1f MiB; the budget is %.0f ms and %.0f MiB\n",
-                own_ms, own_what, rep.child_cpu_ms, mib, opt.budget_ms, opt.budget_mib);
+                "uwbbench: replay budget NOT met: peak RSS %.1f MiB; the budget is %.0f MiB "
+                "(wall %.1f ms (%s), CPU %.1f ms (median), target %.0f ms, not judged)\n",
+                mib, opt.budget_mib, own_ms, own_what, rep.child_cpu_ms, opt.budget_ms);
         return 1;
     }
-    printf("replay budget met: wall %.1f ms (%s), CPU %.1f ms (median), peak RSS %.1f MiB\n", own_ms,
-           own_what, rep.child_cpu_ms, mib);
+    printf("replay budget met: peak RSS %.1f MiB (wall %.1f ms (%s), CPU %.1f ms (median), target "
+           "%.0f ms: %s, not judged)\n",
+           mib, own_ms, own_what, rep.child_cpu_ms, opt.budget_ms, replay_fast ? "within" : "over");
     return 0;
 }

@@ -41,7 +41,7 @@ readonly REPO_ROOT
 readonly NATIVE_MODULES=(fftw3f libcjson libpng libgpiod libserialport zlib libsystemd libmosquitto libmodbus)
 readonly NATIVE_PACKAGES=(gcc make libc6-dev pkg-config groff-base scdoc
     libfftw3-dev libcjson-dev libpng-dev libgpiod-dev libserialport-dev zlib1g-dev libsystemd-dev
-    libmosquitto-dev mosquitto libmodbus-dev)
+    libmosquitto-dev mosquitto libmodbus-dev systemd)
 readonly UNITY_FILES=(unity.c unity.h unity_internals.h)
 readonly UNITY_EXPECTED_VERSION="2.4.3"
 # Unity comes from the cJSON source package of one fixed Debian release so
@@ -130,6 +130,9 @@ missing_native() {
     for command_name in gcc make pkg-config groff scdoc; do
         have_command "$command_name" || echo "$command_name"
     done
+    # systemd-analyze: tests/e2e/test_clock_check_sandbox.sh reads the
+    # syscall groups the unit allows with it (a minbase Debian lacks it).
+    have_command systemd-analyze || echo systemd-analyze
     # The MQTT tests start a real broker (Debian installs it in /usr/sbin).
     { ! is_faked_missing mosquitto && [[ -x /usr/sbin/mosquitto ]]; } || echo mosquitto
     missing_modules "${NATIVE_MODULES[@]}"

@@ -8,6 +8,11 @@
 
 /* Enough for long test runs; older entries are dropped beyond it. */
 #define LOG_MAX 100000
+/* Positions whose noiseless response the engine keeps: every pulse of a
+ * stack, and every later scan over the same positions, then only adds its
+ * own jitter, drift and noise (64 KiB each at 2,048 samples). A scene
+ * change builds a new engine, so nothing stale is kept. */
+#define RESPONSES_KEPT 256
 
 static int alloc_buffers(struct emu_board *b, int samples, char *err, size_t errlen)
 {
@@ -47,6 +52,11 @@ int emu_board_set_scene(struct emu_board *b, const struct sim_scene *scene, char
     if (scene->noise && !(sim_engine_peak_echo(engine) > 0)) {
         snprintf(err, errlen,
                  "snr_db: the winding returns nothing inside the record, so noise has no reference");
+        sim_engine_free(engine);
+        return -1;
+    }
+    if (sim_engine_cache_responses(engine, RESPONSES_KEPT) != 0) {
+        snprintf(err, errlen, "out of memory for %d kept responses", RESPONSES_KEPT);
         sim_engine_free(engine);
         return -1;
     }

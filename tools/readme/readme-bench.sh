@@ -4,8 +4,8 @@
 # replaces the text between "<!-- make readme-bench: begin" and
 # "<!-- make readme-bench: end -->" with what `make bench` prints.
 # `make readme-bench` runs it. Times are the machine's at that moment
-# (the block says its load). make bench fails when the paper pair's replay
-# is over budget; here a run over budget is written down as it is.
+# (the block says its load); the instruction count is not. make bench fails
+# when the paper pair's replay is over budget; here a run over budget is written down as it is.
 set -euo pipefail
 [[ $# == 2 ]] || { echo "usage: $0 BUILD_DIR README" >&2; exit 64; }
 build=$1 readme=$2
@@ -17,7 +17,9 @@ trap 'rm -rf "$work"' EXIT
     "$build/uwbbench"
     "$build/uwbbench" --replay-only --assert-budget --replay tests/fixtures/fdtd2d-paper-up20mm.uwbscan \
         tests/fixtures/fdtd2d-paper-intact.uwbscan ||
-        echo "(make bench fails here: the replay is over its budget)"
+        echo "(make bench fails here: the replay is over its memory budget)"
+    bash tools/bench/instruction-budget.sh "$build" 2>&1 ||
+        echo "(make bench fails here: the replay is over its instruction budget)"
     echo "(load average when run: $(cut -d' ' -f1-3 /proc/loadavg))"
     echo '```'
 } > "$work/block"

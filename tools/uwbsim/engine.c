@@ -32,7 +32,81 @@ double complex sim_frac_derivative(double w, double a)
     return pow(w, a) * cexp(I * M_PI * a / 2.0);
 }
 
-void sim_engine_clean_trace(struct sim_engine *e, double y_ref, unsigned parts, double shift_s, double *out)
+/* The kept response for this position and parts, or NULL. */
+static const double complex *cached_response(struct sim_engine *e, double y_ref, unsigned parts)
+{
+    for (int i = 0; i < e->cache_len; i++) {
+        struct sim_response_slot *slot = &e->cache[i];
+        if (slot->y_ref == y_ref && slot->parts == parts) {
+            slot->last_used = ++e->cache_clock;
+            return slot->spectrum;
+        }
+    }
+    return NULL;
+}
+
+/* Keeps a copy of a response, in a free slot or the least recently used. */
+static void keep_response(struct sim_engine *e, double y_ref, unsigned parts, const double complex *spectrum)
+{
+    if (e->cache_cap <= 0)
+        return;
+    struct sim_response_slot *slot;
+    if (e->cache_len < e->cache_cap) {
+        slot = &e->cache[e->cache_len++];
+    } else {
+        slot = &e->cache[0];
+        for (int i = 1; i < e->cache_len; i++)
+            if (e->cache[i].last_used < slot->last_used)
+                slot = &e->cache[i];
+    }
+    slot->y_ref = y_ref;
+    slot->parts = parts;
+    slot->last_used = ++e->cache_clock;
+    memcpy(slot->spectrum, spectrum, ((size_t)e->nfft / 2 + 1) * sizeof *spectrum);
+}
+
+static void free_cache(struct sim_engine *e)
+{
+    for (int i = 0; i < e->cache_cap; i++)
+        free(e->cache[i].spectrum);
+    free(e->cache);
+    e->cache = NULL;
+    e->cache_cap = e->cache_len = 0;
+}
+
+int sim_engine_cache_responses(struct sim_engine *e, int responses)
+{
+    free_cache(e);
+    if (responses <= 0)
+        return 0;
+    e->cache = calloc((size_t)responses, sizeof *e->cache);
+    if (!e->cache)
+        return -1;
+    e->cache_cap = responses;
+    for (int i = 0; i < responses; i++) {
+        e->cache[i].spectrum = malloc(((size_t)e->nfft / 2 + 1) * sizeof *e->cache[i].spectrum);
+        if (!e->cache[i].spectrum) {
+            free_cache(e);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+unsigned long sim_engine_responses_computed(const struct sim_engine *e)
+{
+    return e->responses_computed;
+}
+
+int sim_engine_responses_cached(const struct sim_engine *e)
+{
+    return e->cache_len;
+}
+
+/* The noiseless spectrum of one position before the jitter's shift, into
+ * e->spec: the surface and edge integrals through their kernels, plus the
+ * static returns. */
+static void compute_response(struct sim_engine *e, double y_ref, unsigned parts)
 {
     int nh = e->nfft / 2;
     fftwf_complex *c = e->cbuf;
@@ -56,11 +130,30 @@ void sim_engine_clean_trace(struct sim_engine *e, double y_ref, unsigned parts, 
         }
     }
     for (int k = 0; k <= nh; k++) {
-        double complex v = spec[k];
         if (parts & SIM_PART_DIRECT)
-            v += e->static_direct[k];
+            spec[k] += e->static_direct[k];
         if (parts & SIM_PART_CLUTTER)
-            v += e->static_clutter[k];
+            spec[k] += e->static_clutter[k];
+    }
+    e->responses_computed++;
+}
+
+void sim_engine_clean_trace(struct sim_engine *e, double y_ref, unsigned parts, double shift_s, double *out)
+{
+    int nh = e->nfft / 2;
+    fftwf_complex *c = e->cbuf;
+    /* Only whole responses are kept: what acquisitions ask for, not the
+     * noise reference's pass over the winding alone. */
+    int keep = parts == SIM_PART_ALL;
+    const double complex *spec = keep ? cached_response(e, y_ref, parts) : NULL;
+    if (!spec) {
+        compute_response(e, y_ref, parts);
+        if (keep)
+            keep_response(e, y_ref, parts, e->spec);
+        spec = e->spec;
+    }
+    for (int k = 0; k <= nh; k++) {
+        double complex v = spec[k];
         if (shift_s != 0)
             v *= cexp(-I * sim_omega_k(e, k) * shift_s);
         c[k] = (float)creal(v) + I * (float)cimag(v);
@@ -104,6 +197,7 @@ void sim_engine_free(struct sim_engine *e)
 {
     if (!e)
         return;
+    free_cache(e);
     sim_geometry_free(&e->geo);
     if (e->r2c)
         fftwf_destroy_plan(e->r2c);

@@ -51,6 +51,18 @@ double sim_engine_peak_echo(struct sim_engine *engine);
 void sim_engine_clean_trace(struct sim_engine *engine, double antenna_y_m, unsigned parts, double shift_s,
                             double *out);
 
+/* Keep up to `responses` positions' whole noiseless responses (SIM_PART_ALL; least recently
+ * used dropped first), so a position acquired again, e.g. each pulse of a
+ * stack, costs one inverse FFT instead of the surface integral. The traces
+ * are the very numbers an engine without it gives. 0 turns it off (the
+ * default: a pass over a scan visits each position once). -1 if out of
+ * memory (the engine then keeps none). */
+int sim_engine_cache_responses(struct sim_engine *engine, int responses);
+/* How many responses the engine has integrated since it was created, and
+ * how many it holds now. */
+unsigned long sim_engine_responses_computed(const struct sim_engine *engine);
+int sim_engine_responses_cached(const struct sim_engine *engine);
+
 /* The digitiser's state carried from one acquisition to the next. */
 struct sim_acq {
     struct sim_rng rng;

@@ -35,6 +35,19 @@ struct sim_engine {
     double complex *static_direct;  /* direct coupling + window echoes, / N */
     double complex *static_clutter; /* far wall, / N */
     double peak_echo;
+    /* responses kept (sim_engine_cache_responses): one per position and
+     * part mask, the spectrum before the jitter's shift */
+    struct sim_response_slot *cache;
+    int cache_cap, cache_len;
+    unsigned long cache_clock;
+    unsigned long responses_computed;
+};
+
+struct sim_response_slot {
+    double y_ref;
+    unsigned parts;
+    unsigned long last_used;
+    double complex *spectrum; /* nfft/2 + 1 bins */
 };
 
 /* FFT grid (engine.c) */
