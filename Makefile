@@ -543,18 +543,21 @@ MAN_EPOCH     := $(shell date -d "$$(sed -n 's/^ -- .*>  //p' board/debian/chang
 .PHONY: man
 man: $(MAN_PAGES)
 
+# Temporaries carry the shell's pid: two makes of the pages at once (the
+# tests that install them run side by side) never share one.
 $(BUILD)/man/uwbd.json.5: $(BUILD)/uwbd
 	@mkdir -p $(dir $@)
-	$(TEST_RUNNER) $(BUILD)/uwbd --config-keys=man > $@.tmp && mv $@.tmp $@
+	$(TEST_RUNNER) $(BUILD)/uwbd --config-keys=man > $@.$$$$.tmp && mv $@.$$$$.tmp $@
 
 $(BUILD)/man/%.7: board/man/%.7.scd
 	@mkdir -p $(dir $@)
-	SOURCE_DATE_EPOCH=$(MAN_EPOCH) scdoc < $< > $@.scdoc
-	preconv -e UTF-8 < $@.scdoc | sed '1{/^\.lf /d}' > $@.tmp && rm $@.scdoc && mv $@.tmp $@
+	SOURCE_DATE_EPOCH=$(MAN_EPOCH) scdoc < $< > $@.$$$$.scdoc && \
+	    preconv -e UTF-8 < $@.$$$$.scdoc | sed '1{/^\.lf /d}' > $@.$$$$.tmp && rm $@.$$$$.scdoc && \
+	    mv $@.$$$$.tmp $@
 
 $(BUILD)/man/%: board/man/%
 	@mkdir -p $(dir $@)
-	cp $< $@
+	cp $< $@.$$$$.tmp && mv $@.$$$$.tmp $@
 
 # Documents installed under share/doc/uwbd keep board/'s layout, so every
 # relative link among them resolves there (tests/e2e/test_install.sh). The

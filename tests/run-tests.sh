@@ -68,6 +68,10 @@ run_start="$EPOCHREALTIME"
 # A fresh log directory per run: what is in it is this run's.
 rm -rf "$LOG_DIR"
 mkdir -p "$LOG_DIR"
+# A test that runs make (test_install, test_operator_pages) starts afresh:
+# make test's jobserver descriptors are not the tests' (fd 3 is reused just
+# below), and a child make handed them reads a closed pipe and stops.
+unset MAKEFLAGS MFLAGS
 exec 3>&1 > >(tee "$LOG_DIR/run.log") 2>&1
 tee_pid=$!
 
