@@ -151,7 +151,7 @@ TOOLS_EXTRA_CFLAGS := -Itools
 TESTS_EXTRA_CFLAGS := -I$(UNITY_DIR) -Itools -Itests/unit -Isrc $(UNITY_DEFS) -DUWB_BUILD_DIR='"$(BUILD)"'
 
 # The library's private headers live beside their code (src/daemon/*.h,
-# src/output/render_internal.h, ...) and are included as "daemon/config.h";
+# src/output/render_internal.h, ...) and are included as "config/config_load.h";
 # include/uwb/ holds only what a program linking libuwb.a needs. Tests may
 # include the private ones too.
 $(BUILD)/obj/src/%.o: EXTRA_CFLAGS := $(SRC_EXTRA_CFLAGS)

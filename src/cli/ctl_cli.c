@@ -14,7 +14,7 @@
 #include "uwb/reply_text.h"
 #include "uwb/cli.h"
 #include "daemon/command.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 #include "daemon/control_socket.h"
 #include "daemon/exit_codes.h"
 #include "uwb/monotonic.h"

@@ -13,7 +13,7 @@
 #include <time.h>
 
 #include "daemon/baseline_store.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 #include "daemon/control_socket.h"
 #include "daemon/event_loop.h"
 #include "daemon/daemon.h"

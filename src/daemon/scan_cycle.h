@@ -14,7 +14,7 @@
 #include <time.h>
 
 #include "daemon/baseline_store.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 #include "daemon/store.h"
 #include "uwb/scan.h"
 #include "uwb/verdict_record.h"

@@ -12,7 +12,7 @@
 #include <stddef.h>
 #include <time.h>
 
-#include "daemon/config.h"
+#include "config/config_load.h"
 
 #define UWBD_SCAN_ID_MAX 100
 

@@ -6,7 +6,7 @@
 
 #include <stddef.h>
 
-#include "daemon/config.h"
+#include "config/config_load.h"
 #include "daemon/store.h"
 #include "verdict/trend.h"
 

@@ -19,7 +19,7 @@
 #include "scene_support.h"
 #include "scratch_support.h"
 #include "daemon/baseline_store.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 #include "daemon/retention.h"
 #include "daemon/scan_cycle.h"
 #include "daemon/store.h"

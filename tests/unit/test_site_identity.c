@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "scratch_support.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 #include "daemon/reply.h"
 #include "daemon/store.h"
 #include "daemon/trend.h"

@@ -3,8 +3,8 @@
  * loader, `uwbd --config-keys` and board/config.md cannot disagree.
  * Unknown keys, wrong types, out-of-range values and missing required keys
  * are errors that name the key: "FILE: key `x.y`: problem". */
-#ifndef UWB_DAEMON_CONFIG_H
-#define UWB_DAEMON_CONFIG_H
+#ifndef UWB_CONFIG_CONFIG_LOAD_H
+#define UWB_CONFIG_CONFIG_LOAD_H
 
 #include <stdio.h>
 #include <stddef.h>

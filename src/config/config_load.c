@@ -1,7 +1,7 @@
 /* Loading the daemon's JSON configuration: defaults from the key table,
  * then the file, then command-line overrides, then checks that involve
  * more than one key. Every message names the key. */
-#include "daemon/config.h"
+#include "config/config_load.h"
 
 #include <cjson/cJSON.h>
 #include <grp.h>
