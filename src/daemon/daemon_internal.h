@@ -12,7 +12,7 @@
 #include <sys/types.h>
 #include <time.h>
 
-#include "daemon/baseline_store.h"
+#include "state/baseline_store.h"
 #include "config/config_load.h"
 #include "daemon/control_socket.h"
 #include "daemon/event_loop.h"
@@ -21,8 +21,8 @@
 #include "daemon/line_buffer.h"
 #include "daemon/scan_cycle.h"
 #include "daemon/scan_progress.h"
-#include "daemon/state_writes.h"
-#include "daemon/store.h"
+#include "state/state_writes.h"
+#include "state/store.h"
 #include "integrations/alarm_contacts.h"
 #include "integrations/mqtt_publisher.h"
 #include "integrations/prometheus_textfile.h"

@@ -21,7 +21,7 @@
 #include "util/log.h"
 #include "daemon/reply.h"
 #include "daemon/trend.h"
-#include "daemon/verdict_log.h"
+#include "state/verdict_log.h"
 #include "uwb/reply_text.h"
 #include "uwb/monotonic.h"
 

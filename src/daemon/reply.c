@@ -6,7 +6,7 @@
 #include <stdlib.h>
 
 #include "daemon/command.h"
-#include "daemon/state_writes.h"
+#include "state/state_writes.h"
 #include "integrations/mqtt_publisher.h"
 #include "integrations/site_io.h"
 #include "uwb/utc_time.h"

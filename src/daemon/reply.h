@@ -10,7 +10,7 @@
 
 #include "daemon/scan_progress.h"
 
-#include "daemon/baseline_store.h"
+#include "state/baseline_store.h"
 
 #define UWBD_PROTOCOL_MAJOR 1
 #define UWBD_PROTOCOL_MINOR 0

@@ -13,9 +13,9 @@
 #include <stddef.h>
 #include <time.h>
 
-#include "daemon/baseline_store.h"
+#include "state/baseline_store.h"
 #include "config/config_load.h"
-#include "daemon/store.h"
+#include "state/store.h"
 #include "uwb/scan.h"
 #include "uwb/verdict_record.h"
 

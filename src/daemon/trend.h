@@ -7,7 +7,7 @@
 #include <stddef.h>
 
 #include "config/config_load.h"
-#include "daemon/store.h"
+#include "state/store.h"
 #include "verdict/trend.h"
 
 /* How many of the newest verdicts trend.png shows. */

@@ -10,7 +10,7 @@
 
 #include "daemon/reply.h"
 #include "daemon/scan_progress.h"
-#include "daemon/state_writes.h"
+#include "state/state_writes.h"
 #include "integrations/site_io.h"
 #include "uwb/reply_text.h"
 #include "uwb/cli.h"

@@ -10,7 +10,7 @@
 #include "scratch_support.h"
 #include "config/config_load.h"
 #include "daemon/reply.h"
-#include "daemon/store.h"
+#include "state/store.h"
 #include "daemon/trend.h"
 #include "output/render_trend.h"
 

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "daemon/reply.h"
-#include "daemon/state_writes.h"
+#include "state/state_writes.h"
 #include "integrations/site_io.h"
 
 void setUp(void)

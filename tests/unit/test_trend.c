@@ -16,7 +16,7 @@
 #include "uwb/reply_text.h"
 #include "uwb/cli.h"
 #include "daemon/command.h"
-#include "daemon/store.h"
+#include "state/store.h"
 #include "daemon/trend.h"
 #include "output/render_trend.h"
 

@@ -1,11 +1,11 @@
 /* The state directory's write trouble across cycles (see state_writes.h). */
-#include "daemon/state_writes.h"
+#include "state/state_writes.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "daemon/store.h"
+#include "state/store.h"
 #include "util/log.h"
 
 /* The failed write's text ends in the system's reason (strerror, in this

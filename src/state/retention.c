@@ -4,8 +4,8 @@
  * Every directory is opened relative to its parent's fd with O_NOFOLLOW and
  * only regular files are looked at or deleted: a symlink placed in the
  * archive (a day directory pointing elsewhere) is never followed. */
-#include "daemon/retention.h"
-#include "daemon/verdict_log.h"
+#include "state/retention.h"
+#include "state/verdict_log.h"
 
 #include <dirent.h>
 #include <errno.h>

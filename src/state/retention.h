@@ -1,14 +1,14 @@
 /* Retention of the archive by count and by age. Baselines (baseline/) are
  * never deleted; verdicts.jsonl is trimmed to the same limits
  * (uwbd_verdict_log_trim), never deleted. */
-#ifndef UWB_DAEMON_RETENTION_H
-#define UWB_DAEMON_RETENTION_H
+#ifndef UWB_STATE_RETENTION_H
+#define UWB_STATE_RETENTION_H
 
 #include <signal.h>
 #include <stddef.h>
 #include <time.h>
 
-#include "daemon/store.h"
+#include "state/store.h"
 
 /* Delete the oldest archived scans beyond max_scans (0: no limit) and those
  * older than max_age_days (0: no limit) at `now`. A scan's age is its

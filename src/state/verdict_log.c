@@ -1,6 +1,6 @@
 /* verdicts.jsonl (grows by whole lines, trimmed by retention) and
  * latest.json (atomic). */
-#include "daemon/verdict_log.h"
+#include "state/verdict_log.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>

@@ -1,8 +1,8 @@
 /* The state directory opened for the daemon: the store first, then the
- * verdict log repairs itself (see daemon/state_open.h). */
-#include "daemon/state_open.h"
+ * verdict log repairs itself (see state/state_open.h). */
+#include "state/state_open.h"
 
-#include "daemon/verdict_log.h"
+#include "state/verdict_log.h"
 
 int uwbd_state_open(struct uwbd_store *store, const char *state_dir, int *repairs, char *err, size_t errlen)
 {

@@ -1,12 +1,12 @@
 /* The alarm contacts' latch across restarts: contacts-latch.json in the
  * state directory, written atomically whenever what it holds changes, read
  * once at start (board/state-dir.md). */
-#ifndef UWB_DAEMON_CONTACTS_LATCH_H
-#define UWB_DAEMON_CONTACTS_LATCH_H
+#ifndef UWB_STATE_CONTACTS_LATCH_H
+#define UWB_STATE_CONTACTS_LATCH_H
 
 #include <stddef.h>
 
-#include "daemon/store.h"
+#include "state/store.h"
 #include "integrations/alarm_contacts.h"
 
 #define UWBD_CONTACTS_LATCH_FILE "contacts-latch.json"

@@ -2,12 +2,12 @@
  * leftovers of interrupted writes), then the verdict log's repair. Kept
  * apart from both so the store does not depend on the log that writes
  * through it. */
-#ifndef UWB_DAEMON_STATE_OPEN_H
-#define UWB_DAEMON_STATE_OPEN_H
+#ifndef UWB_STATE_STATE_OPEN_H
+#define UWB_STATE_STATE_OPEN_H
 
 #include <stddef.h>
 
-#include "daemon/store.h"
+#include "state/store.h"
 
 /* uwbd_store_open, then uwbd_verdict_log_repair: a torn last line is cut off
  * verdicts.jsonl. *repairs (may be NULL) counts the leftovers removed, plus

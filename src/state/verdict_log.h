@@ -4,13 +4,13 @@
  * the rest and, short again (disk full), cut back off with the system's
  * reason; a reader skips a torn or unparsable line instead of failing.
  * Retention trims its oldest lines by replacing the file atomically. */
-#ifndef UWB_DAEMON_VERDICT_LOG_H
-#define UWB_DAEMON_VERDICT_LOG_H
+#ifndef UWB_STATE_VERDICT_LOG_H
+#define UWB_STATE_VERDICT_LOG_H
 
 #include <stddef.h>
 #include <time.h>
 
-#include "daemon/store.h"
+#include "state/store.h"
 
 /* Append one JSON object (no newline inside) as a line. */
 int uwbd_verdict_log_append(const struct uwbd_store *store, const char *json, char *err, size_t errlen);

@@ -3,7 +3,7 @@
  * and the json can be rebuilt from it. current.json records the scan's
  * CRC-32 at commissioning, so a baseline damaged or replaced later is
  * noticed at the next scan instead of trusted. */
-#include "daemon/baseline_store.h"
+#include "state/baseline_store.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>

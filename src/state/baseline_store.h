@@ -1,13 +1,13 @@
 /* The baseline: the scan of the intact winding every later scan is compared
  * with. It changes only through uwbd_baseline_set (the `baseline set`
  * command); the one it replaces is kept in baseline/history/. */
-#ifndef UWB_DAEMON_BASELINE_STORE_H
-#define UWB_DAEMON_BASELINE_STORE_H
+#ifndef UWB_STATE_BASELINE_STORE_H
+#define UWB_STATE_BASELINE_STORE_H
 
 #include <stddef.h>
 #include <time.h>
 
-#include "daemon/store.h"
+#include "state/store.h"
 #include "uwb/scan.h"
 
 /* `baseline set N`: at most this many scans averaged into one baseline. */

@@ -3,8 +3,8 @@
  * verdicts published all the same); this keeps the trouble in view for
  * `status` until a cycle writes everything again, and logs it once when it
  * begins and once when it ends, not at every cycle. */
-#ifndef UWB_DAEMON_STATE_WRITES_H
-#define UWB_DAEMON_STATE_WRITES_H
+#ifndef UWB_STATE_STATE_WRITES_H
+#define UWB_STATE_STATE_WRITES_H
 
 #include <time.h>
 

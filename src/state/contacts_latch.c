@@ -1,7 +1,7 @@
 /* The alarm contacts' latch kept in the state directory (see the header).
  * Small JSON, so a person can read it; any field missing or of the wrong
  * type makes the whole file unreadable, which holds the alarm. */
-#include "daemon/contacts_latch.h"
+#include "state/contacts_latch.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>

@@ -6,8 +6,8 @@
  *   baseline/history/<scan_id>.uwbscan (+ .json), earlier baselines
  *   uwbd.lock           held by the running daemon
  * Every file is written atomically; verdicts.jsonl grows by whole lines. */
-#ifndef UWB_DAEMON_STORE_H
-#define UWB_DAEMON_STORE_H
+#ifndef UWB_STATE_STORE_H
+#define UWB_STATE_STORE_H
 
 #include <stddef.h>
 #include <time.h>

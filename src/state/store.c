@@ -1,6 +1,6 @@
 /* The state directory: creating its rooms, tidying what a crash left, and
  * naming files inside it. */
-#include "daemon/store.h"
+#include "state/store.h"
 
 #include <dirent.h>
 #include <errno.h>
