@@ -19,7 +19,7 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "daemon/exit_codes.h"
+#include "control/exit_codes.h"
 #include "daemon/outputs.h"
 #include "util/log.h"
 #include "daemon/service_notify.h"

@@ -9,7 +9,7 @@
 
 #include "scratch_support.h"
 #include "config/config_load.h"
-#include "daemon/reply.h"
+#include "control/reply.h"
 #include "state/store.h"
 #include "daemon/trend.h"
 #include "output/render_trend.h"

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "daemon/reply.h"
+#include "control/reply.h"
 #include "state/state_writes.h"
 #include "integrations/site_io.h"
 

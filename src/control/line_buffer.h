@@ -1,12 +1,12 @@
 /* Bytes from a socket or a serial line, cut into command lines of bounded
  * length. A line that grows past the bound is dropped whole (reported once,
  * at its newline) rather than cut into pieces that might parse. */
-#ifndef UWB_DAEMON_LINE_BUFFER_H
-#define UWB_DAEMON_LINE_BUFFER_H
+#ifndef UWB_CONTROL_LINE_BUFFER_H
+#define UWB_CONTROL_LINE_BUFFER_H
 
 #include <stddef.h>
 
-#include "daemon/command.h"
+#include "control/command.h"
 
 struct uwbd_line_buffer {
     char text[UWB_COMMAND_MAX_LINE + 2]; /* room for "\r" and the NUL */

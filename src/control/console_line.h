@@ -3,14 +3,14 @@
  * and DEL (0x7f) take back the last character, Ctrl-U the whole line,
  * Ctrl-C drops it; cursor-key escape sequences are ignored. What the person
  * should see (the echo) is collected for the caller to send. The control
- * socket does not use this: it stays machine-clean (src/daemon/line_buffer.c). */
-#ifndef UWB_DAEMON_CONSOLE_LINE_H
-#define UWB_DAEMON_CONSOLE_LINE_H
+ * socket does not use this: it stays machine-clean (src/control/line_buffer.c). */
+#ifndef UWB_CONTROL_CONSOLE_LINE_H
+#define UWB_CONTROL_CONSOLE_LINE_H
 
 #include <stddef.h>
 
-#include "daemon/command.h"
-#include "daemon/line_buffer.h" /* enum uwbd_line_event */
+#include "control/command.h"
+#include "control/line_buffer.h" /* enum uwbd_line_event */
 
 /* Shown on the console when it is ready for a command line. */
 #define UWBD_CONSOLE_PROMPT "uwbd> "

@@ -1,8 +1,8 @@
 /* The line commands engineers type on the serial console or send with
  * `uwbd ctl`. The parser is pure (no I/O, no allocation) and bounded, so it
  * can face a noisy serial line and a fuzzer alike. No command names a path. */
-#ifndef UWB_DAEMON_COMMAND_H
-#define UWB_DAEMON_COMMAND_H
+#ifndef UWB_CONTROL_COMMAND_H
+#define UWB_CONTROL_COMMAND_H
 
 #include <stddef.h>
 

@@ -1,5 +1,5 @@
 /* Cutting a byte stream into bounded command lines. */
-#include "daemon/line_buffer.h"
+#include "control/line_buffer.h"
 
 int uwbd_line_buffer_feed(struct uwbd_line_buffer *lb, const char *data, size_t n, size_t *used,
                           const char **line, size_t *len)

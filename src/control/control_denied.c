@@ -3,7 +3,7 @@
  * mode, and what to do, so that `uwbd ctl` does not blame a missing daemon.
  * access() checks the real ids, which are `uwbd ctl`'s own (not setuid). */
 #define _GNU_SOURCE /* getgrouplist */
-#include "daemon/control_socket.h"
+#include "control/control_socket.h"
 
 #include <errno.h>
 #include <grp.h>

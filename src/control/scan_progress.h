@@ -2,8 +2,8 @@
  * reply's "progress" and the PROGRESS lines `watch` streams. The estimate
  * uses the pace the rig has shown between positions (homing, which comes
  * before the first position, is not a position's pace). Pure arithmetic. */
-#ifndef UWB_DAEMON_SCAN_PROGRESS_H
-#define UWB_DAEMON_SCAN_PROGRESS_H
+#ifndef UWB_CONTROL_SCAN_PROGRESS_H
+#define UWB_CONTROL_SCAN_PROGRESS_H
 
 struct uwbd_scan_progress {
     int done;         /* positions acquired in this pass */

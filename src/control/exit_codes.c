@@ -1,5 +1,5 @@
 /* From the rig's error classes to exit statuses (see exit_codes.h). */
-#include "daemon/exit_codes.h"
+#include "control/exit_codes.h"
 
 #include "uwb/rig.h"
 

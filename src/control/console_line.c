@@ -1,5 +1,5 @@
 /* Line editing for the serial console (see console_line.h). */
-#include "daemon/console_line.h"
+#include "control/console_line.h"
 
 #include <string.h>
 

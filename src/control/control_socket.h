@@ -1,8 +1,8 @@
 /* The local control socket: a unix stream socket that appears at its path
  * already listening with its final mode and group (bound under a temporary
  * name, then renamed into place), so no client ever sees it half set up. */
-#ifndef UWB_DAEMON_CONTROL_SOCKET_H
-#define UWB_DAEMON_CONTROL_SOCKET_H
+#ifndef UWB_CONTROL_CONTROL_SOCKET_H
+#define UWB_CONTROL_CONTROL_SOCKET_H
 
 #include <stddef.h>
 #include <sys/types.h>

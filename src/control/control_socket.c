@@ -1,5 +1,5 @@
 /* Creating, removing and connecting to the control socket. */
-#include "daemon/control_socket.h"
+#include "control/control_socket.h"
 
 #include <errno.h>
 #include <fcntl.h>

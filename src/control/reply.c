@@ -1,11 +1,11 @@
 /* Building the JSON reply lines (see the header). */
-#include "daemon/reply.h"
+#include "control/reply.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
 
-#include "daemon/command.h"
+#include "control/command.h"
 #include "state/state_writes.h"
 #include "integrations/mqtt_publisher.h"
 #include "integrations/site_io.h"

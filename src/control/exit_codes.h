@@ -1,7 +1,7 @@
 /* uwbd's exit statuses (sysexits.h values), one per thing an installer
  * has to fix, so a unit file or a script can tell them apart. */
-#ifndef UWB_DAEMON_EXIT_CODES_H
-#define UWB_DAEMON_EXIT_CODES_H
+#ifndef UWB_CONTROL_EXIT_CODES_H
+#define UWB_CONTROL_EXIT_CODES_H
 
 enum uwbd_exit {
     UWBD_EXIT_OK = 0,           /* stopped by SIGTERM/SIGINT, or --check-config passed */

@@ -1,7 +1,7 @@
 /* Parsing console and control-socket command lines. Everything is checked
  * against fixed bounds before it is looked at: the length, the bytes, the
  * number of words and each word's length. */
-#include "daemon/command.h"
+#include "control/command.h"
 
 #include <ctype.h>
 #include <stdio.h>

@@ -1,5 +1,5 @@
 /* Scan progress and time left (see the header). */
-#include "daemon/scan_progress.h"
+#include "control/scan_progress.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>

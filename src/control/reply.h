@@ -3,12 +3,12 @@
  * text goes to the control socket and to the serial console. Every
  * function returns a malloc'd line without its newline, or NULL when out of
  * memory. */
-#ifndef UWB_DAEMON_REPLY_H
-#define UWB_DAEMON_REPLY_H
+#ifndef UWB_CONTROL_REPLY_H
+#define UWB_CONTROL_REPLY_H
 
 #include <time.h>
 
-#include "daemon/scan_progress.h"
+#include "control/scan_progress.h"
 
 #include "state/baseline_store.h"
 
