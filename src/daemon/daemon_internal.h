@@ -15,7 +15,7 @@
 #include "state/baseline_store.h"
 #include "config/config_load.h"
 #include "control/control_socket.h"
-#include "daemon/event_loop.h"
+#include "loop/event_loop.h"
 #include "daemon/daemon.h"
 #include "control/console_line.h"
 #include "control/line_buffer.h"

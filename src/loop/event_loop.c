@@ -1,5 +1,5 @@
 /* The daemon's event registry and its poll() round (see the header). */
-#include "daemon/event_loop.h"
+#include "loop/event_loop.h"
 
 #include <poll.h>
 #include <string.h>
