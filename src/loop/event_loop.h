@@ -1,11 +1,11 @@
-/* The daemon's event sources in one registry walked by poll() (the pattern
+/* Event sources in one registry walked by poll() (the pattern
  * of redis's aeCreateFileEvent): a source registers its fd, the events it
  * waits for and a callback; hooks run before each poll (to update fds and
  * bound the wait) and after it (deadlines that need no fd). Callbacks run in
  * registration order (the lowest free slot), so the order in which sources
  * are served is the order they were registered in. */
-#ifndef UWBD_DAEMON_EVENT_LOOP_H
-#define UWBD_DAEMON_EVENT_LOOP_H
+#ifndef UWB_LOOP_EVENT_LOOP_H
+#define UWB_LOOP_EVENT_LOOP_H
 
 /* Fixed capacity, no allocation: the daemon registers 7 sources of its own,
  * the control socket, the console and 16 client slots, the site's timer and
