@@ -28,6 +28,8 @@
 #   make readme-images    redraw the README's example images (tools/readme/images) with
 #                         the replay command it shows
 #   make readme-bench     rewrite the README's `make bench` block from a run of the bench
+#   make readme-arch      redraw the README's graph of what uses what (rooms of src/, files of
+#                         src/daemon/) from the objects and includes (make test checks it)
 #   make soak             SOAK_CYCLES (1000) scan cycles of uwbd on the emulated board:
 #                         RSS, open fds and archive size must stay flat; then
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
@@ -137,7 +139,7 @@ $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIP
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-model-term accuracy-radial-limits readme-verdict readme-images readme-bench readme-demo readme-test-count soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-model-term accuracy-radial-limits readme-verdict readme-images readme-bench readme-demo readme-test-count readme-arch soak install deps deps-arm check-hw-headers clean
 all: $(BUILD)/uwbd $(BUILD)/uwbsim $(BUILD)/uwbemu $(BUILD)/uwbimpair
 
 # uwbbench too: tests/e2e/test_bench_budget.sh checks its budget verdict.
@@ -151,7 +153,7 @@ TOOLS_EXTRA_CFLAGS := -Itools
 TESTS_EXTRA_CFLAGS := -I$(UNITY_DIR) -Itools -Itests/unit -Isrc $(UNITY_DEFS) -DUWB_BUILD_DIR='"$(BUILD)"'
 
 # The library's private headers live beside their code (src/daemon/*.h,
-# src/output/render_internal.h, ...) and are included as "daemon/config.h";
+# src/output/render_internal.h, ...) and are included as "config/config_load.h";
 # include/uwb/ holds only what a program linking libuwb.a needs. Tests may
 # include the private ones too.
 $(BUILD)/obj/src/%.o: EXTRA_CFLAGS := $(SRC_EXTRA_CFLAGS)
@@ -349,6 +351,12 @@ readme-demo: deps
 # (tools/readme/readme-test-count.sh); tests/e2e/test_readme_test_count.sh checks it.
 readme-test-count:
 	bash tools/readme/readme-test-count.sh --write README.md
+
+# The README's graph of what uses what (rooms of src/, files of src/daemon/),
+# from the objects' symbols and the includes (tools/readme/readme-arch.sh);
+# tests/e2e/test_readme_arch.sh checks it.
+readme-arch: all
+	bash tools/readme/readme-arch.sh '$(BUILD)' --write README.md
 
 # The accuracy report (tools/accuracy): the full-wave fixtures clean and over
 # the tool's REPORT_PAIRS noisy pairs per case (ACCURACY_PAIRS=N for another

@@ -13,10 +13,10 @@
 
 #include "uwb/reply_text.h"
 #include "uwb/cli.h"
-#include "daemon/command.h"
-#include "daemon/config.h"
-#include "daemon/control_socket.h"
-#include "daemon/exit_codes.h"
+#include "control/command.h"
+#include "config/config_load.h"
+#include "control/control_socket.h"
+#include "control/exit_codes.h"
 #include "uwb/monotonic.h"
 
 /* A scan takes as long as the carriage needs; everything else is instant. */

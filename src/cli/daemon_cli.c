@@ -8,7 +8,7 @@
 
 #include "uwb/cli.h"
 #include "daemon/daemon.h"
-#include "daemon/exit_codes.h"
+#include "control/exit_codes.h"
 #include "util/log.h"
 
 void uwbd_daemon_usage(FILE *f)

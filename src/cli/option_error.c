@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "uwb/cli.h"
-#include "daemon/command.h"
+#include "control/command.h"
 #include "util/edit_distance.h"
 
 /* The long option closest to `name` (uwb_nearest's rules), or NULL. */

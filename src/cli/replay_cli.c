@@ -16,7 +16,7 @@
 #include "uwb/atomic_file.h"
 #include "uwb/cli.h"
 #include "config/winding_span.h"
-#include "daemon/baseline_store.h"
+#include "state/baseline_store.h"
 #include "daemon/daemon.h"
 #include "uwb/evaluate.h"
 #include "uwb/render.h"

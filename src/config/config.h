@@ -1,6 +1,6 @@
 /* What the configuration file says, section by section: struct uwbd_config
  * holds the rig's, the evaluation's, the site's and the daemon's own
- * settings. Here, below the daemon (which loads it, daemon/config.h) and
+ * settings. Here, below its loader (config/config_load.h), the daemon and
  * the modules that read their section, so none of them leans on the
  * daemon; every key is listed in config/config_keys.c. */
 #ifndef UWB_CONFIG_CONFIG_H

@@ -5,10 +5,23 @@
 #ifndef UWB_DAEMON_ACQUIRE_MORE_H
 #define UWB_DAEMON_ACQUIRE_MORE_H
 
+#include <signal.h>
 #include <stddef.h>
 
-#include "daemon/scan_cycle.h"
+#include "uwb/scan.h"
 #include "uwb/verdict.h"
+
+/* How an acquisition ends: the contract of the function the scan cycle
+ * acquires through (here, below the cycle, which calls this file). */
+enum uwbd_acquire_result {
+    UWBD_ACQUIRE_OK = 0,
+    UWBD_ACQUIRE_STOPPED = 1, /* *stop was raised: nothing to record */
+    UWBD_ACQUIRE_FAILED = -1, /* err says why; the hardware has been made safe */
+};
+
+/* Fill *out with a new scan; returns an enum uwbd_acquire_result. */
+typedef int (*uwbd_acquire_fn)(void *ctx, const volatile sig_atomic_t *stop, struct uwb_scan *out, char *err,
+                               size_t errlen);
 
 /* Acquire one more scan into *added and average it into *scan (same
  * geometry required); scan->stack becomes the pulses per position of the

@@ -8,7 +8,7 @@
 
 #include "daemon_internal.h"
 #include "util/log.h"
-#include "daemon/reply.h"
+#include "control/reply.h"
 
 char *uwbd_baseline_request(struct daemon *d, int scans, int force)
 {

@@ -18,9 +18,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "daemon/command.h"
+#include "control/command.h"
 #include "daemon/outputs.h"
-#include "daemon/reply.h"
+#include "control/reply.h"
 #include "daemon_internal.h"
 #include "uwb/monotonic.h"
 #include "util/log.h"

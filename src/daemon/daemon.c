@@ -19,13 +19,13 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "daemon/exit_codes.h"
+#include "control/exit_codes.h"
 #include "daemon/outputs.h"
 #include "util/log.h"
 #include "daemon/service_notify.h"
-#include "daemon/state_open.h"
+#include "state/state_open.h"
 #include "daemon/test_hang.h"
-#include "daemon/verdict_log.h"
+#include "state/verdict_log.h"
 #include "uwb/monotonic.h"
 #include "uwb/utc_time.h"
 #include "uwb/verdict_json.h"

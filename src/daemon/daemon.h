@@ -7,7 +7,7 @@
 
 #include <stddef.h>
 
-#include "daemon/config.h"
+#include "config/config_load.h"
 #include "uwb/version.h"
 
 #define UWBD_MAX_OVERRIDES 64

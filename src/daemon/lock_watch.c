@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "daemon/exit_codes.h"
+#include "control/exit_codes.h"
 #include "util/log.h"
 
 static void lock_path(const struct daemon *d, char *path, size_t n)

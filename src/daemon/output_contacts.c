@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "daemon/contacts_latch.h"
+#include "state/contacts_latch.h"
 #include "daemon/outputs.h"
 #include "daemon_internal.h"
 #include "util/log.h"

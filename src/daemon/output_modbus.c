@@ -4,7 +4,7 @@
  * state at each request, and its coils turned into commands. */
 #include <string.h>
 
-#include "daemon/exit_codes.h"
+#include "control/exit_codes.h"
 #include "daemon/outputs.h"
 #include "daemon_internal.h"
 #include "util/log.h"

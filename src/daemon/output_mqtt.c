@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include "daemon/exit_codes.h"
+#include "control/exit_codes.h"
 #include "daemon/outputs.h"
 #include "daemon_internal.h"
 #include "util/log.h"

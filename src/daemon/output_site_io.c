@@ -4,7 +4,7 @@
  * when the site's configuration changed. */
 #include <poll.h>
 
-#include "daemon/exit_codes.h"
+#include "control/exit_codes.h"
 #include "daemon/outputs.h"
 #include "daemon_internal.h"
 #include "util/log.h"

@@ -13,7 +13,7 @@
 
 #include <stddef.h>
 
-#include "daemon/event_loop.h"
+#include "loop/event_loop.h"
 #include "integrations/mqtt_publisher.h"
 #include "integrations/site_io.h"
 #include "uwb/verdict_record.h"

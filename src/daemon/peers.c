@@ -16,12 +16,12 @@
 #include <unistd.h>
 
 #include "daemon_internal.h"
-#include "daemon/command.h"
+#include "control/command.h"
 #include "daemon/outputs.h"
 #include "util/log.h"
-#include "daemon/reply.h"
+#include "control/reply.h"
 #include "daemon/trend.h"
-#include "daemon/verdict_log.h"
+#include "state/verdict_log.h"
 #include "uwb/reply_text.h"
 #include "uwb/monotonic.h"
 

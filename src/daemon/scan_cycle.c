@@ -14,11 +14,11 @@
 #include <unistd.h>
 
 #include "daemon/acquire_more.h"
-#include "daemon/baseline_store.h"
+#include "state/baseline_store.h"
 #include "util/log.h"
-#include "daemon/retention.h"
+#include "state/retention.h"
 #include "daemon/trend.h"
-#include "daemon/verdict_log.h"
+#include "state/verdict_log.h"
 #include "uwb/evaluate.h"
 #include "uwb/monotonic.h"
 #include "uwb/render.h"

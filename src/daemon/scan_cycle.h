@@ -13,21 +13,12 @@
 #include <stddef.h>
 #include <time.h>
 
-#include "daemon/baseline_store.h"
-#include "daemon/config.h"
-#include "daemon/store.h"
+#include "daemon/acquire_more.h"
+#include "state/baseline_store.h"
+#include "config/config_load.h"
+#include "state/store.h"
 #include "uwb/scan.h"
 #include "uwb/verdict_record.h"
-
-enum uwbd_acquire_result {
-    UWBD_ACQUIRE_OK = 0,
-    UWBD_ACQUIRE_STOPPED = 1, /* *stop was raised: nothing to record */
-    UWBD_ACQUIRE_FAILED = -1, /* err says why; the hardware has been made safe */
-};
-
-/* Fill *out with a new scan; returns an enum uwbd_acquire_result. */
-typedef int (*uwbd_acquire_fn)(void *ctx, const volatile sig_atomic_t *stop, struct uwb_scan *out, char *err,
-                               size_t errlen);
 
 struct uwbd_cycle_request {
     int make_baseline;  /* a `baseline set` is pending */

@@ -5,10 +5,10 @@
 #include <string.h>
 
 #include "daemon_internal.h"
-#include "daemon/command.h"
+#include "control/command.h"
 #include "daemon/outputs.h"
 #include "util/log.h"
-#include "daemon/reply.h"
+#include "control/reply.h"
 
 static char *site_command(struct daemon *d, const char *text)
 {

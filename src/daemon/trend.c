@@ -5,7 +5,7 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "daemon/verdict_log.h"
+#include "state/verdict_log.h"
 #include "output/render_trend.h"
 
 int uwbd_trend_read(const struct uwbd_store *store, int n, struct uwb_trend *t, char *err, size_t errlen)

@@ -6,8 +6,8 @@
 
 #include <stddef.h>
 
-#include "daemon/config.h"
-#include "daemon/store.h"
+#include "config/config_load.h"
+#include "state/store.h"
 #include "verdict/trend.h"
 
 /* How many of the newest verdicts trend.png shows. */

@@ -143,5 +143,38 @@ if ! awk '{ print $1, $2 }' "$work/folder-arrows" | tsort > /dev/null 2> "$work/
     fail "cycles between the folders of src/"
 fi
 
+# The rooms, top to bottom (issue 47): an arrow goes from a room to one on a
+# lower line, never up nor sideways, so each room is read knowing only the
+# ones below it. A new folder is placed here on purpose, not left to tsort.
+# The daemon sits on its control protocol (control), its event loop (loop)
+# and its persistence (state), which know nothing of it.
+layers=$(cat <<'EOF'
+main
+cli
+daemon
+control loop
+state
+integrations
+config
+evaluate output
+imaging text rig
+verdict gpio digitiser
+scanfile link
+util
+EOF
+)
+echo "$layers" | awk '{ for (i = 1; i <= NF; i++) print $i, NR }' | sort > "$work/layer"
+for folder in $(awk '{ print $1; print $2 }' "$work/folder-arrows" | sort -u); do
+    grep -q "^$folder " "$work/layer" || fail "src/$folder: a room not placed in this test's layers (top to bottom)"
+done
+up=$(awk 'NR == FNR { line[$1] = $2; next }
+          line[$1] >= line[$2] { sub(/^[^ ]+ [^ ]+ /, ""); print "    " $0 }' "$work/layer" "$work/folder-edges" | sort -u)
+[[ -z $up ]] || { echo "$up" >&2; fail "arrows that point up or sideways between the rooms of src/"; }
+# ctl is a client of the control protocol: it reaches it, and the config
+# loader for the socket's path, without the daemon (src/daemon/).
+ctl_to_daemon=$(awk '$1 == "cli" && $2 == "daemon" && $3 ~ /^src\/cli\/(ctl_cli|option_error)\./ { sub(/^[^ ]+ [^ ]+ /, ""); print "    " $0 }' \
+    "$work/folder-edges" | sort -u)
+[[ -z $ctl_to_daemon ]] || { echo "$ctl_to_daemon" >&2; fail "uwbd ctl leans on the daemon"; }
+
 echo "PASS: $(echo "$objects" | wc -l) objects, $(awk '{ print $1, $2 }' "$work/node-edges" | sort -u | wc -l) uses between them, no cycle;" \
-    "$(wc -l < "$work/folder-arrows") arrows between $(awk '{ print $1; print $2 }' "$work/folder-arrows" | sort -u | wc -l) folders, all one way"
+    "$(wc -l < "$work/folder-arrows") arrows between $(awk '{ print $1; print $2 }' "$work/folder-arrows" | sort -u | wc -l) folders, all one way and down"

@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "fuzz_harness.h"
-#include "daemon/command.h"
-#include "daemon/line_buffer.h"
+#include "control/command.h"
+#include "control/line_buffer.h"
 
 static const size_t read_sizes[] = {5, 1, 64, 13, 200};
 

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "fuzz_harness.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 #include "uwb/frame.h"
 
 #define NAME "fuzz.json"

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "fuzz_harness.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 
 static const char sample[] =
     "{\"state_dir\": \"run/state\", \"control\": {\"socket\": \"run/control.sock\"},"

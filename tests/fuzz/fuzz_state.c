@@ -17,10 +17,10 @@
 #include <unistd.h>
 
 #include "fuzz_harness.h"
-#include "daemon/baseline_store.h"
+#include "state/baseline_store.h"
 #include "util/log.h"
-#include "daemon/store.h"
-#include "daemon/verdict_log.h"
+#include "state/store.h"
+#include "state/verdict_log.h"
 #include "uwb/scan.h"
 
 static char root[64];

@@ -15,7 +15,7 @@
 #include "rig/rig_keys.h"
 #include "scratch_support.h"
 #include "uwb/cli.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 
 #define SAMPLE_EMULATED "board/emulated/uwbd.json"
 

@@ -1,11 +1,11 @@
-/* The serial console's line editing (src/daemon/console_line.c): the keys a
+/* The serial console's line editing (src/control/console_line.c): the keys a
  * terminal program sends, the lines that come out, and the echo. */
 #define _GNU_SOURCE /* memmem */
 #include "unity.h"
 
 #include <string.h>
 
-#include "daemon/console_line.h"
+#include "control/console_line.h"
 
 static struct uwbd_console_line cl;
 static char lines[8][UWB_COMMAND_MAX_LINE + 1];

@@ -8,7 +8,7 @@
 
 #include "unity.h"
 
-#include "daemon/contacts_latch.h"
+#include "state/contacts_latch.h"
 #include "scratch_support.h"
 
 static char dir[256], path[512];

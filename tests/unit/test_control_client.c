@@ -12,7 +12,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include "daemon/control_socket.h"
+#include "control/control_socket.h"
 #include "uwb/monotonic.h"
 
 static char dir[256], path[300], err[512];

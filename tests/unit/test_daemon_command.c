@@ -7,8 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "daemon/command.h"
-#include "daemon/line_buffer.h"
+#include "control/command.h"
+#include "control/line_buffer.h"
 
 static struct uwb_command cmd;
 static char err[160];

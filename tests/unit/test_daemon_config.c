@@ -9,7 +9,7 @@
 
 #include "scratch_support.h"
 #include "config/winding_span.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 
 #define SAMPLE_EMULATED "board/emulated/uwbd.json"
 #define SAMPLE_RPI4 "board/raspberry-pi-4/uwbd.json"

@@ -17,11 +17,11 @@
 
 #include "scratch_support.h"
 #include "uwb/atomic_file.h"
-#include "daemon/baseline_store.h"
-#include "daemon/retention.h"
-#include "daemon/state_open.h"
-#include "daemon/store.h"
-#include "daemon/verdict_log.h"
+#include "state/baseline_store.h"
+#include "state/retention.h"
+#include "state/state_open.h"
+#include "state/store.h"
+#include "state/verdict_log.h"
 #include "uwb/direct_coupling.h"
 
 #define WINDOW_END_S 2e-9

@@ -7,7 +7,7 @@
 
 #include "unity.h"
 
-#include "daemon/event_loop.h"
+#include "loop/event_loop.h"
 
 static struct uwbd_event_loop loop;
 static int pipes[3][2];

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "scratch_support.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 
 #define SAMPLE_RPI4 "board/raspberry-pi-4/uwbd.json"
 #define PINMAP_RPI4 "board/raspberry-pi-4/pinmap.md"

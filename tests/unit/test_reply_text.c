@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "daemon/reply.h"
-#include "daemon/scan_progress.h"
-#include "daemon/state_writes.h"
+#include "control/reply.h"
+#include "control/scan_progress.h"
+#include "state/state_writes.h"
 #include "integrations/site_io.h"
 #include "uwb/reply_text.h"
 #include "uwb/cli.h"

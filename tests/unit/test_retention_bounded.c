@@ -16,8 +16,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "daemon/retention.h"
-#include "daemon/store.h"
+#include "state/retention.h"
+#include "state/store.h"
 #include "scratch_support.h"
 #include "uwb/monotonic.h"
 

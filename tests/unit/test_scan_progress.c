@@ -1,10 +1,10 @@
-/* Scan progress and its time-left estimate (src/daemon/scan_progress.c). */
+/* Scan progress and its time-left estimate (src/control/scan_progress.c). */
 #include "unity.h"
 
 #include <cjson/cJSON.h>
 #include <stdlib.h>
 
-#include "daemon/scan_progress.h"
+#include "control/scan_progress.h"
 
 void setUp(void)
 {

@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "scratch_support.h"
-#include "daemon/config.h"
+#include "config/config_load.h"
 
 #define SAMPLE_EMULATED "board/emulated/uwbd.json"
 

@@ -8,9 +8,9 @@
 #include <string.h>
 
 #include "scratch_support.h"
-#include "daemon/config.h"
-#include "daemon/reply.h"
-#include "daemon/store.h"
+#include "config/config_load.h"
+#include "control/reply.h"
+#include "state/store.h"
 #include "daemon/trend.h"
 #include "output/render_trend.h"
 

@@ -17,10 +17,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "daemon/baseline_store.h"
-#include "daemon/state_open.h"
-#include "daemon/store.h"
-#include "daemon/verdict_log.h"
+#include "state/baseline_store.h"
+#include "state/state_open.h"
+#include "state/store.h"
+#include "state/verdict_log.h"
 #include "scratch_support.h"
 #include "uwb/monotonic.h"
 #include "uwb/read_file.h"

@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "daemon/reply.h"
-#include "daemon/state_writes.h"
+#include "control/reply.h"
+#include "state/state_writes.h"
 #include "integrations/site_io.h"
 
 void setUp(void)

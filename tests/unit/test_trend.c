@@ -15,8 +15,8 @@
 #include "scratch_support.h"
 #include "uwb/reply_text.h"
 #include "uwb/cli.h"
-#include "daemon/command.h"
-#include "daemon/store.h"
+#include "control/command.h"
+#include "state/store.h"
 #include "daemon/trend.h"
 #include "output/render_trend.h"
 

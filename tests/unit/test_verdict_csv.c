@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "daemon/reply.h"
+#include "control/reply.h"
 #include "uwb/cli.h"
 #include "uwb/verdict_csv.h"
 #include "uwb/verdict_json.h"

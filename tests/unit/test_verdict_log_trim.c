@@ -16,9 +16,9 @@
 
 #include "scratch_support.h"
 #include "uwb/atomic_file.h"
-#include "daemon/retention.h"
-#include "daemon/store.h"
-#include "daemon/verdict_log.h"
+#include "state/retention.h"
+#include "state/store.h"
+#include "state/verdict_log.h"
 
 #define DAY 86400
 

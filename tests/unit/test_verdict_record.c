@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "daemon/reply.h"
+#include "control/reply.h"
 #include "unity.h"
 #include "uwb/verdict_json.h"
 #include "uwb/verdict_record.h"

@@ -21,7 +21,7 @@
 #include <sys/syscall.h>
 #include <sys/timex.h>
 
-#include "daemon/retention.h"
+#include "state/retention.h"
 
 #define MAX_DENIED 16
 

@@ -37,7 +37,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "daemon/store.h"
+#include "state/store.h"
 #include "uwb/monotonic.h"
 #include "uwb/read_file.h"
 #include "uwb/scan.h"
