@@ -41,10 +41,19 @@ static int line_step(int scale)
     return UWB_FONT_LINE_HEIGHT * scale + 3;
 }
 
-static void count_kinds(const struct uwb_trend *t, int *figures, int *inconclusive, int *errors, int *edges,
-                        int *undated)
+/* An ok, watch or alarm verdict without an axial figure: its status is
+ * the radial change's (the axial figure was withheld), not an
+ * inconclusive one. */
+static int axial_withheld(const struct uwb_trend_point *p)
 {
-    *figures = *inconclusive = *errors = *edges = *undated = 0;
+    return !p->has_displacement &&
+           (p->status == UWB_STATUS_OK || p->status == UWB_STATUS_WATCH || p->status == UWB_STATUS_ALARM);
+}
+
+static void count_kinds(const struct uwb_trend *t, int *figures, int *inconclusive, int *errors, int *edges,
+                        int *withheld, int *undated)
+{
+    *figures = *inconclusive = *errors = *edges = *withheld = *undated = 0;
     for (int i = 0; i < t->count; i++) {
         const struct uwb_trend_point *p = &t->points[i];
         *undated += !p->has_time;
@@ -54,6 +63,8 @@ static void count_kinds(const struct uwb_trend *t, int *figures, int *inconclusi
             ++*errors;
         else if (p->status == UWB_STATUS_EDGES)
             ++*edges;
+        else if (axial_withheld(p))
+            ++*withheld;
         else
             ++*inconclusive;
     }
@@ -75,7 +86,7 @@ static void describe_point(const struct uwb_trend_point *p, const char *sep, cha
     else if (p->status == UWB_STATUS_EDGES)
         snprintf(buf, len, "edges only (%s)", p->became_baseline ? "became the baseline" : "no baseline");
     else
-        snprintf(buf, len, "%s, no figure%s%.100s", uwb_status_name(p->status), p->reason[0] ? ": " : "",
+        snprintf(buf, len, "%s, no figure%s%s", uwb_status_name(p->status), p->reason[0] ? ": " : "",
                  p->reason);
 }
 
@@ -115,19 +126,21 @@ static void describe_radial(const struct uwb_trend *t, const char *sep, char *bu
 
 void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *th, char *buf, size_t len)
 {
-    int figures, inconclusive, errors, edges, undated;
-    count_kinds(t, &figures, &inconclusive, &errors, &edges, &undated);
-    char last[300], rate[200];
+    int figures, inconclusive, errors, edges, withheld, undated;
+    count_kinds(t, &figures, &inconclusive, &errors, &edges, &withheld, &undated);
+    char last[400], rate[200];
     describe_point(latest(t), "+/-", last, sizeof last);
     describe_rate(t, "+/-", rate, sizeof rate);
     char radial[160];
     describe_radial(t, "+/-", radial, sizeof radial);
     const struct uwb_trend_point *p = latest(t);
     snprintf(buf, len,
-             "%d verdicts: %d with a figure, %d inconclusive, %d error, %d edges only; latest %s: %s; "
+             "%d verdicts: %d with a figure, %d inconclusive, %d error, %d edges only, %d with the axial "
+             "figure withheld; latest %s: %s; "
              "rate %s; %s%sthresholds watch %.2f mm, alarm %.2f mm; bars +/-%.0f sigma (95 %%)",
-             t->count, figures, inconclusive, errors, edges, p && p->created[0] ? p->created : "(none)", last,
-             rate, radial, radial[0] ? "; " : "", th->watch_m * 1e3, th->alarm_m * 1e3, UWB_TREND_BAR_SIGMAS);
+             t->count, figures, inconclusive, errors, edges, withheld,
+             p && p->created[0] ? p->created : "(none)", last, rate, radial, radial[0] ? "; " : "",
+             th->watch_m * 1e3, th->alarm_m * 1e3, UWB_TREND_BAR_SIGMAS);
 }
 
 static int first_last_time(const struct uwb_trend *t, time_t *first, time_t *last)
@@ -167,13 +180,63 @@ static int wrapped_text(struct uwb_canvas *c, int x, int y, const char *text, in
     return height > 0 ? height : line_step(scale);
 }
 
+/* The marks of the verdicts without an axial figure, in the strip and in
+ * the caption's key (the manual's words for them). */
+static const struct {
+    const char *mark, *words;
+    enum uwb_status colour;
+} marks[] = {
+    {"?", "inconclusive", UWB_STATUS_INCONCLUSIVE},
+    {"X", "error", UWB_STATUS_ERROR},
+    {"B", "became the baseline", UWB_STATUS_EDGES},
+    {"E", "edges only", UWB_STATUS_EDGES},
+    {"R", "axial figure withheld (radial only)", UWB_STATUS_ALARM},
+};
+
+static const char *mark_of(const struct uwb_trend_point *q)
+{
+    return q->status == UWB_STATUS_ERROR   ? "X"
+           : q->became_baseline            ? "B"
+           : q->status == UWB_STATUS_EDGES ? "E"
+           : axial_withheld(q)             ? "R"
+                                           : "?";
+}
+
+/* "no axial figure:  ? inconclusive   X error ...", each mark in its
+ * colour, wrapped onto a second line where the page is too narrow. */
+static int marks_key(struct uwb_canvas *c, int x, int y, int scale)
+{
+    const char *head = "strip above the plot, no axial figure:";
+    int right = UWB_TREND_PNG_WIDTH - 12, lx = x, gap = 3 * UWB_FONT_ADVANCE * scale;
+    if (c)
+        uwb_draw_text(c, lx, y, head, scale, muted);
+    lx += uwb_text_width(head, scale) + gap;
+    int height = line_step(scale);
+    for (size_t i = 0; i < sizeof marks / sizeof marks[0]; i++) {
+        int w = uwb_text_width(marks[i].mark, scale) + UWB_FONT_ADVANCE * scale +
+                uwb_text_width(marks[i].words, scale);
+        if (lx + w > right) {
+            lx = x + uwb_text_width("latest  ", scale);
+            y += line_step(scale);
+            height += line_step(scale);
+        }
+        if (c) {
+            uwb_draw_text(c, lx, y, marks[i].mark, scale, uwb_status_colour(marks[i].colour));
+            uwb_draw_text(c, lx + uwb_text_width(marks[i].mark, scale) + UWB_FONT_ADVANCE * scale, y,
+                          marks[i].words, scale, ink);
+        }
+        lx += w + gap;
+    }
+    return height;
+}
+
 /* Caption lines: title, site, latest, rate, legend. Drawn when c is set;
  * returns the height either way so layout and drawing agree. */
 static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct uwb_thresholds *th,
                    const char *site)
 {
     int scale = FONT_SCALE, x = 12, y = 10;
-    char a[512], b[400];
+    char a[700], b[600];
     if (c)
         uwb_draw_text(c, x, y, "uwbd trend: axial displacement and radial change", scale + 1, ink);
     y += UWB_FONT_LINE_HEIGHT * (scale + 1) + 6;
@@ -224,7 +287,8 @@ static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct
         lx += 12;
         uwb_draw_text(c, lx, y, "new baseline", scale, ink);
     }
-    y += line_step(scale) + 4;
+    y += line_step(scale);
+    y += marks_key(c, x, y, scale) + 4;
     if (c)
         uwb_canvas_fill_rect(c, 0, y - 4, c->width, 1, rule);
     return y;
@@ -308,11 +372,9 @@ static void thresholds(struct uwb_canvas *c, const struct uwb_plot *p, const str
 static void no_figure_mark(struct uwb_canvas *c, const struct uwb_trend_layout *l,
                            const struct uwb_trend_point *q)
 {
-    /* ? inconclusive, X error, B became the baseline, E edges only. */
-    const char *mark = q->status == UWB_STATUS_ERROR   ? "X"
-                       : q->became_baseline            ? "B"
-                       : q->status == UWB_STATUS_EDGES ? "E"
-                                                       : "?";
+    /* ? inconclusive, X error, B became the baseline, E edges only, R
+     * the axial figure withheld (the status is the radial change's). */
+    const char *mark = mark_of(q);
     int col = uwb_trend_col(l, q->t);
     int w = uwb_text_width(mark, FONT_SCALE);
     uwb_draw_text(c, col - w / 2, l->strip_y + (l->strip_h - UWB_FONT_CAP_HEIGHT * FONT_SCALE) / 2, mark,
@@ -357,7 +419,7 @@ static void x_labels(struct uwb_canvas *c, const struct uwb_trend_layout *l, con
     const struct uwb_plot *p = &l->plot;
     double ticks[64], step;
     int n = uwb_nice_ticks(p->x_min, p->x_max, X_TICKS, ticks, 64, &step);
-    int days = l->unit_s >= 86400.0;
+    int days = l->unit_s >= 86400.0, last_right = -1000000;
     for (int i = 0; i < n; i++) {
         if (days && fabs(ticks[i] - round(ticks[i])) > 1e-6)
             continue; /* half days: a tick, no date */
@@ -370,7 +432,13 @@ static void x_labels(struct uwb_canvas *c, const struct uwb_trend_layout *l, con
         strftime(label, sizeof label, format, &tm);
         int col = uwb_plot_col(p, ticks[i]);
         int w = uwb_text_width(label, FONT_SCALE);
-        uwb_draw_text(c, col - w / 2, p->y + p->h + 6 + 4, label, FONT_SCALE, ink);
+        /* A label the page would cut ("03:23:3") or that would run into
+         * the one before: the tick alone. */
+        int x = col - w / 2;
+        if (x < 4 || x + w > c->width - 4 || x < last_right + 2 * UWB_FONT_ADVANCE * FONT_SCALE)
+            continue;
+        uwb_draw_text(c, x, p->y + p->h + 6 + 4, label, FONT_SCALE, ink);
+        last_right = x + w;
     }
     char title[96];
     time_t first = 0, last = 0;
@@ -391,6 +459,19 @@ static void x_labels(struct uwb_canvas *c, const struct uwb_trend_layout *l, con
     int w = uwb_text_width(title, FONT_SCALE);
     uwb_draw_text(c, p->x + (p->w - w) / 2, p->y + p->h + 6 + 4 + UWB_FONT_CAP_HEIGHT * FONT_SCALE + 12,
                   title, FONT_SCALE, ink);
+}
+
+/* The longest y-axis title that fits the plot's height: one that runs
+ * past it reaches into the strip's "no figure". */
+static const char *y_title(int radial_figures, int plot_h)
+{
+    static const char *const axial[] = {"displacement, mm (up +)", "mm (up +)", "mm"};
+    static const char *const both[] = {"mm (up +, radial nearer +)", "mm (+ up/nearer)", "mm"};
+    const char *const *titles = radial_figures ? both : axial;
+    for (int i = 0; i < 2; i++)
+        if (uwb_text_width(titles[i], FONT_SCALE) <= plot_h - 4)
+            return titles[i];
+    return titles[2];
 }
 
 static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct uwb_thresholds *th,
@@ -423,8 +504,12 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         const struct uwb_trend_point *q = &t->points[i];
         if (q->baseline_change)
             have_prev = 0;
-        if (!q->has_displacement || !q->has_time)
+        if (!q->has_time)
             continue;
+        if (!q->has_displacement) {
+            have_prev = 0; /* a verdict without a figure between: no line across it */
+            continue;
+        }
         int col = uwb_trend_col(&l, q->t), row = uwb_plot_row(p, q->displacement_mm);
         if (have_prev)
             uwb_canvas_line(c, prev_col, prev_row, col, row, series_grey, 1, 0, 0);
@@ -438,8 +523,12 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         const struct uwb_trend_point *q = &t->points[i];
         if (q->baseline_change)
             have_prev = 0;
-        if (!q->has_radial_change || !q->has_time)
+        if (!q->has_time)
             continue;
+        if (!q->has_radial_change) {
+            have_prev = 0;
+            continue;
+        }
         int col = uwb_trend_col(&l, q->t) + UWB_TREND_RADIAL_OFFSET, row = uwb_plot_row(p, q->radial_mm);
         if (have_prev)
             uwb_canvas_line(c, prev_col, prev_row, col, row, radial_line, 1, 0, 0);
@@ -468,7 +557,7 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         .y_ticks = 8,
         .x_labels = 0,
         .y_labels_left = 1,
-        .y_title = radial_figures ? "mm (up +, radial nearer +)" : "displacement, mm (up +)",
+        .y_title = y_title(radial_figures, p->h),
     };
     uwb_draw_axes(c, p, &style);
     x_labels(c, &l, t);
@@ -486,7 +575,7 @@ int uwb_render_trend_png(const char *path, const struct uwb_trend *t, const stru
     if (uwb_canvas_init(&c, UWB_TREND_PNG_WIDTH, UWB_TREND_PNG_HEIGHT, white, err, errlen) != 0)
         return -1;
     draw(&c, t, th, site);
-    char summary[1024];
+    char summary[1400];
     uwb_trend_summary(t, th, summary, sizeof summary);
     /* The description is ASCII ("+/-", "sigma"); a site label may be UTF-8,
      * which uwb_canvas_write_png stores as iTXt (tEXt is Latin-1). */

@@ -15,7 +15,7 @@
 #include "uwb/verdict.h"
 
 #define UWB_TREND_PNG_WIDTH 1000
-#define UWB_TREND_PNG_HEIGHT 620
+#define UWB_TREND_PNG_HEIGHT 720
 /* The bars' half-length in sigmas of the verdict's uncertainty. */
 #define UWB_TREND_BAR_SIGMAS UWB_SIGMAS_95
 /* The radial change is a second series: diamonds in their status colour

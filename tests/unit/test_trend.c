@@ -12,6 +12,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "png_text_support.h"
 #include "scratch_support.h"
 #include "uwb/reply_text.h"
 #include "uwb/cli.h"
@@ -773,6 +774,109 @@ static void test_radial_change_is_a_second_series(void)
     uwb_trend_free(&t);
 }
 
+/* Finding 7 of issue 48, trend.png as an engineer reads it without the
+ * manual: a minute-scale morning with a +12 mm figure, an inconclusive
+ * verdict, a radial alarm whose axial figure was withheld, a figure of
+ * 0 mm, all against one baseline, and last an inconclusive verdict with
+ * a long reason. */
+static const char *const engineer_lines[] = {
+    "{\"class\":\"VERDICT\",\"status\":\"alarm\",\"scan_id\":\"E1\",\"created\":\"2026-12-07T03:20:05Z\","
+    "\"axial_displacement_mm\":12.0,\"uncertainty_mm\":0.3,\"baseline\":{\"scan_id\":\"B1\"}}",
+    "{\"class\":\"VERDICT\",\"status\":\"inconclusive\",\"scan_id\":\"E2\",\"created\":\"2026-12-07T03:21:"
+    "10Z\",\"reason\":\"face echo too weak\"}",
+    "{\"class\":\"VERDICT\",\"status\":\"alarm\",\"scan_id\":\"E3\",\"created\":\"2026-12-07T03:22:15Z\","
+    "\"reason\":\"axial figure withheld: the face changed shape\",\"radial\":{\"status\":\"alarm\","
+    "\"max_change_mm\":6.2,\"at_mm\":300,\"uncertainty_mm\":0.4,\"tilt_mm\":0.1},\"baseline\":{\"scan_id\":"
+    "\"B1\"}}",
+    "{\"class\":\"VERDICT\",\"status\":\"ok\",\"scan_id\":\"E4\",\"created\":\"2026-12-07T03:23:40Z\","
+    "\"axial_displacement_mm\":0.0,\"uncertainty_mm\":0.3,\"baseline\":{\"scan_id\":\"B1\"}}",
+    "{\"class\":\"VERDICT\",\"status\":\"inconclusive\",\"scan_id\":\"E5\",\"created\":\"2026-12-07T03:"
+    "23:49Z\",\"reason\":\"the face's lower edge lies outside the antenna travel in this scan, so the "
+    "edges cannot be compared with the baseline's and the axial shift reads +3.8 mm only as a guess "
+    "ENDWORD\"}",
+};
+
+static int colour_in(const struct png_read *png, int x0, int x1, int y0, int y1, struct uwb_rgb colour)
+{
+    int n = 0;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            if (x >= 0 && y >= 0 && x < png->w && y < png->h)
+                n += is(pixel(png, x, y), colour);
+    return n;
+}
+
+static void test_trend_png_reads_without_the_manual(void)
+{
+    struct uwb_trend t;
+    TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines((char *const *)engineer_lines, 5, &t));
+    struct uwb_thresholds th = {.watch_m = 2e-3, .alarm_m = 5e-3};
+    scratch_scratch_dir(dir, sizeof dir, "trend");
+    char path[600], err[512];
+    snprintf(path, sizeof path, "%s/trend.png", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_trend_png(path, &t, &th, NULL, err, sizeof err), err);
+    struct png_read png = read_png(path);
+    struct uwb_trend_layout l;
+    uwb_render_trend_layout(&t, &th, NULL, &l);
+    const struct uwb_plot *p = &l.plot;
+    const struct uwb_rgb ink = {25, 25, 25}, muted = {90, 90, 90};
+    const struct uwb_rgb series_grey = {150, 150, 150};
+
+    /* The Description counts what there was: no inconclusive verdict
+     * but E2, and E3 as the radial alarm it was. */
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(png.description, "5 verdicts: 2 with a figure, 2 inconclusive, 0 error"), png.description);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(png.description, "1 with the axial figure withheld"),
+                                 png.description);
+
+    /* E3's mark in the strip is not the "?" of an inconclusive verdict. */
+    int c3 = uwb_trend_col(&l, t.points[2].t), mx, my;
+    int s = 2;
+    const unsigned char *strip = png.px + (size_t)l.strip_y * (size_t)png.w * 3;
+    TEST_ASSERT_EQUAL_INT(
+        0, png_text_find(strip, png.w, l.strip_h, "?", s, uwb_status_colour(UWB_STATUS_ALARM), &mx, &my));
+    TEST_ASSERT_EQUAL_INT(2, png_text_find(strip, png.w, l.strip_h, "?", s,
+                                           uwb_status_colour(UWB_STATUS_INCONCLUSIVE), &mx, &my));
+    TEST_ASSERT_EQUAL_INT(
+        1, png_text_find(strip, png.w, l.strip_h, "R", s, uwb_status_colour(UWB_STATUS_ALARM), &mx, &my));
+    TEST_ASSERT_INT_WITHIN(8, c3, mx + 5);
+
+    /* The marks are explained on the image: each letter in its words. */
+    const char *legend[] = {"inconclusive", "error", "became the baseline", "edges only",
+                            "axial figure withheld"};
+    for (size_t i = 0; i < sizeof legend / sizeof legend[0]; i++)
+        TEST_ASSERT_TRUE_MESSAGE(
+            png_text_find(png.px, png.w, l.caption_h, legend[i], s, ink, NULL, NULL) == 1, legend[i]);
+
+    /* The latest line is not cut: the reason's last word is on the page. */
+    TEST_ASSERT_TRUE_MESSAGE(png_text_present(png.px, png.w, png.h, "ENDWORD"), "the reason's last word");
+
+    /* "no figure" stands clear: nothing but its own ink and the strip
+     * within 3 px of it (the y-axis title ran into it). */
+    int nx, ny;
+    TEST_ASSERT_EQUAL_INT(1, png_text_find(png.px, png.w, png.h, "no figure", 1, muted, &nx, &ny));
+    const struct uwb_rgb strip_fill = {242, 242, 242}, white = {255, 255, 255};
+    int foreign = 0, nw = uwb_text_width("no figure", 1);
+    for (int y = ny - 3; y < ny + UWB_FONT_CAP_HEIGHT + 3; y++)
+        for (int x = nx - 3; x < nx + nw + 3; x++) {
+            struct uwb_rgb c = pixel(&png, x, y);
+            foreign += !is(c, muted) && !is(c, strip_fill) && !is(c, white);
+        }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, foreign, "pixels of something else touch \"no figure\"");
+
+    /* The grey line does not join +12 mm (E1) to 0 (E4) across the two
+     * verdicts without an axial figure between them. */
+    int c1 = uwb_trend_col(&l, t.points[0].t), c4 = uwb_trend_col(&l, t.points[3].t);
+    int mid = (c1 + c4) / 2;
+    TEST_ASSERT_EQUAL_INT(0, colour_in(&png, mid - 2, mid + 2, p->y, p->y + p->h - 1, series_grey));
+
+    /* Every time tick is whole: none runs off the page ("03:23:3"). */
+    int right_labels = colour_in(&png, png.w - 3, png.w - 1, p->y + p->h + 6, p->y + p->h + 30, ink);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, right_labels, "a tick label reaches the page's right edge");
+    free(png.px);
+    uwb_trend_free(&t);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -791,5 +895,6 @@ int main(void)
     RUN_TEST(test_rate_over_a_week_is_given_with_its_sigma);
     RUN_TEST(test_a_short_trend_is_drawn_at_its_own_scale);
     RUN_TEST(test_radial_change_is_a_second_series);
+    RUN_TEST(test_trend_png_reads_without_the_manual);
     return UNITY_END();
 }
