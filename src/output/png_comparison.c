@@ -92,6 +92,37 @@ static void panel_title(struct uwb_canvas *c, const struct uwb_plot *p, const ch
     uwb_draw_text(c, p->x + (p->w - w) / 2, p->y - 10 - UWB_FONT_CAP_HEIGHT * s, title, s, colour);
 }
 
+/* Words wrapped to lines no wider than max_w (uwb_wrap_line_length):
+ * a panel never cuts a word off at its edge. Returns the line count. */
+#define WORD_LINES 8
+static int wrap_words(const char *text, int max_w, int s, char lines[WORD_LINES][160])
+{
+    int n = 0;
+    while (*text == ' ')
+        text++;
+    while (*text && n < WORD_LINES) {
+        size_t fit = uwb_wrap_line_length(text, max_w, s);
+        snprintf(lines[n++], 160, "%.*s", (int)fit, text);
+        text += fit;
+        while (*text == ' ')
+            text++;
+    }
+    return n;
+}
+
+/* Text centred in an empty panel, wrapped to its width. */
+static void panel_words(struct uwb_canvas *c, const struct uwb_plot *p, const char *text, int s,
+                        struct uwb_rgb colour)
+{
+    char lines[WORD_LINES][160];
+    int n = wrap_words(text, p->w - 8, s, lines), step = UWB_FONT_LINE_HEIGHT * s;
+    int y = p->y + p->h / 2 - n * step / 2;
+    for (int i = 0; i < n; i++) {
+        int w = uwb_text_width(lines[i], s);
+        uwb_draw_text(c, p->x + (p->w - w) / 2, y + i * step, lines[i], s, colour);
+    }
+}
+
 int uwb_comparison_profile_polyline(const struct uwb_plot *p, const struct uwb_face_profile *profile, int *xs,
                                     int *ys)
 {
@@ -220,24 +251,24 @@ static void draw_not_measured(struct uwb_canvas *c, const struct uwb_plot *p, co
             for (int x = p->x + (y % 6); x < p->x + p->w; x += 6)
                 uwb_canvas_put(c, x, y, UWB_RGB_NOT_MEASURED);
     }
-    char why[sizeof v->reason];
-    snprintf(why, sizeof why, "%s", v->reason[0] ? v->reason : uwb_status_name(v->status));
-    const char *head = "not measured";
-    int max_w = p->w - 8 * s;
-    /* The reason, cut to the panel; the caption and JSON carry it whole. */
-    size_t n = strlen(why);
-    while (n > 0 && uwb_text_width(why, s) > max_w) {
-        why[--n] = '\0';
-        while (n > 0 && ((unsigned char)why[n] & 0xC0) == 0x80)
-            why[--n] = '\0';
-    }
-    int line = UWB_FONT_LINE_HEIGHT * s, w = uwb_text_width(head, s);
-    int wr = uwb_text_width(why, s);
-    int bw = (w > wr ? w : wr) + 8 * s, bh = 2 * line + 4 * s;
+    /* "not measured:" and the whole reason, wrapped to the panel (it was
+     * cut there: "not measured / radial cha"); at a smaller scale when the
+     * panel is narrow. */
+    const char *head = "not measured:";
+    int ks = s > 1 ? s - 1 : 1;
+    char lines[WORD_LINES][160];
+    int n = wrap_words(v->reason[0] ? v->reason : uwb_status_name(v->status), p->w - 8 * ks, ks, lines);
+    int line = UWB_FONT_LINE_HEIGHT * ks, widest = uwb_text_width(head, ks);
+    for (int i = 0; i < n; i++)
+        if (uwb_text_width(lines[i], ks) > widest)
+            widest = uwb_text_width(lines[i], ks);
+    int bw = widest + 6 * ks, bh = (n + 1) * line + 4 * ks;
     int bx = p->x + (p->w - bw) / 2, by = p->y + p->h / 2 - bh / 2;
     uwb_canvas_fill_rect(c, bx, by, bw, bh, UWB_RGB_NOT_MEASURED);
-    uwb_draw_text(c, bx + (bw - w) / 2, by + 2 * s, head, s, page);
-    uwb_draw_text(c, bx + (bw - wr) / 2, by + 2 * s + line, why, s, page);
+    uwb_draw_text(c, bx + (bw - uwb_text_width(head, ks)) / 2, by + 2 * ks, head, ks, page);
+    for (int i = 0; i < n; i++)
+        uwb_draw_text(c, bx + (bw - uwb_text_width(lines[i], ks)) / 2, by + 2 * ks + (i + 1) * line, lines[i],
+                      ks, page);
 }
 
 /* Every panel's place and data ranges for this pair and verdict. */
@@ -358,8 +389,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
                            s);
     } else {
         uwb_canvas_fill_rect(&c, L.base.x, L.base.y, L.base.w, L.base.h, no_data);
-        int w = uwb_text_width(no_baseline, s);
-        uwb_draw_text(&c, L.base.x + (L.base.w - w) / 2, L.base.y + L.base.h / 2, no_baseline, s, page);
+        panel_words(&c, &L.base, no_baseline, s, page);
     }
     panel_title(&c, &L.base, "baseline", s, baseline_ink);
 
@@ -395,8 +425,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
         }
     } else {
         uwb_canvas_fill_rect(&c, L.diff.x, L.diff.y, L.diff.w, L.diff.h, no_data);
-        int w = uwb_text_width(no_baseline, s);
-        uwb_draw_text(&c, L.diff.x + (L.diff.w - w) / 2, L.diff.y + L.diff.h / 2, no_baseline, s, page);
+        panel_words(&c, &L.diff, no_baseline, s, page);
     }
     panel_title(&c, &L.diff, "now - base", s, ink);
 
@@ -451,7 +480,7 @@ int uwb_render_comparison_png_opt(const char *path, const struct uwb_analysis *c
                                        .y_ticks = 10,
                                        .x_labels = 1,
                                        .y_labels_right = 1,
-                                       .x_title = "intensity re peak",
+                                       .x_title = "brightness / peak",
                                        .panel_gap = PANEL_GAP};
     uwb_draw_axes(&c, &L.prof, &prof_axes);
     uwb_draw_db_colorbar(&c, L.bar_x, L.cur.y, L.bar_w, L.cur.h, o.floor_db, s);

@@ -273,7 +273,7 @@ void uwb_render_bscan_layout(const struct uwb_scan *scan, const struct uwb_verdi
                              const struct uwb_render_options *opt, struct uwb_plot *plot, int *colorbar_x,
                              int *colorbar_w);
 /* Likewise for the comparison's four panels (the difference panel like
- * the image panels; profile x: intensity re peak, 0..1.05). */
+ * the image panels; profile x: brightness / peak, 0..1.05). */
 void uwb_render_comparison_layout(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                                   const struct uwb_verdict *v, const struct uwb_render_options *opt,
                                   struct uwb_plot *base_panel, struct uwb_plot *current_panel,

@@ -4,6 +4,7 @@
 #include "unity.h"
 #include "output/render_internal.h"
 #include "fixture_support.h"
+#include "png_text_support.h"
 #include "uwb/evaluate.h"
 #include "uwb/version.h"
 
@@ -1144,6 +1145,56 @@ static void test_comparison_without_a_measured_displacement_draws_no_arrow(void)
     uwb_analysis_free(&base);
 }
 
+/* Issue 48, finding 7: no word on the comparison is cut at a panel's
+ * edge. A commissioning scan's empty panels say "new baseline" whole
+ * (they read "ew baselin"), a displacement not measured keeps its whole
+ * reason in the profile panel ("not measured radial cha"), and the
+ * profile's axis is in plain words, not "intensity re peak". */
+static void test_comparison_words_are_whole(void)
+{
+    const struct uwb_rgb page = {255, 255, 255};
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
+    struct uwb_analysis base = make_analysis(BASE_LO, BASE_HI, BASE_LO, BASE_HI);
+    struct uwb_render_options o;
+    uwb_render_options_default(&o);
+    struct uwb_provenance prov = {.scan_name = "x", .became_baseline = 1};
+    o.provenance = &prov;
+    struct uwb_verdict v = make_verdict();
+    v.has_baseline = 0;
+    v.status = UWB_STATUS_EDGES;
+    char path[512], err[256];
+    path_in_dir(path, sizeof path, "cmp-words.png");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png_opt(path, &cur, NULL, &v, &o, err, sizeof err),
+                                  err);
+    struct png_rgb png = read_png(path);
+    struct uwb_plot pb, pc, pd, pp;
+    int bar_x, bar_w;
+    uwb_render_comparison_layout(&cur, NULL, &v, &o, &pb, &pc, &pd, &pp, &bar_x, &bar_w);
+    const unsigned char *panels = png.px + (size_t)pb.y * (size_t)png.w * 3;
+    int s = o.font_scale;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, png_text_find(panels, png.w, pb.h, "baseline", s, page, NULL, NULL),
+                                  "\"baseline\" whole in the baseline and difference panels");
+    TEST_ASSERT_EQUAL_INT(2, png_text_find(panels, png.w, pb.h, "new", s, page, NULL, NULL));
+    free(png.px);
+
+    prov.became_baseline = 0;
+    v = make_verdict();
+    v.status = UWB_STATUS_INCONCLUSIVE;
+    snprintf(v.reason, sizeof v.reason, "radial change could not be read: too few rows of the face ENDWORD");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwb_render_comparison_png_opt(path, &cur, &base, &v, &o, err, sizeof err), err);
+    png = read_png(path);
+    TEST_ASSERT_TRUE_MESSAGE(png_text_present(png.px, png.w, png.h, "ENDWORD"), "the reason's last word");
+    TEST_ASSERT_TRUE_MESSAGE(png_text_present(png.px, png.w, png.h, "radial change could"),
+                             "the reason's first words");
+    TEST_ASSERT_FALSE(png_text_present(png.px, png.w, png.h, "intensity re peak"));
+    TEST_ASSERT_TRUE_MESSAGE(png_text_present(png.px, png.w, png.h, "brightness / peak"),
+                             "the profile's axis");
+    free(png.px);
+    uwb_analysis_free(&cur);
+    uwb_analysis_free(&base);
+}
+
 /* The migrated image has as many mm per pixel across as up: a circle in
  * the tank is a circle on the page. */
 static void test_migrated_image_has_equal_scales(void)
@@ -1602,6 +1653,7 @@ int main(void)
     RUN_TEST(test_replayed_images_carry_the_file_stem_and_provenance);
     RUN_TEST(test_caption_names_an_id_less_scan_by_its_given_name);
     RUN_TEST(test_comparison_without_a_measured_displacement_draws_no_arrow);
+    RUN_TEST(test_comparison_words_are_whole);
     RUN_TEST(test_migrated_image_has_equal_scales);
     RUN_TEST(test_comparison_difference_panel_shows_the_move);
     RUN_TEST(test_images_show_the_watch_and_alarm_zones);
