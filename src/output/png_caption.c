@@ -124,6 +124,15 @@ void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t le
     }
 }
 
+void uwb_format_signed(char *buf, size_t len, double value, int decimals)
+{
+    double unit = pow(10.0, -decimals);
+    if (fabs(value) < 0.5 * unit)
+        snprintf(buf, len, "%.*f", decimals, 0.0); /* never "-0.0" */
+    else
+        snprintf(buf, len, "%+.*f", decimals, value);
+}
+
 /* The radial change in words (the radial panel's label and the caption). */
 void uwb_describe_radial(const struct uwb_verdict *v, char *buf, size_t len)
 {
@@ -136,11 +145,16 @@ void uwb_describe_radial(const struct uwb_verdict *v, char *buf, size_t len)
         snprintf(buf, len, "radial: not measured (%s)", r->withheld[0] ? r->withheld : "no reason given");
         return;
     }
-    const char *kind = r->max_change_m > 0.0   ? "bulge toward the antenna"
-                       : r->max_change_m < 0.0 ? "dent, away from the antenna"
-                                               : "no change";
-    int n = snprintf(buf, len, "radial %+.1f \u00b1 %.1f mm at %.0f mm (%s)", r->max_change_m * 1e3,
-                     r->uncertainty_m * 1e3, r->at_m * 1e3, kind);
+    /* A change whose 95 % interval holds zero is no shape: naming it a
+     * dent or a bulge (as for -0.04 mm in an ok verdict) says too much. */
+    int beyond_noise = fabs(r->max_change_m) > UWB_SIGMAS_95 * r->uncertainty_m;
+    const char *kind = !beyond_noise           ? "within its noise"
+                       : r->max_change_m > 0.0 ? "bulge toward the antenna"
+                                               : "dent, away from the antenna";
+    char change[32];
+    uwb_format_signed(change, sizeof change, r->max_change_m * 1e3, 1);
+    int n = snprintf(buf, len, "radial %s \u00b1 %.1f mm at %.0f mm (%s)", change, r->uncertainty_m * 1e3,
+                     r->at_m * 1e3, kind);
     if (n < 0 || (size_t)n >= len)
         return;
     if (r->status == UWB_STATUS_INCONCLUSIVE)

@@ -232,13 +232,16 @@ void uwb_radial_level_text(const struct uwb_verdict *v, char *buf, size_t len)
     double whole_m = uwb_radial_line_at(&r->line, 0.5 * (v->baseline.lower_m + v->baseline.upper_m));
     if (len == 0)
         return;
+    char whole[32], tilt[32];
+    uwb_format_signed(whole, sizeof whole, whole_m * 1e3, 1);
+    uwb_format_signed(tilt, sizeof tilt, r->tilt_m * 1e3, 1);
     if (!r->measured)
         buf[0] = '\0';
     else if (!r->tilt_withheld[0])
-        snprintf(buf, len, "face as a whole %+.1f mm, tilt %+.1f \u00b1 %.1f mm, taken out", whole_m * 1e3,
-                 r->tilt_m * 1e3, r->tilt_uncertainty_m * 1e3);
+        snprintf(buf, len, "face as a whole %s mm, tilt %s \u00b1 %.1f mm, taken out", whole, tilt,
+                 r->tilt_uncertainty_m * 1e3);
     else /* the line is level: no lean was read, so none is said */
-        snprintf(buf, len, "face as a whole %+.1f mm taken out; tilt withheld", whole_m * 1e3);
+        snprintf(buf, len, "face as a whole %s mm taken out; tilt withheld", whole);
 }
 
 void uwb_draw_radial_panel(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_analysis *cur,

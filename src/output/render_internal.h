@@ -314,7 +314,11 @@ void uwb_draw_radial_panel(struct uwb_canvas *c, const struct uwb_plot *p, const
 void uwb_radial_level_text(const struct uwb_verdict *v, char *buf, size_t len);
 /* The colour of the rows past the watch limit in the radial panel. */
 struct uwb_rgb uwb_radial_shade_colour(enum uwb_status status);
-/* "radial +3.1 ± 0.4 mm at 267 mm (bulge toward the antenna)", or
+/* value with its sign and `decimals` decimals, "0.0" (never "-0.0")
+ * where it rounds to zero. */
+void uwb_format_signed(char *buf, size_t len, double value, int decimals);
+/* "radial +3.1 ± 0.4 mm at 267 mm (bulge toward the antenna)", a change
+ * whose 95 % interval holds zero "(within its noise)", or
  * "radial: not measured (why)", or "radial: no baseline". */
 void uwb_describe_radial(const struct uwb_verdict *v, char *buf, size_t len);
 /* The points of a face profile's curve in the comparison's profile panel:

@@ -1195,6 +1195,60 @@ static void test_comparison_words_are_whole(void)
     uwb_analysis_free(&base);
 }
 
+/* Issue 48, finding 7: the radial panel names a change "dent" or
+ * "bulge" only beyond its noise (the 95 % interval holds zero: it is no
+ * shape), and never prints "-0.0"; read from the pixels and the Radial
+ * text chunk. A change well beyond its noise is still named. */
+static void test_radial_words_stay_within_the_noise(void)
+{
+    struct uwb_analysis cur = make_analysis(FACE_LO, FACE_HI, FACE_LO, FACE_HI);
+    struct uwb_analysis base = make_analysis(BASE_LO, BASE_HI, BASE_LO, BASE_HI);
+    const struct {
+        double change_m, sigma_m;
+        const char *named;
+    } cases[] = {
+        {-0.00004, 0.0003, NULL},
+        {0.0002, 0.0003, NULL},
+        {0.0031, 0.0004, "bulge"},
+        {-0.0031, 0.0004, "dent"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        struct uwb_verdict v = make_verdict();
+        v.status = UWB_STATUS_OK;
+        v.radial.measured = 1;
+        v.radial.status = UWB_STATUS_OK;
+        v.radial.max_change_m = cases[i].change_m;
+        v.radial.uncertainty_m = cases[i].sigma_m;
+        v.radial.at_m = 0.2;
+        snprintf(v.radial.tilt_withheld, sizeof v.radial.tilt_withheld, "no lean");
+        char path[512], err[256];
+        path_in_dir(path, sizeof path, "cmp-radial-words.png");
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_render_comparison_png(path, &cur, &base, &v, err, sizeof err),
+                                      err);
+        struct png_rgb png = read_png(path);
+        struct png_texts t;
+        read_texts(path, &t);
+        const char *radial = text_of(&t, "Radial", NULL);
+        TEST_ASSERT_NOT_NULL(radial);
+        TEST_ASSERT_NULL_MESSAGE(strstr(radial, "-0.0"), radial);
+        TEST_ASSERT_FALSE_MESSAGE(png_text_present(png.px, png.w, png.h, "-0.0"), radial);
+        if (cases[i].named) {
+            TEST_ASSERT_NOT_NULL_MESSAGE(strstr(radial, cases[i].named), radial);
+            TEST_ASSERT_TRUE_MESSAGE(png_text_present(png.px, png.w, png.h, cases[i].named), radial);
+        } else {
+            TEST_ASSERT_NULL_MESSAGE(strstr(radial, "dent"), radial);
+            TEST_ASSERT_NULL_MESSAGE(strstr(radial, "bulge"), radial);
+            TEST_ASSERT_FALSE_MESSAGE(png_text_present(png.px, png.w, png.h, "dent"), radial);
+            TEST_ASSERT_FALSE_MESSAGE(png_text_present(png.px, png.w, png.h, "bulge"), radial);
+            TEST_ASSERT_NOT_NULL_MESSAGE(strstr(radial, "within its noise"), radial);
+        }
+        free(png.px);
+        unlink(path);
+    }
+    uwb_analysis_free(&cur);
+    uwb_analysis_free(&base);
+}
+
 /* The migrated image has as many mm per pixel across as up: a circle in
  * the tank is a circle on the page. */
 static void test_migrated_image_has_equal_scales(void)
@@ -1654,6 +1708,7 @@ int main(void)
     RUN_TEST(test_caption_names_an_id_less_scan_by_its_given_name);
     RUN_TEST(test_comparison_without_a_measured_displacement_draws_no_arrow);
     RUN_TEST(test_comparison_words_are_whole);
+    RUN_TEST(test_radial_words_stay_within_the_noise);
     RUN_TEST(test_migrated_image_has_equal_scales);
     RUN_TEST(test_comparison_difference_panel_shows_the_move);
     RUN_TEST(test_images_show_the_watch_and_alarm_zones);
