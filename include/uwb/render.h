@@ -28,6 +28,10 @@ struct uwb_provenance {
      * as zones around the baseline centre and named in the caption (NULL:
      * not drawn). */
     const struct uwb_thresholds *thresholds;
+    /* The radial change's limits: on a verdict the radial change decided
+     * (the axial figure withheld, or a radial watch or alarm) the caption
+     * shows them too (NULL: not shown). */
+    const struct uwb_thresholds *radial_thresholds;
     int became_baseline; /* this scan was made the baseline (a commissioning scan): the captions say so */
     /* The antenna's travel (lowest and highest position), hatched beyond on
      * the images whose height axis reaches past it (has_travel 0: not drawn). */

@@ -458,7 +458,8 @@ static int write_outputs(const struct replay_args *a, const struct uwb_scan *cur
     int rc = 0;
     char stem[128], err[512];
     image_stem(current, a->replay, stem, sizeof stem);
-    struct uwb_provenance site = {.thresholds = &a->opt.compare.thresholds};
+    struct uwb_provenance site = {.thresholds = &a->opt.compare.thresholds,
+                                  .radial_thresholds = &a->opt.compare.radial_thresholds};
     if (a->out_dir &&
         uwb_write_images(a->out_dir, stem, &site, current, cur_a, base_a, verdict, err, sizeof err) != 0) {
         fprintf(stderr, "uwbd: %s\n", err);

@@ -521,6 +521,7 @@ static void process_scan(struct cycle *c, struct uwb_scan *scan)
     uwbd_trend_site_text(c->cfg, asset, sizeof asset);
     struct uwb_provenance site = {.asset = asset,
                                   .thresholds = &c->cfg->evaluate.compare.thresholds,
+                                  .radial_thresholds = &c->cfg->evaluate.compare.radial_thresholds,
                                   .became_baseline = c->res->baseline_set};
     if (stored && uwb_write_images(c->day_dir, c->id, &site, scan, &cur_a, &base_a, &v, err, sizeof err) != 0)
         archive_problem(c, "images", err);

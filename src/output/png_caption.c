@@ -173,6 +173,15 @@ void uwb_describe_edges(const struct uwb_edges *e, char *buf, size_t len)
              MM(e->lower_m), MM(e->upper_m), MM(e->center_m), MM(e->sigma_center_m), MM(e->face_z_m));
 }
 
+/* A verdict the radial change decided: its axial figure withheld, or
+ * the radial change at watch or alarm. */
+static int radial_decided(const struct uwb_verdict *v)
+{
+    const struct uwb_radial_verdict *r = &v->radial;
+    return v->has_baseline && r->measured &&
+           (v->axial_withheld || r->status == UWB_STATUS_WATCH || r->status == UWB_STATUS_ALARM);
+}
+
 void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenance *prov, char *buf,
                          size_t len)
 {
@@ -187,7 +196,7 @@ void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenanc
     uwb_describe_edges(&v->current, now, sizeof now);
     if (v->has_baseline)
         uwb_describe_edges(&v->baseline, base, sizeof base);
-    char limits[160] = "";
+    char limits[320] = "";
     if (uwb_displacement_measured(v)) {
         double d = v->axial_displacement_m * 1e3, s95 = UWB_SIGMAS_95 * v->uncertainty_m * 1e3;
         size_t n = strlen(disp);
@@ -196,6 +205,11 @@ void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenanc
     if (prov && uwb_thresholds_usable(prov->thresholds))
         snprintf(limits, sizeof limits, "; thresholds watch %.2f mm, alarm %.2f mm",
                  prov->thresholds->watch_m * 1e3, prov->thresholds->alarm_m * 1e3);
+    if (prov && radial_decided(v) && uwb_thresholds_usable(prov->radial_thresholds)) {
+        size_t n = strlen(limits);
+        snprintf(limits + n, sizeof limits - n, "; radial thresholds watch %.2f mm, alarm %.2f mm",
+                 prov->radial_thresholds->watch_m * 1e3, prov->radial_thresholds->alarm_m * 1e3);
+    }
     char radial[320] = "";
     if (v->has_baseline) {
         radial[0] = ';';
@@ -295,12 +309,14 @@ static void labelled_text(struct pen *p, const char *label, const char *text, st
 }
 
 /* The thresholds as three words in their zones' colours,
- * "ok < 2.00   watch >= 2.00   alarm >= 5.00 mm", then the displacement
- * meter in the same colours filling the rest of the line. */
-static void threshold_line(struct pen *p, const struct uwb_verdict *v, const struct uwb_thresholds *th)
+ * "ok < 2.00   watch >= 2.00   alarm >= 5.00 mm", then on a line of its
+ * own (room for its numbers: beside the words they crowded) a meter of
+ * the figure in the same colours, its numbers under it. Returns 1 if
+ * the meter had room (*meter: where). */
+static int limits_and_meter(struct pen *p, const char *label, const struct uwb_meter_figure *f,
+                            const struct uwb_thresholds *th, struct uwb_meter *meter)
 {
-    const char *label = "limits  ";
-    int x = p->x + uwb_text_width(label, p->scale) + UWB_FONT_ADVANCE * p->scale;
+    int column = p->x + uwb_text_width(label, p->scale) + UWB_FONT_ADVANCE * p->scale, x = column;
     pen_text(p, p->x, p->y, label, p->scale, muted);
     char part[3][64];
     snprintf(part[0], sizeof part[0], "ok < %.2f", th->watch_m * 1e3);
@@ -311,18 +327,30 @@ static void threshold_line(struct pen *p, const struct uwb_verdict *v, const str
         pen_text(p, x, p->y, part[i], p->scale, uwb_status_colour(zone[i]));
         x += uwb_text_width(part[i], p->scale) + 3 * UWB_FONT_ADVANCE * p->scale;
     }
+    p->y += line_step(p->scale);
     int right = p->width - 12, h = UWB_FONT_CAP_HEIGHT * p->scale;
-    p->has_meter = right - x >= 60;
-    if (p->has_meter) {
-        uwb_meter_layout(v, uwb_displacement_measured(v), th, x, p->y, right - x, h, &p->meter);
+    x = column;
+    int has_meter = right - x >= 60;
+    if (has_meter) {
+        uwb_meter_layout(f, th, x, p->y, right - x, h, meter);
         if (p->c) {
-            uwb_draw_meter(p->c, &p->meter, v, uwb_displacement_measured(v), th);
-            uwb_draw_meter_labels(p->c, &p->meter, v, uwb_displacement_measured(v), th, p->scale);
+            uwb_draw_meter(p->c, meter, f, th);
+            uwb_draw_meter_labels(p->c, meter, f, th, p->scale);
         }
     }
-    p->y += line_step(p->scale);
-    if (p->has_meter)
-        p->y += uwb_meter_labels_height(p->scale); /* the meter's numbers */
+    if (has_meter)
+        p->y += line_step(p->scale) + uwb_meter_labels_height(p->scale); /* the meter and its numbers */
+    return has_meter;
+}
+
+/* The axial limits and meter, the 95 % interval; then, on a verdict the
+ * radial change decided, the radial limits and a meter of that change
+ * (a radial alarm showed only the axial limits). */
+static void threshold_line(struct pen *p, const struct uwb_verdict *v, const struct uwb_thresholds *th,
+                           const struct uwb_thresholds *radial_th)
+{
+    struct uwb_meter_figure axial = {uwb_displacement_measured(v), v->axial_displacement_m, v->uncertainty_m};
+    p->has_meter = limits_and_meter(p, "limits  ", &axial, th, &p->meter);
     if (uwb_displacement_measured(v)) {
         double d = v->axial_displacement_m * 1e3, s95 = UWB_SIGMAS_95 * v->uncertainty_m * 1e3;
         char interval[160];
@@ -330,6 +358,11 @@ static void threshold_line(struct pen *p, const struct uwb_verdict *v, const str
                  "%+.2f .. %+.2f mm (\u00b1%.0f\u03c3: the black bar on the meter)", d - s95, d + s95,
                  UWB_SIGMAS_95);
         labelled_text(p, "95 %    ", interval, ink);
+    }
+    if (radial_decided(v) && uwb_thresholds_usable(radial_th)) {
+        struct uwb_meter_figure radial = {1, v->radial.max_change_m, v->radial.uncertainty_m};
+        struct uwb_meter unused;
+        limits_and_meter(p, "radial  ", &radial, radial_th, &unused);
     }
 }
 
@@ -386,7 +419,7 @@ static int caption(struct uwb_canvas *c, int width, const char *title, const str
             labelled_text(&p, "baseline", "none given", ink);
         }
         if (prov && uwb_thresholds_usable(prov->thresholds))
-            threshold_line(&p, v, prov->thresholds);
+            threshold_line(&p, v, prov->thresholds, prov->radial_thresholds);
     }
     uwb_describe_provenance(v, prov, a, sizeof a);
     labelled_text(&p, "source  ", a, muted);

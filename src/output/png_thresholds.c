@@ -60,16 +60,16 @@ void uwb_tint_threshold_zones(struct uwb_canvas *c, const struct uwb_plot *p, do
  * displacement, coloured by zone, with this scan's displacement and its
  * 95 % interval marked. On the images' own height scale the zones are a
  * few pixels (5 mm of 800); the meter gives them room. */
-void uwb_meter_layout(const struct uwb_verdict *v, int measured, const struct uwb_thresholds *th, int x,
-                      int y, int w, int h, struct uwb_meter *m)
+void uwb_meter_layout(const struct uwb_meter_figure *f, const struct uwb_thresholds *th, int x, int y, int w,
+                      int h, struct uwb_meter *m)
 {
     m->x = x;
     m->y = y;
     m->w = w;
     m->h = h;
     double half = 1.6 * th->alarm_m;
-    if (measured)
-        half = fmax(half, 1.1 * (fabs(v->axial_displacement_m) + UWB_SIGMAS_95 * v->uncertainty_m));
+    if (f->measured)
+        half = fmax(half, 1.1 * (fabs(f->value_m) + UWB_SIGMAS_95 * f->sigma_m));
     m->half_range_m = half;
 }
 
@@ -79,8 +79,8 @@ int uwb_meter_col(const struct uwb_meter *m, double displacement_m)
     return m->x + (int)lround(t * (m->w - 1));
 }
 
-void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
-                    int measured, const struct uwb_thresholds *th)
+void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_meter_figure *f,
+                    const struct uwb_thresholds *th)
 {
     for (int col = 0; col < m->w; col++) {
         double d = -m->half_range_m + 2.0 * m->half_range_m * col / (m->w > 1 ? m->w - 1 : 1);
@@ -88,14 +88,14 @@ void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struc
     }
     static const struct uwb_rgb ink = {25, 25, 25};
     uwb_canvas_fill_rect(c, uwb_meter_col(m, 0.0), m->y, 1, m->h, UWB_RGB_HALO); /* zero */
-    if (!measured)
+    if (!f->measured)
         return;
     /* The 95 % interval as a bar with caps across the middle, the figure
      * as a tall mark, both on a white halo so they read on any zone. */
     int mid = m->y + m->h / 2;
-    int a = uwb_meter_col(m, v->axial_displacement_m - UWB_SIGMAS_95 * v->uncertainty_m);
-    int b = uwb_meter_col(m, v->axial_displacement_m + UWB_SIGMAS_95 * v->uncertainty_m);
-    int d = uwb_meter_col(m, v->axial_displacement_m);
+    int a = uwb_meter_col(m, f->value_m - UWB_SIGMAS_95 * f->sigma_m);
+    int b = uwb_meter_col(m, f->value_m + UWB_SIGMAS_95 * f->sigma_m);
+    int d = uwb_meter_col(m, f->value_m);
     uwb_canvas_fill_rect(c, a - 1, mid - 2, b - a + 3, 5, UWB_RGB_HALO);
     uwb_canvas_fill_rect(c, d - 2, m->y - 4, 5, m->h + 8, UWB_RGB_HALO);
     uwb_canvas_fill_rect(c, a, mid - 1, b - a + 1, 3, ink);
@@ -109,10 +109,12 @@ int uwb_meter_labels_height(int scale)
     return UWB_FONT_CAP_HEIGHT * scale + 6;
 }
 
-/* A limit in mm without trailing zeros: 2.00 -> "2", 2.50 -> "2.5". */
+/* A limit in mm with its sign and without trailing zeros: 2.00 -> "+2",
+ * -2.50 -> "-2.5" (unsigned, "5 2 0 2 5" read as one scale of
+ * magnitudes, and crowded as "202"). */
 static void format_mm(char *buf, size_t len, double metres)
 {
-    snprintf(buf, len, "%.2f", metres * 1e3);
+    snprintf(buf, len, "%+.2f", metres * 1e3);
     char *dot = strchr(buf, '.');
     if (!dot)
         return;
@@ -128,12 +130,13 @@ struct label_row {
 };
 
 /* Draw `text` centred on col (kept within the canvas) unless it would
- * touch a label already drawn: on a narrow meter the figure and the alarm
- * limits matter more than the watch limits, so they are drawn first. */
+ * come within two glyphs of a label already drawn (closer, "2", "0" and
+ * "2" read as "202"): on a narrow meter the figure and the alarm limits
+ * matter more than the watch limits, so they are drawn first. */
 static void place_label(struct uwb_canvas *c, struct label_row *row, int col, int y, const char *text,
                         int scale, struct uwb_rgb colour)
 {
-    int w = uwb_text_width(text, scale), x = col - w / 2, gap = 3 * scale;
+    int w = uwb_text_width(text, scale), x = col - w / 2, gap = 2 * UWB_FONT_ADVANCE * scale;
     if (x + w > c->width - 2)
         x = c->width - 2 - w;
     if (x < 0)
@@ -149,26 +152,26 @@ static void place_label(struct uwb_canvas *c, struct label_row *row, int col, in
     uwb_draw_text(c, x, y, text, scale, colour);
 }
 
-void uwb_draw_meter_labels(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
-                           int measured, const struct uwb_thresholds *th, int scale)
+void uwb_draw_meter_labels(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_meter_figure *f,
+                           const struct uwb_thresholds *th, int scale)
 {
     static const struct uwb_rgb ink = {25, 25, 25};
     struct label_row row = {{0}, {0}, 0};
     int y = m->y + m->h + 5;
     char text[32];
-    if (measured) {
-        snprintf(text, sizeof text, "%+.2f", v->axial_displacement_m * 1e3);
-        place_label(c, &row, uwb_meter_col(m, v->axial_displacement_m), y, text, scale, ink);
+    if (f->measured) {
+        uwb_format_signed(text, sizeof text, f->value_m * 1e3, 2);
+        place_label(c, &row, uwb_meter_col(m, f->value_m), y, text, scale, ink);
     }
-    /* The zones are of |displacement|: each limit is named, unsigned (the
-     * narrower label leaves room for more), on both sides of zero. */
+    /* The zones are of |displacement|: each limit is named with its sign
+     * on both sides of zero. */
     const struct {
         double at_m;
         enum uwb_status zone;
     } limit[] = {{th->alarm_m, UWB_STATUS_ALARM}, {th->watch_m, UWB_STATUS_WATCH}};
     for (size_t i = 0; i < sizeof limit / sizeof limit[0]; i++)
         for (int side = 1; side >= -1; side -= 2) {
-            format_mm(text, sizeof text, limit[i].at_m);
+            format_mm(text, sizeof text, side * limit[i].at_m);
             place_label(c, &row, uwb_meter_col(m, side * limit[i].at_m), y, text, scale,
                         uwb_status_colour(limit[i].zone));
         }

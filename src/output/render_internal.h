@@ -229,16 +229,23 @@ struct uwb_meter {
     int x, y, w, h;
     double half_range_m;
 };
-void uwb_meter_layout(const struct uwb_verdict *v, int measured, const struct uwb_thresholds *th, int x,
-                      int y, int w, int h, struct uwb_meter *m);
+/* What a meter shows: the axial displacement, or the radial change on a
+ * verdict the radial change decided (measured 0: zones only). */
+struct uwb_meter_figure {
+    int measured;
+    double value_m, sigma_m; /* sigma: 1-sigma */
+};
+void uwb_meter_layout(const struct uwb_meter_figure *f, const struct uwb_thresholds *th, int x, int y, int w,
+                      int h, struct uwb_meter *m);
 int uwb_meter_col(const struct uwb_meter *m, double displacement_m);
-void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
-                    int measured, const struct uwb_thresholds *th);
+void uwb_draw_meter(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_meter_figure *f,
+                    const struct uwb_thresholds *th);
 /* The meter's numbers, in a row under it: the figure (when measured), the
- * alarm and watch limits either side in mm, zero; a label that would touch
- * one drawn before is left out. uwb_meter_labels_height: the row's height. */
-void uwb_draw_meter_labels(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_verdict *v,
-                           int measured, const struct uwb_thresholds *th, int scale);
+ * alarm and watch limits either side in mm with their signs ("-5", "+5"),
+ * zero; a label within two glyphs of one drawn before is left out.
+ * uwb_meter_labels_height: the row's height. */
+void uwb_draw_meter_labels(struct uwb_canvas *c, const struct uwb_meter *m, const struct uwb_meter_figure *f,
+                           const struct uwb_thresholds *th, int scale);
 int uwb_meter_labels_height(int scale);
 /* 1 and the meter's place if this caption has one (thresholds given). */
 int uwb_caption_meter(const struct uwb_verdict *v, const struct uwb_provenance *prov, int width,

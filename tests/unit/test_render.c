@@ -1415,14 +1415,14 @@ static void test_the_plus_minus_says_what_it_is(void)
     struct uwb_thresholds th = {.watch_m = 0.002, .alarm_m = 0.005};
     struct uwb_provenance prov = {.thresholds = &th};
     int line_h = UWB_FONT_LINE_HEIGHT * 2 + 3, numbers = uwb_meter_labels_height(2);
-    /* limits (with the meter's numbers under it) + 95 % lines when
-     * measured; limits alone when not */
-    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + 2 * line_h + numbers,
+    /* limits, the meter on a line of its own with its numbers under it,
+     * and the 95 % line when measured; no 95 % line when not */
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + 3 * line_h + numbers,
                           uwb_caption_height(&v, &prov, 960, 2));
     v.status = UWB_STATUS_INCONCLUSIVE;
     uwb_verdict_summary(&v, NULL, summary, sizeof summary);
     TEST_ASSERT_NULL_MESSAGE(strstr(summary, "95 %"), summary);
-    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + line_h + numbers,
+    TEST_ASSERT_EQUAL_INT(uwb_caption_height(&v, NULL, 960, 2) + 2 * line_h + numbers,
                           uwb_caption_height(&v, &prov, 960, 2));
 }
 
@@ -1500,6 +1500,88 @@ static void test_the_meter_labels_its_limits_and_the_figure(void)
                     n += same(at(&png, x, y), want[i].colour);
         TEST_ASSERT_TRUE_MESSAGE(n > 10, want[i].what);
     }
+    free(png.px);
+    uwb_image_free(&img);
+}
+
+/* Issue 48, finding 7: the limits meter's numbers carry their signs
+ * ("-5 -2 0 +2 +5", not "5 2 0 2 5") and stand two glyphs apart at the
+ * least (crowded, "2", "0" and "2" read "202"); on a radial alarm (axial
+ * figure withheld) the caption shows the radial limits and a meter of
+ * the radial change as well, and the Description names them. */
+static int meter_label_crowding(const struct png_rgb *png, const struct uwb_meter *m, int scale)
+{
+    const struct uwb_rgb white = {255, 255, 255};
+    int top = m->y + m->h + 5, crowded = 0, last_ink = -1;
+    for (int x = 0; x < png->w; x++) {
+        int ink = 0;
+        for (int y = top; y < top + UWB_FONT_CAP_HEIGHT * scale; y++)
+            ink |= !same(at(png, x, y), white);
+        if (!ink)
+            continue;
+        int gap = x - last_ink - 1;
+        if (last_ink >= 0 && gap > 3 * scale && gap < 2 * UWB_FONT_ADVANCE * scale)
+            crowded++;
+        last_ink = x;
+    }
+    return crowded;
+}
+
+static void test_the_meter_signs_its_limits_and_shows_the_radial_ones(void)
+{
+    struct uwb_image img = make_image(FACE_LO, FACE_HI);
+    struct meter_page page;
+    meter_page_init(&page);
+    int s = page.o.font_scale;
+    page.v.axial_displacement_m = 0.0005;
+    TEST_ASSERT_TRUE(uwb_caption_meter(&page.v, &page.prov, page.o.width, s, &page.m));
+    struct png_rgb png = render_migrated("meter-signs.png", &img, &page.v, &page.o);
+    const unsigned char *row = png.px + (size_t)(page.m.y + page.m.h) * (size_t)png.w * 3;
+    int rows = uwb_meter_labels_height(s) + 4;
+    const struct uwb_rgb alarm = uwb_status_colour(UWB_STATUS_ALARM),
+                         watch = uwb_status_colour(UWB_STATUS_WATCH);
+    TEST_ASSERT_EQUAL_INT(1, png_text_find(row, png.w, rows, "-5", s, alarm, NULL, NULL));
+    TEST_ASSERT_EQUAL_INT(1, png_text_find(row, png.w, rows, "+5", s, alarm, NULL, NULL));
+    TEST_ASSERT_EQUAL_INT(1, png_text_find(row, png.w, rows, "-2", s, watch, NULL, NULL));
+    TEST_ASSERT_EQUAL_INT(1, png_text_find(row, png.w, rows, "+2", s, watch, NULL, NULL));
+    TEST_ASSERT_EQUAL_INT(0, meter_label_crowding(&png, &page.m, s));
+    free(png.px);
+
+    /* A narrow page: labels are left out rather than crowded. */
+    page.o.width = 640;
+    TEST_ASSERT_TRUE(uwb_caption_meter(&page.v, &page.prov, page.o.width, s, &page.m));
+    png = render_migrated("meter-narrow.png", &img, &page.v, &page.o);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, meter_label_crowding(&png, &page.m, s), "labels closer than two glyphs");
+    free(png.px);
+
+    /* A radial alarm, the axial figure withheld. */
+    uwb_render_options_default(&page.o);
+    page.o.provenance = &page.prov;
+    struct uwb_thresholds radial_th = {.watch_m = 0.0015, .alarm_m = 0.004};
+    page.prov.radial_thresholds = &radial_th;
+    page.v.status = UWB_STATUS_ALARM;
+    page.v.axial_withheld = 1;
+    snprintf(page.v.reason, sizeof page.v.reason, "axial figure withheld: the face changed shape");
+    page.v.radial.measured = 1;
+    page.v.radial.status = UWB_STATUS_ALARM;
+    page.v.radial.max_change_m = 0.0062;
+    page.v.radial.uncertainty_m = 0.0004;
+    page.v.radial.at_m = 0.2;
+    char path[512];
+    path_in_dir(path, sizeof path, "meter-radial.png");
+    png = render_migrated("meter-radial.png", &img, &page.v, &page.o);
+    TEST_ASSERT_TRUE_MESSAGE(png_text_find(png.px, png.w, png.h, "-4", s, alarm, NULL, NULL) == 1,
+                             "the radial alarm limit, below zero");
+    TEST_ASSERT_TRUE_MESSAGE(png_text_find(png.px, png.w, png.h, "+4", s, alarm, NULL, NULL) == 1,
+                             "the radial alarm limit, above zero");
+    TEST_ASSERT_TRUE_MESSAGE(
+        png_text_find(png.px, png.w, png.h, "+6.20", s, (struct uwb_rgb){25, 25, 25}, NULL, NULL) == 1,
+        "the radial change on its meter");
+    struct png_texts t;
+    read_texts(path, &t);
+    const char *d = text_of(&t, "Description", NULL);
+    TEST_ASSERT_NOT_NULL(d);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "radial thresholds watch 1.50 mm, alarm 4.00 mm"), d);
     free(png.px);
     uwb_image_free(&img);
 }
@@ -1709,6 +1791,7 @@ int main(void)
     RUN_TEST(test_comparison_without_a_measured_displacement_draws_no_arrow);
     RUN_TEST(test_comparison_words_are_whole);
     RUN_TEST(test_radial_words_stay_within_the_noise);
+    RUN_TEST(test_the_meter_signs_its_limits_and_shows_the_radial_ones);
     RUN_TEST(test_migrated_image_has_equal_scales);
     RUN_TEST(test_comparison_difference_panel_shows_the_move);
     RUN_TEST(test_images_show_the_watch_and_alarm_zones);
