@@ -78,8 +78,10 @@ int uwb_render_migrated_png_opt(const char *path, const struct uwb_image *intens
         uwb_draw_text(&c, plot.x + 10, plot.y + 10, "image is empty (all zero)", s, UWB_RGB_CURRENT_EDGE);
     uwb_mark_antenna_travel(&c, &plot, o.provenance, s > 1 ? s - 1 : 1);
 
-    if (v)
+    if (v) {
         uwb_mark_strong_returns(&c, &plot, intensity, &v->current, s > 1 ? s - 1 : 1);
+        uwb_mark_reflector_band(&c, &plot, intensity, &v->current, s > 1 ? s - 1 : 1);
+    }
     double half = FACE_REGION_FRACTION * (plot.x_max - plot.x_min);
     if (v && v->has_baseline && v->baseline.found)
         uwb_draw_edges(&c, &plot, &v->baseline, UWB_EDGE_BASELINE, v->baseline.face_z_m - half,

@@ -262,6 +262,15 @@ double uwb_face_echo_time(const struct uwb_scan *scan, double face_z_m);
  * edges e describe (src/output/png_strong_returns.c). */
 void uwb_mark_strong_returns(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *img,
                              const struct uwb_edges *e, int label_scale);
+/* A reflector across the image's height away from the face the edges e
+ * describe: a range column within 20 dB of the face's peak over 60 % of
+ * the rows or more (src/output/png_reflector_band.c). 1 and its range
+ * in *z_m if there is one (the brightest such column). */
+int uwb_find_reflector_band(const struct uwb_image *img, const struct uwb_edges *e, double *z_m);
+/* Label it on the migrated image: "reflector at 520 mm / full height: /
+ * not the winding", with a tick to the band. */
+void uwb_mark_reflector_band(struct uwb_canvas *c, const struct uwb_plot *p, const struct uwb_image *img,
+                             const struct uwb_edges *e, int label_scale);
 /* Hatch the plot's rows outside prov's antenna travel, dash its ends and
  * (label_scale > 0) say "beyond antenna travel" where there is room. */
 void uwb_mark_antenna_travel(struct uwb_canvas *c, const struct uwb_plot *p,

@@ -1692,6 +1692,35 @@ static void test_a_strong_return_off_the_winding_is_labelled_not_the_winding(voi
     }
 }
 
+/* Issue 48, finding 7: the migrated image's brightest feature that is
+ * not the winding, a band across the whole height (in the demo's tank
+ * the core leg's front face at 520 mm), is labelled with its range and
+ * as not the winding; a point return or a clean image gets no such
+ * label. */
+static void test_a_full_height_reflector_is_labelled(void)
+{
+    struct uwb_verdict v = make_verdict();
+    for (int band = 1; band >= 0; band--) {
+        struct uwb_image img = make_image(FACE_LO, FACE_HI);
+        for (int iy = 0; iy < img.ny; iy++)
+            for (int iz = 0; iz < img.nz; iz++) {
+                double z = img.z0_m + iz * img.dz_m;
+                if (band && fabs(z - 0.52) <= 0.006)
+                    img.pix[iy * img.nz + iz] = 0.5f; /* 6 dB under the face, at every height */
+            }
+        double z;
+        TEST_ASSERT_EQUAL_INT(band, uwb_find_reflector_band(&img, &v.current, &z));
+        if (band)
+            TEST_ASSERT_DOUBLE_WITHIN(0.007, 0.52, z);
+        struct png_rgb png = render_migrated("band.png", &img, &v, NULL);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(band, png_text_present(png.px, png.w, png.h, "reflector at 520 mm"),
+                                      "the band's label");
+        TEST_ASSERT_EQUAL_INT(band, png_text_present(png.px, png.w, png.h, "not the winding"));
+        free(png.px);
+        uwb_image_free(&img);
+    }
+}
+
 /* The migrated image's height axis reaches past the antenna's travel:
  * rows beyond it are hatched (and say so), rows within are untouched. */
 static void test_migrated_image_marks_what_lies_beyond_the_antenna_travel(void)
@@ -1803,5 +1832,6 @@ int main(void)
     RUN_TEST(test_the_meter_labels_its_limits_and_the_figure);
     RUN_TEST(test_bscan_axis_fits_the_echoes_and_marks_the_window);
     RUN_TEST(test_a_strong_return_off_the_winding_is_labelled_not_the_winding);
+    RUN_TEST(test_a_full_height_reflector_is_labelled);
     return UNITY_END();
 }
