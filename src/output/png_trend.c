@@ -554,7 +554,7 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         .y_label_scale = 1.0,
         .font_scale = FONT_SCALE,
         .x_ticks = X_TICKS,
-        .y_ticks = 8,
+        .y_ticks = p->h / 40 > 3 ? p->h / 40 : 3, /* labels at least 40 px apart: none touch */
         .x_labels = 0,
         .y_labels_left = 1,
         .y_title = y_title(radial_figures, p->h),

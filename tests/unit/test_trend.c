@@ -870,6 +870,23 @@ static void test_trend_png_reads_without_the_manual(void)
     int mid = (c1 + c4) / 2;
     TEST_ASSERT_EQUAL_INT(0, colour_in(&png, mid - 2, mid + 2, p->y, p->y + p->h - 1, series_grey));
 
+    /* The y tick labels stand apart, half a label's height at the least
+     * between two (in the shorter plot 13 labels stood 3 px apart). */
+    int runs = 0, gap = -1, closest = 1000;
+    for (int y = p->y - 8; y < p->y + p->h + 8; y++) {
+        if (colour_in(&png, p->x - 30, p->x - 9, y, y, ink) > 0) {
+            if (gap > 0) {
+                runs++;
+                closest = gap < closest ? gap : closest;
+            }
+            gap = 0;
+        } else if (gap >= 0) {
+            gap++;
+        }
+    }
+    TEST_ASSERT_TRUE_MESSAGE(runs >= 2, "y tick labels drawn");
+    TEST_ASSERT_TRUE_MESSAGE(closest >= UWB_FONT_CAP_HEIGHT * s / 2, "y tick labels crowd one another");
+
     /* Every time tick is whole: none runs off the page ("03:23:3"). */
     int right_labels = colour_in(&png, png.w - 3, png.w - 1, p->y + p->h + 6, p->y + p->h + 30, ink);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, right_labels, "a tick label reaches the page's right edge");
