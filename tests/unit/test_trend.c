@@ -319,6 +319,29 @@ static void write_state(struct uwbd_store *store, int lines)
     free(text);
 }
 
+/* Issue 48, finding 9: the rate is the log's, not the table's. On the
+ * same log `trend 1` said "1 figure since the last baseline change" and
+ * `trend` 2: the count (and the rate) must not depend on how many rows
+ * were asked for. S7 and S8 are the figures since B2. */
+static void test_rate_does_not_depend_on_how_many_rows_are_asked_for(void)
+{
+    struct uwbd_store store;
+    write_state(&store, N_LINES);
+    char err[512];
+    struct uwb_trend all, one;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_trend_read(&store, 20, &all, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_trend_read(&store, 1, &one, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(N_LINES - 1, all.count);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, one.count, "the table keeps the rows asked for");
+    TEST_ASSERT_EQUAL_STRING("S8", one.points[0].scan_id);
+    TEST_ASSERT_EQUAL_INT(2, all.rate.points);
+    TEST_ASSERT_EQUAL_INT(all.rate.points, one.rate.points);
+    TEST_ASSERT_EQUAL_INT(all.rate.known, one.rate.known);
+    TEST_ASSERT_EQUAL_STRING(all.rate.withheld, one.rate.withheld);
+    uwb_trend_free(&all);
+    uwb_trend_free(&one);
+}
+
 static void test_trend_png_shows_bars_thresholds_and_no_figure_marks(void)
 {
     struct uwbd_store store;
@@ -791,5 +814,6 @@ int main(void)
     RUN_TEST(test_rate_over_a_week_is_given_with_its_sigma);
     RUN_TEST(test_a_short_trend_is_drawn_at_its_own_scale);
     RUN_TEST(test_radial_change_is_a_second_series);
+    RUN_TEST(test_rate_does_not_depend_on_how_many_rows_are_asked_for);
     return UNITY_END();
 }
