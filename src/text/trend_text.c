@@ -79,7 +79,7 @@ static void verdict_line(const cJSON *v, const struct text_marks *m, FILE *out)
             cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ', status);
     snprintf(header, sizeof header, "displacement %s %s", m->plus_minus, m->one_sigma);
     text_column(out, figure, at_least(FIGURE_WIDTH, header));
-    fprintf(out, "  %10s  ", height);
+    fprintf(out, "  %13s  ", height);
     text_column(out, radial, RADIAL_WIDTH);
     fprintf(out, "  %s", text(v, "scan_id", ""));
     if (cJSON_IsTrue(item(v, "baseline_set")))
@@ -118,7 +118,7 @@ int uwbd_trend_text_in(const char *reply, FILE *out, enum uwbd_charset charset)
     fprintf(out, "%-20s   %-12s  ", "created (UTC)", "status");
     snprintf(header, sizeof header, "displacement %s %s", m->plus_minus, m->one_sigma);
     text_column(out, header, FIGURE_WIDTH);
-    fprintf(out, "  %10s  ", "height chg");
+    fprintf(out, "  %13s  ", "height change");
     snprintf(header, sizeof header, "radial %s %s", m->plus_minus, m->one_sigma);
     text_column(out, header, RADIAL_WIDTH);
     fprintf(out, "  %s\n", "scan");
