@@ -344,7 +344,7 @@ demo: deps
 # make test when the README differs from what the demo prints.
 readme-demo: deps
 	+@$(SUBMAKE) all $(BUILD)/e2e/mqtt_sub
-	UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh > '$(BUILD)/demo-output.txt' 2>&1
+	LC_ALL=C.UTF-8 UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh > '$(BUILD)/demo-output.txt' 2>&1
 	bash tools/readme/readme-demo.sh --write README.md '$(BUILD)/demo-output.txt'
 
 # The README's count of the test cases make test runs, from the sources

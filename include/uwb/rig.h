@@ -51,6 +51,9 @@ struct uwb_rig_config {
      * all. Timeouts of the home search count nominal (unscaled) time. */
     double time_scale;
     char source[128]; /* header `source` prefix, e.g. "uwbd 1.0 on HOST"; "" = "uwbd" */
+    /* Leads the scan id (site.asset_id), so the rig's log line and the
+     * scan's header name the asset; "" = none. */
+    char asset_id[64];
 };
 
 enum uwb_rig_error {

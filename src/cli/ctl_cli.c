@@ -2,6 +2,7 @@
  * and print the reply line, for an engineer logged in over SSH. */
 #include <errno.h>
 #include <getopt.h>
+#include <locale.h>
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -59,9 +60,10 @@ void uwbd_ctl_usage(FILE *f)
             "  --text           print the reply for people (the default on a terminal): status as a\n"
             "                   page of \"Name : value\" lines (MQTT, Modbus, contacts, baseline\n"
             "                   age, free space), history and trend as tables, help as a list,\n"
-            "                   a verdict as lines (status, displacement or edges or reason,\n"
-            "                   images), ack and contacts test in words, an error as\n"
-            "                   \"error: MESSAGE\"; watch as a line each\n"
+            "                   a verdict as lines (its time and scan, status, displacement or\n"
+            "                   edges or reason, images), ack and contacts test in words, an\n"
+            "                   error as \"error: MESSAGE\"; watch as a line each; +/- and sigma\n"
+            "                   in ASCII unless the locale's codeset is UTF-8\n"
             "  --csv            with history only: print the verdicts as CSV for a spreadsheet\n"
             "                   (a header naming each column and its unit, then a row per\n"
             "                   verdict, oldest first; a figure not given is an empty cell)\n"
@@ -207,6 +209,7 @@ struct ctl_args {
     const char *socket_path, *config_path;
     double timeout_s; /* 0: not given */
     int as_text, as_csv, as_json;
+    enum uwbd_charset charset;           /* the locale's: "±" or "+/-" */
     char line[UWB_COMMAND_MAX_LINE + 2]; /* the command words joined, room for its newline */
     size_t len;
     struct uwb_command cmd;
@@ -320,7 +323,7 @@ static int send_command(int fd, struct ctl_args *a)
     if (refusal[0]) {
         /* The daemon turned the connection away and said why (e.g. too
          * many clients): that is its reply, as if it had come after. */
-        if (!a->as_text || uwbd_reply_text(refusal, stdout) != 0)
+        if (!a->as_text || uwbd_reply_text_in(refusal, stdout, a->charset) != 0)
             puts(refusal);
         return is_error_reply(refusal) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
     }
@@ -330,7 +333,7 @@ static int send_command(int fd, struct ctl_args *a)
 
 /* `watch`: every line as it comes, until the daemon goes or --timeout
  * (explicit_s > 0) passes. */
-static int follow(struct reply_reader *reader, double explicit_s, int as_text)
+static int follow(struct reply_reader *reader, double explicit_s, const struct ctl_args *a)
 {
     double until = explicit_s > 0 ? uwb_monotonic_s() + explicit_s : 0;
     char *reply = NULL;
@@ -343,7 +346,7 @@ static int follow(struct reply_reader *reader, double explicit_s, int as_text)
             return UWBD_CTL_OK; /* --timeout ended it; reply is no longer a line */
         if (rc != 0)
             return rc;
-        if (!as_text || uwbd_reply_text(reply, stdout) != 0)
+        if (!a->as_text || uwbd_reply_text_in(reply, stdout, a->charset) != 0)
             puts(reply);
         fflush(stdout);
         if (first && is_error_reply(reply))
@@ -415,7 +418,7 @@ static int talk(struct ctl_args *a)
     if (rc != CTL_GOES_ON)
         goto done;
     if (a->cmd.kind == UWB_COMMAND_WATCH && a->cmd.watch != 0) {
-        rc = follow(&reader, explicit_timeout ? timeout_s : 0, a->as_text);
+        rc = follow(&reader, explicit_timeout ? timeout_s : 0, a);
         goto done;
     }
     rc = await_reply(&reader, timeout_s, a->cmd.kind == UWB_COMMAND_SCAN, &reply);
@@ -424,7 +427,7 @@ static int talk(struct ctl_args *a)
     rc = is_error_reply(reply) ? UWBD_CTL_REFUSED : UWBD_CTL_OK;
     if (a->as_csv && rc == UWBD_CTL_OK)
         rc = print_csv(reply);
-    else if (!a->as_text || uwbd_reply_text(reply, stdout) != 0)
+    else if (!a->as_text || uwbd_reply_text_in(reply, stdout, a->charset) != 0)
         puts(reply);
 done:
     close(fd);
@@ -435,6 +438,11 @@ done:
 int uwbd_ctl_main(int argc, char **argv)
 {
     struct ctl_args a = {0};
+    /* The terminal's codeset decides "±" or "+/-" (issue 48: LC_ALL=C and
+     * serial consoles are not UTF-8). LC_CTYPE only: the figures keep
+     * their decimal point whatever LC_NUMERIC says. */
+    setlocale(LC_CTYPE, "");
+    a.charset = uwbd_charset_of_locale();
     int rc = read_ctl_options(argc, argv, &a);
     if (rc == CTL_GOES_ON)
         rc = read_command(argc, argv, &a);

@@ -4,6 +4,7 @@
  * verdict; src/output for the images). */
 #include <errno.h>
 #include <getopt.h>
+#include <locale.h>
 #include <malloc.h>
 #include <math.h>
 #include <stdio.h>
@@ -472,7 +473,9 @@ static int write_outputs(const struct replay_args *a, const struct uwb_scan *cur
     }
     if (a->out_dir && rc == 0 && write_verdict_file(a->out_dir, stem, json) != 0)
         rc = EX_CANTCREAT;
-    if (!a->as_text || uwbd_verdict_text(json, stdout) != 0)
+    /* "±" or "+/-" as the terminal's codeset allows (LC_CTYPE only). */
+    setlocale(LC_CTYPE, "");
+    if (!a->as_text || uwbd_verdict_text_in(json, stdout, uwbd_charset_of_locale()) != 0)
         puts(json);
     free(json);
     return rc;

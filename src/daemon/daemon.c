@@ -201,6 +201,7 @@ static void set_rig_source(struct uwbd_config *cfg)
     gethostname(host, sizeof host - 1);
     snprintf(cfg->rig.source, sizeof cfg->rig.source, "uwbd %s%s%s", UWBD_VERSION, host[0] ? " on " : "",
              host);
+    snprintf(cfg->rig.asset_id, sizeof cfg->rig.asset_id, "%s", cfg->site.asset_id);
 }
 
 static void reload(struct daemon *d)

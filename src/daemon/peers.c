@@ -184,7 +184,10 @@ static char *console_text(struct peer *p, const char *line, size_t *len)
     FILE *f = open_memstream(&text, &n);
     if (!f)
         return NULL;
-    if (uwbd_reply_text(line, f) != 0)
+    /* ASCII: a serial console's terminal is not known to be UTF-8 (the
+     * getty's and most terminal programs' default is not), and "±" would
+     * show as "Â±" there (issue 48; uwbd(8), CONSOLE). */
+    if (uwbd_reply_text_in(line, f, UWBD_CHARSET_ASCII) != 0)
         fprintf(f, "%s\n", line);
     if (fclose(f) != 0) {
         free(text);

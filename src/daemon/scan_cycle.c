@@ -22,6 +22,7 @@
 #include "uwb/evaluate.h"
 #include "uwb/monotonic.h"
 #include "uwb/render.h"
+#include "uwb/scan_id.h"
 #include "uwb/verdict_json.h"
 
 struct cycle {
@@ -59,13 +60,13 @@ static void choose_id(struct cycle *c, const char *wanted)
 {
     char base[UWBD_SCAN_ID_MAX + 1];
     uwbd_safe_scan_id(wanted ? wanted : "", base, sizeof base);
-    if (!base[0]) {
-        struct tm tm;
-        gmtime_r(&c->req->now, &tm);
-        strftime(base, sizeof base, "uwbd-%Y%m%dT%H%M%SZ", &tm);
-    }
+    /* No scan (an error before one was made): the id the rig would have
+     * given it, in the one form of uwb/scan_id.h. */
+    if (!base[0])
+        uwb_scan_id_make(base, sizeof base, NULL, c->req->now, c->req->now_ms);
     /* The asset in the id, so every archive file, verdict and log line of
-     * the scan names it ("T3-north-uwbd-20300102T000000Z"). */
+     * the scan names it ("T3-north-uwb-20300102T000000.000Z"); the rig's
+     * scans have it already, a replayed scan's may not. */
     const char *asset = c->cfg->site.asset_id;
     size_t asset_len = strlen(asset);
     if (asset_len && !(strncmp(base, asset, asset_len) == 0 && base[asset_len] == '-')) {

@@ -26,7 +26,8 @@ struct uwbd_cycle_request {
     int force_baseline; /* ...even from a scan that is an alarm against the current one */
     int has_expected;   /* the daemon commissioned `expected`: it must still be there, whole */
     struct uwbd_baseline_info expected;
-    time_t now; /* wall clock at the start (names the archive day) */
+    time_t now;  /* wall clock at the start (names the archive day) */
+    long now_ms; /* its milliseconds, for the id of a cycle that made no scan */
     const char
         *trigger; /* what started it, for the verdict: "schedule", "command" or "event"; NULL: not said */
 };

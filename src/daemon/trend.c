@@ -12,9 +12,21 @@ int uwbd_trend_read(const struct uwbd_store *store, int n, struct uwb_trend *t, 
 {
     char **lines = NULL;
     int count = 0, skipped = 0;
-    if (uwbd_verdict_log_tail(store, n, &lines, &count, &skipped, err, errlen) != 0)
+    /* The rate is read over the same window whatever n is (issue 48:
+     * `trend 3` counted 1 figure since the last baseline change where
+     * `trend` counted 3); the rows are the last n of it. */
+    int window = n > UWBD_TREND_RATE_VERDICTS ? n : UWBD_TREND_RATE_VERDICTS;
+    if (uwbd_verdict_log_tail(store, window, &lines, &count, &skipped, err, errlen) != 0)
         return -1;
-    int rc = uwb_trend_from_lines(lines, count, t);
+    int shown = n < count ? n : count;
+    struct uwb_trend whole;
+    int rc = uwb_trend_from_lines(lines, count, &whole);
+    if (rc == 0) {
+        rc = uwb_trend_from_lines(lines + (count - shown), shown, t);
+        if (rc == 0)
+            t->rate = whole.rate;
+        uwb_trend_free(&whole);
+    }
     uwbd_verdict_lines_free(lines, count);
     if (rc != 0) {
         snprintf(err, errlen, "%s: out of memory for the trend", store->verdict_log);

@@ -13,9 +13,13 @@
 /* How many of the newest verdicts trend.png shows. */
 #define UWBD_TREND_PNG_VERDICTS 200
 #define UWBD_TREND_PNG_NAME "trend.png"
+/* How many of the newest verdicts the rate is read from, whatever `trend
+ * N` shows: the same as trend.png, so the reply and the image agree. */
+#define UWBD_TREND_RATE_VERDICTS UWBD_TREND_PNG_VERDICTS
 
 /* The last n verdicts of the log; lines that are not verdicts count in
- * t->unreadable. Returns 0 (a missing log is an empty trend) or -1 with err. */
+ * t->unreadable. t->rate is over the last UWBD_TREND_RATE_VERDICTS (or n,
+ * if more) whatever n is. Returns 0 (a missing log is an empty trend) or -1 with err. */
 int uwbd_trend_read(const struct uwbd_store *store, int n, struct uwb_trend *t, char *err, size_t errlen);
 
 /* <state>/trend.png from the last UWBD_TREND_PNG_VERDICTS verdicts.

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "daemon_internal.h"
@@ -159,7 +160,10 @@ int uwbd_worker_start(struct daemon *d)
 {
     memset(&d->job, 0, sizeof d->job);
     d->job.cycle = ++d->cycles_started;
-    d->job.request.now = time(NULL);
+    struct timespec wall;
+    clock_gettime(CLOCK_REALTIME, &wall);
+    d->job.request.now = wall.tv_sec;
+    d->job.request.now_ms = wall.tv_nsec / 1000000;
     d->job.started_s = uwb_monotonic_s();
     d->job.request.trigger = uwbd_scan_trigger_name(d->pending_trigger);
     d->pending_trigger = TRIGGER_NONE;

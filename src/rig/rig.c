@@ -13,6 +13,7 @@
 #include "rig/carriage.h"
 #include "uwb/digitiser.h"
 #include "uwb/rig.h"
+#include "uwb/scan_id.h"
 
 struct uwb_rig {
     struct uwb_rig_config cfg;
@@ -142,17 +143,16 @@ static int dup_text(char **dst, const char *text)
     return *dst ? 0 : -1;
 }
 
-/* created (ISO-8601 UTC), scan_id (the same instant, file-name safe, to
- * the millisecond) and source. */
+/* created (ISO-8601 UTC), scan_id (the asset and the same instant,
+ * file-name safe, to the millisecond: uwb/scan_id.h) and source. */
 static int fill_header(struct uwb_rig *rig, const struct timespec *started, struct uwb_scan *scan)
 {
     const struct uwb_rig_config *cfg = &rig->cfg;
     struct tm tm;
     gmtime_r(&started->tv_sec, &tm);
-    char created[64], stamp[64], scan_id[160], source[512];
+    char created[64], scan_id[160], source[512];
     strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", &tm);
-    strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%S", &tm);
-    snprintf(scan_id, sizeof scan_id, "uwb-%s.%03dZ", stamp, (int)(started->tv_nsec / 1000000));
+    uwb_scan_id_make(scan_id, sizeof scan_id, cfg->asset_id, started->tv_sec, started->tv_nsec / 1000000);
     snprintf(source, sizeof source, "%s; digitiser '%s' at %s; gpio %s",
              cfg->source[0] ? cfg->source : "uwbd", uwb_digitiser_identity(rig->dig), cfg->digitiser.endpoint,
              cfg->gpio.backend);

@@ -8,6 +8,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "text/text_layout.h"
 #include "uwb/reply_text.h"
 
 /* The status page's names are padded to this many columns. */
@@ -85,14 +86,14 @@ static void print_upper(FILE *out, const char *s)
 }
 
 /* "ALARM +11.97 ± 0.35 mm", or the status and its reason. */
-static void print_figure(FILE *out, const cJSON *v)
+static void print_figure(FILE *out, const cJSON *v, const struct text_marks *m)
 {
     double d, u;
     print_upper(out, text(v, "status"));
     if (number(v, "axial_displacement_mm", &d)) {
         fprintf(out, " %+.2f", d);
         if (number(v, "uncertainty_mm", &u))
-            fprintf(out, " \u00b1 %.2f", u);
+            fprintf(out, " %s %.2f", m->plus_minus, u);
         fputs(" mm", out);
     } else if (text(v, "reason")) {
         fprintf(out, " (%s)", text(v, "reason"));
@@ -220,7 +221,7 @@ static void status_integrations(FILE *out, const cJSON *o)
     status_state_writes(out, item(o, "state_dir_writes"));
 }
 
-static void status_text(FILE *out, const cJSON *o)
+static void status_text(FILE *out, const cJSON *o, const struct text_marks *m)
 {
     double v, major, minor;
     const cJSON *site = item(o, "site"), *latest = item(o, "latest"), *progress = item(o, "progress");
@@ -247,8 +248,8 @@ static void status_text(FILE *out, const cJSON *o)
     }
     name(out, "Latest verdict");
     if (cJSON_IsObject(latest)) {
-        print_figure(out, latest);
-        fprintf(out, ", %s\n", text_or(latest, "created", "?"));
+        print_figure(out, latest, m);
+        fprintf(out, ", %s, scan %s\n", text_or(latest, "created", "?"), text_or(latest, "scan_id", "?"));
     } else {
         fputs("none\n", out);
     }
@@ -289,29 +290,73 @@ static void status_text(FILE *out, const cJSON *o)
     fputc('\n', out);
 }
 
-static void history_text(FILE *out, const cJSON *o)
+/* The history table's columns; a reason goes under its row from
+ * HISTORY_REASON_INDENT, wrapped to HELP_LINE_WIDTH, never cut. */
+#define HISTORY_STATUS_WIDTH 12
+#define HISTORY_FIGURE_WIDTH 18
+#define HISTORY_HEIGHT_WIDTH 13
+#define HISTORY_RADIAL_WIDTH 24
+#define HISTORY_REASON_INDENT 22
+
+static int wider(int width, const char *s)
+{
+    int w = text_width(s);
+    return w > width ? w : width;
+}
+
+/* A history row's radial change: "+0.20 ± 0.10 mm ok", the status alone
+ * where it made no figure, "-" where the verdict has none. */
+static void radial_cell(char *buf, size_t n, const cJSON *v, const struct text_marks *m)
+{
+    const cJSON *radial = item(v, "radial");
+    double change, sigma;
+    const char *status = text(radial, "status");
+    if (number(radial, "max_change_mm", &change) && number(radial, "uncertainty_mm", &sigma))
+        snprintf(buf, n, "%+.2f %s %.2f mm %s", change, m->plus_minus, sigma, status ? status : "");
+    else
+        snprintf(buf, n, "%s", status ? status : "-");
+}
+
+static void history_text(FILE *out, const cJSON *o, const struct text_marks *m)
 {
     const cJSON *list = item(o, "verdicts"), *v;
     double skipped;
-    fprintf(out, "%-20s  %-26s  %-12s  %s\n", "time", "status, displacement", "height (mm)", "scan");
+    char figure_header[64], radial_header[64];
+    snprintf(figure_header, sizeof figure_header, "displacement %s %s", m->plus_minus, m->one_sigma);
+    snprintf(radial_header, sizeof radial_header, "radial %s %s", m->plus_minus, m->one_sigma);
+    int figure_width = wider(HISTORY_FIGURE_WIDTH, figure_header);
+    fprintf(out, "%-20s  %-*s  ", "time (UTC)", HISTORY_STATUS_WIDTH, "status");
+    text_column(out, figure_header, figure_width);
+    fprintf(out, "  %-*s  ", HISTORY_HEIGHT_WIDTH, "height change");
+    text_column(out, radial_header, HISTORY_RADIAL_WIDTH);
+    fputs("  scan\n", out);
     cJSON_ArrayForEach(v, list)
     {
-        char figure[160];
-        double h;
-        FILE *f = fmemopen(figure, sizeof figure, "w");
-        if (f) {
-            print_figure(f, v);
-            fclose(f);
-        } else {
-            figure[0] = '\0';
-        }
-        char height[32] = "";
+        char status[16] = "", figure[64] = "-", height[32] = "-", radial[64];
+        double d, u, h;
+        const char *s = text_or(v, "status", "?");
+        size_t i = 0;
+        for (; s[i] && i + 1 < sizeof status; i++)
+            status[i] = (char)(s[i] >= 'a' && s[i] <= 'z' ? s[i] - 'a' + 'A' : s[i]);
+        status[i] = '\0';
+        if (number(v, "axial_displacement_mm", &d) && number(v, "uncertainty_mm", &u))
+            snprintf(figure, sizeof figure, "%+.2f %s %.2f mm", d, m->plus_minus, u);
+        else if (number(v, "axial_displacement_mm", &d))
+            snprintf(figure, sizeof figure, "%+.2f mm", d);
         if (number(v, "height_change_mm", &h))
-            snprintf(height, sizeof height, "%+.2f", h);
-        /* The figure has a "±" (2 bytes, 1 column): pad by columns. */
-        int extra = strstr(figure, "\u00b1") ? 1 : 0;
-        fprintf(out, "%-20s  %-*s  %-12s  %s%s\n", text_or(v, "created", "?"), 26 + extra, figure, height,
-                text_or(v, "scan_id", "?"), yes(v, "baseline_set") ? " (baseline)" : "");
+            snprintf(height, sizeof height, "%+.2f mm", h);
+        radial_cell(radial, sizeof radial, v, m);
+        fprintf(out, "%-20s  %-*s  ", text_or(v, "created", "?"), HISTORY_STATUS_WIDTH, status);
+        text_column(out, figure, figure_width);
+        fprintf(out, "  %-*s  ", HISTORY_HEIGHT_WIDTH, height);
+        text_column(out, radial, HISTORY_RADIAL_WIDTH);
+        fprintf(out, "  %s%s\n", text_or(v, "scan_id", "?"), yes(v, "baseline_set") ? " (baseline)" : "");
+        /* Why, whole, under the row (issue 48: it was cut mid-word). */
+        if (text(v, "reason")) {
+            fprintf(out, "%*s", HISTORY_REASON_INDENT, "");
+            text_wrapped(out, text(v, "reason"), HISTORY_REASON_INDENT, HISTORY_REASON_INDENT,
+                         HELP_LINE_WIDTH);
+        }
     }
     if (cJSON_GetArraySize(list) == 0)
         fputs("(no verdicts yet)\n", out);
@@ -369,11 +414,11 @@ static void contacts_text(FILE *out, const cJSON *contacts)
 
 /* The latest verdict as `ack` names it: its figure (and a radial change),
  * its time and its scan. */
-static void print_latest(FILE *out, const cJSON *latest)
+static void print_latest(FILE *out, const cJSON *latest, const struct text_marks *m)
 {
     double change, at;
     const cJSON *radial = item(latest, "radial");
-    print_figure(out, latest);
+    print_figure(out, latest, m);
     if (number(radial, "max_change_mm", &change) && number(radial, "at_mm", &at))
         fprintf(out, ", radial change %+.1f mm at %.0f mm", change, at);
     fprintf(out, " (%s, scan %s)\n", text_or(latest, "created", "?"), text_or(latest, "scan_id", "?"));
@@ -381,7 +426,7 @@ static void print_latest(FILE *out, const cJSON *latest)
 
 /* `ack`: said done, then what still holds a contact (the latest verdict
  * calls for it), or that nothing does. */
-static void ack_text(FILE *out, const cJSON *o)
+static void ack_text(FILE *out, const cJSON *o, const struct text_marks *m)
 {
     const cJSON *contacts = item(o, "contacts"), *latest = item(o, "latest");
     int watch = yes(contacts, "watch"), alarm = yes(contacts, "alarm");
@@ -393,10 +438,10 @@ static void ack_text(FILE *out, const cJSON *o)
     } else if (watch || alarm) {
         fprintf(out, "still energised: %s%s%s, as the latest verdict calls for: ", watch ? "watch" : "",
                 watch && alarm ? ", " : "", alarm ? "alarm" : "");
-        print_latest(out, latest);
+        print_latest(out, latest, m);
     } else {
         fputs("watch and alarm released: the latest verdict is ", out);
-        print_latest(out, latest);
+        print_latest(out, latest, m);
     }
     contacts_text(out, contacts);
 }
@@ -426,7 +471,7 @@ static void contacts_test_text(FILE *out, const cJSON *o)
 }
 
 /* The short replies: a line each. */
-static int short_text(FILE *out, const char *cls, const cJSON *o)
+static int short_text(FILE *out, const char *cls, const cJSON *o, const struct text_marks *m)
 {
     if (strcmp(cls, "ERROR") == 0)
         fprintf(out, "error: %s\n", text_or(o, "message", "?"));
@@ -442,7 +487,7 @@ static int short_text(FILE *out, const char *cls, const cJSON *o)
     } else if (strcmp(cls, "EVENT") == 0 || strcmp(cls, "SCAN") == 0)
         fprintf(out, "scan %s\n", text_or(o, "scan", "?"));
     else if (strcmp(cls, "ACK") == 0)
-        ack_text(out, o);
+        ack_text(out, o, m);
     else if (strcmp(cls, "CONTACTS_TEST") == 0)
         contacts_test_text(out, o);
     else if (strcmp(cls, "BASELINE") == 0) {
@@ -476,6 +521,12 @@ static void generic_text(FILE *out, const char *cls, const cJSON *o)
 
 int uwbd_reply_text(const char *reply, FILE *out)
 {
+    return uwbd_reply_text_in(reply, out, UWBD_CHARSET_UTF8);
+}
+
+int uwbd_reply_text_in(const char *reply, FILE *out, enum uwbd_charset charset)
+{
+    const struct text_marks *m = text_marks_of(charset);
     cJSON *o = cJSON_Parse(reply);
     const char *cls = text(o, "class");
     if (!cls) {
@@ -484,16 +535,16 @@ int uwbd_reply_text(const char *reply, FILE *out)
     }
     int rc = 0;
     if (strcmp(cls, "VERDICT") == 0)
-        rc = uwbd_verdict_text(reply, out);
+        rc = uwbd_verdict_text_in(reply, out, charset);
     else if (strcmp(cls, "TREND") == 0)
-        rc = uwbd_trend_text(reply, out);
+        rc = uwbd_trend_text_in(reply, out, charset);
     else if (strcmp(cls, "STATUS") == 0)
-        status_text(out, o);
+        status_text(out, o, m);
     else if (strcmp(cls, "HISTORY") == 0)
-        history_text(out, o);
+        history_text(out, o, m);
     else if (strcmp(cls, "HELP") == 0)
         help_text(out, o);
-    else if (short_text(out, cls, o) != 0)
+    else if (short_text(out, cls, o, m) != 0)
         generic_text(out, cls, o);
     cJSON_Delete(o);
     return rc;

@@ -7,6 +7,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "text/text_layout.h"
 #include "uwb/reply_text.h"
 
 static const cJSON *item(const cJSON *o, const char *key)
@@ -37,25 +38,26 @@ static void upper(char *dst, size_t n, const char *src)
     dst[i] = '\0';
 }
 
-/* s left-aligned in `width` columns: printf counts bytes, a terminal
- * counts characters, and "±" is two bytes. */
-static void column(FILE *out, const char *s, int width)
+/* Columns of the table; a reason goes under its row from REASON_INDENT,
+ * wrapped to LINE_WIDTH. */
+#define FIGURE_WIDTH 20
+#define RADIAL_WIDTH 24
+#define REASON_INDENT 23
+#define LINE_WIDTH 79
+
+static int at_least(int width, const char *s)
 {
-    int shown = 0;
-    for (const unsigned char *c = (const unsigned char *)s; *c; c++)
-        shown += (*c & 0xC0) != 0x80;
-    fputs(s, out);
-    for (; shown < width; shown++)
-        fputc(' ', out);
+    int w = text_width(s);
+    return w > width ? w : width;
 }
 
-static void verdict_line(const cJSON *v, FILE *out)
+static void verdict_line(const cJSON *v, const struct text_marks *m, FILE *out)
 {
-    char status[16], figure[64], height[32], radial[64];
+    char status[16], figure[64], height[32], radial[64], header[64];
     upper(status, sizeof status, text(v, "status", "?"));
     double d, u, h;
     if (number(v, "axial_displacement_mm", &d) && number(v, "uncertainty_mm", &u))
-        snprintf(figure, sizeof figure, "%+7.2f \u00b1 %.2f mm", d, u);
+        snprintf(figure, sizeof figure, "%+7.2f %s %.2f mm", d, m->plus_minus, u);
     else
         snprintf(figure, sizeof figure, "no figure");
     if (number(v, "height_change_mm", &h))
@@ -67,7 +69,7 @@ static void verdict_line(const cJSON *v, FILE *out)
     double r, ru;
     const char *radial_status = text(v, "radial_status", NULL);
     if (number(v, "radial_max_change_mm", &r) && number(v, "radial_uncertainty_mm", &ru))
-        snprintf(radial, sizeof radial, "%+6.2f \u00b1 %.2f mm %s", r, ru,
+        snprintf(radial, sizeof radial, "%+6.2f %s %.2f mm %s", r, m->plus_minus, ru,
                  radial_status ? radial_status : "");
     else
         snprintf(radial, sizeof radial, "%s", radial_status ? radial_status : "-");
@@ -75,20 +77,30 @@ static void verdict_line(const cJSON *v, FILE *out)
      * against different references. */
     fprintf(out, "%-20s %c %-12s  ", text(v, "created", "(no time)"),
             cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ', status);
-    column(out, figure, 20);
-    fprintf(out, "  %10s  ", height);
-    column(out, radial, 24);
+    snprintf(header, sizeof header, "displacement %s %s", m->plus_minus, m->one_sigma);
+    text_column(out, figure, at_least(FIGURE_WIDTH, header));
+    fprintf(out, "  %13s  ", height);
+    text_column(out, radial, RADIAL_WIDTH);
     fprintf(out, "  %s", text(v, "scan_id", ""));
     if (cJSON_IsTrue(item(v, "baseline_set")))
         fputs("  (became the baseline)", out);
-    const char *reason = text(v, "reason", NULL);
-    if (reason)
-        fprintf(out, "\n%23s%s", "", reason);
     fputc('\n', out);
+    /* The reason whole, wrapped under the row (issue 48: it was cut). */
+    const char *reason = text(v, "reason", NULL);
+    if (reason) {
+        fprintf(out, "%*s", REASON_INDENT, "");
+        text_wrapped(out, reason, REASON_INDENT, REASON_INDENT, LINE_WIDTH);
+    }
 }
 
 int uwbd_trend_text(const char *reply, FILE *out)
 {
+    return uwbd_trend_text_in(reply, out, UWBD_CHARSET_UTF8);
+}
+
+int uwbd_trend_text_in(const char *reply, FILE *out, enum uwbd_charset charset)
+{
+    const struct text_marks *m = text_marks_of(charset);
     cJSON *o = cJSON_Parse(reply);
     const cJSON *cls = item(o, "class"), *list = item(o, "verdicts");
     if (!cJSON_IsString(cls) || strcmp(cls->valuestring, "TREND") != 0 || !cJSON_IsArray(list)) {
@@ -102,13 +114,16 @@ int uwbd_trend_text(const char *reply, FILE *out)
     if (number(limits, "watch_mm", &watch) && number(limits, "alarm_mm", &alarm))
         fprintf(out, " (watch from %.2f mm, alarm from %.2f mm)", watch, alarm);
     fputc('\n', out);
+    char header[64];
     fprintf(out, "%-20s   %-12s  ", "created (UTC)", "status");
-    column(out, "displacement \u00b1 1\u03c3", 20);
-    fprintf(out, "  %10s  ", "height chg");
-    column(out, "radial \u00b1 1\u03c3", 24);
+    snprintf(header, sizeof header, "displacement %s %s", m->plus_minus, m->one_sigma);
+    text_column(out, header, FIGURE_WIDTH);
+    fprintf(out, "  %13s  ", "height change");
+    snprintf(header, sizeof header, "radial %s %s", m->plus_minus, m->one_sigma);
+    text_column(out, header, RADIAL_WIDTH);
     fprintf(out, "  %s\n", "scan");
     const cJSON *v;
-    cJSON_ArrayForEach(v, list) verdict_line(v, out);
+    cJSON_ArrayForEach(v, list) verdict_line(v, m, out);
     double unreadable;
     if (number(o, "unreadable_lines", &unreadable))
         fprintf(out, "(%.0f line%s of verdicts.jsonl could not be read)\n", unreadable,
@@ -117,10 +132,10 @@ int uwbd_trend_text(const char *reply, FILE *out)
     number(rate, "figures", &figures);
     if (number(rate, "mm_per_year", &per_year) && number(rate, "sigma_mm_per_year", &sigma) &&
         number(rate, "days", &days))
-        fprintf(out,
-                "rate: %+.2f \u00b1 %.2f mm/year (1\u03c3) over %.1f days, %.0f figures since the last "
-                "baseline change\n",
-                per_year, sigma, days, figures);
+        fprintf(
+            out,
+            "rate: %+.2f %s %.2f mm/year (%s) over %.1f days, %.0f figure%s since the last baseline change\n",
+            per_year, m->plus_minus, sigma, m->one_sigma, days, figures, figures == 1 ? "" : "s");
     else
         fprintf(out, "rate: not known yet (%s)\n",
                 text(rate, "withheld", "the reply gives no rate and no reason"));

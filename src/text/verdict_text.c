@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "text/text_layout.h"
 #include "uwb/reply_text.h"
 #include "uwb/verdict_json.h"
 #include "uwb/verdict_record.h"
@@ -17,7 +18,7 @@ static void print_upper(FILE *out, const char *s)
 }
 
 /* The face's radial change, + toward the antenna (a bulge). */
-static void print_radial(const struct uwb_verdict_record *v, FILE *out)
+static void print_radial(const struct uwb_verdict_record *v, const struct text_marks *m, FILE *out)
 {
     if (!v->has_radial)
         return;
@@ -25,12 +26,12 @@ static void print_radial(const struct uwb_verdict_record *v, FILE *out)
         fprintf(out, "radial change withheld: %s\n", v->radial_withheld);
         return;
     }
-    fprintf(out, "radial change %+.2f \u00b1 %.2f mm 1\u03c3 at %.0f mm", v->radial_max_change_mm,
-            v->radial_uncertainty_mm, v->radial_at_mm);
+    fprintf(out, "radial change %+.2f %s %.2f mm %s at %.0f mm", v->radial_max_change_mm, m->plus_minus,
+            v->radial_uncertainty_mm, m->one_sigma, v->radial_at_mm);
     if (v->radial_has_span)
         fprintf(out, ", past the watch limit from %.0f to %.0f mm", v->radial_from_mm, v->radial_to_mm);
     if (v->radial_has_tilt && v->radial_has_tilt_uncertainty)
-        fprintf(out, "; tilt %+.2f \u00b1 %.2f mm (+: top nearer): ", v->radial_tilt_mm,
+        fprintf(out, "; tilt %+.2f %s %.2f mm (+: top nearer): ", v->radial_tilt_mm, m->plus_minus,
                 v->radial_tilt_uncertainty_mm);
     else if (v->radial_has_tilt)
         fprintf(out, "; tilt %+.2f mm (+: top nearer): ", v->radial_tilt_mm);
@@ -42,15 +43,28 @@ static void print_radial(const struct uwb_verdict_record *v, FILE *out)
     fputc('\n', out);
 }
 
-static void print_verdict(const struct uwb_verdict_record *v, FILE *out)
+/* When and which scan: an error verdict is dated and named as any
+ * (issue 48). Nothing where the reply carries neither. */
+static void print_when(const struct uwb_verdict_record *v, FILE *out)
 {
+    if (!v->created[0] && !v->scan_id[0])
+        return;
+    fprintf(out, "verdict of %s", v->created[0] ? v->created : "(no time)");
+    if (v->scan_id[0])
+        fprintf(out, ", scan %s", v->scan_id);
+    fputc('\n', out);
+}
+
+static void print_verdict(const struct uwb_verdict_record *v, const struct text_marks *m, FILE *out)
+{
+    print_when(v, out);
     fputs("status ", out);
     print_upper(out, uwb_status_name(v->status));
     if (v->has_displacement) {
         double d = v->axial_displacement_mm, u = v->uncertainty_mm;
         /* uncertainty_mm is one sigma; the 95 % interval is what is acted on. */
-        fprintf(out, ": displacement %+.2f \u00b1 %.2f mm 1\u03c3, 95 %%: %+.2f..%+.2f mm", d, u,
-                d - UWB_SIGMAS_95 * u, d + UWB_SIGMAS_95 * u);
+        fprintf(out, ": displacement %+.2f %s %.2f mm %s, 95 %%: %+.2f..%+.2f mm", d, m->plus_minus, u,
+                m->one_sigma, d - UWB_SIGMAS_95 * u, d + UWB_SIGMAS_95 * u);
         if (v->has_edges && v->has_baseline)
             fprintf(out, " (edges %.1f..%.1f mm, baseline %.1f..%.1f mm)", v->lower_edge_mm, v->upper_edge_mm,
                     v->baseline_lower_edge_mm, v->baseline_upper_edge_mm);
@@ -63,16 +77,21 @@ static void print_verdict(const struct uwb_verdict_record *v, FILE *out)
     }
     fputc('\n', out);
     if (v->has_height_change)
-        fprintf(out, "height change %+.2f \u00b1 %.2f mm 1\u03c3\n", v->height_change_mm,
-                v->height_change_uncertainty_mm);
+        fprintf(out, "height change %+.2f %s %.2f mm %s\n", v->height_change_mm, m->plus_minus,
+                v->height_change_uncertainty_mm, m->one_sigma);
     else if (v->height_change_withheld[0])
         fprintf(out, "height change withheld: %s\n", v->height_change_withheld);
-    print_radial(v, out);
+    print_radial(v, m, out);
     for (int i = 0; i < v->n_images; i++)
         fprintf(out, "image: %s\n", v->images[i]);
 }
 
 int uwbd_verdict_text(const char *reply, FILE *out)
+{
+    return uwbd_verdict_text_in(reply, out, UWBD_CHARSET_UTF8);
+}
+
+int uwbd_verdict_text_in(const char *reply, FILE *out, enum uwbd_charset charset)
 {
     struct uwb_verdict_record *v = malloc(sizeof *v);
     char err[256];
@@ -80,7 +99,7 @@ int uwbd_verdict_text(const char *reply, FILE *out)
         free(v);
         return -1;
     }
-    print_verdict(v, out);
+    print_verdict(v, text_marks_of(charset), out);
     free(v);
     return 0;
 }

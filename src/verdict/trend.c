@@ -9,7 +9,7 @@
 #include "uwb/utc_time.h"
 #include "uwb/verdict_json.h"
 
-/* Copies src, cut short to fit: a point keeps what a table shows. */
+/* Copies src; a point's texts are as long as the record's. */
 static void copy_text(char *dst, size_t n, const char *src)
 {
     size_t len = src ? strnlen(src, n - 1) : 0;

@@ -31,7 +31,7 @@ struct uwb_trend_point {
     char baseline_id[UWB_TREND_ID_MAX + 1]; /* the baseline compared against, "" when none */
     int became_baseline;                    /* this scan was made the baseline (baseline_set) */
     int baseline_change; /* became_baseline, or compared against another baseline than the scans before */
-    char reason[256];    /* why there is no figure (inconclusive, error), as the verdict says it */
+    char reason[256];    /* why there is no figure (inconclusive, error): the verdict's, whole */
 };
 
 /* A rate only where it can mean something. A winding moves over weeks

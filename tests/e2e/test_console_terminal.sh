@@ -54,7 +54,7 @@ grep -q '^{' screen.txt && fail "the console printed JSON: $(grep '^{' screen.tx
 [[ $(grep -c '^State           : idle$' screen.txt) -ge 3 ]] || fail "want 3 status pages: $(cat screen.txt)"
 grep -q '^Commands (case does not matter):$' screen.txt || fail "help: no list: $(cat screen.txt)"
 grep -q '^  status  *daemon state' screen.txt || fail "help: no status line: $(cat screen.txt)"
-grep -q '^time  *status, displacement' screen.txt || fail "history: no table: $(cat screen.txt)"
+grep -q '^time (UTC)  *status  *displacement' screen.txt || fail "history: no table: $(cat screen.txt)"
 grep -q '^error: no verdict yet' screen.txt || fail "verdict: no error line: $(cat screen.txt)"
 grep -qF 'error: unknown command `stauts` (did you mean `status`? try help)' screen.txt ||
     fail "stauts: no suggestion: $(cat screen.txt)"

@@ -53,7 +53,7 @@ done
 pass "--text status: aligned Name : value lines with the integrations"
 
 ctl --text history 5 > history.txt
-[[ $(head -1 history.txt) =~ ^time\ +status ]] || fail "--text history: no header: $(cat history.txt)"
+[[ $(head -1 history.txt) =~ ^time\ \(UTC\)\ +status ]] || fail "--text history: no header: $(cat history.txt)"
 grep -q "^20[0-9-]*T[0-9:]*Z  EDGES  .*$base_id (baseline)$" history.txt || fail "--text history: $(cat history.txt)"
 ctl --text help > help.txt
 grep -q '^  baseline set force  the same' help.txt || fail "--text help: $(cat help.txt)"
@@ -98,4 +98,30 @@ rc=0
 ctl -t status > short.out 2> short.err || rc=$?
 [[ $rc == 64 ]] && grep -qF "unknown option '-t'" short.err || fail "-t: exit $rc: $(cat short.err)"
 pass "options after the command (status --text, history --csv, history 1 --json); after -- none; -t unknown"
+# ---- issue 48, findings 4, 5 and 6: dated text, whole tables, ASCII where not UTF-8 ----
+# One form of scan id, asset first; the rig's log line names the scan by it.
+[[ $base_id =~ ^T3-north-uwb-[0-9]{8}T[0-9]{6}\.[0-9]{3}Z$ ]] || fail "scan id not in the one form: $base_id"
+grep -qF "rig: scan $base_id: " uwbd.log || fail "the rig's log line does not name the scan with its asset: $(grep 'rig: scan' uwbd.log)"
+ctl scan > second.json || fail "second scan: $(cat second.json)"
+second_id=$(json_get scan_id < second.json)
+second_at=$(json_get created < second.json)
+LC_ALL=C on_terminal verdict > tty-c-verdict.txt
+[[ $(head -1 tty-c-verdict.txt) == "verdict of $second_at, scan $second_id" ]] ||
+    fail "the text verdict is not dated and named: $(cat tty-c-verdict.txt)"
+for cmd in verdict history trend status; do
+    LC_ALL=C on_terminal "$cmd" > "tty-c-$cmd.txt"
+    LC_ALL=C grep -qP '[\x80-\xff]' "tty-c-$cmd.txt" && fail "LC_ALL=C: $cmd wrote a byte that is not ASCII: $(cat "tty-c-$cmd.txt")"
+    LC_ALL=C.UTF-8 on_terminal "$cmd" > "tty-utf8-$cmd.txt"
+done
+grep -q '^status OK: displacement [-+][0-9.]* +/- [0-9.]* mm 1 sigma, ' tty-c-verdict.txt ||
+    fail "LC_ALL=C verdict: $(cat tty-c-verdict.txt)"
+grep -q '^status OK: displacement [-+][0-9.]* ± [0-9.]* mm 1σ, ' tty-utf8-verdict.txt ||
+    fail "LC_ALL=C.UTF-8 verdict: $(cat tty-utf8-verdict.txt)"
+grep -q "^Latest verdict  : OK [-+][0-9.]* +/- [0-9.]* mm, $second_at, scan $second_id$" tty-c-status.txt ||
+    fail "status does not name the latest verdict's scan: $(cat tty-c-status.txt)"
+head -1 tty-c-history.txt | grep -q '  height change  radial +/- 1 sigma  ' ||
+    fail "history's header: $(head -1 tty-c-history.txt)"
+grep -q '± .*1σ' tty-utf8-trend.txt && grep -q 'displacement +/- 1 sigma' tty-c-trend.txt ||
+    fail "trend: $(cat tty-c-trend.txt tty-utf8-trend.txt)"
+pass "text verdict dated and named ($second_id); ASCII under LC_ALL=C, ± σ under C.UTF-8 (pty)"
 echo "$passed passed"

@@ -7,6 +7,9 @@
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
+# uwbd ctl --text writes "±" where the locale is UTF-8, "+/-" elsewhere
+# (issue 48): the checks below read the UTF-8 form, the console's the ASCII.
+export LC_ALL=C.UTF-8
 e2e_workdir uwbd-e2e
 
 config="$work/uwbd.json"
@@ -205,9 +208,11 @@ ctl verdict > verdict.json
 json_check verdict.json '. same scan2.json' || fail "verdict is not the latest scan's"
 ctl --text verdict > verdict.txt || fail "uwbd ctl --text verdict"
 shift_text=$(printf '%+.2f' "$(json_get axial_displacement_mm < scan2.json)")
-[[ $(sed -n 1p verdict.txt) == "status ALARM: displacement $shift_text ± "*" mm (edges "*" mm, baseline "*" mm)" &&
+scan2_id=$(json_get scan_id < scan2.json)
+[[ $(sed -n 1p verdict.txt) == "verdict of $(json_get created < scan2.json), scan $scan2_id" &&
+   $(sed -n 2p verdict.txt) == "status ALARM: displacement $shift_text ± "*" mm (edges "*" mm, baseline "*" mm)" &&
    $(grep -c '^image: /' verdict.txt) == 3 && $(grep -c '^height change ' verdict.txt) == 1 &&
-   $(grep -c '^radial change .*: OK$' verdict.txt) == 1 && $(wc -l < verdict.txt) == 6 ]] ||
+   $(grep -c '^radial change .*: OK$' verdict.txt) == 1 && $(wc -l < verdict.txt) == 7 ]] ||
     fail "uwbd ctl --text verdict: $(cat verdict.txt)"
 ctl help | grep -q '"class":"HELP"' || fail "help"
 set +e; ctl frobnicate > /dev/null 2> ctl-bad.err; rc=$?; set -e
@@ -246,8 +251,12 @@ grep -q '^Baseline        : .' console.out || fail "console status: no baseline:
 grep -q '^error: unknown command' console.out || fail "console frobnicate: $(cat console.out)"
 grep -q '^error: command line too long' console.out || fail "console long line: $(cat console.out)"
 [[ $(grep -c '^20[0-9-]*T[0-9:]*Z  ' console.out) == 2 ]] || fail "console history 2: want 2 rows: $(cat console.out)"
-ctl --text verdict > verdict.txt
-grep -qxF "$(head -1 verdict.txt)" console.out || fail "console verdict differs from uwbd ctl --text verdict: $(cat console.out)"
+# The console writes ASCII (its terminal is not known to be UTF-8), as
+# uwbd ctl does under LC_ALL=C.
+LC_ALL=C ctl --text verdict > verdict.txt
+grep -qxF "$(sed -n 2p verdict.txt)" console.out && grep -q '+/- .* mm 1 sigma' verdict.txt ||
+    fail "console verdict differs from uwbd ctl --text verdict in ASCII: $(cat verdict.txt) $(cat console.out)"
+LC_ALL=C grep -qP '[\x80-\xff]' console.out && fail "the console wrote a byte that is not ASCII: $(cat console.out)"
 pass "serial console (unix endpoint): the same replies, as text for people"
 
 # ---- SIGHUP reload, then SIGTERM in the middle of a scan --------------------------

@@ -22,7 +22,9 @@ out=$tmp/demo
 get() { "$UWB_BUILD_DIR/e2e/state_check" get "$@"; }
 
 start=$SECONDS
-UWB_DEMO_OUT=$out timeout 300 script -qec "bash tools/demo/run-demo.sh" /dev/null > "$tmp/demo.tty" 2>&1 ||
+# A UTF-8 terminal, as the README's excerpt was made on ("±", "σ"; under
+# LC_ALL=C uwbd ctl writes "+/-" and "sigma").
+LC_ALL=C.UTF-8 UWB_DEMO_OUT=$out timeout 300 script -qec "bash tools/demo/run-demo.sh" /dev/null > "$tmp/demo.tty" 2>&1 ||
     { tail -n 30 "$tmp/demo.tty" >&2; fail "the demo failed"; }
 # What the person saw, a line each: carriage returns dropped, and the
 # progress bar's line (redrawn in place, ending in ESC [K) left out.

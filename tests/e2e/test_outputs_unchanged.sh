@@ -23,6 +23,9 @@
 set -euo pipefail
 
 source "$(dirname "$0")/daemon_e2e.sh"
+# uwbd ctl --text writes "±" or "+/-" by the locale's codeset (issue 48):
+# pinned, so the digests do not depend on the caller's locale.
+export LC_ALL=C.UTF-8
 need_mosquitto
 case $(od -An -j18 -N2 -tu2 "$BUILD/uwbd" | tr -d ' ') in
     62) machine=x86_64 ;;

@@ -38,6 +38,17 @@ static const char *as_text(char *reply)
     return printed;
 }
 
+static const char *as_text_in(char *reply, enum uwbd_charset charset)
+{
+    size_t n;
+    FILE *f = open_memstream(&printed, &n);
+    TEST_ASSERT_NOT_NULL(f);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_reply_text_in(reply, f, charset), reply);
+    fclose(f);
+    free(reply);
+    return printed;
+}
+
 static void assert_has(const char *text, const char *part)
 {
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, part), text);
@@ -122,6 +133,124 @@ static void test_history_is_a_table(void)
     const char *t = as_text(reply);
     TEST_ASSERT_NULL_MESSAGE(strchr(t, '{'), t);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(t, "time ", 5), t);
+}
+
+/* The lines of t (each without its newline) wider than `columns`
+ * characters: 0 expected. */
+static int lines_wider_than(const char *t, int columns)
+{
+    int wide = 0;
+    while (*t) {
+        size_t n = strcspn(t, "\n");
+        int shown = 0;
+        for (size_t i = 0; i < n; i++)
+            shown += ((unsigned char)t[i] & 0xC0) != 0x80;
+        wide += shown > columns;
+        t += n + (t[n] == '\n');
+    }
+    return wide;
+}
+
+static int has_non_ascii(const char *t)
+{
+    for (; *t; t++)
+        if ((unsigned char)*t >= 0x80)
+            return 1;
+    return 0;
+}
+
+/* A reason long enough to have been cut (at 160 bytes: "...without its
+ * changed" and no closing parenthesis), as evaluate.c writes it. */
+#define LONG_REASON \
+    "the face changed shape (the ends moved apart by 4 mm and the echo weakened at 420 mm, not a shift " \
+    "without its changed rows): radial change read where its rows still match, axial figure withheld"
+
+static char *history_of_three(void)
+{
+    char *lines[] = {
+        "{\"class\":\"VERDICT\",\"scan_id\":\"T3-north-uwb-20261127T080000.101Z\",\"created\":\"2026-11-"
+        "27T08:"
+        "00:00Z\",\"status\":\"edges\",\"baseline_set\":true}",
+        "{\"class\":\"VERDICT\",\"scan_id\":\"T3-north-uwb-20261128T080000.202Z\",\"created\":\"2026-11-"
+        "28T08:"
+        "00:00Z\",\"status\":\"ok\",\"axial_displacement_mm\":0.12,\"uncertainty_mm\":0.3,"
+        "\"lower_edge_mm\":200,\"upper_edge_mm\":600,\"height_change_mm\":-0.05,\"height_change_uncertainty_"
+        "mm\":0.1,\"radial\":{\"status\":\"ok\",\"max_change_mm\":0.2,\"at_mm\":300,"
+        "\"uncertainty_mm\":0.1}}",
+        "{\"class\":\"VERDICT\",\"scan_id\":\"T3-north-uwb-20261129T080000.303Z\",\"created\":\"2026-11-"
+        "29T08:"
+        "00:00Z\",\"status\":\"inconclusive\",\"reason\":\"" LONG_REASON "\",\"radial\":{\"status\":"
+        "\"alarm\",\"max_change_mm\":6.1,\"at_mm\":420,\"uncertainty_mm\":0.4}}",
+    };
+    char *reply = uwbd_reply_history(lines, 3, 3, 0);
+    TEST_ASSERT_NOT_NULL(reply);
+    return reply;
+}
+
+/* Issue 48, finding 5: the history table cuts no text: the reason whole
+ * (every word, the parenthesis closed), wrapped under its row within 79
+ * columns; the height column says it holds the change; a radial column. */
+static void test_history_wraps_a_reason_and_has_a_radial_column(void)
+{
+    const char *t = as_text(history_of_three());
+    assert_has(t, "height change");
+    assert_has(t, "radial \u00b1 1\u03c3");
+    assert_has(t, "+0.20 \u00b1 0.10 mm ok");
+    assert_has(t, "+6.10 \u00b1 0.40 mm alarm");
+    assert_has(t, "-0.05 mm");
+    /* The reason, words joined again, is the whole reason. */
+    const char *start = strstr(t, "the face changed shape");
+    TEST_ASSERT_NOT_NULL_MESSAGE(start, t);
+    char joined[1024] = "";
+    size_t k = 0;
+    for (const char *c = start; *c && k + 1 < sizeof joined; c++) {
+        if (*c == '\n') {
+            while (c[1] == ' ')
+                c++;
+            if (k && joined[k - 1] != ' ')
+                joined[k++] = ' ';
+            continue;
+        }
+        joined[k++] = *c;
+    }
+    joined[k] = '\0';
+    TEST_ASSERT_EQUAL_STRING_LEN(LONG_REASON, joined, strlen(LONG_REASON));
+    /* Only the rows (time, figures, scan) may pass 79 columns; the
+     * reason's lines do not. */
+    while (start > t && start[-1] != '\n')
+        start--;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, lines_wider_than(start, 79), t);
+}
+
+/* Issue 48, finding 6: in ASCII no byte past 127 (status, history, ack). */
+static void test_ascii_text_has_no_byte_past_127(void)
+{
+    const char *t = as_text_in(history_of_three(), UWBD_CHARSET_ASCII);
+    TEST_ASSERT_FALSE_MESSAGE(has_non_ascii(t), t);
+    assert_has(t, "radial +/- 1 sigma");
+    assert_has(t, "+0.12 +/- 0.30 mm");
+    free(printed);
+    struct uwbd_contact_states held = {.watch = 1, .alarm = 1, .fault = 1};
+    struct uwb_verdict_record latest = {.status = UWB_STATUS_ALARM, .has_displacement = 1};
+    latest.axial_displacement_mm = 11.97;
+    latest.uncertainty_mm = 0.35;
+    t = as_text_in(uwbd_reply_ack(&held, &latest), UWBD_CHARSET_ASCII);
+    TEST_ASSERT_FALSE_MESSAGE(has_non_ascii(t), t);
+    assert_has(t, "ALARM +11.97 +/- 0.35 mm");
+}
+
+/* Issue 48, finding 4: the status page's latest verdict names its scan. */
+static void test_status_names_the_latest_verdicts_scan(void)
+{
+    struct uwb_verdict_record latest = {.status = UWB_STATUS_ERROR};
+    snprintf(latest.scan_id, sizeof latest.scan_id, "T3-north-uwb-20261207T032403.120Z");
+    snprintf(latest.created, sizeof latest.created, "2026-12-07T03:24:03Z");
+    snprintf(latest.reason, sizeof latest.reason, "digitiser did not answer");
+    struct uwbd_status st = {
+        .version = "1.2", .state = "idle", .state_dir = "/s", .rig = "ready", .latest = &latest};
+    const char *t = as_text_in(uwbd_reply_status(&st), UWBD_CHARSET_ASCII);
+    assert_has(t, "Latest verdict  : ERROR (digitiser did not answer), 2026-12-07T03:24:03Z, scan "
+                  "T3-north-uwb-20261207T032403.120Z\n");
 }
 
 static void test_errors_and_short_replies_are_a_line(void)
@@ -228,6 +357,9 @@ int main(void)
     RUN_TEST(test_status_says_the_disk_is_full);
     RUN_TEST(test_help_is_a_list_that_fits_a_terminal);
     RUN_TEST(test_history_is_a_table);
+    RUN_TEST(test_history_wraps_a_reason_and_has_a_radial_column);
+    RUN_TEST(test_ascii_text_has_no_byte_past_127);
+    RUN_TEST(test_status_names_the_latest_verdicts_scan);
     RUN_TEST(test_errors_and_short_replies_are_a_line);
     RUN_TEST(test_progress_says_its_pass);
     RUN_TEST(test_progress_figures_read_back);

@@ -398,6 +398,50 @@ static void test_full_scan_traces_are_computed_where_the_carriage_is(void)
     uwb_rig_close(rig);
 }
 
+static char scan_log_line[1024];
+
+static void keep_scan_line(void *ctx, int priority, const char *message)
+{
+    (void)ctx;
+    (void)priority;
+    if (strncmp(message, "scan ", 5) == 0)
+        snprintf(scan_log_line, sizeof scan_log_line, "%s", message);
+}
+
+/* Issue 48, finding 4: with an asset the rig's scan id leads with it, so
+ * its log line names the scan with its asset as every scan line does
+ * ("scan T3-north-uwb-20261207T032316.813Z: 5 positions ..."); it said
+ * "scan uwb-...". One form: ASSET-uwb-YYYYMMDDTHHMMSS.mmmZ. */
+static void test_the_rigs_scan_id_and_log_line_name_the_asset(void)
+{
+    struct uwb_rig_config cfg;
+    rig_config(&cfg, 5);
+    cfg.digitiser.stack = 1;
+    snprintf(cfg.asset_id, sizeof cfg.asset_id, "T3-north");
+    struct uwb_rig *rig = open_rig(&cfg);
+    scan_log_line[0] = '\0';
+    uwb_rig_set_log(rig, keep_scan_line, NULL);
+    struct uwb_scan scan;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(UWB_RIG_OK, uwb_rig_scan(rig, NULL, &scan, err, sizeof err), err);
+    const char *id = scan.scan_id;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(strlen("T3-north-uwb-20261207T032316.813Z"), strlen(id), id);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(id, "T3-north-uwb-", 13), id);
+    for (int i = 13; i < 33; i++) {
+        int digit = id[i] >= '0' && id[i] <= '9';
+        TEST_ASSERT_TRUE_MESSAGE(digit || i == 21 || i == 28 || i == 32, id);
+    }
+    TEST_ASSERT_EQUAL_INT('T', id[21]);
+    TEST_ASSERT_EQUAL_INT('.', id[28]);
+    TEST_ASSERT_EQUAL_INT('Z', id[32]);
+    /* The same instant as the header's created, to the second. */
+    TEST_ASSERT_EQUAL_MEMORY(scan.created, id + 13, 4);
+    char line_start[128];
+    snprintf(line_start, sizeof line_start, "scan %s: ", id);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(scan_log_line, line_start, strlen(line_start)), scan_log_line);
+    uwb_scan_free(&scan);
+    uwb_rig_close(rig);
+}
+
 /* The daemon thinks 10 steps/mm, the mechanics do 12: homing works, but the
  * traces come from the wrong heights, and the board's log shows it. */
 static void test_wrong_steps_per_mm_gives_traces_from_wrong_heights(void)
@@ -778,6 +822,7 @@ int main(void)
     start_board();
     RUN_TEST(test_full_scan_traces_are_computed_where_the_carriage_is);
     RUN_TEST(test_wrong_steps_per_mm_gives_traces_from_wrong_heights);
+    RUN_TEST(test_the_rigs_scan_id_and_log_line_name_the_asset);
     RUN_TEST(test_a_radial_change_set_on_the_board_moves_the_face_echo);
     RUN_TEST(test_a_scale_past_the_travel_stalls_at_the_top_stop);
     RUN_TEST(test_inverted_dir_is_caught_by_the_home_search);

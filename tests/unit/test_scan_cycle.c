@@ -730,6 +730,26 @@ static void test_the_asset_id_names_the_scan_and_its_archive_files(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(d, "asset T3-north"), d);
 }
 
+/* Issue 48, finding 4: a cycle that made no scan (an error verdict) is
+ * named in the rig's form, asset first, to the millisecond: it was
+ * "T3-north-uwbd-20300102T000000Z" beside the rig's
+ * "T3-north-uwb-20300102T000000.000Z". */
+static void test_an_error_verdict_has_the_scans_form_of_id(void)
+{
+    snprintf(cfg.site.asset_id, sizeof cfg.site.asset_id, "T3-north");
+    rig.fail = 1;
+    uwbd_cycle_result_free(&res);
+    struct uwbd_cycle_request req = {.now = CYCLE_TIME, .now_ms = 813};
+    TEST_ASSERT_EQUAL_INT(0, uwbd_cycle_run(&cfg, &store, fake_acquire, &rig, NULL, &req, &res));
+    cfg.site.asset_id[0] = '\0';
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, res.status);
+    TEST_ASSERT_EQUAL_STRING("T3-north-uwb-20300102T000000.813Z", res.scan_id);
+    cJSON *v = verdict();
+    TEST_ASSERT_EQUAL_STRING("T3-north-uwb-20300102T000000.813Z",
+                             cJSON_GetObjectItemCaseSensitive(v, "scan_id")->valuestring);
+    cJSON_Delete(v);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -737,6 +757,7 @@ int main(void)
     RUN_TEST(test_the_baseline_changes_only_when_asked_and_keeps_the_old_one);
     RUN_TEST(test_a_commissioning_scan_s_images_say_it_became_the_baseline);
     RUN_TEST(test_the_asset_id_names_the_scan_and_its_archive_files);
+    RUN_TEST(test_an_error_verdict_has_the_scans_form_of_id);
     RUN_TEST(test_moved_direct_coupling_is_inconclusive_not_compared);
     RUN_TEST(test_a_lost_scan_is_an_error_verdict_and_the_baseline_stays);
     RUN_TEST(test_a_scan_without_winding_or_coupling_does_not_become_the_baseline);

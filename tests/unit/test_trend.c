@@ -320,6 +320,85 @@ static void write_state(struct uwbd_store *store, int lines)
     free(text);
 }
 
+/* Issue 48, finding 9: the rate is the log's, not the table's. On the
+ * same log `trend 1` said "1 figure since the last baseline change" and
+ * `trend` 2: the count (and the rate) must not depend on how many rows
+ * were asked for. S7 and S8 are the figures since B2. */
+static void test_rate_does_not_depend_on_how_many_rows_are_asked_for(void)
+{
+    struct uwbd_store store;
+    write_state(&store, N_LINES);
+    char err[512];
+    struct uwb_trend all, one;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_trend_read(&store, 20, &all, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_trend_read(&store, 1, &one, err, sizeof err), err);
+    TEST_ASSERT_EQUAL_INT(N_LINES - 1, all.count);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, one.count, "the table keeps the rows asked for");
+    TEST_ASSERT_EQUAL_STRING("S8", one.points[0].scan_id);
+    TEST_ASSERT_EQUAL_INT(2, all.rate.points);
+    TEST_ASSERT_EQUAL_INT(all.rate.points, one.rate.points);
+    TEST_ASSERT_EQUAL_INT(all.rate.known, one.rate.known);
+    TEST_ASSERT_EQUAL_STRING(all.rate.withheld, one.rate.withheld);
+    uwb_trend_free(&all);
+    uwb_trend_free(&one);
+}
+
+/* Issue 48, findings 5 and 6: `trend` cuts no reason (it lost "axial
+ * figure withheld" at 160 bytes) and in ASCII writes "+/-" and "sigma". */
+static void test_trend_text_keeps_the_whole_reason_and_can_be_ascii(void)
+{
+    static const char reason[] =
+        "the face changed shape (the ends moved apart by 4 mm and the echo weakened at 420 mm, not a "
+        "shift without its changed rows): radial change read where its rows still match, axial figure "
+        "withheld";
+    char line[1024];
+    snprintf(line, sizeof line,
+             "{\"class\":\"VERDICT\",\"status\":\"inconclusive\",\"scan_id\":\"S9\",\"created\":"
+             "\"2026-03-11T06:00:00Z\",\"reason\":\"%s\"}",
+             reason);
+    char *lines[N_LINES + 1];
+    for (int i = 0; i < N_LINES; i++)
+        lines[i] = (char *)log_lines[i];
+    lines[N_LINES] = line;
+    struct uwb_trend t;
+    TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines(lines, N_LINES + 1, &t));
+    struct uwb_thresholds th = {.watch_m = 2e-3, .alarm_m = 5e-3};
+    char *reply = uwbd_reply_trend(&t, 20, &th, NULL);
+    TEST_ASSERT_NOT_NULL(reply);
+    for (int charset = UWBD_CHARSET_UTF8; charset <= UWBD_CHARSET_ASCII; charset++) {
+        char *text = NULL;
+        size_t n = 0;
+        FILE *f = open_memstream(&text, &n);
+        TEST_ASSERT_EQUAL_INT(0, uwbd_trend_text_in(reply, f, (enum uwbd_charset)charset));
+        fclose(f);
+        TEST_ASSERT_TRUE_MESSAGE(strstr(text, "axial figure\n") || strstr(text, "axial figure withheld"),
+                                 text);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "withheld\n"), text);
+        /* The reason's lines stay within 79 columns, words whole. */
+        const char *r = strstr(text, "the face changed shape");
+        TEST_ASSERT_NOT_NULL_MESSAGE(r, text);
+        while (r > text && r[-1] != '\n')
+            r--;
+        for (const char *l = r; *l && strncmp(l, "rate:", 5) != 0; l += strcspn(l, "\n") + 1)
+            TEST_ASSERT_TRUE_MESSAGE(strcspn(l, "\n") <= 79, text);
+        int ascii = 1;
+        for (const char *c = text; *c; c++)
+            ascii &= (unsigned char)*c < 0x80;
+        /* The height column says what it holds, as history's does. */
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "  height change  "), text);
+        if (charset == UWBD_CHARSET_ASCII) {
+            TEST_ASSERT_TRUE_MESSAGE(ascii, text);
+            TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "displacement +/- 1 sigma"), text);
+            TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "+3.00 +/- 0.50 mm"), text);
+        } else {
+            TEST_ASSERT_NOT_NULL_MESSAGE(strstr(text, "+3.00 \u00b1 0.50 mm"), text);
+        }
+        free(text);
+    }
+    free(reply);
+    uwb_trend_free(&t);
+}
+
 static void test_trend_png_shows_bars_thresholds_and_no_figure_marks(void)
 {
     struct uwbd_store store;
@@ -913,5 +992,7 @@ int main(void)
     RUN_TEST(test_a_short_trend_is_drawn_at_its_own_scale);
     RUN_TEST(test_radial_change_is_a_second_series);
     RUN_TEST(test_trend_png_reads_without_the_manual);
+    RUN_TEST(test_rate_does_not_depend_on_how_many_rows_are_asked_for);
+    RUN_TEST(test_trend_text_keeps_the_whole_reason_and_can_be_ascii);
     return UNITY_END();
 }

@@ -2,6 +2,7 @@
  * the engineer needs, and anything that is not a verdict left alone. */
 #include "unity.h"
 
+#include <locale.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -130,6 +131,52 @@ static void test_an_error_verdict_gives_its_reason(void)
     TEST_ASSERT_EQUAL_STRING("status ERROR: acquisition failed: no frame within 300 ms\n", text);
 }
 
+/* Issue 48, finding 4: a verdict in text carries its time and its scan,
+ * an error verdict included (it was one line that could not be dated). */
+static void test_an_error_verdict_is_dated_and_names_its_scan(void)
+{
+    TEST_ASSERT_EQUAL_INT(0,
+                          render("{\"class\":\"VERDICT\",\"scan_id\":\"T3-north-uwb-20261207T032403.120Z\","
+                                 "\"created\":\"2026-12-07T03:24:03Z\",\"status\":\"error\","
+                                 "\"reason\":\"acquisition failed: no frame within 300 ms\"}"));
+    TEST_ASSERT_EQUAL_STRING("verdict of 2026-12-07T03:24:03Z, scan T3-north-uwb-20261207T032403.120Z\n"
+                             "status ERROR: acquisition failed: no frame within 300 ms\n",
+                             text);
+}
+
+/* Issue 48, finding 6: where the terminal is not UTF-8 the text is ASCII:
+ * "+/-" and "1 sigma" for "\u00b1" and "1\u03c3", the same figures. */
+static void test_ascii_spells_plus_minus_and_sigma(void)
+{
+    TEST_ASSERT_EQUAL_INT(
+        0,
+        uwbd_verdict_text_in("{\"class\":\"VERDICT\",\"status\":\"alarm\",\"axial_displacement_mm\":12.0449,"
+                             "\"uncertainty_mm\":0.234,\"height_change_mm\":-1.8,"
+                             "\"height_change_uncertainty_mm\":0.22,\"radial\":{\"status\":\"ok\","
+                             "\"max_change_mm\":0.4,\"at_mm\":300,\"uncertainty_mm\":0.5,"
+                             "\"tilt_mm\":0.42,\"tilt_uncertainty_mm\":0.31}}",
+                             out, UWBD_CHARSET_ASCII));
+    fclose(out);
+    out = NULL;
+    TEST_ASSERT_EQUAL_STRING(
+        "status ALARM: displacement +12.04 +/- 0.23 mm 1 sigma, 95 %: +11.58..+12.51 mm\n"
+        "height change -1.80 +/- 0.22 mm 1 sigma\n"
+        "radial change +0.40 +/- 0.50 mm 1 sigma at 300 mm; tilt +0.42 +/- 0.31 mm "
+        "(+: top nearer): OK\n",
+        text);
+}
+
+/* The locale decides: C is ASCII, C.UTF-8 (in every glibc since 2.35)
+ * UTF-8. */
+static void test_the_charset_is_the_locales(void)
+{
+    TEST_ASSERT_NOT_NULL(setlocale(LC_CTYPE, "C"));
+    TEST_ASSERT_EQUAL_INT(UWBD_CHARSET_ASCII, uwbd_charset_of_locale());
+    TEST_ASSERT_NOT_NULL_MESSAGE(setlocale(LC_CTYPE, "C.UTF-8"), "glibc's C.UTF-8 locale");
+    TEST_ASSERT_EQUAL_INT(UWBD_CHARSET_UTF8, uwbd_charset_of_locale());
+    setlocale(LC_CTYPE, "C");
+}
+
 static void test_other_replies_are_not_rendered(void)
 {
     TEST_ASSERT_EQUAL_INT(-1, render("{\"class\":\"STATUS\",\"state\":\"idle\"}"));
@@ -154,6 +201,9 @@ int main(void)
     RUN_TEST(test_a_withheld_tilt_says_why);
     RUN_TEST(test_edges_only_says_where_the_winding_is_and_whether_it_became_the_baseline);
     RUN_TEST(test_an_error_verdict_gives_its_reason);
+    RUN_TEST(test_an_error_verdict_is_dated_and_names_its_scan);
+    RUN_TEST(test_ascii_spells_plus_minus_and_sigma);
+    RUN_TEST(test_the_charset_is_the_locales);
     RUN_TEST(test_other_replies_are_not_rendered);
     RUN_TEST(test_a_reply_that_is_not_json_is_not_rendered);
     return UNITY_END();

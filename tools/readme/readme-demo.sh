@@ -6,7 +6,8 @@
 # DEMO_OUTPUT is what tools/demo/run-demo.sh printed. `make readme-demo`
 # runs the demo and writes; tests/e2e/test_demo.sh runs it and checks.
 # What changes from run to run is written as the demo's default place:
-# archive paths as build/demo/run/state/archive/DATE/SCAN_ID. The step's
+# archive paths as build/demo/run/state/archive/DATE/SCAN_ID, a verdict's
+# time as TIME and its scan id as SCAN_ID. The step's
 # VERDICT line (one long JSON line) is left out: the text verdict says it.
 set -euo pipefail
 [[ $# == 3 && ($1 == --write || $1 == --check) ]] || { echo "usage: $0 --write|--check README DEMO_OUTPUT" >&2; exit 64; }
@@ -17,7 +18,9 @@ trap 'rm -rf "$work"' EXIT
 { echo '```'
   sed -n "/^\\\$ uwbemu --ctl unix:run\\/emu.sock 'set displacement_m 0' /,/^   the comparison picture/p" "$demo" |
       grep -v '^{"class":"VERDICT"' |
-      sed -E 's#[^ ]*/run/state/archive/[0-9]{4}/[0-9]{2}/[0-9]{2}/[A-Za-z0-9_-]*uwb-[0-9T.]*Z#build/demo/run/state/archive/DATE/SCAN_ID#g'
+      sed -E -e 's#[^ ]*/run/state/archive/[0-9]{4}/[0-9]{2}/[0-9]{2}/[A-Za-z0-9_-]*uwb-[0-9T.]*Z#build/demo/run/state/archive/DATE/SCAN_ID#g' \
+          -e 's#[0-9]{4}-[0-9]{2}-[0-9]{2}T[0-9]{2}:[0-9]{2}:[0-9]{2}Z#TIME#g' \
+          -e 's#[A-Za-z0-9_.-]*uwb-[0-9]{8}T[0-9]{6}\.[0-9]{3}Z#SCAN_ID#g'
   echo '```'; } > "$work/block"
 (($(wc -l < "$work/block") > 4)) || { echo "readme-demo: $demo has no radial step (the lines from 'set displacement_m 0' to the comparison picture)" >&2; exit 1; }
 
