@@ -7,7 +7,7 @@
 
 #include "unity.h"
 
-#include "daemon/outputs.h"
+#include "daemon/output_csv.h"
 #include "scratch_support.h"
 #include "uwb/verdict_csv.h"
 
