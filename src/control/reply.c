@@ -136,13 +136,9 @@ char *uwbd_reply_status(const struct uwbd_status *st)
     cJSON_AddNumberToObject(o, "proto_minor", UWBD_PROTOCOL_MINOR);
     cJSON_AddStringToObject(o, "state", st->state);
     if (st->progress) {
-        char *line = uwbd_reply_progress(st->progress);
-        cJSON *p = line ? cJSON_Parse(line) : NULL;
-        free(line);
-        if (p) {
-            cJSON_DeleteItemFromObjectCaseSensitive(p, "class");
-            cJSON_AddItemToObject(o, "progress", p);
-        }
+        cJSON *p = cJSON_AddObjectToObject(o, "progress");
+        if (p && uwbd_progress_add_fields(p, st->progress) != 0)
+            cJSON_DeleteItemFromObjectCaseSensitive(o, "progress");
     }
     cJSON_AddNumberToObject(o, "uptime_s", (double)st->uptime_s);
     cJSON_AddNumberToObject(o, "interval_s", st->interval_s);

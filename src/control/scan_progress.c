@@ -43,23 +43,27 @@ void uwbd_scan_progress_estimate_passes(int pass, int passes, int done, int tota
     out->left_s = left > 0 ? left : 0;
 }
 
+int uwbd_progress_add_fields(cJSON *o, const struct uwbd_scan_progress *p)
+{
+    int ok = cJSON_AddNumberToObject(o, "position", p->done) &&
+             cJSON_AddNumberToObject(o, "positions", p->total) &&
+             cJSON_AddNumberToObject(o, "elapsed_s", round(p->elapsed_s * 10) / 10) &&
+             (!p->has_left || cJSON_AddNumberToObject(o, "left_s", round(p->left_s * 10) / 10)) &&
+             /* Added after the fields above, which keep their meaning within a pass. */
+             cJSON_AddNumberToObject(o, "pass", p->pass) && cJSON_AddNumberToObject(o, "passes", p->passes) &&
+             /* Floor to 4 places: 1 only when every position of every pass is in. */
+             cJSON_AddNumberToObject(o, "fraction", floor(p->fraction * 1e4) / 1e4);
+    return ok ? 0 : -1;
+}
+
 char *uwbd_reply_progress(const struct uwbd_scan_progress *p)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o)
         return NULL;
-    cJSON_AddStringToObject(o, "class", "PROGRESS");
-    cJSON_AddNumberToObject(o, "position", p->done);
-    cJSON_AddNumberToObject(o, "positions", p->total);
-    cJSON_AddNumberToObject(o, "elapsed_s", round(p->elapsed_s * 10) / 10);
-    if (p->has_left)
-        cJSON_AddNumberToObject(o, "left_s", round(p->left_s * 10) / 10);
-    /* Added after the fields above, which keep their meaning within a pass. */
-    cJSON_AddNumberToObject(o, "pass", p->pass);
-    cJSON_AddNumberToObject(o, "passes", p->passes);
-    /* Floor to 4 places: 1 only when every position of every pass is in. */
-    cJSON_AddNumberToObject(o, "fraction", floor(p->fraction * 1e4) / 1e4);
-    char *text = cJSON_PrintUnformatted(o);
+    char *text = NULL;
+    if (cJSON_AddStringToObject(o, "class", "PROGRESS") && uwbd_progress_add_fields(o, p) == 0)
+        text = cJSON_PrintUnformatted(o);
     cJSON_Delete(o);
     return text;
 }

@@ -31,6 +31,12 @@ void uwbd_scan_progress_estimate_passes(int pass, int passes, int done, int tota
                                         double first_s, double last_s, double now_s,
                                         struct uwbd_scan_progress *out);
 
+/* The progress's fields added to object o (a cJSON *), in the PROGRESS
+ * line's order: 0, or -1 when out of memory. The `status` reply nests them
+ * under "progress", the PROGRESS line follows its "class" with them. */
+struct cJSON;
+int uwbd_progress_add_fields(struct cJSON *o, const struct uwbd_scan_progress *p);
+
 /* The PROGRESS line (JSON, no newline; malloc'd, NULL when out of memory). */
 char *uwbd_reply_progress(const struct uwbd_scan_progress *p);
 

@@ -30,116 +30,6 @@
 #include "uwb/utc_time.h"
 #include "uwb/verdict_json.h"
 
-static void worker_beat(struct daemon *d);
-static void report_status(struct daemon *d);
-
-static struct timespec monotonic_now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return t;
-}
-
-static struct timespec add_seconds(struct timespec t, double s)
-{
-    long whole = (long)s;
-    t.tv_sec += whole;
-    t.tv_nsec += (long)((s - (double)whole) * 1e9);
-    if (t.tv_nsec >= 1000000000L) {
-        t.tv_sec++;
-        t.tv_nsec -= 1000000000L;
-    }
-    return t;
-}
-
-static void schedule_off(struct daemon *d)
-{
-    struct itimerspec off = {0};
-    timerfd_settime(d->schedule_fd, 0, &off, NULL);
-    d->has_next_scan = 0;
-}
-
-static void arm_at(struct daemon *d, struct timespec when)
-{
-    if (when.tv_sec == 0 && when.tv_nsec == 0)
-        when.tv_nsec = 1; /* an all-zero time would disarm the timer */
-    d->next_scan = when;
-    struct itimerspec its = {.it_value = when};
-    timerfd_settime(d->schedule_fd, TFD_TIMER_ABSTIME, &its, NULL);
-    d->has_next_scan = 1;
-}
-
-/* The next scheduled scan one interval after `from` (a past time fires at once). */
-void uwbd_schedule_arm(struct daemon *d, const struct timespec *from)
-{
-    if (d->cfg.interval_s <= 0)
-        schedule_off(d);
-    else
-        arm_at(d, add_seconds(*from, d->cfg.interval_s));
-}
-
-void uwbd_scan_now(struct daemon *d)
-{
-    if (d->scanning) {
-        d->scan_queued = 1;
-        return;
-    }
-    uwbd_lock_watch_check(d); /* also when inotify is unavailable */
-    if (d->exit_code) {
-        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL,
-                                "the state directory was deleted or replaced; uwbd is stopping");
-        return;
-    }
-    schedule_off(d);
-    d->last_cycle_start = monotonic_now();
-    worker_beat(d);
-    if (uwbd_worker_start(d) != 0) {
-        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL, "cannot start a scan (see the daemon's log)");
-        uwbd_schedule_arm(d, &d->last_cycle_start);
-        return;
-    }
-    report_status(d);
-    uwbd_test_hang_point("loop");
-}
-
-void uwbd_scan_request(struct daemon *d, enum scan_trigger why)
-{
-    if (why > d->pending_trigger)
-        d->pending_trigger = why;
-    uwbd_scan_now(d);
-}
-
-const char *uwbd_scan_trigger_name(enum scan_trigger why)
-{
-    switch (why) {
-    case TRIGGER_EVENT: return "event";
-    case TRIGGER_COMMAND: return "command";
-    case TRIGGER_SCHEDULE:
-    case TRIGGER_NONE: break;
-    }
-    return "schedule";
-}
-
-/* After a restart the schedule carries on from the latest verdict's time. */
-static void schedule_first(struct daemon *d)
-{
-    if (d->cfg.interval_s <= 0) {
-        schedule_off(d);
-        return;
-    }
-    double wait = d->cfg.interval_s;
-    time_t created_s;
-    if (d->latest && uwb_utc_parse(d->latest->created, &created_s) == 0) {
-        double elapsed = difftime(time(NULL), created_s);
-        if (elapsed >= 0) /* a clock set back says nothing about the schedule */
-            wait = elapsed >= wait ? 0 : wait - elapsed;
-    }
-    arm_at(d, add_seconds(monotonic_now(), wait));
-    if (wait < d->cfg.interval_s)
-        uwbd_log(UWBD_LOG_INFO,
-                 "next scheduled scan in %.0f s (the schedule carries on from the latest verdict)", wait);
-}
-
 static void load_baseline_info(struct daemon *d)
 {
     char why[512];
@@ -259,7 +149,7 @@ static void reload(struct daemon *d)
         timerfd_settime(d->console_retry_fd, 0, &off, NULL);
         uwbd_console_open(d);
     }
-    uwbd_outputs_reload(d, &previous); /* each output by its own rule (site.*, modbus.*) */
+    uwbd_outputs_reload(&d->port, &previous); /* each output by its own rule (site.*, modbus.*) */
     uwbd_schedule_arm(d, &d->last_cycle_start);
     uwbd_log(UWBD_LOG_NOTICE, "configuration reloaded from %s%s%s", d->options->config_path,
              rig_changed ? " (rig reopened)" : "", console_changed ? " (console reopened)" : "");
@@ -292,10 +182,20 @@ static void handle_signals(struct daemon *d)
 
 static void cycle_finished(struct daemon *d)
 {
-    uwbd_worker_collect(d);
+    enum uwbd_collected collected = uwbd_worker_collect(d);
+    if (collected == UWBD_COLLECTED_STOPPED)
+        uwbd_peers_send_verdict(d, d->job.cycle, NULL,
+                                "the scan was stopped (the daemon is shutting down); nothing recorded");
+    if (collected == UWBD_COLLECTED_CYCLE) {
+        const char *json = d->job.result.verdict_json;
+        /* the one place the outputs hear of a verdict; the peers after them */
+        uwbd_outputs_verdict(&d->port, json, uwb_monotonic_s() - d->job.started_s);
+        uwbd_peers_send_verdict(d, d->job.cycle, json, "out of memory for the verdict");
+        uwbd_cycle_result_free(&d->job.result);
+    }
     if (d->scanning)
         return;
-    report_status(d);
+    uwbd_report_status(d);
     if (d->reload_pending)
         reload(d);
     if (d->stopping) {
@@ -305,7 +205,7 @@ static void cycle_finished(struct daemon *d)
     }
     if (d->scan_queued) {
         d->scan_queued = 0;
-        uwbd_scan_now(d);
+        uwbd_peers_request_scan(d, TRIGGER_NONE);
     } else {
         uwbd_schedule_arm(d, &d->last_cycle_start);
     }
@@ -340,11 +240,6 @@ static double worker_stall_limit_s(const struct uwbd_config *cfg)
     return r->carriage.home_timeout_s + position_s + ANALYSIS_ALLOWANCE_S;
 }
 
-static void worker_beat(struct daemon *d)
-{
-    atomic_store(&d->worker_beat_ms, (long long)(uwb_monotonic_s() * 1000.0));
-}
-
 /* A watchdog tick: ping systemd if the main loop (here) and the scan
  * worker, when one runs, are alive; otherwise stay silent so that systemd
  * restarts the daemon after WatchdogSec. */
@@ -364,24 +259,6 @@ static void watchdog_tick(struct daemon *d)
     }
     d->watchdog_withheld = 0;
     uwbd_service_notify("WATCHDOG=1");
-}
-
-/* STATUS= for systemctl status: what the daemon does and the latest verdict. */
-static void report_status(struct daemon *d)
-{
-    if (d->stopping) {
-        uwbd_service_status("stopping");
-        return;
-    }
-    if (d->scanning) {
-        uwbd_service_status("scanning (cycle %lu)", d->job.cycle);
-        return;
-    }
-    if (d->latest)
-        uwbd_service_status("idle; latest verdict %s%s%s", uwb_status_name(d->latest->status),
-                            d->latest->created[0] ? " at " : "", d->latest->created);
-    else
-        uwbd_service_status("idle; no verdict yet");
 }
 
 static void watchdog_start(struct daemon *d)
@@ -427,7 +304,7 @@ static void on_schedule(void *ctx, int fd, short revents)
     d->has_next_scan = 0;
     if (!d->stopping && !d->scanning) {
         uwbd_log(UWBD_LOG_INFO, "scheduled scan");
-        uwbd_scan_request(d, TRIGGER_SCHEDULE);
+        uwbd_peers_request_scan(d, TRIGGER_SCHEDULE);
     }
 }
 
@@ -467,7 +344,7 @@ static int register_sources(struct daemon *d)
     for (size_t i = 0; i < sizeof own / sizeof own[0]; i++)
         if (uwbd_event_loop_add(loop, own[i].fd, POLLIN, own[i].fn, d) < 0)
             return -1;
-    return uwbd_outputs_watch(d, loop);
+    return uwbd_outputs_watch(&d->port, loop) != 0 || uwbd_peers_watch(d, loop) != 0 ? -1 : 0;
 }
 
 static void loop(struct daemon *d)
@@ -523,7 +400,8 @@ static void close_fd(int *fd)
 
 static void teardown(struct daemon *d)
 {
-    uwbd_outputs_close(d); /* the site's first: contacts de-energised, the fault contact opens */
+    uwbd_outputs_close(&d->port); /* the site's first: contacts de-energised, the fault contact opens */
+    uwbd_peers_close_all(d);
     if (d->rig) {
         uwb_rig_close(d->rig); /* outputs low: pulser idle, motor disabled */
         d->rig = NULL;
@@ -598,6 +476,64 @@ static void hint_emulated_board(const struct daemon *d, int rc)
              cwd, d->cfg.rig.gpio.endpoint, d->cfg.rig.digitiser.endpoint);
 }
 
+/* The port the output modules see the daemon through (output_module.h). */
+static const struct uwb_verdict_record *port_latest(void *daemon)
+{
+    const struct daemon *d = daemon;
+    return d->latest;
+}
+
+static int port_stopping(void *daemon)
+{
+    const struct daemon *d = daemon;
+    return d->stopping;
+}
+
+static void port_request_event_scan(void *daemon)
+{
+    uwbd_peers_request_scan(daemon, TRIGGER_EVENT);
+}
+
+static int port_acknowledge(void *daemon, char *err, size_t errlen)
+{
+    struct daemon *d = daemon;
+    return uwbd_outputs_acknowledge(&d->port, err, errlen);
+}
+
+static char *port_site_command(void *daemon, const char *text)
+{
+    return uwbd_site_command(daemon, text);
+}
+
+static void port_modbus_status(void *daemon, struct uwbd_modbus_status *out)
+{
+    const struct daemon *d = daemon;
+    *out = (struct uwbd_modbus_status){
+        .scan_count = (unsigned long)d->scans_this_run,
+        .scanning = d->scanning,
+        .device_fault = d->fault[0] != '\0',
+        /* d->rig belongs to the worker while a scan runs: only read it when none does. */
+        .rig_down = !d->scanning && !d->rig,
+        .has_baseline = d->has_baseline,
+    };
+}
+
+static void port_fill(struct daemon *d)
+{
+    d->port = (struct uwbd_daemon_port){
+        .daemon = d,
+        .cfg = &d->cfg,
+        .store = &d->store,
+        .events = &d->events,
+        .latest = port_latest,
+        .stopping = port_stopping,
+        .request_event_scan = port_request_event_scan,
+        .acknowledge = port_acknowledge,
+        .site_command = port_site_command,
+        .modbus_status = port_modbus_status,
+    };
+}
+
 static int start(struct daemon *d, char *created_dir, size_t created_len)
 {
     char err[1024];
@@ -649,10 +585,11 @@ static int start(struct daemon *d, char *created_dir, size_t created_len)
     load_baseline_info(d);
     uwbd_baseline_requests_restore(d);
     load_latest_verdict(d);
-    rc = uwbd_outputs_open(d); /* the site's lines, the console, Modbus */
+    rc = uwbd_outputs_open(&d->port); /* the site's lines, Modbus */
     if (rc != UWBD_EXIT_OK)
         return rc;
-    schedule_first(d);
+    uwbd_console_open(d);
+    uwbd_schedule_first(d);
     if (d->cfg.interval_s > 0)
         uwbd_log(UWBD_LOG_NOTICE, "uwbd %s running: state %s, control %s, a scan every %.0f s", UWBD_VERSION,
                  d->store.root, d->control.path, d->cfg.interval_s);
@@ -671,14 +608,15 @@ int uwbd_daemon_run(const struct uwbd_options *opt)
     d.lock_fd = d.lock_watch_fd = d.signal_fd = d.schedule_fd = d.console_retry_fd = d.done_fd =
         d.watchdog_fd = d.progress_fd = -1;
     d.control.fd = -1;
+    port_fill(&d);
     uwbd_peers_init(&d);
-    d.last_cycle_start = monotonic_now();
+    clock_gettime(CLOCK_MONOTONIC, &d.last_cycle_start);
     uwbd_log_setup(opt->log_level, opt->use_syslog);
     static char created_dir[UWBD_PATH_MAX];
     int rc = start(&d, created_dir, sizeof created_dir);
     if (rc == UWBD_EXIT_OK) {
         watchdog_start(&d);
-        report_status(&d);
+        uwbd_report_status(&d);
         uwbd_service_notify("READY=1");
         loop(&d);
         uwbd_service_notify("STOPPING=1");

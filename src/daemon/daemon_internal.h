@@ -16,20 +16,17 @@
 #include "config/config_load.h"
 #include "control/control_socket.h"
 #include "loop/event_loop.h"
-#include "daemon/daemon.h"
+#include "daemon/output_module.h"
 #include "control/console_line.h"
 #include "control/line_buffer.h"
 #include "daemon/scan_cycle.h"
 #include "control/scan_progress.h"
 #include "state/state_writes.h"
 #include "state/store.h"
-#include "integrations/alarm_contacts.h"
-#include "integrations/mqtt_publisher.h"
-#include "integrations/prometheus_textfile.h"
-#include "integrations/site_io.h"
-#include "integrations/modbus_server.h"
 #include "uwb/link.h"
 #include "uwb/rig.h"
+
+struct uwbd_options; /* daemon/daemon.h: the command line's */
 
 #define MAX_CLIENTS 16
 /* Clients other than root and the daemon's own user (control-group members)
@@ -80,14 +77,6 @@ struct peer {
 struct scan_start {
     uid_t uid;
     double at_s; /* CLOCK_MONOTONIC; 0: a free entry */
-};
-
-/* `contacts test` (contacts_test.c): 0 when none runs, else the phase. */
-struct uwbd_contacts_test {
-    int phase;
-    int hold_s;
-    double phase_end_s;  /* CLOCK_MONOTONIC */
-    double last_start_s; /* CLOCK_MONOTONIC of the last test's start; 0: none yet */
 };
 
 struct scan_job {
@@ -149,35 +138,28 @@ struct daemon {
     _Atomic int progress_pass, progress_passes;
     _Atomic long long progress_start_ms, progress_first_ms, progress_last_ms;
 
-    char *latest_verdict;                      /* VERDICT line or NULL: what is sent and stored */
-    struct uwb_verdict_record *latest;         /* the same verdict as a record, or NULL: what is read */
-    struct uwbd_site_io *site_io;              /* the site's lines and event input (output_site_io.c) */
-    struct uwbd_mqtt *mqtt;                    /* NULL: MQTT off (output_mqtt.c) */
-    struct uwbd_contacts contacts;             /* the alarm contacts' logic (output_contacts.c) */
-    struct uwbd_contacts_test contacts_test;   /* lines held by `contacts test` (contacts_test.c) */
-    struct uwbd_contacts_memory contacts_kept; /* what contacts-latch.json holds (output_contacts.c) */
-    int contacts_kept_valid;                   /* ...as far as known: 0 until written or read */
-    int contacts_latch_failing;                /* log a latch file that cannot be written once */
-    struct uwbd_prometheus_metrics prom;       /* the textfile's figures (output_textfile.c) */
-    int prom_failing;                          /* log a failing textfile once, not every verdict */
-    enum scan_trigger pending_trigger;         /* what asked for the next scan */
-    struct uwbd_modbus_server *modbus;         /* NULL: Modbus off (output_modbus.c) */
-    int csv_failing; /* log a failing CSV file once, not every verdict (output_csv.c) */
+    char *latest_verdict;              /* VERDICT line or NULL: what is sent and stored */
+    struct uwb_verdict_record *latest; /* the same verdict as a record, or NULL: what is read */
+    enum scan_trigger pending_trigger; /* what asked for the next scan */
+    /* What the output modules see of the daemon (daemon.c fills it). */
+    struct uwbd_daemon_port port;
     int has_baseline;
     struct uwbd_baseline_info baseline;
 
-    /* Every fd the main loop polls (daemon.c, and the output modules'
-     * watch hooks: outputs.h); the ids of the entries whose fds change. */
+    /* Every fd the main loop polls (daemon.c, peer_watch.c and the output
+     * modules' watch hooks: outputs.h); the ids of the peers' entries. */
     struct uwbd_event_loop events;
-    int site_timer_id, mqtt_command_id;
     int control_id, console_id, client_id[MAX_CLIENTS];
-    int modbus_id[UWBD_MODBUS_POLL_FDS];
 };
 
 /* worker.c */
 int uwbd_worker_start(struct daemon *d); /* 0, or -1 (logged) */
 void uwbd_worker_request_stop(struct daemon *d);
-void uwbd_worker_collect(struct daemon *d); /* after done_fd fired */
+/* After done_fd fired: the cycle's end taken in (d->latest, the baseline
+ * request, the state directory's writes); what the caller tells whom. A
+ * CYCLE leaves d->job.result for the caller to publish and free. */
+enum uwbd_collected { UWBD_COLLECTED_NOTHING, UWBD_COLLECTED_STOPPED, UWBD_COLLECTED_CYCLE };
+enum uwbd_collected uwbd_worker_collect(struct daemon *d);
 void uwbd_worker_install_stop_handler(void);
 int uwbd_rig_open_logged(struct daemon *d, int *detail, char *err, size_t errlen);
 
@@ -198,6 +180,13 @@ void uwbd_peers_send_progress(struct daemon *d);
 /* The running scan's progress now (0 when no scan runs). */
 int uwbd_scan_progress_now(struct daemon *d, struct uwbd_scan_progress *out);
 void uwbd_console_open(struct daemon *d);
+/* uwbd_scan_start, the peers waiting for the cycle told when it cannot start. */
+void uwbd_peers_request_scan(struct daemon *d, enum scan_trigger why);
+
+/* peer_watch.c: the peers' entries in the main loop (0, or -1 when it is
+ * full); every peer and the control socket closed. */
+int uwbd_peers_watch(struct daemon *d, struct uwbd_event_loop *loop);
+void uwbd_peers_close_all(struct daemon *d);
 
 /* baseline_requests.c */
 char *uwbd_baseline_request(struct daemon *d, int scans, int force); /* `baseline set [N|force]`: the reply */
@@ -210,24 +199,24 @@ void uwbd_baseline_request_finished(struct daemon *d, unsigned long request,
 int uwbd_lock_watch_open(struct daemon *d);   /* 0, or -1 (logged; the daemon runs unwatched) */
 void uwbd_lock_watch_check(struct daemon *d); /* stops the daemon when the lock is no longer ours */
 
-/* daemon.c */
+/* scan_start.c: the schedule armed one interval after `from`, or at start
+ * from the latest verdict's time; a cycle started now or queued behind the
+ * running one (why: what asked, TRIGGER_NONE for a queued one): NULL, or
+ * why it cannot start, for the peers waiting for it. */
 void uwbd_schedule_arm(struct daemon *d, const struct timespec *from);
-void uwbd_scan_now(struct daemon *d);                            /* start a cycle, or queue one */
-void uwbd_scan_request(struct daemon *d, enum scan_trigger why); /* uwbd_scan_now, saying why */
-const char *uwbd_scan_trigger_name(enum scan_trigger why);
+void uwbd_schedule_first(struct daemon *d);
+const char *uwbd_scan_start(struct daemon *d, enum scan_trigger why);
+void uwbd_worker_beat(struct daemon *d);   /* the worker shows a sign of life (the watchdog's) */
+void uwbd_report_status(struct daemon *d); /* STATUS= for systemctl status */
 
 /* contacts_test.c: `contacts test [force] [S]` (the reply) from `who`, a
- * peer already found to be allowed; whether one runs (the lines are then
- * its, not the verdicts'), ending one early (why: logged) */
+ * peer already found to be allowed (the sequence runs in output_contacts.c). */
 char *uwbd_contacts_test_start(struct daemon *d, int hold_s, int force, const char *who);
 /* Root, the daemon's own user, the console and contacts.test_group's
  * members may test the contacts: 0, or -1 with `why` naming who may. */
 int uwbd_contacts_test_permitted(const struct daemon *d, const struct peer *p, char *why, size_t n);
-int uwbd_contacts_testing(const struct daemon *d);
-void uwbd_contacts_test_end(struct daemon *d, const char *why);
-int uwbd_contacts_test_watch(struct daemon *d, struct uwbd_event_loop *loop);
 
-/* site_commands.c: run the commands MQTT received */
-void uwbd_run_site_commands(struct daemon *d);
+/* site_commands.c: a command MQTT received, run: its reply (malloc'd) */
+char *uwbd_site_command(struct daemon *d, const char *text);
 
 #endif

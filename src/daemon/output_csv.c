@@ -2,14 +2,14 @@
  * `uwbd ctl --csv history`, src/output/verdict_csv.c), the file rotated
  * with the archive: it keeps the newest retention.max_scans rows. The file
  * is replaced atomically each time, so a reader never sees half a row. */
+#include "daemon/output_csv.h"
+
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
-#include "daemon/outputs.h"
-#include "daemon_internal.h"
 #include "util/log.h"
 #include "uwb/atomic_file.h"
 #include "uwb/read_file.h"
@@ -18,6 +18,8 @@
 /* A file past this is not ours to rewrite (1000 rows take about 300 kB). */
 #define CSV_FILE_MAX ((size_t)64 * 1024 * 1024)
 #define CSV_ROW_MAX 8192
+
+static int csv_failing; /* log a failing CSV file once, not every verdict */
 
 /* The whole rows of the old file: each ends in CRLF outside quotes (a
  * quoted reason may hold line breaks); text past the last one (a row torn
@@ -94,31 +96,31 @@ done:
     return rc;
 }
 
-static void csv_verdict(struct daemon *d, const struct uwb_verdict_record *v, const char *json,
-                        double duration_s)
+static void csv_verdict(const struct uwbd_daemon_port *port, const struct uwb_verdict_record *v,
+                        const char *json, double duration_s)
 {
     (void)duration_s;
-    if (!d->cfg.csv.enabled || !json || !v)
+    if (!port->cfg->csv.enabled || !json || !v)
         return;
     char path[UWBD_PATH_MAX + 32], row[CSV_ROW_MAX], err[UWBD_PATH_MAX + 512];
-    if (d->cfg.csv.path[0])
-        snprintf(path, sizeof path, "%s", d->cfg.csv.path);
-    else if (uwbd_path_join(path, sizeof path, d->cfg.state_dir, "verdicts.csv") != 0)
+    if (port->cfg->csv.path[0])
+        snprintf(path, sizeof path, "%s", port->cfg->csv.path);
+    else if (uwbd_path_join(path, sizeof path, port->cfg->state_dir, "verdicts.csv") != 0)
         return;
     int rc = -1;
     if (uwb_verdict_csv_row(v, row, sizeof row) < 0)
         snprintf(err, sizeof err, "%s: the verdict's row is longer than %d bytes", path, CSV_ROW_MAX);
     else
-        rc = uwbd_csv_file_add(path, row, d->cfg.retention_max_scans, err, sizeof err);
+        rc = uwbd_csv_file_add(path, row, port->cfg->retention_max_scans, err, sizeof err);
     if (rc != 0) {
-        if (!d->csv_failing)
+        if (!csv_failing)
             uwbd_log(UWBD_LOG_ERR, "csv: %s (tried again at every verdict)", err);
-        d->csv_failing = 1;
+        csv_failing = 1;
         return;
     }
-    if (d->csv_failing)
+    if (csv_failing)
         uwbd_log(UWBD_LOG_NOTICE, "csv: %s written again", path);
-    d->csv_failing = 0;
+    csv_failing = 0;
 }
 
 const struct uwbd_output_module uwbd_output_csv = {

@@ -2,17 +2,25 @@
  * the event input share, and the timer that reads the event input (an
  * input, not an output: it asks for scans). Opened again on a reload only
  * when the site's configuration changed. */
+#include "daemon/output_site_io.h"
+
 #include <poll.h>
 
 #include "control/exit_codes.h"
-#include "daemon/outputs.h"
-#include "daemon_internal.h"
 #include "util/log.h"
 
-static int site_io_open(struct daemon *d)
+static struct uwbd_site_io *lines; /* NULL: not open */
+static int timer_id = -1;          /* the event input's timer in the main loop */
+
+struct uwbd_site_io *uwbd_site_lines(void)
+{
+    return lines;
+}
+
+static int site_io_open(const struct uwbd_daemon_port *port)
 {
     char err[1024];
-    int rc = uwbd_site_io_open(&d->site_io, &d->cfg.site, err, sizeof err);
+    int rc = uwbd_site_io_open(&lines, &port->cfg->site, err, sizeof err);
     if (rc == UWB_GPIO_OK)
         return 0;
     int code = uwbd_exit_for_rig_open(UWB_RIG_ERR_GPIO, rc);
@@ -20,19 +28,20 @@ static int site_io_open(struct daemon *d)
     return code;
 }
 
-static void site_io_close(struct daemon *d)
+static void site_io_close(const struct uwbd_daemon_port *port)
 {
-    uwbd_site_io_close(d->site_io); /* contacts de-energised: the fault contact opens */
-    d->site_io = NULL;
+    (void)port;
+    uwbd_site_io_close(lines); /* contacts de-energised: the fault contact opens */
+    lines = NULL;
 }
 
-static void site_io_reload(struct daemon *d, const struct uwbd_config *previous)
+static void site_io_reload(const struct uwbd_daemon_port *port, const struct uwbd_config *previous)
 {
-    if (!uwbd_site_changed(d, previous))
+    if (!uwbd_site_changed(port->cfg, previous))
         return;
-    site_io_close(d);
+    site_io_close(port);
     char err[1024];
-    if (uwbd_site_io_open(&d->site_io, &d->cfg.site, err, sizeof err) != UWB_GPIO_OK)
+    if (uwbd_site_io_open(&lines, &port->cfg->site, err, sizeof err) != UWB_GPIO_OK)
         uwbd_log(UWBD_LOG_ERR,
                  "reload: the site's lines: %s; alarm contacts and event input are off until "
                  "the next reload",
@@ -43,25 +52,25 @@ static void site_io_reload(struct daemon *d, const struct uwbd_config *previous)
 static void site_io_tick(void *ctx, int fd, short revents)
 {
     (void)fd, (void)revents;
-    struct daemon *d = ctx;
-    if (uwbd_site_io_tick(d->site_io) && !d->stopping)
-        uwbd_scan_request(d, TRIGGER_EVENT);
+    const struct uwbd_daemon_port *port = ctx;
+    if (uwbd_site_io_tick(lines) && !port->stopping(port->daemon))
+        port->request_event_scan(port->daemon);
 }
 
 /* The timer changes when a reload opens the lines again. */
 static int site_io_prepare(void *ctx)
 {
-    struct daemon *d = ctx;
-    uwbd_event_loop_set(&d->events, d->site_timer_id, uwbd_site_io_timer_fd(d->site_io), POLLIN);
+    const struct uwbd_daemon_port *port = ctx;
+    uwbd_event_loop_set(port->events, timer_id, uwbd_site_io_timer_fd(lines), POLLIN);
     return -1;
 }
 
-static int site_io_watch(struct daemon *d, struct uwbd_event_loop *loop)
+static int site_io_watch(const struct uwbd_daemon_port *port, struct uwbd_event_loop *loop)
 {
-    d->site_timer_id = uwbd_event_loop_add(loop, -1, POLLIN, site_io_tick, d);
-    if (d->site_timer_id < 0)
+    timer_id = uwbd_event_loop_add(loop, -1, POLLIN, site_io_tick, (void *)port);
+    if (timer_id < 0)
         return -1;
-    return uwbd_event_loop_add_hook(loop, site_io_prepare, NULL, d) < 0 ? -1 : 0;
+    return uwbd_event_loop_add_hook(loop, site_io_prepare, NULL, (void *)port) < 0 ? -1 : 0;
 }
 
 const struct uwbd_output_module uwbd_output_site_io = {

@@ -17,6 +17,9 @@
 
 #include "daemon_internal.h"
 #include "control/command.h"
+#include "daemon/output_contacts.h"
+#include "daemon/output_modbus.h"
+#include "daemon/output_mqtt.h"
 #include "daemon/outputs.h"
 #include "util/log.h"
 #include "control/reply.h"
@@ -24,6 +27,7 @@
 #include "state/verdict_log.h"
 #include "uwb/reply_text.h"
 #include "uwb/monotonic.h"
+#include "uwb/version.h"
 
 void uwbd_peers_init(struct daemon *d)
 {
@@ -264,9 +268,9 @@ static char *status_reply(struct daemon *d)
     struct uwbd_scan_progress progress;
     int has_progress = uwbd_scan_progress_now(d, &progress);
     struct uwbd_mqtt_link mqtt;
-    int has_mqtt = uwbd_mqtt_link_now(d, &mqtt);
+    int has_mqtt = uwbd_mqtt_link_now(&mqtt);
     struct uwbd_contact_states contacts;
-    uwbd_contact_states(d, &contacts);
+    uwbd_contact_states(&contacts);
     struct statvfs fs;
     int has_free = statvfs(d->store.root, &fs) == 0;
     struct uwbd_status st = {
@@ -295,7 +299,7 @@ static char *status_reply(struct daemon *d)
         .mqtt = has_mqtt ? &mqtt : NULL,
         .asset_id = d->cfg.site.asset_id,
         .modbus_endpoint = d->cfg.modbus.enabled ? d->cfg.modbus.endpoint : NULL,
-        .modbus_listening = d->modbus != NULL,
+        .modbus_listening = uwbd_modbus_listening(),
         .contacts = contacts.watch >= 0 ? &contacts : NULL,
         .now = time(NULL),
         .has_state_dir_free = has_free,
@@ -401,16 +405,16 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         }
         /* The peer waits for the cycle that starts now, or the one queued after the running one. */
         p->waiting_for = d->cycles_started + 1;
-        uwbd_scan_request(d, TRIGGER_COMMAND);
+        uwbd_peers_request_scan(d, TRIGGER_COMMAND);
         return;
     case UWB_COMMAND_ACK: {
         char err[160];
         struct uwbd_contact_states st;
-        if (uwbd_contacts_acknowledge(d, err, sizeof err) != 0) {
+        if (uwbd_outputs_acknowledge(&d->port, err, sizeof err) != 0) {
             reply(d, p, uwbd_reply_error(err));
             return;
         }
-        uwbd_contact_states(d, &st);
+        uwbd_contact_states(&st);
         reply(d, p, uwbd_reply_ack(&st, d->latest));
         return;
     }
@@ -427,7 +431,7 @@ static void run_command(struct daemon *d, struct peer *p, const struct uwb_comma
         uwbd_log(UWBD_LOG_NOTICE, "%s: event: a scan follows as soon as possible",
                  p->kind == PEER_CONSOLE ? "console" : "control");
         reply(d, p, uwbd_reply_event(d->scanning));
-        uwbd_scan_request(d, TRIGGER_EVENT);
+        uwbd_peers_request_scan(d, TRIGGER_EVENT);
         return;
     case UWB_COMMAND_CONTACTS_TEST: {
         char who[48], refused[300];
@@ -724,4 +728,11 @@ void uwbd_peers_send_progress(struct daemon *d)
         send_line(d, all[i], line);
     }
     free(line);
+}
+
+void uwbd_peers_request_scan(struct daemon *d, enum scan_trigger why)
+{
+    const char *cannot = uwbd_scan_start(d, why);
+    if (cannot)
+        uwbd_peers_send_verdict(d, d->cycles_started + 1, NULL, cannot);
 }

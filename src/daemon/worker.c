@@ -14,7 +14,6 @@
 
 #include "daemon_internal.h"
 #include "util/log.h"
-#include "daemon/outputs.h"
 #include "daemon/test_hang.h"
 #include "daemon/trend.h"
 #include "uwb/monotonic.h"
@@ -156,6 +155,17 @@ static void *worker_main(void *arg)
     return NULL;
 }
 
+static const char *trigger_name(enum scan_trigger why)
+{
+    switch (why) {
+    case TRIGGER_EVENT: return "event";
+    case TRIGGER_COMMAND: return "command";
+    case TRIGGER_SCHEDULE:
+    case TRIGGER_NONE: break;
+    }
+    return "schedule";
+}
+
 int uwbd_worker_start(struct daemon *d)
 {
     memset(&d->job, 0, sizeof d->job);
@@ -165,7 +175,7 @@ int uwbd_worker_start(struct daemon *d)
     d->job.request.now = wall.tv_sec;
     d->job.request.now_ms = wall.tv_nsec / 1000000;
     d->job.started_s = uwb_monotonic_s();
-    d->job.request.trigger = uwbd_scan_trigger_name(d->pending_trigger);
+    d->job.request.trigger = trigger_name(d->pending_trigger);
     d->pending_trigger = TRIGGER_NONE;
     uwbd_baseline_request_fill(d, &d->job.request);
     int pending = d->job.request.make_baseline;
@@ -198,23 +208,21 @@ void uwbd_worker_request_stop(struct daemon *d)
         pthread_kill(d->job.thread, SIGUSR1);
 }
 
-void uwbd_worker_collect(struct daemon *d)
+enum uwbd_collected uwbd_worker_collect(struct daemon *d)
 {
     uint64_t count;
     if (read(d->done_fd, &count, sizeof count) != sizeof count)
-        return;
+        return UWBD_COLLECTED_NOTHING;
     if (!d->scanning)
-        return;
+        return UWBD_COLLECTED_NOTHING;
     pthread_join(d->job.thread, NULL);
     d->scanning = 0;
     struct uwbd_cycle_result *res = &d->job.result;
     if (res->outcome == UWBD_CYCLE_STOPPED) {
         uwbd_log(UWBD_LOG_NOTICE, "scan cycle %lu stopped before its end; nothing recorded, hardware safe",
                  d->job.cycle);
-        uwbd_peers_send_verdict(d, d->job.cycle, NULL,
-                                "the scan was stopped (the daemon is shutting down); nothing recorded");
         uwbd_cycle_result_free(res);
-        return;
+        return UWBD_COLLECTED_STOPPED;
     }
     d->scans_this_run++;
     uwbd_state_writes_after_cycle(&d->writes, res->write_error, time(NULL));
@@ -226,7 +234,5 @@ void uwbd_worker_collect(struct daemon *d)
         res->verdict = NULL;
     }
     uwbd_baseline_request_finished(d, d->job.baseline_request, res);
-    /* the one place the outputs hear of a verdict */
-    uwbd_outputs_verdict(d, res->verdict_json, uwb_monotonic_s() - d->job.started_s);
-    uwbd_cycle_result_free(res);
+    return UWBD_COLLECTED_CYCLE;
 }

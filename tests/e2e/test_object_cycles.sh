@@ -7,6 +7,11 @@
 # the store).
 #
 # Files that are one job split for size are one node; each group says why.
+# Then files (issue 47): a call or a private #include between two files of
+# src/ is an arrow, and no file may reach itself through them, so any file
+# is read knowing only the ones it uses. The daemon's own files are no
+# group: the output modules see the daemon through a port
+# (src/daemon/output_module.h), not by calling back into it.
 set -euo pipefail
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
@@ -18,17 +23,14 @@ groups=$(cat <<'EOF'
 # the backends use the front end's helpers.
 gpio src/gpio/gpio.o src/gpio/gpio_emulated.o src/hw/gpio_libgpiod.o
 link src/link/link.o src/link/link_socket.o
-# The daemon's event loop and the parts of it that share its state
-# (src/daemon/daemon_internal.h): peers, worker thread, lock watch, baseline requests,
-# the commands MQTT brings.
-daemon-loop src/daemon/daemon.o src/daemon/peers.o src/daemon/worker.o src/daemon/lock_watch.o
-daemon-loop src/daemon/baseline_requests.o src/daemon/site_commands.o
-# The output modules' table (src/daemon/outputs.h) and its modules: they read the daemon's
-# state (registers, contacts, peers) and turn coils, the event input and MQTT into its commands;
-# `contacts test` holds the contacts module's lines for a while.
-daemon-loop src/daemon/outputs.o src/daemon/output_clients.o src/daemon/output_modbus.o
-daemon-loop src/daemon/output_site_io.o src/daemon/output_mqtt.o src/daemon/output_contacts.o
-daemon-loop src/daemon/output_textfile.o src/daemon/contacts_test.o
+# One job split for size, one header between them (for the files' check
+# below, which counts includes too): the control socket and its account
+# of a refused connect; the carriage and its step timing (pacer: when,
+# ramp: how fast), both declared in carriage.h; the configuration and its
+# site part, checked against the whole.
+control-socket src/control/control_socket.o src/control/control_denied.o
+carriage src/rig/carriage.o src/rig/pacer.o src/rig/ramp.o
+config src/config/config.h src/config/site_config.o
 EOF
 )
 
@@ -78,6 +80,39 @@ if ! awk '{ print $1, $2 }' "$work/node-edges" | sort -u | tsort > /dev/null 2> 
         done
     done
     fail "cycles between objects of different jobs"
+fi
+
+# Files: the calls above and the private includes (#include "FOLDER/x.h",
+# or "x.h" beside the includer), each file's .c and .h one node ("src/daemon/peers"),
+# a group's files its group. No circle, and the check must see one planted.
+
+awk '{ print $1, $2, $1 " uses " $3 }' "$work/edges" | sed -E 's/\.o / /; s/\.o / /' > "$work/file-uses"
+(cd "$repo" && grep -rHE '^#include "[a-z_]+(/[a-z_0-9]+)?\.h"' src --include='*.c' --include='*.h') |
+    sed -E 's|^([^:]*)\.[ch]:#include "([^"]*)\.h".*$|\1 \2 \1 includes \2.h|' |
+    awk '{ user = $1; h = $2; if (h !~ /\//) { d = user; sub(/\/[^\/]*$/, "", d); h = d "/" h } else h = "src/" h
+           if (h !~ /^src\/uwb\// && user != h) { $2 = h; print } }' >> "$work/file-uses"
+awk 'NR == FNR { sub(/\.[oh]$/, "", $1); node[$1] = $2; next }
+     { u = ($1 in node) ? node[$1] : $1; p = ($2 in node) ? node[$2] : $2; if (u != p) { $1 = u; $2 = p; print } }' \
+    "$work/node" "$work/file-uses" | sort -k1,2 -u > "$work/file-arrows"
+[[ $(grep -c '^src/daemon/.* src/daemon/' "$work/file-arrows") -gt 20 ]] || fail "arrows between files of src/daemon/ not found"
+# file_circle ARROWS: 0 and the circle's files with an arrow each way on stderr when there is one.
+file_circle() {
+    awk '{ print $1, $2 }' "$1" | tsort > /dev/null 2> "$work/file-loops" && return 1
+    loop=$(grep -v 'input contains a loop' "$work/file-loops" | sed 's/^tsort: //' | sort -u)
+    for a in $loop; do
+        for b in $loop; do
+            awk -v a="$a" -v b="$b" '$1 == a && $2 == b { sub(/^[^ ]+ [^ ]+ /, ""); print "    " $0; exit }' "$1" >&2
+        done
+    done
+    return 0
+}
+# Planted: the table (outputs) calling a module back from the module's side.
+planted=$(awk '$1 == "src/daemon/outputs" && $2 == "src/daemon/output_csv" { print $2, $1, "planted"; exit }' "$work/file-arrows")
+[[ -n $planted ]] || fail "no arrow from src/daemon/outputs to src/daemon/output_csv to plant a circle against"
+{ cat "$work/file-arrows"; echo "$planted"; } > "$work/file-arrows-planted"
+file_circle "$work/file-arrows-planted" 2> /dev/null || fail "a planted circle (output_csv -> outputs -> output_csv) was not seen"
+if file_circle "$work/file-arrows"; then
+    fail "files of src/ that reach each other (a circle), with an arrow each way (above)"
 fi
 
 # Folders too: arrows between the folders of src/ point one way only, so a
@@ -177,4 +212,5 @@ ctl_to_daemon=$(awk '$1 == "cli" && $2 == "daemon" && $3 ~ /^src\/cli\/(ctl_cli|
 [[ -z $ctl_to_daemon ]] || { echo "$ctl_to_daemon" >&2; fail "uwbd ctl leans on the daemon"; }
 
 echo "PASS: $(echo "$objects" | wc -l) objects, $(awk '{ print $1, $2 }' "$work/node-edges" | sort -u | wc -l) uses between them, no cycle;" \
+    "$(awk '{ print $1, $2 }' "$work/file-arrows" | sort -u | wc -l) arrows between files of src/ (calls, private includes), no circle;" \
     "$(wc -l < "$work/folder-arrows") arrows between $(awk '{ print $1; print $2 }' "$work/folder-arrows" | sort -u | wc -l) folders, all one way and down"

@@ -7,7 +7,7 @@
 
 #include "unity.h"
 
-#include "daemon/outputs.h"
+#include "daemon/output_csv.h"
 #include "scratch_support.h"
 #include "uwb/verdict_csv.h"
 
@@ -68,6 +68,32 @@ static void test_an_unwritable_place_is_an_error_naming_it(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "no-such-dir"), err);
 }
 
+/* Issue 47: the module needs nothing of the daemon but its port: the
+ * configuration in force; a verdict's row appended, none when the verdict
+ * line could not be written or csv.enabled is false. */
+static void test_the_module_runs_on_a_port_alone(void)
+{
+    static struct uwbd_config cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.csv.enabled = 1;
+    snprintf(cfg.csv.path, sizeof cfg.csv.path, "%s", path);
+    const struct uwbd_daemon_port port = {.cfg = &cfg};
+    static struct uwb_verdict_record rec;
+    memset(&rec, 0, sizeof rec);
+    char row[4096];
+    TEST_ASSERT_GREATER_THAN(0, uwb_verdict_csv_row(&rec, row, sizeof row));
+
+    uwbd_output_csv.verdict(&port, &rec, NULL, 1.0); /* no verdict line: no row */
+    FILE *f = fopen(path, "r");
+    TEST_ASSERT_NULL(f);
+    uwbd_output_csv.verdict(&port, &rec, "{}", 1.0);
+    snprintf(expected, sizeof expected, "%s%s", uwb_verdict_csv_header(), row);
+    scratch_assert_file_holds(path, expected, strlen(expected));
+    cfg.csv.enabled = 0;
+    uwbd_output_csv.verdict(&port, &rec, "{}", 1.0);
+    scratch_assert_file_holds(path, expected, strlen(expected));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -75,5 +101,6 @@ int main(void)
     RUN_TEST(test_the_newest_rows_are_kept);
     RUN_TEST(test_a_torn_tail_and_an_old_header_are_replaced);
     RUN_TEST(test_an_unwritable_place_is_an_error_naming_it);
+    RUN_TEST(test_the_module_runs_on_a_port_alone);
     return UNITY_END();
 }

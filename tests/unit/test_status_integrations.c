@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "control/reply.h"
+#include "control/scan_progress.h"
 #include "state/state_writes.h"
 #include "integrations/site_io.h"
 
@@ -142,11 +143,39 @@ static void test_a_state_directory_refusing_writes_shows_until_it_takes_them(voi
     cJSON_Delete(o);
 }
 
+/* Issue 47: `status` nests the running scan's progress as the PROGRESS
+ * line's fields, in the same order and the same figures, without its
+ * "class" (built once, not printed and parsed back). */
+static void test_progress_is_the_progress_line_without_its_class(void)
+{
+    struct uwbd_scan_progress p;
+    uwbd_scan_progress_estimate_passes(2, 3, 7, 21, 0.0, 2.0, 40.0, 41.3, &p);
+    struct uwbd_status st = {.version = "x", .state = "scanning", .progress = &p};
+    cJSON *o = status(&st);
+    char *nested = cJSON_PrintUnformatted(cJSON_GetObjectItemCaseSensitive(o, "progress"));
+    char *line = uwbd_reply_progress(&p);
+    TEST_ASSERT_NOT_NULL(nested);
+    TEST_ASSERT_NOT_NULL(line);
+    const char *after_class = "{\"class\":\"PROGRESS\",";
+    TEST_ASSERT_EQUAL_INT(0, strncmp(line, after_class, strlen(after_class)));
+    TEST_ASSERT_EQUAL_STRING(line + strlen(after_class), nested + 1);
+    TEST_ASSERT_NOT_NULL(strstr(nested, "\"left_s\":"));
+    free(line);
+    free(nested);
+    cJSON_Delete(o);
+    /* No scan: no progress. */
+    st.progress = NULL;
+    o = status(&st);
+    TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(o, "progress"));
+    cJSON_Delete(o);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_the_integrations_are_shown);
     RUN_TEST(test_what_is_off_is_left_out_or_says_so);
     RUN_TEST(test_a_state_directory_refusing_writes_shows_until_it_takes_them);
+    RUN_TEST(test_progress_is_the_progress_line_without_its_class);
     return UNITY_END();
 }

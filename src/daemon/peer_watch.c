@@ -1,26 +1,10 @@
-/* The control clients' output module: the control socket's clients and the
- * console hear each verdict line (those waiting for the cycle, and those
- * that asked to `watch`). The control socket itself is opened early in
- * start(), before the hardware, so that a second uwbd stops there; this
- * module opens the console, registers the peers' fds and closes them all. */
+/* The peers in the main loop: the control socket, its clients and the
+ * console, each an entry whose fd and interest change round by round, and
+ * all of them closed at the end. The control socket itself is opened early
+ * in start(), before the hardware, so that a second uwbd stops there. */
 #include <poll.h>
 
-#include "daemon/outputs.h"
 #include "daemon_internal.h"
-#include "util/log.h"
-
-static int clients_open(struct daemon *d)
-{
-    uwbd_console_open(d);
-    return 0;
-}
-
-static void clients_verdict(struct daemon *d, const struct uwb_verdict_record *v, const char *json,
-                            double duration_s)
-{
-    (void)v, (void)duration_s;
-    uwbd_peers_send_verdict(d, d->job.cycle, json, "out of memory for the verdict");
-}
 
 static void accept_client(void *ctx, int fd, short revents)
 {
@@ -60,7 +44,7 @@ static int clients_prepare(void *ctx)
     return timeout_ms;
 }
 
-static int clients_watch(struct daemon *d, struct uwbd_event_loop *loop)
+int uwbd_peers_watch(struct daemon *d, struct uwbd_event_loop *loop)
 {
     if (uwbd_event_loop_add_hook(loop, clients_prepare, NULL, d) < 0)
         return -1;
@@ -78,7 +62,7 @@ static int clients_watch(struct daemon *d, struct uwbd_event_loop *loop)
     return 0;
 }
 
-static void clients_close(struct daemon *d)
+void uwbd_peers_close_all(struct daemon *d)
 {
     for (int i = 0; i < MAX_CLIENTS; i++)
         if (d->clients[i].in_use)
@@ -87,11 +71,3 @@ static void clients_close(struct daemon *d)
         uwbd_peer_close(&d->console);
     uwbd_control_close(&d->control);
 }
-
-const struct uwbd_output_module uwbd_output_clients = {
-    .name = "control clients",
-    .open = clients_open,
-    .verdict = clients_verdict,
-    .watch = clients_watch,
-    .close = clients_close,
-};
