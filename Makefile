@@ -17,25 +17,26 @@
 #                         callgrind counts them (issue 44; valgrind installed if missing) and
 #                         16 MiB peak RSS; its time is shown against 100 ms, not judged
 #   make accuracy         the accuracy report on the full-wave fixtures (build/uwbaccuracy);
-#                         it also rewrites the README's accuracy tables (axial and radial), then
+#                         it also rewrites tests/accuracy.md's tables (axial and radial), then
 #                         prints every shared noiseless pair's figure, sigma terms and error/sigma
 #   make accuracy-model-term  the axial sigma's share of the move, calibrated on every noiseless
 #                         full-wave pair, and each pair's figure, sigma terms and error/sigma
 #   make accuracy-radial-limits  single-disk changes and a lean in the simulator: where the
-#                         radial figure stops (README's table)
+#                         radial figure stops (tests/accuracy.md's table)
 #   make readme-verdict   rewrite the README's paper-pair figure and example verdict from a
 #                         run of the command it shows (make test checks they match)
 #   make readme-images    redraw the README's example images (tools/readme/images) with
 #                         the replay command it shows
-#   make readme-bench     rewrite the README's `make bench` block from a run of the bench
-#   make readme-arch      redraw the README's graph of what uses what (rooms of src/, files of
+#   make readme-bench     rewrite tools/bench/README.md's `make bench` block from a run of the bench
+#   make readme-docs      rewrite the README's list of documents and chapters from their headings
+#   make readme-arch      redraw src/README.md's graph of what uses what (rooms of src/, files of
 #                         src/daemon/) from the objects and includes (make test checks it)
 #   make soak             SOAK_CYCLES (1000) scan cycles of uwbd on the emulated board:
 #                         RSS, open fds and archive size must stay flat; then
 #                         SOAK_VALGRIND_CYCLES (30) under valgrind's leak check
 #   make install          $(DESTDIR)$(PREFIX)/bin/{uwbd,uwbsim}, the systemd unit (and the
 #                         drop-in bounding systemd-time-wait-sync to 5 min), udev rules, the Pi sample config (share/uwbd), board docs (share/doc/uwbd)
-#                         and manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1), uwbsim(1)
+#                         and manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1), uwbsim(1) and the section 7 ones (uwbd(7) first)
 #   make man              the manual pages into $(BUILD)/man (uwbd.json.5 from the key table)
 #   make deb              board/debian -> $(BUILD)/deb/uwbd_VERSION_ARCH.deb (dpkg-buildpackage,
 #                         lintian: no errors); DEB_ARCH=arm64 cross-builds
@@ -139,7 +140,7 @@ $(warning pkg-config does not find all of $(LIBS_PKG)$(if $(TRIPLET), for $(TRIP
 endif
 endif
 
-.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-model-term accuracy-radial-limits readme-verdict readme-images readme-bench readme-demo readme-test-count readme-arch soak install deps deps-arm check-hw-headers clean
+.PHONY: all tests test test-arm demo bench accuracy accuracy-family accuracy-model-term accuracy-radial-limits readme-verdict readme-images readme-bench readme-demo readme-test-count readme-arch readme-docs readme-sim-params soak install deps deps-arm check-hw-headers clean
 all: $(BUILD)/uwbd $(BUILD)/uwbsim $(BUILD)/uwbemu $(BUILD)/uwbimpair
 
 # uwbbench too: tests/e2e/test_bench_budget.sh checks its budget verdict.
@@ -339,6 +340,23 @@ demo: deps
 	+@$(SUBMAKE) all $(BUILD)/e2e/mqtt_sub
 	UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh
 
+# The documents the README's chapters moved to (issue 48, finding 3), each
+# beside what it describes; the readme-* and accuracy targets write their
+# blocks there, and make readme-docs lists every document's chapters in the
+# README (tests/e2e/test_readme_docs.sh checks the list and the links).
+TESTING_DOC   := tests/README.md
+ACCURACY_DOC  := tests/accuracy.md
+BENCH_DOC     := tools/bench/README.md
+ARCH_DOC      := src/README.md
+
+# tools/uwbsim/README.md's parameter table, printed by uwbsim.
+readme-sim-params: all
+	bash tools/readme/readme-sim-params.sh '$(BUILD)' --write tools/uwbsim/README.md
+
+# The README's list of documents and their chapters, from their headings.
+readme-docs:
+	bash tools/readme/readme-docs.sh --write README.md
+
 # The README's excerpt of the demo (its radial step), from a run of it piped
 # into a file (tools/readme/readme-demo.sh); tests/e2e/test_demo.sh fails in
 # make test when the README differs from what the demo prints.
@@ -347,30 +365,30 @@ readme-demo: deps
 	LC_ALL=C.UTF-8 UWB_BUILD_DIR='$(BUILD)' bash tools/demo/run-demo.sh > '$(BUILD)/demo-output.txt' 2>&1
 	bash tools/readme/readme-demo.sh --write README.md '$(BUILD)/demo-output.txt'
 
-# The README's count of the test cases make test runs, from the sources
+# tests/README.md's count of the test cases make test runs, from the sources
 # (tools/readme/readme-test-count.sh); tests/e2e/test_readme_test_count.sh checks it.
 readme-test-count:
-	bash tools/readme/readme-test-count.sh --write README.md
+	bash tools/readme/readme-test-count.sh --write $(TESTING_DOC)
 
-# The README's graph of what uses what (rooms of src/, files of src/daemon/),
+# src/README.md's graph of what uses what (rooms of src/, files of src/daemon/),
 # from the objects' symbols and the includes (tools/readme/readme-arch.sh);
 # tests/e2e/test_readme_arch.sh checks it.
 readme-arch: all
-	bash tools/readme/readme-arch.sh '$(BUILD)' --write README.md
+	bash tools/readme/readme-arch.sh '$(BUILD)' --write $(ARCH_DOC)
 
 # The accuracy report (tools/accuracy): the full-wave fixtures clean and over
 # the tool's REPORT_PAIRS noisy pairs per case (ACCURACY_PAIRS=N for another
-# count); the table also replaces the README's block between its "make accuracy"
-# markers, so the README shows what the command printed.
+# count); the table also replaces tests/accuracy.md's block between its "make accuracy"
+# markers, so that document shows what the command printed.
 ACCURACY_PAIRS ?=
 accuracy: deps
 	+@$(SUBMAKE) all $(BUILD)/uwbaccuracy
-	$(TEST_RUNNER) $(BUILD)/uwbaccuracy $(if $(ACCURACY_PAIRS),--pairs $(ACCURACY_PAIRS)) --readme README.md
-	$(TEST_RUNNER) $(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures --readme README.md
+	$(TEST_RUNNER) $(BUILD)/uwbaccuracy $(if $(ACCURACY_PAIRS),--pairs $(ACCURACY_PAIRS)) --readme $(ACCURACY_DOC)
+	$(TEST_RUNNER) $(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures --readme $(ACCURACY_DOC)
 
 # The shared family of random tanks (../shared/data/fdtd2d-var-*), each pair
 # against its truth, then the fresh draws in tests/fixtures (fdtd2d-fresh-*):
-# the README's family tables (tools/accuracy/family.sh).
+# tests/accuracy.md's family tables (tools/accuracy/family.sh).
 accuracy-family: all
 	bash tools/accuracy/family.sh ../shared/data '$(BUILD)' tests/fixtures
 
@@ -378,17 +396,17 @@ accuracy-family: all
 # the smallest that puts every noiseless full-wave pair (the shared family,
 # the tank, the paper's, the fresh draws) within 2 sigma, rounded up, and
 # each pair's figure, sigma with its terms and error/sigma under it
-# (tools/accuracy/model_term.c); the output also replaces the README's
+# (tools/accuracy/model_term.c); the output also replaces tests/accuracy.md's
 # block between its "make accuracy-model-term" markers.
 accuracy-model-term: all
 	+@$(SUBMAKE) $(BUILD)/uwbaccuracy
-	$(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures --readme README.md
+	$(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures --readme $(ACCURACY_DOC)
 
 # Where the radial figure stops: single-disk and wider changes and a lean
-# in the simulator (tools/accuracy/radial-limits.sh); rewrites the README's
+# in the simulator (tools/accuracy/radial-limits.sh); rewrites tests/accuracy.md's
 # block between its "make accuracy-radial-limits" markers.
 accuracy-radial-limits: all
-	bash tools/accuracy/radial-limits.sh '$(BUILD)' --readme README.md
+	bash tools/accuracy/radial-limits.sh '$(BUILD)' --readme $(ACCURACY_DOC)
 
 # The README's paper-pair figure and example verdict, from the command it
 # shows (tools/readme/readme-verdict.sh); tests/e2e/test_readme_verdict.sh
@@ -397,11 +415,11 @@ readme-verdict: deps
 	+@$(SUBMAKE) all $(BUILD)/e2e/state_check
 	UWB_EXEC_PREFIX='$(TEST_RUNNER)' bash tools/readme/readme-verdict.sh '$(BUILD)' --write README.md
 
-# The README's `make bench` block, from a run (tools/readme/readme-bench.sh).
+# tools/bench/README.md's `make bench` block, from a run (tools/readme/readme-bench.sh).
 readme-bench:
 	@bash $(DEPS_SCRIPT) $(if $(TEST_RUNNER),$(DEPS_ARGS),--soak)
 	+@$(SUBMAKE) all $(BUILD)/uwbbench
-	bash tools/readme/readme-bench.sh '$(BUILD)' README.md
+	bash tools/readme/readme-bench.sh '$(BUILD)' $(BENCH_DOC)
 
 # The README's example images, drawn by the replay command it shows.
 readme-images: deps
@@ -445,7 +463,7 @@ soak:
 #                         over src/ and tools/, then cppcheck over the same; any finding fails
 #   make coverage         gcov build in build-coverage/, make test there, HTML report in
 #                         build-coverage/coverage/index.html, line and branch % per folder
-#                         (also written into the README between its "make coverage" markers)
+#                         (also written into tests/README.md between its "make coverage" markers)
 #   make compile_commands.json   every C file with the flags the Makefile compiles it with
 # The C files we own: third_party/ (Unity, fetched) and build*/ are not ours.
 FORMAT_SRC    := $(sort $(shell find src include tests tools -name '*.[ch]' 2>/dev/null))
@@ -505,7 +523,7 @@ lint-cppcheck:
 
 # Coverage: the whole make test with gcov in its own build directory, then
 # gcovr's HTML report and the per-folder summary (tools/coverage/summary.sh),
-# which also replaces the README's block between its "make coverage" markers.
+# which also replaces tests/README.md's block between its "make coverage" markers.
 COVERAGE_BUILD := build-coverage
 # -O1, not -O0: gcov counts lines and branches from the code gcc emits, and
 # at -O1 that still follows the source (no loop unrolling or vectorising;
@@ -528,9 +546,9 @@ coverage: dev-deps
 	@mkdir -p $(COVERAGE_BUILD)/coverage
 	gcovr --root . --object-directory $(COVERAGE_BUILD)/obj --filter 'src/' --exclude-unreachable-branches \
 	    --html-details $(COVERAGE_BUILD)/coverage/index.html --csv $(COVERAGE_BUILD)/coverage/files.csv
-	@# The README gets the table only from a passing run.
+	@# tests/README.md gets the table only from a passing run.
 	@bash tools/coverage/summary.sh $(COVERAGE_BUILD)/coverage/files.csv \
-	    $$(test "$$(cat $(COVERAGE_BUILD)/test-status)" = 0 && echo README.md)
+	    $$(test "$$(cat $(COVERAGE_BUILD)/test-status)" = 0 && echo $(TESTING_DOC))
 	@echo "coverage: HTML report in $(COVERAGE_BUILD)/coverage/index.html"
 	@status=$$(cat $(COVERAGE_BUILD)/test-status); [ "$$status" = 0 ] || \
 	    { echo "coverage: make test failed (status $$status): the figures above are from a failing run" >&2; exit 1; }

@@ -43,8 +43,8 @@ for sample in "$REPO"/board/*/uwbd.json; do
         fail "$sample: digitiser.stack $(get digitiser.stack < "$sample"), the key table says $default_stack"
 done
 grep -qF "$keys_row" "$REPO/board/config.md" || fail "board/config.md's digitiser.stack row is not the key table's"
-grep -q "64 pulses stacked per position (\`digitiser.stack\`, whose default 64" "$REPO/README.md" ||
-    fail "README does not name the stacking default"
+grep -q "64 pulses stacked per position (\`digitiser.stack\`, whose default 64" "$REPO/tests/accuracy.md" ||
+    fail "tests/accuracy.md does not name the stacking default"
 
 # The sample config as shipped, the emulated board at its scene's 20 dB per pulse.
 start_emu
@@ -59,7 +59,7 @@ read -r status shift sigma < <(get status axial_displacement_mm uncertainty_mm <
 [[ $status == alarm ]] || fail "the sample config on a 12 mm rise: $(cat sample-12.json)"
 awk -v d="$shift" 'BEGIN { exit !(d > 11.5 && d < 12.5) }' || fail "12 mm rise measured $shift mm"
 stop_daemon
-pass "one stacking default ($default_stack: key table, samples, config.md, README); the sample config" \
+pass "one stacking default ($default_stack: key table, samples, config.md, tests/accuracy.md); the sample config" \
      "as shipped on the emulated board: 12 mm rise -> alarm $shift ± $sigma mm"
 
 # ---- decisive when the data allows: acquire again within the budget -----------------

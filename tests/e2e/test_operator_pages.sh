@@ -19,7 +19,7 @@ trap 'rm -rf "$out"' EXIT
 make --no-print-directory -s man BUILD="$UWB_BUILD_DIR" TEST_RUNNER="${UWB_EXEC_PREFIX:-}" > "$out/make.log" 2>&1 ||
     { cat "$out/make.log" >&2; fail "make man"; }
 sources=(board/man/*.7.scd)
-for name in uwbd-mqtt uwbd-modbus uwbd-contacts uwbd-prometheus uwbd-images uwbd-recovery; do
+for name in uwbd uwbd-mqtt uwbd-modbus uwbd-contacts uwbd-prometheus uwbd-images uwbd-recovery; do
     [[ -f board/man/$name.7.scd ]] || fail "no board/man/$name.7.scd"
 done
 
@@ -72,6 +72,30 @@ for src in "${sources[@]}"; do
         sed -E 's/\\(.)/\1/g')
     pass "$name: $(wc -l < "$out/src") words and $paragraphs paragraphs rendered, none lost; groff quiet"
 done
+
+# Issue 48, finding 3: uwbd(7), the overview, renders its sections; it
+# reads out every status a verdict can have (as uwbd-verdict(7) lists them)
+# and names every other manual page in "which page covers what".
+groff -man -Tutf8 -rHY=0 -P-cbou -rLL=200n "$UWB_BUILD_DIR/man/uwbd.7" 2> /dev/null > "$out/uwbd7" ||
+    fail "uwbd(7): groff failed"
+for s in NAME DESCRIPTION 'READING A VERDICT' 'WHICH PAGE COVERS WHAT' 'SEE ALSO'; do
+    grep -qx "$s" "$out/uwbd7" || fail "uwbd(7) renders no $s section"
+done
+sed -n '/^READING A VERDICT$/,/^WHICH PAGE COVERS WHAT$/p' "$out/uwbd7" > "$out/reading"
+statuses=$(sed -n '/^\*status\*$/{n;p;q}' board/man/uwbd-verdict.7.scd | grep -oE '\*[a-z]+\* \(' | tr -d '*( ')
+(($(wc -w <<< "$statuses") >= 6)) || fail "only $(wc -w <<< "$statuses") statuses in uwbd-verdict(7): $statuses"
+for status in $statuses; do
+    grep -qE "^ +$status$" "$out/reading" || fail "uwbd(7) does not explain the status $status"
+done
+sed -n '/^WHICH PAGE COVERS WHAT$/,/^SEE ALSO$/p' "$out/uwbd7" > "$out/covers"
+named=0
+for page in board/man/*.[1-8] board/man/*.7.scd uwbd.json.5; do
+    name=$(basename "$page" .scd)
+    [[ $name == uwbd.7 ]] && continue
+    grep -qF "${name%.*}(${name##*.})" "$out/covers" || fail "uwbd(7)'s WHICH PAGE COVERS WHAT lacks ${name%.*}(${name##*.})"
+    named=$((named + 1))
+done
+pass "uwbd(7): its sections, the $(wc -w <<< "$statuses") statuses, and the $named other pages"
 
 # The check the package test runs on every installed page passes here too.
 # Issue 48, finding 10: no stray backquote (scdoc has no code spans: a

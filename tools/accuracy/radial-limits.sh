@@ -4,7 +4,7 @@
 # and wider bulges and dents, a change over most of the face, and a lean,
 # each replayed against the intact winding. Prints a markdown table; with
 # --readme FILE also puts it between FILE's "make accuracy-radial-limits"
-# markers. The README's "Radial deformation" section reads from it.
+# markers. tests/accuracy.md's "Radial deformation" chapter reads from it.
 #
 # Usage: tools/accuracy/radial-limits.sh BUILD_DIR [--readme FILE]
 set -euo pipefail

@@ -117,7 +117,7 @@ check "udev rules in /lib/udev/rules.d" test -f "$root/lib/udev/rules.d/99-uwbd-
 check "manual pages uwbd(8), uwbd.json(5), uwbd-ctl(1), uwbsim(1)" test -f "$root/usr/share/man/man8/uwbd.8.gz" -a \
     -f "$root/usr/share/man/man5/uwbd.json.5.gz" -a -f "$root/usr/share/man/man1/uwbd-ctl.1.gz" -a \
     -f "$root/usr/share/man/man1/uwbsim.1.gz"
-operator_pages=(uwbd-verdict uwbd-images uwbd-contacts uwbd-mqtt uwbd-modbus uwbd-prometheus uwbd-recovery)
+operator_pages=(uwbd uwbd-verdict uwbd-images uwbd-contacts uwbd-mqtt uwbd-modbus uwbd-prometheus uwbd-recovery)
 missing_pages=$(for n in "${operator_pages[@]}"; do [[ -f $root/usr/share/man/man7/$n.7.gz ]] || echo "$n(7)"; done)
 check "the operator's manual pages in section 7${missing_pages:+; not: $(echo $missing_pages)}" test -z "$missing_pages"
 readme_refs=$(grep -rlI README "$root/usr/share/doc/uwbd" || true; for p in "$root"/usr/share/man/man*/uwbd*.gz; do
