@@ -686,9 +686,11 @@ static enum step judge_edges(struct analysis_run *r)
         return STEP_DONE;
     }
     if (edges->snr_db < opt->min_snr_db) {
+        /* Where: a refusal names the reflector it judged, like the others. */
         snprintf(edges->reason, sizeof edges->reason,
-                 "too little SNR: face echo %.1f dB over the noise, at least %.1f dB needed", edges->snr_db,
-                 opt->min_snr_db);
+                 "too little SNR: the face echo at %.3f m range is %.1f dB over the noise, at least %.1f dB "
+                 "needed",
+                 r->z_face_m, edges->snr_db, opt->min_snr_db);
         r->face_rejected = 1;
         return STEP_DONE;
     }

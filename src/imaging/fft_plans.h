@@ -28,8 +28,8 @@ void uwb_fft_plan_release(fftwf_plan plan);
 /* The length a record of n samples is transformed at, zeros after it: the
  * next power of two. FFTW takes some ten times as long on a prime length
  * (the full-wave scans' 1697 and 2333 samples: 39 us a trace against
- * 2.2 us at 2048), and the zeros keep a filter's circular wrap from
- * folding the record's end onto its start. */
+ * 2.2 us at 2048). A filter applied in the spectrum needs more zeros than
+ * that: uwb_trace_spectrum_length. */
 int uwb_fft_padded_length(int n);
 
 #endif

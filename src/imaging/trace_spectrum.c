@@ -5,10 +5,23 @@
 #include <stdio.h>
 #include <string.h>
 
+/* 1 but in tests (uwb_trace_spectrum_set_padding_factor). */
+static int padding_factor = 1;
+
+void uwb_trace_spectrum_set_padding_factor(int factor)
+{
+    padding_factor = factor >= 1 && factor <= 16 ? factor : 1;
+}
+
+int uwb_trace_spectrum_length(int samples)
+{
+    return uwb_fft_padded_length(2 * samples) * padding_factor;
+}
+
 int uwb_filter_traces_in_spectrum(struct uwb_scan *s, int (*skip)(void *ctx, int k), trace_spectrum_fn filter,
                                   void *ctx, const char *what, char *err, size_t errlen)
 {
-    int S = s->samples, n = uwb_fft_padded_length(S), nh = n / 2 + 1;
+    int S = s->samples, n = uwb_trace_spectrum_length(S), nh = n / 2 + 1;
     int rc = -1;
     fftwf_plan fwd = NULL, inv = NULL;
     float *buf = fftwf_alloc_real((size_t)n);
