@@ -264,6 +264,7 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
 {
     v->current = *cur;
     v->axial_withheld = 0;
+    v->edges_withheld[0] = '\0';
     v->has_baseline = base != NULL;
     if (base)
         v->baseline = *base;
@@ -280,6 +281,11 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
     if (!base->found) {
         v->status = UWB_STATUS_INCONCLUSIVE;
         copy_reason(v, "baseline: ", base->reason);
+        /* Nothing confirms this scan's face as the winding's: on the 3-D
+         * full-wave tanks it lies 120-160 mm off where no baseline face is
+         * found. */
+        snprintf(v->edges_withheld, sizeof v->edges_withheld,
+                 "the baseline's winding was not found: nothing confirms this face as the winding's");
         return;
     }
     /* A face that changed shape so that no shift maps it whole: the radial
@@ -293,6 +299,8 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
         snprintf(v->reason, sizeof v->reason, "%s", pair->axial_withheld);
         snprintf(v->height_change_withheld, sizeof v->height_change_withheld,
                  "the face changed shape: no shift maps it whole");
+        snprintf(v->edges_withheld, sizeof v->edges_withheld,
+                 "the face changed shape: its edges follow the echo's strength there");
         radial_verdict(v, pair, opt);
         combine_radial(v, opt);
         return;
@@ -344,6 +352,11 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
     if (deformed || (pair && terms.deformation_m > opt->max_uncertainty_m && pair->has_refit)) {
         v->status = UWB_STATUS_INCONCLUSIVE;
         v->axial_withheld = 1;
+        /* The crossings move with the echo's strength as the shift does
+         * (the full-wave tank's disks 4-5 bulged 6 mm: lower edge 10 mm
+         * off). */
+        snprintf(v->edges_withheld, sizeof v->edges_withheld,
+                 "the face deformed: its edges follow the echo's strength there");
         snprintf(v->reason, sizeof v->reason, "%s", UWB_AXIAL_NOT_MEASURED_DEFORMED);
     } else if (!uwb_figure_given(v->axial_displacement_m, v->uncertainty_m, opt->max_uncertainty_m,
                                  &opt->thresholds)) {
