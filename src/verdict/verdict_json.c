@@ -129,6 +129,8 @@ cJSON *uwb_record_object(const struct uwb_verdict_record *r)
         cJSON_AddNumberToObject(o, "edge_uncertainty_mm", r->edge_uncertainty_mm);
         if (r->has_side_reflector)
             cJSON_AddNumberToObject(o, "side_reflector_mm", r->side_reflector_mm);
+    } else {
+        add_text(o, "height_change_withheld", r->height_change_withheld);
     }
     add_text(o, "edges_withheld", r->edges_withheld);
     add_radial(o, r);

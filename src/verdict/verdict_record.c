@@ -36,20 +36,22 @@ void uwb_record_from_verdict(struct uwb_verdict_record *r, const struct uwb_verd
     }
     if (v->current.found && v->edges_withheld[0])
         snprintf(r->edges_withheld, sizeof r->edges_withheld, "%s", v->edges_withheld);
+    /* The height change is the pair's, published (or why not) whether or
+     * not this scan's edges are. */
+    if (v->current.found && compared && !v->height_change_withheld[0] && !v->edges_withheld[0]) {
+        r->has_height_change = 1;
+        r->height_change_mm = uwb_record_mm(v->height_change_m);
+        r->height_change_uncertainty_mm = uwb_record_mm(v->height_change_uncertainty_m);
+    } else if (v->current.found && compared) {
+        snprintf(r->height_change_withheld, sizeof r->height_change_withheld, "%s",
+                 v->height_change_withheld[0] ? v->height_change_withheld : v->edges_withheld);
+    }
     if (v->current.found && !v->edges_withheld[0]) {
         r->has_edges = 1;
         r->lower_edge_mm = uwb_record_mm(v->current.lower_m);
         r->upper_edge_mm = uwb_record_mm(v->current.upper_m);
         r->center_mm = uwb_record_mm(v->current.center_m);
         r->height_mm = uwb_record_mm(v->current.height_m);
-        if (compared && !v->height_change_withheld[0]) {
-            r->has_height_change = 1;
-            r->height_change_mm = uwb_record_mm(v->height_change_m);
-            r->height_change_uncertainty_mm = uwb_record_mm(v->height_change_uncertainty_m);
-        } else if (compared) {
-            snprintf(r->height_change_withheld, sizeof r->height_change_withheld, "%s",
-                     v->height_change_withheld);
-        }
         r->face_range_mm = uwb_record_mm(v->current.face_z_m);
         r->snr_db = round(v->current.snr_db * 10.0) / 10.0;
         /* One sigma for every edge published: this scan's and the baseline's. */

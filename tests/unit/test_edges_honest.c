@@ -15,7 +15,10 @@
 
 #include "fixture_support.h"
 #include "unity.h"
+#include <stdlib.h>
+
 #include "uwb/evaluate.h"
+#include "uwb/verdict_json.h"
 #include "uwb/verdict_record.h"
 
 void setUp(void)
@@ -99,6 +102,18 @@ static void test_every_edge_published_lies_within_two_sigma(void)
             }
         } else if (v.current.found) {
             TEST_ASSERT_TRUE_MESSAGE(r.edges_withheld[0] != '\0', msg);
+            /* As published (JSON and back): the reason stays, and where the
+             * pair was compared, why its height change is not given. */
+            char *json = uwb_record_to_json(&r);
+            struct uwb_verdict_record back;
+            TEST_ASSERT_NOT_NULL(json);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_record_from_json(json, &back, err, sizeof err), err);
+            free(json);
+            TEST_ASSERT_EQUAL_STRING(r.edges_withheld, back.edges_withheld);
+            TEST_ASSERT_FALSE(back.has_edges || back.has_height_change);
+            if (v.status != UWB_STATUS_INCONCLUSIVE) {
+                TEST_ASSERT_TRUE_MESSAGE(back.height_change_withheld[0] != '\0', msg);
+            }
         }
         if (strstr(moved, "fdtd3d-"))
             withheld_3d += !r.has_edges;
