@@ -10,6 +10,7 @@
 #include "accuracy/radial.h"
 #include "accuracy/tank3d.h"
 #include "accuracy/targets.h"
+#include "accuracy/warm_oil.h"
 #include "uwb/atomic_file.h"
 #include "uwb/read_file.h"
 
@@ -175,6 +176,18 @@ static int targets_report(const char *data_dir, const char *fresh_dir, const cha
     uwb_evaluate_defaults(&opt);
     struct accuracy_targets t;
     int rc = accuracy_targets_run(mem, data_dir, fresh_dir, &opt, &t, err, sizeof err);
+    /* The height change's sigma over an oil change (the simulator's pairs). */
+    struct warm_oil_tally oil;
+    if (rc == 0) {
+        fprintf(mem, "\nThe same tank, nothing moved, the oil's eps_r off the header's (simulator):\n\n");
+        rc = accuracy_warm_oil(mem, &oil, err, sizeof err);
+    }
+    if (rc == 0 && (oil.within < oil.given || oil.shift_within < oil.pairs)) {
+        fprintf(mem,
+                "TARGET MISSED: warm oil: %d of %d height changes and %d of %d shifts within 2σ of none\n",
+                oil.within, oil.given, oil.shift_within, oil.pairs);
+        t.missed++;
+    }
     fclose(mem);
     if (rc != 0) {
         fprintf(stderr, "uwbaccuracy: %s\n", err);
