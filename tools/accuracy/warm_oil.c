@@ -72,7 +72,7 @@ static int one_pair(FILE *out, size_t tank, const char *oil, struct warm_oil_tal
     fprintf(out, "| %zu | %s | %+.2f | %+.2f ± %.2f | ", tank, oil, moved, v.axial_displacement_m * 1e3,
             v.uncertainty_m * 1e3);
     if (v.height_change_withheld[0]) {
-        fprintf(out, "withheld: %.80s |\n", v.height_change_withheld);
+        fprintf(out, "withheld: %s |\n", v.height_change_withheld);
         return 0;
     }
     double ratio = v.height_change_m / v.height_change_uncertainty_m;
