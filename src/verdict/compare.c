@@ -49,11 +49,12 @@ void uwb_compare_defaults(struct uwb_compare_options *opt)
      * while the header keeps one eps_r: the face's range moves and the
      * image, focused at the header's speed, blurs the shoulders
      * differently, so the crossings read a height change that is none.
-     * In the simulator (tests/unit/test_height_change_oil.c: the full-wave
-     * tank's winding with 5, 7 and 8 disks, faces at 390-490 mm, pulses of
-     * 1.8-2.6 GHz, eps_r 2.16-2.26 against 2.2) the false height change is
-     * 0.26-0.61 x (range moved) x (height / range); 0.4 puts each within
-     * 2 sigma with the term alone, 0.3 being the least that does. */
+     * In the simulator (tools/accuracy/warm_oil.c, make accuracy: the
+     * full-wave tank's winding with 5, 7 and 8 disks, faces at 390-490 mm,
+     * pulses of 1.8-2.6 GHz, eps_r 2.16-2.26 against 2.2) the false height
+     * change is 0.26-0.61 x (range moved) x (height / range); 0.4 puts
+     * each within 2 sigma with the term alone, 0.3 being the least that
+     * does. */
     opt->height_change_per_face_range = 0.4;
     opt->baseline_repeatability_m = 0;
 }
