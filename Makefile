@@ -379,12 +379,16 @@ readme-arch: all
 # The accuracy report (tools/accuracy): the full-wave fixtures clean and over
 # the tool's REPORT_PAIRS noisy pairs per case (ACCURACY_PAIRS=N for another
 # count); the table also replaces tests/accuracy.md's block between its "make accuracy"
-# markers, so that document shows what the command printed.
+# markers, so that document shows what the command printed. Last, the issue's
+# targets (tools/accuracy/targets.c): every noiseless full-wave pair's
+# figures against their truths, into its "make accuracy targets" block;
+# a target missed fails the command (after the blocks are written).
 ACCURACY_PAIRS ?=
 accuracy: deps
 	+@$(SUBMAKE) all $(BUILD)/uwbaccuracy
 	$(TEST_RUNNER) $(BUILD)/uwbaccuracy $(if $(ACCURACY_PAIRS),--pairs $(ACCURACY_PAIRS)) --readme $(ACCURACY_DOC)
 	$(TEST_RUNNER) $(BUILD)/uwbaccuracy --model-term ../shared/data tests/fixtures --readme $(ACCURACY_DOC)
+	$(TEST_RUNNER) $(BUILD)/uwbaccuracy --targets ../shared/data tests/fixtures --readme $(ACCURACY_DOC)
 
 # The shared family of random tanks (../shared/data/fdtd2d-var-*), each pair
 # against its truth, then the fresh draws in tests/fixtures (fdtd2d-fresh-*):

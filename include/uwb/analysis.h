@@ -20,11 +20,12 @@ struct uwb_analysis_options {
     double winding_span_m[2]; /* lower, upper: in the scans' own y */
     double search_z_min_m;    /* face search without a target range */
     double search_z_max_m;
-    double edge_fraction;      /* edge where the face profile crosses this fraction of its peak */
-    double min_snr_db;         /* below this the winding is "not established" */
-    double systematic_edge_m;  /* 1-sigma floor of an edge's position */
-    int remove_side_reflector; /* take a compact reflector beside the winding out (clamping plate) */
-    int has_dominant_hz;       /* process at dominant_hz (the pair's baseline's), not the scan's own */
+    double edge_fraction;           /* edge where the face profile crosses this fraction of its peak */
+    double min_snr_db;              /* below this the winding is "not established" */
+    double systematic_edge_m;       /* 1-sigma floor of an edge's position */
+    double edge_sigma_per_shoulder; /* an edge's 1-sigma term per metre of its shoulder's width */
+    int remove_side_reflector;      /* take a compact reflector beside the winding out (clamping plate) */
+    int has_dominant_hz;            /* process at dominant_hz (the pair's baseline's), not the scan's own */
     double dominant_hz;
     double display_half_range_m; /* the display image (migrated PNG) spans the face's range +- this (0.25) */
     struct uwb_condition_options condition;

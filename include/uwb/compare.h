@@ -18,6 +18,10 @@ struct uwb_compare_options {
                                  one status band (uwb_figure_given) */
     double max_height_uncertainty_m; /* above this 1-sigma the height change is withheld */
     double height_change_per_shift;  /* its 1-sigma term per metre moved: the static scene's share */
+    /* its 1-sigma term per metre the face's range moved, times the
+     * winding's height over its range: an oil whose wave speed changed
+     * (its temperature) focuses the image differently */
+    double height_change_per_face_range;
     double baseline_repeatability_m; /* 1-sigma of the baseline's centre from the spread of its commissioning
                                         scans */
 };

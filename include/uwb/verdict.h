@@ -109,7 +109,12 @@ struct uwb_verdict {
     double height_change_m;
     double height_change_uncertainty_m; /* its 1-sigma: the edges' noise and the model term */
     char height_change_withheld[192];   /* why the height change is not given, or empty */
-    struct uwb_radial_verdict radial;   /* with a baseline, both faces found */
+    /* Compared with a baseline, yet no displacement read on the faces (not
+     * the same reflector, a deformed face, the baseline's winding not
+     * found): this scan's edges describe no face a figure was read on and
+     * are not published (the images still draw them); why, or empty. */
+    char edges_withheld[160];
+    struct uwb_radial_verdict radial; /* with a baseline, both faces found */
     /* Time zero: the direct coupling's arrival in this scan and, against a
      * baseline, how far it moved since the baseline's. */
     int has_direct_coupling;

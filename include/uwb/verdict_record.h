@@ -58,7 +58,9 @@ struct uwb_verdict_record {
     int radial_has_span;
     double radial_from_mm, radial_to_mm;
     char radial_withheld[160];
-    double face_range_mm, snr_db, edge_uncertainty_mm; /* with has_edges */
+    /* with has_edges; edge_uncertainty_mm covers the baseline's edges too when given */
+    double face_range_mm, snr_db, edge_uncertainty_mm;
+    char edges_withheld[160]; /* the face found, its edges not published: why */
     int has_side_reflector;
     double side_reflector_mm;
     int has_baseline; /* the baseline's edges */

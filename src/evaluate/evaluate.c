@@ -430,6 +430,8 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
         uwb_compare_edges(v, &cur_a->edges, &base_a->edges, &copt);
         v->status = UWB_STATUS_INCONCLUSIVE;
         snprintf(v->reason, sizeof v->reason, "%s", why);
+        snprintf(v->edges_withheld, sizeof v->edges_withheld,
+                 "not the same reflector in both scans: this face may be another reflector's");
         return 0;
     }
     struct uwb_pair_figures pair = {0};
@@ -447,6 +449,8 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
         uwb_compare_edges(v, &cur_a->edges, &base_a->edges, &copt);
         v->status = UWB_STATUS_INCONCLUSIVE;
         snprintf(v->reason, sizeof v->reason, "%.200s; figures withheld", why);
+        snprintf(v->edges_withheld, sizeof v->edges_withheld,
+                 "no shift maps the baseline's face onto this one: its edges are no measurement");
         return 0;
     }
     if (fit == 0) {

@@ -73,6 +73,13 @@ struct profile_edges {
 /* Lower and upper crossings of fraction*peak, walking out from the peak,
  * interpolated between samples. ok = 0 when a side never drops below it. */
 void uwb_profile_edges(const struct uwb_face_profile *p, double fraction, struct profile_edges *e);
+/* How far a shoulder that crosses at `slope` (profile units per metre)
+ * climbs from 25 to 75 % of `peak`, taken as a straight ramp: on the
+ * full-wave scans within a tenth of the profile's own 25-75 % span. */
+static inline double uwb_shoulder_width_m(double peak, double slope)
+{
+    return slope > 0.0 ? 0.5 * peak / slope : 0.0;
+}
 
 /* Catmull-Rom weights of v[i-1..i+2] at fraction t of the way from v[i]
  * to v[i+1], and of its slope (per pixel): the interpolation the face

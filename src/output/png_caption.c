@@ -193,7 +193,10 @@ void uwb_verdict_summary(const struct uwb_verdict *v, const struct uwb_provenanc
     }
     char disp[320], now[320], base[320];
     describe_result(v, prov, disp, sizeof disp);
-    uwb_describe_edges(&v->current, now, sizeof now);
+    if (v->current.found && v->edges_withheld[0])
+        snprintf(now, sizeof now, "withheld: %.250s", v->edges_withheld);
+    else
+        uwb_describe_edges(&v->current, now, sizeof now);
     if (v->has_baseline)
         uwb_describe_edges(&v->baseline, base, sizeof base);
     char limits[320] = "";

@@ -129,7 +129,10 @@ cJSON *uwb_record_object(const struct uwb_verdict_record *r)
         cJSON_AddNumberToObject(o, "edge_uncertainty_mm", r->edge_uncertainty_mm);
         if (r->has_side_reflector)
             cJSON_AddNumberToObject(o, "side_reflector_mm", r->side_reflector_mm);
+    } else {
+        add_text(o, "height_change_withheld", r->height_change_withheld);
     }
+    add_text(o, "edges_withheld", r->edges_withheld);
     add_radial(o, r);
     if (r->has_baseline) {
         cJSON *b = cJSON_AddObjectToObject(o, "baseline");
@@ -361,6 +364,7 @@ static void read_figures(struct reader *rd, struct uwb_verdict_record *r)
     number_at(rd, o, "snr_db", &r->snr_db);
     number_at(rd, o, "edge_uncertainty_mm", &r->edge_uncertainty_mm);
     r->has_side_reflector = number_at(rd, o, "side_reflector_mm", &r->side_reflector_mm);
+    text_at(rd, o, "edges_withheld", r->edges_withheld, sizeof r->edges_withheld);
     read_radial(rd, r);
     const cJSON *b = cJSON_GetObjectItemCaseSensitive(o, "baseline");
     if (b && !cJSON_IsObject(b))

@@ -34,23 +34,31 @@ void uwb_record_from_verdict(struct uwb_verdict_record *r, const struct uwb_verd
         r->axial_displacement_mm = uwb_record_mm(v->axial_displacement_m);
         r->uncertainty_mm = uwb_record_mm(v->uncertainty_m);
     }
-    if (v->current.found) {
+    if (v->current.found && v->edges_withheld[0])
+        snprintf(r->edges_withheld, sizeof r->edges_withheld, "%s", v->edges_withheld);
+    /* The height change is the pair's, published (or why not) whether or
+     * not this scan's edges are. */
+    if (v->current.found && compared && !v->height_change_withheld[0] && !v->edges_withheld[0]) {
+        r->has_height_change = 1;
+        r->height_change_mm = uwb_record_mm(v->height_change_m);
+        r->height_change_uncertainty_mm = uwb_record_mm(v->height_change_uncertainty_m);
+    } else if (v->current.found && compared) {
+        snprintf(r->height_change_withheld, sizeof r->height_change_withheld, "%s",
+                 v->height_change_withheld[0] ? v->height_change_withheld : v->edges_withheld);
+    }
+    if (v->current.found && !v->edges_withheld[0]) {
         r->has_edges = 1;
         r->lower_edge_mm = uwb_record_mm(v->current.lower_m);
         r->upper_edge_mm = uwb_record_mm(v->current.upper_m);
         r->center_mm = uwb_record_mm(v->current.center_m);
         r->height_mm = uwb_record_mm(v->current.height_m);
-        if (compared && !v->height_change_withheld[0]) {
-            r->has_height_change = 1;
-            r->height_change_mm = uwb_record_mm(v->height_change_m);
-            r->height_change_uncertainty_mm = uwb_record_mm(v->height_change_uncertainty_m);
-        } else if (compared) {
-            snprintf(r->height_change_withheld, sizeof r->height_change_withheld, "%s",
-                     v->height_change_withheld);
-        }
         r->face_range_mm = uwb_record_mm(v->current.face_z_m);
         r->snr_db = round(v->current.snr_db * 10.0) / 10.0;
-        r->edge_uncertainty_mm = uwb_record_mm(fmax(v->current.sigma_lower_m, v->current.sigma_upper_m));
+        /* One sigma for every edge published: this scan's and the baseline's. */
+        double edge_sigma = fmax(v->current.sigma_lower_m, v->current.sigma_upper_m);
+        if (v->has_baseline && v->baseline.found)
+            edge_sigma = fmax(edge_sigma, fmax(v->baseline.sigma_lower_m, v->baseline.sigma_upper_m));
+        r->edge_uncertainty_mm = uwb_record_mm(edge_sigma);
         r->has_side_reflector = v->current.side_reflector != 0;
         if (r->has_side_reflector)
             r->side_reflector_mm = uwb_record_mm(v->current.side_reflector_y_m);

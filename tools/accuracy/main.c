@@ -9,6 +9,8 @@
 #include "accuracy/model_term.h"
 #include "accuracy/radial.h"
 #include "accuracy/tank3d.h"
+#include "accuracy/targets.h"
+#include "accuracy/warm_oil.h"
 #include "uwb/atomic_file.h"
 #include "uwb/read_file.h"
 
@@ -20,6 +22,8 @@
 #define TANK3D_END_MARK "<!-- make accuracy 3-D: end -->\n"
 #define MODEL_BEGIN_MARK "<!-- make accuracy-model-term: begin -->\n"
 #define MODEL_END_MARK "<!-- make accuracy-model-term: end -->\n"
+#define TARGETS_BEGIN_MARK "<!-- make accuracy targets: begin -->\n"
+#define TARGETS_END_MARK "<!-- make accuracy targets: end -->\n"
 
 /* The radial rows' noisy level: the 32 dB (3 ps, 2 %). */
 #define RADIAL_LEVEL 1
@@ -157,11 +161,58 @@ static int model_term_report(const char *data_dir, const char *fresh_dir, const 
     return rc;
 }
 
+/* The targets (targets.c) to stdout and, with a README, between its
+ * markers there: 0 when every target holds, 1 when one is missed. */
+static int targets_report(const char *data_dir, const char *fresh_dir, const char *readme)
+{
+    char err[512], *table = NULL;
+    size_t table_len = 0;
+    FILE *mem = open_memstream(&table, &table_len);
+    if (!mem) {
+        fprintf(stderr, "uwbaccuracy: out of memory\n");
+        return 70;
+    }
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    struct accuracy_targets t;
+    int rc = accuracy_targets_run(mem, data_dir, fresh_dir, &opt, &t, err, sizeof err);
+    /* The height change's sigma over an oil change (the simulator's pairs). */
+    struct warm_oil_tally oil;
+    if (rc == 0) {
+        fprintf(mem, "\nThe same tank, nothing moved, the oil's eps_r off the header's (simulator):\n\n");
+        rc = accuracy_warm_oil(mem, &oil, err, sizeof err);
+    }
+    if (rc == 0 && (oil.within < oil.given || oil.shift_within < oil.pairs)) {
+        fprintf(mem,
+                "TARGET MISSED: warm oil: %d of %d height changes and %d of %d shifts within 2σ of none\n",
+                oil.within, oil.given, oil.shift_within, oil.pairs);
+        t.missed++;
+    }
+    fclose(mem);
+    if (rc != 0) {
+        fprintf(stderr, "uwbaccuracy: %s\n", err);
+        free(table);
+        return 1;
+    }
+    fputs(table, stdout);
+    if (readme && replace_block(readme, table, TARGETS_BEGIN_MARK, TARGETS_END_MARK, err, sizeof err) != 0) {
+        fprintf(stderr, "uwbaccuracy: %s\n", err);
+        free(table);
+        return 73;
+    }
+    free(table);
+    if (t.missed > 0) {
+        fprintf(stderr, "uwbaccuracy: %d accuracy target(s) missed (lines TARGET MISSED above)\n", t.missed);
+        return 1;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = "tests/fixtures", *readme = NULL;
     int pairs = REPORT_PAIRS, only_case = -1, custom = 0, radial_only = 0, tank3d_only = 0;
-    const char *model_data = NULL, *model_fresh = NULL;
+    const char *model_data = NULL, *model_fresh = NULL, *targets_data = NULL, *targets_fresh = NULL;
     struct accuracy_level level_custom = {0};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--fixtures") && i + 1 < argc)
@@ -190,6 +241,10 @@ int main(int argc, char **argv)
             /* DATA_DIR FRESH_DIR: the axial sigma's share of the move, calibrated */
             model_data = argv[++i];
             model_fresh = argv[++i];
+        } else if (!strcmp(argv[i], "--targets") && i + 2 < argc) {
+            /* DATA_DIR FRESH_DIR: the targets, each figure against its truth */
+            targets_data = argv[++i];
+            targets_fresh = argv[++i];
         } else if (!strcmp(argv[i], "--radial"))
             radial_only = 1;
         else if (!strcmp(argv[i], "--3d"))
@@ -210,13 +265,15 @@ int main(int argc, char **argv)
         } else {
             fprintf(stderr, "usage: uwbaccuracy [--fixtures DIR] [--pairs N] [--readme FILE] [--case N] "
                             "[--pair-errors] [--radial] [--3d]\n"
-                            "       [--model-term DATA_DIR FRESH_DIR]\n"
+                            "       [--model-term DATA_DIR FRESH_DIR] [--targets DATA_DIR FRESH_DIR]\n"
                             "       [--impair SNR_DB JITTER_PS DRIFT_LINEAR DRIFT_RANDOM]\n");
             return 64;
         }
     }
     if (model_data)
         return model_term_report(model_data, model_fresh, readme);
+    if (targets_data)
+        return targets_report(targets_data, targets_fresh, readme);
     if (radial_only)
         return radial_report(dir, pairs, NULL);
     if (tank3d_only)
