@@ -124,15 +124,6 @@ void uwb_describe_displacement(const struct uwb_verdict *v, char *buf, size_t le
     }
 }
 
-void uwb_format_signed(char *buf, size_t len, double value, int decimals)
-{
-    double unit = pow(10.0, -decimals);
-    if (fabs(value) < 0.5 * unit)
-        snprintf(buf, len, "%.*f", decimals, 0.0); /* never "-0.0" */
-    else
-        snprintf(buf, len, "%+.*f", decimals, value);
-}
-
 /* The radial change in words (the radial panel's label and the caption). */
 void uwb_describe_radial(const struct uwb_verdict *v, char *buf, size_t len)
 {

@@ -300,7 +300,7 @@ static void status_text(FILE *out, const cJSON *o, const struct text_marks *m)
 
 static int wider(int width, const char *s)
 {
-    int w = text_width(s);
+    int w = uwb_text_layout_width(s);
     return w > width ? w : width;
 }
 
@@ -326,9 +326,9 @@ static void history_text(FILE *out, const cJSON *o, const struct text_marks *m)
     snprintf(radial_header, sizeof radial_header, "radial %s %s", m->plus_minus, m->one_sigma);
     int figure_width = wider(HISTORY_FIGURE_WIDTH, figure_header);
     fprintf(out, "%-20s  %-*s  ", "time (UTC)", HISTORY_STATUS_WIDTH, "status");
-    text_column(out, figure_header, figure_width);
+    uwb_text_layout_column(out, figure_header, figure_width);
     fprintf(out, "  %-*s  ", HISTORY_HEIGHT_WIDTH, "height change");
-    text_column(out, radial_header, HISTORY_RADIAL_WIDTH);
+    uwb_text_layout_column(out, radial_header, HISTORY_RADIAL_WIDTH);
     fputs("  scan\n", out);
     cJSON_ArrayForEach(v, list)
     {
@@ -347,15 +347,15 @@ static void history_text(FILE *out, const cJSON *o, const struct text_marks *m)
             snprintf(height, sizeof height, "%+.2f mm", h);
         radial_cell(radial, sizeof radial, v, m);
         fprintf(out, "%-20s  %-*s  ", text_or(v, "created", "?"), HISTORY_STATUS_WIDTH, status);
-        text_column(out, figure, figure_width);
+        uwb_text_layout_column(out, figure, figure_width);
         fprintf(out, "  %-*s  ", HISTORY_HEIGHT_WIDTH, height);
-        text_column(out, radial, HISTORY_RADIAL_WIDTH);
+        uwb_text_layout_column(out, radial, HISTORY_RADIAL_WIDTH);
         fprintf(out, "  %s%s\n", text_or(v, "scan_id", "?"), yes(v, "baseline_set") ? " (baseline)" : "");
         /* Why, whole, under the row (issue 48: it was cut mid-word). */
         if (text(v, "reason")) {
             fprintf(out, "%*s", HISTORY_REASON_INDENT, "");
-            text_wrapped(out, text(v, "reason"), HISTORY_REASON_INDENT, HISTORY_REASON_INDENT,
-                         HELP_LINE_WIDTH);
+            uwb_text_layout_wrapped(out, text(v, "reason"), HISTORY_REASON_INDENT, HISTORY_REASON_INDENT,
+                                    HELP_LINE_WIDTH);
         }
     }
     if (cJSON_GetArraySize(list) == 0)
@@ -526,7 +526,7 @@ int uwbd_reply_text(const char *reply, FILE *out)
 
 int uwbd_reply_text_in(const char *reply, FILE *out, enum uwbd_charset charset)
 {
-    const struct text_marks *m = text_marks_of(charset);
+    const struct text_marks *m = uwb_text_layout_marks_of(charset);
     cJSON *o = cJSON_Parse(reply);
     const char *cls = text(o, "class");
     if (!cls) {

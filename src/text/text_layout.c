@@ -6,12 +6,12 @@
 static const struct text_marks utf8_marks = {"\u00b1", "1\u03c3"};
 static const struct text_marks ascii_marks = {"+/-", "1 sigma"};
 
-const struct text_marks *text_marks_of(enum uwbd_charset charset)
+const struct text_marks *uwb_text_layout_marks_of(enum uwbd_charset charset)
 {
     return charset == UWBD_CHARSET_ASCII ? &ascii_marks : &utf8_marks;
 }
 
-int text_width(const char *s)
+int uwb_text_layout_width(const char *s)
 {
     int shown = 0;
     for (const unsigned char *c = (const unsigned char *)s; *c; c++)
@@ -19,14 +19,14 @@ int text_width(const char *s)
     return shown;
 }
 
-void text_column(FILE *out, const char *s, int width)
+void uwb_text_layout_column(FILE *out, const char *s, int width)
 {
     fputs(s, out);
-    for (int shown = text_width(s); shown < width; shown++)
+    for (int shown = uwb_text_layout_width(s); shown < width; shown++)
         fputc(' ', out);
 }
 
-void text_wrapped(FILE *out, const char *s, int at, int indent, int line_width)
+void uwb_text_layout_wrapped(FILE *out, const char *s, int at, int indent, int line_width)
 {
     int column = at, words_on_line = 0;
     while (*s == ' ')
@@ -35,7 +35,7 @@ void text_wrapped(FILE *out, const char *s, int at, int indent, int line_width)
         size_t n = strcspn(s, " ");
         char word[512];
         snprintf(word, sizeof word, "%.*s", (int)(n < sizeof word ? n : sizeof word - 1), s);
-        int w = text_width(word);
+        int w = uwb_text_layout_width(word);
         int gap = words_on_line ? 1 : 0;
         if ((words_on_line || column > indent) && column + gap + w > line_width) {
             fprintf(out, "\n%*s", indent, "");

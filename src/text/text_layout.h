@@ -14,19 +14,19 @@ struct text_marks {
     const char *one_sigma;  /* "1σ" or "1 sigma" */
 };
 
-const struct text_marks *text_marks_of(enum uwbd_charset charset);
+const struct text_marks *uwb_text_layout_marks_of(enum uwbd_charset charset);
 
 /* The width of s on a terminal: its characters, not its bytes. */
-int text_width(const char *s);
+int uwb_text_layout_width(const char *s);
 
 /* s, then spaces up to `width` columns (none when s is as wide or wider:
  * never cut). */
-void text_column(FILE *out, const char *s, int width);
+void uwb_text_layout_column(FILE *out, const char *s, int width);
 
 /* s's words from column `at` (where the caller has got to), lines
  * broken before a word that would pass `line_width`, each new line
  * indented by `indent` spaces; a word wider than a line is kept whole.
  * Ends with a newline. */
-void text_wrapped(FILE *out, const char *s, int at, int indent, int line_width);
+void uwb_text_layout_wrapped(FILE *out, const char *s, int at, int indent, int line_width);
 
 #endif

@@ -47,7 +47,7 @@ static void upper(char *dst, size_t n, const char *src)
 
 static int at_least(int width, const char *s)
 {
-    int w = text_width(s);
+    int w = uwb_text_layout_width(s);
     return w > width ? w : width;
 }
 
@@ -78,9 +78,9 @@ static void verdict_line(const cJSON *v, const struct text_marks *m, FILE *out)
     fprintf(out, "%-20s %c %-12s  ", text(v, "created", "(no time)"),
             cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ', status);
     snprintf(header, sizeof header, "displacement %s %s", m->plus_minus, m->one_sigma);
-    text_column(out, figure, at_least(FIGURE_WIDTH, header));
+    uwb_text_layout_column(out, figure, at_least(FIGURE_WIDTH, header));
     fprintf(out, "  %13s  ", height);
-    text_column(out, radial, RADIAL_WIDTH);
+    uwb_text_layout_column(out, radial, RADIAL_WIDTH);
     fprintf(out, "  %s", text(v, "scan_id", ""));
     if (cJSON_IsTrue(item(v, "baseline_set")))
         fputs("  (became the baseline)", out);
@@ -89,7 +89,7 @@ static void verdict_line(const cJSON *v, const struct text_marks *m, FILE *out)
     const char *reason = text(v, "reason", NULL);
     if (reason) {
         fprintf(out, "%*s", REASON_INDENT, "");
-        text_wrapped(out, reason, REASON_INDENT, REASON_INDENT, LINE_WIDTH);
+        uwb_text_layout_wrapped(out, reason, REASON_INDENT, REASON_INDENT, LINE_WIDTH);
     }
 }
 
@@ -100,7 +100,7 @@ int uwbd_trend_text(const char *reply, FILE *out)
 
 int uwbd_trend_text_in(const char *reply, FILE *out, enum uwbd_charset charset)
 {
-    const struct text_marks *m = text_marks_of(charset);
+    const struct text_marks *m = uwb_text_layout_marks_of(charset);
     cJSON *o = cJSON_Parse(reply);
     const cJSON *cls = item(o, "class"), *list = item(o, "verdicts");
     if (!cJSON_IsString(cls) || strcmp(cls->valuestring, "TREND") != 0 || !cJSON_IsArray(list)) {
@@ -117,10 +117,10 @@ int uwbd_trend_text_in(const char *reply, FILE *out, enum uwbd_charset charset)
     char header[64];
     fprintf(out, "%-20s   %-12s  ", "created (UTC)", "status");
     snprintf(header, sizeof header, "displacement %s %s", m->plus_minus, m->one_sigma);
-    text_column(out, header, FIGURE_WIDTH);
+    uwb_text_layout_column(out, header, FIGURE_WIDTH);
     fprintf(out, "  %13s  ", "height change");
     snprintf(header, sizeof header, "radial %s %s", m->plus_minus, m->one_sigma);
-    text_column(out, header, RADIAL_WIDTH);
+    uwb_text_layout_column(out, header, RADIAL_WIDTH);
     fprintf(out, "  %s\n", "scan");
     const cJSON *v;
     cJSON_ArrayForEach(v, list) verdict_line(v, m, out);

@@ -99,7 +99,7 @@ int uwbd_verdict_text_in(const char *reply, FILE *out, enum uwbd_charset charset
         free(v);
         return -1;
     }
-    print_verdict(v, text_marks_of(charset), out);
+    print_verdict(v, uwb_text_layout_marks_of(charset), out);
     free(v);
     return 0;
 }
