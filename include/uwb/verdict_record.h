@@ -77,7 +77,4 @@ struct uwb_verdict_record {
  * cycle left empty. */
 void uwb_record_from_verdict(struct uwb_verdict_record *r, const struct uwb_verdict *v);
 
-/* Metres to the published millimetres (0.01 mm); -0 becomes 0. */
-double uwb_record_mm(double metres);
-
 #endif
