@@ -75,6 +75,13 @@ void uwb_fields_write(const struct uwb_field_table *t, const void *record, cJSON
  * "verdict: key `KEY`: PROBLEM". 0, or -1. */
 int uwb_fields_read(const struct uwb_field_table *t, const cJSON *o, void *record, char *err, size_t errlen);
 
+/* A TREND entry: the rows with a trend place, flat (radial_status), in
+ * their order; and reading one back (a nested row's group is there when
+ * one of its keys is). */
+void uwb_fields_write_trend(const struct uwb_field_table *t, const void *record, cJSON *o);
+int uwb_fields_read_trend(const struct uwb_field_table *t, const cJSON *o, void *record, char *err,
+                          size_t errlen);
+
 /* A row's name outside JSON (a CSV column, a TREND key): "radial_max_change_mm",
  * its group's key and its own; -1 when it does not fit in n. */
 int uwb_field_flat_name(const struct uwb_field *f, char *buf, size_t n);

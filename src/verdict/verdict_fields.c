@@ -163,20 +163,22 @@ int uwb_field_flat_name(const struct uwb_field *f, char *buf, size_t n)
 
 /* ---- writing ------------------------------------------------------------------ */
 
-static void write_row(const struct uwb_field *f, const void *record, cJSON *o)
+/* key: the row's own (with its withheld key) or a TREND entry's (flat: without). */
+static void write_row(const struct uwb_field *f, int flat, const void *record, cJSON *o)
 {
+    const char *key = flat ? f->trend_key : f->key;
     switch (f->kind) {
     case UWB_FIELD_STATUS:
-        cJSON_AddStringToObject(o, f->key, uwb_status_name(*(const enum uwb_status *)text(record, f->value)));
+        cJSON_AddStringToObject(o, key, uwb_status_name(*(const enum uwb_status *)text(record, f->value)));
         break;
     case UWB_FIELD_TEXT:
         if (text(record, f->value)[0])
-            cJSON_AddStringToObject(o, f->key, text(record, f->value));
+            cJSON_AddStringToObject(o, key, text(record, f->value));
         break;
     case UWB_FIELD_NUMBER:
         if (flag_at(record, f->given))
-            cJSON_AddNumberToObject(o, f->key, *uwb_field_number(f, (void *)record));
-        else if (f->withheld_key && text(record, f->withheld)[0])
+            cJSON_AddNumberToObject(o, key, *uwb_field_number(f, (void *)record));
+        else if (f->withheld_key && !flat && text(record, f->withheld)[0])
             cJSON_AddStringToObject(o, f->withheld_key, text(record, f->withheld));
         break;
     }
@@ -195,7 +197,27 @@ void uwb_fields_write(const struct uwb_field_table *t, const void *record, cJSON
                                                    : NULL;
         }
         if (into)
-            write_row(f, record, into);
+            write_row(f, 0, record, into);
+    }
+}
+
+/* The row at a TREND entry's place, or NULL. */
+static const struct uwb_field *trend_row(const struct uwb_field_table *t, int at)
+{
+    for (size_t i = 0; i < t->count; i++)
+        if (t->rows[i].trend == at)
+            return &t->rows[i];
+    return NULL;
+}
+
+void uwb_fields_write_trend(const struct uwb_field_table *t, const void *record, cJSON *o)
+{
+    for (int at = 1; at <= UWB_FIELD_PLACES; at++) {
+        const struct uwb_field *f = trend_row(t, at);
+        /* A text is said wherever it is known (an older line's baseline
+         * may give its scan_id without its edges). */
+        if (f && (f->kind == UWB_FIELD_TEXT || flag_at(record, f->group->given)))
+            write_row(f, 1, record, o);
     }
 }
 
@@ -245,26 +267,27 @@ static int read_number(struct reader *rd, const cJSON *o, const char *key, doubl
     return 1;
 }
 
-static void read_row(struct reader *rd, const struct uwb_field *f, const cJSON *o, void *record)
+static void read_row(struct reader *rd, const struct uwb_field *f, int flat, const cJSON *o, void *record)
 {
+    const char *key = flat ? f->trend_key : f->key;
+    int nested = f->group->key && !flat;
     char *at = (char *)record + f->value;
     switch (f->kind) {
     case UWB_FIELD_STATUS: {
-        const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, f->key);
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
         if (!cJSON_IsString(v) || uwb_status_from_name(v->valuestring, (enum uwb_status *)(void *)at) != 0) {
             char name[64];
-            snprintf(name, sizeof name, "%s%s%s", f->group->key ? f->group->key : "",
-                     f->group->key ? "." : "", f->key);
+            snprintf(name, sizeof name, "%s%s%s", nested ? f->group->key : "", nested ? "." : "", key);
             refuse(rd, name, "missing or not a status");
         }
         break;
     }
-    case UWB_FIELD_TEXT: read_text(rd, o, f->key, at, f->size); break;
+    case UWB_FIELD_TEXT: read_text(rd, o, key, at, f->size); break;
     case UWB_FIELD_NUMBER:
         /* A figure's presence decides; what comes with it is read when there. */
-        if (!read_number(rd, o, f->key, (double *)(void *)at) && f->decides)
+        if (!read_number(rd, o, key, (double *)(void *)at) && f->decides)
             *flag(record, f->given) = 0;
-        if (f->withheld_key)
+        if (f->withheld_key && !flat)
             read_text(rd, o, f->withheld_key, (char *)record + f->withheld, f->withheld_size);
         break;
     }
@@ -304,9 +327,33 @@ int uwb_fields_read(const struct uwb_field_table *t, const cJSON *o, void *recor
             in = group_object(&rd, group, o);
         }
         if (in)
-            read_row(&rd, f, in, record);
+            read_row(&rd, f, 0, in, record);
         if (rd.failed && f->kind == UWB_FIELD_STATUS && !f->group->key)
             return -1; /* no status, no verdict: nothing further is worth reading */
+    }
+    return rd.failed ? -1 : 0;
+}
+
+int uwb_fields_read_trend(const struct uwb_field_table *t, const cJSON *o, void *record, char *err,
+                          size_t errlen)
+{
+    struct reader rd = {.err = err, .errlen = errlen};
+    for (int at = 1; at <= UWB_FIELD_PLACES; at++) {
+        const struct uwb_field *f = trend_row(t, at);
+        if (!f)
+            continue;
+        int there = cJSON_HasObjectItem(o, f->trend_key);
+        /* A nested row's group is there when one of its keys is. */
+        if (there && f->group->given)
+            *flag(record, f->group->given) = 1;
+        if (f->decides)
+            *flag(record, f->given) = 1;
+        if (there || (f->kind == UWB_FIELD_STATUS && !f->group->key))
+            read_row(&rd, f, 1, o, record);
+        else if (f->decides)
+            *flag(record, f->given) = 0;
+        if (rd.failed && f->kind == UWB_FIELD_STATUS && !f->group->key)
+            return -1;
     }
     return rd.failed ? -1 : 0;
 }

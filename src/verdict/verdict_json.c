@@ -160,6 +160,35 @@ cJSON *uwb_record_history_entry(const struct uwb_verdict_record *r)
     return summary_of(r, 'h');
 }
 
+cJSON *uwb_record_trend_entry(const struct uwb_verdict_record *r)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (!o)
+        return NULL;
+    uwb_fields_write_trend(&uwb_verdict_fields, r, o);
+    /* The reason only where it stands for the figure. */
+    if (r->has_displacement)
+        cJSON_DeleteItemFromObjectCaseSensitive(o, "reason");
+    if (r->cycle.baseline_set)
+        cJSON_AddBoolToObject(o, "baseline_set", 1);
+    return o;
+}
+
+int uwb_record_from_trend_entry(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen)
+{
+    memset(r, 0, sizeof *r);
+    if (!cJSON_IsObject(o)) {
+        snprintf(err, errlen, "verdict: a trend entry that is not an object");
+        return -1;
+    }
+    if (uwb_fields_read_trend(&uwb_verdict_fields, o, r, err, errlen) != 0)
+        return -1;
+    const cJSON *set = cJSON_GetObjectItemCaseSensitive(o, "baseline_set");
+    r->cycle.has_baseline_set = cJSON_IsBool(set);
+    r->cycle.baseline_set = cJSON_IsTrue(set);
+    return 0;
+}
+
 /* ---- reading ------------------------------------------------------------------ */
 
 /* Reading one object: its fields into the record, the first problem kept. */
