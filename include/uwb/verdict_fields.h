@@ -1,10 +1,10 @@
 /* The published verdict's fields, one row per figure (gpsd's json_attr_t,
  * rtl_433's data_t): its JSON key and group, where its value and its
  * "given" flag live in the record, its unit and rounding, its CSV column,
- * whether the status summary, the history and the
+ * its Prometheus gauge, whether the status summary, the history and the
  * trend carry it, and the key that says why when it is withheld. The
  * record's rounding, the JSON writer and reader (verdict_json.c), the CSV
- * row and the trend walk this table; a new figure
+ * row, the Prometheus textfile and the trend walk this table; a new figure
  * is a row here and a field in the record, nothing more. */
 #ifndef UWB_VERDICT_FIELDS_H
 #define UWB_VERDICT_FIELDS_H
@@ -42,10 +42,17 @@ struct uwb_field {
     const char *withheld_key; /* written in the figure's place when it is not given */
     size_t withheld;          /* ...from this text */
     size_t withheld_size;
-    int csv_column;        /* 1, 2, ...; 0: not a CSV column */
-    int summary, history;  /* place in the status summary and in a history entry (1, 2, ...); 0: not there */
-    const char *trend_key; /* its key in a TREND entry (NULL: not there) */
-    int trend;             /* ...and its place there (1, 2, ...) */
+    int csv_column;       /* 1, 2, ...; 0: not a CSV column */
+    int summary, history; /* place in the status summary and in a history entry (1, 2, ...); 0: not there */
+    /* A Prometheus gauge in base units (the published value over
+     * steps_per_si / steps_per_unit); a status row gives one sample per
+     * status. Rows sharing a name are one metric, told apart by label. */
+    const char *prom_name; /* NULL: none */
+    const char *prom_help;
+    const char *prom_label; /* e.g. edge="lower", or NULL */
+    int prom;               /* its place in the textfile (1, 2, ...) */
+    const char *trend_key;  /* its key in a TREND entry (NULL: not there) */
+    int trend;              /* ...and its place there (1, 2, ...) */
 };
 
 struct uwb_field_table {
@@ -64,8 +71,9 @@ int uwb_field_given(const struct uwb_field *f, const void *record);
  * as published, for every row that has a `from` and whose flag the record
  * already set: the one place metres become millimetres. */
 void uwb_fields_publish(const struct uwb_field_table *t, void *record, const void *verdict);
-/* One figure's published value from its SI value. */
+/* One figure's published value from its SI value, and back (base units). */
 double uwb_field_round(const struct uwb_field *f, double si);
+double uwb_field_si(const struct uwb_field *f, double published);
 /* The row for a key in its group (group NULL: top), or NULL. */
 const struct uwb_field *uwb_field_find(const struct uwb_field_table *t, const char *group, const char *key);
 
