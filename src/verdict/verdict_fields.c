@@ -11,7 +11,7 @@
 #define V(member) offsetof(struct uwb_verdict, member)
 #define TEXT(member) .value = R(member), .size = sizeof(((struct uwb_verdict_record *)0)->member)
 #define WITHHELD(key_, member) \
-    .withheld_key = key_, .withheld = R(member), \
+    .withheld_key = (key_), .withheld = R(member), \
     .withheld_size = sizeof(((struct uwb_verdict_record *)0)->member)
 /* Millimetres to 0.01 mm (from metres), dB to 0.1 dB, picoseconds to 0.1 ps
  * (from seconds): finer digits would claim precision nobody has. */
@@ -118,7 +118,7 @@ const struct uwb_field_table uwb_verdict_fields = {rows, sizeof rows / sizeof ro
 
 double *uwb_field_number(const struct uwb_field *f, void *record)
 {
-    return (double *)((char *)record + f->value);
+    return (double *)(void *)((char *)record + f->value);
 }
 
 static int flag_at(const void *record, size_t at)
@@ -158,7 +158,7 @@ void uwb_fields_publish(const struct uwb_field_table *t, void *record, const voi
         const struct uwb_field *f = &t->rows[i];
         if (f->kind == UWB_FIELD_NUMBER && f->from != 0 && uwb_field_given(f, record))
             *uwb_field_number(f, record) =
-                uwb_field_round(f, *(const double *)((const char *)verdict + f->from));
+                uwb_field_round(f, *(const double *)(const void *)((const char *)verdict + f->from));
     }
 }
 
