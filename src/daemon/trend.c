@@ -63,7 +63,7 @@ static void add_mm(cJSON *o, const char *key, double mm)
 /* An entry: the record's trend summary, and where a new baseline starts. */
 static cJSON *entry_object(const struct uwb_trend_entry *e)
 {
-    cJSON *o = uwb_record_trend_entry(&e->record);
+    cJSON *o = uwb_record_trend_entry(&e->summary, e->became_baseline);
     if (o && e->baseline_change)
         cJSON_AddBoolToObject(o, "baseline_change", 1);
     return o;

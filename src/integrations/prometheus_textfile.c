@@ -35,7 +35,7 @@ void uwbd_prometheus_from_record(struct uwbd_prometheus_metrics *m, const struct
         return;
     m->has_verdict = 1;
     m->status = index;
-    m->figures = *v;
+    m->figures = v->summary;
     time_t created_s;
     m->created_s = 0;
     if (uwb_utc_parse(v->created, &created_s) == 0)
@@ -80,7 +80,7 @@ static void status_samples(struct text *t, const char *name, enum uwb_status sta
 }
 
 /* The rows with a gauge, in their places: those the record gives. */
-static void figure_gauges(struct text *t, const struct uwb_verdict_record *r)
+static void figure_gauges(struct text *t, const struct uwb_verdict_summary *r)
 {
     const char *last = NULL;
     for (int at = 1; at <= UWB_FIELD_PLACES; at++) {

@@ -16,9 +16,9 @@
 struct uwbd_prometheus_metrics {
     const char *asset_id;
     int has_verdict;
-    int status;                        /* index into uwbd_prometheus_status_name */
-    struct uwb_verdict_record figures; /* the latest verdict's: its gauges are the field table's */
-    double created_s;                  /* the verdict's time, Unix seconds; 0: unknown */
+    int status;                         /* index into uwbd_prometheus_status_name */
+    struct uwb_verdict_summary figures; /* the latest verdict's: its gauges are the field table's */
+    double created_s;                   /* the verdict's time, Unix seconds; 0: unknown */
     int has_duration;
     double scan_duration_s;                     /* the latest scan cycle, start to verdict */
     unsigned long verdicts[UWBD_PROM_STATUSES]; /* recorded since the daemon started */

@@ -48,11 +48,11 @@ static void count_kinds(const struct uwb_trend *t, int *figures, int *inconclusi
     for (int i = 0; i < t->count; i++) {
         const struct uwb_trend_entry *p = &t->entries[i];
         *undated += !p->has_time;
-        if (p->record.has_displacement)
+        if (p->summary.has_displacement)
             ++*figures;
-        else if (p->record.status == UWB_STATUS_ERROR)
+        else if (p->summary.status == UWB_STATUS_ERROR)
             ++*errors;
-        else if (p->record.status == UWB_STATUS_EDGES)
+        else if (p->summary.status == UWB_STATUS_EDGES)
             ++*edges;
         else
             ++*inconclusive;
@@ -69,15 +69,14 @@ static void describe_point(const struct uwb_trend_entry *p, const char *sep, cha
 {
     if (!p)
         snprintf(buf, len, "no verdict yet");
-    else if (p->record.has_displacement)
-        snprintf(buf, len, "%s %+.2f %s %.2f mm (1 sigma)", uwb_status_name(p->record.status),
-                 p->record.axial_displacement_mm, sep, p->record.uncertainty_mm);
-    else if (p->record.status == UWB_STATUS_EDGES)
-        snprintf(buf, len, "edges only (%s)",
-                 p->record.cycle.baseline_set ? "became the baseline" : "no baseline");
+    else if (p->summary.has_displacement)
+        snprintf(buf, len, "%s %+.2f %s %.2f mm (1 sigma)", uwb_status_name(p->summary.status),
+                 p->summary.axial_displacement_mm, sep, p->summary.uncertainty_mm);
+    else if (p->summary.status == UWB_STATUS_EDGES)
+        snprintf(buf, len, "edges only (%s)", p->became_baseline ? "became the baseline" : "no baseline");
     else
-        snprintf(buf, len, "%s, no figure%s%.100s", uwb_status_name(p->record.status),
-                 p->record.reason[0] ? ": " : "", p->record.reason);
+        snprintf(buf, len, "%s, no figure%s%.100s", uwb_status_name(p->summary.status),
+                 p->summary.reason[0] ? ": " : "", p->summary.reason);
 }
 
 static void describe_rate(const struct uwb_trend *t, const char *sep, char *buf, size_t len)
@@ -96,7 +95,7 @@ static const struct uwb_trend_entry *latest_radial(const struct uwb_trend *t, in
     const struct uwb_trend_entry *last = NULL;
     *figures = 0;
     for (int i = 0; i < t->count; i++)
-        if (t->entries[i].record.radial_measured) {
+        if (t->entries[i].summary.radial_measured) {
             last = &t->entries[i];
             ++*figures;
         }
@@ -110,8 +109,8 @@ static void describe_radial(const struct uwb_trend *t, const char *sep, char *bu
     buf[0] = '\0';
     if (q)
         snprintf(buf, len, "%d radial figure%s, latest %+.2f %s %.2f mm (%s)", figures,
-                 figures == 1 ? "" : "s", q->record.radial_max_change_mm, sep,
-                 q->record.radial_uncertainty_mm, uwb_status_name(q->record.radial_status));
+                 figures == 1 ? "" : "s", q->summary.radial_max_change_mm, sep,
+                 q->summary.radial_uncertainty_mm, uwb_status_name(q->summary.radial_status));
 }
 
 void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *th, char *buf, size_t len)
@@ -128,7 +127,7 @@ void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *t
              "%d verdicts: %d with a figure, %d inconclusive, %d error, %d edges only; latest %s: %s; "
              "rate %s; %s%sthresholds watch %.2f mm, alarm %.2f mm; bars +/-%.0f sigma (95 %%)",
              t->count, figures, inconclusive, errors, edges,
-             p && p->record.created[0] ? p->record.created : "(none)", last, rate, radial,
+             p && p->summary.created[0] ? p->summary.created : "(none)", last, rate, radial,
              radial[0] ? "; " : "", th->watch_m * 1e3, th->alarm_m * 1e3, UWB_TREND_BAR_SIGMAS);
 }
 
@@ -192,8 +191,8 @@ static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct
     if (c)
         uwb_draw_text(c, x, y, "latest", scale, muted);
     describe_point(p, "\u00b1", b, sizeof b);
-    snprintf(a, sizeof a, "%s  %s", p && p->record.created[0] ? p->record.created : "", b);
-    y += wrapped_text(c, x + label_w, y, a, scale, p ? uwb_status_colour(p->record.status) : ink, text_w);
+    snprintf(a, sizeof a, "%s  %s", p && p->summary.created[0] ? p->summary.created : "", b);
+    y += wrapped_text(c, x + label_w, y, a, scale, p ? uwb_status_colour(p->summary.status) : ink, text_w);
     if (c)
         uwb_draw_text(c, x, y, "rate", scale, muted);
     describe_rate(t, "\u00b1", a, sizeof a);
@@ -269,12 +268,12 @@ void uwb_render_trend_layout(const struct uwb_trend *t, const struct uwb_thresho
     double lim = fmax(th->alarm_m * 1e3 * 1.25, 1.0);
     for (int i = 0; i < t->count; i++) {
         const struct uwb_trend_entry *q = &t->entries[i];
-        if (q->record.has_displacement)
-            lim = fmax(lim, 1.1 * (fabs(q->record.axial_displacement_mm) +
-                                   UWB_TREND_BAR_SIGMAS * q->record.uncertainty_mm));
-        if (q->record.radial_measured)
-            lim = fmax(lim, 1.1 * (fabs(q->record.radial_max_change_mm) +
-                                   UWB_TREND_BAR_SIGMAS * q->record.radial_uncertainty_mm));
+        if (q->summary.has_displacement)
+            lim = fmax(lim, 1.1 * (fabs(q->summary.axial_displacement_mm) +
+                                   UWB_TREND_BAR_SIGMAS * q->summary.uncertainty_mm));
+        if (q->summary.radial_measured)
+            lim = fmax(lim, 1.1 * (fabs(q->summary.radial_max_change_mm) +
+                                   UWB_TREND_BAR_SIGMAS * q->summary.radial_uncertainty_mm));
     }
     p->y_min = -lim;
     p->y_max = lim;
@@ -313,27 +312,27 @@ static void no_figure_mark(struct uwb_canvas *c, const struct uwb_trend_layout *
                            const struct uwb_trend_entry *q)
 {
     /* ? inconclusive, X error, B became the baseline, E edges only. */
-    const char *mark = q->record.status == UWB_STATUS_ERROR   ? "X"
-                       : q->record.cycle.baseline_set         ? "B"
-                       : q->record.status == UWB_STATUS_EDGES ? "E"
-                                                              : "?";
+    const char *mark = q->summary.status == UWB_STATUS_ERROR   ? "X"
+                       : q->became_baseline                    ? "B"
+                       : q->summary.status == UWB_STATUS_EDGES ? "E"
+                                                               : "?";
     int col = uwb_trend_col(l, q->t);
     int w = uwb_text_width(mark, FONT_SCALE);
     uwb_draw_text(c, col - w / 2, l->strip_y + (l->strip_h - UWB_FONT_CAP_HEIGHT * FONT_SCALE) / 2, mark,
-                  FONT_SCALE, uwb_status_colour(q->record.status));
+                  FONT_SCALE, uwb_status_colour(q->summary.status));
 }
 
 static void figure(struct uwb_canvas *c, const struct uwb_plot *p, int col, const struct uwb_trend_entry *q)
 {
-    double bar = UWB_TREND_BAR_SIGMAS * q->record.uncertainty_mm;
-    int top = uwb_plot_row(p, q->record.axial_displacement_mm + bar),
-        bottom = uwb_plot_row(p, q->record.axial_displacement_mm - bar);
-    int row = uwb_plot_row(p, q->record.axial_displacement_mm);
+    double bar = UWB_TREND_BAR_SIGMAS * q->summary.uncertainty_mm;
+    int top = uwb_plot_row(p, q->summary.axial_displacement_mm + bar),
+        bottom = uwb_plot_row(p, q->summary.axial_displacement_mm - bar);
+    int row = uwb_plot_row(p, q->summary.axial_displacement_mm);
     uwb_canvas_line(c, col, top, col, bottom, ink, 1, 0, 0);
     uwb_canvas_line(c, col - CAP, top, col + CAP, top, ink, 1, 0, 0);
     uwb_canvas_line(c, col - CAP, bottom, col + CAP, bottom, ink, 1, 0, 0);
     uwb_canvas_fill_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1,
-                         uwb_status_colour(q->record.status));
+                         uwb_status_colour(q->summary.status));
     uwb_canvas_frame_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1, ink);
 }
 
@@ -341,10 +340,10 @@ static void figure(struct uwb_canvas *c, const struct uwb_plot *p, int col, cons
 static void radial_figure(struct uwb_canvas *c, const struct uwb_plot *p, int col,
                           const struct uwb_trend_entry *q)
 {
-    double bar = UWB_TREND_BAR_SIGMAS * q->record.radial_uncertainty_mm;
-    int top = uwb_plot_row(p, q->record.radial_max_change_mm + bar),
-        bottom = uwb_plot_row(p, q->record.radial_max_change_mm - bar);
-    int row = uwb_plot_row(p, q->record.radial_max_change_mm);
+    double bar = UWB_TREND_BAR_SIGMAS * q->summary.radial_uncertainty_mm;
+    int top = uwb_plot_row(p, q->summary.radial_max_change_mm + bar),
+        bottom = uwb_plot_row(p, q->summary.radial_max_change_mm - bar);
+    int row = uwb_plot_row(p, q->summary.radial_max_change_mm);
     uwb_canvas_line(c, col, top, col, bottom, UWB_TREND_RADIAL_INK, 1, 0, 0);
     uwb_canvas_line(c, col - CAP, top, col + CAP, top, UWB_TREND_RADIAL_INK, 1, 0, 0);
     uwb_canvas_line(c, col - CAP, bottom, col + CAP, bottom, UWB_TREND_RADIAL_INK, 1, 0, 0);
@@ -354,7 +353,7 @@ static void radial_figure(struct uwb_canvas *c, const struct uwb_plot *p, int co
         uwb_canvas_fill_rect(c, col - half, row + dy, 2 * half + 1, 1, UWB_TREND_RADIAL_INK);
         if (half > 0)
             uwb_canvas_fill_rect(c, col - half + 1, row + dy, 2 * half - 1, 1,
-                                 uwb_status_colour(q->record.radial_status));
+                                 uwb_status_colour(q->summary.radial_status));
     }
 }
 
@@ -429,9 +428,9 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         const struct uwb_trend_entry *q = &t->entries[i];
         if (q->baseline_change)
             have_prev = 0;
-        if (!q->record.has_displacement || !q->has_time)
+        if (!q->summary.has_displacement || !q->has_time)
             continue;
-        int col = uwb_trend_col(&l, q->t), row = uwb_plot_row(p, q->record.axial_displacement_mm);
+        int col = uwb_trend_col(&l, q->t), row = uwb_plot_row(p, q->summary.axial_displacement_mm);
         if (have_prev)
             uwb_canvas_line(c, prev_col, prev_row, col, row, series_grey, 1, 0, 0);
         prev_col = col;
@@ -444,10 +443,10 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         const struct uwb_trend_entry *q = &t->entries[i];
         if (q->baseline_change)
             have_prev = 0;
-        if (!q->record.radial_measured || !q->has_time)
+        if (!q->summary.radial_measured || !q->has_time)
             continue;
         int col = uwb_trend_col(&l, q->t) + UWB_TREND_RADIAL_OFFSET,
-            row = uwb_plot_row(p, q->record.radial_max_change_mm);
+            row = uwb_plot_row(p, q->summary.radial_max_change_mm);
         if (have_prev)
             uwb_canvas_line(c, prev_col, prev_row, col, row, radial_line, 1, 0, 0);
         prev_col = col;
@@ -458,11 +457,11 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         const struct uwb_trend_entry *q = &t->entries[i];
         if (!q->has_time)
             continue;
-        if (q->record.has_displacement)
+        if (q->summary.has_displacement)
             figure(c, p, uwb_trend_col(&l, q->t), q);
         else
             no_figure_mark(c, &l, q);
-        if (q->record.radial_measured)
+        if (q->summary.radial_measured)
             radial_figure(c, p, uwb_trend_col(&l, q->t) + UWB_TREND_RADIAL_OFFSET, q);
     }
     int radial_figures;

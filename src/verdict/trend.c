@@ -14,16 +14,13 @@ static int graded(enum uwb_status status)
     return status == UWB_STATUS_OK || status == UWB_STATUS_WATCH || status == UWB_STATUS_ALARM;
 }
 
-/* A verdict line as an entry, read through the record. */
-static int read_entry(const char *line, struct uwb_trend_entry *e)
+/* A verdict line as an entry, read through the record (r: room for one). */
+static int read_entry(const char *line, struct uwb_verdict_record *r, struct uwb_trend_entry *e)
 {
     char err[256];
     memset(e, 0, sizeof *e);
-    struct uwb_verdict_record *r = &e->record;
     if (uwb_record_from_json(line, r, err, sizeof err) != 0)
         return -1;
-    e->has_time = uwb_utc_parse(r->created, &e->t) == 0;
-    e->baseline_change = r->cycle.baseline_set;
     /* A figure only where the verdict made one: an inconclusive or error
      * verdict never becomes a point on the line. */
     if (!graded(r->status) || r->uncertainty_mm < 0)
@@ -32,6 +29,9 @@ static int read_entry(const char *line, struct uwb_trend_entry *e)
         r->has_height_change = 0;
     if (!r->has_radial || !graded(r->radial_status))
         r->radial_measured = 0;
+    e->summary = r->summary;
+    e->became_baseline = e->baseline_change = r->cycle.baseline_set;
+    e->has_time = uwb_utc_parse(r->created, &e->t) == 0;
     return 0;
 }
 
@@ -61,7 +61,7 @@ static void withhold_rate(struct uwb_trend_rate *r)
 /* The figures the rate is fitted to: dated, with a displacement. */
 static int is_fitted(const struct uwb_trend_entry *p)
 {
-    return p->record.has_displacement && p->has_time;
+    return p->summary.has_displacement && p->has_time;
 }
 
 static double days_since(const struct uwb_trend_entry *p, double t0)
@@ -72,7 +72,7 @@ static double days_since(const struct uwb_trend_entry *p, double t0)
 /* A sigma of 0 (rounded) counts as 0.01 mm, the verdict's resolution. */
 static double fit_sigma_mm(const struct uwb_trend_entry *p)
 {
-    return fmax(p->record.uncertainty_mm, 0.01);
+    return fmax(p->summary.uncertainty_mm, 0.01);
 }
 
 static void find_rate(struct uwb_trend *t)
@@ -96,9 +96,9 @@ static void find_rate(struct uwb_trend *t)
         double w = 1.0 / (s * s);
         sw += w;
         swx += w * x;
-        swy += w * p->record.axial_displacement_mm;
+        swy += w * p->summary.axial_displacement_mm;
         swxx += w * x * x;
-        swxy += w * x * p->record.axial_displacement_mm;
+        swxy += w * x * p->summary.axial_displacement_mm;
         if (n == 0)
             first = x;
         last = x;
@@ -120,7 +120,7 @@ static void find_rate(struct uwb_trend *t)
         if (!is_fitted(p))
             continue;
         double r =
-            (p->record.axial_displacement_mm - intercept - slope * days_since(p, t0)) / fit_sigma_mm(p);
+            (p->summary.axial_displacement_mm - intercept - slope * days_since(p, t0)) / fit_sigma_mm(p);
         chi2 += r * r;
     }
     t->rate.known = 1;
@@ -134,26 +134,31 @@ int uwb_trend_from_lines(char *const *lines, int count, struct uwb_trend *out)
     if (count <= 0)
         return 0;
     out->entries = calloc((size_t)count, sizeof *out->entries);
-    if (!out->entries)
+    struct uwb_verdict_record *record = malloc(sizeof *record);
+    if (!out->entries || !record) {
+        free(record);
+        uwb_trend_free(out);
         return -1;
+    }
     const char *known_baseline = "";
     for (int i = 0; i < count; i++) {
         struct uwb_trend_entry *e = &out->entries[out->count];
-        if (read_entry(lines[i], e) != 0) {
+        if (read_entry(lines[i], record, e) != 0) {
             out->unreadable++;
             continue;
         }
         /* A new baseline shows as this scan having become one, or as a
          * verdict against another baseline than the one before. */
-        const struct uwb_verdict_record *r = &e->record;
+        const struct uwb_verdict_summary *r = &e->summary;
         if (r->baseline_scan_id[0] && known_baseline[0] && strcmp(r->baseline_scan_id, known_baseline) != 0)
             e->baseline_change = 1;
-        if (r->cycle.baseline_set)
+        if (e->became_baseline)
             known_baseline = r->scan_id;
         else if (r->baseline_scan_id[0])
             known_baseline = r->baseline_scan_id;
         out->count++;
     }
+    free(record);
     find_rate(out);
     return 0;
 }

@@ -10,15 +10,16 @@
 #include "uwb/verdict.h"
 #include "uwb/verdict_record.h"
 
-/* A verdict on the trend: its published record as read back (the
- * summary the TREND reply gives of it comes from the record: uwb/
- * verdict_json.h), and what the series makes of it. A figure only where
+/* A verdict on the trend: the summary of its published record as read
+ * back (the TREND reply's entry is written from it: uwb/verdict_json.h),
+ * and what the series makes of it. A figure only where
  * the verdict graded one: the reading clears a displacement, height
  * change or radial change an inconclusive or error verdict (an older
  * line) may carry, so has_displacement and radial_measured say "a point
  * on the line". */
 struct uwb_trend_entry {
-    struct uwb_verdict_record record;
+    struct uwb_verdict_summary summary;
+    int became_baseline; /* this scan was made the baseline (baseline_set) */
     int has_time;
     time_t t;            /* created, as UTC seconds */
     int baseline_change; /* became the baseline, or compared against another baseline than the scans before */

@@ -160,16 +160,16 @@ cJSON *uwb_record_history_entry(const struct uwb_verdict_record *r)
     return summary_of(r, 'h');
 }
 
-cJSON *uwb_record_trend_entry(const struct uwb_verdict_record *r)
+cJSON *uwb_record_trend_entry(const struct uwb_verdict_summary *s, int became_baseline)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o)
         return NULL;
-    uwb_fields_write_trend(&uwb_verdict_fields, r, o);
+    uwb_fields_write_trend(&uwb_verdict_fields, s, o);
     /* The reason only where it stands for the figure. */
-    if (r->has_displacement)
+    if (s->has_displacement)
         cJSON_DeleteItemFromObjectCaseSensitive(o, "reason");
-    if (r->cycle.baseline_set)
+    if (became_baseline)
         cJSON_AddBoolToObject(o, "baseline_set", 1);
     return o;
 }

@@ -69,7 +69,7 @@ static void read_lines(struct uwb_trend *t)
 
 static char *entry_text(const struct uwb_trend *t, int i)
 {
-    cJSON *o = uwb_record_trend_entry(&t->entries[i].record);
+    cJSON *o = uwb_record_trend_entry(&t->entries[i].summary, t->entries[i].became_baseline);
     char *text = cJSON_PrintUnformatted(o);
     cJSON_Delete(o);
     return text;
@@ -98,7 +98,7 @@ static void test_a_trend_entry_is_the_records_summary_and_reads_back(void)
         TEST_ASSERT_EQUAL_STRING(want[i], text);
         free(text);
     }
-    cJSON *o = uwb_record_trend_entry(&t.entries[1].record);
+    cJSON *o = uwb_record_trend_entry(&t.entries[1].summary, t.entries[1].became_baseline);
     struct uwb_verdict_record *back = malloc(sizeof *back);
     char err[160] = "";
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_record_from_trend_entry(o, back, err, sizeof err), err);
@@ -119,19 +119,19 @@ static void test_verdicts_become_figures_only_where_the_verdict_made_one(void)
     read_lines(&t);
     TEST_ASSERT_EQUAL_INT(N_LINES - 1, t.count);
     TEST_ASSERT_EQUAL_INT(1, t.unreadable);
-    TEST_ASSERT_EQUAL_INT(UWB_STATUS_EDGES, t.entries[0].record.status);
-    TEST_ASSERT_FALSE(t.entries[0].record.has_displacement);
-    TEST_ASSERT_TRUE(t.entries[1].record.has_displacement);
-    TEST_ASSERT_EQUAL_DOUBLE(0.1, t.entries[1].record.axial_displacement_mm);
-    TEST_ASSERT_EQUAL_DOUBLE(0.3, t.entries[1].record.uncertainty_mm);
-    TEST_ASSERT_TRUE(t.entries[1].record.has_height_change);
-    TEST_ASSERT_FALSE(t.entries[2].record.has_height_change);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_EDGES, t.entries[0].summary.status);
+    TEST_ASSERT_FALSE(t.entries[0].summary.has_displacement);
+    TEST_ASSERT_TRUE(t.entries[1].summary.has_displacement);
+    TEST_ASSERT_EQUAL_DOUBLE(0.1, t.entries[1].summary.axial_displacement_mm);
+    TEST_ASSERT_EQUAL_DOUBLE(0.3, t.entries[1].summary.uncertainty_mm);
+    TEST_ASSERT_TRUE(t.entries[1].summary.has_height_change);
+    TEST_ASSERT_FALSE(t.entries[2].summary.has_height_change);
     /* The inconclusive verdict's numbers are not a figure. */
-    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, t.entries[3].record.status);
-    TEST_ASSERT_FALSE(t.entries[3].record.has_displacement);
-    TEST_ASSERT_EQUAL_STRING("face echo too weak (SNR 3 dB)", t.entries[3].record.reason);
-    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, t.entries[4].record.status);
-    TEST_ASSERT_FALSE(t.entries[4].record.has_displacement);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, t.entries[3].summary.status);
+    TEST_ASSERT_FALSE(t.entries[3].summary.has_displacement);
+    TEST_ASSERT_EQUAL_STRING("face echo too weak (SNR 3 dB)", t.entries[3].summary.reason);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, t.entries[4].summary.status);
+    TEST_ASSERT_FALSE(t.entries[4].summary.has_displacement);
     TEST_ASSERT_TRUE(t.entries[1].has_time);
     TEST_ASSERT_EQUAL_INT64(86400, (long long)(t.entries[2].t - t.entries[1].t));
     uwb_trend_free(&t);
@@ -141,13 +141,13 @@ static void test_baseline_changes_are_marked(void)
 {
     struct uwb_trend t;
     read_lines(&t);
-    TEST_ASSERT_TRUE(t.entries[0].record.cycle.baseline_set);
+    TEST_ASSERT_TRUE(t.entries[0].became_baseline);
     TEST_ASSERT_TRUE(t.entries[0].baseline_change);
     for (int i = 1; i < 6; i++)
-        TEST_ASSERT_FALSE_MESSAGE(t.entries[i].baseline_change, t.entries[i].record.scan_id);
+        TEST_ASSERT_FALSE_MESSAGE(t.entries[i].baseline_change, t.entries[i].summary.scan_id);
     /* S7 is against B2, the scans before against B1. */
     TEST_ASSERT_TRUE(t.entries[6].baseline_change);
-    TEST_ASSERT_FALSE(t.entries[6].record.cycle.baseline_set);
+    TEST_ASSERT_FALSE(t.entries[6].became_baseline);
     TEST_ASSERT_FALSE(t.entries[7].baseline_change);
     uwb_trend_free(&t);
 }
@@ -398,7 +398,7 @@ static void test_trend_png_shows_bars_thresholds_and_no_figure_marks(void)
      * column; between the marker and the cap the column is the bar's ink
      * and the columns beside it are not. */
     const struct uwb_trend_entry *s6 = &t.entries[5];
-    TEST_ASSERT_EQUAL_STRING("S6", s6->record.scan_id);
+    TEST_ASSERT_EQUAL_STRING("S6", s6->summary.scan_id);
     int col = uwb_trend_col(&l, s6->t);
     int row = row_of(p, 3.0 + 1.5 * 0.5);
     TEST_ASSERT_TRUE_MESSAGE(row < row_of(p, 3.0) - 6, "the bar reaches past the marker");
@@ -757,15 +757,15 @@ static void test_radial_change_is_a_second_series(void)
     struct uwb_trend t;
     TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines((char *const *)radial_lines, 4, &t));
     TEST_ASSERT_EQUAL_INT(4, t.count);
-    TEST_ASSERT_FALSE(t.entries[0].record.has_radial);
-    TEST_ASSERT_FALSE(t.entries[0].record.radial_measured);
-    TEST_ASSERT_TRUE(t.entries[1].record.radial_measured);
-    TEST_ASSERT_EQUAL_DOUBLE(3.11, t.entries[1].record.radial_max_change_mm);
-    TEST_ASSERT_EQUAL_DOUBLE(0.39, t.entries[1].record.radial_uncertainty_mm);
-    TEST_ASSERT_EQUAL_INT(UWB_STATUS_WATCH, t.entries[1].record.radial_status);
-    TEST_ASSERT_TRUE(t.entries[2].record.has_radial);
-    TEST_ASSERT_FALSE(t.entries[2].record.radial_measured);
-    TEST_ASSERT_TRUE(t.entries[3].record.radial_measured);
+    TEST_ASSERT_FALSE(t.entries[0].summary.has_radial);
+    TEST_ASSERT_FALSE(t.entries[0].summary.radial_measured);
+    TEST_ASSERT_TRUE(t.entries[1].summary.radial_measured);
+    TEST_ASSERT_EQUAL_DOUBLE(3.11, t.entries[1].summary.radial_max_change_mm);
+    TEST_ASSERT_EQUAL_DOUBLE(0.39, t.entries[1].summary.radial_uncertainty_mm);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_WATCH, t.entries[1].summary.radial_status);
+    TEST_ASSERT_TRUE(t.entries[2].summary.has_radial);
+    TEST_ASSERT_FALSE(t.entries[2].summary.radial_measured);
+    TEST_ASSERT_TRUE(t.entries[3].summary.radial_measured);
 
     struct uwb_thresholds th = {.watch_m = 2e-3, .alarm_m = 5e-3};
     char *reply = uwbd_reply_trend(&t, 20, &th, NULL);

@@ -217,6 +217,26 @@ static void test_no_two_published_rows_share_a_place(void)
     }
 }
 
+/* The summary (what a trend keeps, the textfile's figures) is the start
+ * of the record: every row must lie in it, or a walk over a summary would
+ * read past its end. */
+static void test_every_published_row_lies_in_the_records_summary(void)
+{
+    const struct uwb_field_table *t = &uwb_verdict_fields;
+    size_t end = sizeof(struct uwb_verdict_summary);
+    TEST_ASSERT_EQUAL(0, offsetof(struct uwb_verdict_record, summary));
+    TEST_ASSERT_EQUAL(offsetof(struct uwb_verdict_summary, direct_coupling_shift_ps),
+                      offsetof(struct uwb_verdict_record, direct_coupling_shift_ps));
+    for (size_t i = 0; i < t->count; i++) {
+        const struct uwb_field *f = &t->rows[i];
+        size_t size = f->kind == UWB_FIELD_TEXT ? f->size : sizeof(double);
+        TEST_ASSERT_TRUE_MESSAGE(f->value + size <= end, f->key);
+        TEST_ASSERT_TRUE_MESSAGE(f->given + sizeof(int) <= end, f->key);
+        TEST_ASSERT_TRUE_MESSAGE(f->group->given + sizeof(int) <= end, f->key);
+        TEST_ASSERT_TRUE_MESSAGE(!f->withheld_key || f->withheld + f->withheld_size <= end, f->key);
+    }
+}
+
 /* Rounding is the table's: half a step away from zero, and no -0. */
 static void test_a_row_rounds_to_its_step_and_never_to_minus_zero(void)
 {
@@ -241,5 +261,6 @@ int main(void)
     RUN_TEST(test_the_added_row_is_in_the_summaries_it_names);
     RUN_TEST(test_no_two_published_rows_share_a_place);
     RUN_TEST(test_a_row_rounds_to_its_step_and_never_to_minus_zero);
+    RUN_TEST(test_every_published_row_lies_in_the_records_summary);
     return UNITY_END();
 }
