@@ -5,7 +5,11 @@
  * trend carry it, and the key that says why when it is withheld. The
  * record's rounding, the JSON writer and reader (verdict_json.c), the CSV
  * row, the Prometheus textfile and the trend walk this table; a new figure
- * is a row here and a field in the record, nothing more. */
+ * is a row here and a field in the record's summary (uwb/verdict_record.h),
+ * nothing more. Offsets are into the record, and every row lies in its
+ * summary part, so a walk takes a struct uwb_verdict_summary as well.
+ * Modbus, the text pages and the PNG panels are designed by hand and read
+ * the record. */
 #ifndef UWB_VERDICT_FIELDS_H
 #define UWB_VERDICT_FIELDS_H
 
