@@ -14,7 +14,8 @@
 #include "uwb/verdict_fields.h"
 #include "uwb/verdict_record.h"
 
-/* The header row, CRLF included: each column's name with its unit. */
+/* The header row, CRLF included: each column's name with its unit, from the
+ * field table (uwb/verdict_fields.h). */
 const char *uwb_verdict_csv_header(void);
 
 /* The record's row, CRLF included, in buf (NUL-terminated): its length, or

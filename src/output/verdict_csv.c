@@ -156,8 +156,9 @@ int uwb_fields_csv_header(const struct uwb_field_table *t, char *buf, size_t len
 
 const char *uwb_verdict_csv_header(void)
 {
-    /* Built once from the table; the same bytes every time. */
-    static char header[2048];
+    /* Built once per thread from the table (the daemon's worker and its
+     * loop may both write CSV): the same bytes every time, no race. */
+    static _Thread_local char header[2048];
     if (!header[0] && uwb_fields_csv_header(&uwb_verdict_fields, header, sizeof header) != 0)
         header[0] = '\0';
     return header;

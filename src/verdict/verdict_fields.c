@@ -116,6 +116,33 @@ static const struct uwb_field rows[] = {
 
 const struct uwb_field_table uwb_verdict_fields = {rows, sizeof rows / sizeof rows[0]};
 
+/* The statuses by their published names (uwb/verdict.h). */
+const char *uwb_status_name(enum uwb_status status)
+{
+    switch (status) {
+    case UWB_STATUS_EDGES: return "edges";
+    case UWB_STATUS_OK: return "ok";
+    case UWB_STATUS_WATCH: return "watch";
+    case UWB_STATUS_ALARM: return "alarm";
+    case UWB_STATUS_INCONCLUSIVE: return "inconclusive";
+    case UWB_STATUS_ERROR: return "error";
+    }
+    return "unknown";
+}
+
+int uwb_status_from_name(const char *name, enum uwb_status *out)
+{
+    static const enum uwb_status all[] = {UWB_STATUS_EDGES, UWB_STATUS_OK,           UWB_STATUS_WATCH,
+                                          UWB_STATUS_ALARM, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR};
+    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
+        if (strcmp(name, uwb_status_name(all[i])) == 0) {
+            *out = all[i];
+            return 0;
+        }
+    }
+    return -1;
+}
+
 double *uwb_field_number(const struct uwb_field *f, void *record)
 {
     return (double *)(void *)((char *)record + f->value);
