@@ -357,12 +357,12 @@ static const cJSON *group_object(struct reader *rd, const struct uwb_field_group
 int uwb_fields_read(const struct uwb_field_table *t, const cJSON *o, void *record, char *err, size_t errlen)
 {
     struct reader rd = {.err = err, .errlen = errlen};
+    struct reader unreported = {.err = err, .errlen = errlen, .failed = 1}; /* the second pass reports */
     /* A flag that deciding rows set holds when all of them are there:
      * set it where its group is, and let each missing one clear it. */
     for (size_t i = 0; i < t->count; i++) {
         const struct uwb_field *f = &t->rows[i];
-        const cJSON *in =
-            group_object(&(struct reader){.err = err, .errlen = errlen, .failed = 1}, f->group, o);
+        const cJSON *in = group_object(&unreported, f->group, o);
         if (in && f->group->key)
             *flag(record, f->group->given) = 1;
         if (in && f->decides)
