@@ -11,14 +11,23 @@
 
 #include <stddef.h>
 
+#include "uwb/verdict_fields.h"
 #include "uwb/verdict_record.h"
 
-/* The header row, CRLF included: each column's name with its unit. */
+/* The header row, CRLF included: each column's name with its unit, from the
+ * field table (uwb/verdict_fields.h). */
 const char *uwb_verdict_csv_header(void);
 
 /* The record's row, CRLF included, in buf (NUL-terminated): its length, or
  * -1 when it does not fit in len bytes (buf then holds an empty string,
  * never part of a row). */
 int uwb_verdict_csv_row(const struct uwb_verdict_record *r, char *buf, size_t len);
+
+/* The same from any field table whose rows lie in a record that begins
+ * with struct uwb_verdict_record (a test's table with a row added): the
+ * table's CSV columns, with the cycle's and the reason at their places. */
+int uwb_fields_csv_header(const struct uwb_field_table *t, char *buf, size_t len);
+int uwb_fields_csv_row(const struct uwb_field_table *t, const struct uwb_verdict_record *r, char *buf,
+                       size_t len);
 
 #endif

@@ -49,6 +49,14 @@ cJSON *uwb_record_summary(const struct uwb_verdict_record *r);
  * of memory. */
 cJSON *uwb_record_history_entry(const struct uwb_verdict_record *r);
 
+/* A verdict's summary as a TREND reply lists it (the field table's trend places,
+ * flat: radial_status, radial_max_change_mm, baseline for the baseline's
+ * scan_id; the reason only where there is no displacement; baseline_set
+ * when it became the baseline), and such an entry back into *r (what it
+ * does not say left out). NULL when out of memory; 0, or -1 with err. */
+cJSON *uwb_record_trend_entry(const struct uwb_verdict_summary *s, int became_baseline);
+int uwb_record_from_trend_entry(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen);
+
 /* Picoseconds to 0.1 ps, as every verdict and reply prints them. */
 void uwb_json_add_ps(cJSON *obj, const char *key, double seconds);
 

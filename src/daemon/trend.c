@@ -6,6 +6,7 @@
 #include <stdio.h>
 
 #include "state/verdict_log.h"
+#include "uwb/verdict_json.h"
 #include "output/render_trend.h"
 
 int uwbd_trend_read(const struct uwbd_store *store, int n, struct uwb_trend *t, char *err, size_t errlen)
@@ -71,35 +72,11 @@ static void add_mm(cJSON *o, const char *key, double mm)
     cJSON_AddNumberToObject(o, key, round(mm * 100.0) / 100.0);
 }
 
-static cJSON *point_object(const struct uwb_trend_point *p)
+/* An entry: the record's trend summary, and where a new baseline starts. */
+static cJSON *entry_object(const struct uwb_trend_entry *e)
 {
-    cJSON *o = cJSON_CreateObject();
-    if (!o)
-        return NULL;
-    if (p->created[0])
-        cJSON_AddStringToObject(o, "created", p->created);
-    if (p->scan_id[0])
-        cJSON_AddStringToObject(o, "scan_id", p->scan_id);
-    cJSON_AddStringToObject(o, "status", uwb_status_name(p->status));
-    if (p->has_displacement) {
-        add_mm(o, "axial_displacement_mm", p->displacement_mm);
-        add_mm(o, "uncertainty_mm", p->sigma_mm);
-    }
-    if (p->has_height_change)
-        add_mm(o, "height_change_mm", p->height_change_mm);
-    if (p->has_radial)
-        cJSON_AddStringToObject(o, "radial_status", uwb_status_name(p->radial_status));
-    if (p->has_radial_change) {
-        add_mm(o, "radial_max_change_mm", p->radial_mm);
-        add_mm(o, "radial_uncertainty_mm", p->radial_sigma_mm);
-    }
-    if (!p->has_displacement && p->reason[0])
-        cJSON_AddStringToObject(o, "reason", p->reason);
-    if (p->baseline_id[0])
-        cJSON_AddStringToObject(o, "baseline", p->baseline_id);
-    if (p->became_baseline)
-        cJSON_AddBoolToObject(o, "baseline_set", 1);
-    if (p->baseline_change)
+    cJSON *o = uwb_record_trend_entry(&e->summary, e->became_baseline);
+    if (o && e->baseline_change)
         cJSON_AddBoolToObject(o, "baseline_change", 1);
     return o;
 }
@@ -137,7 +114,7 @@ char *uwbd_reply_trend(const struct uwb_trend *t, int requested, const struct uw
     }
     cJSON *list = cJSON_AddArrayToObject(o, "verdicts");
     for (int i = 0; list && i < t->count; i++) {
-        cJSON *p = point_object(&t->points[i]);
+        cJSON *p = entry_object(&t->entries[i]);
         if (p)
             cJSON_AddItemToArray(list, p);
     }

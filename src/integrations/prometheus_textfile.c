@@ -9,6 +9,7 @@
 
 #include "uwb/atomic_file.h"
 #include "uwb/utc_time.h"
+#include "uwb/verdict_fields.h"
 
 static const char *const status_names[UWBD_PROM_STATUSES] = {"edges", "ok",           "watch",
                                                              "alarm", "inconclusive", "error"};
@@ -34,24 +35,7 @@ void uwbd_prometheus_from_record(struct uwbd_prometheus_metrics *m, const struct
         return;
     m->has_verdict = 1;
     m->status = index;
-    m->has_displacement = v->has_displacement;
-    m->displacement_m = m->has_displacement ? v->axial_displacement_mm / 1e3 : 0;
-    m->uncertainty_m = m->has_displacement ? v->uncertainty_mm / 1e3 : 0;
-    m->has_edges = v->has_edges;
-    m->lower_edge_m = m->has_edges ? v->lower_edge_mm / 1e3 : 0;
-    m->upper_edge_m = m->has_edges ? v->upper_edge_mm / 1e3 : 0;
-    m->has_height_change = v->has_height_change;
-    m->height_change_m = m->has_height_change ? v->height_change_mm / 1e3 : 0;
-    m->radial_status = v->has_radial ? uwbd_prometheus_status_index(uwb_status_name(v->radial_status)) : -1;
-    m->has_radial = m->radial_status >= 0;
-    m->has_radial_change = m->has_radial && v->radial_measured;
-    m->radial_change_m = m->has_radial_change ? v->radial_max_change_mm / 1e3 : 0;
-    m->radial_uncertainty_m = m->has_radial_change ? v->radial_uncertainty_mm / 1e3 : 0;
-    m->radial_at_m = m->has_radial_change ? v->radial_at_mm / 1e3 : 0;
-    m->has_radial_tilt = m->has_radial_change && v->radial_has_tilt;
-    m->radial_tilt_m = m->has_radial_tilt ? v->radial_tilt_mm / 1e3 : 0;
-    m->has_radial_tilt_uncertainty = m->has_radial_tilt && v->radial_has_tilt_uncertainty;
-    m->radial_tilt_uncertainty_m = m->has_radial_tilt_uncertainty ? v->radial_tilt_uncertainty_mm / 1e3 : 0;
+    m->figures = v->summary;
     time_t created_s;
     m->created_s = 0;
     if (uwb_utc_parse(v->created, &created_s) == 0)
@@ -84,6 +68,39 @@ static void gauge(struct text *t, const char *name, const char *help, double val
     sample(t, name, NULL, value);
 }
 
+/* A status row: one sample per status, 1 for the one it has. */
+static void status_samples(struct text *t, const char *name, enum uwb_status status)
+{
+    char label[64];
+    int index = uwbd_prometheus_status_index(uwb_status_name(status));
+    for (int i = 0; i < UWBD_PROM_STATUSES; i++) {
+        snprintf(label, sizeof label, "status=\"%s\"", status_names[i]);
+        sample(t, name, label, i == index);
+    }
+}
+
+/* The rows with a gauge, in their places: those the record gives. */
+static void figure_gauges(struct text *t, const struct uwb_verdict_summary *r)
+{
+    const char *last = NULL;
+    for (int at = 1; at <= UWB_FIELD_PLACES; at++) {
+        const struct uwb_field *f = NULL;
+        for (size_t i = 0; !f && i < uwb_verdict_fields.count; i++)
+            if (uwb_verdict_fields.rows[i].prom == at && uwb_verdict_fields.rows[i].prom_name)
+                f = &uwb_verdict_fields.rows[i];
+        if (!f || f->kind == UWB_FIELD_TEXT || !uwb_field_given(f, r))
+            continue;
+        if (!last || strcmp(last, f->prom_name) != 0)
+            header(t, f->prom_name, "gauge", f->prom_help);
+        last = f->prom_name;
+        if (f->kind == UWB_FIELD_STATUS)
+            status_samples(t, f->prom_name,
+                           *(const enum uwb_status *)(const void *)((const char *)r + f->value));
+        else
+            sample(t, f->prom_name, f->prom_label, uwb_field_si(f, *uwb_field_number(f, (void *)r)));
+    }
+}
+
 char *uwbd_prometheus_text(const struct uwbd_prometheus_metrics *m)
 {
     char *buf = NULL;
@@ -107,43 +124,8 @@ char *uwbd_prometheus_text(const struct uwbd_prometheus_metrics *m)
             gauge(&t, "uwbd_last_verdict_timestamp_seconds",
                   "When the latest verdict's scan was made (Unix time).", m->created_s);
     }
-    if (m->has_displacement) {
-        gauge(&t, "uwbd_axial_displacement_meters",
-              "The latest axial displacement of the winding from the baseline, positive up.",
-              m->displacement_m);
-        gauge(&t, "uwbd_axial_displacement_uncertainty_meters", "Its 1-sigma uncertainty.", m->uncertainty_m);
-    }
-    if (m->has_edges) {
-        header(&t, "uwbd_edge_meters", "gauge", "The winding's lower and upper edges in the latest scan.");
-        sample(&t, "uwbd_edge_meters", "edge=\"lower\"", m->lower_edge_m);
-        sample(&t, "uwbd_edge_meters", "edge=\"upper\"", m->upper_edge_m);
-    }
-    if (m->has_height_change)
-        gauge(&t, "uwbd_height_change_meters", "The winding's height change from the baseline (latest scan).",
-              m->height_change_m);
-    if (m->has_radial) {
-        header(&t, "uwbd_radial_status", "gauge",
-               "The latest verdict's radial status: 1 for the one it has, 0 for the others.");
-        for (int i = 0; i < UWBD_PROM_STATUSES; i++) {
-            snprintf(label, sizeof label, "status=\"%s\"", status_names[i]);
-            sample(&t, "uwbd_radial_status", label, i == m->radial_status);
-        }
-    }
-    if (m->has_radial_change) {
-        gauge(&t, "uwbd_radial_max_change_meters",
-              "The latest largest radial change of the winding's face from the baseline, positive toward the "
-              "antenna.",
-              m->radial_change_m);
-        gauge(&t, "uwbd_radial_max_change_uncertainty_meters", "Its 1-sigma uncertainty.",
-              m->radial_uncertainty_m);
-        gauge(&t, "uwbd_radial_max_change_height_meters", "The height where it is largest.", m->radial_at_m);
-    }
-    if (m->has_radial_tilt)
-        gauge(&t, "uwbd_radial_tilt_meters",
-              "The face's tilt from the baseline, top minus bottom, positive top nearer.", m->radial_tilt_m);
-    if (m->has_radial_tilt_uncertainty)
-        gauge(&t, "uwbd_radial_tilt_uncertainty_meters", "The 1-sigma uncertainty of the face's tilt.",
-              m->radial_tilt_uncertainty_m);
+    if (m->has_verdict)
+        figure_gauges(&t, &m->figures);
     if (m->has_duration)
         gauge(&t, "uwbd_scan_duration_seconds", "How long the latest scan cycle took, start to verdict.",
               m->scan_duration_s);

@@ -2,7 +2,8 @@
  * the latest verdict's figures and the daemon's counters in the text
  * exposition format, written atomically where node_exporter's textfile
  * collector reads (--collector.textfile.directory, files *.prom). Base
- * units, as Prometheus asks: metres and seconds. */
+ * units, as Prometheus asks: metres and seconds. The figures' gauges
+ * are the field table's rows (uwb/verdict_fields.h). */
 #ifndef UWB_DAEMON_PROMETHEUS_TEXTFILE_H
 #define UWB_DAEMON_PROMETHEUS_TEXTFILE_H
 
@@ -15,21 +16,9 @@
 struct uwbd_prometheus_metrics {
     const char *asset_id;
     int has_verdict;
-    int status; /* index into uwbd_prometheus_status_name */
-    int has_displacement;
-    double displacement_m, uncertainty_m;
-    int has_edges;
-    double lower_edge_m, upper_edge_m, height_change_m;
-    int has_height_change;
-    int has_radial;        /* the verdict has a radial object: its status */
-    int radial_status;     /* index into uwbd_prometheus_status_name */
-    int has_radial_change; /* ...and its figures (not withheld) */
-    double radial_change_m, radial_uncertainty_m, radial_at_m;
-    int has_radial_tilt; /* ...and the face's tilt (withheld when the change reaches the face's end) */
-    double radial_tilt_m;
-    int has_radial_tilt_uncertainty; /* ...and its 1-sigma (absent from records before it) */
-    double radial_tilt_uncertainty_m;
-    double created_s; /* the verdict's time, Unix seconds; 0: unknown */
+    int status;                         /* index into uwbd_prometheus_status_name */
+    struct uwb_verdict_summary figures; /* the latest verdict's: its gauges are the field table's */
+    double created_s;                   /* the verdict's time, Unix seconds; 0: unknown */
     int has_duration;
     double scan_duration_s;                     /* the latest scan cycle, start to verdict */
     unsigned long verdicts[UWBD_PROM_STATUSES]; /* recorded since the daemon started */

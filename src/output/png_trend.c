@@ -44,10 +44,11 @@ static int line_step(int scale)
 /* An ok, watch or alarm verdict without an axial figure: its status is
  * the radial change's (the axial figure was withheld), not an
  * inconclusive one. */
-static int axial_withheld(const struct uwb_trend_point *p)
+static int axial_withheld(const struct uwb_trend_entry *p)
 {
-    return !p->has_displacement &&
-           (p->status == UWB_STATUS_OK || p->status == UWB_STATUS_WATCH || p->status == UWB_STATUS_ALARM);
+    return !p->summary.has_displacement &&
+           (p->summary.status == UWB_STATUS_OK || p->summary.status == UWB_STATUS_WATCH ||
+            p->summary.status == UWB_STATUS_ALARM);
 }
 
 static void count_kinds(const struct uwb_trend *t, int *figures, int *inconclusive, int *errors, int *edges,
@@ -55,13 +56,13 @@ static void count_kinds(const struct uwb_trend *t, int *figures, int *inconclusi
 {
     *figures = *inconclusive = *errors = *edges = *withheld = *undated = 0;
     for (int i = 0; i < t->count; i++) {
-        const struct uwb_trend_point *p = &t->points[i];
+        const struct uwb_trend_entry *p = &t->entries[i];
         *undated += !p->has_time;
-        if (p->has_displacement)
+        if (p->summary.has_displacement)
             ++*figures;
-        else if (p->status == UWB_STATUS_ERROR)
+        else if (p->summary.status == UWB_STATUS_ERROR)
             ++*errors;
-        else if (p->status == UWB_STATUS_EDGES)
+        else if (p->summary.status == UWB_STATUS_EDGES)
             ++*edges;
         else if (axial_withheld(p))
             ++*withheld;
@@ -70,24 +71,24 @@ static void count_kinds(const struct uwb_trend *t, int *figures, int *inconclusi
     }
 }
 
-static const struct uwb_trend_point *latest(const struct uwb_trend *t)
+static const struct uwb_trend_entry *latest(const struct uwb_trend *t)
 {
-    return t->count > 0 ? &t->points[t->count - 1] : NULL;
+    return t->count > 0 ? &t->entries[t->count - 1] : NULL;
 }
 
 /* The latest verdict in words, ASCII (sep is "+/-" or the font's "±"). */
-static void describe_point(const struct uwb_trend_point *p, const char *sep, char *buf, size_t len)
+static void describe_point(const struct uwb_trend_entry *p, const char *sep, char *buf, size_t len)
 {
     if (!p)
         snprintf(buf, len, "no verdict yet");
-    else if (p->has_displacement)
-        snprintf(buf, len, "%s %+.2f %s %.2f mm (1 sigma)", uwb_status_name(p->status), p->displacement_mm,
-                 sep, p->sigma_mm);
-    else if (p->status == UWB_STATUS_EDGES)
+    else if (p->summary.has_displacement)
+        snprintf(buf, len, "%s %+.2f %s %.2f mm (1 sigma)", uwb_status_name(p->summary.status),
+                 p->summary.axial_displacement_mm, sep, p->summary.uncertainty_mm);
+    else if (p->summary.status == UWB_STATUS_EDGES)
         snprintf(buf, len, "edges only (%s)", p->became_baseline ? "became the baseline" : "no baseline");
     else
-        snprintf(buf, len, "%s, no figure%s%s", uwb_status_name(p->status), p->reason[0] ? ": " : "",
-                 p->reason);
+        snprintf(buf, len, "%s, no figure%s%s", uwb_status_name(p->summary.status),
+                 p->summary.reason[0] ? ": " : "", p->summary.reason);
 }
 
 static void describe_rate(const struct uwb_trend *t, const char *sep, char *buf, size_t len)
@@ -101,13 +102,13 @@ static void describe_rate(const struct uwb_trend *t, const char *sep, char *buf,
 }
 
 /* The radial series: how many figures, and the latest (NULL: none). */
-static const struct uwb_trend_point *latest_radial(const struct uwb_trend *t, int *figures)
+static const struct uwb_trend_entry *latest_radial(const struct uwb_trend *t, int *figures)
 {
-    const struct uwb_trend_point *last = NULL;
+    const struct uwb_trend_entry *last = NULL;
     *figures = 0;
     for (int i = 0; i < t->count; i++)
-        if (t->points[i].has_radial_change) {
-            last = &t->points[i];
+        if (t->entries[i].summary.radial_measured) {
+            last = &t->entries[i];
             ++*figures;
         }
     return last;
@@ -116,12 +117,12 @@ static const struct uwb_trend_point *latest_radial(const struct uwb_trend *t, in
 static void describe_radial(const struct uwb_trend *t, const char *sep, char *buf, size_t len)
 {
     int figures;
-    const struct uwb_trend_point *q = latest_radial(t, &figures);
+    const struct uwb_trend_entry *q = latest_radial(t, &figures);
     buf[0] = '\0';
     if (q)
         snprintf(buf, len, "%d radial figure%s, latest %+.2f %s %.2f mm (%s)", figures,
-                 figures == 1 ? "" : "s", q->radial_mm, sep, q->radial_sigma_mm,
-                 uwb_status_name(q->radial_status));
+                 figures == 1 ? "" : "s", q->summary.radial_max_change_mm, sep,
+                 q->summary.radial_uncertainty_mm, uwb_status_name(q->summary.radial_status));
 }
 
 void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *th, char *buf, size_t len)
@@ -133,21 +134,21 @@ void uwb_trend_summary(const struct uwb_trend *t, const struct uwb_thresholds *t
     describe_rate(t, "+/-", rate, sizeof rate);
     char radial[160];
     describe_radial(t, "+/-", radial, sizeof radial);
-    const struct uwb_trend_point *p = latest(t);
+    const struct uwb_trend_entry *p = latest(t);
     snprintf(buf, len,
              "%d verdicts: %d with a figure, %d inconclusive, %d error, %d edges only, %d with the axial "
              "figure withheld; latest %s: %s; "
              "rate %s; %s%sthresholds watch %.2f mm, alarm %.2f mm; bars +/-%.0f sigma (95 %%)",
              t->count, figures, inconclusive, errors, edges, withheld,
-             p && p->created[0] ? p->created : "(none)", last, rate, radial, radial[0] ? "; " : "",
-             th->watch_m * 1e3, th->alarm_m * 1e3, UWB_TREND_BAR_SIGMAS);
+             p && p->summary.created[0] ? p->summary.created : "(none)", last, rate, radial,
+             radial[0] ? "; " : "", th->watch_m * 1e3, th->alarm_m * 1e3, UWB_TREND_BAR_SIGMAS);
 }
 
 static int first_last_time(const struct uwb_trend *t, time_t *first, time_t *last)
 {
     int any = 0;
     for (int i = 0; i < t->count; i++) {
-        const struct uwb_trend_point *p = &t->points[i];
+        const struct uwb_trend_entry *p = &t->entries[i];
         if (!p->has_time)
             continue;
         if (!any || p->t < *first)
@@ -193,13 +194,13 @@ static const struct {
     {"R", "axial figure withheld (radial only)", UWB_STATUS_ALARM},
 };
 
-static const char *mark_of(const struct uwb_trend_point *q)
+static const char *mark_of(const struct uwb_trend_entry *q)
 {
-    return q->status == UWB_STATUS_ERROR   ? "X"
-           : q->became_baseline            ? "B"
-           : q->status == UWB_STATUS_EDGES ? "E"
-           : axial_withheld(q)             ? "R"
-                                           : "?";
+    return q->summary.status == UWB_STATUS_ERROR   ? "X"
+           : q->became_baseline                    ? "B"
+           : q->summary.status == UWB_STATUS_EDGES ? "E"
+           : axial_withheld(q)                     ? "R"
+                                                   : "?";
 }
 
 /* "no axial figure:  ? inconclusive   X error ...", each mark in its
@@ -249,12 +250,12 @@ static int caption(struct uwb_canvas *c, const struct uwb_trend *t, const struct
         }
         y += line_step(scale);
     }
-    const struct uwb_trend_point *p = latest(t);
+    const struct uwb_trend_entry *p = latest(t);
     if (c)
         uwb_draw_text(c, x, y, "latest", scale, muted);
     describe_point(p, "\u00b1", b, sizeof b);
-    snprintf(a, sizeof a, "%s  %s", p && p->created[0] ? p->created : "", b);
-    y += wrapped_text(c, x + label_w, y, a, scale, p ? uwb_status_colour(p->status) : ink, text_w);
+    snprintf(a, sizeof a, "%s  %s", p && p->summary.created[0] ? p->summary.created : "", b);
+    y += wrapped_text(c, x + label_w, y, a, scale, p ? uwb_status_colour(p->summary.status) : ink, text_w);
     if (c)
         uwb_draw_text(c, x, y, "rate", scale, muted);
     describe_rate(t, "\u00b1", a, sizeof a);
@@ -330,11 +331,13 @@ void uwb_render_trend_layout(const struct uwb_trend *t, const struct uwb_thresho
      * wide enough for the alarm lines. */
     double lim = fmax(th->alarm_m * 1e3 * 1.25, 1.0);
     for (int i = 0; i < t->count; i++) {
-        const struct uwb_trend_point *q = &t->points[i];
-        if (q->has_displacement)
-            lim = fmax(lim, 1.1 * (fabs(q->displacement_mm) + UWB_TREND_BAR_SIGMAS * q->sigma_mm));
-        if (q->has_radial_change)
-            lim = fmax(lim, 1.1 * (fabs(q->radial_mm) + UWB_TREND_BAR_SIGMAS * q->radial_sigma_mm));
+        const struct uwb_trend_entry *q = &t->entries[i];
+        if (q->summary.has_displacement)
+            lim = fmax(lim, 1.1 * (fabs(q->summary.axial_displacement_mm) +
+                                   UWB_TREND_BAR_SIGMAS * q->summary.uncertainty_mm));
+        if (q->summary.radial_measured)
+            lim = fmax(lim, 1.1 * (fabs(q->summary.radial_max_change_mm) +
+                                   UWB_TREND_BAR_SIGMAS * q->summary.radial_uncertainty_mm));
     }
     p->y_min = -lim;
     p->y_max = lim;
@@ -370,7 +373,7 @@ static void thresholds(struct uwb_canvas *c, const struct uwb_plot *p, const str
 
 /* A verdict without a figure: its letter in the strip, in its colour. */
 static void no_figure_mark(struct uwb_canvas *c, const struct uwb_trend_layout *l,
-                           const struct uwb_trend_point *q)
+                           const struct uwb_trend_entry *q)
 {
     /* ? inconclusive, X error, B became the baseline, E edges only, R
      * the axial figure withheld (the status is the radial change's). */
@@ -378,29 +381,31 @@ static void no_figure_mark(struct uwb_canvas *c, const struct uwb_trend_layout *
     int col = uwb_trend_col(l, q->t);
     int w = uwb_text_width(mark, FONT_SCALE);
     uwb_draw_text(c, col - w / 2, l->strip_y + (l->strip_h - UWB_FONT_CAP_HEIGHT * FONT_SCALE) / 2, mark,
-                  FONT_SCALE, uwb_status_colour(q->status));
+                  FONT_SCALE, uwb_status_colour(q->summary.status));
 }
 
-static void figure(struct uwb_canvas *c, const struct uwb_plot *p, int col, const struct uwb_trend_point *q)
+static void figure(struct uwb_canvas *c, const struct uwb_plot *p, int col, const struct uwb_trend_entry *q)
 {
-    double bar = UWB_TREND_BAR_SIGMAS * q->sigma_mm;
-    int top = uwb_plot_row(p, q->displacement_mm + bar), bottom = uwb_plot_row(p, q->displacement_mm - bar);
-    int row = uwb_plot_row(p, q->displacement_mm);
+    double bar = UWB_TREND_BAR_SIGMAS * q->summary.uncertainty_mm;
+    int top = uwb_plot_row(p, q->summary.axial_displacement_mm + bar),
+        bottom = uwb_plot_row(p, q->summary.axial_displacement_mm - bar);
+    int row = uwb_plot_row(p, q->summary.axial_displacement_mm);
     uwb_canvas_line(c, col, top, col, bottom, ink, 1, 0, 0);
     uwb_canvas_line(c, col - CAP, top, col + CAP, top, ink, 1, 0, 0);
     uwb_canvas_line(c, col - CAP, bottom, col + CAP, bottom, ink, 1, 0, 0);
     uwb_canvas_fill_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1,
-                         uwb_status_colour(q->status));
+                         uwb_status_colour(q->summary.status));
     uwb_canvas_frame_rect(c, col - MARKER, row - MARKER, 2 * MARKER + 1, 2 * MARKER + 1, ink);
 }
 
 /* A radial figure: its bar in the radial ink, a diamond in its status colour. */
 static void radial_figure(struct uwb_canvas *c, const struct uwb_plot *p, int col,
-                          const struct uwb_trend_point *q)
+                          const struct uwb_trend_entry *q)
 {
-    double bar = UWB_TREND_BAR_SIGMAS * q->radial_sigma_mm;
-    int top = uwb_plot_row(p, q->radial_mm + bar), bottom = uwb_plot_row(p, q->radial_mm - bar);
-    int row = uwb_plot_row(p, q->radial_mm);
+    double bar = UWB_TREND_BAR_SIGMAS * q->summary.radial_uncertainty_mm;
+    int top = uwb_plot_row(p, q->summary.radial_max_change_mm + bar),
+        bottom = uwb_plot_row(p, q->summary.radial_max_change_mm - bar);
+    int row = uwb_plot_row(p, q->summary.radial_max_change_mm);
     uwb_canvas_line(c, col, top, col, bottom, UWB_TREND_RADIAL_INK, 1, 0, 0);
     uwb_canvas_line(c, col - CAP, top, col + CAP, top, UWB_TREND_RADIAL_INK, 1, 0, 0);
     uwb_canvas_line(c, col - CAP, bottom, col + CAP, bottom, UWB_TREND_RADIAL_INK, 1, 0, 0);
@@ -410,7 +415,7 @@ static void radial_figure(struct uwb_canvas *c, const struct uwb_plot *p, int co
         uwb_canvas_fill_rect(c, col - half, row + dy, 2 * half + 1, 1, UWB_TREND_RADIAL_INK);
         if (half > 0)
             uwb_canvas_fill_rect(c, col - half + 1, row + dy, 2 * half - 1, 1,
-                                 uwb_status_colour(q->radial_status));
+                                 uwb_status_colour(q->summary.radial_status));
     }
 }
 
@@ -491,7 +496,7 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
 
     /* Baseline changes first, so the figures stay on top of them. */
     for (int i = 0; i < t->count; i++) {
-        const struct uwb_trend_point *q = &t->points[i];
+        const struct uwb_trend_entry *q = &t->entries[i];
         if (!q->baseline_change || !q->has_time)
             continue;
         int col = uwb_trend_col(&l, q->t);
@@ -501,16 +506,16 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
      * starts a new line (its figures are against another reference). */
     int prev_col = 0, prev_row = 0, have_prev = 0;
     for (int i = 0; i < t->count; i++) {
-        const struct uwb_trend_point *q = &t->points[i];
+        const struct uwb_trend_entry *q = &t->entries[i];
         if (q->baseline_change)
             have_prev = 0;
         if (!q->has_time)
             continue;
-        if (!q->has_displacement) {
+        if (!q->summary.has_displacement) {
             have_prev = 0; /* a verdict without a figure between: no line across it */
             continue;
         }
-        int col = uwb_trend_col(&l, q->t), row = uwb_plot_row(p, q->displacement_mm);
+        int col = uwb_trend_col(&l, q->t), row = uwb_plot_row(p, q->summary.axial_displacement_mm);
         if (have_prev)
             uwb_canvas_line(c, prev_col, prev_row, col, row, series_grey, 1, 0, 0);
         prev_col = col;
@@ -520,16 +525,17 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
     /* The radial series likewise, beside the axial one. */
     have_prev = 0;
     for (int i = 0; i < t->count; i++) {
-        const struct uwb_trend_point *q = &t->points[i];
+        const struct uwb_trend_entry *q = &t->entries[i];
         if (q->baseline_change)
             have_prev = 0;
         if (!q->has_time)
             continue;
-        if (!q->has_radial_change) {
+        if (!q->summary.radial_measured) {
             have_prev = 0;
             continue;
         }
-        int col = uwb_trend_col(&l, q->t) + UWB_TREND_RADIAL_OFFSET, row = uwb_plot_row(p, q->radial_mm);
+        int col = uwb_trend_col(&l, q->t) + UWB_TREND_RADIAL_OFFSET,
+            row = uwb_plot_row(p, q->summary.radial_max_change_mm);
         if (have_prev)
             uwb_canvas_line(c, prev_col, prev_row, col, row, radial_line, 1, 0, 0);
         prev_col = col;
@@ -537,14 +543,14 @@ static void draw(struct uwb_canvas *c, const struct uwb_trend *t, const struct u
         have_prev = 1;
     }
     for (int i = 0; i < t->count; i++) {
-        const struct uwb_trend_point *q = &t->points[i];
+        const struct uwb_trend_entry *q = &t->entries[i];
         if (!q->has_time)
             continue;
-        if (q->has_displacement)
+        if (q->summary.has_displacement)
             figure(c, p, uwb_trend_col(&l, q->t), q);
         else
             no_figure_mark(c, &l, q);
-        if (q->has_radial_change)
+        if (q->summary.radial_measured)
             radial_figure(c, p, uwb_trend_col(&l, q->t) + UWB_TREND_RADIAL_OFFSET, q);
     }
     int radial_figures;

@@ -1,24 +1,12 @@
 /* The published verdict as a CSV row (see the header). */
 #include "uwb/verdict_csv.h"
 
+#include "uwb/verdict_fields.h"
+
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-
-/* The columns, named as the JSON keys (their unit in the name), in the
- * order of uwb_verdict_csv_row's fields. */
-static const char header[] =
-    "created,scan_id,status,axial_displacement_mm,uncertainty_mm,height_change_mm,"
-    "height_change_uncertainty_mm,lower_edge_mm,upper_edge_mm,center_mm,height_mm,"
-    "face_range_mm,snr_db,baseline_scan_id,baseline_set,fault,reason,trigger,asset_id,"
-    "radial_status,radial_max_change_mm,radial_at_mm,radial_from_mm,radial_to_mm,"
-    "radial_uncertainty_mm,radial_tilt_mm,radial_tilt_uncertainty_mm\r\n";
-
-const char *uwb_verdict_csv_header(void)
-{
-    return header;
-}
 
 /* A row being written into a caller's buffer; `full` once it did not fit. */
 struct row {
@@ -95,40 +83,107 @@ static void reason_field(struct row *w, const struct uwb_verdict_record *r)
     text_field(w, why);
 }
 
+/* The columns that are no row of the field table: the cycle's, and the
+ * reason, which gathers why each figure was withheld. */
+enum extra_column { BASELINE_SET = 15, REASON = 17, TRIGGER = 18, ASSET_ID = 19 };
+
+static const char *extra_name(int column)
+{
+    switch (column) {
+    case BASELINE_SET: return "baseline_set";
+    case REASON: return "reason";
+    case TRIGGER: return "trigger";
+    case ASSET_ID: return "asset_id";
+    }
+    return NULL;
+}
+
+static const struct uwb_field *column_row(const struct uwb_field_table *t, int column)
+{
+    for (size_t i = 0; i < t->count; i++)
+        if (t->rows[i].csv_column == column)
+            return &t->rows[i];
+    return NULL;
+}
+
+static void extra_field(struct row *w, int column, const struct uwb_verdict_record *r)
+{
+    switch (column) {
+    case BASELINE_SET:
+        text_field(w, !r->cycle.has_baseline_set ? "" : r->cycle.baseline_set ? "true" : "false");
+        break;
+    case REASON: reason_field(w, r); break;
+    case TRIGGER: text_field(w, r->cycle.trigger); break;
+    case ASSET_ID: text_field(w, r->cycle.asset_id); break;
+    }
+}
+
+static void table_field(struct row *w, const struct uwb_field *f, const struct uwb_verdict_record *r)
+{
+    int given = uwb_field_given(f, r);
+    switch (f->kind) {
+    case UWB_FIELD_STATUS:
+        text_field(
+            w, given ? uwb_status_name(*(const enum uwb_status *)(const void *)((const char *)r + f->value))
+                     : "");
+        break;
+    case UWB_FIELD_TEXT: text_field(w, given ? (const char *)r + f->value : ""); break;
+    case UWB_FIELD_NUMBER: number_field(w, given, *uwb_field_number(f, (void *)r)); break;
+    }
+}
+
+/* The header's names, each as the JSON says it (a nested key after its
+ * object's: radial_max_change_mm), in column order. */
+int uwb_fields_csv_header(const struct uwb_field_table *t, char *buf, size_t len)
+{
+    struct row w = {.buf = buf, .len = len};
+    for (int column = 1;; column++) {
+        const struct uwb_field *f = column_row(t, column);
+        char name[96];
+        if (f && uwb_field_flat_name(f, name, sizeof name) != 0)
+            return -1;
+        if (!f && !extra_name(column))
+            break;
+        separator(&w);
+        put(&w, f ? name : extra_name(column), strlen(f ? name : extra_name(column)));
+    }
+    put(&w, "\r\n", 2);
+    if (w.full)
+        return -1;
+    buf[w.at] = '\0';
+    return 0;
+}
+
+const char *uwb_verdict_csv_header(void)
+{
+    /* Built once per thread from the table (the daemon's worker and its
+     * loop may both write CSV): the same bytes every time, no race. */
+    static _Thread_local char header[2048];
+    if (!header[0] && uwb_fields_csv_header(&uwb_verdict_fields, header, sizeof header) != 0)
+        header[0] = '\0';
+    return header;
+}
+
 int uwb_verdict_csv_row(const struct uwb_verdict_record *r, char *buf, size_t len)
+{
+    return uwb_fields_csv_row(&uwb_verdict_fields, r, buf, len);
+}
+
+int uwb_fields_csv_row(const struct uwb_field_table *t, const struct uwb_verdict_record *r, char *buf,
+                       size_t len)
 {
     struct row w = {.buf = buf, .len = len};
     if (len == 0)
         return -1;
-    text_field(&w, r->created);
-    text_field(&w, r->scan_id);
-    text_field(&w, uwb_status_name(r->status));
-    number_field(&w, r->has_displacement, r->axial_displacement_mm);
-    number_field(&w, r->has_displacement, r->uncertainty_mm);
-    number_field(&w, r->has_height_change, r->height_change_mm);
-    number_field(&w, r->has_height_change, r->height_change_uncertainty_mm);
-    number_field(&w, r->has_edges, r->lower_edge_mm);
-    number_field(&w, r->has_edges, r->upper_edge_mm);
-    number_field(&w, r->has_edges, r->center_mm);
-    number_field(&w, r->has_edges, r->height_mm);
-    number_field(&w, r->has_edges, r->face_range_mm);
-    number_field(&w, r->has_edges, r->snr_db);
-    text_field(&w, r->has_baseline ? r->baseline_scan_id : "");
-    text_field(&w, !r->cycle.has_baseline_set ? "" : r->cycle.baseline_set ? "true" : "false");
-    text_field(&w, r->fault);
-    reason_field(&w, r);
-    text_field(&w, r->cycle.trigger);
-    text_field(&w, r->cycle.asset_id);
-    text_field(&w, r->has_radial ? uwb_status_name(r->radial_status) : "");
-    int radial = r->has_radial && r->radial_measured;
-    number_field(&w, radial, r->radial_max_change_mm);
-    number_field(&w, radial, r->radial_at_mm);
-    number_field(&w, radial && r->radial_has_span, r->radial_from_mm);
-    number_field(&w, radial && r->radial_has_span, r->radial_to_mm);
-    number_field(&w, radial, r->radial_uncertainty_mm);
-    number_field(&w, radial && r->radial_has_tilt, r->radial_tilt_mm);
-    number_field(&w, radial && r->radial_has_tilt && r->radial_has_tilt_uncertainty,
-                 r->radial_tilt_uncertainty_mm);
+    for (int column = 1;; column++) {
+        const struct uwb_field *f = column_row(t, column);
+        if (f)
+            table_field(&w, f, r);
+        else if (extra_name(column))
+            extra_field(&w, column, r);
+        else
+            break;
+    }
     put(&w, "\r\n", 2);
     if (w.full) {
         buf[0] = '\0';

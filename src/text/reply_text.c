@@ -4,12 +4,14 @@
  * short replies; a VERDICT and a TREND as verdict_text.c and trend_text.c
  * print them. The control socket's JSON stays the programs' form. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cjson/cJSON.h>
 
 #include "text/text_layout.h"
 #include "uwb/reply_text.h"
+#include "uwb/verdict_json.h"
 
 /* The status page's names are padded to this many columns. */
 #define NAME_WIDTH 16
@@ -85,19 +87,20 @@ static void print_upper(FILE *out, const char *s)
         fputc(*s >= 'a' && *s <= 'z' ? *s - 'a' + 'A' : *s, out);
 }
 
-/* "ALARM +11.97 ± 0.35 mm", or the status and its reason. */
+/* "ALARM +11.97 ± 0.35 mm", or the status and its reason: the summary
+ * read through the published record, as any verdict's figure is. */
 static void print_figure(FILE *out, const cJSON *v, const struct text_marks *m)
 {
-    double d, u;
+    char err[160];
+    struct uwb_verdict_record *r = malloc(sizeof *r);
     print_upper(out, text(v, "status"));
-    if (number(v, "axial_displacement_mm", &d)) {
-        fprintf(out, " %+.2f", d);
-        if (number(v, "uncertainty_mm", &u))
-            fprintf(out, " %s %.2f", m->plus_minus, u);
-        fputs(" mm", out);
-    } else if (text(v, "reason")) {
-        fprintf(out, " (%s)", text(v, "reason"));
+    if (r && uwb_record_from_summary(v, r, err, sizeof err) == 0) {
+        if (r->has_displacement)
+            fprintf(out, " %+.2f %s %.2f mm", r->axial_displacement_mm, m->plus_minus, r->uncertainty_mm);
+        else if (r->reason[0])
+            fprintf(out, " (%s)", r->reason);
     }
+    free(r);
 }
 
 static int progress_of(const cJSON *o, struct uwbd_progress *p)

@@ -3,12 +3,14 @@
  * first, then the rate and the image. */
 #include <ctype.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cjson/cJSON.h>
 
 #include "text/text_layout.h"
 #include "uwb/reply_text.h"
+#include "uwb/verdict_json.h"
 
 static const cJSON *item(const cJSON *o, const char *key)
 {
@@ -51,42 +53,46 @@ static int at_least(int width, const char *s)
     return w > width ? w : width;
 }
 
-static void verdict_line(const cJSON *v, const struct text_marks *m, FILE *out)
+/* One entry, read through the published record (r: room for one). */
+static void verdict_line(const cJSON *v, const struct text_marks *m, struct uwb_verdict_record *r, FILE *out)
 {
-    char status[16], figure[64], height[32], radial[64], header[64];
-    upper(status, sizeof status, text(v, "status", "?"));
-    double d, u, h;
-    if (number(v, "axial_displacement_mm", &d) && number(v, "uncertainty_mm", &u))
-        snprintf(figure, sizeof figure, "%+7.2f %s %.2f mm", d, m->plus_minus, u);
+    char status[16], figure[64], height[32], radial[64], header[64], err[160];
+    if (uwb_record_from_trend_entry(v, r, err, sizeof err) != 0) {
+        fprintf(out, "(an entry that is not a verdict: %s)\n", err);
+        return;
+    }
+    upper(status, sizeof status, uwb_status_name(r->status));
+    if (r->has_displacement)
+        snprintf(figure, sizeof figure, "%+7.2f %s %.2f mm", r->axial_displacement_mm, m->plus_minus,
+                 r->uncertainty_mm);
     else
         snprintf(figure, sizeof figure, "no figure");
-    if (number(v, "height_change_mm", &h))
-        snprintf(height, sizeof height, "%+7.2f mm", h);
+    if (r->has_height_change)
+        snprintf(height, sizeof height, "%+7.2f mm", r->height_change_mm);
     else
         snprintf(height, sizeof height, "-"); /* right-aligned under the figures' "mm" */
     /* The radial change with its status; "-" where the verdict has none
      * (older lines), the status alone where it made no figure. */
-    double r, ru;
-    const char *radial_status = text(v, "radial_status", NULL);
-    if (number(v, "radial_max_change_mm", &r) && number(v, "radial_uncertainty_mm", &ru))
-        snprintf(radial, sizeof radial, "%+6.2f %s %.2f mm %s", r, m->plus_minus, ru,
-                 radial_status ? radial_status : "");
+    const char *radial_status = r->has_radial ? uwb_status_name(r->radial_status) : NULL;
+    if (r->radial_measured)
+        snprintf(radial, sizeof radial, "%+6.2f %s %.2f mm %s", r->radial_max_change_mm, m->plus_minus,
+                 r->radial_uncertainty_mm, radial_status ? radial_status : "");
     else
         snprintf(radial, sizeof radial, "%s", radial_status ? radial_status : "-");
     /* "*" marks a baseline change: the figures before and after it are
      * against different references. */
-    fprintf(out, "%-20s %c %-12s  ", text(v, "created", "(no time)"),
+    fprintf(out, "%-20s %c %-12s  ", r->created[0] ? r->created : "(no time)",
             cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ', status);
     snprintf(header, sizeof header, "displacement %s %s", m->plus_minus, m->one_sigma);
     uwb_text_layout_column(out, figure, at_least(FIGURE_WIDTH, header));
     fprintf(out, "  %13s  ", height);
     uwb_text_layout_column(out, radial, RADIAL_WIDTH);
-    fprintf(out, "  %s", text(v, "scan_id", ""));
-    if (cJSON_IsTrue(item(v, "baseline_set")))
+    fprintf(out, "  %s", r->scan_id);
+    if (r->cycle.baseline_set)
         fputs("  (became the baseline)", out);
     fputc('\n', out);
     /* The reason whole, wrapped under the row (issue 48: it was cut). */
-    const char *reason = text(v, "reason", NULL);
+    const char *reason = r->reason[0] ? r->reason : NULL;
     if (reason) {
         fprintf(out, "%*s", REASON_INDENT, "");
         uwb_text_layout_wrapped(out, reason, REASON_INDENT, REASON_INDENT, LINE_WIDTH);
@@ -122,8 +128,14 @@ int uwbd_trend_text_in(const char *reply, FILE *out, enum uwbd_charset charset)
     snprintf(header, sizeof header, "radial %s %s", m->plus_minus, m->one_sigma);
     uwb_text_layout_column(out, header, RADIAL_WIDTH);
     fprintf(out, "  %s\n", "scan");
+    struct uwb_verdict_record *r = malloc(sizeof *r);
+    if (!r) {
+        cJSON_Delete(o);
+        return -1;
+    }
     const cJSON *v;
-    cJSON_ArrayForEach(v, list) verdict_line(v, m, out);
+    cJSON_ArrayForEach(v, list) verdict_line(v, m, r, out);
+    free(r);
     double unreadable;
     if (number(o, "unreadable_lines", &unreadable))
         fprintf(out, "(%.0f line%s of verdicts.jsonl could not be read)\n", unreadable,

@@ -9,45 +9,29 @@
 #include "uwb/utc_time.h"
 #include "uwb/verdict_json.h"
 
-/* Copies src; a point's texts are as long as the record's. */
-static void copy_text(char *dst, size_t n, const char *src)
+static int graded(enum uwb_status status)
 {
-    size_t len = src ? strnlen(src, n - 1) : 0;
-    if (len)
-        memcpy(dst, src, len);
-    dst[len] = '\0';
+    return status == UWB_STATUS_OK || status == UWB_STATUS_WATCH || status == UWB_STATUS_ALARM;
 }
 
-/* A verdict line as a point, read through the record (r: room for one). */
-static int read_point(const char *line, struct uwb_verdict_record *r, struct uwb_trend_point *p)
+/* A verdict line as an entry, read through the record (r: room for one). */
+static int read_entry(const char *line, struct uwb_verdict_record *r, struct uwb_trend_entry *e)
 {
     char err[256];
+    memset(e, 0, sizeof *e);
     if (uwb_record_from_json(line, r, err, sizeof err) != 0)
         return -1;
-    memset(p, 0, sizeof *p);
-    p->status = r->status;
-    copy_text(p->created, sizeof p->created, r->created);
-    p->has_time = uwb_utc_parse(r->created, &p->t) == 0;
-    copy_text(p->scan_id, sizeof p->scan_id, r->scan_id);
-    copy_text(p->reason, sizeof p->reason, r->reason);
-    copy_text(p->baseline_id, sizeof p->baseline_id, r->baseline_scan_id);
-    p->became_baseline = p->baseline_change = r->cycle.baseline_set;
     /* A figure only where the verdict made one: an inconclusive or error
      * verdict never becomes a point on the line. */
-    int decided =
-        r->status == UWB_STATUS_OK || r->status == UWB_STATUS_WATCH || r->status == UWB_STATUS_ALARM;
-    p->has_displacement = decided && r->has_displacement && r->uncertainty_mm >= 0;
-    p->displacement_mm = p->has_displacement ? r->axial_displacement_mm : 0;
-    p->sigma_mm = p->has_displacement ? r->uncertainty_mm : 0;
-    p->has_height_change = decided && r->has_height_change;
-    p->height_change_mm = p->has_height_change ? r->height_change_mm : 0;
-    p->has_radial = r->has_radial;
-    p->radial_status = r->radial_status;
-    p->has_radial_change = r->has_radial && r->radial_measured &&
-                           (r->radial_status == UWB_STATUS_OK || r->radial_status == UWB_STATUS_WATCH ||
-                            r->radial_status == UWB_STATUS_ALARM);
-    p->radial_mm = p->has_radial_change ? r->radial_max_change_mm : 0;
-    p->radial_sigma_mm = p->has_radial_change ? r->radial_uncertainty_mm : 0;
+    if (!graded(r->status) || r->uncertainty_mm < 0)
+        r->has_displacement = 0;
+    if (!graded(r->status))
+        r->has_height_change = 0;
+    if (!r->has_radial || !graded(r->radial_status))
+        r->radial_measured = 0;
+    e->summary = r->summary;
+    e->became_baseline = e->baseline_change = r->cycle.baseline_set;
+    e->has_time = uwb_utc_parse(r->created, &e->t) == 0;
     return 0;
 }
 
@@ -75,20 +59,20 @@ static void withhold_rate(struct uwb_trend_rate *r)
 }
 
 /* The figures the rate is fitted to: dated, with a displacement. */
-static int is_fitted(const struct uwb_trend_point *p)
+static int is_fitted(const struct uwb_trend_entry *p)
 {
-    return p->has_displacement && p->has_time;
+    return p->summary.has_displacement && p->has_time;
 }
 
-static double days_since(const struct uwb_trend_point *p, double t0)
+static double days_since(const struct uwb_trend_entry *p, double t0)
 {
     return ((double)p->t - t0) / 86400.0;
 }
 
 /* A sigma of 0 (rounded) counts as 0.01 mm, the verdict's resolution. */
-static double fit_sigma_mm(const struct uwb_trend_point *p)
+static double fit_sigma_mm(const struct uwb_trend_entry *p)
 {
-    return fmax(p->sigma_mm, 0.01);
+    return fmax(p->summary.uncertainty_mm, 0.01);
 }
 
 static void find_rate(struct uwb_trend *t)
@@ -96,13 +80,13 @@ static void find_rate(struct uwb_trend *t)
     memset(&t->rate, 0, sizeof t->rate);
     int from = 0;
     for (int i = 0; i < t->count; i++)
-        if (t->points[i].baseline_change)
+        if (t->entries[i].baseline_change)
             from = i;
     /* Weighted least squares in days from the first figure. */
     double sw = 0, swx = 0, swy = 0, swxx = 0, swxy = 0, t0 = 0, first = 0, last = 0;
     int n = 0;
     for (int i = from; i < t->count; i++) {
-        const struct uwb_trend_point *p = &t->points[i];
+        const struct uwb_trend_entry *p = &t->entries[i];
         if (!is_fitted(p))
             continue;
         if (n == 0)
@@ -112,9 +96,9 @@ static void find_rate(struct uwb_trend *t)
         double w = 1.0 / (s * s);
         sw += w;
         swx += w * x;
-        swy += w * p->displacement_mm;
+        swy += w * p->summary.axial_displacement_mm;
         swxx += w * x * x;
-        swxy += w * x * p->displacement_mm;
+        swxy += w * x * p->summary.axial_displacement_mm;
         if (n == 0)
             first = x;
         last = x;
@@ -132,10 +116,11 @@ static void find_rate(struct uwb_trend *t)
      * a straight line, or sigmas too small) widens the rate's sigma. */
     double chi2 = 0;
     for (int i = from; i < t->count; i++) {
-        const struct uwb_trend_point *p = &t->points[i];
+        const struct uwb_trend_entry *p = &t->entries[i];
         if (!is_fitted(p))
             continue;
-        double r = (p->displacement_mm - intercept - slope * days_since(p, t0)) / fit_sigma_mm(p);
+        double r =
+            (p->summary.axial_displacement_mm - intercept - slope * days_since(p, t0)) / fit_sigma_mm(p);
         chi2 += r * r;
     }
     t->rate.known = 1;
@@ -148,29 +133,29 @@ int uwb_trend_from_lines(char *const *lines, int count, struct uwb_trend *out)
     memset(out, 0, sizeof *out);
     if (count <= 0)
         return 0;
-    out->points = calloc((size_t)count, sizeof *out->points);
-    if (!out->points)
-        return -1;
+    out->entries = calloc((size_t)count, sizeof *out->entries);
     struct uwb_verdict_record *record = malloc(sizeof *record);
-    if (!record) {
+    if (!out->entries || !record) {
+        free(record);
         uwb_trend_free(out);
         return -1;
     }
-    char known_baseline[UWB_TREND_ID_MAX + 1] = "";
+    const char *known_baseline = "";
     for (int i = 0; i < count; i++) {
-        struct uwb_trend_point *p = &out->points[out->count];
-        if (read_point(lines[i], record, p) != 0) {
+        struct uwb_trend_entry *e = &out->entries[out->count];
+        if (read_entry(lines[i], record, e) != 0) {
             out->unreadable++;
             continue;
         }
         /* A new baseline shows as this scan having become one, or as a
          * verdict against another baseline than the one before. */
-        if (p->baseline_id[0] && known_baseline[0] && strcmp(p->baseline_id, known_baseline) != 0)
-            p->baseline_change = 1;
-        if (p->became_baseline)
-            copy_text(known_baseline, sizeof known_baseline, p->scan_id);
-        else if (p->baseline_id[0])
-            copy_text(known_baseline, sizeof known_baseline, p->baseline_id);
+        const struct uwb_verdict_summary *r = &e->summary;
+        if (r->baseline_scan_id[0] && known_baseline[0] && strcmp(r->baseline_scan_id, known_baseline) != 0)
+            e->baseline_change = 1;
+        if (e->became_baseline)
+            known_baseline = r->scan_id;
+        else if (r->baseline_scan_id[0])
+            known_baseline = r->baseline_scan_id;
         out->count++;
     }
     free(record);
@@ -180,6 +165,6 @@ int uwb_trend_from_lines(char *const *lines, int count, struct uwb_trend *out)
 
 void uwb_trend_free(struct uwb_trend *t)
 {
-    free(t->points);
+    free(t->entries);
     memset(t, 0, sizeof *t);
 }

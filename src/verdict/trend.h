@@ -8,30 +8,21 @@
 #include <time.h>
 
 #include "uwb/verdict.h"
+#include "uwb/verdict_record.h"
 
-#define UWB_TREND_ID_MAX 100
-
-struct uwb_trend_point {
-    char created[32]; /* as the verdict says it, "" when missing */
+/* A verdict on the trend: the summary of its published record as read
+ * back (the TREND reply's entry is written from it: uwb/verdict_json.h),
+ * and what the series makes of it. A figure only where
+ * the verdict graded one: the reading clears a displacement, height
+ * change or radial change an inconclusive or error verdict (an older
+ * line) may carry, so has_displacement and radial_measured say "a point
+ * on the line". */
+struct uwb_trend_entry {
+    struct uwb_verdict_summary summary;
+    int became_baseline; /* this scan was made the baseline (baseline_set) */
     int has_time;
-    time_t t; /* created, as UTC seconds */
-    char scan_id[UWB_TREND_ID_MAX + 1];
-    enum uwb_status status;
-    int has_displacement;             /* a figure (ok, watch, alarm); otherwise see reason */
-    double displacement_mm, sigma_mm; /* sigma: 1-sigma, as uncertainty_mm in the verdict */
-    int has_height_change;
-    double height_change_mm;
-    /* The face's radial change (+ toward the antenna): has_radial where the
-     * verdict carried one (older lines do not), a figure only where it was
-     * measured and graded ok, watch or alarm. */
-    int has_radial;
-    enum uwb_status radial_status;
-    int has_radial_change;
-    double radial_mm, radial_sigma_mm;      /* sigma: 1-sigma */
-    char baseline_id[UWB_TREND_ID_MAX + 1]; /* the baseline compared against, "" when none */
-    int became_baseline;                    /* this scan was made the baseline (baseline_set) */
-    int baseline_change; /* became_baseline, or compared against another baseline than the scans before */
-    char reason[256];    /* why there is no figure (inconclusive, error): the verdict's, whole */
+    time_t t;            /* created, as UTC seconds */
+    int baseline_change; /* became the baseline, or compared against another baseline than the scans before */
 };
 
 /* A rate only where it can mean something. A winding moves over weeks
@@ -61,8 +52,8 @@ struct uwb_trend_rate {
 
 struct uwb_trend {
     int count;
-    struct uwb_trend_point *points; /* oldest first */
-    int unreadable;                 /* lines that were not a verdict */
+    struct uwb_trend_entry *entries; /* oldest first */
+    int unreadable;                  /* lines that were not a verdict */
     struct uwb_trend_rate rate;
 };
 

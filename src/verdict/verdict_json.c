@@ -2,41 +2,18 @@
  * it: the one place that knows the verdict's keys. */
 #include "uwb/verdict_json.h"
 
+#include "uwb/verdict_fields.h"
+
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-const char *uwb_status_name(enum uwb_status status)
-{
-    switch (status) {
-    case UWB_STATUS_EDGES: return "edges";
-    case UWB_STATUS_OK: return "ok";
-    case UWB_STATUS_WATCH: return "watch";
-    case UWB_STATUS_ALARM: return "alarm";
-    case UWB_STATUS_INCONCLUSIVE: return "inconclusive";
-    case UWB_STATUS_ERROR: return "error";
-    }
-    return "unknown";
-}
-
-int uwb_status_from_name(const char *name, enum uwb_status *out)
-{
-    static const enum uwb_status all[] = {UWB_STATUS_EDGES, UWB_STATUS_OK,           UWB_STATUS_WATCH,
-                                          UWB_STATUS_ALARM, UWB_STATUS_INCONCLUSIVE, UWB_STATUS_ERROR};
-    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
-        if (strcmp(name, uwb_status_name(all[i])) == 0) {
-            *out = all[i];
-            return 0;
-        }
-    }
-    return -1;
-}
-
 void uwb_json_add_ps(cJSON *obj, const char *key, double seconds)
 {
-    cJSON_AddNumberToObject(obj, key, round(seconds * 1e13) / 10.0 + 0.0);
+    cJSON_AddNumberToObject(
+        obj, key, uwb_field_round(uwb_field_find(&uwb_verdict_fields, NULL, "direct_coupling_ps"), seconds));
 }
 
 static void add_text(cJSON *o, const char *key, const char *text)
@@ -73,80 +50,13 @@ static void add_cycle(cJSON *o, const struct uwb_verdict_cycle *c)
     add_text(o, "record_error", c->record_error);
 }
 
-/* "radial": the face's radial change, + toward the antenna. */
-static void add_radial(cJSON *o, const struct uwb_verdict_record *r)
-{
-    cJSON *radial = r->has_radial ? cJSON_AddObjectToObject(o, "radial") : NULL;
-    if (!radial)
-        return;
-    cJSON_AddStringToObject(radial, "status", uwb_status_name(r->radial_status));
-    if (r->radial_measured) {
-        cJSON_AddNumberToObject(radial, "max_change_mm", r->radial_max_change_mm);
-        cJSON_AddNumberToObject(radial, "at_mm", r->radial_at_mm);
-        if (r->radial_has_span) {
-            cJSON_AddNumberToObject(radial, "from_mm", r->radial_from_mm);
-            cJSON_AddNumberToObject(radial, "to_mm", r->radial_to_mm);
-        }
-        cJSON_AddNumberToObject(radial, "uncertainty_mm", r->radial_uncertainty_mm);
-        if (r->radial_has_tilt) {
-            cJSON_AddNumberToObject(radial, "tilt_mm", r->radial_tilt_mm);
-            if (r->radial_has_tilt_uncertainty)
-                cJSON_AddNumberToObject(radial, "tilt_uncertainty_mm", r->radial_tilt_uncertainty_mm);
-        } else
-            add_text(radial, "tilt_withheld", r->radial_tilt_withheld);
-    }
-    add_text(radial, "withheld", r->radial_withheld);
-}
-
 cJSON *uwb_record_object(const struct uwb_verdict_record *r)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o)
         return NULL;
     cJSON_AddStringToObject(o, "class", "VERDICT");
-    cJSON_AddStringToObject(o, "status", uwb_status_name(r->status));
-    add_text(o, "reason", r->reason);
-    add_text(o, "fault", r->fault);
-    add_text(o, "scan_id", r->scan_id);
-    add_text(o, "created", r->created);
-    if (r->has_displacement) {
-        cJSON_AddNumberToObject(o, "axial_displacement_mm", r->axial_displacement_mm);
-        cJSON_AddNumberToObject(o, "uncertainty_mm", r->uncertainty_mm);
-    }
-    if (r->has_edges) {
-        cJSON_AddNumberToObject(o, "lower_edge_mm", r->lower_edge_mm);
-        cJSON_AddNumberToObject(o, "upper_edge_mm", r->upper_edge_mm);
-        cJSON_AddNumberToObject(o, "center_mm", r->center_mm);
-        cJSON_AddNumberToObject(o, "height_mm", r->height_mm);
-        if (r->has_height_change) {
-            cJSON_AddNumberToObject(o, "height_change_mm", r->height_change_mm);
-            cJSON_AddNumberToObject(o, "height_change_uncertainty_mm", r->height_change_uncertainty_mm);
-        } else {
-            add_text(o, "height_change_withheld", r->height_change_withheld);
-        }
-        cJSON_AddNumberToObject(o, "face_range_mm", r->face_range_mm);
-        cJSON_AddNumberToObject(o, "snr_db", r->snr_db);
-        cJSON_AddNumberToObject(o, "edge_uncertainty_mm", r->edge_uncertainty_mm);
-        if (r->has_side_reflector)
-            cJSON_AddNumberToObject(o, "side_reflector_mm", r->side_reflector_mm);
-    } else {
-        add_text(o, "height_change_withheld", r->height_change_withheld);
-    }
-    add_text(o, "edges_withheld", r->edges_withheld);
-    add_radial(o, r);
-    if (r->has_baseline) {
-        cJSON *b = cJSON_AddObjectToObject(o, "baseline");
-        if (b) {
-            cJSON_AddNumberToObject(b, "lower_edge_mm", r->baseline_lower_edge_mm);
-            cJSON_AddNumberToObject(b, "upper_edge_mm", r->baseline_upper_edge_mm);
-            cJSON_AddNumberToObject(b, "center_mm", r->baseline_center_mm);
-            add_text(b, "scan_id", r->baseline_scan_id);
-        }
-    }
-    if (r->has_direct_coupling)
-        cJSON_AddNumberToObject(o, "direct_coupling_ps", r->direct_coupling_ps);
-    if (r->has_direct_coupling_shift)
-        cJSON_AddNumberToObject(o, "direct_coupling_shift_ps", r->direct_coupling_shift_ps);
+    uwb_fields_write(&uwb_verdict_fields, r, o);
     cJSON *images = cJSON_AddArrayToObject(o, "images");
     for (int i = 0; images && i < r->n_images; i++)
         cJSON_AddItemToArray(images, cJSON_CreateString(r->images[i]));
@@ -197,33 +107,60 @@ static cJSON *object_with(const struct uwb_verdict_record *r, const char *const 
     return s;
 }
 
-#define SUMMARY_KEYS \
-    "scan_id", "created", "status", "reason", "axial_displacement_mm", "uncertainty_mm", "center_mm", \
-        "height_change_mm", "baseline_set"
+/* What the summaries carry from the cycle, beside the table's rows. */
+static const struct uwb_field_extra summary_extra[] = {
+    {"baseline_set", 9, 9},
+    {"height_change_withheld", 0, 11},
+    {"trigger", 0, 19},
+    {"asset_id", 0, 20},
+};
+
+static cJSON *summary_of(const struct uwb_verdict_record *r, char which)
+{
+    const char *keys[UWB_FIELD_PLACES];
+    size_t n = uwb_fields_keys(&uwb_verdict_fields, summary_extra,
+                               sizeof summary_extra / sizeof summary_extra[0], which, keys, UWB_FIELD_PLACES);
+    return object_with(r, keys, n);
+}
 
 cJSON *uwb_record_summary(const struct uwb_verdict_record *r)
 {
-    static const char *const keys[] = {SUMMARY_KEYS};
-    return object_with(r, keys, sizeof keys / sizeof keys[0]);
+    return summary_of(r, 's');
 }
 
 cJSON *uwb_record_history_entry(const struct uwb_verdict_record *r)
 {
     /* The summary's keys first, as before; then what else a CSV row shows (uwb/verdict_csv.h). */
-    static const char *const keys[] = {SUMMARY_KEYS,
-                                       "height_change_uncertainty_mm",
-                                       "height_change_withheld",
-                                       "lower_edge_mm",
-                                       "upper_edge_mm",
-                                       "height_mm",
-                                       "face_range_mm",
-                                       "snr_db",
-                                       "baseline",
-                                       "fault",
-                                       "trigger",
-                                       "asset_id",
-                                       "radial"};
-    return object_with(r, keys, sizeof keys / sizeof keys[0]);
+    return summary_of(r, 'h');
+}
+
+cJSON *uwb_record_trend_entry(const struct uwb_verdict_summary *s, int became_baseline)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (!o)
+        return NULL;
+    uwb_fields_write_trend(&uwb_verdict_fields, s, o);
+    /* The reason only where it stands for the figure. */
+    if (s->has_displacement)
+        cJSON_DeleteItemFromObjectCaseSensitive(o, "reason");
+    if (became_baseline)
+        cJSON_AddBoolToObject(o, "baseline_set", 1);
+    return o;
+}
+
+int uwb_record_from_trend_entry(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen)
+{
+    memset(r, 0, sizeof *r);
+    if (!cJSON_IsObject(o)) {
+        snprintf(err, errlen, "verdict: a trend entry that is not an object");
+        return -1;
+    }
+    if (uwb_fields_read_trend(&uwb_verdict_fields, o, r, err, errlen) != 0)
+        return -1;
+    const cJSON *set = cJSON_GetObjectItemCaseSensitive(o, "baseline_set");
+    r->cycle.has_baseline_set = cJSON_IsBool(set);
+    r->cycle.baseline_set = cJSON_IsTrue(set);
+    return 0;
 }
 
 /* ---- reading ------------------------------------------------------------------ */
@@ -324,61 +261,6 @@ static void read_cycle(struct reader *rd, struct uwb_verdict_cycle *c)
     text_at(rd, o, "record_error", c->record_error, sizeof c->record_error);
 }
 
-static void read_radial(struct reader *rd, struct uwb_verdict_record *r)
-{
-    const cJSON *radial = cJSON_GetObjectItemCaseSensitive(rd->o, "radial");
-    if (radial && !cJSON_IsObject(radial))
-        refuse(rd, "radial", "not an object");
-    if (!cJSON_IsObject(radial))
-        return;
-    r->has_radial = 1;
-    const cJSON *status = cJSON_GetObjectItemCaseSensitive(radial, "status");
-    if (!cJSON_IsString(status) || uwb_status_from_name(status->valuestring, &r->radial_status) != 0)
-        refuse(rd, "radial.status", "missing or not a status");
-    r->radial_measured = number_at(rd, radial, "max_change_mm", &r->radial_max_change_mm);
-    number_at(rd, radial, "at_mm", &r->radial_at_mm);
-    r->radial_has_span = number_at(rd, radial, "from_mm", &r->radial_from_mm) &
-                         number_at(rd, radial, "to_mm", &r->radial_to_mm);
-    number_at(rd, radial, "uncertainty_mm", &r->radial_uncertainty_mm);
-    r->radial_has_tilt = number_at(rd, radial, "tilt_mm", &r->radial_tilt_mm);
-    r->radial_has_tilt_uncertainty =
-        r->radial_has_tilt && number_at(rd, radial, "tilt_uncertainty_mm", &r->radial_tilt_uncertainty_mm);
-    text_at(rd, radial, "tilt_withheld", r->radial_tilt_withheld, sizeof r->radial_tilt_withheld);
-    text_at(rd, radial, "withheld", r->radial_withheld, sizeof r->radial_withheld);
-}
-
-static void read_figures(struct reader *rd, struct uwb_verdict_record *r)
-{
-    const cJSON *o = rd->o;
-    /* A figure's presence decides; what comes with it is read when there. */
-    r->has_displacement = number_at(rd, o, "axial_displacement_mm", &r->axial_displacement_mm);
-    number_at(rd, o, "uncertainty_mm", &r->uncertainty_mm);
-    r->has_edges = number_at(rd, o, "lower_edge_mm", &r->lower_edge_mm) &
-                   number_at(rd, o, "upper_edge_mm", &r->upper_edge_mm);
-    number_at(rd, o, "center_mm", &r->center_mm);
-    number_at(rd, o, "height_mm", &r->height_mm);
-    r->has_height_change = number_at(rd, o, "height_change_mm", &r->height_change_mm);
-    number_at(rd, o, "height_change_uncertainty_mm", &r->height_change_uncertainty_mm);
-    text_at(rd, o, "height_change_withheld", r->height_change_withheld, sizeof r->height_change_withheld);
-    number_at(rd, o, "face_range_mm", &r->face_range_mm);
-    number_at(rd, o, "snr_db", &r->snr_db);
-    number_at(rd, o, "edge_uncertainty_mm", &r->edge_uncertainty_mm);
-    r->has_side_reflector = number_at(rd, o, "side_reflector_mm", &r->side_reflector_mm);
-    text_at(rd, o, "edges_withheld", r->edges_withheld, sizeof r->edges_withheld);
-    read_radial(rd, r);
-    const cJSON *b = cJSON_GetObjectItemCaseSensitive(o, "baseline");
-    if (b && !cJSON_IsObject(b))
-        refuse(rd, "baseline", "not an object");
-    if (cJSON_IsObject(b)) {
-        r->has_baseline = number_at(rd, b, "lower_edge_mm", &r->baseline_lower_edge_mm) &
-                          number_at(rd, b, "upper_edge_mm", &r->baseline_upper_edge_mm);
-        number_at(rd, b, "center_mm", &r->baseline_center_mm);
-        text_at(rd, b, "scan_id", r->baseline_scan_id, sizeof r->baseline_scan_id);
-    }
-    r->has_direct_coupling = number_at(rd, o, "direct_coupling_ps", &r->direct_coupling_ps);
-    r->has_direct_coupling_shift = number_at(rd, o, "direct_coupling_shift_ps", &r->direct_coupling_shift_ps);
-}
-
 static void read_images(struct reader *rd, struct uwb_verdict_record *r)
 {
     const cJSON *images = cJSON_GetObjectItemCaseSensitive(rd->o, "images");
@@ -399,17 +281,9 @@ static void read_images(struct reader *rd, struct uwb_verdict_record *r)
 /* The keys of a verdict, or of a summary of one, into *r: 0, or -1. */
 static int read_record(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen)
 {
-    struct reader rd = {.o = o, .err = err, .errlen = errlen};
-    const cJSON *status = cJSON_GetObjectItemCaseSensitive(o, "status");
-    if (!cJSON_IsString(status) || uwb_status_from_name(status->valuestring, &r->status) != 0) {
-        snprintf(err, errlen, "verdict: key `status`: missing or not a status");
+    if (uwb_fields_read(&uwb_verdict_fields, o, r, err, errlen) != 0)
         return -1;
-    }
-    text_at(&rd, o, "reason", r->reason, sizeof r->reason);
-    text_at(&rd, o, "fault", r->fault, sizeof r->fault);
-    text_at(&rd, o, "scan_id", r->scan_id, sizeof r->scan_id);
-    text_at(&rd, o, "created", r->created, sizeof r->created);
-    read_figures(&rd, r);
+    struct reader rd = {.o = o, .err = err, .errlen = errlen};
     read_images(&rd, r);
     read_cycle(&rd, &r->cycle);
     return rd.failed ? -1 : 0;

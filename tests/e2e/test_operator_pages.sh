@@ -116,8 +116,10 @@ topics=$(grep -oE '"%s/%s/[a-z]+"' src/integrations/mqtt_publisher.c | grep -oE 
 for topic in $topics; do
     grep -qF "PREFIX ASSET ID $topic " <<< "$(page_text uwbd-mqtt)" || fail "uwbd-mqtt(7) lacks the topic $topic"
 done
-metrics=$(grep -oE '"uwbd_[a-z_]+' src/integrations/prometheus_textfile.c | tr -d '"' | sort -u)
-(( $(wc -l <<< "$metrics") >= 12 )) || fail "only $(wc -l <<< "$metrics") metrics found in src/integrations/prometheus_textfile.c"
+# The daemon's metrics are in the textfile's code, the figures' gauges in the field table.
+metric_sources="src/integrations/prometheus_textfile.c src/verdict/verdict_fields.c"
+metrics=$(grep -ohE '"uwbd_[a-z_]+' $metric_sources | tr -d '"' | sort -u)
+(( $(wc -l <<< "$metrics") >= 12 )) || fail "only $(wc -l <<< "$metrics") metrics found in $metric_sources"
 for metric in $metrics; do
     grep -qF "$metric" "$UWB_BUILD_DIR/man/uwbd-prometheus.7" || fail "uwbd-prometheus(7) lacks $metric"
 done

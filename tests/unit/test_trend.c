@@ -20,6 +20,7 @@
 #include "state/store.h"
 #include "daemon/trend.h"
 #include "output/render_trend.h"
+#include "uwb/verdict_json.h"
 
 static char dir[256];
 
@@ -67,27 +68,73 @@ static void read_lines(struct uwb_trend *t)
     TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines((char *const *)log_lines, N_LINES, t));
 }
 
+static char *entry_text(const struct uwb_trend *t, int i)
+{
+    cJSON *o = uwb_record_trend_entry(&t->entries[i].summary, t->entries[i].became_baseline);
+    char *text = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    return text;
+}
+
+/* The TREND reply's entry is the record's trend summary: what the line
+ * said, a figure only where the verdict made one, the reason only without
+ * one; and it reads back into the record. */
+static void test_a_trend_entry_is_the_records_summary_and_reads_back(void)
+{
+    struct uwb_trend t;
+    read_lines(&t);
+    const char *const want[] = {
+        "{\"created\":\"2026-03-01T06:00:00Z\",\"scan_id\":\"B1\",\"status\":\"edges\",\"baseline_set\":"
+        "true}",
+        "{\"created\":\"2026-03-02T06:00:00Z\",\"scan_id\":\"S2\",\"status\":\"ok\",\"axial_displacement_"
+        "mm\":0.1,\"uncertainty_mm\":0.3,\"height_change_mm\":0.05,\"baseline\":\"B1\"}",
+        NULL,
+        "{\"created\":\"2026-03-04T06:00:00Z\",\"scan_id\":\"S4\",\"status\":\"inconclusive\",\"reason\":"
+        "\"face echo too weak (SNR 3 dB)\"}",
+    };
+    for (int i = 0; i < 4; i++) {
+        if (!want[i])
+            continue;
+        char *text = entry_text(&t, i);
+        TEST_ASSERT_EQUAL_STRING(want[i], text);
+        free(text);
+    }
+    cJSON *o = uwb_record_trend_entry(&t.entries[1].summary, t.entries[1].became_baseline);
+    struct uwb_verdict_record *back = malloc(sizeof *back);
+    char err[160] = "";
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_record_from_trend_entry(o, back, err, sizeof err), err);
+    TEST_ASSERT_TRUE(back->has_displacement);
+    TEST_ASSERT_EQUAL_DOUBLE(0.1, back->axial_displacement_mm);
+    TEST_ASSERT_EQUAL_DOUBLE(0.3, back->uncertainty_mm);
+    TEST_ASSERT_TRUE(back->has_height_change);
+    TEST_ASSERT_EQUAL_STRING("B1", back->baseline_scan_id);
+    TEST_ASSERT_FALSE(back->has_radial);
+    cJSON_Delete(o);
+    free(back);
+    uwb_trend_free(&t);
+}
+
 static void test_verdicts_become_figures_only_where_the_verdict_made_one(void)
 {
     struct uwb_trend t;
     read_lines(&t);
     TEST_ASSERT_EQUAL_INT(N_LINES - 1, t.count);
     TEST_ASSERT_EQUAL_INT(1, t.unreadable);
-    TEST_ASSERT_EQUAL_INT(UWB_STATUS_EDGES, t.points[0].status);
-    TEST_ASSERT_FALSE(t.points[0].has_displacement);
-    TEST_ASSERT_TRUE(t.points[1].has_displacement);
-    TEST_ASSERT_EQUAL_DOUBLE(0.1, t.points[1].displacement_mm);
-    TEST_ASSERT_EQUAL_DOUBLE(0.3, t.points[1].sigma_mm);
-    TEST_ASSERT_TRUE(t.points[1].has_height_change);
-    TEST_ASSERT_FALSE(t.points[2].has_height_change);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_EDGES, t.entries[0].summary.status);
+    TEST_ASSERT_FALSE(t.entries[0].summary.has_displacement);
+    TEST_ASSERT_TRUE(t.entries[1].summary.has_displacement);
+    TEST_ASSERT_EQUAL_DOUBLE(0.1, t.entries[1].summary.axial_displacement_mm);
+    TEST_ASSERT_EQUAL_DOUBLE(0.3, t.entries[1].summary.uncertainty_mm);
+    TEST_ASSERT_TRUE(t.entries[1].summary.has_height_change);
+    TEST_ASSERT_FALSE(t.entries[2].summary.has_height_change);
     /* The inconclusive verdict's numbers are not a figure. */
-    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, t.points[3].status);
-    TEST_ASSERT_FALSE(t.points[3].has_displacement);
-    TEST_ASSERT_EQUAL_STRING("face echo too weak (SNR 3 dB)", t.points[3].reason);
-    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, t.points[4].status);
-    TEST_ASSERT_FALSE(t.points[4].has_displacement);
-    TEST_ASSERT_TRUE(t.points[1].has_time);
-    TEST_ASSERT_EQUAL_INT64(86400, (long long)(t.points[2].t - t.points[1].t));
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_INCONCLUSIVE, t.entries[3].summary.status);
+    TEST_ASSERT_FALSE(t.entries[3].summary.has_displacement);
+    TEST_ASSERT_EQUAL_STRING("face echo too weak (SNR 3 dB)", t.entries[3].summary.reason);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_ERROR, t.entries[4].summary.status);
+    TEST_ASSERT_FALSE(t.entries[4].summary.has_displacement);
+    TEST_ASSERT_TRUE(t.entries[1].has_time);
+    TEST_ASSERT_EQUAL_INT64(86400, (long long)(t.entries[2].t - t.entries[1].t));
     uwb_trend_free(&t);
 }
 
@@ -95,14 +142,14 @@ static void test_baseline_changes_are_marked(void)
 {
     struct uwb_trend t;
     read_lines(&t);
-    TEST_ASSERT_TRUE(t.points[0].became_baseline);
-    TEST_ASSERT_TRUE(t.points[0].baseline_change);
+    TEST_ASSERT_TRUE(t.entries[0].became_baseline);
+    TEST_ASSERT_TRUE(t.entries[0].baseline_change);
     for (int i = 1; i < 6; i++)
-        TEST_ASSERT_FALSE_MESSAGE(t.points[i].baseline_change, t.points[i].scan_id);
+        TEST_ASSERT_FALSE_MESSAGE(t.entries[i].baseline_change, t.entries[i].summary.scan_id);
     /* S7 is against B2, the scans before against B1. */
-    TEST_ASSERT_TRUE(t.points[6].baseline_change);
-    TEST_ASSERT_FALSE(t.points[6].became_baseline);
-    TEST_ASSERT_FALSE(t.points[7].baseline_change);
+    TEST_ASSERT_TRUE(t.entries[6].baseline_change);
+    TEST_ASSERT_FALSE(t.entries[6].became_baseline);
+    TEST_ASSERT_FALSE(t.entries[7].baseline_change);
     uwb_trend_free(&t);
 }
 
@@ -334,7 +381,7 @@ static void test_rate_does_not_depend_on_how_many_rows_are_asked_for(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwbd_trend_read(&store, 1, &one, err, sizeof err), err);
     TEST_ASSERT_EQUAL_INT(N_LINES - 1, all.count);
     TEST_ASSERT_EQUAL_INT_MESSAGE(1, one.count, "the table keeps the rows asked for");
-    TEST_ASSERT_EQUAL_STRING("S8", one.points[0].scan_id);
+    TEST_ASSERT_EQUAL_STRING("S8", one.entries[0].summary.scan_id);
     TEST_ASSERT_EQUAL_INT(2, all.rate.points);
     TEST_ASSERT_EQUAL_INT(all.rate.points, one.rate.points);
     TEST_ASSERT_EQUAL_INT(all.rate.known, one.rate.known);
@@ -430,8 +477,8 @@ static void test_trend_png_shows_bars_thresholds_and_no_figure_marks(void)
     /* S6: +3.0 mm, sigma 0.5: its bar runs from +2.0 to +4.0 mm in its
      * column; between the marker and the cap the column is the bar's ink
      * and the columns beside it are not. */
-    const struct uwb_trend_point *s6 = &t.points[5];
-    TEST_ASSERT_EQUAL_STRING("S6", s6->scan_id);
+    const struct uwb_trend_entry *s6 = &t.entries[5];
+    TEST_ASSERT_EQUAL_STRING("S6", s6->summary.scan_id);
     int col = uwb_trend_col(&l, s6->t);
     int row = row_of(p, 3.0 + 1.5 * 0.5);
     TEST_ASSERT_TRUE_MESSAGE(row < row_of(p, 3.0) - 6, "the bar reaches past the marker");
@@ -465,7 +512,7 @@ static void test_trend_png_shows_bars_thresholds_and_no_figure_marks(void)
 
     /* S4, inconclusive with numbers in its line: nothing in the plot at
      * its time (no marker, no bar), a grey mark in the strip above. */
-    const struct uwb_trend_point *s4 = &t.points[3];
+    const struct uwb_trend_entry *s4 = &t.entries[3];
     int c4 = uwb_trend_col(&l, s4->t);
     for (int y = p->y; y <= row_of(p, 0.5); y++)
         TEST_ASSERT_FALSE(is(pixel(&png, c4, y), ink));
@@ -751,7 +798,7 @@ static void test_a_short_trend_is_drawn_at_its_own_scale(void)
     series(&t, 2, 60, mm, sigma_03);
     struct trend_forms f = trend_forms(&t);
     const struct uwb_plot *p = &f.layout.plot;
-    int a = uwb_trend_col(&f.layout, t.points[0].t), b = uwb_trend_col(&f.layout, t.points[1].t);
+    int a = uwb_trend_col(&f.layout, t.entries[0].t), b = uwb_trend_col(&f.layout, t.entries[1].t);
     TEST_ASSERT_TRUE_MESSAGE(b - a > p->w / 2, "a minute's figures squeezed together");
     TEST_ASSERT_TRUE(a > p->x && b < p->x + p->w - 1);
     trend_forms_free(&f);
@@ -790,15 +837,15 @@ static void test_radial_change_is_a_second_series(void)
     struct uwb_trend t;
     TEST_ASSERT_EQUAL_INT(0, uwb_trend_from_lines((char *const *)radial_lines, 4, &t));
     TEST_ASSERT_EQUAL_INT(4, t.count);
-    TEST_ASSERT_FALSE(t.points[0].has_radial);
-    TEST_ASSERT_FALSE(t.points[0].has_radial_change);
-    TEST_ASSERT_TRUE(t.points[1].has_radial_change);
-    TEST_ASSERT_EQUAL_DOUBLE(3.11, t.points[1].radial_mm);
-    TEST_ASSERT_EQUAL_DOUBLE(0.39, t.points[1].radial_sigma_mm);
-    TEST_ASSERT_EQUAL_INT(UWB_STATUS_WATCH, t.points[1].radial_status);
-    TEST_ASSERT_TRUE(t.points[2].has_radial);
-    TEST_ASSERT_FALSE(t.points[2].has_radial_change);
-    TEST_ASSERT_TRUE(t.points[3].has_radial_change);
+    TEST_ASSERT_FALSE(t.entries[0].summary.has_radial);
+    TEST_ASSERT_FALSE(t.entries[0].summary.radial_measured);
+    TEST_ASSERT_TRUE(t.entries[1].summary.radial_measured);
+    TEST_ASSERT_EQUAL_DOUBLE(3.11, t.entries[1].summary.radial_max_change_mm);
+    TEST_ASSERT_EQUAL_DOUBLE(0.39, t.entries[1].summary.radial_uncertainty_mm);
+    TEST_ASSERT_EQUAL_INT(UWB_STATUS_WATCH, t.entries[1].summary.radial_status);
+    TEST_ASSERT_TRUE(t.entries[2].summary.has_radial);
+    TEST_ASSERT_FALSE(t.entries[2].summary.radial_measured);
+    TEST_ASSERT_TRUE(t.entries[3].summary.radial_measured);
 
     struct uwb_thresholds th = {.watch_m = 2e-3, .alarm_m = 5e-3};
     char *reply = uwbd_reply_trend(&t, 20, &th, NULL);
@@ -844,10 +891,10 @@ static void test_radial_change_is_a_second_series(void)
                                  png.description);
     struct uwb_trend_layout l;
     uwb_render_trend_layout(&t, &th, NULL, &l);
-    TEST_ASSERT_EQUAL_INT(0, radial_ink_near(&png, &l.plot, uwb_trend_col(&l, t.points[0].t)));
-    TEST_ASSERT_TRUE(radial_ink_near(&png, &l.plot, uwb_trend_col(&l, t.points[1].t)) > 10);
+    TEST_ASSERT_EQUAL_INT(0, radial_ink_near(&png, &l.plot, uwb_trend_col(&l, t.entries[0].t)));
+    TEST_ASSERT_TRUE(radial_ink_near(&png, &l.plot, uwb_trend_col(&l, t.entries[1].t)) > 10);
     /* R2's marker: in the watch colour at +3.11 mm, beside the axial one. */
-    int col = uwb_trend_col(&l, t.points[1].t) + UWB_TREND_RADIAL_OFFSET;
+    int col = uwb_trend_col(&l, t.entries[1].t) + UWB_TREND_RADIAL_OFFSET;
     TEST_ASSERT_TRUE(is(pixel(&png, col, row_of(&l.plot, 3.11)), uwb_status_colour(UWB_STATUS_WATCH)));
     free(png.px);
     uwb_trend_free(&t);
@@ -909,7 +956,7 @@ static void test_trend_png_reads_without_the_manual(void)
                                  png.description);
 
     /* E3's mark in the strip is not the "?" of an inconclusive verdict. */
-    int c3 = uwb_trend_col(&l, t.points[2].t), mx, my;
+    int c3 = uwb_trend_col(&l, t.entries[2].t), mx, my;
     int s = 2;
     const unsigned char *strip = png.px + (size_t)l.strip_y * (size_t)png.w * 3;
     TEST_ASSERT_EQUAL_INT(
@@ -945,7 +992,7 @@ static void test_trend_png_reads_without_the_manual(void)
 
     /* The grey line does not join +12 mm (E1) to 0 (E4) across the two
      * verdicts without an axial figure between them. */
-    int c1 = uwb_trend_col(&l, t.points[0].t), c4 = uwb_trend_col(&l, t.points[3].t);
+    int c1 = uwb_trend_col(&l, t.entries[0].t), c4 = uwb_trend_col(&l, t.entries[3].t);
     int mid = (c1 + c4) / 2;
     TEST_ASSERT_EQUAL_INT(0, colour_in(&png, mid - 2, mid + 2, p->y, p->y + p->h - 1, series_grey));
 
@@ -994,5 +1041,6 @@ int main(void)
     RUN_TEST(test_trend_png_reads_without_the_manual);
     RUN_TEST(test_rate_does_not_depend_on_how_many_rows_are_asked_for);
     RUN_TEST(test_trend_text_keeps_the_whole_reason_and_can_be_ascii);
+    RUN_TEST(test_a_trend_entry_is_the_records_summary_and_reads_back);
     return UNITY_END();
 }
