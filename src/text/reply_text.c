@@ -4,6 +4,7 @@
  * short replies; a VERDICT and a TREND as verdict_text.c and trend_text.c
  * print them. The control socket's JSON stays the programs' form. */
 #include <stdio.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -309,13 +310,12 @@ static int wider(int width, const char *s)
 
 /* A history row's radial change: "+0.20 ± 0.10 mm ok", the status alone
  * where it made no figure, "-" where the verdict has none. */
-static void radial_cell(char *buf, size_t n, const cJSON *v, const struct text_marks *m)
+static void radial_cell(char *buf, size_t n, const struct uwb_verdict_record *r, const struct text_marks *m)
 {
-    const cJSON *radial = item(v, "radial");
-    double change, sigma;
-    const char *status = text(radial, "status");
-    if (number(radial, "max_change_mm", &change) && number(radial, "uncertainty_mm", &sigma))
-        snprintf(buf, n, "%+.2f %s %.2f mm %s", change, m->plus_minus, sigma, status ? status : "");
+    const char *status = r->has_radial ? uwb_status_name(r->radial_status) : NULL;
+    if (r->radial_measured)
+        snprintf(buf, n, "%+.2f %s %.2f mm %s", r->radial_max_change_mm, m->plus_minus,
+                 r->radial_uncertainty_mm, status ? status : "");
     else
         snprintf(buf, n, "%s", status ? status : "-");
 }
@@ -333,34 +333,43 @@ static void history_text(FILE *out, const cJSON *o, const struct text_marks *m)
     fprintf(out, "  %-*s  ", HISTORY_HEIGHT_WIDTH, "height change");
     uwb_text_layout_column(out, radial_header, HISTORY_RADIAL_WIDTH);
     fputs("  scan\n", out);
+    /* Each entry's figures read through the published record, as any
+     * verdict's are (r: room for one). */
+    struct uwb_verdict_record *r = malloc(sizeof *r);
     cJSON_ArrayForEach(v, list)
     {
-        char status[16] = "", figure[64] = "-", height[32] = "-", radial[64];
-        double d, u, h;
-        const char *s = text_or(v, "status", "?");
+        char status[16] = "", figure[64] = "-", height[32] = "-", radial[64], err[160];
+        if (!r || uwb_record_from_summary(v, r, err, sizeof err) != 0) {
+            fprintf(out, "(an entry that is not a verdict: %s)\n", r ? err : "out of memory");
+            continue;
+        }
+        const char *s = uwb_status_name(r->status);
         size_t i = 0;
         for (; s[i] && i + 1 < sizeof status; i++)
             status[i] = (char)(s[i] >= 'a' && s[i] <= 'z' ? s[i] - 'a' + 'A' : s[i]);
         status[i] = '\0';
-        if (number(v, "axial_displacement_mm", &d) && number(v, "uncertainty_mm", &u))
-            snprintf(figure, sizeof figure, "%+.2f %s %.2f mm", d, m->plus_minus, u);
-        else if (number(v, "axial_displacement_mm", &d))
-            snprintf(figure, sizeof figure, "%+.2f mm", d);
-        if (number(v, "height_change_mm", &h))
-            snprintf(height, sizeof height, "%+.2f mm", h);
-        radial_cell(radial, sizeof radial, v, m);
-        fprintf(out, "%-20s  %-*s  ", text_or(v, "created", "?"), HISTORY_STATUS_WIDTH, status);
+        if (r->has_displacement && isfinite(r->uncertainty_mm))
+            snprintf(figure, sizeof figure, "%+.2f %s %.2f mm", r->axial_displacement_mm, m->plus_minus,
+                     r->uncertainty_mm);
+        else if (r->has_displacement)
+            snprintf(figure, sizeof figure, "%+.2f mm", r->axial_displacement_mm);
+        if (r->has_height_change)
+            snprintf(height, sizeof height, "%+.2f mm", r->height_change_mm);
+        radial_cell(radial, sizeof radial, r, m);
+        fprintf(out, "%-20s  %-*s  ", r->created[0] ? r->created : "?", HISTORY_STATUS_WIDTH, status);
         uwb_text_layout_column(out, figure, figure_width);
         fprintf(out, "  %-*s  ", HISTORY_HEIGHT_WIDTH, height);
         uwb_text_layout_column(out, radial, HISTORY_RADIAL_WIDTH);
-        fprintf(out, "  %s%s\n", text_or(v, "scan_id", "?"), yes(v, "baseline_set") ? " (baseline)" : "");
+        fprintf(out, "  %s%s\n", r->scan_id[0] ? r->scan_id : "?",
+                yes(v, "baseline_set") ? " (baseline)" : "");
         /* Why, whole, under the row (issue 48: it was cut mid-word). */
-        if (text(v, "reason")) {
+        if (r->reason[0]) {
             fprintf(out, "%*s", HISTORY_REASON_INDENT, "");
-            uwb_text_layout_wrapped(out, text(v, "reason"), HISTORY_REASON_INDENT, HISTORY_REASON_INDENT,
+            uwb_text_layout_wrapped(out, r->reason, HISTORY_REASON_INDENT, HISTORY_REASON_INDENT,
                                     HELP_LINE_WIDTH);
         }
     }
+    free(r);
     if (cJSON_GetArraySize(list) == 0)
         fputs("(no verdicts yet)\n", out);
     if (number(o, "unreadable_lines", &skipped))
