@@ -108,8 +108,7 @@ int uwb_measure_shift_skipping(const struct uwb_analysis *current, const struct 
  * difference is a second reading of the height change, independent of the
  * half-peak crossings. Returns 0, or -1 with err filled. */
 int uwb_measure_shoulder_shifts(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
-                                double whole_shift_m, double *lower_m, double *upper_m, char *err,
-                                size_t errlen);
+                                double *lower_m, double *upper_m, char *err, size_t errlen);
 
 /* The noise of that displacement (src/imaging/pair_uncertainty.c): the noise
  * rms per sample read on the two scans' difference where the winding cannot

@@ -477,9 +477,8 @@ int uwb_evaluate(const struct uwb_scan *current, const struct uwb_baseline_recor
             uwb_analysis_free(base_a);
             return -1;
         }
-        pair.has_shoulders =
-            uwb_measure_shoulder_shifts(cur_a, base_a, pair.displacement_m, &pair.lower_shift_m,
-                                        &pair.upper_shift_m, err, errlen) == 0;
+        pair.has_shoulders = uwb_measure_shoulder_shifts(cur_a, base_a, &pair.lower_shift_m,
+                                                         &pair.upper_shift_m, err, errlen) == 0;
     }
     uwb_compare_pair(v, &cur_a->edges, &base_a->edges, &pair, &copt);
     /* With no winding found in this scan there is no movement to tell a

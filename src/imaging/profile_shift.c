@@ -67,7 +67,6 @@ struct span {
     double skip_lo_m, skip_hi_m; /* baseline rows the fit leaves out (lo >= hi: none) */
     double *base;                /* g * base(y) is fitted to these */
     double bb;
-    double gain; /* > 0: g fixed to this, else fitted */
 };
 
 static double span_offset(const struct span *s, int k)
@@ -117,8 +116,6 @@ static double misfit(const struct energy *cur, const struct span *s, double d)
         cc += c * c;
         cb += c * b;
     }
-    if (s->gain > 0.0)
-        return cc - 2.0 * s->gain * cb + s->gain * s->gain * s->bb;
     return s->bb > 0.0 ? cc - cb * cb / s->bb : cc;
 }
 
@@ -154,12 +151,11 @@ static int fit_inputs_of(const struct uwb_face_profile *cur_profile,
  * stopped. */
 static double shift_fit(const struct uwb_face_profile *cur_profile,
                         const struct uwb_face_profile *base_profile, double base_centre_m, double half_span_m,
-                        double skip_lo_m, double skip_hi_m, double guess_m, double gain, int *interior)
+                        double skip_lo_m, double skip_hi_m, double guess_m, int *interior)
 {
     struct fit_inputs f;
     if (fit_inputs_of(cur_profile, base_profile, base_centre_m, half_span_m, skip_lo_m, skip_hi_m, &f) != 0)
         return NAN;
-    f.span.gain = gain;
     double best_d = guess_m, best = INFINITY;
     int n = (int)ceil(FIT_SEARCH_M / COARSE_STEP_M), best_i = 0;
     for (int i = -n; i <= n; i++) {
@@ -196,8 +192,7 @@ double uwb_profile_shift_fit(const struct uwb_face_profile *cur_profile,
                              double half_span_m, double guess_m)
 {
     int interior;
-    return shift_fit(cur_profile, base_profile, base_centre_m, half_span_m, 0.0, 0.0, guess_m, 0.0,
-                     &interior);
+    return shift_fit(cur_profile, base_profile, base_centre_m, half_span_m, 0.0, 0.0, guess_m, &interior);
 }
 
 /* The fit compares the profiles over the baseline's winding, edge to edge
@@ -226,7 +221,7 @@ int uwb_measure_shift_skipping(const struct uwb_analysis *cur, const struct uwb_
     double guess = cur->edges.center_m - base->edges.center_m;
     int interior;
     *shift_m = shift_fit(&cur->profile, &base->profile, base->edges.center_m, 0.5 * base->edges.height_m,
-                         skip_lo_m, skip_hi_m, guess, 0.0, &interior);
+                         skip_lo_m, skip_hi_m, guess, &interior);
     if (isnan(*shift_m)) {
         snprintf(err, errlen, "shift: out of memory for the profiles' fit");
         return -1;
@@ -247,131 +242,18 @@ int uwb_measure_shift_skipping(const struct uwb_analysis *cur, const struct uwb_
  * say. */
 #define SHOULDER_HALF_SPAN 0.25
 
-/* The gain g of cur(y + d) = g base(y) over the baseline's whole face at
- * the whole face's shift d. */
-static double face_gain(const struct uwb_analysis *cur, const struct uwb_analysis *base, double shift_m,
-                        double half_fraction)
-{
-    struct fit_inputs f;
-    if (fit_inputs_of(&cur->profile, &base->profile, base->edges.center_m,
-                      half_fraction * base->edges.height_m, 0.0, 0.0, &f) != 0)
-        return NAN;
-    double cb = 0.0, cc = 0.0;
-    for (int k = 0; k < f.span.n; k++) {
-        double c = energy_at(&f.cur, f.span.centre_m + shift_m + span_offset(&f.span, k));
-        cb += c * f.span.base[k];
-        cc += c * c;
-    }
-    double g = f.span.bb > 0.0 ? cb / f.span.bb : NAN;
-    if (getenv("UWB_G_NORM"))
-        g = f.span.bb > 0.0 ? sqrt(cc / f.span.bb) : NAN;
-    fit_inputs_free(&f);
-    return g;
-}
-
-/* The gain of one end's inner plateau: energies' norm ratio over the
- * baseline's rows from..to, the current's read at shift_m. */
-static double plateau_gain(const struct uwb_analysis *cur, const struct uwb_analysis *base, double from_m,
-                           double to_m, double shift_m)
-{
-    struct fit_inputs f;
-    if (fit_inputs_of(&cur->profile, &base->profile, 0.5 * (from_m + to_m), 0.5 * fabs(to_m - from_m), 0.0,
-                      0.0, &f) != 0)
-        return NAN;
-    double cc = 0.0;
-    for (int k = 0; k < f.span.n; k++) {
-        double c = energy_at(&f.cur, f.span.centre_m + shift_m + span_offset(&f.span, k));
-        cc += c * c;
-    }
-    double g = f.span.bb > 0.0 ? sqrt(cc / f.span.bb) : NAN;
-    fit_inputs_free(&f);
-    return g;
-}
-
-/* Misfit of cur(y + d_lo) below mid and cur(y + d_up) above against one
- * free gain times base(y) over the span. */
-static double misfit2(const struct energy *cur, const struct span *s, double mid_m, double d_lo, double d_up)
-{
-    double cc = 0.0, cb = 0.0;
-    for (int k = 0; k < s->n; k++) {
-        double y = s->centre_m + span_offset(s, k);
-        double c = energy_at(cur, y + (y < mid_m ? d_lo : d_up)), b = s->base[k];
-        cc += c * c;
-        cb += c * b;
-    }
-    return s->bb > 0.0 ? cc - cb * cb / s->bb : cc;
-}
-
-static void two_piece_fit(const struct uwb_analysis *cur, const struct uwb_analysis *base, double half_m,
-                          double whole_m, double *lo, double *up)
-{
-    struct fit_inputs f;
-    *lo = *up = NAN;
-    if (fit_inputs_of(&cur->profile, &base->profile, base->edges.center_m, half_m, 0.0, 0.0, &f) != 0)
-        return;
-    double mid = base->edges.center_m, a = whole_m, b = whole_m;
-    for (int pass = 0; pass < 6; pass++) {
-        for (int which = 0; which < 2; which++) {
-            double best = INFINITY, bd = which ? b : a, c0 = bd;
-            double step = pass < 2 ? 1e-4 : 1e-5;
-            int n = pass < 2 ? 30 : 20;
-            for (int i = -n; i <= n; i++) {
-                double d = c0 + i * step;
-                double r = which ? misfit2(&f.cur, &f.span, mid, a, d) : misfit2(&f.cur, &f.span, mid, d, b);
-                if (r < best) {
-                    best = r;
-                    bd = d;
-                }
-            }
-            if (which)
-                b = bd;
-            else
-                a = bd;
-        }
-    }
-    *lo = a;
-    *up = b;
-    fit_inputs_free(&f);
-}
-
 int uwb_measure_shoulder_shifts(const struct uwb_analysis *cur, const struct uwb_analysis *base,
-                                double whole_shift_m, double *lower_m, double *upper_m, char *err,
-                                size_t errlen)
+                                double *lower_m, double *upper_m, char *err, size_t errlen)
 {
     if (!cur->edges.found || !base->edges.found || !cur->profile.value || !base->profile.value) {
         snprintf(err, errlen, "shoulder shifts: the winding is not established in both scans");
         return -1;
     }
-    const char *mode_s = getenv("UWB_SH_MODE"), *span_s = getenv("UWB_SH_SPAN");
-    int mode = mode_s ? atoi(mode_s) : 0;
-    double half = (span_s ? atof(span_s) : SHOULDER_HALF_SPAN) * base->edges.height_m;
-    double gain = 0.0, glo = cur->edges.lower_m - base->edges.lower_m,
-           gup = cur->edges.upper_m - base->edges.upper_m;
-    if (mode >= 1) {
-        gain = face_gain(cur, base, whole_shift_m,
-                         mode == 3 ? (getenv("UWB_G_SPAN") ? atof(getenv("UWB_G_SPAN")) : 0.25) : 0.5);
-        glo = gup = whole_shift_m;
-    }
-    int interior;
-    double out = getenv("UWB_SH_OUT") ? atof(getenv("UWB_SH_OUT")) * base->edges.height_m : half;
-    double hs = 0.5 * (out + half), inward = 0.5 * (half - out);
-    double glow = mode == 2 ? 0.0 : gain, gupp = glow;
-    if (mode == 5) {
-        double a = (getenv("UWB_P_A") ? atof(getenv("UWB_P_A")) : 0.08) * base->edges.height_m;
-        double b = (getenv("UWB_P_B") ? atof(getenv("UWB_P_B")) : 0.35) * base->edges.height_m;
-        glow = plateau_gain(cur, base, base->edges.lower_m + a, base->edges.lower_m + b, whole_shift_m);
-        gupp = plateau_gain(cur, base, base->edges.upper_m - b, base->edges.upper_m - a, whole_shift_m);
-    }
-    if (mode == 6) {
-        two_piece_fit(cur, base,
-                      (getenv("UWB_TP_SPAN") ? atof(getenv("UWB_TP_SPAN")) : 0.5) * base->edges.height_m,
-                      whole_shift_m, lower_m, upper_m);
-        return 0;
-    }
-    *lower_m = shift_fit(&cur->profile, &base->profile, base->edges.lower_m + inward, hs, 0.0, 0.0, glo, glow,
-                         &interior);
-    *upper_m = shift_fit(&cur->profile, &base->profile, base->edges.upper_m - inward, hs, 0.0, 0.0, gup, gupp,
-                         &interior);
+    double half = SHOULDER_HALF_SPAN * base->edges.height_m;
+    *lower_m = uwb_profile_shift_fit(&cur->profile, &base->profile, base->edges.lower_m, half,
+                                     cur->edges.lower_m - base->edges.lower_m);
+    *upper_m = uwb_profile_shift_fit(&cur->profile, &base->profile, base->edges.upper_m, half,
+                                     cur->edges.upper_m - base->edges.upper_m);
     if (isnan(*lower_m) || isnan(*upper_m)) {
         snprintf(err, errlen, "shoulder shifts: out of memory for the profiles' fit");
         return -1;

@@ -3,7 +3,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <stdlib.h>
 
 /* The axial reading's share of a lean of the face (see uwb_compare_pair). */
 #define TILT_TO_AXIAL (1.0 / 3.0)
@@ -131,13 +130,6 @@ static void height_change_uncertainty(struct uwb_verdict *v, const struct uwb_ed
                      ? opt->height_change_per_face_range * fabs(cur->face_z_m - base->face_z_m) *
                            base->height_m / base->face_z_m
                      : 0.0;
-    if (getenv("UWB_HC_DEBUG"))
-        fprintf(stderr,
-                "HCDBG cross %+.3f shoulders %+.3f lo %+.3f up %+.3f shift %+.3f noise %.3f model %.3f scene "
-                "%.3f oil %.3f\n",
-                v->height_change_m * 1e3, (pair->upper_shift_m - pair->lower_shift_m) * 1e3,
-                pair->lower_shift_m * 1e3, pair->upper_shift_m * 1e3, v->axial_displacement_m * 1e3,
-                hypot(noise_c, noise_b) * 1e3, model * 1e3, scene * 1e3, oil * 1e3);
     v->height_change_uncertainty_m =
         sqrt(noise_c * noise_c + noise_b * noise_b + model * model + scene * scene + oil * oil +
              2.0 * opt->systematic_displacement_m * opt->systematic_displacement_m);
