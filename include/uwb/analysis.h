@@ -65,6 +65,12 @@ struct uwb_analysis {
      * the profile was measured on (weighted, a side reflector taken out). */
     struct uwb_scan conditioned;
     struct uwb_scan measured;
+    /* The traces the face was searched on: conditioned with the static
+     * reference from the travel's ends, before the winding was located.
+     * Kept whether or not it was found, so that the rig check can compare
+     * two scans conditioned alike when the current one's winding is not
+     * found (a scale error smears it: src/evaluate/rig_check.c). */
+    struct uwb_scan searched;
     double *weight; /* per position, 0..1 (1 everywhere before any taper pass) */
     /* The centre the taper (weight) was built about: the winding's centre
      * on the pass before, so it moves with the scan's noise too. */

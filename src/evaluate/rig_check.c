@@ -51,10 +51,9 @@ static void bscan_free(struct bscan *b)
 /* The envelope of each conditioned trace, masked to the static scene: after
  * the blanking and before the earliest reply the baseline's winding, moved
  * by up to WINDING_REACH_M, could send (less two periods). */
-static int static_bscan(const struct uwb_analysis *a, const struct uwb_analysis *baseline, struct bscan *out,
-                        char *err, size_t errlen)
+static int static_bscan(const struct uwb_analysis *a, const struct uwb_scan *s,
+                        const struct uwb_analysis *baseline, struct bscan *out, char *err, size_t errlen)
 {
-    const struct uwb_scan *s = &a->conditioned;
     memset(out, 0, sizeof *out);
     float *env = malloc((size_t)s->positions * (size_t)s->samples * sizeof *env);
     if (!env) {
@@ -182,7 +181,17 @@ int uwb_rig_check(const struct uwb_analysis *current, const struct uwb_analysis 
                   const double *displacement_m, struct uwb_rig_check *out, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
+    /* Both scans conditioned alike: around their own windings when the
+     * current one's was found, else both as the face search saw them (the
+     * static reference from the travel's ends). A scale error can smear
+     * the winding past finding, which is when the check matters most;
+     * mixing the two conditionings would read a rig fault in any scan (a
+     * static scene 0.13 alike on an unmoved tank scan). */
     const struct uwb_scan *cs = &current->conditioned, *bs = &baseline->conditioned;
+    if (!cs->data) {
+        cs = &current->searched;
+        bs = &baseline->searched;
+    }
     if (!baseline->edges.found || !cs->data || !bs->data || cs->positions != bs->positions ||
         cs->samples != bs->samples || cs->positions < 3) {
         snprintf(out->why, sizeof out->why, "no winding in the baseline, or scans of different shapes");
@@ -191,8 +200,8 @@ int uwb_rig_check(const struct uwb_analysis *current, const struct uwb_analysis 
     struct bscan c = {0}, b = {0};
     double *r_at = NULL;
     int rc = -1;
-    if (static_bscan(current, baseline, &c, err, errlen) != 0 ||
-        static_bscan(baseline, baseline, &b, err, errlen) != 0)
+    if (static_bscan(current, cs, baseline, &c, err, errlen) != 0 ||
+        static_bscan(baseline, bs, baseline, &b, err, errlen) != 0)
         goto done;
     rc = 0; /* from here on, a rig that cannot be checked is no error */
     long n = 0;

@@ -427,7 +427,7 @@ static enum step search_for_face(struct analysis_run *r)
     if (rc == 0)
         out->noise_sigma = uwb_noise_sigma(
             &searched, uwb_condition_first_open_sample(&searched, &r->g, &opt->condition, out->dominant_hz));
-    uwb_scan_free(&searched);
+    out->searched = searched;
     if (rc != 0)
         return STEP_FAILED;
     if (uwb_face_search(&out->intensity, out->aperture_lo_m, out->aperture_hi_m, antenna_step(r->scan),
@@ -805,6 +805,7 @@ void uwb_analysis_free(struct uwb_analysis *a)
     uwb_image_free(&a->intensity);
     free(a->profile.value);
     free(a->face_range.value);
+    uwb_scan_free(&a->searched);
     uwb_scan_free(&a->conditioned);
     uwb_scan_free(&a->measured);
     free(a->weight);
