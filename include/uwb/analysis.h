@@ -76,6 +76,10 @@ struct uwb_analysis {
      * on the pass before, so it moves with the scan's noise too. */
     int has_taper;
     double taper_centre_m;
+    /* The rows the face search saw the winding's face on, widened by a
+     * point's blur: the profile's peak is sought there, not on a plate's
+     * edge level with the face (both 0: anywhere). */
+    double face_rows_m[2];
 };
 
 /* What the analysis refuses in a scan the format takes (bad input, not a

@@ -188,9 +188,30 @@ int uwb_face_grid(const struct uwb_scan *conditioned, const struct uwb_geometry 
     return 0;
 }
 
+/* The brightest pixel of range column iz on the face's rows (rows_m, or
+ * anywhere when it is 0..0): a plate's edge level with the face, above or
+ * below it, may outshine the face in its own column. */
+static double face_column_peak(const struct uwb_image *img, int iz, const double rows_m[2], int *row)
+{
+    if (!(rows_m[0] < rows_m[1]))
+        return uwb_image_column_peak(img, iz, row);
+    double best = -1.0;
+    *row = 0;
+    for (int iy = 0; iy < img->ny; iy++) {
+        double y = img->y0_m + iy * img->dy_m;
+        double v = img->pix[(size_t)iy * img->nz + iz];
+        if (y >= rows_m[0] && y <= rows_m[1] && v > best) {
+            best = v;
+            *row = iy;
+        }
+    }
+    return best < 0.0 ? uwb_image_column_peak(img, iz, row) : best;
+}
+
 static int measure_face_rows(const struct uwb_scan *conditioned, const struct uwb_geometry *g,
                              const struct uwb_analysis_options *opt, double z_centre, double dominant_hz,
-                             double y_lo_m, double y_hi_m, struct uwb_migration_plan *plan, double *z_face,
+                             double y_lo_m, double y_hi_m, const double face_rows_m[2],
+                             struct uwb_migration_plan *plan, double *z_face,
                              struct uwb_face_profile *profile, struct uwb_face_profile *range,
                              struct profile_edges *edges, char *err, size_t errlen)
 {
@@ -214,7 +235,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     int best = lo, row;
     double best_v = -1.0;
     for (int iz = lo; iz <= hi; iz++) {
-        double v = uwb_image_column_peak(&fine, iz, &row);
+        double v = face_column_peak(&fine, iz, face_rows_m, &row);
         if (v > best_v) {
             best_v = v;
             best = iz;
@@ -225,8 +246,8 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
      * between two scans would move the model. */
     double offset = 0.0;
     if (best > 0 && best < fine.nz - 1) {
-        double before = uwb_image_column_peak(&fine, best - 1, &row);
-        double after = uwb_image_column_peak(&fine, best + 1, &row);
+        double before = face_column_peak(&fine, best - 1, face_rows_m, &row);
+        double after = face_column_peak(&fine, best + 1, face_rows_m, &row);
         double den = before - 2.0 * best_v + after;
         if (den < 0.0)
             offset = 0.5 * (before - after) / den;
@@ -240,7 +261,7 @@ static int measure_face_rows(const struct uwb_scan *conditioned, const struct uw
     uwb_image_free(&fine);
     if (rc != 0)
         return -1;
-    uwb_profile_edges(profile, opt->edge_fraction, edges);
+    uwb_profile_edges_within(profile, opt->edge_fraction, face_rows_m[0], face_rows_m[1], edges);
     return 0;
 }
 
@@ -287,8 +308,8 @@ static void apply_weights(struct uwb_scan *s, const double *weight)
 /* Where the search says the winding is: its range and rough ends, widened
  * by a wavelength, so conditioning can keep its echoes out of the static
  * reference. */
-static void rough_window(const struct uwb_image *coarse, double z_face, double wavelength, double ap_lo,
-                         double ap_hi, struct uwb_target_window *w)
+static void rough_window(const struct uwb_image *coarse, double z_face, const double face_rows_m[2],
+                         double wavelength, double ap_lo, double ap_hi, struct uwb_target_window *w)
 {
     struct uwb_face_profile p = {0};
     struct profile_edges e = {0};
@@ -296,7 +317,7 @@ static void rough_window(const struct uwb_image *coarse, double z_face, double w
     w->y_lo_m = ap_lo;
     w->y_hi_m = ap_hi;
     if (uwb_face_profile_measure(coarse, z_face, 0.0, &p, NULL, err, sizeof err) == 0) {
-        uwb_profile_edges(&p, 0.5, &e);
+        uwb_profile_edges_within(&p, 0.5, face_rows_m[0], face_rows_m[1], &e);
         if (e.ok) {
             w->y_lo_m = e.lower_m - wavelength;
             w->y_hi_m = e.upper_m + wavelength;
@@ -434,6 +455,18 @@ static enum step search_for_face(struct analysis_run *r)
                         r->wavelength, r->excluded_z_m, r->n_excluded, search_span(r->opt, span), &r->face,
                         out->edges.reason, sizeof out->edges.reason) != 0)
         return STEP_DONE;
+    /* Where the search found the face beside a brighter reflector in its
+     * own range column (a plate's edge, passed over), later measurements
+     * seek the face's peak on the face's rows as the search saw them,
+     * widened by a point's blur (its ends are coarse). Elsewhere the
+     * profile's peak is its own, and judge_edges names a reflector that
+     * outshines the face beyond them. */
+    if (!r->face.beside_brighter)
+        return STEP_NEXT;
+    double blur = uwb_point_blur_m(r->wavelength, 0.5 * (r->face.lower_m + r->face.upper_m), r->face.z_m,
+                                   out->aperture_lo_m, out->aperture_hi_m);
+    out->face_rows_m[0] = r->face.lower_m - blur;
+    out->face_rows_m[1] = r->face.upper_m + blur;
     return STEP_NEXT;
 }
 
@@ -442,8 +475,8 @@ static enum step condition_around_face(struct analysis_run *r)
 {
     struct uwb_analysis *out = r->out;
     struct uwb_target_window window;
-    rough_window(&out->intensity, r->face.z_m, r->wavelength, out->aperture_lo_m, out->aperture_hi_m,
-                 &window);
+    rough_window(&out->intensity, r->face.z_m, out->face_rows_m, r->wavelength, out->aperture_lo_m,
+                 out->aperture_hi_m, &window);
     if (uwb_condition_finish(&r->prepared, &r->g, &r->opt->condition, out->dominant_hz, &window,
                              &out->conditioned, r->err, r->errlen) != 0)
         return STEP_FAILED;
@@ -455,8 +488,9 @@ static enum step measure_face_plain(struct analysis_run *r)
 {
     struct uwb_analysis *out = r->out;
     r->z_face_m = r->face.z_m;
-    if (measure_face_rows(&out->conditioned, &r->g, r->opt, r->face.z_m, out->dominant_hz, 0.0, 0.0, NULL,
-                          &r->z_face_m, &out->profile, &out->face_range, &r->pe, r->err, r->errlen) != 0)
+    if (measure_face_rows(&out->conditioned, &r->g, r->opt, r->face.z_m, out->dominant_hz, 0.0, 0.0,
+                          out->face_rows_m, NULL, &r->z_face_m, &out->profile, &out->face_range, &r->pe,
+                          r->err, r->errlen) != 0)
         return STEP_FAILED;
     out->weight = malloc((size_t)r->scan->positions * sizeof *out->weight);
     if (!out->weight) {
@@ -523,8 +557,9 @@ static enum step measure_weighted(struct analysis_run *r, struct side_reflector 
     uwb_side_reflector_remove(&r->pass_side, &r->g, &out->measured);
     apply_weights(&out->measured, out->weight);
     double z_face_before = r->z_face_m;
-    if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, y_lo, y_hi, NULL,
-                          &r->z_face_m, &out->profile, &out->face_range, &r->pe, r->err, r->errlen) != 0)
+    if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, y_lo, y_hi,
+                          out->face_rows_m, NULL, &r->z_face_m, &out->profile, &out->face_range, &r->pe,
+                          r->err, r->errlen) != 0)
         return STEP_FAILED;
     if (every_row || reads_within(r))
         return STEP_NEXT;
@@ -535,8 +570,9 @@ static enum step measure_weighted(struct analysis_run *r, struct side_reflector 
     free(out->face_range.value);
     out->face_range.value = NULL;
     r->z_face_m = z_face_before;
-    if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, 0.0, 0.0, NULL,
-                          &r->z_face_m, &out->profile, &out->face_range, &r->pe, r->err, r->errlen) != 0)
+    if (measure_face_rows(&out->measured, &r->g, r->opt, z_centre, out->dominant_hz, 0.0, 0.0,
+                          out->face_rows_m, NULL, &r->z_face_m, &out->profile, &out->face_range, &r->pe,
+                          r->err, r->errlen) != 0)
         return STEP_FAILED;
     return STEP_NEXT;
 }
@@ -837,8 +873,8 @@ int uwb_analysis_measure_again(const struct uwb_analysis *a, const struct uwb_an
     }
     double z_face = a->edges.face_z_m;
     struct profile_edges pe;
-    int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, plan, &z_face,
-                               p, NULL, &pe, err, errlen);
+    int rc = measure_face_rows(&s, &g, opt, a->edges.face_z_m, a->dominant_hz, y_lo_m, y_hi_m, a->face_rows_m,
+                               plan, &z_face, p, NULL, &pe, err, errlen);
     uwb_scan_free(&s);
     if (z_face_out)
         *z_face_out = z_face;

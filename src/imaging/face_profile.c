@@ -93,10 +93,25 @@ int uwb_face_profile_measure(const struct uwb_image *img, double z_face_m, doubl
 
 void uwb_profile_edges(const struct uwb_face_profile *p, double fraction, struct profile_edges *e)
 {
-    int ip = 0;
-    for (int i = 1; i < p->n; i++)
-        if (p->value[i] > p->value[ip])
-            ip = i;
+    uwb_profile_edges_within(p, fraction, 0.0, 0.0, e);
+}
+
+void uwb_profile_edges_within(const struct uwb_face_profile *p, double fraction, double lo_m, double hi_m,
+                              struct profile_edges *e)
+{
+    int ip = -1;
+    if (lo_m < hi_m)
+        for (int i = 0; i < p->n; i++) {
+            double y = p->y0_m + i * p->dy_m;
+            if (y >= lo_m && y <= hi_m && (ip < 0 || p->value[i] > p->value[ip]))
+                ip = i;
+        }
+    if (ip < 0) {
+        ip = 0;
+        for (int i = 1; i < p->n; i++)
+            if (p->value[i] > p->value[ip])
+                ip = i;
+    }
     double level = fraction * p->value[ip];
     e->peak = p->value[ip];
     e->peak_y_m = p->y0_m + ip * p->dy_m;

@@ -25,6 +25,9 @@
  * and corners 0.7-1.35; the family's shortest build, 5 disks of 14 mm,
  * simulated at 1.6-2.0 GHz: 1.77 and more (test_imaging_sim). */
 #define FACE_OVER_POINT_BLUR 1.7
+/* Reflectors looked at in one range column after its peak is passed over:
+ * the face between a plate above and a plate below is the third. */
+#define MAX_IN_COLUMN 3
 
 double uwb_image_column_peak(const struct uwb_image *img, int iz, int *row)
 {
@@ -63,6 +66,22 @@ static struct column_ends column_ends(const struct uwb_image *img, int iz, int p
     return e;
 }
 
+/* The rows of range column iz that belong to the reflector peaking at
+ * peak_row: down both of its skirts while the column keeps falling, to the
+ * valley that parts it from whatever else the column holds. */
+static void column_skirts(const struct uwb_image *img, int iz, int peak_row, int *lo, int *hi)
+{
+    int iy = peak_row;
+    while (iy > 0 && img->pix[(size_t)(iy - 1) * img->nz + iz] <= img->pix[(size_t)iy * img->nz + iz])
+        iy--;
+    *lo = iy;
+    iy = peak_row;
+    while (iy < img->ny - 1 &&
+           img->pix[(size_t)(iy + 1) * img->nz + iz] <= img->pix[(size_t)iy * img->nz + iz])
+        iy++;
+    *hi = iy;
+}
+
 static double row_y(const struct uwb_image *img, int iy)
 {
     return img->y0_m + iy * img->dy_m;
@@ -82,6 +101,70 @@ double uwb_point_blur_m(double wavelength_m, double y_m, double z_m, double lo_m
     double below = fmax(y_m - lo_m, 0.0), above = fmax(hi_m - y_m, 0.0);
     double s1 = below / hypot(below, z_m), s2 = above / hypot(above, z_m);
     return s1 + s2 > 0.0 ? wavelength_m / (2.0 * (s1 + s2)) : INFINITY;
+}
+
+/* The brightest row of column iz not yet taken; -1 when none. */
+static int column_peak_untaken(const struct uwb_image *img, int iz, const char *taken)
+{
+    int best = -1;
+    for (int iy = 0; iy < img->ny; iy++)
+        if (!taken[iy] &&
+            (best < 0 || img->pix[(size_t)iy * img->nz + iz] > img->pix[(size_t)best * img->nz + iz]))
+            best = iy;
+    return best;
+}
+
+static void take_rows(char *taken, int lo, int hi)
+{
+    for (int iy = lo; iy <= hi; iy++)
+        taken[iy] = 1;
+}
+
+/* A plate's front edge level with the face shares its range column and may
+ * outshine the face there (the 3-D tanks' lower plate, 5 mm in front of
+ * the face, twice as bright; the other plate's edge may come next): when
+ * the column's peak is no winding (a point, or outside the drawings'
+ * span), its next reflectors, each beyond the valleys that part it from
+ * those passed over and held to the same tests, may be. Returns 1 with *e
+ * and *value the face's ends and peak. */
+static int next_face_in_column(const struct uwb_image *img, int iz, int peak_row, double z_m,
+                               double wavelength_m, double aperture_lo_m, double aperture_hi_m,
+                               double inner_lo, double inner_hi, const double *span_m, struct column_ends *e,
+                               double *value)
+{
+    char *taken = calloc((size_t)img->ny, 1);
+    if (!taken)
+        return 0;
+    int found = 0;
+    int at = peak_row;
+    for (int k = 0; k < MAX_IN_COLUMN && !found; k++) {
+        int skirt_lo, skirt_hi;
+        column_skirts(img, iz, at, &skirt_lo, &skirt_hi);
+        take_rows(taken, skirt_lo, skirt_hi);
+        at = column_peak_untaken(img, iz, taken);
+        if (at < 0)
+            break;
+        double v = img->pix[(size_t)at * img->nz + iz];
+        if (v <= 0.0)
+            break;
+        struct column_ends n = column_ends(img, iz, at, v);
+        double y = row_y(img, at);
+        int apart = 1;
+        for (int iy = n.lower_row; iy <= n.upper_row; iy++)
+            if (taken[iy])
+                apart = 0;
+        int in_span = !span_m || (y >= span_m[0] && y <= span_m[1]);
+        double tall = (n.upper_row - n.lower_row) * img->dy_m;
+        if (apart && in_span && ends_seen(img, &n, inner_lo, inner_hi) &&
+            tall >=
+                FACE_OVER_POINT_BLUR * uwb_point_blur_m(wavelength_m, y, z_m, aperture_lo_m, aperture_hi_m)) {
+            *e = n;
+            *value = v;
+            found = 1;
+        }
+    }
+    free(taken);
+    return found;
 }
 
 /* Whether range z lies within a candidate's separation of one already
@@ -151,17 +234,23 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
              * (the 3-D family's lower plate, its front edge level with the
              * face, outshines the face in the face's own range column). */
             double y_peak = row_y(img, row[best]);
-            if (span_m && (y_peak < span_m[0] || y_peak > span_m[1])) {
+            double tall = (e.upper_row - e.lower_row) * img->dy_m;
+            double blur = uwb_point_blur_m(wavelength_m, y_peak, z, aperture_lo_m, aperture_hi_m);
+            int outside = span_m && (y_peak < span_m[0] || y_peak > span_m[1]);
+            int point = !outside && tall < FACE_OVER_POINT_BLUR * blur;
+            double column_peak = peak[best];
+            if ((outside || point) &&
+                next_face_in_column(img, best, row[best], z, wavelength_m, aperture_lo_m, aperture_hi_m,
+                                    inner_lo, inner_hi, span_m, &e, &column_peak))
+                outside = point = 0;
+            if (outside) {
                 if (outside_z < 0.0) {
                     outside_z = z;
                     outside_y = y_peak;
                 }
                 continue;
             }
-            double tall = (e.upper_row - e.lower_row) * img->dy_m;
-            double blur =
-                uwb_point_blur_m(wavelength_m, row_y(img, row[best]), z, aperture_lo_m, aperture_hi_m);
-            if (tall < FACE_OVER_POINT_BLUR * blur) {
+            if (point) {
                 if (point_z < 0.0) {
                     point_z = z;
                     point_tall = tall;
@@ -172,9 +261,10 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
             seen[n_seen].z_m = z;
             seen[n_seen].lower_m = row_y(img, e.lower_row);
             seen[n_seen].upper_m = row_y(img, e.upper_row);
-            seen[n_seen].peak = peak[best];
-            if (peak[best] > strongest_seen)
-                strongest_seen = peak[best];
+            seen[n_seen].peak = column_peak;
+            seen[n_seen].beside_brighter = column_peak < peak[best];
+            if (column_peak > strongest_seen)
+                strongest_seen = column_peak;
             n_seen++;
         } else if (strongest_rejected_z < 0.0) {
             strongest_rejected_z = z;

@@ -37,6 +37,10 @@ struct face_candidate {
     double z_m;
     double peak;
     double lower_m, upper_m; /* where its column falls below half its peak */
+    /* Its column's peak was passed over (a point, or outside the drawings'
+     * span) and the face is the column's next reflector: a plate's edge
+     * outshines it at its own range. */
+    int beside_brighter;
 };
 
 /* The winding's face range: the strongest reflector in [z_lo, z_hi] whose
@@ -73,6 +77,12 @@ struct profile_edges {
 /* Lower and upper crossings of fraction*peak, walking out from the peak,
  * interpolated between samples. ok = 0 when a side never drops below it. */
 void uwb_profile_edges(const struct uwb_face_profile *p, double fraction, struct profile_edges *e);
+
+/* The same with the peak sought among the rows within lo_m..hi_m only (the
+ * crossings still walk out past them); the whole profile when lo_m >= hi_m
+ * or no row lies within. */
+void uwb_profile_edges_within(const struct uwb_face_profile *p, double fraction, double lo_m, double hi_m,
+                              struct profile_edges *e);
 /* How far a shoulder that crosses at `slope` (profile units per metre)
  * climbs from 25 to 75 % of `peak`, taken as a straight ramp: on the
  * full-wave scans within a tenth of the profile's own 25-75 % span. */

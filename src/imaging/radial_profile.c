@@ -305,6 +305,24 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
     r->n = (int)floor((hi - r->y0_m) / r->dy_m) + 1;
     if (r->n > UWB_RADIAL_MAX_ROWS)
         r->n = UWB_RADIAL_MAX_ROWS;
+    /* Where the face search found the baseline's face beside a brighter
+     * reflector in its own range column (a plate's edge level with it:
+     * base->face_rows_m set), the baseline's range beyond the face's ends
+     * is that reflector's, not the face's ripple: the ripple over the shift
+     * is then read on the face's rows only (its edges, a row either side),
+     * and is no share of the line beyond them. On the 3-D tank s011 moved
+     * -27.5 mm toward its lower plate it read +6.31 mm at the face's end,
+     * alarm. Elsewhere the face's skirt carries its ripple past its edges
+     * (the 2-D tank's +30 mm shift: +0.17 mm with it, +0.94 mm without). */
+    struct uwb_face_profile on_face = *rb;
+    if (base->face_rows_m[0] < base->face_rows_m[1]) {
+        int first = (int)fmax(0.0, floor((lo - rb->y0_m) / rb->dy_m) - 1.0);
+        int last = (int)fmin(rb->n - 1.0, ceil((hi - rb->y0_m) / rb->dy_m) + 1.0);
+        on_face.y0_m = rb->y0_m + first * rb->dy_m;
+        on_face.value = rb->value + first;
+        on_face.n = last >= first ? last - first + 1 : 0;
+    }
+    const struct uwb_face_profile *ripple_rows = &on_face;
     double peak_b = profile_peak(&base->profile, lo, hi);
     double peak_c = profile_peak(&cur->profile, lo + shift_m, hi + shift_m);
     /* change_m holds each row's offset until the line is taken out of it:
@@ -361,11 +379,13 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
      * line is then level (no tilt is given); how far the sloped one would read the change is
      * a term of its sigma. */
     struct uwb_radial_line line;
-    int fitted = fit_reference(r, offset, rb, readable, level, 0.5 * (lo + hi), watch_m, 1, use, &line) == 0;
+    int fitted =
+        fit_reference(r, offset, ripple_rows, readable, level, 0.5 * (lo + hi), watch_m, 1, use, &line) == 0;
     struct uwb_radial_line sloped = line;
-    int one_sided = fitted && change_one_sided(r, offset, rb, readable, use, &line, watch_m);
+    int one_sided = fitted && change_one_sided(r, offset, ripple_rows, readable, use, &line, watch_m);
     if (one_sided)
-        fitted = fit_reference(r, offset, rb, readable, level, 0.5 * (lo + hi), watch_m, 0, use, &line) == 0;
+        fitted = fit_reference(r, offset, ripple_rows, readable, level, 0.5 * (lo + hi), watch_m, 0, use,
+                               &line) == 0;
     if (!fitted) {
         memset(r->change_m, 0, sizeof r->change_m);
         snprintf(fig->withheld, sizeof fig->withheld,
@@ -383,7 +403,8 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
     double model = 0.0;
     int unchanged = 0;
     for (int i = 0; i < r->n; i++) {
-        r->change_m[i] = readable[i] ? offset[i] - line_reference(r, &line, rb, i) : 0.0; /* in place */
+        r->change_m[i] =
+            readable[i] ? offset[i] - line_reference(r, &line, ripple_rows, i) : 0.0; /* in place */
         if (readable[i] && (at < 0 || fabs(r->change_m[i]) > fabs(r->change_m[at])))
             at = i;
         if (use[i]) {
@@ -423,7 +444,7 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
     for (int i = from; i <= to; i++) {
         double y = r->y0_m + i * r->dy_m;
         if (one_sided)
-            lean += line_reference(r, &sloped, rb, i) - line_reference(r, &line, rb, i);
+            lean += line_reference(r, &sloped, ripple_rows, i) - line_reference(r, &line, ripple_rows, i);
         double noise = hypot(row_noise_m(base, noise_rms, y), row_noise_m(cur, noise_rms, y + shift_m));
         sum += r->change_m[i];
         noise2 += noise * noise;

@@ -46,10 +46,37 @@ static void test_each_3d_pair_is_within_two_sigma_or_names_where(void)
             printf("%s\n", what);
             if (row.has_figure) {
                 TEST_ASSERT_TRUE_MESSAGE(row.within_2sigma, what);
+            } else if (strstr(row.why, "no shift within")) {
+                /* The fit's own refusal: the faces were found and measured,
+                 * and it names the centres' difference it searched about. */
+                TEST_ASSERT_NOT_NULL_MESSAGE(strstr(row.why, "the centres' difference"), what);
             } else {
                 TEST_ASSERT_NOT_NULL_MESSAGE(strstr(row.why, " m range"), what);
             }
         }
+    }
+}
+
+/* Issue 45's goal for the shared 3-D tanks: at least three of the four
+ * moved scans give a figure within 2 sigma, drawings or not. None did
+ * while the lower plate's front edge, level with the face and twice as
+ * bright in its range column, was all the face search looked at there. */
+static void test_three_of_four_3d_pairs_give_a_figure_within_two_sigma(void)
+{
+    if (emulated())
+        return; /* FFTW under qemu-user: the first case only, above */
+    char err[512];
+    for (int with_span = 0; with_span <= 1; with_span++) {
+        int right = 0;
+        for (int c = 0; c < tank3d_case_count; c++) {
+            struct tank3d_row row;
+            TEST_ASSERT_EQUAL_INT_MESSAGE(
+                0, tank3d_run_case("tests/fixtures", &tank3d_cases[c], with_span, &row, err, sizeof err),
+                err);
+            right += row.has_figure && row.within_2sigma;
+        }
+        TEST_ASSERT_EQUAL_INT_MESSAGE(4, tank3d_case_count, "the shared 3-D tanks' moved scans");
+        TEST_ASSERT_GREATER_OR_EQUAL_INT_MESSAGE(3, right, with_span ? "span given" : "span not given");
     }
 }
 
@@ -95,6 +122,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_each_3d_pair_is_within_two_sigma_or_names_where);
+    RUN_TEST(test_three_of_four_3d_pairs_give_a_figure_within_two_sigma);
     RUN_TEST(test_the_radial_table_says_sign_and_place_right_or_wrong);
     return UNITY_END();
 }

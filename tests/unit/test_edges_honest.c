@@ -126,7 +126,10 @@ static void test_every_edge_published_lies_within_two_sigma(void)
     printf("%d pairs, %d with edges published\n", pairs, published);
     /* Not a test that passes by withholding: most pairs publish theirs. */
     TEST_ASSERT_GREATER_OR_EQUAL_INT(25, published);
-    TEST_ASSERT_EQUAL_INT(4, withheld_3d);
+    /* The 3-D tanks' faces beside a plate's edge are measured now (issue
+     * 45); s012's -20 mm pair, whose profiles no shift maps onto each
+     * other, withholds its edges. */
+    TEST_ASSERT_EQUAL_INT(1, withheld_3d);
 }
 
 int main(void)

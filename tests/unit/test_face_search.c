@@ -96,6 +96,45 @@ static void test_a_plate_edge_nearer_than_the_face_is_passed_over(void)
     assert_face_found_at(&img, 0.45);
 }
 
+/* A plate's front edge level with the face (the 3-D tanks' lower plate,
+ * 5 mm in front of it) shares the face's range column and images twice as
+ * bright: the column's peak is that point, and the face, separated from it
+ * by a valley, is still the column's tall reflector. */
+static void test_a_plate_edge_in_the_face_column_leaves_the_face_found(void)
+{
+    struct uwb_image img;
+    empty_image(&img);
+    add_reflector(&img, 0.40, 0.03, 0.25, 0.42, 0.5);
+    add_reflector(&img, 0.40, 0.03, 0.12, 0.12, 1.0);
+    struct face_candidate face = {0};
+    char reason[256] = "";
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        0, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, NULL, &face, reason, sizeof reason),
+        reason);
+    TEST_ASSERT_DOUBLE_WITHIN(0.005, 0.40, face.z_m);
+    /* The face's own ends (half its peak 17 mm beyond its bright rows, in
+     * the row where it has dropped), not the plate's. */
+    TEST_ASSERT_DOUBLE_WITHIN(0.011, 0.23, face.lower_m);
+    TEST_ASSERT_DOUBLE_WITHIN(0.011, 0.44, face.upper_m);
+    uwb_image_free(&img);
+}
+
+/* The same column with nothing but a second point beside the plate's: no
+ * tall reflector, so the refusal still names the point. */
+static void test_two_points_in_one_column_are_no_winding(void)
+{
+    struct uwb_image img;
+    empty_image(&img);
+    add_reflector(&img, 0.35, 0.02, 0.15, 0.15, 1.0);
+    add_reflector(&img, 0.35, 0.02, 0.40, 0.40, 0.6);
+    struct face_candidate face = {0};
+    char reason[256] = "";
+    TEST_ASSERT_EQUAL_INT(
+        1, uwb_face_search(&img, 0.0, 0.6, 0.03, WAVELENGTH_M, NULL, 0, NULL, &face, reason, sizeof reason));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(reason, "at 0.350 m range, is a point"), reason);
+    uwb_image_free(&img);
+}
+
 static void test_a_lone_point_is_no_winding(void)
 {
     struct uwb_image img;
@@ -126,6 +165,8 @@ int main(void)
     RUN_TEST(test_a_compact_reflector_inside_the_range_is_found);
     RUN_TEST(test_brightest_at_the_range_limit_is_no_reflector_of_it);
     RUN_TEST(test_a_plate_edge_nearer_than_the_face_is_passed_over);
+    RUN_TEST(test_a_plate_edge_in_the_face_column_leaves_the_face_found);
+    RUN_TEST(test_two_points_in_one_column_are_no_winding);
     RUN_TEST(test_a_lone_point_is_no_winding);
     RUN_TEST(test_point_blur_follows_the_angles_seen);
     return UNITY_END();
