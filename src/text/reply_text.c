@@ -302,12 +302,6 @@ static void status_text(FILE *out, const cJSON *o, const struct text_marks *m)
 #define HISTORY_RADIAL_WIDTH 24
 #define HISTORY_REASON_INDENT 22
 
-static int wider(int width, const char *s)
-{
-    int w = uwb_text_layout_width(s);
-    return w > width ? w : width;
-}
-
 /* A history row's radial change: "+0.20 ± 0.10 mm ok", the status alone
  * where it made no figure, "-" where the verdict has none. */
 static void radial_cell(char *buf, size_t n, const struct uwb_verdict_record *r, const struct text_marks *m)
@@ -327,7 +321,7 @@ static void history_text(FILE *out, const cJSON *o, const struct text_marks *m)
     char figure_header[64], radial_header[64];
     snprintf(figure_header, sizeof figure_header, "displacement %s %s", m->plus_minus, m->one_sigma);
     snprintf(radial_header, sizeof radial_header, "radial %s %s", m->plus_minus, m->one_sigma);
-    int figure_width = wider(HISTORY_FIGURE_WIDTH, figure_header);
+    int figure_width = uwb_text_layout_at_least(HISTORY_FIGURE_WIDTH, figure_header);
     fprintf(out, "%-20s  %-*s  ", "time (UTC)", HISTORY_STATUS_WIDTH, "status");
     uwb_text_layout_column(out, figure_header, figure_width);
     fprintf(out, "  %-*s  ", HISTORY_HEIGHT_WIDTH, "height change");

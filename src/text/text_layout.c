@@ -54,3 +54,9 @@ void uwb_text_layout_wrapped(FILE *out, const char *s, int at, int indent, int l
     }
     fputc('\n', out);
 }
+
+int uwb_text_layout_at_least(int width, const char *s)
+{
+    int w = uwb_text_layout_width(s);
+    return w > width ? w : width;
+}

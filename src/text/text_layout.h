@@ -18,6 +18,8 @@ const struct text_marks *uwb_text_layout_marks_of(enum uwbd_charset charset);
 
 /* The width of s on a terminal: its characters, not its bytes. */
 int uwb_text_layout_width(const char *s);
+/* width, or s's width where s is wider (a column fits its heading). */
+int uwb_text_layout_at_least(int width, const char *s);
 
 /* s, then spaces up to `width` columns (none when s is as wide or wider:
  * never cut). */

@@ -47,12 +47,6 @@ static void upper(char *dst, size_t n, const char *src)
 #define REASON_INDENT 23
 #define LINE_WIDTH 79
 
-static int at_least(int width, const char *s)
-{
-    int w = uwb_text_layout_width(s);
-    return w > width ? w : width;
-}
-
 /* One entry, read through the published record (r: room for one). */
 static void verdict_line(const cJSON *v, const struct text_marks *m, struct uwb_verdict_record *r, FILE *out)
 {
@@ -84,7 +78,7 @@ static void verdict_line(const cJSON *v, const struct text_marks *m, struct uwb_
     fprintf(out, "%-20s %c %-12s  ", r->created[0] ? r->created : "(no time)",
             cJSON_IsTrue(item(v, "baseline_change")) ? '*' : ' ', status);
     snprintf(header, sizeof header, "displacement %s %s", m->plus_minus, m->one_sigma);
-    uwb_text_layout_column(out, figure, at_least(FIGURE_WIDTH, header));
+    uwb_text_layout_column(out, figure, uwb_text_layout_at_least(FIGURE_WIDTH, header));
     fprintf(out, "  %13s  ", height);
     uwb_text_layout_column(out, radial, RADIAL_WIDTH);
     fprintf(out, "  %s", r->scan_id);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "uwb/verdict.h"
+#include "verdict/json_key_reader.h"
 
 #define R(member) offsetof(struct uwb_verdict_record, member)
 #define V(member) offsetof(struct uwb_verdict, member)
@@ -275,51 +276,8 @@ void uwb_fields_write_trend(const struct uwb_field_table *t, const void *record,
 
 /* ---- reading ------------------------------------------------------------------ */
 
-struct reader {
-    char *err;
-    size_t errlen;
-    int failed;
-};
-
-static void refuse(struct reader *rd, const char *key, const char *problem)
-{
-    if (!rd->failed)
-        snprintf(rd->err, rd->errlen, "verdict: key `%s`: %s", key, problem);
-    rd->failed = 1;
-}
-
-/* The string at key into out (size n); 1 when there. */
-static int read_text(struct reader *rd, const cJSON *o, const char *key, char *out, size_t n)
-{
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
-    if (!v)
-        return 0;
-    if (!cJSON_IsString(v)) {
-        refuse(rd, key, "not a string");
-        return 0;
-    }
-    if (strlen(v->valuestring) >= n) {
-        refuse(rd, key, "too long");
-        return 0;
-    }
-    memcpy(out, v->valuestring, strlen(v->valuestring) + 1);
-    return 1;
-}
-
-static int read_number(struct reader *rd, const cJSON *o, const char *key, double *out)
-{
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
-    if (!v)
-        return 0;
-    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble)) {
-        refuse(rd, key, "not a number");
-        return 0;
-    }
-    *out = v->valuedouble;
-    return 1;
-}
-
-static void read_row(struct reader *rd, const struct uwb_field *f, int flat, const cJSON *o, void *record)
+static void read_row(struct uwb_json_key_reader *rd, const struct uwb_field *f, int flat, const cJSON *o,
+                     void *record)
 {
     const char *key = flat ? f->trend_key : f->key;
     int nested = f->group->key && !flat;
@@ -330,36 +288,38 @@ static void read_row(struct reader *rd, const struct uwb_field *f, int flat, con
         if (!cJSON_IsString(v) || uwb_status_from_name(v->valuestring, (enum uwb_status *)(void *)at) != 0) {
             char name[64];
             snprintf(name, sizeof name, "%s%s%s", nested ? f->group->key : "", nested ? "." : "", key);
-            refuse(rd, name, "missing or not a status");
+            uwb_json_key_refuse(rd, name, "missing or not a status");
         }
         break;
     }
-    case UWB_FIELD_TEXT: read_text(rd, o, key, at, f->size); break;
+    case UWB_FIELD_TEXT: uwb_json_key_text(rd, o, key, at, f->size); break;
     case UWB_FIELD_NUMBER:
         /* A figure's presence decides; what comes with it is read when there. */
-        if (!read_number(rd, o, key, (double *)(void *)at) && f->decides)
+        if (!uwb_json_key_number(rd, o, key, (double *)(void *)at) && f->decides)
             *flag(record, f->given) = 0;
         if (f->withheld_key && !flat)
-            read_text(rd, o, f->withheld_key, (char *)record + f->withheld, f->withheld_size);
+            uwb_json_key_text(rd, o, f->withheld_key, (char *)record + f->withheld, f->withheld_size);
         break;
     }
 }
 
 /* The object a row's group is in o, NULL when absent (or not an object). */
-static const cJSON *group_object(struct reader *rd, const struct uwb_field_group *group, const cJSON *o)
+static const cJSON *group_object(struct uwb_json_key_reader *rd, const struct uwb_field_group *group,
+                                 const cJSON *o)
 {
     if (!group->key)
         return o;
     const cJSON *g = cJSON_GetObjectItemCaseSensitive(o, group->key);
     if (g && !cJSON_IsObject(g))
-        refuse(rd, group->key, "not an object");
+        uwb_json_key_refuse(rd, group->key, "not an object");
     return cJSON_IsObject(g) ? g : NULL;
 }
 
 int uwb_fields_read(const struct uwb_field_table *t, const cJSON *o, void *record, char *err, size_t errlen)
 {
-    struct reader rd = {.err = err, .errlen = errlen};
-    struct reader unreported = {.err = err, .errlen = errlen, .failed = 1}; /* the second pass reports */
+    struct uwb_json_key_reader rd = {.err = err, .errlen = errlen};
+    struct uwb_json_key_reader unreported = {
+        .err = err, .errlen = errlen, .failed = 1}; /* the second pass reports */
     /* A flag that deciding rows set holds when all of them are there:
      * set it where its group is, and let each missing one clear it. */
     for (size_t i = 0; i < t->count; i++) {
@@ -389,7 +349,7 @@ int uwb_fields_read(const struct uwb_field_table *t, const cJSON *o, void *recor
 int uwb_fields_read_trend(const struct uwb_field_table *t, const cJSON *o, void *record, char *err,
                           size_t errlen)
 {
-    struct reader rd = {.err = err, .errlen = errlen};
+    struct uwb_json_key_reader rd = {.err = err, .errlen = errlen};
     for (int at = 1; at <= UWB_FIELD_PLACES; at++) {
         const struct uwb_field *f = trend_row(t, at);
         if (!f)

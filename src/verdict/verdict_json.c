@@ -3,6 +3,7 @@
 #include "uwb/verdict_json.h"
 
 #include "uwb/verdict_fields.h"
+#include "verdict/json_key_reader.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -165,59 +166,19 @@ int uwb_record_from_trend_entry(const cJSON *o, struct uwb_verdict_record *r, ch
 
 /* ---- reading ------------------------------------------------------------------ */
 
-/* Reading one object: its fields into the record, the first problem kept. */
+/* Reading one object's cycle keys and images, the first problem kept. */
 struct reader {
     const cJSON *o;
-    char *err;
-    size_t errlen;
-    int failed;
+    struct uwb_json_key_reader keys;
 };
-
-static void refuse(struct reader *rd, const char *key, const char *problem)
-{
-    if (!rd->failed)
-        snprintf(rd->err, rd->errlen, "verdict: key `%s`: %s", key, problem);
-    rd->failed = 1;
-}
-
-/* Copies the string at key into out (size n); 1 when present. */
-static int text_at(struct reader *rd, const cJSON *o, const char *key, char *out, size_t n)
-{
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
-    if (!v)
-        return 0;
-    if (!cJSON_IsString(v)) {
-        refuse(rd, key, "not a string");
-        return 0;
-    }
-    if (strlen(v->valuestring) >= n) {
-        refuse(rd, key, "too long");
-        return 0;
-    }
-    memcpy(out, v->valuestring, strlen(v->valuestring) + 1);
-    return 1;
-}
-
-static int number_at(struct reader *rd, const cJSON *o, const char *key, double *out)
-{
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
-    if (!v)
-        return 0;
-    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble)) {
-        refuse(rd, key, "not a number");
-        return 0;
-    }
-    *out = v->valuedouble;
-    return 1;
-}
 
 static int int_at(struct reader *rd, const cJSON *o, const char *key, int *out)
 {
     double x = 0;
-    if (!number_at(rd, o, key, &x))
+    if (!uwb_json_key_number(&rd->keys, o, key, &x))
         return 0;
     if (x != floor(x) || x < 0 || x > 1e9) {
-        refuse(rd, key, "not a whole number");
+        uwb_json_key_refuse(&rd->keys, key, "not a whole number");
         return 0;
     }
     *out = (int)x;
@@ -240,38 +201,38 @@ static int after(const cJSON *o, const char *a, const char *b)
 static void read_cycle(struct reader *rd, struct uwb_verdict_cycle *c)
 {
     const cJSON *o = rd->o;
-    c->has_scan_file = text_at(rd, o, "scan_file", c->scan_file, sizeof c->scan_file);
+    c->has_scan_file = uwb_json_key_text(&rd->keys, o, "scan_file", c->scan_file, sizeof c->scan_file);
     const cJSON *set = cJSON_GetObjectItemCaseSensitive(o, "baseline_set");
     if (set && !cJSON_IsBool(set))
-        refuse(rd, "baseline_set", "not true or false");
+        uwb_json_key_refuse(&rd->keys, "baseline_set", "not true or false");
     c->has_baseline_set = cJSON_IsBool(set);
     c->baseline_set = cJSON_IsTrue(set);
-    text_at(rd, o, "baseline_note", c->baseline_note, sizeof c->baseline_note);
+    uwb_json_key_text(&rd->keys, o, "baseline_note", c->baseline_note, sizeof c->baseline_note);
     int_at(rd, o, "pulses_per_position", &c->pulses_per_position);
     int_at(rd, o, "acquisitions", &c->acquisitions);
-    text_at(rd, o, "reacquire_note", c->reacquire_note, sizeof c->reacquire_note);
+    uwb_json_key_text(&rd->keys, o, "reacquire_note", c->reacquire_note, sizeof c->reacquire_note);
     int_at(rd, o, "baseline_scans", &c->baseline_scans);
     c->has_baseline_repeatability =
-        number_at(rd, o, "baseline_repeatability_mm", &c->baseline_repeatability_mm);
-    text_at(rd, o, "asset_id", c->asset_id, sizeof c->asset_id);
-    text_at(rd, o, "trigger", c->trigger, sizeof c->trigger);
-    text_at(rd, o, "archive_error", c->archive_error, sizeof c->archive_error);
-    text_at(rd, o, "clock_warning", c->clock_warning, sizeof c->clock_warning);
+        uwb_json_key_number(&rd->keys, o, "baseline_repeatability_mm", &c->baseline_repeatability_mm);
+    uwb_json_key_text(&rd->keys, o, "asset_id", c->asset_id, sizeof c->asset_id);
+    uwb_json_key_text(&rd->keys, o, "trigger", c->trigger, sizeof c->trigger);
+    uwb_json_key_text(&rd->keys, o, "archive_error", c->archive_error, sizeof c->archive_error);
+    uwb_json_key_text(&rd->keys, o, "clock_warning", c->clock_warning, sizeof c->clock_warning);
     c->archive_error_late = c->clock_warning[0] && after(o, "archive_error", "clock_warning");
-    text_at(rd, o, "record_error", c->record_error, sizeof c->record_error);
+    uwb_json_key_text(&rd->keys, o, "record_error", c->record_error, sizeof c->record_error);
 }
 
 static void read_images(struct reader *rd, struct uwb_verdict_record *r)
 {
     const cJSON *images = cJSON_GetObjectItemCaseSensitive(rd->o, "images");
     if (images && !cJSON_IsArray(images))
-        refuse(rd, "images", "not an array");
+        uwb_json_key_refuse(&rd->keys, "images", "not an array");
     const cJSON *it;
     cJSON_ArrayForEach(it, images)
     {
         if (r->n_images == UWB_MAX_IMAGES || !cJSON_IsString(it) ||
             strlen(it->valuestring) >= sizeof r->images[0]) {
-            refuse(rd, "images", "too many paths, or one not a path");
+            uwb_json_key_refuse(&rd->keys, "images", "too many paths, or one not a path");
             return;
         }
         memcpy(r->images[r->n_images++], it->valuestring, strlen(it->valuestring) + 1);
@@ -283,10 +244,10 @@ static int read_record(const cJSON *o, struct uwb_verdict_record *r, char *err, 
 {
     if (uwb_fields_read(&uwb_verdict_fields, o, r, err, errlen) != 0)
         return -1;
-    struct reader rd = {.o = o, .err = err, .errlen = errlen};
+    struct reader rd = {.o = o, .keys = {.err = err, .errlen = errlen}};
     read_images(&rd, r);
     read_cycle(&rd, &r->cycle);
-    return rd.failed ? -1 : 0;
+    return rd.keys.failed ? -1 : 0;
 }
 
 int uwb_record_from_object(const cJSON *o, struct uwb_verdict_record *r, char *err, size_t errlen)

@@ -6,8 +6,8 @@
  * that share and the decision rule (uwb_figure_given), with its error over
  * sigma and the tallies. */
 #include "accuracy/model_term.h"
+#include "accuracy/truth_file.h"
 
-#include <cjson/cJSON.h>
 #include <glob.h>
 #include <math.h>
 #include <stdio.h>
@@ -20,7 +20,6 @@
 #include "uwb/scan.h"
 
 #define MAX_PAIRS 128
-#define TRUTH_MAX_BYTES (1 << 20)
 
 struct term_pair {
     char name[64];
@@ -41,28 +40,10 @@ static const char *const group_name[GROUPS] = {"shared family", "tank and paper"
  * squeezed spacer, data/README.md). */
 static int truth_of(const char *scan_path, double *mm, char *err, size_t errlen)
 {
-    char path[4096];
-    size_t n = strlen(scan_path);
-    if (n < 8 || n + 8 > sizeof path) {
-        snprintf(err, errlen, "%s: not a .uwbscan path", scan_path);
+    struct accuracy_truth t;
+    if (accuracy_truth_read(scan_path, &t, err, errlen) != 0)
         return -1;
-    }
-    snprintf(path, sizeof path, "%.*s.truth.json", (int)(n - 8), scan_path);
-    char *text = NULL;
-    size_t len = 0;
-    if (uwb_read_file(path, TRUTH_MAX_BYTES, &text, &len, err, errlen) != UWB_READ_OK)
-        return -1;
-    cJSON *o = cJSON_Parse(text);
-    free(text);
-    const cJSON *d = cJSON_GetObjectItem(o, "displacement_mm"),
-                *h = cJSON_GetObjectItem(o, "height_change_mm");
-    if (!cJSON_IsNumber(d)) {
-        snprintf(err, errlen, "%s: no displacement_mm", path);
-        cJSON_Delete(o);
-        return -1;
-    }
-    *mm = d->valuedouble + (cJSON_IsNumber(h) ? 0.5 * h->valuedouble : 0.0);
-    cJSON_Delete(o);
+    *mm = t.shift_mm + 0.5 * t.height_change_mm;
     return 0;
 }
 

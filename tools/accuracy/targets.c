@@ -6,6 +6,7 @@
  * replayed as the outputs publish it (the verdict record); a figure that
  * misses fails the target, printed with the pair. */
 #include "accuracy/targets.h"
+#include "accuracy/truth_file.h"
 
 #include <cjson/cJSON.h>
 #include <glob.h>
@@ -14,11 +15,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "uwb/read_file.h"
 #include "uwb/scan.h"
 #include "uwb/verdict_record.h"
 
-#define TRUTH_MAX_BYTES (1 << 20)
 /* A squeezed spacer is read when its height change is within this. */
 #define COMPRESSION_READ_MM 0.5
 
@@ -27,38 +26,15 @@ static const char *const known_wide[] = {
     "fdtd2d-var-s02-d+06", /* sigma 0.54 mm for 6 mm: its clutter term (a plate taken out) 0.37 mm */
 };
 
-struct truth {
-    double shift_mm, height_change_mm, y1_mm, y2_mm;
-};
-
-static int read_truth(const char *scan_path, struct truth *t, char *err, size_t errlen)
+/* A pair's truth, its winding's drawn span required (the edges are judged on it). */
+static int read_truth(const char *scan_path, struct accuracy_truth *t, char *err, size_t errlen)
 {
-    char path[4096];
-    size_t n = strlen(scan_path);
-    if (n < 8 || n + 8 > sizeof path) {
-        snprintf(err, errlen, "%s: not a .uwbscan path", scan_path);
+    if (accuracy_truth_read(scan_path, t, err, errlen) != 0)
+        return -1;
+    if (!t->has_span) {
+        snprintf(err, errlen, "%s: its truth has no y1_m or y2_m", scan_path);
         return -1;
     }
-    snprintf(path, sizeof path, "%.*s.truth.json", (int)(n - 8), scan_path);
-    char *text = NULL;
-    size_t len = 0;
-    if (uwb_read_file(path, TRUTH_MAX_BYTES, &text, &len, err, errlen) != UWB_READ_OK)
-        return -1;
-    cJSON *o = cJSON_Parse(text);
-    free(text);
-    const cJSON *d = cJSON_GetObjectItem(o, "displacement_mm"),
-                *h = cJSON_GetObjectItem(o, "height_change_mm"), *y1 = cJSON_GetObjectItem(o, "y1_m"),
-                *y2 = cJSON_GetObjectItem(o, "y2_m");
-    if (!cJSON_IsNumber(d) || !cJSON_IsNumber(y1) || !cJSON_IsNumber(y2)) {
-        snprintf(err, errlen, "%s: no displacement_mm, y1_m or y2_m", path);
-        cJSON_Delete(o);
-        return -1;
-    }
-    t->shift_mm = d->valuedouble;
-    t->height_change_mm = cJSON_IsNumber(h) ? h->valuedouble : 0.0;
-    t->y1_mm = y1->valuedouble * 1e3;
-    t->y2_mm = y2->valuedouble * 1e3;
-    cJSON_Delete(o);
     return 0;
 }
 
@@ -80,8 +56,8 @@ static int is_known_wide(const char *name)
 
 /* The largest |error| / sigma of the published edges (this scan's and
  * the baseline's against their truths). */
-static double edges_ratio(const struct uwb_verdict_record *r, const struct truth *cur,
-                          const struct truth *base)
+static double edges_ratio(const struct uwb_verdict_record *r, const struct accuracy_truth *cur,
+                          const struct accuracy_truth *base)
 {
     double s = r->edge_uncertainty_mm > 0.0 ? r->edge_uncertainty_mm : INFINITY;
     double worst = fmax(fabs(r->lower_edge_mm - cur->y1_mm), fabs(r->upper_edge_mm - cur->y2_mm));
@@ -103,7 +79,7 @@ static int judge_pair(FILE *out, FILE *misses, const char *group, const char *mo
                       int compression_group, const struct uwb_evaluate_options *opt,
                       struct accuracy_targets *t, char *err, size_t errlen)
 {
-    struct truth tc, tb;
+    struct accuracy_truth tc, tb;
     if (read_truth(moved, &tc, err, errlen) != 0 || read_truth(baseline, &tb, err, errlen) != 0)
         return -1;
     struct uwb_scan cur, base;
