@@ -283,3 +283,16 @@ void accuracy_print_row(FILE *out, const struct accuracy_case *c, const struct a
             r->crb_m > 0 ? r->spread_m / r->crb_m : INFINITY, r->crb_face_cell_m * 1e3,
             r->crb_face_cell_m > 0 ? r->spread_m / r->crb_face_cell_m : INFINITY);
 }
+
+int accuracy_evaluate_pair(const struct uwb_scan *cur, const struct uwb_scan *base,
+                           const struct uwb_evaluate_options *opt, struct uwb_verdict *v, char *err,
+                           size_t errlen)
+{
+    struct uwb_analysis ca, ba;
+    struct uwb_baseline_record rec = {.scan = base};
+    if (uwb_evaluate(cur, &rec, opt, v, &ca, &ba, err, errlen) != 0)
+        return -1;
+    uwb_analysis_free(&ca);
+    uwb_analysis_free(&ba);
+    return 0;
+}

@@ -69,6 +69,13 @@ extern const int accuracy_level_count;
 double accuracy_median(double *x, int n);
 
 struct uwb_scan;
+struct uwb_evaluate_options;
+struct uwb_verdict;
+/* One pair's verdict, cur against base under opt (the analyses are not
+ * kept): 0, or -1 with err. */
+int accuracy_evaluate_pair(const struct uwb_scan *cur, const struct uwb_scan *base,
+                           const struct uwb_evaluate_options *opt, struct uwb_verdict *v, char *err,
+                           size_t errlen);
 /* A fixture of the directory into *s: 0, or -1 with err. */
 int accuracy_read_scan(const char *fixture_dir, const char *name, struct uwb_scan *s, char *err,
                        size_t errlen);

@@ -6,6 +6,7 @@
  * that share and the decision rule (uwb_figure_given), with its error over
  * sigma and the tallies. */
 #include "accuracy/model_term.h"
+#include "accuracy/accuracy.h"
 #include "accuracy/truth_file.h"
 
 #include <glob.h>
@@ -67,13 +68,9 @@ static int replay(const char *moved, const char *baseline, struct term_pair *p, 
     opt.compare.axial_sigma_per_shift = 0.0;
     opt.compare.least_displacement_uncertainty_m = 0.0;
     opt.compare.max_uncertainty_m = INFINITY;
-    struct uwb_baseline_record rec = {.scan = &bas};
     struct uwb_verdict v;
-    struct uwb_analysis ca, ba;
-    int rc = uwb_evaluate(&cur, &rec, &opt, &v, &ca, &ba, err, errlen);
+    int rc = accuracy_evaluate_pair(&cur, &bas, &opt, &v, err, errlen);
     if (rc == 0) {
-        uwb_analysis_free(&ca);
-        uwb_analysis_free(&ba);
         p->given = !v.axial_withheld && v.status != UWB_STATUS_INCONCLUSIVE && v.status != UWB_STATUS_ERROR;
         snprintf(p->reason, sizeof p->reason, "%s", v.reason);
         p->read_mm = v.axial_displacement_m * 1e3;

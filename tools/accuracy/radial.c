@@ -1,4 +1,5 @@
 #include "accuracy/radial.h"
+#include "accuracy/accuracy.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -40,19 +41,13 @@ static void right_or_wrong(char *out, size_t outlen, const struct radial_case *c
         snprintf(out, outlen, "%.0f %%", 100.0 * share);
 }
 
-/* One pair's verdict: 0, or -1 with err. */
+/* One pair's verdict at the defaults: 0, or -1 with err. */
 static int evaluate_pair(const struct uwb_scan *cur, const struct uwb_scan *base, struct uwb_verdict *v,
                          char *err, size_t errlen)
 {
     struct uwb_evaluate_options opt;
     uwb_evaluate_defaults(&opt);
-    struct uwb_analysis ca, ba;
-    struct uwb_baseline_record rec = {.scan = base};
-    if (uwb_evaluate(cur, &rec, &opt, v, &ca, &ba, err, errlen) != 0)
-        return -1;
-    uwb_analysis_free(&ca);
-    uwb_analysis_free(&ba);
-    return 0;
+    return accuracy_evaluate_pair(cur, base, &opt, v, err, errlen);
 }
 
 struct tally {

@@ -40,16 +40,12 @@ int tank3d_run_case(const char *dir, const struct tank3d_case *c, int with_span,
         opt.analysis.winding_span_m[0] = c->span_m[0];
         opt.analysis.winding_span_m[1] = c->span_m[1];
     }
-    struct uwb_analysis ca, ba;
-    struct uwb_baseline_record rec = {.scan = &base};
     struct uwb_verdict v;
-    int rc = uwb_evaluate(&cur, &rec, &opt, &v, &ca, &ba, err, errlen);
+    int rc = accuracy_evaluate_pair(&cur, &base, &opt, &v, err, errlen);
     uwb_scan_free(&cur);
     uwb_scan_free(&base);
     if (rc != 0)
         return -1;
-    uwb_analysis_free(&ca);
-    uwb_analysis_free(&ba);
     /* What the outputs publish: the verdict record's figure, not the
      * evaluation's working value. */
     struct uwb_verdict_record r;

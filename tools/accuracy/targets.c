@@ -6,6 +6,7 @@
  * replayed as the outputs publish it (the verdict record); a figure that
  * misses fails the target, printed with the pair. */
 #include "accuracy/targets.h"
+#include "accuracy/accuracy.h"
 #include "accuracy/truth_file.h"
 
 #include <cjson/cJSON.h>
@@ -89,16 +90,12 @@ static int judge_pair(FILE *out, FILE *misses, const char *group, const char *mo
         uwb_scan_free(&cur);
         return -1;
     }
-    struct uwb_baseline_record rec = {.scan = &base};
     struct uwb_verdict v;
-    struct uwb_analysis ca, ba;
-    int rc = uwb_evaluate(&cur, &rec, opt, &v, &ca, &ba, err, errlen);
+    int rc = accuracy_evaluate_pair(&cur, &base, opt, &v, err, errlen);
     uwb_scan_free(&cur);
     uwb_scan_free(&base);
     if (rc != 0)
         return -1;
-    uwb_analysis_free(&ca);
-    uwb_analysis_free(&ba);
     struct uwb_verdict_record r;
     uwb_record_from_verdict(&r, &v);
     char name[128], what[256];
