@@ -79,11 +79,12 @@ struct uwb_radial_verdict {
     double at_m;            /* its height, in this scan's y */
     int has_span;           /* where |change| exceeds the watch limit */
     double from_m, to_m;
-    double uncertainty_m;        /* 1-sigma of max_change */
-    double uncertainty_noise_m;  /* its part from the scans' noise alone */
-    double tilt_m;               /* the face's top minus its bottom, + top nearer; 0 when withheld */
-    double tilt_uncertainty_m;   /* 1-sigma of tilt_m; 0 when withheld */
-    char tilt_withheld[128];     /* why the tilt is not given (measured, yet no lean can be read), or empty */
+    double uncertainty_m;       /* 1-sigma of max_change */
+    double uncertainty_noise_m; /* its part from the scans' noise alone */
+    double tilt_m;              /* the face's top minus its bottom, + top nearer; 0 when withheld */
+    double tilt_uncertainty_m;  /* 1-sigma of tilt_m; 0 when withheld */
+    char tilt_withheld[128];    /* why the tilt is not given (measured, yet no lean can be read), or empty */
+    double tilt_least_m; /* withheld across a status limit: the least lean its 95 % interval allows, signed */
     struct uwb_radial_line line; /* what the change is measured from (the images draw it so) */
     double shift_m;     /* the axial shift the faces were compared at: baseline y + shift_m = this scan's y */
     char withheld[160]; /* why not measured, or empty */

@@ -59,6 +59,11 @@
  * single disk) is blurred into its neighbours and reads short, 61-63 % of a
  * single disk's bulge in 2-D physical optics (tools/uwbsim). */
 #define SIZE_FRACTION 0.12
+/* 1-sigma of a lean's tilt from the same blur, as a fraction of it: the
+ * smallest share that puts each of the six full-wave leans of the fresh
+ * draws (tools/fdtd/draw_deformed.py: 3.8-6.9 mm, read 5 % short to 18 %
+ * long) within 2 sigma of its truth is 0.048 (s106, +7.95 for +6.85). */
+#define TILT_FRACTION 0.05
 #define NARROW_SIZE_FRACTION 0.35
 #define NARROW_CELLS 2.0
 
@@ -281,6 +286,54 @@ static int other_level(const struct uwb_radial *r, const double *offset, const u
     return best_count;
 }
 
+/* The offset nearest `target` that at least `least_rows` readable rows
+ * agree with (within half the watch limit): 1 and *level, or 0 when no
+ * offset has so many. */
+static int level_nearest(const struct uwb_radial *r, const double *offset, const unsigned char *readable,
+                         double target, double watch_m, double least_rows, double *level)
+{
+    int found = 0;
+    for (int i = 0; i < r->n; i++) {
+        if (!readable[i] || (found && fabs(offset[i] - target) >= fabs(*level - target)))
+            continue;
+        int count = 0;
+        for (int j = 0; j < r->n; j++)
+            count += readable[j] && fabs(offset[j] - offset[i]) <= 0.5 * watch_m;
+        if (count >= least_rows) {
+            found = 1;
+            *level = offset[i];
+        }
+    }
+    return found;
+}
+
+/* A change's blur reaches past its rows by about the image's range
+ * resolution (a quarter wavelength), and the unchanged rows beside it
+ * carry its flank into the line: disks 4-6 of 7 bulged 4 mm leave one disk
+ * above, read +2 to +1 mm, and lean the line +2.26 mm (fresh s106). How
+ * far the rows clear of the change by that much lean off the line (the
+ * slope of their changes, r->change_m, already off the line) is a term of
+ * the tilt's sigma; with no clear rows on one side no lean can be told
+ * from the flank, and the term is the whole tilt (a level line's none). */
+static void tilt_clear_of_change(struct uwb_radial *r, const struct uwb_face_profile *rb,
+                                 const unsigned char *use, int from, int to, double correlated_rows,
+                                 double height_m)
+{
+    struct uwb_radial_verdict *fig = &r->figures;
+    unsigned char clear[UWB_RADIAL_MAX_ROWS];
+    int guard = (int)ceil(correlated_rows), below = 0, above = 0;
+    for (int i = 0; i < r->n; i++) {
+        clear[i] = use[i] && (i < from - guard || i > to + guard);
+        below += clear[i] && i < from;
+        above += clear[i] && i > to;
+    }
+    struct uwb_radial_line clear_line;
+    double parted = below > 0 && above > 0 && fit_line(r, r->change_m, rb, clear, 1, &clear_line) == 0
+                        ? clear_line.lean_slope
+                        : fig->line.lean_slope;
+    fig->tilt_uncertainty_m = hypot(fig->tilt_uncertainty_m, parted * height_m);
+}
+
 int uwb_radial_measure(const struct uwb_analysis *cur, const struct uwb_analysis *base, double shift_m,
                        double watch_m, double noise_rms, struct uwb_radial *r)
 {
@@ -371,6 +424,20 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
         fabs(other - level) > 4.0 * oil->sigma_m &&
         fabs(other - oil->face_offset_m) < fabs(level - oil->face_offset_m))
         level = other;
+    /* ...and a change's blurred flanks never lie flat, so neither of the
+     * two most agreed offsets need be the rows that did not move (a dent
+     * over half the face in air: the dent's floor and its flank, -5.7 and
+     * -3.3 mm, the oil's offset -0.2 mm, +3.6 mm read at the wrong end).
+     * Where the oil still tells the level from its offset, the level is the
+     * offset nearest it that a stretch of the face agrees with (a quarter
+     * wavelength of rows, at least 3). */
+    double correlated_rows = fmax(1.0, base->wavelength_m / 4.0 / r->dy_m);
+    double nearest = 0.0;
+    if (oil && oil->measured && fabs(level - oil->face_offset_m) > fmax(4.0 * oil->sigma_m, 0.5 * watch_m) &&
+        level_nearest(r, offset, readable, oil->face_offset_m, watch_m, fmax(3.0, correlated_rows),
+                      &nearest) &&
+        fabs(nearest - oil->face_offset_m) < fabs(level - oil->face_offset_m))
+        level = nearest;
     /* A change that reaches the face's end leaves unchanged rows on one
      * side of it only, and its own blur leans them (the flanks of a change
      * in the middle of the face stand off it by about a tenth of it, the
@@ -426,7 +493,6 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
      * resolution): the mean gains only over independent stretches, and a
      * change narrower than that is no disk's (a glint, a row the face's
      * peak jumped on): it is averaged over one such stretch. */
-    double correlated_rows = fmax(1.0, base->wavelength_m / 4.0 / r->dy_m);
     if (!one_sided)
         fig->tilt_uncertainty_m =
             hypot(slope_uncertainty(r, cur, base, use, &line, correlated_rows, noise_rms) * (hi - lo),
@@ -492,6 +558,12 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
         r->excluded_at_end = f == 0 || !readable[f - 1] || t == r->n - 1 || !readable[t + 1];
         r->excluded_lo_m = r->y0_m + f * r->dy_m;
         r->excluded_hi_m = r->y0_m + t * r->dy_m;
+        if (!one_sided)
+            tilt_clear_of_change(r, ripple_rows, use, f, t, correlated_rows, hi - lo);
     }
+    /* The imaging's blur sizes a lean as it sizes a change: the face's
+     * range at its ends leans toward its middle. */
+    if (!fig->tilt_withheld[0])
+        fig->tilt_uncertainty_m = hypot(fig->tilt_uncertainty_m, TILT_FRACTION * fig->tilt_m);
     return 0;
 }

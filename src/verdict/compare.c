@@ -160,11 +160,16 @@ static enum uwb_status graded(double magnitude_m, const struct uwb_thresholds *t
  * status: a lean is a deformation like a bulge (the winding shifted in its
  * clamps), counted once told from none (past 2 sigma: pure shifts read up
  * to 0.055 mm of lean per mm moved) and graded worse than the change. */
+static double lean_graded_m(const struct uwb_radial_verdict *r)
+{
+    if (r->tilt_withheld[0])
+        return fabs(r->tilt_least_m); /* the least its 95 % interval allows, or 0 */
+    return fabs(r->tilt_m) > 2.0 * r->tilt_uncertainty_m ? fabs(r->tilt_m) : 0.0;
+}
+
 static int radial_lean_decides(const struct uwb_radial_verdict *r, const struct uwb_compare_options *opt)
 {
-    if (r->tilt_withheld[0] || fabs(r->tilt_m) <= 2.0 * r->tilt_uncertainty_m)
-        return 0;
-    return graded(fabs(r->tilt_m), &opt->radial_thresholds) >
+    return graded(lean_graded_m(r), &opt->radial_thresholds) >
            graded(fabs(r->max_change_m), &opt->radial_thresholds);
 }
 
@@ -213,9 +218,22 @@ static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures 
                         fmax(r->uncertainty_m, pair->radial_profile_uncertainty_m));
         return;
     }
+    /* The tilt follows the same rule on the same limits (a lean is graded
+     * like a change); withheld, it still grades the status by the least
+     * lean its interval allows: a lean of +2.4..+6.5 mm is one to watch. */
+    if (!r->tilt_withheld[0] && !uwb_figure_given(r->tilt_m, r->tilt_uncertainty_m, opt->max_uncertainty_m,
+                                                  &opt->radial_thresholds)) {
+        double s95 = UWB_SIGMAS_95 * r->tilt_uncertainty_m;
+        double lo = r->tilt_m - s95, hi = r->tilt_m + s95;
+        r->tilt_least_m = lo > 0.0 ? lo : hi < 0.0 ? hi : 0.0;
+        interval_reason(r->tilt_withheld, sizeof r->tilt_withheld, "the tilt", r->tilt_m,
+                        r->tilt_uncertainty_m);
+        r->tilt_m = 0.0;
+        r->tilt_uncertainty_m = 0.0;
+    }
     r->status = graded(fabs(r->max_change_m), &opt->radial_thresholds);
     if (radial_lean_decides(r, opt))
-        r->status = graded(fabs(r->tilt_m), &opt->radial_thresholds);
+        r->status = graded(lean_graded_m(r), &opt->radial_thresholds);
 }
 
 /* How bad a status is for the verdict that combines the axial and the
@@ -241,7 +259,11 @@ static void combine_radial(struct uwb_verdict *v, const struct uwb_compare_optio
     /* The axial part keeps its own "axial: " when it has one. */
     const char *own = strncmp(v->reason, "axial: ", 7) == 0 ? v->reason + 7 : v->reason;
     snprintf(axial, sizeof axial, "%s", own);
-    if (radial_lean_decides(r, opt))
+    if (radial_lean_decides(r, opt) && r->tilt_withheld[0])
+        snprintf(v->reason, sizeof v->reason,
+                 "the face leans at least %+.1f mm top to bottom (95 %%; %s)%s%.100s", r->tilt_least_m * 1e3,
+                 "the tilt withheld across a status limit", axial[0] ? "; axial: " : "", axial);
+    else if (radial_lean_decides(r, opt))
         snprintf(v->reason, sizeof v->reason, "the face leans %+.2f mm top to bottom (sigma %.2f mm)%s%.150s",
                  r->tilt_m * 1e3, r->tilt_uncertainty_m * 1e3, axial[0] ? "; axial: " : "", axial);
     else if (r->has_span)
@@ -363,11 +385,14 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
                                  &opt->thresholds)) {
         v->status = UWB_STATUS_INCONCLUSIVE;
         v->axial_withheld = 1;
-        if (pair && terms.deformation_m > opt->max_uncertainty_m)
+        if (pair && terms.deformation_m > opt->max_uncertainty_m && !v->radial.tilt_withheld[0])
             snprintf(v->reason, sizeof v->reason,
                      "the face leans %+.2f mm top to bottom, which moves the axial reading: axial figure "
                      "withheld",
-                     pair->radial.tilt_m * 1e3);
+                     v->radial.tilt_m * 1e3);
+        else if (pair && terms.deformation_m > opt->max_uncertainty_m)
+            snprintf(v->reason, sizeof v->reason,
+                     "the face leans (see radial), which moves the axial reading: axial figure withheld");
         else
             interval_reason(v->reason, sizeof v->reason, "the axial shift", v->axial_displacement_m,
                             v->uncertainty_m);

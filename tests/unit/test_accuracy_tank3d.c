@@ -95,7 +95,7 @@ static void print_radial(const struct radial_case *c, const struct radial_row *r
 
 static void test_the_radial_table_says_sign_and_place_right_or_wrong(void)
 {
-    const struct radial_case bulge = {"a bulge", "b", "c", 0.006, 0.256, 0.330};
+    const struct radial_case bulge = {"a bulge", "b", "c", 0.006, 0.256, 0.330, .disks = 3};
     struct radial_row r = {.pairs = 1,
                            .measured = 1,
                            .bias_m = -0.01326,

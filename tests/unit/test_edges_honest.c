@@ -39,13 +39,26 @@ static void baseline_of(const char *moved, char *base, size_t n)
         snprintf(base, n, "tests/fixtures/fdtd2d-tank-d+00.0.uwbscan");
         return;
     }
-    const char *d = strrchr(moved, 'd'); /* NAME-dSHIFT.uwbscan */
+    if (strstr(moved, "fdtd2d-paperscene-")) {
+        snprintf(base, n, "tests/fixtures/fdtd2d-paperscene-intact.uwbscan");
+        return;
+    }
+    /* NAME-dSHIFT.uwbscan, or a fresh draw deformed: NAME-leanMM, NAME-rFROM-TO... */
+    const char *kind = strstr(moved, "-lean");
+    if (!kind && strstr(moved, "fdtd2d-fresh-s"))
+        kind = strstr(strstr(moved, "fdtd2d-fresh-s") + 14, "-r");
+    if (kind) {
+        snprintf(base, n, "%.*s-d+00.uwbscan", (int)(kind - moved), moved);
+        return;
+    }
+    const char *d = strrchr(moved, 'd');
     snprintf(base, n, "%.*sd+00.uwbscan", (int)(d - moved), moved);
 }
 
 static int intact(const char *path)
 {
-    return strstr(path, "-d+00.uwbscan") || strstr(path, "-d+00.0.uwbscan") || strstr(path, "paper-intact");
+    return strstr(path, "-d+00.uwbscan") || strstr(path, "-d+00.0.uwbscan") ||
+           strstr(path, "-intact.uwbscan");
 }
 
 static int within(double read_mm, double truth_m, double sigma_mm)

@@ -87,7 +87,7 @@ static int radial_report(const char *dir, int pairs, FILE *mem)
     if (mem)
         radial_print_header(mem);
     for (int c = 0; c < radial_case_count; c++) {
-        int noisy = radial_cases[c].change_m != 0.0;
+        int noisy = radial_cases[c].change_m != 0.0 && !radial_cases[c].clean_only;
         for (int l = 0; l <= noisy; l++) {
             const struct accuracy_level *level = l ? &accuracy_levels[RADIAL_LEVEL] : NULL;
             struct radial_row row;

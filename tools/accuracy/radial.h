@@ -1,7 +1,7 @@
 /* The accuracy report's radial rows (make accuracy): the face's radial
- * change read on the full-wave radial scans of the shared tank against the
- * truth, clean and over noisy pairs, and on the pure shifts, where none must
- * be read. */
+ * change read on the full-wave radial scans against the truth (the shared
+ * tank's, clean and over noisy pairs; the fresh draws' bulges, dents and
+ * leans, clean), and on the pure shifts, where none must be read. */
 #ifndef UWB_ACCURACY_RADIAL_H
 #define UWB_ACCURACY_RADIAL_H
 
@@ -14,8 +14,11 @@ struct radial_case {
     const char *name;
     const char *baseline, *current; /* fixture file names */
     /* The truth, typed from the fixtures' truth files: never read in
-     * processing. change 0: a pure shift. */
+     * processing. change 0: a pure shift or a lean. */
     double change_m, from_m, to_m;
+    double tilt_m;  /* the face's lean as uwbd gives it (top less bottom): 0 but for a lean */
+    int disks;      /* disks changed (0: none) */
+    int clean_only; /* no noisy rows (the fresh draws: one noiseless replay each) */
 };
 
 struct radial_row {
@@ -27,9 +30,10 @@ struct radial_row {
     double located;    /* share with at_mm inside the changed span +-10 mm (changes only) */
     double sign_right; /* share read with the truth's sign (changes only) */
     double watch_or_worse;
-    double tilt_worst_m;       /* over the pairs whose tilt was given */
+    double alarm;              /* share graded alarm */
+    double tilt_worst_m;       /* largest error of the tilts given */
     int tilt_withheld;         /* pairs whose tilt was withheld (a change at the face's end) */
-    double tilt_within_2sigma; /* share of the given tilts within 2 sigma of 0 (no case leans) */
+    double tilt_within_2sigma; /* share of the given tilts within 2 sigma of the truth's */
 };
 
 extern const struct radial_case radial_cases[];
