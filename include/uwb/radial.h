@@ -25,7 +25,9 @@ struct uwb_radial {
      * end (the line then level, the tilt withheld: tilt_withheld says
      * why), how far a sloped line would read it. The tilt's 1-sigma
      * (tilt_uncertainty_m, 0 when withheld) holds the line's slope error
-     * from the rows' scatter and noise, and a share of the shift. */
+     * from the rows' scatter and noise, a share of the shift, a share of
+     * the tilt (the blur), and how far the rows clear of a change lean
+     * off the line (its flank). */
     struct uwb_radial_verdict figures;
     /* The change profile over the baseline's face, edge to edge, in the
      * baseline's own y: change_m[i] at y0_m + i dy_m, + toward the antenna,
@@ -64,8 +66,10 @@ int uwb_radial_measure(const struct uwb_analysis *current, const struct uwb_anal
  * NULL or not measured: none) as the absolute reference that tells a
  * change over half the face from its complement: of the two levels the
  * rows gather at, the one the oil's offset lies nearer is the unchanged
- * rows', where the two lie more than 4 of its sigma apart; else the level
- * most rows agree with. */
+ * rows', where the two lie more than 4 of its sigma apart, and where that
+ * one still lies off the oil's offset, the offset nearest it that a
+ * quarter wavelength of rows agrees with; else the level most rows agree
+ * with. */
 int uwb_radial_measure_referenced(const struct uwb_analysis *current, const struct uwb_analysis *baseline,
                                   double shift_m, double watch_m, double noise_rms,
                                   const struct uwb_oil_reference *oil, struct uwb_radial *r);

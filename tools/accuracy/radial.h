@@ -19,6 +19,8 @@ struct radial_case {
     double tilt_m;  /* the face's lean as uwbd gives it (top less bottom): 0 but for a lean */
     int disks;      /* disks changed (0: none) */
     int clean_only; /* no noisy rows (the fresh draws: one noiseless replay each) */
+    int in_air;     /* the paper's scene: in air a wavelength (150 mm at 2 GHz) spans the face,
+                       and a change over 3 disks is sized short (tests/accuracy.md) */
 };
 
 struct radial_row {
