@@ -83,6 +83,21 @@ static void test_no_static_echo_no_reference(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(oil.why, "too weak"), oil.why);
 }
 
+/* The verdict of cur against base at the defaults; both scans freed. */
+static void verdict_of(struct uwb_scan *cur, struct uwb_scan *base, struct uwb_verdict *v)
+{
+    struct uwb_evaluate_options opt;
+    uwb_evaluate_defaults(&opt);
+    struct uwb_analysis ca, ba;
+    char err[512];
+    struct uwb_baseline_record rec = {.scan = base};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(cur, &rec, &opt, v, &ca, &ba, err, sizeof err), err);
+    uwb_analysis_free(&ca);
+    uwb_analysis_free(&ba);
+    uwb_scan_free(cur);
+    uwb_scan_free(base);
+}
+
 /* Disks from..to bulged (+) or dented (-) by size_m: the verdict's change
  * has its sign, is sized within max(1 mm, 20 %) and placed within 10 mm
  * of the disks. */
@@ -94,17 +109,8 @@ static void check_change(int from, int to, double size_m, const char *eps_r)
     struct uwb_scan base, cur;
     scene_tank_winding_pair_with(with_barrier, changed, &base, &cur);
     cur.eps_r = base.eps_r;
-    struct uwb_evaluate_options opt;
-    uwb_evaluate_defaults(&opt);
-    struct uwb_analysis ca, ba;
     struct uwb_verdict v;
-    char err[512];
-    struct uwb_baseline_record rec = {.scan = &base};
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(&cur, &rec, &opt, &v, &ca, &ba, err, sizeof err), err);
-    uwb_analysis_free(&ca);
-    uwb_analysis_free(&ba);
-    uwb_scan_free(&cur);
-    uwb_scan_free(&base);
+    verdict_of(&cur, &base, &v);
     const struct uwb_radial_verdict *r = &v.radial;
     printf("disks %d-%d %+.0f mm%s%s: %+.2f +- %.2f mm at %.0f mm (disks %.0f..%.0f mm)\n", from, to,
            size_m * 1e3, eps_r ? ", oil eps_r " : "", eps_r ? eps_r : "", r->max_change_m * 1e3,
@@ -147,16 +153,8 @@ static void test_a_dent_over_half_the_face_in_air_reads_its_sign_and_place(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &base, err, sizeof err), err);
     scene_set_or_fail(&scene, "radial_m", "3-5:-0.006");
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, sim_make_scan(&scene, 1, &cur, err, sizeof err), err);
-    struct uwb_evaluate_options opt;
-    uwb_evaluate_defaults(&opt);
-    struct uwb_analysis ca, ba;
     struct uwb_verdict v;
-    struct uwb_baseline_record rec = {.scan = &base};
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, uwb_evaluate(&cur, &rec, &opt, &v, &ca, &ba, err, sizeof err), err);
-    uwb_analysis_free(&ca);
-    uwb_analysis_free(&ba);
-    uwb_scan_free(&cur);
-    uwb_scan_free(&base);
+    verdict_of(&cur, &base, &v);
     const struct uwb_radial_verdict *r = &v.radial;
     printf("paper scene disks 3-5 -6 mm: %+.2f +- %.2f mm at %.0f mm (disks 282..356 mm)\n",
            r->max_change_m * 1e3, r->uncertainty_m * 1e3, r->at_m * 1e3);
