@@ -268,6 +268,16 @@ static double slope_uncertainty(const struct uwb_radial *r, const struct uwb_ana
     return sqrt(fit + correlated_rows * noise / (syy * syy));
 }
 
+/* How many readable rows agree with `value` (within half the watch limit). */
+static int rows_agreeing(const struct uwb_radial *r, const double *offset, const unsigned char *readable,
+                         double value, double watch_m)
+{
+    int count = 0;
+    for (int j = 0; j < r->n; j++)
+        count += readable[j] && fabs(offset[j] - value) <= 0.5 * watch_m;
+    return count;
+}
+
 /* Where the rows that stand off `level` by more than half the watch limit
  * gather: the offset most of them agree with (within half the watch
  * limit), and how many do (0 when none stand off). */
@@ -300,10 +310,7 @@ static int level_nearest(const struct uwb_radial *r, const double *offset, const
     for (int i = 0; i < r->n; i++) {
         if (!readable[i] || (found && fabs(offset[i] - target) >= fabs(*level - target)))
             continue;
-        int count = 0;
-        for (int j = 0; j < r->n; j++)
-            count += readable[j] && fabs(offset[j] - offset[i]) <= 0.5 * watch_m;
-        if (count >= least_rows) {
+        if (rows_agreeing(r, offset, readable, offset[i], watch_m) >= least_rows) {
             found = 1;
             *level = offset[i];
         }
@@ -415,9 +422,7 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
     for (int i = 0; i < r->n; i++) {
         if (!readable[i])
             continue;
-        int count = 0;
-        for (int j = 0; j < r->n; j++)
-            count += readable[j] && fabs(offset[j] - offset[i]) <= 0.5 * watch_m;
+        int count = rows_agreeing(r, offset, readable, offset[i], watch_m);
         if (count > best_count) {
             best_count = count;
             level = offset[i];

@@ -156,17 +156,27 @@ static enum uwb_status graded(double magnitude_m, const struct uwb_thresholds *t
     return magnitude_m >= t->watch_m ? UWB_STATUS_WATCH : UWB_STATUS_OK;
 }
 
+/* The value of figure's 95 % interval nearest none, signed (0 when the
+ * interval holds none). */
+static double interval_least_m(double figure_m, double sigma_m)
+{
+    double lo = figure_m - UWB_SIGMAS_95 * sigma_m, hi = figure_m + UWB_SIGMAS_95 * sigma_m;
+    return lo > 0.0 ? lo : hi < 0.0 ? hi : 0.0;
+}
+
+/* The lean a radial status is graded on: the tilt once told from none,
+ * or, withheld across a status limit, the least its interval allows. */
+static double lean_graded_m(const struct uwb_radial_verdict *r)
+{
+    if (r->tilt_withheld[0])
+        return fabs(r->tilt_least_m);
+    return fabs(r->tilt_m) > 2.0 * r->tilt_uncertainty_m ? fabs(r->tilt_m) : 0.0;
+}
+
 /* Whether the face's lean, not its largest change, grades the radial
  * status: a lean is a deformation like a bulge (the winding shifted in its
  * clamps), counted once told from none (past 2 sigma: pure shifts read up
  * to 0.055 mm of lean per mm moved) and graded worse than the change. */
-static double lean_graded_m(const struct uwb_radial_verdict *r)
-{
-    if (r->tilt_withheld[0])
-        return fabs(r->tilt_least_m); /* the least its 95 % interval allows, or 0 */
-    return fabs(r->tilt_m) > 2.0 * r->tilt_uncertainty_m ? fabs(r->tilt_m) : 0.0;
-}
-
 static int radial_lean_decides(const struct uwb_radial_verdict *r, const struct uwb_compare_options *opt)
 {
     return graded(lean_graded_m(r), &opt->radial_thresholds) >
@@ -177,9 +187,9 @@ int uwb_figure_given(double figure_m, double sigma_m, double max_sigma_m, const 
 {
     if (!(sigma_m > max_sigma_m))
         return 1;
-    double lo = figure_m - UWB_SIGMAS_95 * sigma_m, hi = figure_m + UWB_SIGMAS_95 * sigma_m;
-    double least = lo <= 0.0 && hi >= 0.0 ? 0.0 : fmin(fabs(lo), fabs(hi));
-    return graded(least, t) == graded(fmax(fabs(lo), fabs(hi)), t);
+    double s95 = UWB_SIGMAS_95 * sigma_m;
+    double most = fmax(fabs(figure_m - s95), fabs(figure_m + s95));
+    return graded(fabs(interval_least_m(figure_m, sigma_m)), t) == graded(most, t);
 }
 
 /* The reason of a figure the decision rule withholds: its 95 % interval. */
@@ -223,9 +233,7 @@ static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures 
      * lean its interval allows: a lean of +2.4..+6.5 mm is one to watch. */
     if (!r->tilt_withheld[0] && !uwb_figure_given(r->tilt_m, r->tilt_uncertainty_m, opt->max_uncertainty_m,
                                                   &opt->radial_thresholds)) {
-        double s95 = UWB_SIGMAS_95 * r->tilt_uncertainty_m;
-        double lo = r->tilt_m - s95, hi = r->tilt_m + s95;
-        r->tilt_least_m = lo > 0.0 ? lo : hi < 0.0 ? hi : 0.0;
+        r->tilt_least_m = interval_least_m(r->tilt_m, r->tilt_uncertainty_m);
         interval_reason(r->tilt_withheld, sizeof r->tilt_withheld, "the tilt", r->tilt_m,
                         r->tilt_uncertainty_m);
         r->tilt_m = 0.0;

@@ -19,6 +19,7 @@
 #include "accuracy/accuracy.h"
 #include "accuracy/radial.h"
 #include "unity.h"
+#include "uwb/evaluate.h"
 
 #define PAIRS 20
 /* 20 pairs scatter a spread by about 16 % (1/sqrt(2*19)); reached over 60
@@ -44,14 +45,14 @@ static int emulated(void)
     return prefix && *prefix;
 }
 
-/* The radial limits (uwb_evaluate_defaults: radial.watch_mm, alarm_mm). */
-#define RADIAL_WATCH_M 0.002
-#define RADIAL_ALARM_M 0.005
 #define TILT_GOAL_M 0.0015
 
 static void test_clean_radial_figures_are_right_or_within_their_sigma(void)
 {
     char err[512];
+    struct uwb_evaluate_options opt; /* the radial limits the rows are graded on */
+    uwb_evaluate_defaults(&opt);
+    const struct uwb_thresholds *limits = &opt.compare.radial_thresholds;
     for (int c = 0; c < radial_case_count; c++) {
         if (emulated() && c > 0)
             break; /* FFTW under qemu-user: the first case only */
@@ -73,12 +74,12 @@ static void test_clean_radial_figures_are_right_or_within_their_sigma(void)
             if (rc->disks >= 3 && !rc->in_air) {
                 TEST_ASSERT_TRUE_MESSAGE(fabs(row.bias_m) <= fmax(0.001, 0.2 * fabs(rc->change_m)), rc->name);
             }
-        } else if (fabs(rc->tilt_m) >= RADIAL_WATCH_M) {
+        } else if (fabs(rc->tilt_m) >= limits->watch_m) {
             /* A lean past the watch limit alerts whether or not its tilt is
              * given (a 4 mm lean's interval may cross the alarm limit); a
              * 6 mm one reads its tilt within 1.5 mm, an alarm. */
             TEST_ASSERT_TRUE_MESSAGE(row.watch_or_worse == 1.0, rc->name);
-            if (fabs(rc->tilt_m) >= RADIAL_ALARM_M) {
+            if (fabs(rc->tilt_m) >= limits->alarm_m) {
                 TEST_ASSERT_EQUAL_INT_MESSAGE(0, row.tilt_withheld, rc->name);
                 TEST_ASSERT_TRUE_MESSAGE(row.tilt_worst_m <= TILT_GOAL_M, rc->name);
                 TEST_ASSERT_TRUE_MESSAGE(row.alarm == 1.0, rc->name);
