@@ -12,7 +12,6 @@
 struct accuracy_targets {
     int pairs;
     int given, within, wide;             /* displacements given; within 2 sigma; sigma over the bound */
-    int known_wide;                      /* ...of those, the known misses (targets.c names them) */
     int heights_given, heights_within;   /* height changes given; within 2 sigma */
     int edges_given, edges_within;       /* pairs whose edges are published; all within 2 sigma */
     int compressions, compressions_read; /* the family's squeezed spacers; read within 0.5 mm */
