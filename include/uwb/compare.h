@@ -70,8 +70,6 @@ struct uwb_pair_figures {
 struct uwb_uncertainty_terms {
     double noise_current_m; /* each scan's noise carried into the displacement */
     double noise_baseline_m;
-    double clutter_current_m; /* what taking a reflector beside the winding out may leave */
-    double clutter_baseline_m;
     double systematic_m;             /* the floor: what the static scene and sampling leave */
     double baseline_repeatability_m; /* spread of the baseline's commissioning scans (baseline set N) */
     double model_m;       /* the fit's own error, growing with the move (axial_sigma_per_shift x |shift|) */

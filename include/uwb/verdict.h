@@ -31,7 +31,6 @@ struct uwb_edges {
     double snr_db;               /* face peak over image noise floor */
     int side_reflector;          /* a compact reflector beside the winding (clamping plate) was taken out */
     double side_reflector_y_m;   /* ...where it imaged */
-    double sigma_center_clutter_m; /* what its removal may leave: does not cancel between scans */
     char reason[256];
 };
 

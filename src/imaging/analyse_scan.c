@@ -84,7 +84,10 @@
 #define SYMMETRY_SEARCH_M 0.02
 /* The point model of a plate leaves up to about half a millimetre when the
  * plate is within 50 mm of an end (measured on the simulator's flush
- * plate, README); unlike blur, that does not cancel between two scans. */
+ * plate, README): a term of the absolute centre. Between two scans it is
+ * no separate term: the plate and the winding's place against it are the
+ * same at no move, so what is left cancels, and it grows with the move,
+ * where the axial model term (compare.c) covers it. */
 #define SIDE_REFLECTOR_SYSTEMATIC_M 0.00025
 /* The passes before the last read the profile only around the winding:
  * its crossings and its mirror symmetry out to SYMMETRY_SPAN half heights
@@ -760,10 +763,8 @@ static enum step judge_edges(struct analysis_run *r)
     edges->sigma_upper_m = hypot(edges->sigma_upper_m, opt->edge_sigma_per_shoulder *
                                                            uwb_shoulder_width_m(pe->peak, pe->slope_upper));
     edges->sigma_center_noise_m = 0.5 * hypot(sn_lo, sn_hi);
-    if (edges->side_reflector) {
-        edges->sigma_center_clutter_m = SIDE_REFLECTOR_SYSTEMATIC_M;
+    if (edges->side_reflector)
         edges->sigma_center_m = hypot(edges->sigma_center_m, SIDE_REFLECTOR_SYSTEMATIC_M);
-    }
     return STEP_DONE;
 }
 

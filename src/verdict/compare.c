@@ -93,7 +93,6 @@ double uwb_displacement_uncertainty(const struct uwb_uncertainty_terms *t)
 {
     double measured =
         sqrt(t->noise_current_m * t->noise_current_m + t->noise_baseline_m * t->noise_baseline_m +
-             t->clutter_current_m * t->clutter_current_m + t->clutter_baseline_m * t->clutter_baseline_m +
              t->systematic_m * t->systematic_m + t->baseline_repeatability_m * t->baseline_repeatability_m +
              t->model_m * t->model_m + t->deformation_m * t->deformation_m);
     return fmax(measured, t->least_m);
@@ -339,15 +338,14 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
     v->axial_displacement_m = pair && pair->valid ? pair->displacement_m : cur->center_m - base->center_m;
     v->height_change_m = cur->height_m - base->height_m;
     height_change_uncertainty(v, cur, base, pair, opt);
-    /* Both scans blur their edges alike, so only their noise, what removing
-     * a plate beside the winding may leave, and a floor for what the two
-     * scans do not share (sampling, drift) enter, and what the baseline's
-     * commissioning scans showed of its repeatability (baseline set N). */
+    /* Both scans blur their edges alike, so only their noise, a floor for
+     * what the two scans do not share (sampling, drift) and what the
+     * baseline's commissioning scans showed of its repeatability (baseline
+     * set N) enter; a plate taken out beside the winding leaves the same in
+     * both at no move, and the model term covers what it leaves with one. */
     struct uwb_uncertainty_terms terms = {
         .noise_current_m = cur->sigma_center_noise_m,
         .noise_baseline_m = base->sigma_center_noise_m,
-        .clutter_current_m = cur->sigma_center_clutter_m,
-        .clutter_baseline_m = base->sigma_center_clutter_m,
         .systematic_m = opt->systematic_displacement_m,
         .least_m = opt->least_displacement_uncertainty_m,
         .baseline_repeatability_m = opt->baseline_repeatability_m,
