@@ -259,6 +259,10 @@ static void test_fresh_shifts_read_a_tilt_within_two_sigma_of_none(void)
         "fdtd2d-fresh-s107-d+04", "fdtd2d-fresh-s107-d-08", "fdtd2d-fresh-s108-d+02",
         "fdtd2d-fresh-s108-d-24", "fdtd2d-fresh-s109-d+20", "fdtd2d-fresh-s109-d-24",
         "fdtd2d-fresh-s110-d+12", "fdtd2d-fresh-s110-d-14",
+        /* Drawn after the model term and the tilt's terms were set. */
+        "fdtd2d-fresh-s111-d-12", "fdtd2d-fresh-s111-d-30", "fdtd2d-fresh-s112-d+10",
+        "fdtd2d-fresh-s112-d+14", "fdtd2d-fresh-s113-d-20", "fdtd2d-fresh-s114-d+08",
+        "fdtd2d-fresh-s114-d+20",
     };
     assert_shifts_read_a_tilt_within_two_sigma_of_none(moved, sizeof moved / sizeof moved[0]);
 }
