@@ -56,6 +56,26 @@ const struct radial_case radial_cases[] = {
      0.292, 0.312, .disks = 1, .clean_only = 1},
     {"fresh s105 disk 4 +4 mm", "fdtd2d-fresh-s105-d+00.uwbscan", "fdtd2d-fresh-s105-r4-4+4.uwbscan", 0.004,
      0.328, 0.344, .disks = 1, .clean_only = 1},
+    /* Drawn after the radial and tilt terms were set: the deformation of
+     * each by a rule, not by choice (tank seed s: random.Random(1000 + s)
+     * draws the first disk, 1-3 disks, the size from -6, -4, +4, +6, +8 and
+     * the lean from -6, -3, +3, +6 mm). */
+    {"fresh s111 leaning, top disk -4 mm", "fdtd2d-fresh-s111-d+00.uwbscan",
+     "fdtd2d-fresh-s111-lean-3.uwbscan", 0, 0, 0, .tilt_m = -0.00429, .clean_only = 1},
+    {"fresh s111 disks 2-3 +4 mm", "fdtd2d-fresh-s111-d+00.uwbscan", "fdtd2d-fresh-s111-r2-3+4.uwbscan",
+     0.004, 0.268, 0.314, .disks = 2, .clean_only = 1},
+    {"fresh s112 leaning, top disk -6 mm", "fdtd2d-fresh-s112-d+00.uwbscan",
+     "fdtd2d-fresh-s112-lean-6.uwbscan", 0, 0, 0, .tilt_m = -0.00624, .clean_only = 1},
+    {"fresh s112 disks 3-4 +4 mm", "fdtd2d-fresh-s112-d+00.uwbscan", "fdtd2d-fresh-s112-r3-4+4.uwbscan",
+     0.004, 0.264, 0.306, .disks = 2, .clean_only = 1},
+    {"fresh s113 leaning, top disk -6 mm", "fdtd2d-fresh-s113-d+00.uwbscan",
+     "fdtd2d-fresh-s113-lean-6.uwbscan", 0, 0, 0, .tilt_m = -0.00670, .clean_only = 1},
+    {"fresh s113 disks 1-2 -4 mm", "fdtd2d-fresh-s113-d+00.uwbscan", "fdtd2d-fresh-s113-r1-2-4.uwbscan",
+     -0.004, 0.224, 0.274, .disks = 2, .clean_only = 1},
+    {"fresh s114 leaning, top disk +6 mm", "fdtd2d-fresh-s114-d+00.uwbscan",
+     "fdtd2d-fresh-s114-lean+6.uwbscan", 0, 0, 0, .tilt_m = 0.00677, .clean_only = 1},
+    {"fresh s114 disks 5-7 +6 mm", "fdtd2d-fresh-s114-d+00.uwbscan", "fdtd2d-fresh-s114-r5-7+6.uwbscan",
+     0.006, 0.310, 0.382, .disks = 3, .clean_only = 1},
     /* The paper's scene deformed (tools/fdtd/draw_paper.py; its intact scan
      * is the shared one, sample for sample). */
     {"paper scene disks 1-3 +8 mm", "fdtd2d-paper-intact.uwbscan", "fdtd2d-paperscene-r1-3+8.uwbscan", 0.008,

@@ -6,9 +6,8 @@ its share by its centre's height, on the model's 2 mm grid) or disks
 FROM..TO bulged (+ toward the antennas) or dented by MM. Exploration only
 (no make target, test or CI runs this; it needs gprMax 4.0.1 from PyPI).
 
-No scan was made from its deformed inputs yet (session of issue 45: the
-machine was too loaded for gprMax); its intact input is draw_tank.py's,
-byte for byte but the title.
+Its intact input is draw_tank.py's, byte for byte but the title; the
+scans made from it are tests/fixtures/fdtd2d-fresh-s1*-{lean,r}*.
 
 Usage: draw_deformed.py SEED OUT_DIR KIND...
   KIND: lean+6 (top 6 mm nearer), lean-4, r2-4+6 (disks 2-4 from the
