@@ -64,6 +64,15 @@
  * draws (tools/fdtd/draw_deformed.py: 3.8-6.9 mm, read 5 % short to 18 %
  * long) within 2 sigma of its truth is 0.048 (s106, +7.95 for +6.85). */
 #define TILT_FRACTION 0.05
+/* The share of the baseline's ripple is fitted between 0 and 1 (the
+ * line's frame_share): where the rows cannot pin it, its 1-sigma is taken
+ * as no more than half that range (a 95 % interval as wide as the whole).
+ * Over a shift of a few millimetres the ripple's difference can be nearly
+ * a straight line, which leaves the share unpinned (least-squares sigma
+ * 9.7 on fresh s113's 6 mm lean, read at -1.6 mm): unbounded, the slope's
+ * sigma grew to 1.78 mm from a share that cannot move the slope by more
+ * than 0.09 mm. */
+#define SHARE_SIGMA_MAX 0.5
 #define NARROW_SIZE_FRACTION 0.35
 #define NARROW_CELLS 2.0
 /* ...and between NARROW_CELLS and one cell more the fraction ramps from
@@ -263,8 +272,11 @@ static double slope_uncertainty(const struct uwb_radial *r, const struct uwb_ana
             ripple2 += er * er;
         }
     double s2 = scatter / n;
-    double share_term = ripple2 > 0.0 ? (syr / syy) * (syr / syy) / ripple2 : 0.0;
-    double fit = s2 * correlated_rows * (1.0 / syy + share_term);
+    double slope_per_share = syr / syy;
+    double share_var = SHARE_SIGMA_MAX * SHARE_SIGMA_MAX;
+    if (ripple2 > 0.0)
+        share_var = fmin(share_var, s2 * correlated_rows / ripple2);
+    double fit = s2 * correlated_rows / syy + slope_per_share * slope_per_share * share_var;
     return sqrt(fit + correlated_rows * noise / (syy * syy));
 }
 
