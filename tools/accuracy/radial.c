@@ -86,6 +86,13 @@ const struct radial_case radial_cases[] = {
      0.282, 0.356, .disks = 3, .clean_only = 1, .in_air = 1},
     {"paper scene disks 4-6 +8 mm", "fdtd2d-paper-intact.uwbscan", "fdtd2d-paperscene-r4-6+8.uwbscan", 0.008,
      0.308, 0.382, .disks = 3, .clean_only = 1, .in_air = 1},
+    /* Drawn by rule (random.Random(3000 + k): the first disk, 2-4 disks, the
+     * size), after the size's sigma was set: 4 of 6 disks, one reaching the
+     * face's top. */
+    {"paper scene disks 2-5 +6 mm", "fdtd2d-paper-intact.uwbscan", "fdtd2d-paperscene-r2-5+6.uwbscan", 0.006,
+     0.256, 0.356, .disks = 4, .clean_only = 1, .in_air = 1},
+    {"paper scene disks 3-6 +6 mm", "fdtd2d-paper-intact.uwbscan", "fdtd2d-paperscene-r3-6+6.uwbscan", 0.006,
+     0.282, 0.382, .disks = 4, .clean_only = 1, .in_air = 1},
     {"paper up 20 mm (no change)", "fdtd2d-paper-intact.uwbscan", "fdtd2d-paper-up20mm.uwbscan", 0, 0, 0,
      .tilt_m = 0},
     {"tank +4 mm (no change)", TANK, "fdtd2d-tank-d+04.0.uwbscan", 0, 0, 0, .tilt_m = 0},
