@@ -85,7 +85,13 @@ struct uwb_radial_verdict {
     char tilt_withheld[128];    /* why the tilt is not given (measured, yet no lean can be read), or empty */
     double tilt_least_m; /* withheld across a status limit: the least lean its 95 % interval allows, signed */
     struct uwb_radial_line line; /* what the change is measured from (the images draw it so) */
-    double shift_m;     /* the axial shift the faces were compared at: baseline y + shift_m = this scan's y */
+    double shift_m; /* the axial shift the faces were compared at: baseline y + shift_m = this scan's y */
+    /* A change past the watch limit whose line was fitted within its blur
+     * (less than a quarter wavelength of the face's rows clear of it): the
+     * flank lifts the line toward the change, which then reads short, so
+     * its size is withheld (measured 0) and this, the reading, is the
+     * least it can be, signed (its place in at_m); 0 otherwise. */
+    double change_least_m;
     char withheld[160]; /* why not measured, or empty */
 };
 

@@ -330,6 +330,15 @@ static int level_nearest(const struct uwb_radial *r, const double *offset, const
     return found;
 }
 
+/* The line's rows more than `guard` rows clear of from..to. */
+static int rows_clear_of(const struct uwb_radial *r, const unsigned char *use, int from, int to, int guard)
+{
+    int clear = 0;
+    for (int i = 0; i < r->n; i++)
+        clear += use[i] && (i < from - guard || i > to + guard);
+    return clear;
+}
+
 /* A change's blur reaches past its rows by about the image's range
  * resolution (a quarter wavelength), and the unchanged rows beside it
  * carry its flank into the line: disks 4-6 of 7 bulged 4 mm leave one disk
@@ -540,7 +549,10 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
         noise2 += noise * noise;
     }
     int width = to - from + 1;
-    lean /= width; /* the sloped line's read of the change less the level one's */
+    lean /= width;
+    int clear = rows_clear_of(
+        r, use, from, to,
+        (int)ceil(correlated_rows)); /* the sloped line's read of the change less the level one's */
     fig->max_change_m = sum / width;
     fig->at_m = r->y0_m + at * r->dy_m + shift_m;
     double independent = fmax(1.0, width / correlated_rows);
@@ -558,6 +570,13 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
     double size = (narrow * NARROW_SIZE_FRACTION + (1.0 - narrow) * SIZE_FRACTION) * fig->max_change_m;
     fig->uncertainty_m = sqrt(noise_mean * noise_mean + model * model * look_elsewhere * look_elsewhere +
                               size * size + lean * lean);
+    /* The line's rows within the change's blur: its flank lifts the line
+     * toward the change, which reads short. On the full-wave changes with
+     * less than a quarter wavelength of rows clear of them (the paper's
+     * scene in air, 3-4 of 6 disks) the size read 34-66 % of the truth;
+     * with more (every oil tank's, 2-4 of 5-8 disks) 77-129 %. */
+    if (fabs(fig->max_change_m) >= watch_m && clear < correlated_rows)
+        fig->change_least_m = fig->max_change_m;
     if (fabs(fig->max_change_m) > watch_m) {
         int f = at, t = at;
         while (f > 0 && readable[f - 1] && fabs(r->change_m[f - 1]) > watch_m)

@@ -132,6 +132,10 @@ void uwb_describe_radial(const struct uwb_verdict *v, char *buf, size_t len)
         return;
     }
     const struct uwb_radial_verdict *r = &v->radial;
+    if (!r->measured && r->change_least_m != 0.0) {
+        snprintf(buf, len, "radial: %s", r->withheld);
+        return;
+    }
     if (!r->measured) {
         snprintf(buf, len, "radial: not measured (%s)", r->withheld[0] ? r->withheld : "no reason given");
         return;

@@ -214,6 +214,19 @@ static void radial_verdict(struct uwb_verdict *v, const struct uwb_pair_figures 
         return;
     }
     *r = pair->radial;
+    /* A change read short by its own flank: no size, its status by the
+     * least it can be, its place kept. */
+    if (r->change_least_m != 0.0) {
+        r->measured = 0;
+        r->status = graded(fabs(r->change_least_m), &opt->radial_thresholds);
+        /* The least to a tenth, toward none: 2.06 is at least 2.0, not 2.1. */
+        double least_mm = trunc(r->change_least_m * 1e4) / 10.0;
+        snprintf(r->withheld, sizeof r->withheld,
+                 "a change of at least %+.1f mm at %.0f mm, its size withheld: the face beside it lies "
+                 "within its blur, which reads it short",
+                 least_mm, r->at_m * 1e3);
+        return;
+    }
     /* Whether the profile can tell a change at all: its own scatter at a
      * row, not the share of the size a large change carries; past the
      * limit the size is still given when its whole 95 % interval lies in
@@ -260,13 +273,16 @@ static int severity(enum uwb_status s)
 static void combine_radial(struct uwb_verdict *v, const struct uwb_compare_options *opt)
 {
     const struct uwb_radial_verdict *r = &v->radial;
-    if (!r->measured || severity(r->status) <= severity(v->status))
+    if ((!r->measured && r->change_least_m == 0.0) || severity(r->status) <= severity(v->status))
         return;
     char axial[256];
     /* The axial part keeps its own "axial: " when it has one. */
     const char *own = strncmp(v->reason, "axial: ", 7) == 0 ? v->reason + 7 : v->reason;
     snprintf(axial, sizeof axial, "%s", own);
-    if (radial_lean_decides(r, opt) && r->tilt_withheld[0])
+    if (!r->measured)
+        snprintf(v->reason, sizeof v->reason, "radial: %.140s%s%.90s", r->withheld,
+                 axial[0] ? "; axial: " : "", axial);
+    else if (radial_lean_decides(r, opt) && r->tilt_withheld[0])
         snprintf(v->reason, sizeof v->reason,
                  "the face leans at least %+.1f mm top to bottom (95 %%; %s)%s%.100s", r->tilt_least_m * 1e3,
                  "the tilt withheld across a status limit", axial[0] ? "; axial: " : "", axial);
@@ -373,7 +389,8 @@ void uwb_compare_pair(struct uwb_verdict *v, const struct uwb_edges *cur, const 
      * follows the echo's strength there as much as the move (the whole
      * face's fit and the refit without the changed rows part by mm on the
      * full-wave bulges, and neither is the move), so none is shown. */
-    int deformed_radially = v->radial.measured && severity(v->radial.status) >= severity(UWB_STATUS_WATCH);
+    int deformed_radially = (v->radial.measured || v->radial.change_least_m != 0.0) &&
+                            severity(v->radial.status) >= severity(UWB_STATUS_WATCH);
     int deformed = deformed_at_end || deformed_radially;
     if (deformed_radially)
         snprintf(v->height_change_withheld, sizeof v->height_change_withheld,

@@ -5,7 +5,8 @@
  * - clean: every figure within 2 sigma of the truth, the tilt too (where
  *   given); each change located (its largest inside the changed disks
  *   +-10 mm), read with its sign and at least watch, and over 3 disks or
- *   more in oil sized within max(1 mm, 20 %) (issue 45; missed in air); a lean read within 1.5
+ *   more sized within max(1 mm, 20 %) (issue 45), or its size withheld as
+ *   a least value with its sign, place and status; a lean read within 1.5
  *   mm of its tilt and graded like a change of that size; every pure
  *   shift radially ok;
  * - noisy: the noise part of sigma honest (spread / that part within
@@ -62,16 +63,27 @@ static void test_clean_radial_figures_are_right_or_within_their_sigma(void)
             0, radial_run_case("tests/fixtures", rc, NULL, 1, 0, &row, err, sizeof err), err);
         printf("%s: error %+.2f mm, sigma %.2f mm, tilt error %.2f mm\n", rc->name, row.bias_m * 1e3,
                row.median_sigma_m * 1e3, row.tilt_worst_m * 1e3);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(1, row.measured, rc->name);
+        if (row.measured == 0) {
+            /* Withheld as a least value (a change read short by its own
+             * flank): a change is there, with its sign and place right and
+             * its status kept. */
+            TEST_ASSERT_TRUE_MESSAGE(rc->change_m != 0.0, rc->name);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(1, row.least, rc->name);
+            TEST_ASSERT_TRUE_MESSAGE(row.least_right == 1.0, rc->name);
+            TEST_ASSERT_TRUE_MESSAGE(row.watch_or_worse == 1.0, rc->name);
+            TEST_ASSERT_TRUE_MESSAGE(fabs(row.least_m) <= fabs(rc->change_m), rc->name);
+            continue;
+        }
         TEST_ASSERT_TRUE_MESSAGE(row.within_2sigma == 1.0, rc->name);
         TEST_ASSERT_TRUE_MESSAGE(row.tilt_withheld == 1 || row.tilt_within_2sigma == 1.0, rc->name);
         if (rc->change_m != 0.0) {
             TEST_ASSERT_TRUE_MESSAGE(row.sign_right == 1.0, rc->name);
             TEST_ASSERT_TRUE_MESSAGE(row.located == 1.0, rc->name);
             TEST_ASSERT_TRUE_MESSAGE(row.watch_or_worse == 1.0, rc->name);
-            /* Missed in air (the paper's scene: +4 mm over disks 2-4 reads
-             * +2.59, -6 over 3-5 -3.98; tests/accuracy.md), held in oil. */
-            if (rc->disks >= 3 && !rc->in_air) {
+            /* Every size given, in oil and in air (the paper's scene's
+             * +4 mm over disks 2-4 read +2.59 and -6 over 3-5 -3.98 while
+             * their line's rows lay within their blur: now withheld). */
+            if (rc->disks >= 3) {
                 TEST_ASSERT_TRUE_MESSAGE(fabs(row.bias_m) <= fmax(0.001, 0.2 * fabs(rc->change_m)), rc->name);
             }
         } else if (fabs(rc->tilt_m) >= limits->watch_m) {

@@ -141,7 +141,9 @@ static void test_the_oil_changed_too(void)
  * with are the dent's floor and its flank (-5.7 and -3.3 mm), neither the
  * unchanged rows' (the static echoes: -0.2 mm). Read from the more agreed
  * of the two, the complement: +3.57 mm at 233 mm, the wrong sign at the
- * wrong end. */
+ * wrong end. Its line's rows lie within the dent's blur, so its size is
+ * withheld as the least it can be (-3.6 mm for -6): sign, place and status
+ * are what it reads. */
 static void test_a_dent_over_half_the_face_in_air_reads_its_sign_and_place(void)
 {
     struct sim_scene scene;
@@ -156,10 +158,11 @@ static void test_a_dent_over_half_the_face_in_air_reads_its_sign_and_place(void)
     struct uwb_verdict v;
     verdict_of(&cur, &base, &v);
     const struct uwb_radial_verdict *r = &v.radial;
-    printf("paper scene disks 3-5 -6 mm: %+.2f +- %.2f mm at %.0f mm (disks 282..356 mm)\n",
-           r->max_change_m * 1e3, r->uncertainty_m * 1e3, r->at_m * 1e3);
-    TEST_ASSERT_TRUE_MESSAGE(r->measured, r->withheld);
-    TEST_ASSERT_TRUE_MESSAGE(r->max_change_m < 0.0, "sign");
+    printf("paper scene disks 3-5 -6 mm: %+.2f +- %.2f mm at %.0f mm (disks 282..356 mm): %s\n",
+           r->max_change_m * 1e3, r->uncertainty_m * 1e3, r->at_m * 1e3, r->withheld);
+    double read_m = r->measured ? r->max_change_m : r->change_least_m;
+    TEST_ASSERT_TRUE_MESSAGE(r->measured || r->change_least_m != 0.0, r->withheld);
+    TEST_ASSERT_TRUE_MESSAGE(read_m < 0.0, "sign");
     TEST_ASSERT_TRUE_MESSAGE(r->at_m >= 0.282 - 0.010 && r->at_m <= 0.356 + 0.010, "place");
     TEST_ASSERT_TRUE_MESSAGE(r->status == UWB_STATUS_WATCH || r->status == UWB_STATUS_ALARM, "alerts");
 }

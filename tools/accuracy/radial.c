@@ -132,12 +132,27 @@ struct tally {
     double *error, *sigma, *noise;
     int measured, within, located, sign_right, watch, alarm, n, tilt_withheld, tilt_within;
     double tilt_worst;
+    int least, least_right, least_watch;
+    double least_m;
 };
+
+/* A change read with the truth's sign and in its place (+-10 mm). */
+static int sign_and_place_right(const struct radial_case *c, double change_m, double at_m)
+{
+    return c->change_m != 0.0 && (change_m > 0.0) == (c->change_m > 0.0) && at_m >= c->from_m - 0.010 &&
+           at_m <= c->to_m + 0.010;
+}
 
 static void count(struct tally *t, const struct radial_case *c, const struct uwb_verdict *v)
 {
     t->n++;
     const struct uwb_radial_verdict *r = &v->radial;
+    if (!r->measured && r->change_least_m != 0.0) {
+        t->least++;
+        t->least_m = r->change_least_m;
+        t->least_watch += r->status == UWB_STATUS_WATCH || r->status == UWB_STATUS_ALARM;
+        t->least_right += sign_and_place_right(c, r->change_least_m, r->at_m);
+    }
     if (!r->measured)
         return;
     double e = r->max_change_m - c->change_m;
@@ -162,6 +177,11 @@ static void summarise(struct tally *t, struct radial_row *row)
 {
     row->pairs = t->n;
     row->measured = t->measured;
+    row->least = t->least;
+    row->least_right = t->least > 0 ? (double)t->least_right / t->least : 0.0;
+    row->least_m = t->least_m;
+    if (t->measured == 0 && t->least > 0)
+        row->watch_or_worse = (double)t->least_watch / t->least;
     if (t->measured == 0)
         return;
     double sum = 0.0, worst = 0.0;
@@ -247,7 +267,7 @@ void radial_print_header(FILE *out)
 void radial_print_row(FILE *out, const struct radial_case *c, const struct accuracy_level *level,
                       const struct radial_row *r)
 {
-    char noise[32], pairs[48], read[16], spread[16], ratio[16], noise_ratio[16], located[16], sign[16],
+    char noise[32], pairs[48], read[24], spread[16], ratio[16], noise_ratio[16], located[32], sign[16],
         tilt[64];
     snprintf(noise, sizeof noise, level ? "%.0f dB" : "none", level ? level->snr_db : 0.0);
     if (r->measured == r->pairs)
@@ -259,10 +279,18 @@ void radial_print_row(FILE *out, const struct radial_case *c, const struct accur
              r->median_sigma_m > 0 ? r->spread_m / r->median_sigma_m : 0.0);
     snprintf(noise_ratio, sizeof noise_ratio, level && r->median_noise_sigma_m > 0 ? "%.2f" : "—",
              r->median_noise_sigma_m > 0 ? r->spread_m / r->median_noise_sigma_m : 0.0);
-    /* Nothing measured: no reading to show (the bias of none is 0). */
+    /* Nothing measured: no reading to show (the bias of none is 0); a size
+     * withheld as a least value: that least, its sign and place, and its
+     * status, watch or alarm, in the columns' stead. */
     snprintf(read, sizeof read, r->measured > 0 ? "%+.2f" : "withheld", (c->change_m + r->bias_m) * 1e3);
     right_or_wrong(located, sizeof located, c, level, r, r->located);
     right_or_wrong(sign, sizeof sign, c, level, r, r->sign_right);
+    if (r->measured == 0 && r->least > 0 && !level) {
+        snprintf(read, sizeof read, "≥ %+.2f", r->least_m * 1e3);
+        snprintf(located, sizeof located, "%s (size withheld)",
+                 r->least_right == 1.0 ? "right" : "**wrong**");
+        snprintf(sign, sizeof sign, "%s", r->least_right == 1.0 ? "right" : "**wrong**");
+    }
     if (r->measured > 0 && r->tilt_withheld == r->measured)
         snprintf(tilt, sizeof tilt, "withheld");
     else if (r->tilt_withheld > 0)

@@ -36,6 +36,13 @@ struct radial_row {
     double tilt_worst_m;       /* largest error of the tilts given */
     int tilt_withheld;         /* pairs whose tilt was withheld (a change at the face's end) */
     double tilt_within_2sigma; /* share of the given tilts within 2 sigma of the truth's */
+    /* Pairs whose size was withheld as a least value (a change read short
+     * by its own flank: uwb_radial_verdict's change_least_m): how many, the
+     * share of them with the truth's sign and place, and the last one's
+     * least; where none was measured, watch_or_worse is theirs. */
+    int least;
+    double least_right;
+    double least_m;
 };
 
 extern const struct radial_case radial_cases[];
