@@ -208,6 +208,11 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
     struct face_candidate seen[MAX_CANDIDATES] = {{0}};
     int n_seen = 0;
     double strongest_seen = 0.0;
+    /* Faces found behind a brighter reflector whose blur runs past the
+     * travel: taken only where no other face is seen. */
+    struct face_candidate behind[MAX_CANDIDATES] = {{0}};
+    int n_behind = 0;
+    double strongest_behind = 0.0;
     for (int c = 0; c < MAX_CANDIDATES; c++) {
         int best = -1;
         for (int iz = 0; iz < img->nz; iz++)
@@ -228,6 +233,28 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
          * on one, which the rig check then reads as the fault it is.) */
         int at_limit = best == 0 || best == img->nz - 1;
         struct column_ends e = column_ends(img, best, row[best], peak[best]);
+        /* A reflector near the travel's end outshining the face in its own
+         * range column (a plate's edge level with the face, 150 mm above
+         * the winding's top and 15 mm below the travel's end) blurs past
+         * the travel: the face may be the column's next reflector. Only
+         * where no column shows a face of its own: a plate's column nearer
+         * than the face holds other next reflectors (fresh s102's read +2.24
+         * mm for +30 on one). */
+        double next_peak = peak[best];
+        struct column_ends next;
+        if (!at_limit && !ends_seen(img, &e, inner_lo, inner_hi) && n_behind < MAX_CANDIDATES &&
+            next_face_in_column(img, best, row[best], z, wavelength_m, aperture_lo_m, aperture_hi_m, inner_lo,
+                                inner_hi, span_m, &next, &next_peak)) {
+            behind[n_behind].z_m = z;
+            behind[n_behind].lower_m = row_y(img, next.lower_row);
+            behind[n_behind].upper_m = row_y(img, next.upper_row);
+            behind[n_behind].peak = next_peak;
+            behind[n_behind].beside_brighter = 1;
+            if (next_peak > strongest_behind)
+                strongest_behind = next_peak;
+            n_behind++;
+            continue;
+        }
         if (!at_limit && ends_seen(img, &e, inner_lo, inner_hi)) {
             /* The drawings' span, when given, says where the winding is: a
              * reflector brightest outside it is a plate's or the core's
@@ -279,6 +306,11 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
     for (int i = 0; i < n_seen; i++)
         if (seen[i].peak >= SHADOW_MARGIN * strongest_seen && (!found || seen[i].z_m < face->z_m)) {
             *face = seen[i];
+            found = 1;
+        }
+    for (int i = 0; i < n_behind && n_seen == 0; i++)
+        if (behind[i].peak >= SHADOW_MARGIN * strongest_behind && (!found || behind[i].z_m < face->z_m)) {
+            *face = behind[i];
             found = 1;
         }
     if (!found) {
