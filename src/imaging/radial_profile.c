@@ -335,7 +335,7 @@ static int rows_clear_of(const struct uwb_radial *r, const unsigned char *use, i
 {
     int clear = 0;
     for (int i = 0; i < r->n; i++)
-        clear += use[i] && (i < from - guard || i > to + guard);
+        clear += (i < from - guard || i > to + guard) && use[i];
     return clear;
 }
 

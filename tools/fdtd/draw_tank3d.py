@@ -16,9 +16,9 @@ stepped 30 mm from y = 80/120 mm; scan y = model y - 100 mm). Three scans
 per tank, as there: intact, shifted by the first draw, and shifted by the
 second with the spacer above the middle disk squeezed by one cell.
 
-No scan was made from it yet: a 3-D scan takes 20-40 min of both cores
-here, and in the session that wrote it (issue 45) the cores went to the
-2-D deformed scenes and CI; seeds 201 and 203 were drawn (8 and 7 disks).
+A 3-D scan takes 20-40 min of both cores here (run one gprMax at a time:
+two at once spin-wait each other ~20x slower). Seeds 201 and 203 (8 and 7
+disks) are the ones scanned: tests/fixtures/fdtd3d-fresh-*.
 
 Usage: draw_tank3d.py SEED OUT_DIR [WHICH...]
   WHICH: 0, 1, 2 (intact, first shift, second shift squeezed); all three
