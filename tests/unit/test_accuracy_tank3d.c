@@ -1,8 +1,8 @@
 /* The accuracy report's 3-D rows and the radial rows' right-or-wrong
  * columns (make accuracy; issue 45 item 5).
- * - Every moved scan of the shared 3-D tanks, without and with the
- *   drawings' span: a figure lies within 2 sigma of the truth, or there
- *   is none and the refusal names where (a range) what it found instead.
+ * - Every moved scan of the shared 3-D tanks and of those drawn here
+ *   (tools/fdtd/draw_tank3d.py), without and with the drawings' span: a figure lies within 2 sigma of the
+ * truth, or there is none and the refusal names where (a range) what it found instead.
  * - The radial table says whether a change was read with the truth's sign
  *   and in its place, right or wrong, and "withheld" where nothing was
  *   read (it printed the truth plus a bias of 0 before, and no sign). */
@@ -67,15 +67,18 @@ static void test_three_of_four_3d_pairs_give_a_figure_within_two_sigma(void)
         return; /* FFTW under qemu-user: the first case only, above */
     char err[512];
     for (int with_span = 0; with_span <= 1; with_span++) {
-        int right = 0;
+        int right = 0, shared = 0;
         for (int c = 0; c < tank3d_case_count; c++) {
+            if (tank3d_cases[c].fresh)
+                continue;
+            shared++;
             struct tank3d_row row;
             TEST_ASSERT_EQUAL_INT_MESSAGE(
                 0, tank3d_run_case("tests/fixtures", &tank3d_cases[c], with_span, &row, err, sizeof err),
                 err);
             right += row.has_figure && row.within_2sigma;
         }
-        TEST_ASSERT_EQUAL_INT_MESSAGE(4, tank3d_case_count, "the shared 3-D tanks' moved scans");
+        TEST_ASSERT_EQUAL_INT_MESSAGE(4, shared, "the shared 3-D tanks' moved scans");
         TEST_ASSERT_GREATER_OR_EQUAL_INT_MESSAGE(3, right, with_span ? "span given" : "span not given");
     }
 }

@@ -110,26 +110,30 @@ static int radial_report(const char *dir, int pairs, FILE *mem)
 static int tank3d_report(const char *dir, FILE *mem)
 {
     char err[512];
-    int within[2] = {0, 0};
+    int within[2][2] = {{0, 0}, {0, 0}}, cases[2] = {0, 0};
     tank3d_print_header(stdout);
     if (mem)
         tank3d_print_header(mem);
-    for (int c = 0; c < tank3d_case_count; c++)
+    for (int c = 0; c < tank3d_case_count; c++) {
+        cases[tank3d_cases[c].fresh]++;
         for (int with_span = 0; with_span <= 1; with_span++) {
             struct tank3d_row row;
             if (tank3d_run_case(dir, &tank3d_cases[c], with_span, &row, err, sizeof err) != 0) {
                 fprintf(stderr, "uwbaccuracy: %s\n", err);
                 return 1;
             }
-            within[with_span] += row.within_2sigma;
+            within[tank3d_cases[c].fresh][with_span] += row.within_2sigma;
             tank3d_print_row(stdout, &tank3d_cases[c], &row);
             if (mem)
                 tank3d_print_row(mem, &tank3d_cases[c], &row);
             fflush(stdout);
         }
-    tank3d_print_count(stdout, within[0], within[1], tank3d_case_count);
-    if (mem)
-        tank3d_print_count(mem, within[0], within[1], tank3d_case_count);
+    }
+    for (int fresh = 0; fresh <= 1; fresh++) {
+        tank3d_print_count(stdout, fresh, within[fresh][0], within[fresh][1], cases[fresh]);
+        if (mem)
+            tank3d_print_count(mem, fresh, within[fresh][0], within[fresh][1], cases[fresh]);
+    }
     return 0;
 }
 

@@ -11,6 +11,7 @@
 
 struct tank3d_case {
     const char *name;
+    int fresh; /* 0: a shared tank (../shared/data), 1: one drawn here (tools/fdtd/draw_tank3d.py) */
     const char *baseline, *current; /* fixture file names */
     /* The truth, typed from the fixtures' truth files (never read in
      * processing): the centre's move (the shift plus half the height
@@ -39,7 +40,8 @@ int tank3d_run_case(const char *fixture_dir, const struct tank3d_case *c, int wi
 
 void tank3d_print_header(FILE *out);
 void tank3d_print_row(FILE *out, const struct tank3d_case *c, const struct tank3d_row *row);
-/* The closing count: moved scans with a figure within 2 sigma, per setting. */
-void tank3d_print_count(FILE *out, int within_without, int within_with, int cases);
+/* The closing count: moved scans with a figure within 2 sigma, per setting,
+ * of the shared tanks (fresh 0) or of those drawn here (fresh 1). */
+void tank3d_print_count(FILE *out, int fresh, int within_without, int within_with, int cases);
 
 #endif
