@@ -167,6 +167,37 @@ static int next_face_in_column(const struct uwb_image *img, int iz, int peak_row
     return found;
 }
 
+/* A face at range z_m between its column's ends e. */
+static struct face_candidate candidate_at(const struct uwb_image *img, double z_m,
+                                          const struct column_ends *e, double peak, int beside_brighter)
+{
+    struct face_candidate c = {.z_m = z_m,
+                               .peak = peak,
+                               .lower_m = row_y(img, e->lower_row),
+                               .upper_m = row_y(img, e->upper_row),
+                               .beside_brighter = beside_brighter};
+    return c;
+}
+
+/* The winding shadows what stands behind it (the core leg), and once the
+ * static clutter is removed that shadow images as a compact reflector of
+ * its own, sometimes brighter than the winding, but always farther. So
+ * among the candidates within SHADOW_MARGIN of the strongest of them, the
+ * nearest is the winding: 1 and *face, or 0 when there is none. */
+static int nearest_of_the_strong(const struct face_candidate *c, int n, struct face_candidate *face)
+{
+    double strongest = 0.0;
+    for (int i = 0; i < n; i++)
+        strongest = fmax(strongest, c[i].peak);
+    int found = 0;
+    for (int i = 0; i < n; i++)
+        if (c[i].peak >= SHADOW_MARGIN * strongest && (!found || c[i].z_m < face->z_m)) {
+            *face = c[i];
+            found = 1;
+        }
+    return found;
+}
+
 /* Whether range z lies within a candidate's separation of one already
  * measured and rejected. */
 static int excluded_range(double z_m, const double *excluded_z_m, int n_excluded)
@@ -200,19 +231,16 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
             strongest = peak[iz];
     }
     int sep = (int)ceil(CANDIDATE_SEPARATION_M / img->dz_m);
-    int found = 0;
     double strongest_rejected_z = -1.0;
     int rejected_at_limit = 0;
     double point_z = -1.0, point_tall = 0.0, point_blur = 0.0;
     double outside_z = -1.0, outside_y = 0.0;
     struct face_candidate seen[MAX_CANDIDATES] = {{0}};
     int n_seen = 0;
-    double strongest_seen = 0.0;
     /* Faces found behind a brighter reflector whose blur runs past the
      * travel: taken only where no other face is seen. */
     struct face_candidate behind[MAX_CANDIDATES] = {{0}};
     int n_behind = 0;
-    double strongest_behind = 0.0;
     for (int c = 0; c < MAX_CANDIDATES; c++) {
         int best = -1;
         for (int iz = 0; iz < img->nz; iz++)
@@ -242,17 +270,10 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
          * mm for +30 on one). */
         double next_peak = peak[best];
         struct column_ends next;
-        if (!at_limit && !ends_seen(img, &e, inner_lo, inner_hi) && n_behind < MAX_CANDIDATES &&
+        if (!at_limit && !ends_seen(img, &e, inner_lo, inner_hi) &&
             next_face_in_column(img, best, row[best], z, wavelength_m, aperture_lo_m, aperture_hi_m, inner_lo,
                                 inner_hi, span_m, &next, &next_peak)) {
-            behind[n_behind].z_m = z;
-            behind[n_behind].lower_m = row_y(img, next.lower_row);
-            behind[n_behind].upper_m = row_y(img, next.upper_row);
-            behind[n_behind].peak = next_peak;
-            behind[n_behind].beside_brighter = 1;
-            if (next_peak > strongest_behind)
-                strongest_behind = next_peak;
-            n_behind++;
+            behind[n_behind++] = candidate_at(img, z, &next, next_peak, 1);
             continue;
         }
         if (!at_limit && ends_seen(img, &e, inner_lo, inner_hi)) {
@@ -285,34 +306,14 @@ int uwb_face_search(const struct uwb_image *img, double aperture_lo_m, double ap
                 }
                 continue;
             }
-            seen[n_seen].z_m = z;
-            seen[n_seen].lower_m = row_y(img, e.lower_row);
-            seen[n_seen].upper_m = row_y(img, e.upper_row);
-            seen[n_seen].peak = column_peak;
-            seen[n_seen].beside_brighter = column_peak < peak[best];
-            if (column_peak > strongest_seen)
-                strongest_seen = column_peak;
-            n_seen++;
+            seen[n_seen++] = candidate_at(img, z, &e, column_peak, column_peak < peak[best]);
         } else if (strongest_rejected_z < 0.0) {
             strongest_rejected_z = z;
             rejected_at_limit = at_limit;
         }
     }
-    /* The winding shadows what stands behind it (the core leg), and once the
-     * static clutter is removed that shadow images as a compact reflector of
-     * its own, sometimes brighter than the winding, but always farther. So
-     * among the reflectors with both ends seen and within SHADOW_MARGIN of
-     * the strongest of them, the nearest is the winding. */
-    for (int i = 0; i < n_seen; i++)
-        if (seen[i].peak >= SHADOW_MARGIN * strongest_seen && (!found || seen[i].z_m < face->z_m)) {
-            *face = seen[i];
-            found = 1;
-        }
-    for (int i = 0; i < n_behind && n_seen == 0; i++)
-        if (behind[i].peak >= SHADOW_MARGIN * strongest_behind && (!found || behind[i].z_m < face->z_m)) {
-            *face = behind[i];
-            found = 1;
-        }
+    int found = n_seen > 0 ? nearest_of_the_strong(seen, n_seen, face)
+                           : nearest_of_the_strong(behind, n_behind, face);
     if (!found) {
         if (outside_z >= 0.0)
             snprintf(

@@ -549,10 +549,7 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
         noise2 += noise * noise;
     }
     int width = to - from + 1;
-    lean /= width;
-    int clear = rows_clear_of(
-        r, use, from, to,
-        (int)ceil(correlated_rows)); /* the sloped line's read of the change less the level one's */
+    lean /= width; /* the sloped line's read of the change less the level one's */
     fig->max_change_m = sum / width;
     fig->at_m = r->y0_m + at * r->dy_m + shift_m;
     double independent = fmax(1.0, width / correlated_rows);
@@ -575,7 +572,8 @@ int uwb_radial_measure_referenced(const struct uwb_analysis *cur, const struct u
      * less than a quarter wavelength of rows clear of them (the paper's
      * scene in air, 3-4 of 6 disks) the size read 34-66 % of the truth;
      * with more (every oil tank's, 2-4 of 5-8 disks) 77-129 %. */
-    if (fabs(fig->max_change_m) >= watch_m && clear < correlated_rows)
+    if (fabs(fig->max_change_m) >= watch_m &&
+        rows_clear_of(r, use, from, to, (int)ceil(correlated_rows)) < correlated_rows)
         fig->change_least_m = fig->max_change_m;
     if (fabs(fig->max_change_m) > watch_m) {
         int f = at, t = at;

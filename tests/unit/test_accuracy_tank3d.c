@@ -1,8 +1,9 @@
 /* The accuracy report's 3-D rows and the radial rows' right-or-wrong
  * columns (make accuracy; issue 45 item 5).
  * - Every moved scan of the shared 3-D tanks and of those drawn here
- *   (tools/fdtd/draw_tank3d.py), without and with the drawings' span: a figure lies within 2 sigma of the
- * truth, or there is none and the refusal names where (a range) what it found instead.
+ *   (tools/fdtd/draw_tank3d.py), without and with the drawings' span: a
+ *   figure lies within 2 sigma of the truth, or there is none and the
+ *   refusal names where (a range) what it found instead.
  * - The radial table says whether a change was read with the truth's sign
  *   and in its place, right or wrong, and "withheld" where nothing was
  *   read (it printed the truth plus a bias of 0 before, and no sign). */

@@ -1,9 +1,10 @@
 /* make accuracy's targets are assertions (issue 44, item 5): over the
  * fixtures' noiseless full-wave pairs (paper, tank, radial, family
  * members, fresh draws, 3-D) every figure given lies within its 2 sigma
- * and the displacement's sigma within max(0.5 mm, 8 % of the move); and a figure that misses fails the
- * target: without the axial model term, or without the edges' shoulder term (as before it: fresh s105
- * no-plate -24 read an edge 3.8 mm off at sigma 1.29), targets are missed. */
+ * and the displacement's sigma within max(0.5 mm, 8 % of the move); and a
+ * figure that misses fails the target: without the axial model term, or
+ * without the edges' shoulder term (as before it: fresh s105 no-plate -24
+ * read an edge 3.8 mm off at sigma 1.29), targets are missed. */
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -29,6 +29,8 @@ BOX = re.compile(r"#box: ([0-9.]+) ([0-9.]+) 0 ([0-9.]+) ([0-9.]+) 0.002 (pec|bo
 # end ring to end ring; its disks are the pec ones.
 winding = [i for i, line in enumerate(lines) if BOX.match(line) and float(BOX.match(line).group(3)) == 0.55]
 disks = [i for i in winding if BOX.match(lines[i]).group(5) == "pec"]
+# The pulse, which gprmax_to_uwbscan.py times the scan's t0 by.
+PULSE = next(line.split()[1] for line in lines if line.startswith("#waveform:"))
 
 
 def scene(kind):
@@ -53,7 +55,8 @@ def scene(kind):
         "radial": [{"disks": [lo, hi], "y_from_m": round(spans[lo - 1][0], 4),
                     "y_to_m": round(spans[hi - 1][1], 4), "change_mm": float(mm)}],
         "disk_front_mm": [float(mm) if lo <= k + 1 <= hi else 0.0 for k in range(len(disks))],
-        "kind": "tankdev-fresh", "fc_hz": intact["fc_hz"], "input": "\n".join(result) + "\n",
+        "kind": "tankdev-fresh", "fc_hz": intact["fc_hz"],
+        "scene": {"pulse": PULSE, "fc_hz": intact["fc_hz"]}, "input": "\n".join(result) + "\n",
     }
     return result, truth
 
