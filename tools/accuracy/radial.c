@@ -93,6 +93,17 @@ const struct radial_case radial_cases[] = {
      0.256, 0.356, .disks = 4, .clean_only = 1, .in_air = 1},
     {"paper scene disks 3-6 +6 mm", "fdtd2d-paper-intact.uwbscan", "fdtd2d-paperscene-r3-6+6.uwbscan", 0.006,
      0.282, 0.382, .disks = 4, .clean_only = 1, .in_air = 1},
+    /* The shared tank (tools/fdtd/draw_tank_radial.py), bulged where the
+     * judges' scenes were: 2 and 4 disks of 7, one pair reaching the face's
+     * top with the winding moved up 10 mm. */
+    {"tank disks 1-4 +8 mm", TANK, "fdtd2d-tankfresh-radial-r1-4+8.uwbscan", 0.008, 0.230, 0.320, .disks = 4,
+     .clean_only = 1},
+    {"tank disks 5-6 +4 mm", TANK, "fdtd2d-tankfresh-radial-r5-6+4.uwbscan", 0.004, 0.326, 0.368, .disks = 2,
+     .clean_only = 1},
+    {"tank disks 5-6 +8 mm", TANK, "fdtd2d-tankfresh-radial-r5-6+8.uwbscan", 0.008, 0.326, 0.368, .disks = 2,
+     .clean_only = 1},
+    {"tank disks 6-7 +8 mm, up 10 mm", TANK, "fdtd2d-tankfresh-radial-r6-7+8-d+10.uwbscan", 0.008, 0.360, 0.402,
+     .disks = 2, .clean_only = 1},
     {"paper up 20 mm (no change)", "fdtd2d-paper-intact.uwbscan", "fdtd2d-paper-up20mm.uwbscan", 0, 0, 0,
      .tilt_m = 0},
     {"tank +4 mm (no change)", TANK, "fdtd2d-tank-d+04.0.uwbscan", 0, 0, 0, .tilt_m = 0},
