@@ -28,6 +28,11 @@ struct uwb_analysis_options {
     int has_dominant_hz;            /* process at dominant_hz (the pair's baseline's), not the scan's own */
     double dominant_hz;
     double display_half_range_m; /* the display image (migrated PNG) spans the face's range +- this (0.25) */
+    /* The rows the face's peak is sought on (another scan's face of the
+     * same winding, widened by how far it may have moved): a reflector
+     * beyond them, level with the face, is not the face's peak. */
+    int has_face_rows;
+    double face_rows_m[2];
     struct uwb_condition_options condition;
 };
 

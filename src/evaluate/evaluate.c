@@ -94,7 +94,8 @@ static double face_wavelength(const struct uwb_analysis *a, const struct uwb_sca
 }
 
 /* Analyse `scan` again with its face searched within half a wavelength of
- * `near` (another scan's face); the new analysis replaces *a when it finds
+ * `near` (another scan's face), and, not found so, with its peak sought on
+ * near's rows widened as much; the new analysis replaces *a when it finds
  * the winding there. */
 static int analyse_near(const struct uwb_scan *scan, const struct uwb_analysis_options *aopt,
                         const struct uwb_analysis *near, const struct uwb_scan *near_scan,
@@ -120,6 +121,25 @@ static int analyse_near(const struct uwb_scan *scan, const struct uwb_analysis_o
     struct uwb_analysis again;
     if (uwb_analyse_scan(scan, &o, &again, err, errlen) != 0)
         return -1;
+    /* Not found near it: a reflector level with the face may outshine the
+     * winding's peak (a plate's underside at a bulge's range); sought
+     * again on the rows the other face and a move of the same reach allow. */
+    if (!again.edges.found) {
+        struct uwb_analysis on_rows;
+        o.has_face_rows = 1;
+        o.face_rows_m[0] = near->edges.lower_m - half;
+        o.face_rows_m[1] = near->edges.upper_m + half;
+        if (uwb_analyse_scan(scan, &o, &on_rows, err, errlen) != 0) {
+            uwb_analysis_free(&again);
+            return -1;
+        }
+        if (on_rows.edges.found) {
+            uwb_analysis_free(&again);
+            again = on_rows;
+        } else {
+            uwb_analysis_free(&on_rows);
+        }
+    }
     if (!again.edges.found && a->edges.found) {
         uwb_analysis_free(&again);
         return 0;
@@ -295,7 +315,9 @@ static void rows_unchanged(const struct uwb_radial *r, double watch_m, int *unch
  * by. The radial change is measured at the one of those that leaves the
  * most rows unchanged, where at least a third are, the change is past
  * the watch limit (a change that explains the mismatch) and the profile
- * can tell a change at all (its scatter within the largest sigma), and the
+ * can tell a change at all (its scatter within the largest sigma, or the
+ * change past the watch limit by its 95 % interval: an 8 mm bulge over
+ * two disks of seven reads a scatter of 1.1 mm), and the
  * axial figure is withheld with why. 1 when pair is filled so, 0 when not. */
 static int radial_alone(const struct uwb_scan *current, const struct uwb_scan *baseline,
                         const struct uwb_analysis *cur_a, const struct uwb_analysis *base_a,
@@ -320,9 +342,10 @@ static int radial_alone(const struct uwb_scan *current, const struct uwb_scan *b
         uwb_radial_measure_referenced(cur_a, base_a, shifts[k], watch, noise, &oil, radial);
         int unchanged, read;
         rows_unchanged(radial, watch, &unchanged, &read);
-        if (radial->figures.measured && fabs(radial->figures.max_change_m) > watch &&
-            radial->uncertainty_profile_m <= copt->max_uncertainty_m && 3 * unchanged >= read &&
-            unchanged > best_unchanged) {
+        double change = fabs(radial->figures.max_change_m), scatter = radial->uncertainty_profile_m;
+        if (radial->figures.measured && change > watch &&
+            (scatter <= copt->max_uncertainty_m || change - UWB_SIGMAS_95 * scatter > watch) &&
+            3 * unchanged >= read && unchanged > best_unchanged) {
             best = k;
             best_unchanged = unchanged;
         }

@@ -464,6 +464,11 @@ static enum step search_for_face(struct analysis_run *r)
      * widened by a point's blur (its ends are coarse). Elsewhere the
      * profile's peak is its own, and judge_edges names a reflector that
      * outshines the face beyond them. */
+    if (r->opt->has_face_rows) {
+        out->face_rows_m[0] = r->opt->face_rows_m[0];
+        out->face_rows_m[1] = r->opt->face_rows_m[1];
+        return STEP_NEXT;
+    }
     if (!r->face.beside_brighter)
         return STEP_NEXT;
     double blur = uwb_point_blur_m(r->wavelength, 0.5 * (r->face.lower_m + r->face.upper_m), r->face.z_m,
