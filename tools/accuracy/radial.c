@@ -76,6 +76,29 @@ const struct radial_case radial_cases[] = {
      "fdtd2d-fresh-s114-lean+6.uwbscan", 0, 0, 0, .tilt_m = 0.00677, .clean_only = 1},
     {"fresh s114 disks 5-7 +6 mm", "fdtd2d-fresh-s114-d+00.uwbscan", "fdtd2d-fresh-s114-r5-7+6.uwbscan",
      0.006, 0.310, 0.382, .disks = 3, .clean_only = 1},
+    /* The five fresh tanks not deformed before, by rule after the fixes of
+     * issue 45 (random.Random(4000 + s): 2-4 disks, the first, the size
+     * from -6, -4, +4, +6, +8 mm, the lean from -6, -3, +3, +6 mm). */
+    {"fresh s103 leaning, top disk +6 mm", "fdtd2d-fresh-s103-d+00.uwbscan",
+     "fdtd2d-fresh-s103-lean+6.uwbscan", 0, 0, 0, .tilt_m = 0.00668, .clean_only = 1},
+    {"fresh s103 disks 1-3 -4 mm", "fdtd2d-fresh-s103-d+00.uwbscan", "fdtd2d-fresh-s103-r1-3-4.uwbscan",
+     -0.004, 0.234, 0.306, .disks = 3, .clean_only = 1},
+    {"fresh s104 leaning, top disk -2 mm", "fdtd2d-fresh-s104-d+00.uwbscan",
+     "fdtd2d-fresh-s104-lean-3.uwbscan", 0, 0, 0, .tilt_m = -0.00291, .clean_only = 1},
+    {"fresh s104 disks 1-4 +6 mm", "fdtd2d-fresh-s104-d+00.uwbscan", "fdtd2d-fresh-s104-r1-4+6.uwbscan",
+     0.006, 0.204, 0.312, .disks = 4, .clean_only = 1},
+    {"fresh s108 leaning, top disk +2 mm", "fdtd2d-fresh-s108-d+00.uwbscan",
+     "fdtd2d-fresh-s108-lean+3.uwbscan", 0, 0, 0, .tilt_m = 0.00288, .clean_only = 1},
+    {"fresh s108 disks 2-5 -6 mm", "fdtd2d-fresh-s108-d+00.uwbscan", "fdtd2d-fresh-s108-r2-5-6.uwbscan",
+     -0.006, 0.254, 0.330, .disks = 4, .clean_only = 1},
+    {"fresh s109 leaning, top disk -4 mm", "fdtd2d-fresh-s109-d+00.uwbscan",
+     "fdtd2d-fresh-s109-lean-3.uwbscan", 0, 0, 0, .tilt_m = -0.00479, .clean_only = 1},
+    {"fresh s109 disks 1-3 +4 mm", "fdtd2d-fresh-s109-d+00.uwbscan", "fdtd2d-fresh-s109-r1-3+4.uwbscan",
+     0.004, 0.254, 0.332, .disks = 3, .clean_only = 1},
+    {"fresh s110 leaning, top disk -4 mm", "fdtd2d-fresh-s110-d+00.uwbscan",
+     "fdtd2d-fresh-s110-lean-3.uwbscan", 0, 0, 0, .tilt_m = -0.00477, .clean_only = 1},
+    {"fresh s110 disks 2-4 -4 mm", "fdtd2d-fresh-s110-d+00.uwbscan", "fdtd2d-fresh-s110-r2-4-4.uwbscan",
+     -0.004, 0.252, 0.324, .disks = 3, .clean_only = 1},
     /* The paper's scene deformed (tools/fdtd/draw_paper.py; its intact scan
      * is the shared one, sample for sample). */
     {"paper scene disks 1-3 +8 mm", "fdtd2d-paper-intact.uwbscan", "fdtd2d-paperscene-r1-3+8.uwbscan", 0.008,
