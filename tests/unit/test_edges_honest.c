@@ -35,7 +35,7 @@ static void baseline_of(const char *moved, char *base, size_t n)
         snprintf(base, n, "%s", FIXTURE_INTACT);
         return;
     }
-    if (strstr(moved, "fdtd2d-tank-")) {
+    if (strstr(moved, "fdtd2d-tank-") || strstr(moved, "fdtd2d-tankfresh-")) {
         snprintf(base, n, "tests/fixtures/fdtd2d-tank-d+00.0.uwbscan");
         return;
     }
