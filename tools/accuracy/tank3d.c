@@ -11,6 +11,7 @@
 #define S011 "fdtd3d-var-s011-d+00.uwbscan"
 #define S012 "fdtd3d-var-s012-d+00.uwbscan"
 #define S201 "fdtd3d-fresh-s201-d+00.uwbscan"
+#define S203 "fdtd3d-fresh-s203-d+00.uwbscan"
 
 /* Truth: y1_m, y2_m of each tank's intact scan (the span) and the moved
  * scan's displacement_mm + height_change_mm / 2. */
@@ -22,6 +23,9 @@ const struct tank3d_case tank3d_cases[] = {
     /* Drawn here (tools/fdtd/draw_tank3d.py): its intact scan found the face
      * search's column past a plate edge blurred past the travel. */
     {"3-D fresh s201 -30 mm", 1, S201, "fdtd3d-fresh-s201-d-30.uwbscan", -0.030, {0.235, 0.430}},
+    /* The second drawn (7 disks, its lower plate 10 mm in front of the face),
+     * scanned after the fixes of this issue. */
+    {"3-D fresh s203 +20 mm", 1, S203, "fdtd3d-fresh-s203-d+20.uwbscan", 0.020, {0.220, 0.420}},
 };
 const int tank3d_case_count = (int)(sizeof tank3d_cases / sizeof tank3d_cases[0]);
 
