@@ -458,17 +458,19 @@ static enum step search_for_face(struct analysis_run *r)
                         r->wavelength, r->excluded_z_m, r->n_excluded, search_span(r->opt, span), &r->face,
                         out->edges.reason, sizeof out->edges.reason) != 0)
         return STEP_DONE;
+    /* Rows the caller gives (another scan's face of the winding) stand
+     * over the search's own. */
+    if (r->opt->has_face_rows) {
+        out->face_rows_m[0] = r->opt->face_rows_m[0];
+        out->face_rows_m[1] = r->opt->face_rows_m[1];
+        return STEP_NEXT;
+    }
     /* Where the search found the face beside a brighter reflector in its
      * own range column (a plate's edge, passed over), later measurements
      * seek the face's peak on the face's rows as the search saw them,
      * widened by a point's blur (its ends are coarse). Elsewhere the
      * profile's peak is its own, and judge_edges names a reflector that
      * outshines the face beyond them. */
-    if (r->opt->has_face_rows) {
-        out->face_rows_m[0] = r->opt->face_rows_m[0];
-        out->face_rows_m[1] = r->opt->face_rows_m[1];
-        return STEP_NEXT;
-    }
     if (!r->face.beside_brighter)
         return STEP_NEXT;
     double blur = uwb_point_blur_m(r->wavelength, 0.5 * (r->face.lower_m + r->face.upper_m), r->face.z_m,

